@@ -1,0 +1,122 @@
+"""Input checking shared by every public function (private).
+
+The rules, applied at every public boundary:
+
+* integers and booleans become float64; float32 stays float32; float64 stays
+  float64; object arrays (SymPy expressions) pass through unchanged;
+  complex numbers, strings and other dtypes raise :class:`DTypeError`;
+* the trailing dimensions must match exactly (a motion is ``(..., 6)``), else
+  :class:`ShapeError` naming the argument, the expected and the received shape;
+* floating input must be finite, else :class:`NonFiniteError` naming the
+  argument and the first bad index.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from .errors import DTypeError, NonFiniteError, ShapeError
+
+
+def _shape_text(shape: tuple[int | str, ...]) -> str:
+    inner = ", ".join(str(s) for s in shape)
+    return f"(..., {inner})" if shape else "(...)"
+
+
+def as_array(
+    x: Any,
+    name: str,
+    trailing: tuple[int, ...] = (),
+    *,
+    check_finite: bool = True,
+    copy: bool = False,
+) -> np.ndarray:
+    """Convert ``x`` to an array with trailing shape ``trailing`` (see module doc).
+
+    Args:
+        x: anything ``np.asarray`` accepts.
+        name: the argument name used in error messages.
+        trailing: the required trailing dimensions, e.g. ``(6,)`` or ``(3, 3)``.
+        check_finite: reject NaN and infinity in floating input.
+        copy: always return a fresh array (so it can be made read-only safely).
+    """
+    try:
+        arr = np.array(x, copy=copy) if copy else np.asarray(x)
+    except (ValueError, TypeError) as exc:  # ragged nested lists, ...
+        raise ShapeError(f"{name}: cannot be read as an array of shape {_shape_text(trailing)}: {exc}") from None
+    kind = arr.dtype.kind
+    if kind in "biu":
+        arr = arr.astype(np.float64)
+    elif kind == "f":
+        if arr.dtype.itemsize < 4:
+            arr = arr.astype(np.float32)
+    elif kind == "O":
+        pass
+    else:
+        raise DTypeError(
+            f"{name}: expected real numbers (float64, float32, integers or SymPy objects), got dtype {arr.dtype}"
+        )
+    nt = len(trailing)
+    if arr.ndim < nt or (nt and tuple(arr.shape[arr.ndim - nt :]) != tuple(trailing)):
+        raise ShapeError(f"{name}: expected shape {_shape_text(trailing)}, got shape {tuple(arr.shape)}")
+    if check_finite and arr.dtype.kind == "f" and not np.all(np.isfinite(arr)):
+        bad = tuple(int(i) for i in np.argwhere(~np.isfinite(arr))[0])
+        raise NonFiniteError(f"{name}: expected finite numbers, got {arr[bad]!r} at index {bad}")
+    return arr
+
+
+def as_scalar_batch(x: Any, name: str, *, check_finite: bool = True) -> np.ndarray:
+    """A scalar or an array of scalars (batch shape only), e.g. a mass or an angle."""
+    return as_array(x, name, (), check_finite=check_finite)
+
+
+def result_dtype(*arrays: np.ndarray) -> np.dtype:
+    """The dtype of a computation on ``arrays``: object wins, then numpy promotion."""
+    if any(a.dtype.kind == "O" for a in arrays):
+        return np.dtype(object)
+    return np.result_type(*arrays)
+
+
+def readonly(arr: np.ndarray) -> np.ndarray:
+    """Mark ``arr`` (which the caller owns) read-only and return it."""
+    arr.flags.writeable = False
+    return arr
+
+
+def default_tol(dtype: np.dtype, float64: float, float32: float) -> float:
+    """Pick a tolerance by dtype (object arrays use the float64 one)."""
+    return float32 if np.dtype(dtype) == np.float32 else float64
+
+
+def check_rotation(rotation: np.ndarray, name: str, tol: float | None = None) -> None:
+    """Raise :class:`RotationError` unless every ``(..., 3, 3)`` matrix is in SO(3).
+
+    Checks ``max |RᵀR − 1| <= tol`` and ``det R > 0``. The default tolerance is
+    1e-6 for float64 (URDF files print rotations to ~7 digits) and 1e-4 for
+    float32. Object (SymPy) arrays are not checked.
+    """
+    from .errors import RotationError
+
+    if rotation.dtype.kind == "O":
+        return
+    if tol is None:
+        tol = default_tol(rotation.dtype, 1e-6, 1e-4)
+    rtr = np.swapaxes(rotation, -1, -2) @ rotation
+    err = np.abs(rtr - np.eye(3, dtype=rotation.dtype)).max(axis=(-2, -1))
+    if np.any(err > tol):
+        idx = tuple(int(i) for i in np.argwhere(err > tol)[0]) if err.ndim else ()
+        where = f" at batch index {idx}" if idx else ""
+        raise RotationError(
+            f"{name}: expected a rotation matrix (orthonormal, det +1); "
+            f"max |RᵀR − 1| = {float(err[idx]):.3g} > tolerance {tol:g}{where}"
+        )
+    det = np.linalg.det(rotation)
+    if np.any(det <= 0):
+        idx = tuple(int(i) for i in np.argwhere(det <= 0)[0]) if np.ndim(det) else ()
+        where = f" at batch index {idx}" if idx else ""
+        raise RotationError(
+            f"{name}: expected a proper rotation (det +1), got det = {float(det[idx]):.3g}{where} "
+            "(a reflection: check for a flipped axis)"
+        )

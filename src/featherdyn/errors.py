@@ -1,0 +1,95 @@
+"""The featherdyn exception hierarchy.
+
+Every error that bad input can cause is one of these. Each subclasses the
+builtin a caller would naturally catch (``ValueError`` for bad values and
+shapes, ``TypeError`` for mixing a motion with a force), so plain
+``except ValueError`` keeps working, while ``except FeatherdynError`` catches
+everything featherdyn raises on purpose.
+
+Messages name the argument, what was expected and what came, e.g.
+``"qd: expected trailing dimension nv=7, got shape (6,)"``.
+"""
+
+from __future__ import annotations
+
+__all__ = [
+    "FeatherdynError",
+    "ShapeError",
+    "NonFiniteError",
+    "DTypeError",
+    "RotationError",
+    "QuaternionNormError",
+    "InertiaError",
+    "SpatialTypeError",
+    "FrameMismatchError",
+    "ModelError",
+    "URDFError",
+    "PhysicalityWarning",
+]
+
+
+class FeatherdynError(Exception):
+    """Base class of every exception featherdyn raises on purpose."""
+
+
+class ShapeError(FeatherdynError, ValueError):
+    """An array argument has the wrong shape (names the argument and the expected shape)."""
+
+
+class NonFiniteError(FeatherdynError, ValueError):
+    """An argument contains NaN or infinity where finite numbers are required."""
+
+
+class DTypeError(FeatherdynError, TypeError):
+    """An array argument has a dtype featherdyn cannot compute with (complex, strings, ...)."""
+
+
+class RotationError(FeatherdynError, ValueError):
+    """A matrix given as a rotation is not orthonormal with determinant +1."""
+
+
+class QuaternionNormError(FeatherdynError, ValueError):
+    """A quaternion that must be unit is off unit norm by more than the tolerance."""
+
+
+class InertiaError(FeatherdynError, ValueError):
+    """A spatial inertia is malformed or not physically realisable.
+
+    The message names the failed condition (mass > 0, positive definite
+    rotational inertia, triangle inequality, rigid-body structure) and the
+    numbers that failed it.
+    """
+
+
+class SpatialTypeError(FeatherdynError, TypeError):
+    """A motion vector was used where a force vector belongs, or vice versa.
+
+    Motion vectors (M⁶) and force vectors (F⁶) are dual spaces: they transform
+    differently (X vs X* = X⁻ᵀ) and only their pairing (power) is meaningful.
+    """
+
+
+class FrameMismatchError(FeatherdynError, ValueError):
+    """Two frame-tagged values were combined although their frames differ.
+
+    The message names both frames. Untagged values (frame ``None``) are never
+    checked.
+    """
+
+
+class ModelError(FeatherdynError, ValueError):
+    """A model description is inconsistent (parent order, names, inertias, ...)."""
+
+
+class URDFError(ModelError):
+    """A URDF document is malformed, hostile or describes an impossible tree.
+
+    The message names the file, the element and the link or joint involved.
+    """
+
+
+class PhysicalityWarning(UserWarning):
+    """A model is loadable but physically odd (indefinite inertia, triangle-inequality violation, ...).
+
+    Loaders turn these into errors with ``strict=True``.
+    """
