@@ -25,6 +25,7 @@ __all__ = [
     "ModelError",
     "URDFError",
     "PhysicalityWarning",
+    "MissingDependencyError",
 ]
 
 
@@ -92,4 +93,12 @@ class PhysicalityWarning(UserWarning):
     """A model is loadable but physically odd (indefinite inertia, triangle-inequality violation, ...).
 
     Loaders turn these into errors with ``strict=True``.
+    """
+
+
+class MissingDependencyError(FeatherdynError, ImportError):
+    """An optional dependency (Pinocchio, example-robot-data, SymPy) is not installed.
+
+    The message says which pip package provides it (Pinocchio is ``pin`` on
+    PyPI; the package called ``pinocchio`` there is something else).
     """

@@ -30,19 +30,19 @@ if TYPE_CHECKING:
     from .spatial_algebra import PluckerTransform, SpatialMotion
 
 __all__ = [
-    "quat_to_matrix",
-    "matrix_to_quat",
-    "quat_multiply",
-    "quat_conjugate",
-    "quat_normalize",
-    "rpy_to_matrix",
-    "matrix_to_rpy",
     "axis_angle_to_matrix",
     "matrix_to_axis_angle",
-    "so3_exp",
-    "so3_log",
+    "matrix_to_quat",
+    "matrix_to_rpy",
+    "quat_conjugate",
+    "quat_multiply",
+    "quat_normalize",
+    "quat_to_matrix",
+    "rpy_to_matrix",
     "se3_exp",
     "se3_log",
+    "so3_exp",
+    "so3_log",
 ]
 
 # Below these angles the closed forms divide ~0 by ~0; a Taylor series to θ⁴
@@ -102,7 +102,7 @@ def _matrix(rows: list[list[Any]]) -> np.ndarray:
     """Assemble ``(..., 3, 3)`` from a 3×3 nested list of broadcastable ``(...)`` entries."""
     flat = np.broadcast_arrays(*[np.asarray(e) for row in rows for e in row])
     entries = np.stack(flat, axis=-1)
-    return entries.reshape(entries.shape[:-1] + (3, 3))
+    return entries.reshape((*entries.shape[:-1], 3, 3))
 
 
 def _skew(w: np.ndarray) -> np.ndarray:
@@ -126,7 +126,7 @@ def _matvec(m: np.ndarray, v: np.ndarray) -> np.ndarray:
 
 
 def _eye_like(shape: tuple[int, ...], dtype: np.dtype) -> np.ndarray:
-    return np.broadcast_to(np.eye(3, dtype=dtype), shape + (3, 3))
+    return np.broadcast_to(np.eye(3, dtype=dtype), (*shape, 3, 3))
 
 
 def _quat_norm_error(name: str, norm: np.ndarray, bad: np.ndarray, tol: float) -> QuaternionNormError:
@@ -446,7 +446,7 @@ def so3_exp(omega: Any) -> np.ndarray:
         theta = _sqrt(_dot3(w, w))
         A = _sympy_map("sinc", theta)
         half_sinc = _sympy_map("sinc", theta / 2)
-        B = half_sinc * half_sinc / 2
+        B = np.asarray(half_sinc * half_sinc / 2)
         eye = _object_eye(batch)
     else:
         A, B = _rodrigues_coefficients(np.sqrt(_dot3(w, w)))
@@ -458,7 +458,7 @@ def _object_eye(shape: tuple[int, ...]) -> np.ndarray:
     import sympy
 
     eye = np.array([[sympy.Integer(int(i == j)) for j in range(3)] for i in range(3)], dtype=object)
-    return np.broadcast_to(eye, shape + (3, 3))
+    return np.broadcast_to(eye, (*shape, 3, 3))
 
 
 def _rodrigues_coefficients(theta: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -532,7 +532,7 @@ def _so3_log(R: np.ndarray) -> np.ndarray:
         k = k / np.sqrt(_dot3(k, k))[:, None]
         k = np.where((_dot3(k, skew2[near_pi]) < 0)[:, None], -k, k)
         omega[near_pi] = theta[near_pi][:, None] * k
-    return omega.reshape(batch + (3,))
+    return omega.reshape((*batch, 3))
 
 
 def axis_angle_to_matrix(axis: Any, angle: Any) -> np.ndarray:
@@ -578,7 +578,7 @@ def axis_angle_to_matrix(axis: Any, angle: Any) -> np.ndarray:
         theta = theta.astype(dtype, copy=False)
     K = _skew(k)
     s = _sin(theta)[..., None, None]
-    one_minus_c = (1 - _cos(theta))[..., None, None]
+    one_minus_c = np.asarray(1 - _cos(theta))[..., None, None]
     batch = np.broadcast_shapes(K.shape[:-2], theta.shape)
     eye = _object_eye(batch) if dtype.kind == "O" else _eye_like(batch, dtype)
     return np.asarray(eye + s * K + one_minus_c * (K @ K))

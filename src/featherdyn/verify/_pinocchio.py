@@ -1,0 +1,30 @@
+"""Access to Pinocchio for the verification tool (private).
+
+Pinocchio is an optional dependency (``pip install 'featherdyn[verify]'``);
+it is imported only when a check runs.
+"""
+
+from __future__ import annotations
+
+from types import ModuleType
+
+from ..errors import MissingDependencyError
+
+
+def require_pinocchio() -> ModuleType:
+    """Import and return ``pinocchio``, or raise :class:`MissingDependencyError` saying how to install it."""
+    try:
+        import pinocchio
+    except ImportError:
+        raise MissingDependencyError(
+            "Pinocchio is not installed: `pip install pin` (or `pip install 'featherdyn[verify]'`); "
+            "note that the PyPI package named 'pinocchio' is an unrelated project"
+        ) from None
+    return pinocchio
+
+
+def pinocchio_version() -> str:
+    try:
+        return str(require_pinocchio().__version__)
+    except MissingDependencyError:
+        return "not installed"

@@ -1,0 +1,145 @@
+"""Results of a verification run: one row per compared quantity, and the table they make."""
+
+from __future__ import annotations
+
+import json
+import platform
+from dataclasses import asdict, dataclass, field
+from typing import Any
+
+import numpy as np
+
+__all__ = ["CheckResult", "VerifyReport", "compare"]
+
+
+@dataclass(frozen=True, slots=True)
+class CheckResult:
+    """The comparison of one quantity over all sampled states.
+
+    Attributes:
+        group: what kind of check (``"pinocchio"`` for an oracle comparison,
+            ``"identity"`` for a law that needs no oracle).
+        quantity: the operation compared, named after both libraries
+            (``"X.apply(motion) vs SE3.act(Motion)"``).
+        max_abs: largest absolute error over all samples and entries.
+        max_rel: largest error relative to the magnitude of the expected value
+            (``|a − b| / max(|b|, 1)``, so tiny expected values do not blow up).
+        worst_sample: index of the sample with the largest relative error.
+        tol: the tolerance the relative error was held to.
+        passed: ``max_rel <= tol``.
+        note: what the comparison shows on a failure (the likely cause).
+    """
+
+    group: str
+    quantity: str
+    max_abs: float
+    max_rel: float
+    worst_sample: int
+    tol: float
+    passed: bool
+    note: str = ""
+
+
+def compare(
+    group: str, quantity: str, actual: Any, expected: Any, tol: float, note: str = ""
+) -> CheckResult:
+    """Compare stacked samples ``actual`` and ``expected`` (leading axis = sample).
+
+    ::
+
+        max_rel = max over samples of  max|a − b| / max(max|b|, 1)
+    """
+    a = np.asarray(actual, dtype=np.float64)
+    b = np.asarray(expected, dtype=np.float64)
+    if a.shape != b.shape:
+        return CheckResult(group, quantity, float("inf"), float("inf"), 0, tol, False,
+                           f"shape mismatch: featherdyn {a.shape} vs oracle {b.shape}")
+    n = a.shape[0] if a.ndim else 1
+    a2, b2 = a.reshape(n, -1), b.reshape(n, -1)
+    err = np.abs(a2 - b2)
+    if not np.all(np.isfinite(err)):
+        worst = int(np.argmax(~np.isfinite(err).all(axis=1)))
+        return CheckResult(group, quantity, float("inf"), float("inf"), worst, tol, False, "non-finite values")
+    abs_per = err.max(axis=1, initial=0.0)
+    scale = np.maximum(np.abs(b2).max(axis=1, initial=0.0), 1.0)
+    rel_per = abs_per / scale
+    worst = int(np.argmax(rel_per)) if n else 0
+    max_rel = float(rel_per.max(initial=0.0))
+    return CheckResult(group, quantity, float(abs_per.max(initial=0.0)), max_rel, worst, tol, max_rel <= tol,
+                       "" if max_rel <= tol else note)
+
+
+@dataclass
+class VerifyReport:
+    """Everything a verification run found; ``passed`` is true when every check passed."""
+
+    title: str
+    results: list[CheckResult] = field(default_factory=list)
+    meta: dict[str, Any] = field(default_factory=dict)
+
+    @property
+    def passed(self) -> bool:
+        return all(r.passed for r in self.results)
+
+    @property
+    def failures(self) -> list[CheckResult]:
+        return [r for r in self.results if not r.passed]
+
+    def to_dict(self) -> dict[str, Any]:
+        """A JSON-ready dictionary of the whole report."""
+        return {
+            "title": self.title,
+            "passed": self.passed,
+            "meta": self.meta,
+            "results": [asdict(r) for r in self.results],
+        }
+
+    def to_json(self, indent: int = 2) -> str:
+        def default(o: Any) -> Any:
+            if isinstance(o, (np.floating, np.integer)):
+                return o.item()
+            raise TypeError(type(o).__name__)
+
+        d = self.to_dict()
+        for r in d["results"]:  # JSON has no inf
+            for k in ("max_abs", "max_rel"):
+                if not np.isfinite(r[k]):
+                    r[k] = str(r[k])
+        return json.dumps(d, indent=indent, default=default, ensure_ascii=False)
+
+    def to_table(self) -> str:
+        """The plain-text table printed by ``featherdyn verify``."""
+        head = ("group", "quantity", "max abs err", "max rel err", "worst", "tol", "result")
+        rows = [
+            (r.group, r.quantity, f"{r.max_abs:.2e}", f"{r.max_rel:.2e}", str(r.worst_sample), f"{r.tol:.0e}",
+             "pass" if r.passed else "FAIL")
+            for r in self.results
+        ]
+        widths = [max(len(h), *(len(row[i]) for row in rows)) if rows else len(h) for i, h in enumerate(head)]
+        fmt = "  ".join(f"{{:<{w}}}" for w in widths)
+        lines = [self.title, "", fmt.format(*head), fmt.format(*("-" * w for w in widths))]
+        lines += [fmt.format(*row) for row in rows]
+        n_fail = len(self.failures)
+        lines.append("")
+        lines.append(
+            f"{len(self.results)} checks: {len(self.results) - n_fail} passed, {n_fail} failed"
+            + ("" if not n_fail else "  — " + "; ".join(f"{r.quantity}: {r.note}" for r in self.failures if r.note))
+        )
+        return "\n".join(lines)
+
+
+def machine_meta() -> dict[str, Any]:
+    """Versions and machine, recorded in every report."""
+    meta: dict[str, Any] = {
+        "python": platform.python_version(),
+        "numpy": np.__version__,
+        "machine": platform.machine(),
+        "system": platform.system(),
+    }
+    try:
+        from .. import __version__
+
+        meta["featherdyn"] = __version__
+    except ImportError:  # pragma: no cover
+        pass
+    return meta
