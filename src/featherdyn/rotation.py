@@ -513,15 +513,14 @@ def _so3_log(R: np.ndarray) -> np.ndarray:
 
     # Away from π: ω = θ / (2 sin θ) · vee(R − Rᵀ), with θ / sin θ ≈ 1 + θ²/6 + 7θ⁴/360 near 0.
     small = theta < _small_angle(R.dtype)
-    t = np.where(small, np.ones_like(theta), theta)
-    s = np.where(small, np.ones_like(sin_t), sin_t)
+    near_pi = cos_t < -0.5  # these rows are replaced below
+    t = np.where(small | near_pi, np.ones_like(theta), theta)
+    s = np.where(small | near_pi, np.ones_like(sin_t), sin_t)
     t2 = theta * theta
-    with np.errstate(divide="ignore", invalid="ignore"):  # rows near π are replaced below
-        factor = np.where(small, 1 + t2 / 6 * (1 + 7 * t2 / 60), t / s)
+    factor = np.where(small, 1 + t2 / 6 * (1 + 7 * t2 / 60), t / s)
     omega = (factor / 2)[:, None] * skew2
 
     # Near π (cos θ < −1/2): k kᵀ from the symmetric part, the column with the largest diagonal.
-    near_pi = cos_t < -0.5
     if np.any(near_pi):
         Rn, cn = R[near_pi], cos_t[near_pi]
         sym = (Rn + np.swapaxes(Rn, -1, -2)) / 2

@@ -1,0 +1,35 @@
+"""The README's promises: its tour runs, its quick start has exactly two commands, CI runs them."""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[2]
+README = (ROOT / "README.md").read_text(encoding="utf-8")
+
+
+def _blocks(lang: str) -> list[str]:
+    return re.findall(rf"```{lang}\n(.*?)```", README, flags=re.S)
+
+
+def test_tour_runs_and_its_claims_hold() -> None:
+    (tour,) = _blocks("python")
+    env: dict[str, object] = {}
+    exec(compile(tour, "README.md", "exec"), env)
+    # the tour states these values in comments; check them
+    v, f, X = env["v"], env["f"], env["X"]
+    assert abs(v.dot(f) - 5.0) < 1e-12  # type: ignore[attr-defined]
+    assert abs((X @ v).dot(X @ f) - 5.0) < 1e-12  # type: ignore[operator]
+
+
+def test_quick_start_has_exactly_two_commands_run_by_ci() -> None:
+    section = README.split("## Quick start", 1)[1].split("\n## ", 1)[0]
+    (block,) = re.findall(r"```sh\n(.*?)```", section, flags=re.S)
+    commands = [line for line in block.splitlines() if line.strip()]
+    assert len(commands) == 2
+    assert "featherdyn verify" in commands[0]
+    assert "pytest" in commands[1]
+    ci = (ROOT / ".ci" / "run").read_text(encoding="utf-8")
+    for command in commands:
+        assert command in ci, f"CI does not run the README command {command!r}"
