@@ -8,7 +8,7 @@ the pose of frame A in frame B and maps A-coordinates to B-coordinates.
 
 from __future__ import annotations
 
-from . import errors, frames, rotation, spatial_algebra
+from . import errors, frames, joints, model, rotation, spatial_algebra
 from .errors import (
     DTypeError,
     FeatherdynError,
@@ -43,11 +43,49 @@ from .spatial_algebra import (
     xlt,
 )
 
+from .joints import FreeFlyerJoint, Joint, PlanarJoint, PrismaticJoint, RevoluteJoint, SphericalJoint
+from .model import FrameInfo, Mimic, Model, ModelBuilder
+
 __version__ = "0.1.0"
+
+# names whose modules are imported on first use (keeps `import featherdyn` light)
+_LAZY = {
+    "load_urdf": "urdf",
+    "load_robot": "robots",
+    "list_robots": "robots",
+    "neutral": "configuration",
+    "random_configuration": "configuration",
+    "integrate": "configuration",
+    "difference": "configuration",
+    "normalize": "configuration",
+    "is_normalized": "configuration",
+    "conventions": None,
+    "urdf": None,
+    "robots": None,
+    "configuration": None,
+    "verify": None,
+}
+
+
+def __getattr__(name: str) -> object:
+    import importlib
+
+    if name not in _LAZY:
+        raise AttributeError(f"module 'featherdyn' has no attribute {name!r}")
+    module_name = _LAZY[name]
+    if module_name is None:
+        return importlib.import_module(f".{name}", __name__)
+    return getattr(importlib.import_module(f".{module_name}", __name__), name)
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(_LAZY))
 
 __all__ = [
     "errors",
     "frames",
+    "joints",
+    "model",
     "rotation",
     "spatial_algebra",
     "DTypeError",
@@ -79,5 +117,16 @@ __all__ = [
     "skew",
     "unskew",
     "xlt",
+    "FreeFlyerJoint",
+    "Joint",
+    "PlanarJoint",
+    "PrismaticJoint",
+    "RevoluteJoint",
+    "SphericalJoint",
+    "FrameInfo",
+    "Mimic",
+    "Model",
+    "ModelBuilder",
     "__version__",
+    *_LAZY,
 ]

@@ -1,0 +1,407 @@
+"""Joint models: each joint is a small immutable value.
+
+A joint connects a predecessor frame (the joint frame, fixed in the parent
+body) to a successor frame (the child body's frame). It gives
+
+* ``pose(q)``: the pose of the successor frame in the joint frame, a
+  :class:`~featherdyn.PluckerTransform` (Pinocchio's ``jdata.M``); the
+  Featherstone joint transform is its inverse action, ``X_J = pose(q)⁻¹``;
+* ``S``: the motion subspace `(6, nv)` in successor coordinates, constant for
+  every joint type here, so the joint velocity is ``v_J = S q̇`` and the bias
+  ``c_J = Ṡ q̇ = 0`` (RBDA table 4.1);
+* its part of configuration space: ``neutral``, ``integrate``,
+  ``difference``, ``random``, ``normalize``, ``is_normalized``.
+
+=============  ===  ===  ============================================  ==========================
+joint          nq   nv   q                                             v
+=============  ===  ===  ============================================  ==========================
+revolute        1    1   angle                                         angular rate
+prismatic       1    1   displacement                                  linear rate
+spherical       4    3   unit quaternion (x, y, z, w)                  ω in the child frame
+free-flyer      7    6   [x y z, qx qy qz qw] (pose in the parent)     [ω; v] in the child frame
+planar          3    3   [x, y, θ] in the plane normal to ``normal``   [ω, v_x, v_y] child frame
+=============  ===  ===  ============================================  ==========================
+
+Source: RBDA (2008) §4.4 and table 4.1; chapter §8.3; DESIGN.md conventions.
+"""
+
+from __future__ import annotations
+
+import warnings
+from dataclasses import dataclass, field
+from typing import Any, ClassVar
+
+import numpy as np
+
+from . import rotation as rot
+from ._validation import as_array
+from .errors import ModelError, PhysicalityWarning
+from .spatial_algebra import PluckerTransform, SpatialMotion
+
+__all__ = [
+    "Joint",
+    "RevoluteJoint",
+    "PrismaticJoint",
+    "SphericalJoint",
+    "FreeFlyerJoint",
+    "PlanarJoint",
+    "unit_axis",
+]
+
+_UNIT_TOL = 1e-6
+
+
+def unit_axis(axis: Any, name: str = "axis", *, warn: bool = True) -> np.ndarray:
+    """Normalise a joint axis `(3,)`; zero length raises, non-unit length warns.
+
+    Real URDFs have axes like ``0 0 -1`` (kept: the sign is meaningful) and
+    ``0 0.7 0.7`` (normalised, with a :class:`PhysicalityWarning`).
+    """
+    a = as_array(axis, name, (3,)).astype(np.float64)
+    if a.ndim != 1:
+        raise ModelError(f"{name}: expected a single axis of shape (3,), got shape {a.shape}")
+    n = float(np.linalg.norm(a))
+    if n < 1e-12:
+        raise ModelError(f"{name}: zero-length joint axis {a.tolist()}")
+    if warn and abs(n - 1.0) > _UNIT_TOL:
+        warnings.warn(f"{name}: axis {a.tolist()} has length {n:.6g}; normalised", PhysicalityWarning, stacklevel=3)
+    out = a / n
+    out.flags.writeable = False
+    return out
+
+
+def _frozen(a: np.ndarray) -> np.ndarray:
+    a.flags.writeable = False
+    return a
+
+
+def _q(q: Any, nq: int, name: str = "q") -> np.ndarray:
+    return as_array(q, name, (nq,))
+
+
+def _batch(size: Any) -> tuple[int, ...]:
+    if size is None:
+        return ()
+    return (int(size),) if np.isscalar(size) else tuple(int(s) for s in size)
+
+
+def _uniform_quat(rng: np.random.Generator, shape: tuple[int, ...]) -> np.ndarray:
+    """Uniformly distributed unit quaternions (Shoemake 1992), xyzw, ``w >= 0``."""
+    u1, u2, u3 = (rng.random(shape) for _ in range(3))
+    a, b = np.sqrt(1 - u1), np.sqrt(u1)
+    q = np.stack([a * np.sin(2 * np.pi * u2), a * np.cos(2 * np.pi * u2), b * np.sin(2 * np.pi * u3),
+                  b * np.cos(2 * np.pi * u3)], axis=-1)
+    return np.where(q[..., 3:] < 0, -q, q)
+
+
+class Joint:
+    """Base class of the joint models (see the module docstring for the contract)."""
+
+    __slots__ = ()
+    kind: ClassVar[str] = "joint"
+    nq: ClassVar[int] = 0
+    nv: ClassVar[int] = 0
+
+    @property
+    def S(self) -> np.ndarray:
+        """`(6, nv)` motion subspace in successor coordinates (constant)."""
+        raise NotImplementedError
+
+    def pose(self, q: Any) -> PluckerTransform:
+        """The pose of the successor frame in the joint frame for ``q`` `(..., nq)`."""
+        raise NotImplementedError
+
+    def neutral(self) -> np.ndarray:
+        """`(nq,)` the neutral configuration (zero angle, identity quaternion)."""
+        return np.zeros(self.nq)
+
+    def integrate(self, q: Any, v: Any) -> np.ndarray:
+        """`(..., nq)`: the configuration reached from ``q`` moving with ``v`` `(..., nv)` for unit time."""
+        return _q(q, self.nq) + as_array(v, "v", (self.nv,))
+
+    def difference(self, q0: Any, q1: Any) -> np.ndarray:
+        """`(..., nv)`: the velocity ``v`` with ``integrate(q0, v) = q1``."""
+        return _q(q1, self.nq, "q1") - _q(q0, self.nq, "q0")
+
+    def random(self, rng: np.random.Generator, lower: np.ndarray, upper: np.ndarray, size: Any = None) -> np.ndarray:
+        """Random configurations `(*size, nq)` within ``[lower, upper]`` (infinite bounds: see subclasses)."""
+        shape = _batch(size) + (self.nq,)
+        lo = np.where(np.isfinite(lower), lower, -np.pi)
+        hi = np.where(np.isfinite(upper), upper, np.pi)
+        return lo + (hi - lo) * rng.random(shape)
+
+    def normalize(self, q: Any) -> np.ndarray:
+        """`(..., nq)` the nearest valid configuration (unit quaternions); identity for vector joints."""
+        return np.array(_q(q, self.nq))
+
+    def is_normalized(self, q: Any, tol: float = 1e-10) -> Any:
+        """`(...)` bool: whether ``q`` is a valid configuration."""
+        qq = _q(q, self.nq)
+        return np.ones(qq.shape[:-1], dtype=bool)
+
+    def motion(self, qd: Any) -> SpatialMotion:
+        """Joint velocity ``v_J = S q̇`` `(..., 6)` in successor coordinates."""
+        qd = as_array(qd, "qd", (self.nv,))
+        return SpatialMotion.from_vector(qd @ self.S.T.astype(qd.dtype))
+
+
+@dataclass(frozen=True, slots=True, repr=False)
+class RevoluteJoint(Joint):
+    """Rotation by ``q`` about a unit ``axis`` (URDF ``revolute`` and ``continuous``).
+
+    ::
+
+        pose(q) = (exp(q [a]×), 0),    S = [a; 0]
+    """
+
+    axis: np.ndarray = field(default_factory=lambda: _frozen(np.array([0.0, 0.0, 1.0])))
+    kind: ClassVar[str] = "revolute"
+    nq: ClassVar[int] = 1
+    nv: ClassVar[int] = 1
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "axis", unit_axis(self.axis))
+
+    @property
+    def S(self) -> np.ndarray:
+        return _frozen(np.concatenate([self.axis, np.zeros(3)])[:, None])
+
+    def pose(self, q: Any) -> PluckerTransform:
+        qq = _q(q, 1)
+        R = rot.axis_angle_to_matrix(self.axis.astype(qq.dtype) if qq.dtype.kind == "f" else self.axis, qq[..., 0])
+        return PluckerTransform(R, np.zeros(qq.shape[:-1] + (3,), dtype=R.dtype), validate=False)
+
+    def __repr__(self) -> str:
+        return f"RevoluteJoint(axis={self.axis.tolist()})"
+
+
+@dataclass(frozen=True, slots=True, repr=False)
+class PrismaticJoint(Joint):
+    """Translation by ``q`` along a unit ``axis`` (URDF ``prismatic``).
+
+    ::
+
+        pose(q) = (1, q a),    S = [0; a]
+    """
+
+    axis: np.ndarray = field(default_factory=lambda: _frozen(np.array([0.0, 0.0, 1.0])))
+    kind: ClassVar[str] = "prismatic"
+    nq: ClassVar[int] = 1
+    nv: ClassVar[int] = 1
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "axis", unit_axis(self.axis))
+
+    @property
+    def S(self) -> np.ndarray:
+        return _frozen(np.concatenate([np.zeros(3), self.axis])[:, None])
+
+    def pose(self, q: Any) -> PluckerTransform:
+        qq = _q(q, 1)
+        p = qq[..., 0:1] * self.axis
+        eye = np.broadcast_to(np.eye(3), qq.shape[:-1] + (3, 3)).astype(p.dtype)
+        return PluckerTransform(eye, p, validate=False)
+
+    def random(self, rng: np.random.Generator, lower: np.ndarray, upper: np.ndarray, size: Any = None) -> np.ndarray:
+        shape = _batch(size) + (1,)
+        lo = np.where(np.isfinite(lower), lower, -1.0)
+        hi = np.where(np.isfinite(upper), upper, 1.0)
+        return lo + (hi - lo) * rng.random(shape)
+
+    def __repr__(self) -> str:
+        return f"PrismaticJoint(axis={self.axis.tolist()})"
+
+
+@dataclass(frozen=True, slots=True, repr=True)
+class SphericalJoint(Joint):
+    """A ball joint: ``q`` a unit quaternion (x, y, z, w), ``v = ω`` in the child frame.
+
+    ::
+
+        pose(q) = (R(q), 0),   S = [1₃; 0],   integrate: R⁺ = R exp([ω]×)
+    """
+
+    kind: ClassVar[str] = "spherical"
+    nq: ClassVar[int] = 4
+    nv: ClassVar[int] = 3
+
+    @property
+    def S(self) -> np.ndarray:
+        return _frozen(np.vstack([np.eye(3), np.zeros((3, 3))]))
+
+    def pose(self, q: Any) -> PluckerTransform:
+        qq = _q(q, 4)
+        R = rot.quat_to_matrix(qq)
+        return PluckerTransform(R, np.zeros(qq.shape[:-1] + (3,), dtype=R.dtype), validate=False)
+
+    def neutral(self) -> np.ndarray:
+        return np.array([0.0, 0.0, 0.0, 1.0])
+
+    def integrate(self, q: Any, v: Any) -> np.ndarray:
+        qq = _q(q, 4)
+        w = as_array(v, "v", (3,))
+        return rot.matrix_to_quat(rot.quat_to_matrix(qq) @ rot.so3_exp(w)).astype(np.result_type(qq, w))
+
+    def difference(self, q0: Any, q1: Any) -> np.ndarray:
+        R0 = rot.quat_to_matrix(_q(q0, 4, "q0"))
+        R1 = rot.quat_to_matrix(_q(q1, 4, "q1"))
+        return rot.so3_log(np.swapaxes(R0, -1, -2) @ R1)
+
+    def random(self, rng: np.random.Generator, lower: np.ndarray, upper: np.ndarray, size: Any = None) -> np.ndarray:
+        return _uniform_quat(rng, _batch(size))
+
+    def normalize(self, q: Any) -> np.ndarray:
+        return rot.quat_normalize(_q(q, 4))
+
+    def is_normalized(self, q: Any, tol: float = 1e-10) -> Any:
+        qq = _q(q, 4)
+        return np.abs(np.linalg.norm(qq, axis=-1) - 1) <= tol
+
+
+@dataclass(frozen=True, slots=True, repr=True)
+class FreeFlyerJoint(Joint):
+    """Six degrees of freedom (a floating base, or a URDF ``floating`` joint).
+
+    ``q = [x y z, qx qy qz qw]``: the position of the child in the parent, then
+    its orientation (Pinocchio's layout); ``v = [ω; v]``: the child's spatial
+    velocity relative to the parent in child coordinates (Featherstone order;
+    Pinocchio's is ``[v; ω]``)::
+
+        pose(q) = (R(quat), p),   S = 1₆,   integrate: T⁺ = T exp(v)
+    """
+
+    kind: ClassVar[str] = "free_flyer"
+    nq: ClassVar[int] = 7
+    nv: ClassVar[int] = 6
+
+    @property
+    def S(self) -> np.ndarray:
+        return _frozen(np.eye(6))
+
+    def pose(self, q: Any) -> PluckerTransform:
+        qq = _q(q, 7)
+        return PluckerTransform(rot.quat_to_matrix(qq[..., 3:]), qq[..., :3], validate=False)
+
+    def neutral(self) -> np.ndarray:
+        return np.array([0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0])
+
+    def integrate(self, q: Any, v: Any) -> np.ndarray:
+        qq = _q(q, 7)
+        vv = as_array(v, "v", (6,))
+        T = self.pose(qq) @ rot.se3_exp(vv)
+        return np.concatenate([T.translation, rot.matrix_to_quat(T.rotation)], axis=-1).astype(np.result_type(qq, vv))
+
+    def difference(self, q0: Any, q1: Any) -> np.ndarray:
+        T0 = self.pose(_q(q0, 7, "q0"))
+        T1 = self.pose(_q(q1, 7, "q1"))
+        return rot.se3_log(T0.inverse() @ T1).vector
+
+    def random(self, rng: np.random.Generator, lower: np.ndarray, upper: np.ndarray, size: Any = None) -> np.ndarray:
+        shape = _batch(size)
+        lo = np.where(np.isfinite(lower[:3]), lower[:3], -1.0)
+        hi = np.where(np.isfinite(upper[:3]), upper[:3], 1.0)
+        pos = lo + (hi - lo) * rng.random(shape + (3,))
+        return np.concatenate([pos, _uniform_quat(rng, shape)], axis=-1)
+
+    def normalize(self, q: Any) -> np.ndarray:
+        qq = np.array(_q(q, 7))
+        qq[..., 3:] = rot.quat_normalize(qq[..., 3:])
+        return qq
+
+    def is_normalized(self, q: Any, tol: float = 1e-10) -> Any:
+        qq = _q(q, 7)
+        return np.abs(np.linalg.norm(qq[..., 3:], axis=-1) - 1) <= tol
+
+
+def _plane_basis(normal: np.ndarray) -> np.ndarray:
+    """A right-handed orthonormal basis ``[e1 e2 n]`` (columns) with ``n`` = normal; identity for +z."""
+    n = normal
+    helper = np.array([1.0, 0.0, 0.0]) if abs(n[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
+    if np.allclose(n, [0.0, 0.0, 1.0]):
+        return np.eye(3)
+    e1 = helper - n * (helper @ n)
+    e1 /= np.linalg.norm(e1)
+    e2 = np.cross(n, e1)
+    return np.stack([e1, e2, n], axis=1)
+
+
+@dataclass(frozen=True, slots=True, repr=False)
+class PlanarJoint(Joint):
+    """Motion in the plane normal to ``normal`` (URDF ``planar``; the URDF axis is the normal).
+
+    With the plane basis ``B = [e1 e2 n]`` (identity for ``normal = z``),
+    ``q = [x, y, θ]`` and ``v = [ω, v_x, v_y]`` in the moving frame::
+
+        pose(q) = (B Rz(θ) Bᵀ,  x e1 + y e2),   S = [[n, 0, 0], [0, e1, e2]]
+
+    (Pinocchio stores ``q = [x, y, cos θ, sin θ]`` and ``v = [v_x, v_y, ω]``.)
+    """
+
+    normal: np.ndarray = field(default_factory=lambda: _frozen(np.array([0.0, 0.0, 1.0])))
+    kind: ClassVar[str] = "planar"
+    nq: ClassVar[int] = 3
+    nv: ClassVar[int] = 3
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "normal", unit_axis(self.normal, "normal"))
+
+    @property
+    def basis(self) -> np.ndarray:
+        """`(3, 3)` the plane basis ``[e1 e2 n]`` as columns."""
+        return _frozen(_plane_basis(self.normal))
+
+    @property
+    def S(self) -> np.ndarray:
+        B = self.basis
+        S = np.zeros((6, 3))
+        S[:3, 0] = B[:, 2]
+        S[3:, 1] = B[:, 0]
+        S[3:, 2] = B[:, 1]
+        return _frozen(S)
+
+    def pose(self, q: Any) -> PluckerTransform:
+        qq = _q(q, 3)
+        B = self.basis
+        R = rot.axis_angle_to_matrix(self.normal, qq[..., 2])
+        p = qq[..., 0:1] * B[:, 0] + qq[..., 1:2] * B[:, 1]
+        return PluckerTransform(R, p, validate=False)
+
+    def integrate(self, q: Any, v: Any) -> np.ndarray:
+        # SE(2) exponential of the body velocity, composed on the right
+        qq = _q(q, 3)
+        vv = as_array(v, "v", (3,))
+        w, vx, vy = vv[..., 0], vv[..., 1], vv[..., 2]
+        small = np.abs(w) < 1e-8
+        ws = np.where(small, 1.0, w)
+        a = np.where(small, 1 - w * w / 6, np.sin(w) / ws)
+        b = np.where(small, w / 2 - w**3 / 24, (1 - np.cos(w)) / ws)
+        dx, dy = a * vx - b * vy, b * vx + a * vy
+        th = qq[..., 2]
+        c, s = np.cos(th), np.sin(th)
+        out = np.stack([qq[..., 0] + c * dx - s * dy, qq[..., 1] + s * dx + c * dy, th + w], axis=-1)
+        return out.astype(np.result_type(qq, vv))
+
+    def difference(self, q0: Any, q1: Any) -> np.ndarray:
+        a0, a1 = _q(q0, 3, "q0"), _q(q1, 3, "q1")
+        dth = np.arctan2(np.sin(a1[..., 2] - a0[..., 2]), np.cos(a1[..., 2] - a0[..., 2]))
+        c, s = np.cos(a0[..., 2]), np.sin(a0[..., 2])
+        gx, gy = a1[..., 0] - a0[..., 0], a1[..., 1] - a0[..., 1]
+        dx, dy = c * gx + s * gy, -s * gx + c * gy  # displacement in the frame of q0
+        small = np.abs(dth) < 1e-8
+        ws = np.where(small, 1.0, dth)
+        a = np.where(small, 1 - dth * dth / 6, np.sin(dth) / ws)
+        b = np.where(small, dth / 2 - dth**3 / 24, (1 - np.cos(dth)) / ws)
+        det = a * a + b * b
+        vx, vy = (a * dx + b * dy) / det, (-b * dx + a * dy) / det
+        return np.stack([dth, vx, vy], axis=-1)
+
+    def random(self, rng: np.random.Generator, lower: np.ndarray, upper: np.ndarray, size: Any = None) -> np.ndarray:
+        shape = _batch(size)
+        lo = np.array([-1.0, -1.0, -np.pi])
+        hi = np.array([1.0, 1.0, np.pi])
+        lo = np.where(np.isfinite(lower), lower, lo)
+        hi = np.where(np.isfinite(upper), upper, hi)
+        return lo + (hi - lo) * rng.random(shape + (3,))
+
+    def __repr__(self) -> str:
+        return f"PlanarJoint(normal={self.normal.tolist()})"

@@ -1,0 +1,402 @@
+"""The kinematic tree: an immutable :class:`Model`, and :class:`ModelBuilder` to make one.
+
+Bodies are numbered ``0 … nb−1`` with ``parent[i] < i`` and ``−1`` the fixed
+world (depth-first order of the URDF tree). Body ``i`` hangs from its parent
+through joint ``i``: the joint frame sits at ``joint_placements[i]`` (the
+pose of the joint frame in the parent body's frame, Pinocchio's
+``jointPlacements``) and the body's frame is the joint's successor frame, so
+the pose of body ``i`` in its parent is::
+
+    ᵖM_i(q) = joint_placements[i] @ joints[i].pose(q_i)
+
+and Featherstone's ``X_up[i] = ⁱX_λ(i)`` is its inverse action. Body inertias
+are expressed in the body frame. Every URDF link (including links merged
+through fixed joints) and every joint is a named :class:`FrameInfo`.
+
+Source: RBDA (2008) §4.1–4.2; chapter §8.3 and §18.
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from ._validation import as_array
+from .errors import InertiaError, ModelError, PhysicalityWarning
+from .joints import FreeFlyerJoint, Joint
+from .spatial_algebra import PluckerTransform, SpatialInertia
+
+__all__ = ["Model", "ModelBuilder", "FrameInfo", "Mimic", "DEFAULT_GRAVITY"]
+
+DEFAULT_GRAVITY = (0.0, 0.0, -9.81)
+
+
+@dataclass(frozen=True, slots=True)
+class FrameInfo:
+    """A named frame fixed to a body.
+
+    Attributes:
+        name: the frame's name (URDF link or joint name).
+        body: index of the body it is fixed to (``-1`` = the world).
+        placement: its pose in that body's frame.
+        kind: ``"body"`` (a moving link's own frame), ``"link"`` (a link merged
+            through a fixed joint, or the fixed root link), ``"joint"`` (a moving
+            joint's frame, placed at the joint before its motion) or
+            ``"fixed_joint"``.
+    """
+
+    name: str
+    body: int
+    placement: PluckerTransform
+    kind: str
+
+
+@dataclass(frozen=True, slots=True)
+class Mimic:
+    """A URDF ``<mimic>`` record (parsed, not enforced — as Pinocchio's default)::
+
+        q_joint = multiplier · q_mimicked + offset
+    """
+
+    joint: str
+    mimicked: str
+    multiplier: float = 1.0
+    offset: float = 0.0
+
+
+def _ro(a: Any, dtype: Any = np.float64) -> np.ndarray:
+    out = np.array(a, dtype=dtype)
+    out.flags.writeable = False
+    return out
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class Model:
+    """An immutable rigid-body tree. Build one with :class:`ModelBuilder` or :func:`featherdyn.load_urdf`.
+
+    Attributes:
+        name: the robot's name.
+        parents: `(nb,)` parent body of each body (``-1`` = world), ``parents[i] < i``.
+        joints: the joint of each body.
+        joint_names, body_names: names, unique within each list.
+        joint_placements: pose of each joint frame in its parent body, batched `(nb,)`.
+        inertias: spatial inertia of each body in its own frame, batched `(nb,)`.
+        gravity: `(3,)` gravity in world coordinates.
+        frames: every named frame.
+        idx_q, nqs, idx_v, nvs: where each body's joint sits in ``q`` and ``v``.
+        lower, upper: `(nq,)` position limits (``±inf`` where unbounded).
+        velocity_limit, effort_limit: `(nv,)` (``inf`` where not given).
+        mimics: URDF mimic records.
+        source: the file the model came from (``None`` if built in code).
+    """
+
+    name: str
+    parents: tuple[int, ...]
+    joints: tuple[Joint, ...]
+    joint_names: tuple[str, ...]
+    body_names: tuple[str, ...]
+    joint_placements: PluckerTransform
+    inertias: SpatialInertia
+    gravity: np.ndarray
+    frames: tuple[FrameInfo, ...]
+    idx_q: tuple[int, ...]
+    nqs: tuple[int, ...]
+    idx_v: tuple[int, ...]
+    nvs: tuple[int, ...]
+    lower: np.ndarray
+    upper: np.ndarray
+    velocity_limit: np.ndarray
+    effort_limit: np.ndarray
+    mimics: tuple[Mimic, ...] = ()
+    source: str | None = None
+    _frame_index: dict[str, int] = field(default_factory=dict, repr=False)
+
+    @property
+    def nbodies(self) -> int:
+        """Number of moving bodies ``nb``."""
+        return len(self.parents)
+
+    @property
+    def nq(self) -> int:
+        """Length of the configuration vector ``q``."""
+        return sum(self.nqs)
+
+    @property
+    def nv(self) -> int:
+        """Length of the velocity vector ``v`` (and of ``a``, ``τ``)."""
+        return sum(self.nvs)
+
+    @property
+    def total_mass(self) -> float:
+        """Sum of the body masses (the fixed root link of a fixed-base robot is not a body)."""
+        return float(np.sum(self.inertias.mass))
+
+    @property
+    def floating_base(self) -> bool:
+        """Whether body 0 hangs from the world by a free-flyer joint."""
+        return bool(self.nbodies and self.parents[0] == -1 and isinstance(self.joints[0], FreeFlyerJoint))
+
+    @property
+    def tree_transforms(self) -> PluckerTransform:
+        """Alias of :attr:`joint_placements` (Featherstone's ``Xtree``, as poses)."""
+        return self.joint_placements
+
+    def frame_id(self, name: str) -> int:
+        """Index of the frame called ``name`` in :attr:`frames`; :class:`ModelError` if unknown."""
+        try:
+            return self._frame_index[name]
+        except KeyError:
+            close = [f.name for f in self.frames if name.lower() in f.name.lower()][:5]
+            hint = f"; similar: {close}" if close else ""
+            raise ModelError(f"frame {name!r} not found in model {self.name!r}{hint}") from None
+
+    def body_id(self, name: str) -> int:
+        """Index of the body called ``name``; :class:`ModelError` if unknown."""
+        try:
+            return self.body_names.index(name)
+        except ValueError:
+            raise ModelError(f"body {name!r} not found in model {self.name!r}") from None
+
+    def joint_id(self, name: str) -> int:
+        """Index of the body whose joint is called ``name``; :class:`ModelError` if unknown."""
+        try:
+            return self.joint_names.index(name)
+        except ValueError:
+            raise ModelError(f"joint {name!r} not found in model {self.name!r}") from None
+
+    def children(self, i: int) -> list[int]:
+        """The bodies whose parent is ``i`` (``-1`` for the world)."""
+        return [j for j, p in enumerate(self.parents) if p == i]
+
+    def subtree(self, i: int) -> list[int]:
+        """Body ``i`` and all its descendants (in body order)."""
+        inside = {i}
+        for j in range(i + 1, self.nbodies):
+            if self.parents[j] in inside:
+                inside.add(j)
+        return sorted(inside)
+
+    def __repr__(self) -> str:
+        base = "floating" if self.floating_base else "fixed"
+        return (f"Model({self.name!r}: {self.nbodies} bodies, nq={self.nq}, nv={self.nv}, {base} base, "
+                f"mass={self.total_mass:.4g} kg)")
+
+
+class ModelBuilder:
+    """Make a :class:`Model` in code: add bodies in order (parents first), then :meth:`build`.
+
+    Example (the chapter's appendix-D 2R arm)::
+
+        b = ModelBuilder("2R")
+        l1 = b.add_body("link1", -1, RevoluteJoint([0, 0, 1]), inertia=I1, joint_name="joint1")
+        b.add_body("link2", l1, RevoluteJoint([0, 0, 1]),
+                   placement=PluckerTransform(np.eye(3), [1.0, 0, 0]), inertia=I2)
+        model = b.build()
+    """
+
+    def __init__(self, name: str = "model", gravity: Sequence[float] = DEFAULT_GRAVITY) -> None:
+        self.name = name
+        g = as_array(gravity, "gravity", (3,))
+        if g.shape != (3,):
+            raise ModelError(f"gravity: expected shape (3,), got {g.shape}")
+        self.gravity = g.astype(np.float64)
+        self._parents: list[int] = []
+        self._joints: list[Joint] = []
+        self._joint_names: list[str] = []
+        self._body_names: list[str] = []
+        self._placements: list[PluckerTransform] = []
+        self._inertias: list[SpatialInertia] = []
+        self._lower: list[np.ndarray] = []
+        self._upper: list[np.ndarray] = []
+        self._vel: list[np.ndarray] = []
+        self._eff: list[np.ndarray] = []
+        self._frames: list[FrameInfo] = []
+        self._mimics: list[Mimic] = []
+        self.source: str | None = None
+
+    @property
+    def nbodies(self) -> int:
+        return len(self._parents)
+
+    def add_body(
+        self,
+        name: str,
+        parent: int,
+        joint: Joint,
+        *,
+        placement: PluckerTransform | None = None,
+        inertia: SpatialInertia | None = None,
+        joint_name: str | None = None,
+        lower: Any = None,
+        upper: Any = None,
+        velocity_limit: Any = None,
+        effort_limit: Any = None,
+    ) -> int:
+        """Add a body hanging from ``parent`` (``-1`` = world) through ``joint``; returns its index.
+
+        Args:
+            name: body name (unique).
+            parent: index of an already added body, or ``-1``.
+            joint: its joint model.
+            placement: pose of the joint frame in the parent body frame (default identity).
+            inertia: spatial inertia in the body frame (default zero).
+            joint_name: defaults to ``name + "_joint"``.
+            lower, upper: `(nq,)` position limits (default unbounded).
+            velocity_limit, effort_limit: `(nv,)` (default unbounded).
+        """
+        if not isinstance(joint, Joint):
+            raise ModelError(f"body {name!r}: joint must be a featherdyn Joint, got {type(joint).__name__}")
+        if not isinstance(parent, (int, np.integer)) or not (-1 <= parent < self.nbodies):
+            raise ModelError(
+                f"body {name!r}: parent must be -1 (world) or an existing body index 0..{self.nbodies - 1} "
+                f"(bodies are added parents first), got {parent!r}"
+            )
+        placement = PluckerTransform.identity() if placement is None else placement
+        if not isinstance(placement, PluckerTransform) or placement.shape != ():
+            raise ModelError(f"body {name!r}: placement must be a single PluckerTransform")
+        inertia = SpatialInertia.zero() if inertia is None else inertia
+        if not isinstance(inertia, SpatialInertia) or inertia.shape != ():
+            raise ModelError(f"body {name!r}: inertia must be a single SpatialInertia")
+        if inertia.dtype.kind != "f" or not (np.all(np.isfinite(inertia.inertia_com)) and np.isfinite(inertia.mass)):
+            raise ModelError(f"body {name!r}: inertia must hold finite floating-point numbers")
+        if float(inertia.mass) < 0:
+            raise InertiaError(f"body {name!r}: negative mass {float(inertia.mass):g}")
+        self._parents.append(int(parent))
+        self._joints.append(joint)
+        self._joint_names.append(joint_name if joint_name is not None else f"{name}_joint")
+        self._body_names.append(name)
+        self._placements.append(placement)
+        self._inertias.append(inertia)
+        self._lower.append(self._limit(lower, joint.nq, -math.inf, f"{name}: lower"))
+        self._upper.append(self._limit(upper, joint.nq, math.inf, f"{name}: upper"))
+        self._vel.append(self._limit(velocity_limit, joint.nv, math.inf, f"{name}: velocity_limit"))
+        self._eff.append(self._limit(effort_limit, joint.nv, math.inf, f"{name}: effort_limit"))
+        return self.nbodies - 1
+
+    @staticmethod
+    def _limit(val: Any, n: int, default: float, name: str) -> np.ndarray:
+        if val is None:
+            return np.full(n, default)
+        arr = np.broadcast_to(as_array(val, name, check_finite=False), (n,)).astype(np.float64)
+        if np.any(np.isnan(arr)):
+            raise ModelError(f"{name}: limits must not be NaN")
+        return arr
+
+    def add_inertia(self, body: int, inertia: SpatialInertia) -> None:
+        """Lump ``inertia`` (expressed in ``body``'s frame) into that body (fixed-joint merging)."""
+        if not (0 <= body < self.nbodies):
+            raise ModelError(f"add_inertia: no body {body}")
+        self._inertias[body] = self._inertias[body] + inertia
+
+    def add_frame(self, name: str, body: int, placement: PluckerTransform | None = None, kind: str = "link") -> None:
+        """Add a named frame fixed to ``body`` (``-1`` = world) at ``placement``."""
+        if not (-1 <= body < self.nbodies):
+            raise ModelError(f"frame {name!r}: no body {body}")
+        self._frames.append(FrameInfo(name, int(body), placement or PluckerTransform.identity(), kind))
+
+    def add_mimic(self, mimic: Mimic) -> None:
+        """Record a URDF mimic relation (not enforced)."""
+        self._mimics.append(mimic)
+
+    def build(self, *, strict: bool = False, check_inertias: bool = True) -> Model:
+        """Validate and freeze the model.
+
+        Checks: names unique; a body whose subtree has no mass (the mass matrix
+        would be singular) and non-physical inertias warn with
+        :class:`PhysicalityWarning`, or raise with ``strict=True``.
+        """
+        for what, names in (("body", self._body_names), ("joint", self._joint_names)):
+            seen: set[str] = set()
+            for n in names:
+                if n in seen:
+                    raise ModelError(f"{what} name {n!r} is used twice")
+                seen.add(n)
+        nb = self.nbodies
+        idx_q, idx_v, q0, v0 = [], [], 0, 0
+        for j in self._joints:
+            idx_q.append(q0)
+            idx_v.append(v0)
+            q0 += j.nq
+            v0 += j.nv
+        if nb:
+            placements = PluckerTransform(
+                np.stack([p.rotation for p in self._placements]),
+                np.stack([p.translation for p in self._placements]),
+                validate=False,
+            )
+            inertias = SpatialInertia(
+                np.array([float(i.mass) for i in self._inertias]),
+                np.stack([i.com for i in self._inertias]),
+                np.stack([i.inertia_com for i in self._inertias]),
+            )
+        else:
+            placements = PluckerTransform.identity((0,))
+            inertias = SpatialInertia.zero((0,))
+        frames = list(self._frames)
+        names = {f.name for f in frames}
+        for i, bname in enumerate(self._body_names):  # every body is a frame, unless one of the same name exists
+            if bname not in names:
+                frames.append(FrameInfo(bname, i, PluckerTransform.identity(), "body"))
+                names.add(bname)
+        frame_index: dict[str, int] = {}
+        for k, f in enumerate(frames):
+            frame_index.setdefault(f.name, k)
+        model = Model(
+            name=self.name,
+            parents=tuple(self._parents),
+            joints=tuple(self._joints),
+            joint_names=tuple(self._joint_names),
+            body_names=tuple(self._body_names),
+            joint_placements=placements,
+            inertias=inertias,
+            gravity=_ro(self.gravity),
+            frames=tuple(frames),
+            idx_q=tuple(idx_q),
+            nqs=tuple(j.nq for j in self._joints),
+            idx_v=tuple(idx_v),
+            nvs=tuple(j.nv for j in self._joints),
+            lower=_ro(np.concatenate(self._lower) if nb else np.zeros(0)),
+            upper=_ro(np.concatenate(self._upper) if nb else np.zeros(0)),
+            velocity_limit=_ro(np.concatenate(self._vel) if nb else np.zeros(0)),
+            effort_limit=_ro(np.concatenate(self._eff) if nb else np.zeros(0)),
+            mimics=tuple(self._mimics),
+            source=self.source,
+            _frame_index=frame_index,
+        )
+        if check_inertias:
+            for msg in massless_subtrees(model):
+                _complain(msg, strict)
+        return model
+
+
+def _complain(msg: str, strict: bool) -> None:
+    if strict:
+        raise ModelError(msg + " (strict=True)")
+    warnings.warn(msg, PhysicalityWarning, stacklevel=4)
+
+
+def massless_subtrees(model: Model) -> list[str]:
+    """Messages for each moving joint whose whole subtree has no mass and no rotational inertia.
+
+    Such a joint makes the joint-space mass matrix singular (ABA would divide by zero).
+    """
+    nb = model.nbodies
+    has_mass = [bool(model.inertias.mass[i] > 0 or np.any(model.inertias.inertia_com[i] != 0)) for i in range(nb)]
+    sub = list(has_mass)
+    for i in range(nb - 1, -1, -1):
+        p = model.parents[i]
+        if p >= 0:
+            sub[p] = sub[p] or sub[i]
+    out = []
+    for i in range(nb):
+        if not sub[i]:
+            out.append(
+                f"joint {model.joint_names[i]!r} (body {model.body_names[i]!r}): its subtree has no mass; "
+                "the mass matrix will be singular"
+            )
+    return out
