@@ -26,6 +26,7 @@ __all__ = [
     "URDFError",
     "PhysicalityWarning",
     "MissingDependencyError",
+    "SingularMassMatrixError",
 ]
 
 
@@ -101,4 +102,12 @@ class MissingDependencyError(FeatherdynError, ImportError):
 
     The message says which pip package provides it (Pinocchio is ``pin`` on
     PyPI; the package called ``pinocchio`` there is something else).
+    """
+
+
+class SingularMassMatrixError(FeatherdynError, ValueError):
+    """The joint-space mass matrix is singular, so forward dynamics has no unique answer.
+
+    Raised by ABA instead of returning NaN; the message names the joint whose
+    articulated inertia vanished (typically a moving subtree without mass).
     """

@@ -475,13 +475,14 @@ def so3_log(rotation: Any) -> np.ndarray:
     """Logarithm of SO(3): the rotation vector ``ω = θ k`` with ``θ`` in ``[0, π]``.
 
     The angle comes from both the trace and the skew part, which is accurate
-    at every angle; the axis from the skew part, except near a half turn,
-    where ``sin θ → 0`` and the axis is read from the symmetric part instead
-    (largest diagonal entry, no division by ``sin θ``)::
+    at every angle; the axis from the skew part, except for ``θ > 2π/3``
+    (``cos θ < −½``), where ``sin θ → 0`` and the axis is read from the
+    symmetric part instead (largest diagonal entry, no division by ``sin θ``)::
 
         cos θ = (tr R − 1) / 2,    sin θ = |vee(R − Rᵀ)| / 2,    θ = atan2(sin θ, cos θ)
-        ω = (θ / (2 sin θ)) vee(R − Rᵀ)                             (θ away from π)
-        k kᵀ = (½(R + Rᵀ) − cos θ 1) / (1 − cos θ),  sign(k) = sign(k · vee(R − Rᵀ))   (θ near π)
+        ω = (θ / (2 sin θ)) vee(R − Rᵀ)                                 (θ <= 2π/3)
+        k kᵀ = (½(R + Rᵀ) − cos θ 1) / (1 − cos θ),   ω = θ k,
+        sign(k) = sign(k · vee(R − Rᵀ))                                 (θ > 2π/3)
 
     At exactly ``θ = π`` both ``±π k`` are logarithms; either may be returned.
 

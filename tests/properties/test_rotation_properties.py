@@ -389,6 +389,4 @@ def test_symbolic_axis_angle_and_so3_exp_equal_numeric(theta, omega):
         rtol=0,
         atol=1e-14,
     )
-    np.testing.assert_allclose(
-        np.asarray(_SO3_SYMBOLIC(*omega), dtype=np.float64), pin.exp3(omega), rtol=0, atol=1e-13
-    )
+    np.testing.assert_allclose(np.asarray(_SO3_SYMBOLIC(*omega), dtype=np.float64), pin.exp3(omega), rtol=0, atol=1e-13)

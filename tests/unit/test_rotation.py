@@ -426,6 +426,23 @@ def test_se3_exp_of_a_pure_translation_and_of_a_rotation_about_an_offset_axis():
     np.testing.assert_allclose(X.translation, (np.eye(3) - _rz(theta)) @ c, rtol=0, atol=1e-15)
 
 
+@pytest.mark.parametrize("theta", [1e-6, 5e-3, 9.9e-3, 1.01e-2, 5e-2, 0.099, 0.101])
+def test_se3_exp_and_log_match_pinocchio_across_the_small_angle_switch(theta):
+    """Either side of the Taylor-series switch, to ~1e-14 relative (|v| ≈ 20)."""
+    from featherdyn.spatial_algebra import PluckerTransform
+
+    omega = theta * np.array([2.0, -3.0, 6.0]) / 7.0
+    v = np.array([10.0, -20.0, 5.0])
+    M = pin.exp6(pin.Motion(v, omega))
+    X = rot.se3_exp(np.concatenate([omega, v]))
+    np.testing.assert_allclose(X.rotation, M.rotation, rtol=0, atol=5e-16)
+    np.testing.assert_allclose(X.translation, M.translation, rtol=0, atol=2e-13)
+    xi = rot.se3_log(PluckerTransform(M.rotation, M.translation))
+    m = pin.log6(M)
+    np.testing.assert_allclose(xi.angular, m.angular, rtol=1e-13, atol=0)
+    np.testing.assert_allclose(xi.linear, m.linear, rtol=0, atol=2e-13)
+
+
 def test_se3_exp_accepts_spatial_motion_and_raw_array_alike():
     from featherdyn.spatial_algebra import SpatialMotion
 
@@ -593,17 +610,17 @@ def test_complex_dtype_raises_dtype_error(name):
 
 def test_two_argument_functions_validate_each_argument():
     q = np.array([0.0, 0.0, 0.0, 1.0])
-    with pytest.raises(ShapeError, match="^q1: "):
+    with pytest.raises(ShapeError, match=r"^q1: "):
         rot.quat_multiply(q[:3], q)
-    with pytest.raises(ShapeError, match="^q2: "):
+    with pytest.raises(ShapeError, match=r"^q2: "):
         rot.quat_multiply(q, np.zeros(5))
-    with pytest.raises(NonFiniteError, match="^q2: "):
+    with pytest.raises(NonFiniteError, match=r"^q2: "):
         rot.quat_multiply(q, [0.0, np.nan, 0.0, 1.0])
-    with pytest.raises(ShapeError, match="^axis: "):
+    with pytest.raises(ShapeError, match=r"^axis: "):
         rot.axis_angle_to_matrix([1.0, 0.0], 0.3)
-    with pytest.raises(NonFiniteError, match="^angle: "):
+    with pytest.raises(NonFiniteError, match=r"^angle: "):
         rot.axis_angle_to_matrix([1.0, 0.0, 0.0], np.inf)
-    with pytest.raises(DTypeError, match="^angle: "):
+    with pytest.raises(DTypeError, match=r"^angle: "):
         rot.axis_angle_to_matrix([1.0, 0.0, 0.0], 1j)
     with pytest.raises(ValueError):  # incompatible batch shapes
         rot.axis_angle_to_matrix(np.ones((2, 3)), np.ones(3))
@@ -640,12 +657,12 @@ def test_zero_quaternion_always_raises():
         lambda: rot.quat_normalize(zero),
         lambda: rot.quat_normalize(np.stack([np.ones(4), zero])),
     ):
-        with pytest.raises(QuaternionNormError, match="^quat: .*zero quaternion"):
+        with pytest.raises(QuaternionNormError, match=r"^quat: .*zero quaternion"):
             call()
 
 
 def test_zero_axis_raises_rotation_error():
-    with pytest.raises(RotationError, match="^axis: zero-length axis"):
+    with pytest.raises(RotationError, match=r"^axis: zero-length axis"):
         rot.axis_angle_to_matrix([0.0, 0.0, 0.0], 0.5)
     with pytest.raises(RotationError, match=r"batch index \(1,\)"):
         rot.axis_angle_to_matrix([[1.0, 0.0, 0.0], [0.0, 0.0, 0.0]], 0.5)
@@ -665,7 +682,7 @@ MATRIX_FUNCTIONS = [rot.matrix_to_quat, rot.matrix_to_rpy, rot.matrix_to_axis_an
 @pytest.mark.parametrize("fn", MATRIX_FUNCTIONS, ids=lambda f: f.__name__)
 def test_non_rotation_matrices_raise_rotation_error(fn, kind):
     M = NOT_ROTATIONS[kind]
-    with pytest.raises(RotationError, match="^rotation: expected a"):
+    with pytest.raises(RotationError, match=r"^rotation: expected a"):
         fn(M)
     with pytest.raises(RotationError, match=r"batch index \(1,\)"):
         fn(np.stack([np.eye(3), M]))
@@ -679,12 +696,12 @@ def test_reflection_message_says_reflection():
 def test_se3_type_errors_and_invalid_rotation():
     from featherdyn.spatial_algebra import PluckerTransform, SpatialForce
 
-    with pytest.raises(SpatialTypeError, match="^twist: .*SpatialForce"):
+    with pytest.raises(SpatialTypeError, match=r"^twist: .*SpatialForce"):
         rot.se3_exp(SpatialForce(np.zeros(3), np.ones(3)))
-    with pytest.raises(SpatialTypeError, match="^transform: expected a PluckerTransform"):
+    with pytest.raises(SpatialTypeError, match=r"^transform: expected a PluckerTransform"):
         rot.se3_log(np.eye(4))
     unchecked = PluckerTransform(np.diag([1.0, 1.0, -1.0]), np.zeros(3), validate=False)
-    with pytest.raises(RotationError, match="^transform.rotation: "):
+    with pytest.raises(RotationError, match=r"^transform\.rotation: "):
         rot.se3_log(unchecked)
 
 
@@ -692,7 +709,7 @@ def test_symbolic_input_to_numeric_only_functions_raises_dtype_error():
     a = sp.Symbol("a")
     R_sym = rot.rpy_to_matrix(np.array([0, 0, a], dtype=object))
     for fn in MATRIX_FUNCTIONS:
-        with pytest.raises(DTypeError, match="^rotation: .*numeric"):
+        with pytest.raises(DTypeError, match=r"^rotation: .*numeric"):
             fn(R_sym)
 
 
