@@ -8,7 +8,7 @@ the pose of frame A in frame B and maps A-coordinates to B-coordinates.
 
 from __future__ import annotations
 
-from . import errors, frames, joints, model, rotation, spatial_algebra
+from . import algorithms, errors, frames, joints, model, rotation, spatial_algebra
 from .errors import (
     DTypeError,
     FeatherdynError,
@@ -43,6 +43,33 @@ from .spatial_algebra import (
     xlt,
 )
 
+from .algorithms import (
+    LOCAL,
+    LOCAL_WORLD_ALIGNED,
+    WORLD,
+    CenterOfMass,
+    Kinematics,
+    ReferenceFrame,
+    aba,
+    center_of_mass,
+    centroidal_momentum,
+    centroidal_momentum_matrix,
+    coriolis_matrix,
+    crba,
+    forward_kinematics,
+    frame_acceleration,
+    frame_classical_acceleration,
+    frame_jacobian,
+    frame_jacobian_time_variation,
+    frame_placement,
+    frame_velocity,
+    generalized_gravity,
+    joint_jacobians,
+    kinetic_energy,
+    nonlinear_effects,
+    potential_energy,
+    rnea,
+)
 from .joints import FreeFlyerJoint, Joint, PlanarJoint, PrismaticJoint, RevoluteJoint, SphericalJoint
 from .model import FrameInfo, Mimic, Model, ModelBuilder
 
@@ -127,6 +154,31 @@ __all__ = [
     "Mimic",
     "Model",
     "ModelBuilder",
+    "LOCAL",
+    "LOCAL_WORLD_ALIGNED",
+    "WORLD",
+    "CenterOfMass",
+    "Kinematics",
+    "ReferenceFrame",
+    "aba",
+    "center_of_mass",
+    "centroidal_momentum",
+    "centroidal_momentum_matrix",
+    "coriolis_matrix",
+    "crba",
+    "forward_kinematics",
+    "frame_acceleration",
+    "frame_classical_acceleration",
+    "frame_jacobian",
+    "frame_jacobian_time_variation",
+    "frame_placement",
+    "frame_velocity",
+    "generalized_gravity",
+    "joint_jacobians",
+    "kinetic_energy",
+    "nonlinear_effects",
+    "potential_energy",
+    "rnea",
     "__version__",
     *_LAZY,
 ]

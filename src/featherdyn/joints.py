@@ -34,8 +34,8 @@ from typing import Any, ClassVar
 import numpy as np
 
 from . import rotation as rot
-from ._validation import as_array
-from .errors import ModelError, PhysicalityWarning
+from ._validation import as_array, default_tol
+from .errors import ModelError, PhysicalityWarning, QuaternionNormError
 from .spatial_algebra import PluckerTransform, SpatialMotion
 
 __all__ = [
@@ -49,13 +49,26 @@ __all__ = [
 ]
 
 _UNIT_TOL = 1e-6
+# A quaternion in q may be off unit norm by this much before integrate/difference refuse it
+# (URDF and user input carry ~7 digits; the same thresholds as featherdyn.rotation).
+_QUAT_NORM_TOL_FLOAT64 = 1e-6
+_QUAT_NORM_TOL_FLOAT32 = 1e-4
 
 
-def unit_axis(axis: Any, name: str = "axis", *, warn: bool = True) -> np.ndarray:
+def unit_axis(axis: Any, name: str = "axis", *, warn: bool = True, stacklevel: int = 3) -> np.ndarray:
     """Normalise a joint axis `(3,)`; zero length raises, non-unit length warns.
 
     Real URDFs have axes like ``0 0 -1`` (kept: the sign is meaningful) and
     ``0 0.7 0.7`` (normalised, with a :class:`PhysicalityWarning`).
+
+    Args:
+        axis: `(3,)` the axis, any non-zero length.
+        name: the argument name for messages.
+        warn: warn when the length is off 1 by more than 1e-6.
+        stacklevel: passed to :func:`warnings.warn` (3 = the caller of the caller).
+
+    Raises:
+        ModelError: the axis is not a single 3-vector or has zero length.
     """
     a = as_array(axis, name, (3,)).astype(np.float64)
     if a.ndim != 1:
@@ -64,7 +77,9 @@ def unit_axis(axis: Any, name: str = "axis", *, warn: bool = True) -> np.ndarray
     if n < 1e-12:
         raise ModelError(f"{name}: zero-length joint axis {a.tolist()}")
     if warn and abs(n - 1.0) > _UNIT_TOL:
-        warnings.warn(f"{name}: axis {a.tolist()} has length {n:.6g}; normalised", PhysicalityWarning, stacklevel=3)
+        warnings.warn(
+            f"{name}: axis {a.tolist()} has length {n:.6g}; normalised", PhysicalityWarning, stacklevel=stacklevel
+        )
     out = a / n
     out.flags.writeable = False
     return out
@@ -79,10 +94,42 @@ def _q(q: Any, nq: int, name: str = "q") -> np.ndarray:
     return as_array(q, name, (nq,))
 
 
+def _like(const: np.ndarray, x: np.ndarray) -> np.ndarray:
+    """``const`` (a float64 model constant) in the floating dtype of ``x`` (float32 stays float32)."""
+    return const.astype(x.dtype) if x.dtype.kind == "f" else const
+
+
 def _batch(size: Any) -> tuple[int, ...]:
     if size is None:
         return ()
     return (int(size),) if np.isscalar(size) else tuple(int(s) for s in size)
+
+
+def _limits(lower: Any, upper: Any, n: int) -> tuple[np.ndarray, np.ndarray]:
+    lo = np.full(n, -np.inf) if lower is None else np.broadcast_to(np.asarray(lower, dtype=np.float64), (n,))
+    hi = np.full(n, np.inf) if upper is None else np.broadcast_to(np.asarray(upper, dtype=np.float64), (n,))
+    return lo, hi
+
+
+def _box(lower: np.ndarray, upper: np.ndarray, lo_default: Any, hi_default: Any) -> tuple[np.ndarray, np.ndarray]:
+    """The sampling box: the limits where finite, else the default box.
+
+    A half-infinite interval that misses the default box is given the
+    default box's width on its finite side, so samples always respect the
+    finite limit.
+    """
+    lo_d = np.broadcast_to(np.asarray(lo_default, dtype=np.float64), lower.shape)
+    hi_d = np.broadcast_to(np.asarray(hi_default, dtype=np.float64), upper.shape)
+    width = hi_d - lo_d
+    fin_lo, fin_hi = np.isfinite(lower), np.isfinite(upper)
+    with np.errstate(invalid="ignore"):
+        lo = np.where(fin_lo, lower, np.where(fin_hi & (upper < lo_d), upper - width, lo_d))
+        hi = np.where(fin_hi, upper, np.where(fin_lo & (lower > hi_d), lower + width, hi_d))
+    return lo, hi
+
+
+def _uniform(rng: np.random.Generator, lo: np.ndarray, hi: np.ndarray, shape: tuple[int, ...]) -> np.ndarray:
+    return np.asarray(lo + (hi - lo) * rng.random(shape + lo.shape))
 
 
 def _uniform_quat(rng: np.random.Generator, shape: tuple[int, ...]) -> np.ndarray:
@@ -94,13 +141,63 @@ def _uniform_quat(rng: np.random.Generator, shape: tuple[int, ...]) -> np.ndarra
     return np.where(q[..., 3:] < 0, -q, q)
 
 
+def _check_unit_quat(quat: np.ndarray, name: str) -> None:
+    """Raise :class:`QuaternionNormError` naming ``name`` unless every `(..., 4)` quaternion is unit."""
+    if quat.dtype.kind == "O":
+        return
+    tol = default_tol(quat.dtype, _QUAT_NORM_TOL_FLOAT64, _QUAT_NORM_TOL_FLOAT32)
+    norm = np.sqrt(np.sum(quat * quat, axis=-1))
+    bad = np.abs(norm - 1) > tol
+    if np.any(bad):
+        idx = tuple(int(i) for i in np.argwhere(bad)[0]) if bad.ndim else ()
+        where = f" at batch index {idx}" if idx else ""
+        raise QuaternionNormError(
+            f"{name}: expected a unit quaternion (x, y, z, w), got norm {float(norm[idx]):.9g}{where} "
+            f"(tolerance {tol:g}); normalise it first"
+        )
+
+
+def _quat_exp(omega: np.ndarray) -> np.ndarray:
+    """`(..., 3) -> (..., 4)`: the unit quaternion of the rotation vector ``ω`` (xyzw)::
+
+        exp(ω) = (sin(θ/2) ω/θ, cos(θ/2)),   θ = |ω|
+    """
+    theta = np.sqrt(np.sum(omega * omega, axis=-1))
+    small = theta < default_tol(omega.dtype, 1e-2, 1e-1)
+    t = np.where(small, np.ones_like(theta), theta)
+    t2 = theta * theta
+    half_sinc = np.where(small, 0.5 - t2 / 48 * (1 - t2 / 80), np.sin(t / 2) / t)  # sin(θ/2)/θ
+    return np.concatenate([half_sinc[..., None] * omega, np.cos(theta / 2)[..., None]], axis=-1)
+
+
+def _quat_mul_normalized(q0: np.ndarray, dq: np.ndarray) -> np.ndarray:
+    out = rot.quat_multiply(q0, dq)
+    return np.asarray(out / np.sqrt(np.sum(out * out, axis=-1, keepdims=True)))
+
+
 class Joint:
-    """Base class of the joint models (see the module docstring for the contract)."""
+    """Base class of the joint models (see the module docstring for the contract).
+
+    Joints are immutable values; two joints are equal when they have the same
+    type and the same parameters (axis, normal).
+    """
 
     __slots__ = ()
     kind: ClassVar[str] = "joint"
     nq: ClassVar[int] = 0
     nv: ClassVar[int] = 0
+
+    def _params(self) -> tuple[np.ndarray, ...]:
+        return ()
+
+    def __eq__(self, other: object) -> bool:
+        if type(self) is not type(other):
+            return NotImplemented
+        assert isinstance(other, Joint)  # for mypy; type equality was checked above
+        return all(np.array_equal(a, b) for a, b in zip(self._params(), other._params()))
+
+    def __hash__(self) -> int:
+        return hash((type(self).__name__, *(tuple(p.tolist()) for p in self._params())))
 
     @property
     def S(self) -> np.ndarray:
@@ -116,26 +213,35 @@ class Joint:
         return np.zeros(self.nq)
 
     def integrate(self, q: Any, v: Any) -> np.ndarray:
-        """`(..., nq)`: the configuration reached from ``q`` moving with ``v`` `(..., nv)` for unit time."""
-        return _q(q, self.nq) + as_array(v, "v", (self.nv,))
+        """`(..., nq)`: the configuration reached from ``q`` moving with ``v`` `(..., nv)` for unit time.
+
+        Batch axes of ``q`` and ``v`` broadcast. For the vector-space joints::
+
+            q' = q + v
+        """
+        return np.asarray(_q(q, self.nq) + as_array(v, "v", (self.nv,)))
 
     def difference(self, q0: Any, q1: Any) -> np.ndarray:
         """`(..., nv)`: the velocity ``v`` with ``integrate(q0, v) = q1``."""
-        return _q(q1, self.nq, "q1") - _q(q0, self.nq, "q0")
+        return np.asarray(_q(q1, self.nq, "q1") - _q(q0, self.nq, "q0"))
 
-    def random(self, rng: np.random.Generator, lower: np.ndarray, upper: np.ndarray, size: Any = None) -> np.ndarray:
-        """Random configurations `(*size, nq)` within ``[lower, upper]`` (infinite bounds: see subclasses)."""
-        shape = _batch(size) + (self.nq,)
-        lo = np.where(np.isfinite(lower), lower, -np.pi)
-        hi = np.where(np.isfinite(upper), upper, np.pi)
-        return lo + (hi - lo) * rng.random(shape)
+    def random(
+        self, rng: Any = None, lower: Any = None, upper: Any = None, size: Any = None
+    ) -> np.ndarray:
+        """Random configurations `(*size, nq)` uniform within ``[lower, upper]`` `(nq,)`.
+
+        Infinite bounds are replaced by ``±π`` (angles) or ``±1`` (lengths);
+        ``rng`` is a :class:`numpy.random.Generator`, a seed or ``None``.
+        """
+        lo, hi = _box(*_limits(lower, upper, self.nq), -np.pi, np.pi)
+        return _uniform(np.random.default_rng(rng), lo, hi, _batch(size))
 
     def normalize(self, q: Any) -> np.ndarray:
         """`(..., nq)` the nearest valid configuration (unit quaternions); identity for vector joints."""
         return np.array(_q(q, self.nq))
 
     def is_normalized(self, q: Any, tol: float = 1e-10) -> Any:
-        """`(...)` bool: whether ``q`` is a valid configuration."""
+        """`(...)` bool: whether ``q`` is a valid configuration (``| |quat| − 1 | <= tol``)."""
         qq = _q(q, self.nq)
         return np.ones(qq.shape[:-1], dtype=bool)
 
@@ -145,13 +251,16 @@ class Joint:
         return SpatialMotion.from_vector(qd @ self.S.T.astype(qd.dtype))
 
 
-@dataclass(frozen=True, slots=True, repr=False)
+@dataclass(frozen=True, slots=True, repr=False, eq=False)
 class RevoluteJoint(Joint):
     """Rotation by ``q`` about a unit ``axis`` (URDF ``revolute`` and ``continuous``).
 
     ::
 
         pose(q) = (exp(q [a]×), 0),    S = [a; 0]
+
+    ``integrate`` and ``difference`` are ``q + v`` and ``q1 − q0`` (no wrapping,
+    as Pinocchio's ``JointModelRX`` / ``JointModelRevoluteUnaligned``).
     """
 
     axis: np.ndarray = field(default_factory=lambda: _frozen(np.array([0.0, 0.0, 1.0])))
@@ -160,7 +269,10 @@ class RevoluteJoint(Joint):
     nv: ClassVar[int] = 1
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "axis", unit_axis(self.axis))
+        object.__setattr__(self, "axis", unit_axis(self.axis, stacklevel=4))
+
+    def _params(self) -> tuple[np.ndarray, ...]:
+        return (self.axis,)
 
     @property
     def S(self) -> np.ndarray:
@@ -168,14 +280,14 @@ class RevoluteJoint(Joint):
 
     def pose(self, q: Any) -> PluckerTransform:
         qq = _q(q, 1)
-        R = rot.axis_angle_to_matrix(self.axis.astype(qq.dtype) if qq.dtype.kind == "f" else self.axis, qq[..., 0])
+        R = rot.axis_angle_to_matrix(_like(self.axis, qq), qq[..., 0])
         return PluckerTransform(R, np.zeros(qq.shape[:-1] + (3,), dtype=R.dtype), validate=False)
 
     def __repr__(self) -> str:
         return f"RevoluteJoint(axis={self.axis.tolist()})"
 
 
-@dataclass(frozen=True, slots=True, repr=False)
+@dataclass(frozen=True, slots=True, repr=False, eq=False)
 class PrismaticJoint(Joint):
     """Translation by ``q`` along a unit ``axis`` (URDF ``prismatic``).
 
@@ -190,7 +302,10 @@ class PrismaticJoint(Joint):
     nv: ClassVar[int] = 1
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "axis", unit_axis(self.axis))
+        object.__setattr__(self, "axis", unit_axis(self.axis, stacklevel=4))
+
+    def _params(self) -> tuple[np.ndarray, ...]:
+        return (self.axis,)
 
     @property
     def S(self) -> np.ndarray:
@@ -198,27 +313,32 @@ class PrismaticJoint(Joint):
 
     def pose(self, q: Any) -> PluckerTransform:
         qq = _q(q, 1)
-        p = qq[..., 0:1] * self.axis
+        p = qq[..., 0:1] * _like(self.axis, qq)
         eye = np.broadcast_to(np.eye(3), qq.shape[:-1] + (3, 3)).astype(p.dtype)
         return PluckerTransform(eye, p, validate=False)
 
-    def random(self, rng: np.random.Generator, lower: np.ndarray, upper: np.ndarray, size: Any = None) -> np.ndarray:
-        shape = _batch(size) + (1,)
-        lo = np.where(np.isfinite(lower), lower, -1.0)
-        hi = np.where(np.isfinite(upper), upper, 1.0)
-        return lo + (hi - lo) * rng.random(shape)
+    def random(
+        self, rng: Any = None, lower: Any = None, upper: Any = None, size: Any = None
+    ) -> np.ndarray:
+        lo, hi = _box(*_limits(lower, upper, 1), -1.0, 1.0)
+        return _uniform(np.random.default_rng(rng), lo, hi, _batch(size))
 
     def __repr__(self) -> str:
         return f"PrismaticJoint(axis={self.axis.tolist()})"
 
 
-@dataclass(frozen=True, slots=True, repr=True)
+@dataclass(frozen=True, slots=True, repr=True, eq=False)
 class SphericalJoint(Joint):
     """A ball joint: ``q`` a unit quaternion (x, y, z, w), ``v = ω`` in the child frame.
 
     ::
 
-        pose(q) = (R(q), 0),   S = [1₃; 0],   integrate: R⁺ = R exp([ω]×)
+        pose(q) = (R(q), 0),   S = [1₃; 0]
+        integrate:  q' = q ⊗ exp(ω)         (R' = R exp([ω]×))
+        difference: ω = log(R(q0)ᵀ R(q1)),  |ω| <= π
+
+    ``integrate`` keeps the sign of the product (Pinocchio's
+    ``JointModelSpherical``); ``q`` and ``−q`` are the same rotation.
     """
 
     kind: ClassVar[str] = "spherical"
@@ -231,7 +351,8 @@ class SphericalJoint(Joint):
 
     def pose(self, q: Any) -> PluckerTransform:
         qq = _q(q, 4)
-        R = rot.quat_to_matrix(qq)
+        _check_unit_quat(qq, "q")
+        R = rot.quat_to_matrix(qq, check_norm=False)
         return PluckerTransform(R, np.zeros(qq.shape[:-1] + (3,), dtype=R.dtype), validate=False)
 
     def neutral(self) -> np.ndarray:
@@ -240,15 +361,22 @@ class SphericalJoint(Joint):
     def integrate(self, q: Any, v: Any) -> np.ndarray:
         qq = _q(q, 4)
         w = as_array(v, "v", (3,))
-        return rot.matrix_to_quat(rot.quat_to_matrix(qq) @ rot.so3_exp(w)).astype(np.result_type(qq, w))
+        _check_unit_quat(qq, "q")
+        dtype = np.result_type(qq, w)
+        return _quat_mul_normalized(qq.astype(dtype), _quat_exp(w.astype(dtype))).astype(dtype)
 
     def difference(self, q0: Any, q1: Any) -> np.ndarray:
-        R0 = rot.quat_to_matrix(_q(q0, 4, "q0"))
-        R1 = rot.quat_to_matrix(_q(q1, 4, "q1"))
+        a0, a1 = _q(q0, 4, "q0"), _q(q1, 4, "q1")
+        _check_unit_quat(a0, "q0")
+        _check_unit_quat(a1, "q1")
+        R0 = rot.quat_to_matrix(a0, check_norm=False)
+        R1 = rot.quat_to_matrix(a1, check_norm=False)
         return rot.so3_log(np.swapaxes(R0, -1, -2) @ R1)
 
-    def random(self, rng: np.random.Generator, lower: np.ndarray, upper: np.ndarray, size: Any = None) -> np.ndarray:
-        return _uniform_quat(rng, _batch(size))
+    def random(
+        self, rng: Any = None, lower: Any = None, upper: Any = None, size: Any = None
+    ) -> np.ndarray:
+        return _uniform_quat(np.random.default_rng(rng), _batch(size))
 
     def normalize(self, q: Any) -> np.ndarray:
         return rot.quat_normalize(_q(q, 4))
@@ -258,7 +386,7 @@ class SphericalJoint(Joint):
         return np.abs(np.linalg.norm(qq, axis=-1) - 1) <= tol
 
 
-@dataclass(frozen=True, slots=True, repr=True)
+@dataclass(frozen=True, slots=True, repr=True, eq=False)
 class FreeFlyerJoint(Joint):
     """Six degrees of freedom (a floating base, or a URDF ``floating`` joint).
 
@@ -267,7 +395,12 @@ class FreeFlyerJoint(Joint):
     velocity relative to the parent in child coordinates (Featherstone order;
     Pinocchio's is ``[v; ω]``)::
 
-        pose(q) = (R(quat), p),   S = 1₆,   integrate: T⁺ = T exp(v)
+        pose(q) = (R(quat), p),   S = 1₆
+        integrate:  T(q') = T(q) exp(v)
+        difference: v = log(T(q0)⁻¹ T(q1))
+
+    The quaternion of ``q'`` is chosen in the hemisphere of ``q``'s
+    (``quat' · quat >= 0``), as Pinocchio's ``JointModelFreeFlyer`` does.
     """
 
     kind: ClassVar[str] = "free_flyer"
@@ -280,7 +413,8 @@ class FreeFlyerJoint(Joint):
 
     def pose(self, q: Any) -> PluckerTransform:
         qq = _q(q, 7)
-        return PluckerTransform(rot.quat_to_matrix(qq[..., 3:]), qq[..., :3], validate=False)
+        _check_unit_quat(qq[..., 3:], "q[3:7]")
+        return PluckerTransform(rot.quat_to_matrix(qq[..., 3:], check_norm=False), qq[..., :3], validate=False)
 
     def neutral(self) -> np.ndarray:
         return np.array([0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0])
@@ -288,20 +422,32 @@ class FreeFlyerJoint(Joint):
     def integrate(self, q: Any, v: Any) -> np.ndarray:
         qq = _q(q, 7)
         vv = as_array(v, "v", (6,))
-        T = self.pose(qq) @ rot.se3_exp(vv)
-        return np.concatenate([T.translation, rot.matrix_to_quat(T.rotation)], axis=-1).astype(np.result_type(qq, vv))
+        _check_unit_quat(qq[..., 3:], "q[3:7]")
+        dtype = np.result_type(qq, vv)
+        qq, vv = qq.astype(dtype), vv.astype(dtype)
+        quat = qq[..., 3:]
+        step = rot.se3_exp(vv)  # exp(v) = (R_Δ, p_Δ) in the frame of q
+        R0 = rot.quat_to_matrix(quat, check_norm=False)
+        p = qq[..., :3] + (R0 @ step.translation[..., None])[..., 0]
+        quat1 = _quat_mul_normalized(quat, _quat_exp(vv[..., :3]))
+        quat1 = np.where(np.sum(quat1 * quat, axis=-1, keepdims=True) < 0, -quat1, quat1)
+        batch = np.broadcast_shapes(p.shape[:-1], quat1.shape[:-1])
+        p, quat1 = np.broadcast_to(p, batch + (3,)), np.broadcast_to(quat1, batch + (4,))
+        return np.concatenate([p, quat1], axis=-1).astype(dtype)
 
     def difference(self, q0: Any, q1: Any) -> np.ndarray:
         T0 = self.pose(_q(q0, 7, "q0"))
         T1 = self.pose(_q(q1, 7, "q1"))
         return rot.se3_log(T0.inverse() @ T1).vector
 
-    def random(self, rng: np.random.Generator, lower: np.ndarray, upper: np.ndarray, size: Any = None) -> np.ndarray:
+    def random(
+        self, rng: Any = None, lower: Any = None, upper: Any = None, size: Any = None
+    ) -> np.ndarray:
+        gen = np.random.default_rng(rng)
         shape = _batch(size)
-        lo = np.where(np.isfinite(lower[:3]), lower[:3], -1.0)
-        hi = np.where(np.isfinite(upper[:3]), upper[:3], 1.0)
-        pos = lo + (hi - lo) * rng.random(shape + (3,))
-        return np.concatenate([pos, _uniform_quat(rng, shape)], axis=-1)
+        lo, hi = _limits(lower, upper, 7)
+        pos = _uniform(gen, *_box(lo[:3], hi[:3], -1.0, 1.0), shape)
+        return np.concatenate([pos, _uniform_quat(gen, shape)], axis=-1)
 
     def normalize(self, q: Any) -> np.ndarray:
         qq = np.array(_q(q, 7))
@@ -325,7 +471,7 @@ def _plane_basis(normal: np.ndarray) -> np.ndarray:
     return np.stack([e1, e2, n], axis=1)
 
 
-@dataclass(frozen=True, slots=True, repr=False)
+@dataclass(frozen=True, slots=True, repr=False, eq=False)
 class PlanarJoint(Joint):
     """Motion in the plane normal to ``normal`` (URDF ``planar``; the URDF axis is the normal).
 
@@ -333,6 +479,7 @@ class PlanarJoint(Joint):
     ``q = [x, y, θ]`` and ``v = [ω, v_x, v_y]`` in the moving frame::
 
         pose(q) = (B Rz(θ) Bᵀ,  x e1 + y e2),   S = [[n, 0, 0], [0, e1, e2]]
+        integrate: T(q') = T(q) exp(v)    (SE(2), body velocity)
 
     (Pinocchio stores ``q = [x, y, cos θ, sin θ]`` and ``v = [v_x, v_y, ω]``.)
     """
@@ -343,7 +490,10 @@ class PlanarJoint(Joint):
     nv: ClassVar[int] = 3
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "normal", unit_axis(self.normal, "normal"))
+        object.__setattr__(self, "normal", unit_axis(self.normal, "normal", stacklevel=4))
+
+    def _params(self) -> tuple[np.ndarray, ...]:
+        return (self.normal,)
 
     @property
     def basis(self) -> np.ndarray:
@@ -361,8 +511,8 @@ class PlanarJoint(Joint):
 
     def pose(self, q: Any) -> PluckerTransform:
         qq = _q(q, 3)
-        B = self.basis
-        R = rot.axis_angle_to_matrix(self.normal, qq[..., 2])
+        B = _like(self.basis, qq)
+        R = rot.axis_angle_to_matrix(_like(self.normal, qq), qq[..., 2])
         p = qq[..., 0:1] * B[:, 0] + qq[..., 1:2] * B[:, 1]
         return PluckerTransform(R, p, validate=False)
 
@@ -378,7 +528,7 @@ class PlanarJoint(Joint):
         dx, dy = a * vx - b * vy, b * vx + a * vy
         th = qq[..., 2]
         c, s = np.cos(th), np.sin(th)
-        out = np.stack([qq[..., 0] + c * dx - s * dy, qq[..., 1] + s * dx + c * dy, th + w], axis=-1)
+        out = np.stack(np.broadcast_arrays(qq[..., 0] + c * dx - s * dy, qq[..., 1] + s * dx + c * dy, th + w), axis=-1)
         return out.astype(np.result_type(qq, vv))
 
     def difference(self, q0: Any, q1: Any) -> np.ndarray:
@@ -393,15 +543,13 @@ class PlanarJoint(Joint):
         b = np.where(small, dth / 2 - dth**3 / 24, (1 - np.cos(dth)) / ws)
         det = a * a + b * b
         vx, vy = (a * dx + b * dy) / det, (-b * dx + a * dy) / det
-        return np.stack([dth, vx, vy], axis=-1)
+        return np.stack(np.broadcast_arrays(dth, vx, vy), axis=-1).astype(np.result_type(a0, a1))
 
-    def random(self, rng: np.random.Generator, lower: np.ndarray, upper: np.ndarray, size: Any = None) -> np.ndarray:
-        shape = _batch(size)
-        lo = np.array([-1.0, -1.0, -np.pi])
-        hi = np.array([1.0, 1.0, np.pi])
-        lo = np.where(np.isfinite(lower), lower, lo)
-        hi = np.where(np.isfinite(upper), upper, hi)
-        return lo + (hi - lo) * rng.random(shape + (3,))
+    def random(
+        self, rng: Any = None, lower: Any = None, upper: Any = None, size: Any = None
+    ) -> np.ndarray:
+        lo, hi = _box(*_limits(lower, upper, 3), [-1.0, -1.0, -np.pi], [1.0, 1.0, np.pi])
+        return _uniform(np.random.default_rng(rng), lo, hi, _batch(size))
 
     def __repr__(self) -> str:
         return f"PlanarJoint(normal={self.normal.tolist()})"

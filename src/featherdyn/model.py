@@ -18,6 +18,7 @@ Source: RBDA (2008) §4.1–4.2; chapter §8.3 and §18.
 
 from __future__ import annotations
 
+import difflib
 import math
 import warnings
 from collections.abc import Sequence
@@ -150,31 +151,40 @@ class Model:
         """Index of the frame called ``name`` in :attr:`frames`; :class:`ModelError` if unknown."""
         try:
             return self._frame_index[name]
-        except KeyError:
-            close = [f.name for f in self.frames if name.lower() in f.name.lower()][:5]
-            hint = f"; similar: {close}" if close else ""
-            raise ModelError(f"frame {name!r} not found in model {self.name!r}{hint}") from None
+        except (KeyError, TypeError):
+            raise ModelError(
+                f"frame {name!r} not found in model {self.name!r}{_similar(name, [f.name for f in self.frames])}"
+            ) from None
 
     def body_id(self, name: str) -> int:
         """Index of the body called ``name``; :class:`ModelError` if unknown."""
         try:
             return self.body_names.index(name)
         except ValueError:
-            raise ModelError(f"body {name!r} not found in model {self.name!r}") from None
+            raise ModelError(f"body {name!r} not found in model {self.name!r}{_similar(name, self.body_names)}") from None
 
     def joint_id(self, name: str) -> int:
         """Index of the body whose joint is called ``name``; :class:`ModelError` if unknown."""
         try:
             return self.joint_names.index(name)
         except ValueError:
-            raise ModelError(f"joint {name!r} not found in model {self.name!r}") from None
+            raise ModelError(f"joint {name!r} not found in model {self.name!r}{_similar(name, self.joint_names)}") from None
+
+    def _check_body(self, i: Any, allow_world: bool) -> int:
+        lo = -1 if allow_world else 0
+        if isinstance(i, bool) or not isinstance(i, (int, np.integer)) or not (lo <= i < self.nbodies):
+            world = "-1 (world) or " if allow_world else ""
+            raise ModelError(f"expected a body index {world}0..{self.nbodies - 1}, got {i!r}")
+        return int(i)
 
     def children(self, i: int) -> list[int]:
         """The bodies whose parent is ``i`` (``-1`` for the world)."""
+        i = self._check_body(i, allow_world=True)
         return [j for j, p in enumerate(self.parents) if p == i]
 
     def subtree(self, i: int) -> list[int]:
         """Body ``i`` and all its descendants (in body order)."""
+        i = self._check_body(i, allow_world=False)
         inside = {i}
         for j in range(i + 1, self.nbodies):
             if self.parents[j] in inside:
@@ -185,6 +195,21 @@ class Model:
         base = "floating" if self.floating_base else "fixed"
         return (f"Model({self.name!r}: {self.nbodies} bodies, nq={self.nq}, nv={self.nv}, {base} base, "
                 f"mass={self.total_mass:.4g} kg)")
+
+
+def _similar(name: Any, candidates: Sequence[str]) -> str:
+    """A hint listing the candidates closest to ``name`` (spelling, then substring), or ``""``."""
+    if not isinstance(name, str):
+        return f"; names are strings, got {type(name).__name__}"
+    close = difflib.get_close_matches(name, candidates, n=5, cutoff=0.6)
+    close += [c for c in candidates if name.lower() in c.lower() and c not in close]
+    return f"; similar: {close[:5]}" if close else ""
+
+
+def _check_name(name: Any, what: str) -> str:
+    if not isinstance(name, str) or not name:
+        raise ModelError(f"{what}: expected a non-empty string, got {name!r}")
+    return name
 
 
 class ModelBuilder:
@@ -217,6 +242,7 @@ class ModelBuilder:
         self._eff: list[np.ndarray] = []
         self._frames: list[FrameInfo] = []
         self._mimics: list[Mimic] = []
+        self._limit_problems: list[str] = []
         self.source: str | None = None
 
     @property
@@ -249,9 +275,19 @@ class ModelBuilder:
             lower, upper: `(nq,)` position limits (default unbounded).
             velocity_limit, effort_limit: `(nv,)` (default unbounded).
         """
+        _check_name(name, "body name")
+        joint_name = f"{name}_joint" if joint_name is None else _check_name(joint_name, f"body {name!r}: joint_name")
+        if name in self._body_names:
+            raise ModelError(f"body name {name!r} is used twice")
+        if joint_name in self._joint_names:
+            raise ModelError(f"joint name {joint_name!r} is used twice (body {name!r})")
         if not isinstance(joint, Joint):
             raise ModelError(f"body {name!r}: joint must be a featherdyn Joint, got {type(joint).__name__}")
-        if not isinstance(parent, (int, np.integer)) or not (-1 <= parent < self.nbodies):
+        if (
+            isinstance(parent, bool)
+            or not isinstance(parent, (int, np.integer))
+            or not (-1 <= parent < self.nbodies)
+        ):
             raise ModelError(
                 f"body {name!r}: parent must be -1 (world) or an existing body index 0..{self.nbodies - 1} "
                 f"(bodies are added parents first), got {parent!r}"
@@ -266,38 +302,57 @@ class ModelBuilder:
             raise ModelError(f"body {name!r}: inertia must hold finite floating-point numbers")
         if float(inertia.mass) < 0:
             raise InertiaError(f"body {name!r}: negative mass {float(inertia.mass):g}")
+        lo = self._limit(lower, joint.nq, -math.inf, f"body {name!r}: lower", "nq")
+        hi = self._limit(upper, joint.nq, math.inf, f"body {name!r}: upper", "nq")
+        vel = self._limit(velocity_limit, joint.nv, math.inf, f"body {name!r}: velocity_limit", "nv")
+        eff = self._limit(effort_limit, joint.nv, math.inf, f"body {name!r}: effort_limit", "nv")
+        if np.any(lo > hi):
+            self._limit_problems.append(
+                f"joint {joint_name!r} (body {name!r}): lower limit {lo.tolist()} above upper limit {hi.tolist()}"
+            )
         self._parents.append(int(parent))
         self._joints.append(joint)
-        self._joint_names.append(joint_name if joint_name is not None else f"{name}_joint")
+        self._joint_names.append(joint_name)
         self._body_names.append(name)
         self._placements.append(placement)
         self._inertias.append(inertia)
-        self._lower.append(self._limit(lower, joint.nq, -math.inf, f"{name}: lower"))
-        self._upper.append(self._limit(upper, joint.nq, math.inf, f"{name}: upper"))
-        self._vel.append(self._limit(velocity_limit, joint.nv, math.inf, f"{name}: velocity_limit"))
-        self._eff.append(self._limit(effort_limit, joint.nv, math.inf, f"{name}: effort_limit"))
+        self._lower.append(lo)
+        self._upper.append(hi)
+        self._vel.append(vel)
+        self._eff.append(eff)
         return self.nbodies - 1
 
     @staticmethod
-    def _limit(val: Any, n: int, default: float, name: str) -> np.ndarray:
+    def _limit(val: Any, n: int, default: float, name: str, size_name: str) -> np.ndarray:
         if val is None:
             return np.full(n, default)
-        arr = np.broadcast_to(as_array(val, name, check_finite=False), (n,)).astype(np.float64)
-        if np.any(np.isnan(arr)):
+        arr = as_array(val, name, check_finite=False)
+        if arr.dtype.kind != "f" or arr.ndim > 1 or arr.shape not in ((), (1,), (n,)):
+            raise ModelError(
+                f"{name}: expected a number or {n} numbers ({size_name}={n} for this joint), got {val!r}"
+            )
+        out = np.broadcast_to(arr, (n,)).astype(np.float64)
+        if np.any(np.isnan(out)):
             raise ModelError(f"{name}: limits must not be NaN")
-        return arr
+        return out
 
     def add_inertia(self, body: int, inertia: SpatialInertia) -> None:
         """Lump ``inertia`` (expressed in ``body``'s frame) into that body (fixed-joint merging)."""
-        if not (0 <= body < self.nbodies):
-            raise ModelError(f"add_inertia: no body {body}")
+        if isinstance(body, bool) or not isinstance(body, (int, np.integer)) or not (0 <= body < self.nbodies):
+            raise ModelError(f"add_inertia: no body {body!r} (expected 0..{self.nbodies - 1})")
+        if not isinstance(inertia, SpatialInertia) or inertia.shape != ():
+            raise ModelError("add_inertia: inertia must be a single SpatialInertia")
         self._inertias[body] = self._inertias[body] + inertia
 
     def add_frame(self, name: str, body: int, placement: PluckerTransform | None = None, kind: str = "link") -> None:
         """Add a named frame fixed to ``body`` (``-1`` = world) at ``placement``."""
-        if not (-1 <= body < self.nbodies):
-            raise ModelError(f"frame {name!r}: no body {body}")
-        self._frames.append(FrameInfo(name, int(body), placement or PluckerTransform.identity(), kind))
+        _check_name(name, "frame name")
+        if isinstance(body, bool) or not isinstance(body, (int, np.integer)) or not (-1 <= body < self.nbodies):
+            raise ModelError(f"frame {name!r}: no body {body!r} (expected -1 or 0..{self.nbodies - 1})")
+        placement = PluckerTransform.identity() if placement is None else placement
+        if not isinstance(placement, PluckerTransform) or placement.shape != ():
+            raise ModelError(f"frame {name!r}: placement must be a single PluckerTransform")
+        self._frames.append(FrameInfo(name, int(body), placement, kind))
 
     def add_mimic(self, mimic: Mimic) -> None:
         """Record a URDF mimic relation (not enforced)."""
@@ -307,8 +362,9 @@ class ModelBuilder:
         """Validate and freeze the model.
 
         Checks: names unique; a body whose subtree has no mass (the mass matrix
-        would be singular) and non-physical inertias warn with
-        :class:`PhysicalityWarning`, or raise with ``strict=True``.
+        would be singular) and a lower limit above the upper one warn with
+        :class:`PhysicalityWarning`, or raise :class:`ModelError` with
+        ``strict=True``.
         """
         for what, names in (("body", self._body_names), ("joint", self._joint_names)):
             seen: set[str] = set()
@@ -368,6 +424,8 @@ class ModelBuilder:
             source=self.source,
             _frame_index=frame_index,
         )
+        for msg in self._limit_problems:
+            _complain(msg, strict)
         if check_inertias:
             for msg in massless_subtrees(model):
                 _complain(msg, strict)

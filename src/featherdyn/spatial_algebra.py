@@ -23,7 +23,7 @@ from typing import Any, NamedTuple, NoReturn
 import numpy as np
 
 from ._validation import as_array, check_rotation, default_tol, readonly, result_dtype
-from .errors import DTypeError, InertiaError, ShapeError, SpatialTypeError
+from .errors import DTypeError, InertiaError, NonFiniteError, ShapeError, SpatialTypeError
 from .frames import Frame, chain_bodies, check_same_frame, merge_frames
 
 __all__ = [
@@ -70,6 +70,26 @@ def _mT(m: np.ndarray) -> np.ndarray:
 
 def _sum_last(x: np.ndarray) -> Any:
     return x.sum(axis=-1)
+
+
+def _is_weak(x: Any) -> bool:
+    """A plain Python number: like NumPy (NEP 50), it takes the dtype of the arrays it meets."""
+    return isinstance(x, (int, float)) and not isinstance(x, np.generic)
+
+
+def _adopt_dtype(raw: tuple[Any, ...], arrays: list[np.ndarray]) -> list[np.ndarray]:
+    """Cast the arrays made from plain Python numbers to the floating dtype of the others.
+
+    ``as_array`` turns ``2.0`` into a float64 array, which would promote a
+    float32 computation to float64; NumPy keeps ``float32_array * 2.0`` float32.
+    """
+    strong = [a for x, a in zip(raw, arrays) if not _is_weak(x)]
+    if not strong:
+        return arrays
+    dtype = result_dtype(*strong)
+    if dtype.kind != "f":
+        return arrays
+    return [a.astype(dtype) if _is_weak(x) else a for x, a in zip(raw, arrays)]
 
 
 def skew(w: Any) -> np.ndarray:
@@ -229,12 +249,14 @@ def _raw_force(f: Any, name: str) -> np.ndarray:
     return as_array(f, name, (6,))
 
 
-def _scalar_factor(s: Any, batch_shape: tuple[int, ...], what: str) -> np.ndarray:
+def _scalar_factor(s: Any, batch_shape: tuple[int, ...], what: str, dtype: np.dtype) -> np.ndarray:
     if isinstance(s, (SpatialMotion, SpatialForce, SpatialInertia, PluckerTransform)):
         raise SpatialTypeError(
             f"{what}: cannot multiply by a {_kind(s)}; use cross (v × m, v ×* f), dot (power) or inertia @ motion"
         )
     arr = as_array(s, "scalar")
+    if _is_weak(s) and dtype.kind == "f":  # float32 * 2.0 stays float32
+        arr = arr.astype(dtype)
     try:
         np.broadcast_shapes(arr.shape, batch_shape)
     except ValueError:
@@ -348,20 +370,26 @@ class SpatialMotion:
 
             ω = |ω| d,   v_O = h ω + q × ω     (q on the axis)
         """
-        d = as_array(direction, "direction", (3,))
-        q = as_array(point, "point", (3,))
-        h = as_array(pitch, "pitch", (), check_finite=False)
-        mag = as_array(magnitude, "magnitude", ())
+        d, q, h, mag = _adopt_dtype(
+            (direction, point, pitch, magnitude),
+            [
+                as_array(direction, "direction", (3,)),
+                as_array(point, "point", (3,)),
+                as_array(pitch, "pitch", (), check_finite=False),
+                as_array(magnitude, "magnitude", ()),
+            ],
+        )
         if h.dtype.kind == "f" and np.any(np.isnan(h)):
-            raise ShapeError("pitch: expected a number or inf, got NaN")
+            raise NonFiniteError("pitch: expected a number or inf, got NaN")
         norm = np.sqrt(_sum_last(d * d))
         if np.any(norm == 0):
             raise ShapeError("direction: zero-length screw axis")
         d = d / norm[..., None]
         inf = np.isinf(h)
-        w = d * (mag * np.where(inf, 0.0, 1.0))[..., None]
-        h_fin = np.where(inf, 0.0, h)
-        lin = h_fin[..., None] * w + _cross3(q, w) + d * (mag * np.where(inf, 1.0, 0.0))[..., None]
+        zero = np.zeros_like(mag)
+        w = d * np.where(inf, zero, mag)[..., None]  # pitch inf: no rotation ...
+        h_fin = np.where(inf, np.zeros_like(h), h)
+        lin = h_fin[..., None] * w + _cross3(q, w) + d * np.where(inf, mag, zero)[..., None]  # ... only sliding
         return cls(w, lin, frame)
 
     @classmethod
@@ -423,13 +451,13 @@ class SpatialMotion:
         return SpatialMotion._wrap(-self.vector, self.frame, self.relative_to, self.body)
 
     def __mul__(self, scalar: Any) -> SpatialMotion:
-        s = _scalar_factor(scalar, self.shape, "motion * scalar")
+        s = _scalar_factor(scalar, self.shape, "motion * scalar", self.dtype)
         return SpatialMotion._wrap(self.vector * s[..., None], self.frame, self.body, self.relative_to)
 
     __rmul__ = __mul__
 
     def __truediv__(self, scalar: Any) -> SpatialMotion:
-        s = _scalar_factor(scalar, self.shape, "motion / scalar")
+        s = _scalar_factor(scalar, self.shape, "motion / scalar", self.dtype)
         return SpatialMotion._wrap(self.vector / s[..., None], self.frame, self.body, self.relative_to)
 
     def __matmul__(self, other: Any) -> NoReturn:
@@ -588,13 +616,13 @@ class SpatialForce:
         return SpatialForce._wrap(-self.vector, self.frame)
 
     def __mul__(self, scalar: Any) -> SpatialForce:
-        s = _scalar_factor(scalar, self.shape, "force * scalar")
+        s = _scalar_factor(scalar, self.shape, "force * scalar", self.dtype)
         return SpatialForce._wrap(self.vector * s[..., None], self.frame)
 
     __rmul__ = __mul__
 
     def __truediv__(self, scalar: Any) -> SpatialForce:
-        s = _scalar_factor(scalar, self.shape, "force / scalar")
+        s = _scalar_factor(scalar, self.shape, "force / scalar", self.dtype)
         return SpatialForce._wrap(self.vector / s[..., None], self.frame)
 
     def __matmul__(self, other: Any) -> NoReturn:
@@ -1081,9 +1109,10 @@ class SpatialInertia:
     __array_ufunc__ = None
 
     def __init__(self, mass: Any, com: Any, inertia_com: Any, frame: Frame = None) -> None:
-        m = as_array(mass, "mass")
-        c = as_array(com, "com", (3,))
-        ic = as_array(inertia_com, "inertia_com", (3, 3))
+        m, c, ic = _adopt_dtype(
+            (mass, com, inertia_com),
+            [as_array(mass, "mass"), as_array(com, "com", (3,)), as_array(inertia_com, "inertia_com", (3, 3))],
+        )
         if ic.dtype.kind != "O":
             asym = np.abs(ic - _mT(ic)).max(axis=(-2, -1), initial=0.0)
             scale = np.maximum(np.abs(ic).max(axis=(-2, -1), initial=0.0), 1.0)
@@ -1172,11 +1201,10 @@ class SpatialInertia:
 
             I_c = m/12 · diag(y² + z², x² + z², x² + y²)
         """
-        m = as_array(mass, "mass")
-        s = as_array(size, "size", (3,))
+        m, s = _adopt_dtype((mass, size), [as_array(mass, "mass"), as_array(size, "size", (3,))])
         sq = s * s
         d = np.stack([sq[..., 1] + sq[..., 2], sq[..., 0] + sq[..., 2], sq[..., 0] + sq[..., 1]], axis=-1)
-        return cls._from_diag(m, d * (m[..., None] / 12), frame)
+        return cls._from_diag(m, d * (m[..., None] / 12), frame, size=s)
 
     @classmethod
     def cylinder(cls, mass: Any, radius: Any, length: Any, frame: Frame = None) -> SpatialInertia:
@@ -1184,22 +1212,23 @@ class SpatialInertia:
 
             I_c = diag(m(3r² + l²)/12, m(3r² + l²)/12, m r²/2)
         """
-        m, r, ln = as_array(mass, "mass"), as_array(radius, "radius"), as_array(length, "length")
+        m, r, ln = _adopt_dtype(
+            (mass, radius, length), [as_array(mass, "mass"), as_array(radius, "radius"), as_array(length, "length")]
+        )
         a = m * (3 * r * r + ln * ln) / 12
-        return cls._from_diag(m, np.stack(np.broadcast_arrays(a, a, m * r * r / 2), axis=-1), frame)
+        return cls._from_diag(m, np.stack(np.broadcast_arrays(a, a, m * r * r / 2), axis=-1), frame, radius=r, length=ln)
 
     @classmethod
     def sphere(cls, mass: Any, radius: Any, frame: Frame = None) -> SpatialInertia:
         """A solid sphere centred at the origin: ``I_c = 2/5 m r² 1``."""
-        m, r = as_array(mass, "mass"), as_array(radius, "radius")
+        m, r = _adopt_dtype((mass, radius), [as_array(mass, "mass"), as_array(radius, "radius")])
         a = 2 * m * r * r / 5
-        return cls._from_diag(m, np.stack([a, a, a], axis=-1), frame)
+        return cls._from_diag(m, np.stack([a, a, a], axis=-1), frame, radius=r)
 
     @classmethod
     def point_mass(cls, mass: Any, com: Any, frame: Frame = None) -> SpatialInertia:
         """A point mass at ``com`` (``I_c = 0``)."""
-        m = as_array(mass, "mass")
-        c = as_array(com, "com", (3,))
+        m, c = _adopt_dtype((mass, com), [as_array(mass, "mass"), as_array(com, "com", (3,))])
         return cls(m, c, np.zeros(c.shape[:-1] + (3, 3), dtype=result_dtype(m, c)), frame)
 
     @classmethod
@@ -1209,8 +1238,9 @@ class SpatialInertia:
         return cls._wrap(np.zeros(shape, dtype), np.zeros(shape + (3,), dtype), np.zeros(shape + (3, 3), dtype), frame)
 
     @classmethod
-    def _from_diag(cls, m: np.ndarray, d: np.ndarray, frame: Frame) -> SpatialInertia:
-        for name, val in (("mass", m), ("dimensions", d)):
+    def _from_diag(cls, m: np.ndarray, d: np.ndarray, frame: Frame, **sizes: np.ndarray) -> SpatialInertia:
+        # the moments are squares of the sizes, so the sizes themselves are checked
+        for name, val in (("mass", m), *sizes.items()):
             if val.dtype.kind != "O" and np.any(val < 0):
                 raise InertiaError(f"{name}: expected non-negative values, got {_fmt(val)}")
         ic = d[..., :, None] * np.eye(3, dtype=d.dtype)
@@ -1246,7 +1276,8 @@ class SpatialInertia:
         """The `(..., 6, 6)` spatial inertia matrix (see the class docstring)."""
         m = self.mass[..., None, None]
         cx = _skew(self.com)
-        eye = np.eye(3, dtype=self.dtype) if self.dtype.kind != "O" else np.eye(3).astype(object)
+        # object arrays get exact integer ones, so SymPy sees m, not 1.0*m
+        eye = np.eye(3, dtype=self.dtype) if self.dtype.kind != "O" else np.eye(3, dtype=int).astype(object)
         top = np.concatenate([self.inertia_origin, m * cx], axis=-1)
         bottom = np.concatenate([m * _mT(cx), m * eye], axis=-1)
         return np.concatenate([top, bottom], axis=-2)

@@ -1,0 +1,62 @@
+"""Centroidal momentum and the centroidal momentum matrix (Orin & Goswami 2008).
+
+The momentum of the whole tree about its centre of mass ``c``, in world axes,
+as a force vector ``h_G = [k_G; p]`` (angular first)::
+
+    h_O = Σ_i ⁰X_i^* I_i v_i = A_O q̇,    A_O[:, k] = ⁰I^C_k ⁰X_k S_k
+    h_G = [k_O − c × p;  p] = A_G q̇
+
+(``⁰I^C_k``: the world-frame composite inertia of the subtree of ``k``.)
+Pinocchio's ``computeCentroidalMomentum`` / ``ccrba`` give the same with
+linear first.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from ..model import Model
+from ..spatial_algebra import SpatialForce, SpatialMotion, _cross3
+from ._common import TreeData, check_state, expand_inertia
+from .energy import center_of_mass
+from .jacobians import _world_columns
+from .kinematics import _body_at, forward_kinematics
+
+__all__ = ["centroidal_momentum_matrix", "centroidal_momentum"]
+
+
+def _shift_to_com(h: np.ndarray, c: np.ndarray) -> np.ndarray:
+    """Move force vectors `(..., 6)` from the world origin to the point ``c`` (world axes)."""
+    return np.concatenate([h[..., :3] - _cross3(c, h[..., 3:]), h[..., 3:]], axis=-1)
+
+
+def centroidal_momentum_matrix(model: Model, q: Any, *, backend: str | None = None) -> np.ndarray:
+    """``A_G(q)`` `(..., 6, nv)` with ``h_G = A_G q̇`` (rows ``[k_G; p]``, world axes, about the CoM)."""
+    kin = forward_kinematics(model, q, backend=backend)
+    batch = kin.placements.shape[:-1]
+    td = TreeData(model, kin.placements.dtype)
+    IC = [_body_at(kin.placements, i).apply(td.I[i]) for i in range(model.nbodies)]
+    for i in range(model.nbodies - 1, -1, -1):
+        if model.parents[i] != -1:
+            IC[model.parents[i]] = IC[model.parents[i]] + IC[i]
+    cols = _world_columns(model, td, kin.placements, batch)  # (..., nv, 6)
+    A = np.zeros_like(cols) if cols.dtype.kind != "O" else cols.copy()
+    for k in range(model.nbodies):
+        sk = slice(model.idx_v[k], model.idx_v[k] + model.nvs[k])
+        A[..., sk, :] = (expand_inertia(IC[k]) @ SpatialMotion._wrap(cols[..., sk, :], None)).vector
+    c = center_of_mass(model, q, backend=backend)
+    return np.swapaxes(_shift_to_com(A, c[..., None, :]), -1, -2)
+
+
+def centroidal_momentum(model: Model, q: Any, v: Any, *, backend: str | None = None) -> SpatialForce:
+    """The centroidal momentum ``h_G = [k_G; p]`` `(..., 6)` as a :class:`SpatialForce`.
+
+    ::
+
+        h_G = A_G(q) q̇     (p = m ċ)
+    """
+    st = check_state(model, q, v=v)
+    A = centroidal_momentum_matrix(model, st.q, backend=backend)
+    return SpatialForce._wrap((A @ st.arrays["v"][..., None])[..., 0], None)

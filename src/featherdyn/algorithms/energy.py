@@ -1,0 +1,91 @@
+"""Energies and the centre of mass.
+
+::
+
+    T = Σ_i ½ v_iᵀ I_i v_i          U = −Σ_i m_i gᵀ ⁰c_i          c = Σ_i m_i ⁰c_i / Σ_i m_i
+
+(``⁰c_i`` is body ``i``'s centre of mass in world coordinates.)
+"""
+
+from __future__ import annotations
+
+from typing import Any, NamedTuple
+
+import numpy as np
+
+from ..model import Model
+from ..spatial_algebra import _cross3
+from ._common import TreeData
+from .kinematics import _body_at, _motion_at, forward_kinematics
+
+__all__ = ["kinetic_energy", "potential_energy", "center_of_mass", "CenterOfMass"]
+
+
+class CenterOfMass(NamedTuple):
+    """Position `(..., 3)` and velocity `(..., 3)` of the centre of mass, in world coordinates."""
+
+    position: np.ndarray
+    velocity: np.ndarray
+
+
+def kinetic_energy(model: Model, q: Any, v: Any, *, backend: str | None = None) -> Any:
+    """Kinetic energy `(...)`::
+
+        T = Σ_i ½ v_iᵀ I_i v_i = ½ q̇ᵀ M(q) q̇
+    """
+    kin = forward_kinematics(model, q, v, backend=backend)
+    assert kin.velocities is not None
+    td = TreeData(model, kin.placements.dtype)
+    T = 0
+    for i in range(model.nbodies):
+        T = T + td.I[i].kinetic_energy(_motion_at(kin.velocities, i))
+    return T if model.nbodies else np.zeros(kin.placements.shape[:-1], kin.placements.dtype)
+
+
+def _world_coms(model: Model, kin: Any, td: TreeData) -> list[np.ndarray]:
+    out = []
+    for i in range(model.nbodies):
+        oM = _body_at(kin.placements, i)
+        out.append((oM.rotation @ td.I[i].com[..., None])[..., 0] + oM.translation)
+    return out
+
+
+def potential_energy(model: Model, q: Any, *, backend: str | None = None) -> Any:
+    """Gravitational potential energy `(...)` (zero at the world origin)::
+
+        U = −Σ_i m_i gᵀ ⁰c_i
+    """
+    kin = forward_kinematics(model, q, backend=backend)
+    td = TreeData(model, kin.placements.dtype)
+    g = model.gravity.astype(td.dtype)
+    U = np.zeros(kin.placements.shape[:-1], dtype=td.dtype)
+    for i, c in enumerate(_world_coms(model, kin, td)):
+        U = U - td.I[i].mass * (c * g).sum(axis=-1)
+    return U
+
+
+def center_of_mass(model: Model, q: Any, v: Any = None, *, backend: str | None = None) -> Any:
+    """The centre of mass of the whole tree in world coordinates.
+
+    Returns:
+        ``c`` `(..., 3)` without ``v``; with ``v`` a :class:`CenterOfMass`
+        ``(position, velocity)``::
+
+            c = Σ m_i ⁰c_i / m,    ċ = Σ m_i ⁰R_i (v_i + ω_i × c_i) / m
+    """
+    kin = forward_kinematics(model, q, v, backend=backend)
+    td = TreeData(model, kin.placements.dtype)
+    batch = kin.placements.shape[:-1]
+    m = model.total_mass
+    pos = np.zeros(batch + (3,), dtype=td.dtype)
+    for i, c in enumerate(_world_coms(model, kin, td)):
+        pos = pos + td.I[i].mass * c
+    pos = pos / m
+    if kin.velocities is None:
+        return pos
+    vel = np.zeros(batch + (3,), dtype=td.dtype)
+    for i in range(model.nbodies):
+        vi = _motion_at(kin.velocities, i)
+        v_com_body = vi.linear + _cross3(vi.angular, td.I[i].com)
+        vel = vel + td.I[i].mass * (_body_at(kin.placements, i).rotation @ v_com_body[..., None])[..., 0]
+    return CenterOfMass(pos, vel / m)

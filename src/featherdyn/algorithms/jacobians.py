@@ -1,0 +1,138 @@
+"""Geometric Jacobians and their time variation.
+
+The column block of joint ``k`` in the world-frame Jacobian of body ``b`` is
+the joint's motion subspace carried to the world, for every ``k`` on the path
+from the root to ``b`` (RBDA §4.5; Pinocchio's ``data.J``)::
+
+    ⁰J_b[:, k] = ⁰X_k S_k          ⁰J̇_b[:, k] = ⁰v_k × ⁰X_k S_k
+
+(``⁰v_k`` is body ``k``'s spatial velocity in world coordinates.) A frame's
+Jacobian in ``LOCAL`` is ``ᶠX_0 ⁰J``, in ``LOCAL_WORLD_ALIGNED`` its blocks are
+rotated back to world axes. With ``v_f = J q̇`` the frame velocity::
+
+    LOCAL:                 a_f (spatial)   = J q̈ + J̇ q̇
+    LOCAL_WORLD_ALIGNED:   a_f (classical) = J q̈ + J̇ q̇     ([ω̇; p̈_origin] in world axes)
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from ..model import Model
+from ..spatial_algebra import PluckerTransform, SpatialMotion, _crm_apply
+from ._common import LOCAL, ReferenceFrame, TreeData, as_reference_frame, check_state, expand, select_backend, zeros
+from .kinematics import _body_at, _frame_pose, _motion_at, forward_kinematics, resolve_frame
+
+__all__ = ["joint_jacobians", "frame_jacobian", "frame_jacobian_time_variation", "support"]
+
+
+def support(model: Model, body: int) -> list[int]:
+    """The bodies from the root to ``body`` (inclusive), root first; empty for the world."""
+    path = []
+    while body != -1:
+        path.append(body)
+        body = model.parents[body]
+    return path[::-1]
+
+
+def _world_columns(model: Model, td: TreeData, oM: PluckerTransform, batch: tuple[int, ...]) -> np.ndarray:
+    """``⁰X_k S_k`` for every joint, as `(..., nv, 6)` motion columns."""
+    cols = zeros(batch, (model.nv, 6), td.dtype)
+    for k in range(model.nbodies):
+        S_cols = SpatialMotion._wrap(np.ascontiguousarray(td.S[k].T), None)  # (nv_k, 6)
+        sk = slice(model.idx_v[k], model.idx_v[k] + model.nvs[k])
+        cols[..., sk, :] = expand(_body_at(oM, k)).apply(S_cols).vector
+    return cols
+
+
+def joint_jacobians(model: Model, q: Any, *, backend: str | None = None) -> np.ndarray:
+    """All joint columns in the world frame, `(..., 6, nv)` (Pinocchio's ``computeJointJacobians`` → ``data.J``).
+
+    ::
+
+        J[:, k] = ⁰X_k S_k      (the Jacobian of body b keeps the columns of its support)
+    """
+    kin = forward_kinematics(model, q, backend=backend)
+    batch, dtype = kin.placements.shape[:-1], kin.placements.dtype
+    td = TreeData(model, dtype)
+    return np.swapaxes(_world_columns(model, td, kin.placements, batch), -1, -2)
+
+
+def _mask_support(cols: np.ndarray, model: Model, body: int) -> np.ndarray:
+    out = np.zeros_like(cols) if cols.dtype.kind != "O" else zeros(cols.shape[:-2], cols.shape[-2:], cols.dtype)
+    for k in support(model, body):
+        sk = slice(model.idx_v[k], model.idx_v[k] + model.nvs[k])
+        out[..., sk, :] = cols[..., sk, :]
+    return out
+
+
+def _to_reference(cols_world: np.ndarray, oMf: PluckerTransform, ref: ReferenceFrame) -> np.ndarray:
+    """Re-express world motion columns `(..., nv, 6)` in ``ref`` for the frame at ``oMf``."""
+    if ref is ReferenceFrame.WORLD:
+        return cols_world
+    local = expand(oMf).apply_inverse(SpatialMotion._wrap(cols_world, None)).vector
+    if ref is ReferenceFrame.LOCAL:
+        return local
+    R = oMf.rotation[..., None, :, :]
+    return np.concatenate([(R @ local[..., :3, None])[..., 0], (R @ local[..., 3:, None])[..., 0]], axis=-1)
+
+
+def frame_jacobian(model: Model, q: Any, frame: Any, reference: Any = LOCAL, *,
+                   backend: str | None = None) -> np.ndarray:
+    """The geometric Jacobian of a frame, `(..., 6, nv)`, rows ``[ω; v]`` (``getFrameJacobian``).
+
+    ``frame_velocity(model, q, v, frame, reference) = J @ v``.
+    """
+    fid = resolve_frame(model, frame)
+    ref = as_reference_frame(reference)
+    kin = forward_kinematics(model, q, backend=backend)
+    batch, dtype = kin.placements.shape[:-1], kin.placements.dtype
+    td = TreeData(model, dtype)
+    body = model.frames[fid].body
+    cols = _mask_support(_world_columns(model, td, kin.placements, batch), model, body)
+    return np.swapaxes(_to_reference(cols, _frame_pose(model, kin, fid), ref), -1, -2)
+
+
+def frame_jacobian_time_variation(model: Model, q: Any, v: Any, frame: Any, reference: Any = LOCAL, *,
+                                  backend: str | None = None) -> np.ndarray:
+    """``J̇ = dJ/dt`` of :func:`frame_jacobian` along ``q̇ = v``, `(..., 6, nv)` (``getFrameJacobianTimeVariation``).
+
+    ::
+
+        WORLD:   ⁰J̇[:, k] = ⁰v_k × ⁰J[:, k]
+        LOCAL:   ᶠJ̇ = ᶠX_0 ⁰J̇ − ᶠv × ᶠJ
+        LWA:     J̇ = blkdiag([ω]×, [ω]×) J_LWA + blkdiag(R, R) ᶠJ̇      (ω, R of the frame in the world)
+
+    and the classical acceleration identity ``a_classical = J q̈ + J̇ q̇`` in LOCAL_WORLD_ALIGNED.
+    """
+    fid = resolve_frame(model, frame)
+    ref = as_reference_frame(reference)
+    st = check_state(model, q, v=v)
+    kin = forward_kinematics(model, st.q, st.arrays["v"], backend=backend)
+    assert kin.velocities is not None
+    batch, dtype = kin.placements.shape[:-1], kin.placements.dtype
+    td = TreeData(model, dtype)
+    body = model.frames[fid].body
+    cols = _mask_support(_world_columns(model, td, kin.placements, batch), model, body)
+    dcols = zeros(batch, (model.nv, 6), dtype)
+    for k in support(model, body):
+        sk = slice(model.idx_v[k], model.idx_v[k] + model.nvs[k])
+        v_world = _body_at(kin.placements, k).apply(_motion_at(kin.velocities, k)).vector
+        dcols[..., sk, :] = _crm_apply(v_world[..., None, :], cols[..., sk, :])
+    if ref is ReferenceFrame.WORLD:
+        return np.swapaxes(dcols, -1, -2)
+    oMf = _frame_pose(model, kin, fid)
+    J_local = _to_reference(cols, oMf, ReferenceFrame.LOCAL)
+    v_local = (J_local * st.arrays["v"][..., :, None]).sum(axis=-2)  # ᶠv = J q̇
+    dJ_local = _to_reference(dcols, oMf, ReferenceFrame.LOCAL) - _crm_apply(v_local[..., None, :], J_local)
+    if ref is ReferenceFrame.LOCAL:
+        return np.swapaxes(dJ_local, -1, -2)
+    R = oMf.rotation[..., None, :, :]
+    w_world = (oMf.rotation @ v_local[..., :3, None])[..., 0]
+    J_lwa = _to_reference(cols, oMf, ReferenceFrame.LOCAL_WORLD_ALIGNED)
+    rot_dJ = np.concatenate([(R @ dJ_local[..., :3, None])[..., 0], (R @ dJ_local[..., 3:, None])[..., 0]], axis=-1)
+    wx = np.concatenate([w_world, np.zeros_like(w_world)], axis=-1)[..., None, :]
+    # blkdiag([ω]×, [ω]×) J = [ω × J_ω; ω × J_v] = crm([ω; 0]) J
+    return np.swapaxes(_crm_apply(wx, J_lwa) + rot_dJ, -1, -2)

@@ -1,0 +1,329 @@
+"""Configuration space of a model: neutral and random configurations, integrate, difference.
+
+A configuration ``q`` `(..., nq)` and a velocity ``v`` `(..., nv)` are the
+joints' pieces laid end to end: body ``i``'s joint owns ``q[idx_q[i] :
+idx_q[i] + nqs[i]]`` and ``v[idx_v[i] : idx_v[i] + nvs[i]]``. Every function
+here works joint by joint with the joint models' own maps, so a quaternion
+(spherical and free-flyer joints) is moved on the Lie group, never added to::
+
+    revolute, prismatic:  q' = q + v
+    spherical:            R(q') = R(q) exp([ω]×)        (ω in the child frame)
+    free-flyer:           T(q') = T(q) exp(v)           (v = [ω; v] in the base frame)
+    planar:               T(q') = T(q) exp(v)           (SE(2))
+
+``difference`` is the inverse map, ``integrate(q0, difference(q0, q1)) = q1``:
+the same as Pinocchio's ``integrate`` / ``difference`` once Pinocchio's
+layouts are converted (free-flyer ``v = [v; ω]``, planar ``q = [x, y, cos θ,
+sin θ]``, ``v = [v_x, v_y, ω]``).
+
+Inputs are checked: a wrong trailing length raises :class:`ShapeError`
+("q: expected trailing dimension nq=9, got shape (8,)"), NaN or infinity
+:class:`NonFiniteError`, and a quaternion off unit norm by more than 1e-6
+(float64; 1e-4 for float32) :class:`QuaternionNormError` naming the joint.
+Batch axes lead and broadcast; float32 stays float32.
+
+Source: Pinocchio ``algorithm/joint-configuration.hpp`` and its Lie groups;
+Solà, Deray & Atchuthan (2018), "A micro Lie theory for state estimation in
+robotics"; DESIGN.md conventions.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from ._validation import as_array, default_tol, result_dtype
+from .errors import QuaternionNormError, ShapeError
+from .joints import FreeFlyerJoint, SphericalJoint
+from .model import Model
+
+__all__ = [
+    "neutral",
+    "random_configuration",
+    "integrate",
+    "difference",
+    "interpolate",
+    "normalize",
+    "is_normalized",
+]
+
+# the same thresholds as featherdyn.rotation and featherdyn.joints
+_QUAT_NORM_TOL_FLOAT64 = 1e-6
+_QUAT_NORM_TOL_FLOAT32 = 1e-4
+
+
+# --------------------------------------------------------------------------
+# private helpers
+# --------------------------------------------------------------------------
+
+
+def _check_model(model: Any) -> Model:
+    if not isinstance(model, Model):
+        raise TypeError(f"model: expected a featherdyn Model, got {type(model).__name__}")
+    return model
+
+
+def _vector(x: Any, name: str, size_name: str, n: int) -> np.ndarray:
+    """``x`` as an array `(..., n)`; :class:`ShapeError` naming ``size_name`` otherwise."""
+    arr = as_array(x, name, (), check_finite=False)
+    if arr.ndim == 0 or arr.shape[-1] != n:
+        raise ShapeError(f"{name}: expected trailing dimension {size_name}={n}, got shape {tuple(arr.shape)}")
+    return as_array(arr, name, (n,))  # finiteness, with the index of the first bad value
+
+
+def _quat_slices(model: Model) -> list[tuple[int, slice]]:
+    """``(body, slice of q)`` of every quaternion in ``q``."""
+    out = []
+    for i, joint in enumerate(model.joints):
+        start = model.idx_q[i]
+        if isinstance(joint, SphericalJoint):
+            out.append((i, slice(start, start + 4)))
+        elif isinstance(joint, FreeFlyerJoint):
+            out.append((i, slice(start + 3, start + 7)))
+    return out
+
+
+def _check_quaternions(model: Model, q: np.ndarray, name: str) -> None:
+    """Raise :class:`QuaternionNormError` naming the joint unless each quaternion of ``q`` is unit."""
+    if q.dtype.kind == "O":
+        return
+    tol = default_tol(q.dtype, _QUAT_NORM_TOL_FLOAT64, _QUAT_NORM_TOL_FLOAT32)
+    for i, sl in _quat_slices(model):
+        quat = q[..., sl]
+        norm = np.sqrt(np.sum(quat * quat, axis=-1))
+        bad = np.abs(norm - 1) > tol
+        if np.any(bad):
+            idx = tuple(int(k) for k in np.argwhere(bad)[0]) if bad.ndim else ()
+            where = f" at batch index {idx}" if idx else ""
+            raise QuaternionNormError(
+                f"{name}: joint {model.joint_names[i]!r} ({model.joints[i].kind}, {name}[{sl.start}:{sl.stop}]): "
+                f"expected a unit quaternion (x, y, z, w), got norm {float(norm[idx]):.9g}{where} "
+                f"(tolerance {tol:g}); normalise q with featherdyn.normalize(model, q)"
+            )
+
+
+def _broadcast_batch(a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray, tuple[int, ...]]:
+    try:
+        batch = np.broadcast_shapes(a.shape[:-1], b.shape[:-1])
+    except ValueError:
+        raise ShapeError(
+            f"batch shapes {a.shape[:-1]} and {b.shape[:-1]} do not broadcast (batch axes lead: (..., n))"
+        ) from None
+    return np.broadcast_to(a, batch + a.shape[-1:]), np.broadcast_to(b, batch + b.shape[-1:]), batch
+
+
+def _slices(model: Model, i: int) -> tuple[slice, slice]:
+    iq, iv = model.idx_q[i], model.idx_v[i]
+    return slice(iq, iq + model.nqs[i]), slice(iv, iv + model.nvs[i])
+
+
+# --------------------------------------------------------------------------
+# public functions
+# --------------------------------------------------------------------------
+
+
+def neutral(model: Model) -> np.ndarray:
+    """The neutral configuration `(nq,)`: zero angles and displacements, identity quaternions.
+
+    Equals Pinocchio's ``pin.neutral(model)`` (planar joints converted:
+    Pinocchio's ``[0, 0, 1, 0]`` is featherdyn's ``[0, 0, 0]``).
+
+    Args:
+        model: the kinematic tree.
+
+    Returns:
+        `(nq,)` float64 array.
+    """
+    model = _check_model(model)
+    q = np.zeros(model.nq)
+    for i, joint in enumerate(model.joints):
+        sq, _ = _slices(model, i)
+        q[sq] = joint.neutral()
+    return q
+
+
+def random_configuration(model: Model, rng: Any = None, size: Any = None) -> np.ndarray:
+    """Random configurations within the position limits.
+
+    Each coordinate is uniform between ``model.lower`` and ``model.upper``
+    where those are finite; otherwise revolute angles and the planar angle
+    are uniform in ``[−π, π]``, prismatic and free-flyer positions in
+    ``[−1, 1]``. Quaternions (spherical, free-flyer) are uniform on SO(3)
+    (Shoemake's method), with ``w >= 0``.
+
+    Args:
+        model: the kinematic tree.
+        rng: a :class:`numpy.random.Generator`, an integer seed, or ``None``
+            (a fresh ``numpy.random.default_rng()``).
+        size: batch shape: ``None`` (one configuration), an int or a tuple.
+
+    Returns:
+        `(*size, nq)` float64 array.
+    """
+    model = _check_model(model)
+    if isinstance(rng, np.random.RandomState):
+        raise TypeError("rng: expected a numpy Generator, an int seed or None, got a legacy RandomState")
+    try:
+        gen = np.random.default_rng(rng)
+    except (TypeError, ValueError) as exc:
+        raise TypeError(f"rng: expected a numpy Generator, an int seed or None, got {rng!r} ({exc})") from None
+    try:
+        shape = () if size is None else ((int(size),) if np.ndim(size) == 0 else tuple(int(s) for s in size))
+    except (TypeError, ValueError):
+        raise ShapeError(f"size: expected None, an int or a tuple of ints, got {size!r}") from None
+    if any(s < 0 for s in shape):
+        raise ShapeError(f"size: expected non-negative sizes, got {shape}")
+    q = np.empty(shape + (model.nq,))
+    for i, joint in enumerate(model.joints):
+        sq, _ = _slices(model, i)
+        q[..., sq] = joint.random(gen, model.lower[sq], model.upper[sq], shape)
+    return q
+
+
+def integrate(model: Model, q: Any, v: Any) -> np.ndarray:
+    """The configuration reached from ``q`` moving with velocity ``v`` for unit time.
+
+    Joint by joint, on each joint's Lie group (velocities in the moving
+    frame, Pinocchio's convention)::
+
+        q' = q ⊕ v:   q + v (revolute, prismatic),  R(q) exp(ω) (spherical),
+                      T(q') = T(q) exp(v) (free-flyer, planar)
+
+    Args:
+        model: the kinematic tree.
+        q: `(..., nq)` configuration (quaternions unit within 1e-6).
+        v: `(..., nv)` velocity; batch axes broadcast with ``q``'s.
+
+    Returns:
+        `(..., nq)` configuration, dtype of ``q`` and ``v`` combined.
+
+    Raises:
+        ShapeError, NonFiniteError, QuaternionNormError.
+    """
+    model = _check_model(model)
+    qq = _vector(q, "q", "nq", model.nq)
+    vv = _vector(v, "v", "nv", model.nv)
+    _check_quaternions(model, qq, "q")
+    qq, vv, batch = _broadcast_batch(qq, vv)
+    out = np.empty(batch + (model.nq,), dtype=result_dtype(qq, vv))
+    for i, joint in enumerate(model.joints):
+        sq, sv = _slices(model, i)
+        out[..., sq] = joint.integrate(qq[..., sq], vv[..., sv])
+    return out
+
+
+def difference(model: Model, q0: Any, q1: Any) -> np.ndarray:
+    """The velocity that takes ``q0`` to ``q1`` in unit time: the inverse of :func:`integrate`.
+
+    ::
+
+        v = q1 ⊖ q0   with   integrate(q0, v) = q1
+          = q1 − q0 (revolute, prismatic),  log(R(q0)ᵀ R(q1)) (spherical),
+            log(T(q0)⁻¹ T(q1)) (free-flyer, planar)
+
+    Rotation parts take the shorter way (angle in ``[0, π]``).
+
+    Args:
+        model: the kinematic tree.
+        q0: `(..., nq)` start configuration.
+        q1: `(..., nq)` end configuration; batch axes broadcast with ``q0``'s.
+
+    Returns:
+        `(..., nv)` velocity in the moving frames of ``q0``.
+
+    Raises:
+        ShapeError, NonFiniteError, QuaternionNormError.
+    """
+    model = _check_model(model)
+    a0 = _vector(q0, "q0", "nq", model.nq)
+    a1 = _vector(q1, "q1", "nq", model.nq)
+    _check_quaternions(model, a0, "q0")
+    _check_quaternions(model, a1, "q1")
+    a0, a1, batch = _broadcast_batch(a0, a1)
+    out = np.empty(batch + (model.nv,), dtype=result_dtype(a0, a1))
+    for i, joint in enumerate(model.joints):
+        sq, sv = _slices(model, i)
+        out[..., sv] = joint.difference(a0[..., sq], a1[..., sq])
+    return out
+
+
+def interpolate(model: Model, q0: Any, q1: Any, t: Any) -> np.ndarray:
+    """The configuration a fraction ``t`` of the way from ``q0`` to ``q1`` (geodesic per joint).
+
+    ::
+
+        q(t) = integrate(q0, t · difference(q0, q1)),    q(0) = q0,  q(1) = q1
+
+    (Pinocchio's ``interpolate``.)
+
+    Args:
+        model: the kinematic tree.
+        q0, q1: `(..., nq)` configurations.
+        t: `(...)` fractions (any real numbers; 0 and 1 give the ends).
+
+    Returns:
+        `(..., nq)` configuration.
+    """
+    model = _check_model(model)
+    tt = as_array(t, "t", ())
+    dv = difference(model, q0, q1)
+    if tt.dtype.kind == "f" and dv.dtype.kind == "f":
+        tt = tt.astype(dv.dtype)  # a Python float t keeps float32 configurations float32
+    return integrate(model, q0, tt[..., None] * dv)
+
+
+def normalize(model: Model, q: Any) -> np.ndarray:
+    """The nearest valid configuration: every quaternion scaled to unit norm, the rest unchanged.
+
+    ::
+
+        quat ← quat / |quat|
+
+    Args:
+        model: the kinematic tree.
+        q: `(..., nq)` configuration (quaternions non-zero).
+
+    Returns:
+        `(..., nq)` a new array.
+
+    Raises:
+        ShapeError, NonFiniteError, QuaternionNormError (a zero quaternion).
+    """
+    model = _check_model(model)
+    qq = _vector(q, "q", "nq", model.nq)
+    out = np.array(qq)
+    for i, joint in enumerate(model.joints):
+        sq, _ = _slices(model, i)
+        try:
+            out[..., sq] = joint.normalize(qq[..., sq])
+        except QuaternionNormError:
+            raise QuaternionNormError(
+                f"q: joint {model.joint_names[i]!r} ({joint.kind}, q[{sq.start}:{sq.stop}]): "
+                "a zero quaternion cannot be normalised"
+            ) from None
+    return out
+
+
+def is_normalized(model: Model, q: Any, tol: float = 1e-10) -> np.ndarray | bool:
+    """Whether every quaternion of ``q`` has unit norm within ``tol``.
+
+    ::
+
+        | |quat| − 1 | <= tol   for every spherical and free-flyer joint
+
+    Args:
+        model: the kinematic tree.
+        q: `(..., nq)` configuration.
+        tol: the allowed deviation of each quaternion's norm from 1.
+
+    Returns:
+        `(...)` bool array; a plain ``bool`` for a single configuration.
+    """
+    model = _check_model(model)
+    qq = _vector(q, "q", "nq", model.nq)
+    ok = np.ones(qq.shape[:-1], dtype=bool)
+    for i, joint in enumerate(model.joints):
+        sq, _ = _slices(model, i)
+        ok &= joint.is_normalized(qq[..., sq], tol)
+    return bool(ok) if ok.ndim == 0 else ok

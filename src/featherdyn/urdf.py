@@ -1,0 +1,659 @@
+"""Load a URDF robot description into a :class:`~featherdyn.Model`.
+
+The parser is hostile-input safe: XML goes through ``defusedxml`` with DTDs,
+entity declarations and external references forbidden, XInclude elements are
+rejected, nesting depth is bounded, and mesh files are never opened. The tree
+is built without recursion, so a chain of thousands of links loads.
+
+The tree (RBDA (2008) §4.1; chapter §8.3 and §18):
+
+* bodies in depth-first order, a link's children in document order;
+* a fixed base hangs the root link on the world (body ``-1``): its inertia,
+  and that of links fixed to it, is dropped as Pinocchio does;
+  ``floating_base=True`` makes the root link body 0 on a
+  :class:`~featherdyn.FreeFlyerJoint` named ``"root_joint"`` (Pinocchio's name);
+* fixed joints are merged: the child's inertia is moved into the nearest moving
+  ancestor's body frame (parallel-axis theorem, ``X* I X⁻¹``) and the link and
+  the joint stay as frames;
+* the URDF inertia tensor is given in the frame of ``<inertial><origin>``, so in
+  the link frame::
+
+      c = xyz,    I_c = R(rpy) I_urdf R(rpy)ᵀ
+
+Frames (:class:`~featherdyn.FrameInfo`), in Pinocchio's order: the root link
+(kind ``"link"`` on body ``-1``; or ``"root_joint"`` and a ``"body"`` frame with
+a floating base), then per link in body order the joint (``"joint"`` at the
+joint frame in the parent body, or ``"fixed_joint"``) and the link (``"body"``
+for a moving link, ``"link"`` for a merged one).
+
+Differences from Pinocchio's URDF parser, on purpose:
+
+* Pinocchio (through urdfdom) orders a link's children by joint *name*; here
+  they keep document order. Joints map by name, so the physics is the same but
+  ``q`` may be laid out differently.
+* Pinocchio ignores the axis of a ``planar`` joint (its plane is always x-y);
+  here the axis is the plane's normal, as the URDF specification says.
+* Continuous joints have ``nq = 1`` here (an angle), ``nq = 2`` in Pinocchio.
+"""
+
+from __future__ import annotations
+
+import codecs
+import math
+import os
+import re
+import warnings
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from .errors import ModelError, PhysicalityWarning, URDFError
+from .joints import FreeFlyerJoint, Joint, PlanarJoint, PrismaticJoint, RevoluteJoint
+from .model import Mimic, Model, ModelBuilder, massless_subtrees
+from .rotation import rpy_to_matrix
+from .spatial_algebra import PluckerTransform, SpatialInertia
+
+__all__ = ["load_urdf"]
+
+#: Deepest element nesting accepted (real URDFs nest about 5 deep).
+MAX_DEPTH = 1000
+#: Relative tolerance of the inertia checks: URDF files print about 6 significant digits.
+INERTIA_RTOL = 1e-6
+#: A joint axis whose length is off 1 by more than this is normalised with a warning.
+AXIS_TOL = 1e-6
+
+_XINCLUDE_NAMESPACES = ("http://www.w3.org/2001/XInclude", "http://www.w3.org/2003/XInclude")
+_NUMBER = re.compile(r"[+-]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?")
+_DECLARED_ENCODING = re.compile(rb"""^<\?xml[^>]*?encoding\s*=\s*["']([A-Za-z0-9._-]+)["']""")
+_JOINT_TYPES = ("revolute", "continuous", "prismatic", "fixed", "floating", "planar")
+_INERTIA_KEYS = ("ixx", "ixy", "ixz", "iyy", "iyz", "izz")
+
+
+# ---------------------------------------------------------------------------
+# reading and decoding
+# ---------------------------------------------------------------------------
+
+
+def _read_source(path_or_xml: Any) -> tuple[str, str, str | None]:
+    """``(text, label for messages, path or None)`` of a path, an XML string or XML bytes."""
+    if isinstance(path_or_xml, (bytes, bytearray, memoryview)):
+        return _decode(bytes(path_or_xml), "<bytes>"), "<bytes>", None
+    if isinstance(path_or_xml, str) and path_or_xml.lstrip("\ufeff \t\r\n").startswith("<"):
+        return path_or_xml.lstrip("\ufeff"), "<string>", None
+    if not isinstance(path_or_xml, (str, os.PathLike)):
+        raise URDFError(
+            f"load_urdf: expected a path, an XML string or bytes, got {type(path_or_xml).__name__}"
+        )
+    path = Path(path_or_xml)
+    label = str(path)
+    try:
+        data = path.read_bytes()
+    except (OSError, ValueError) as exc:
+        reason = exc.strerror if isinstance(exc, OSError) and exc.strerror else str(exc)
+        raise URDFError(f"{label}: cannot read the URDF file: {reason}") from None
+    return _decode(data, label), label, label
+
+
+def _decode(data: bytes, label: str) -> str:
+    """Decode XML bytes: a BOM wins, then UTF-16 sniffing, then the declared encoding, then UTF-8."""
+    boms = (
+        (codecs.BOM_UTF32_LE, "utf-32"),
+        (codecs.BOM_UTF32_BE, "utf-32"),
+        (codecs.BOM_UTF8, "utf-8-sig"),
+        (codecs.BOM_UTF16_LE, "utf-16"),
+        (codecs.BOM_UTF16_BE, "utf-16"),
+    )
+    encoding = "utf-8"
+    for bom, enc in boms:
+        if data.startswith(bom):
+            encoding = enc
+            break
+    else:
+        if data.startswith(b"<\x00?\x00") or data.startswith(b"<\x00r\x00"):
+            encoding = "utf-16-le"
+        elif data.startswith(b"\x00<\x00?") or data.startswith(b"\x00<\x00r"):
+            encoding = "utf-16-be"
+        else:
+            declared = _DECLARED_ENCODING.match(data.lstrip())
+            if declared:
+                name = declared.group(1).decode("ascii")
+                try:
+                    info = codecs.lookup(name)
+                except LookupError:
+                    raise URDFError(f"{label}: unknown encoding {name!r} in the XML declaration") from None
+                if info.name.startswith("utf-16") or info.name.startswith("utf-32"):
+                    # declared UTF-16 but no BOM and ASCII-readable: the declaration is wrong
+                    raise URDFError(f"{label}: the XML declaration says {name!r} but the bytes are not UTF-16/32")
+                encoding = info.name
+    try:
+        return data.decode(encoding)
+    except UnicodeDecodeError as exc:
+        line = data[: exc.start].count(b"\n") + 1
+        raise URDFError(
+            f"{label}: line {line}: bytes are not valid {encoding} (byte {data[exc.start:exc.start + 1]!r} "
+            f"at offset {exc.start}); save the file as UTF-8"
+        ) from None
+
+
+# ---------------------------------------------------------------------------
+# XML
+# ---------------------------------------------------------------------------
+
+
+class _Builder:
+    """ElementTree parser target that bounds nesting, rejects XInclude and records line numbers."""
+
+    def __init__(self, label: str) -> None:
+        from xml.etree.ElementTree import TreeBuilder
+
+        self._tb = TreeBuilder()
+        self._label = label
+        self._depth = 0
+        self.expat: Any = None
+        self.lines: dict[Any, int] = {}
+
+    def _line(self) -> int:
+        return int(self.expat.CurrentLineNumber) if self.expat is not None else 0
+
+    def start(self, tag: str, attrib: dict[str, str]) -> Any:
+        self._depth += 1
+        if self._depth > MAX_DEPTH:
+            raise URDFError(f"{self._label}: line {self._line()}: elements nested deeper than {MAX_DEPTH} levels")
+        if tag.startswith("{") and tag[1:].split("}", 1)[0] in _XINCLUDE_NAMESPACES:
+            raise URDFError(f"{self._label}: line {self._line()}: XInclude ({tag}) is not allowed in a URDF")
+        elem = self._tb.start(tag, attrib)
+        if self._depth <= 4:
+            self.lines[elem] = self._line()
+        return elem
+
+    def end(self, tag: str) -> Any:
+        self._depth -= 1
+        return self._tb.end(tag)
+
+    def data(self, data: str) -> None:
+        self._tb.data(data)
+
+    def close(self) -> Any:
+        return self._tb.close()
+
+
+def _parse_xml(text: str, label: str) -> tuple[Any, dict[Any, int]]:
+    """The root element and the line number of each element up to depth 4."""
+    from defusedxml import DefusedXmlException
+    from defusedxml.ElementTree import DefusedXMLParser, ParseError
+
+    builder = _Builder(label)
+    parser = DefusedXMLParser(target=builder, forbid_dtd=True, forbid_entities=True, forbid_external=True)
+    builder.expat = parser.parser
+    try:
+        parser.feed(text)
+        root = parser.close()
+    except URDFError:
+        raise
+    except ParseError as exc:
+        line = exc.position[0] if getattr(exc, "position", None) else builder._line()
+        raise URDFError(f"{label}: line {line}: malformed XML: {exc}") from None
+    except DefusedXmlException as exc:
+        kind = type(exc).__name__.replace("Forbidden", "")
+        raise URDFError(
+            f"{label}: line {builder._line()}: {kind} declarations are not allowed in a URDF (refused for safety: {exc})"
+        ) from None
+    except RecursionError:
+        raise URDFError(f"{label}: XML nested too deeply") from None
+    except (ValueError, MemoryError) as exc:  # e.g. NUL characters in a str
+        raise URDFError(f"{label}: cannot parse the XML: {exc}") from None
+    return root, builder.lines
+
+
+def _local(tag: Any, ns: str) -> str:
+    """The element's name with the root's namespace removed (other namespaces kept: ``{x}link`` is not a link)."""
+    if not isinstance(tag, str):  # comments, processing instructions
+        return ""
+    if ns and tag.startswith(ns):
+        return tag[len(ns):]
+    return tag
+
+
+# ---------------------------------------------------------------------------
+# the document's records
+# ---------------------------------------------------------------------------
+
+
+@dataclass(slots=True)
+class _Link:
+    name: str
+    line: int
+    inertia: SpatialInertia | None  # in the link frame
+
+
+@dataclass(slots=True)
+class _Joint:
+    name: str
+    type: str
+    line: int
+    parent: str
+    child: str
+    R: np.ndarray  # origin: pose of the joint frame in the parent link frame
+    p: np.ndarray
+    axis: np.ndarray
+    lower: float
+    upper: float
+    velocity: float
+    effort: float
+    mimic: tuple[str, float, float, int] | None  # (joint, multiplier, offset, line)
+
+
+class _Doc:
+    """Parsing context: the file label, strictness and helpers for messages."""
+
+    def __init__(self, label: str, lines: dict[Any, int], ns: str, strict: bool) -> None:
+        self.label = label
+        self.lines = lines
+        self.ns = ns
+        self.strict = strict
+
+    def where(self, elem: Any, what: str = "", line: int | None = None) -> str:
+        line = self.lines.get(elem) if line is None else line
+        parts = [self.label] + ([f"line {line}"] if line else []) + ([what] if what else [])
+        return ": ".join(parts)
+
+    def error(self, elem: Any, what: str, msg: str, line: int | None = None) -> URDFError:
+        return URDFError(f"{self.where(elem, what, line)}: {msg}")
+
+    def warn(self, elem: Any, what: str, msg: str, line: int | None = None) -> None:
+        text = f"{self.where(elem, what, line)}: {msg}"
+        if self.strict:
+            raise URDFError(text + " (strict=True)")
+        warnings.warn(text, PhysicalityWarning, stacklevel=4)
+
+    def children(self, elem: Any, name: str) -> list[Any]:
+        return [c for c in elem if _local(c.tag, self.ns) == name]
+
+    def child(self, elem: Any, name: str) -> Any:
+        for c in elem:
+            if _local(c.tag, self.ns) == name:
+                return c
+        return None
+
+    def numbers(self, elem: Any, attr: str, count: int, what: str, default: Any = None) -> np.ndarray:
+        """The attribute as ``count`` finite decimals; ``default`` if absent (``None``: required)."""
+        text = elem.get(attr)
+        if text is None:
+            if default is None:
+                raise self.error(elem, what, f"<{_local(elem.tag, self.ns)}> needs the attribute {attr!r}")
+            return np.array(default, dtype=np.float64)
+        parts = text.split()
+        if len(parts) != count:
+            raise self.error(
+                elem, what, f"{attr}={text!r}: expected {count} number{'s' if count > 1 else ''}, got {len(parts)}"
+            )
+        out = np.empty(count)
+        for k, s in enumerate(parts):
+            if not _NUMBER.fullmatch(s):
+                raise self.error(elem, what, f"{attr}={text!r}: {s!r} is not a decimal number")
+            out[k] = float(s)
+            if not math.isfinite(out[k]):
+                raise self.error(elem, what, f"{attr}={text!r}: {s!r} is out of range (not finite)")
+        return out
+
+    def number(self, elem: Any, attr: str, what: str, default: float | None = None) -> float:
+        return float(self.numbers(elem, attr, 1, what, None if default is None else [default])[0])
+
+    def name(self, elem: Any, kind: str) -> str:
+        name = elem.get("name")
+        if name is None or not name.strip():
+            raise self.error(elem, f"<{kind}>", "missing or empty 'name' attribute")
+        return name
+
+    def origin(self, elem: Any, what: str) -> tuple[np.ndarray, np.ndarray]:
+        o = self.child(elem, "origin")
+        if o is None:
+            return np.eye(3), np.zeros(3)
+        xyz = self.numbers(o, "xyz", 3, what, [0.0, 0.0, 0.0])
+        rpy = self.numbers(o, "rpy", 3, what, [0.0, 0.0, 0.0])
+        return np.asarray(rpy_to_matrix(rpy), dtype=np.float64), xyz
+
+
+def _parse_link(doc: _Doc, elem: Any) -> _Link:
+    name = doc.name(elem, "link")
+    what = f"<link name={name!r}>"
+    inertial = doc.child(elem, "inertial")
+    inertia = None
+    if inertial is not None:
+        mass_el = doc.child(inertial, "mass")
+        if mass_el is None:
+            raise doc.error(inertial, what, "<inertial> needs a <mass value=...> element")
+        inertia_el = doc.child(inertial, "inertia")
+        if inertia_el is None:
+            raise doc.error(inertial, what, "<inertial> needs an <inertia ixx=... izz=...> element")
+        mass = doc.number(mass_el, "value", what)
+        if mass < 0:
+            raise doc.error(mass_el, what, f"negative mass {mass:g}")
+        ixx, ixy, ixz, iyy, iyz, izz = (doc.number(inertia_el, k, what) for k in _INERTIA_KEYS)
+        I_urdf = np.array([[ixx, ixy, ixz], [ixy, iyy, iyz], [ixz, iyz, izz]])
+        _check_inertia(doc, inertia_el, what, mass, I_urdf)
+        R, com = doc.origin(inertial, what)
+        inertia = SpatialInertia(mass, com, R @ I_urdf @ R.T)
+    return _Link(name, doc.lines.get(elem, 0), inertia)
+
+
+def _check_inertia(doc: _Doc, elem: Any, what: str, mass: float, I: np.ndarray) -> None:
+    """Warn about a non-physical link inertia (eigenvalues are rotation invariant: check the URDF tensor)."""
+    ev = np.linalg.eigvalsh(I)
+    scale = float(np.abs(ev).max())
+    if scale == 0.0:
+        return
+    moments = ", ".join(f"{e:.6g}" for e in ev)
+    if mass == 0.0:
+        doc.warn(elem, what, f"zero mass but non-zero rotational inertia (principal moments {moments})")
+        return
+    tol = INERTIA_RTOL * scale
+    if ev[0] < -tol:
+        doc.warn(elem, what, f"inertia is not positive semi-definite (principal moments {moments})")
+    elif ev[0] + ev[1] < ev[2] - tol:
+        doc.warn(elem, what, f"principal moments violate the triangle inequality I1 + I2 >= I3 ({moments})")
+
+
+def _parse_joint(doc: _Doc, elem: Any) -> _Joint:
+    name = doc.name(elem, "joint")
+    what = f"<joint name={name!r}>"
+    jtype = elem.get("type")
+    if jtype is None:
+        raise doc.error(elem, what, "missing 'type' attribute (one of " + ", ".join(_JOINT_TYPES) + ")")
+    if jtype not in _JOINT_TYPES:
+        raise doc.error(elem, what, f"unknown joint type {jtype!r}; expected one of " + ", ".join(_JOINT_TYPES))
+    ends = []
+    for end in ("parent", "child"):
+        e = doc.child(elem, end)
+        if e is None:
+            raise doc.error(elem, what, f"missing <{end} link=...> element")
+        link = e.get("link")
+        if link is None or not link.strip():
+            raise doc.error(e, what, f"<{end}> needs a non-empty 'link' attribute")
+        ends.append(link)
+    R, p = doc.origin(elem, what)
+
+    axis = np.array([1.0, 0.0, 0.0])  # URDF default
+    if jtype in ("revolute", "continuous", "prismatic", "planar"):
+        axis_el = doc.child(elem, "axis")
+        if axis_el is not None:
+            axis = doc.numbers(axis_el, "xyz", 3, what, [1.0, 0.0, 0.0])
+            n = float(np.linalg.norm(axis))
+            if n < 1e-12:
+                raise doc.error(axis_el, what, f"zero-length joint axis {axis.tolist()}")
+            if abs(n - 1.0) > AXIS_TOL:
+                doc.warn(axis_el, what, f"axis {axis.tolist()} has length {n:.6g}; normalised")
+            axis = axis / n
+
+    lower, upper, velocity, effort = -math.inf, math.inf, math.inf, math.inf
+    limit = doc.child(elem, "limit")
+    if jtype in ("revolute", "prismatic") and limit is None:
+        raise doc.error(elem, what, f"a {jtype} joint needs a <limit lower=... upper=... effort=... velocity=...> element")
+    if limit is not None and jtype in ("revolute", "prismatic", "continuous"):
+        if jtype != "continuous":
+            lower = doc.number(limit, "lower", what, 0.0)  # URDF defaults
+            upper = doc.number(limit, "upper", what, 0.0)
+            if lower > upper:
+                doc.warn(limit, what, f"lower limit {lower:g} > upper limit {upper:g}")
+        velocity = doc.number(limit, "velocity", what, math.inf)
+        effort = doc.number(limit, "effort", what, math.inf)
+
+    mimic = None
+    mimic_el = doc.child(elem, "mimic")
+    if mimic_el is not None:
+        target = mimic_el.get("joint")
+        if target is None or not target.strip():
+            raise doc.error(mimic_el, what, "<mimic> needs a non-empty 'joint' attribute")
+        if target == name:
+            raise doc.error(mimic_el, what, "the joint mimics itself")
+        mimic = (
+            target,
+            doc.number(mimic_el, "multiplier", what, 1.0),
+            doc.number(mimic_el, "offset", what, 0.0),
+            doc.lines.get(mimic_el, 0),
+        )
+    return _Joint(name, jtype, doc.lines.get(elem, 0), ends[0], ends[1], R, p, axis, lower, upper, velocity, effort, mimic)
+
+
+# ---------------------------------------------------------------------------
+# the tree
+# ---------------------------------------------------------------------------
+
+
+def _link_order(doc: _Doc, links: dict[str, _Link], joints: list[_Joint]) -> tuple[str, list[tuple[str, _Joint]]]:
+    """The root link and the other links in depth-first order (children in document order), with their parent joint."""
+    parent_joint: dict[str, _Joint] = {}
+    children: dict[str, list[_Joint]] = {name: [] for name in links}
+    for j in joints:
+        for end, link in (("parent", j.parent), ("child", j.child)):
+            if link not in links:
+                raise URDFError(f"{doc.label}: line {j.line}: <joint name={j.name!r}>: unknown {end} link {link!r}")
+        if j.parent == j.child:
+            raise URDFError(
+                f"{doc.label}: line {j.line}: <joint name={j.name!r}>: parent and child are the same link "
+                f"{j.child!r} (a cycle)"
+            )
+        if j.child in parent_joint:
+            other = parent_joint[j.child]
+            raise URDFError(
+                f"{doc.label}: line {j.line}: <joint name={j.name!r}>: link {j.child!r} has two parents "
+                f"(joints {other.name!r} and {j.name!r}); a URDF must be a tree"
+            )
+        parent_joint[j.child] = j
+        children[j.parent].append(j)
+
+    roots = [name for name in links if name not in parent_joint]
+    if not roots:
+        raise URDFError(f"{doc.label}: the joints form a cycle: every link has a parent joint, so there is no root link")
+    if len(roots) > 1:
+        shown = ", ".join(repr(r) for r in roots[:10]) + (", ..." if len(roots) > 10 else "")
+        raise URDFError(
+            f"{doc.label}: more than one root link ({len(roots)}: {shown}): the links are not all connected; "
+            "every link but the root must be the child of exactly one joint"
+        )
+    root = roots[0]
+    order: list[tuple[str, _Joint]] = []
+    stack = [j for j in reversed(children[root])]
+    while stack:
+        j = stack.pop()
+        order.append((j.child, j))
+        stack.extend(reversed(children[j.child]))
+    if len(order) != len(links) - 1:
+        reached = {root} | {name for name, _ in order}
+        # every unreached link has a parent; following parents from one must loop
+        start = next(name for name in links if name not in reached)
+        seen: list[str] = []
+        link = start
+        while link not in seen:
+            seen.append(link)
+            link = parent_joint[link].parent
+        loop = seen[seen.index(link):]
+        raise URDFError(
+            f"{doc.label}: the joints form a cycle through links "
+            + " -> ".join(repr(x) for x in [*reversed(loop), loop[-1]])
+            + f" (joint {parent_joint[loop[0]].name!r}); a URDF must be a tree"
+        )
+    return root, order
+
+
+def _check_mimics(doc: _Doc, joints: dict[str, _Joint]) -> list[Mimic]:
+    out = []
+    follows: dict[str, str] = {}
+    for j in joints.values():
+        if j.mimic is None:
+            continue
+        target, mult, offset, line = j.mimic
+        what = f"<joint name={j.name!r}>"
+        if target not in joints:
+            doc.warn(None, what, f"<mimic> of unknown joint {target!r}; ignored", line)
+            continue
+        if j.type == "fixed":  # a reduced model froze the mimicking joint: nothing to record
+            continue
+        if joints[target].type == "fixed":
+            doc.warn(None, what, f"<mimic> of the fixed joint {target!r}; ignored", line)
+            continue
+        follows[j.name] = target
+        out.append(Mimic(j.name, target, mult, offset))
+    for start in follows:
+        seen = [start]
+        nxt = follows.get(start)
+        while nxt is not None:
+            if nxt in seen:
+                loop = seen[seen.index(nxt):]
+                raise URDFError(
+                    f"{doc.label}: line {joints[start].line}: <joint name={start!r}>: mimic cycle "
+                    + " -> ".join(repr(x) for x in [*loop, nxt])
+                )
+            seen.append(nxt)
+            nxt = follows.get(nxt)
+    return out
+
+
+def _make_joint(j: _Joint) -> Joint:
+    if j.type in ("revolute", "continuous"):
+        return RevoluteJoint(j.axis)
+    if j.type == "prismatic":
+        return PrismaticJoint(j.axis)
+    if j.type == "planar":
+        return PlanarJoint(j.axis)
+    return FreeFlyerJoint()  # floating
+
+
+def load_urdf(path_or_xml: str | os.PathLike[str] | bytes, floating_base: bool = False, strict: bool = False) -> Model:
+    """Load a URDF robot description.
+
+    Args:
+        path_or_xml: a file path (``str`` or :class:`os.PathLike`), an XML
+            string (a ``str`` whose first character after whitespace and BOM
+            is ``<``) or the file's bytes (UTF-8, UTF-8 or UTF-16/32 with BOM,
+            or the encoding its XML declaration names).
+        floating_base: if ``True`` the root link is body 0 on a free-flyer
+            joint named ``"root_joint"``; otherwise it is fixed to the world
+            and its inertia dropped (Pinocchio's behaviour).
+        strict: turn every :class:`~featherdyn.PhysicalityWarning` (below)
+            into a :class:`~featherdyn.URDFError`.
+
+    Returns:
+        The :class:`~featherdyn.Model`, named after ``<robot name=...>`` (the
+        file stem, or ``"robot"``, if the attribute is missing), with
+        ``source`` the path (``None`` for a string).
+
+    Raises:
+        URDFError: naming the file (``<string>`` / ``<bytes>``), the line, the
+            element and the link or joint: malformed XML; DTDs, entities,
+            external references or XInclude (never expanded or read); nesting
+            deeper than :data:`MAX_DEPTH`; undecodable bytes; a root element
+            other than ``<robot>``; no links; a missing, empty or duplicate link
+            or joint name; an unknown joint type; a joint without
+            ``<parent>``/``<child>``, or naming an unknown link; a link with two
+            parents, a cycle, more than one root; a revolute or prismatic joint
+            without ``<limit>``; a number that is not a finite decimal or a
+            wrong count of them; a negative mass; ``<inertial>`` without
+            ``<mass>`` or ``<inertia>``; a zero-length axis; a joint mimicking
+            itself or a mimic cycle.
+
+    Warns:
+        PhysicalityWarning: a link inertia that is indefinite or violates the
+            triangle inequality beyond the relative tolerance
+            :data:`INERTIA_RTOL`; zero mass with non-zero inertia; a non-unit
+            axis (normalised); lower > upper limits; a mimic of an unknown or
+            fixed joint (ignored); a moving joint whose subtree has no mass (a
+            singular mass matrix). Real robot files have all of these.
+
+    Elements other than ``<link>`` and ``<joint>`` (``<transmission>``,
+    ``<gazebo>``, ``<material>``, ...) are ignored; ``<mimic>`` is recorded
+    (:class:`~featherdyn.Mimic`), not enforced; velocity and effort limits are
+    recorded (``inf`` where absent); position limits of continuous, planar and
+    floating joints are unbounded.
+    """
+    text, label, path = _read_source(path_or_xml)
+    root_el, lines = _parse_xml(text, label)
+    tag = root_el.tag if isinstance(root_el.tag, str) else ""
+    ns = tag[: tag.index("}") + 1] if tag.startswith("{") else ""
+    if _local(tag, ns) != "robot":
+        raise URDFError(f"{label}: line {lines.get(root_el, 1)}: expected the root element <robot>, got <{tag}>")
+    doc = _Doc(label, lines, ns, strict)
+
+    links: dict[str, _Link] = {}
+    joints: dict[str, _Joint] = {}
+    for elem in root_el:
+        kind = _local(elem.tag, ns)
+        if kind == "link":
+            link = _parse_link(doc, elem)
+            if link.name in links:
+                raise doc.error(elem, f"<link name={link.name!r}>", f"duplicate link name (first defined on line {links[link.name].line})")
+            links[link.name] = link
+        elif kind == "joint":
+            joint = _parse_joint(doc, elem)
+            if joint.name in joints:
+                raise doc.error(elem, f"<joint name={joint.name!r}>", f"duplicate joint name (first defined on line {joints[joint.name].line})")
+            joints[joint.name] = joint
+    if not links:
+        xacro = any(isinstance(e.tag, str) and "xacro" in e.tag for e in root_el)
+        hint = " (an unexpanded xacro file? run xacro first)" if xacro else ""
+        raise URDFError(f"{label}: <robot> has no <link> elements{hint}")
+
+    root, order = _link_order(doc, links, list(joints.values()))
+    mimics = _check_mimics(doc, joints)
+
+    name = root_el.get("name") or (Path(path).stem if path else "robot")
+    b = ModelBuilder(name)
+    b.source = path
+    # each link: the body it belongs to and its pose in that body's frame
+    body_of: dict[str, int] = {}
+    pose_of: dict[str, tuple[np.ndarray, np.ndarray]] = {}
+    identity = PluckerTransform.identity()
+    root_link = links[root]
+    if floating_base:
+        b.add_frame("root_joint", -1, identity, "joint")
+        b.add_body(root, -1, FreeFlyerJoint(), inertia=root_link.inertia, joint_name="root_joint")
+        b.add_frame(root, 0, identity, "body")
+        body_of[root] = 0
+    else:
+        b.add_frame(root, -1, identity, "link")
+        body_of[root] = -1
+    pose_of[root] = (np.eye(3), np.zeros(3))
+
+    for child, j in order:
+        body = body_of[j.parent]
+        R0, p0 = pose_of[j.parent]
+        R, p = R0 @ j.R, R0 @ j.p + p0  # joint frame in the body's frame
+        X = PluckerTransform(R, p, validate=False)
+        inertia = links[child].inertia
+        if j.type == "fixed":
+            b.add_frame(j.name, body, X, "fixed_joint")
+            b.add_frame(child, body, X, "link")
+            body_of[child] = body
+            pose_of[child] = (R, p)
+            if body >= 0 and inertia is not None:
+                b.add_inertia(body, X.apply(inertia))
+            continue
+        b.add_frame(j.name, body, X, "joint")
+        finite = j.type != "continuous"
+        new = b.add_body(
+            child,
+            body,
+            _make_joint(j),
+            placement=X,
+            inertia=inertia,
+            joint_name=j.name,
+            lower=j.lower if finite else None,
+            upper=j.upper if finite else None,
+            velocity_limit=j.velocity,
+            effort_limit=j.effort,
+        )
+        b.add_frame(child, new, identity, "body")
+        body_of[child] = new
+        pose_of[child] = (np.eye(3), np.zeros(3))
+    for m in mimics:
+        b.add_mimic(m)
+
+    try:
+        model = b.build(strict=False, check_inertias=False)
+    except ModelError as exc:
+        raise URDFError(f"{label}: {exc}") from None
+    for msg in massless_subtrees(model):
+        doc.warn(None, "", msg)
+    return model

@@ -1,0 +1,189 @@
+"""The bridge between a featherdyn :class:`~featherdyn.Model` and a Pinocchio model.
+
+Joints are mapped **by name**; layouts are converted explicitly, joint by joint:
+
+============  ==========================  ===========================================
+joint         featherdyn q / v            Pinocchio q / v
+============  ==========================  ===========================================
+revolute      θ / θ̇                       θ / θ̇  (continuous: cos θ, sin θ / θ̇)
+prismatic     d / ḋ                       d / ḋ
+spherical     quat xyzw / ω               quat xyzw / ω
+free-flyer    [p, quat xyzw] / [ω; v]     [p, quat xyzw] / [v; ω]
+planar        [x, y, θ] / [ω, vx, vy]     [x, y, cos θ, sin θ] / [vx, vy, ω]
+============  ==========================  ===========================================
+
+6D vectors and 6-row matrices swap halves (Pinocchio is linear-first).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from ..errors import ModelError
+from ..joints import FreeFlyerJoint, PlanarJoint, PrismaticJoint, RevoluteJoint, SphericalJoint
+from ..model import Model
+from ._pinocchio import require_pinocchio
+
+__all__ = ["pinocchio_model_from", "JointMap", "SWAP6", "to_pin6", "from_pin6", "from_pin6_rows"]
+
+SWAP6 = np.array([3, 4, 5, 0, 1, 2])
+
+
+def to_pin6(x: np.ndarray) -> np.ndarray:
+    """featherdyn `(..., 6)` ``[ang; lin]`` → Pinocchio ``[lin; ang]`` (its own inverse)."""
+    return np.asarray(x)[..., SWAP6]
+
+
+from_pin6 = to_pin6
+
+
+def from_pin6_rows(m: np.ndarray) -> np.ndarray:
+    """Swap the halves of the 6 rows of a `(..., 6, n)` matrix (a Jacobian or momentum matrix)."""
+    return np.asarray(m)[..., SWAP6, :]
+
+
+def pinocchio_model_from(model: Model) -> Any:
+    """A Pinocchio model mirroring ``model`` body by body (same names, placements, inertias, gravity).
+
+    Joint types: revolute → ``JointModelRevoluteUnaligned``, prismatic →
+    ``JointModelPrismaticUnaligned``, spherical, free-flyer, planar (normal
+    +z only, Pinocchio's planar joint is in the xy plane).
+    """
+    pin = require_pinocchio()
+    pm = pin.Model()
+    pm.name = model.name
+    pm.gravity = pin.Motion(np.array(model.gravity, dtype=float), np.zeros(3))
+    ids = []
+    for i, joint in enumerate(model.joints):
+        parent = 0 if model.parents[i] == -1 else ids[model.parents[i]]
+        if isinstance(joint, RevoluteJoint):
+            jm = pin.JointModelRevoluteUnaligned(np.array(joint.axis))
+        elif isinstance(joint, PrismaticJoint):
+            jm = pin.JointModelPrismaticUnaligned(np.array(joint.axis))
+        elif isinstance(joint, SphericalJoint):
+            jm = pin.JointModelSpherical()
+        elif isinstance(joint, FreeFlyerJoint):
+            jm = pin.JointModelFreeFlyer()
+        elif isinstance(joint, PlanarJoint):
+            if not np.allclose(joint.normal, [0.0, 0.0, 1.0]):
+                raise ModelError(f"joint {model.joint_names[i]!r}: Pinocchio's planar joint needs normal +z")
+            jm = pin.JointModelPlanar()
+        else:  # pragma: no cover
+            raise ModelError(f"joint {model.joint_names[i]!r}: no Pinocchio equivalent for {joint!r}")
+        X = model.joint_placements[i]
+        jid = pm.addJoint(parent, jm, pin.SE3(np.array(X.rotation), np.array(X.translation)), model.joint_names[i])
+        I = model.inertias[i]
+        pm.appendBodyToJoint(jid, pin.Inertia(float(I.mass), np.array(I.com), np.array(I.inertia_com)),
+                             pin.SE3.Identity())
+        ids.append(jid)
+    return pm
+
+
+@dataclass
+class _Entry:
+    fd_body: int
+    pin_joint: int
+    kind: str
+    continuous: bool
+
+
+class JointMap:
+    """Maps configurations, velocities and joint-space matrices between featherdyn and Pinocchio by joint name.
+
+    Args:
+        model: the featherdyn model.
+        pin_model: a Pinocchio model of the same robot (built from the same URDF,
+            or by :func:`pinocchio_model_from`). Its joints (other than the
+            universe) must be exactly featherdyn's joints, by name.
+    """
+
+    def __init__(self, model: Model, pin_model: Any) -> None:
+        self.model = model
+        self.pin_model = pin_model
+        pin_names = list(pin_model.names)[1:]
+        fd_names = list(model.joint_names)
+        if sorted(pin_names) != sorted(fd_names):
+            only_fd = sorted(set(fd_names) - set(pin_names))
+            only_pin = sorted(set(pin_names) - set(fd_names))
+            raise ModelError(f"joints differ between featherdyn and Pinocchio: only in featherdyn {only_fd}, "
+                             f"only in Pinocchio {only_pin}")
+        self.entries: list[_Entry] = []
+        for i, name in enumerate(fd_names):
+            jid = pin_model.getJointId(name)
+            short = pin_model.joints[jid].shortname()
+            kind = model.joints[i].kind
+            continuous = kind == "revolute" and pin_model.nqs[jid] == 2
+            self.entries.append(_Entry(i, jid, kind, continuous))
+        # featherdyn v index → Pinocchio v index (a permutation)
+        perm = np.empty(model.nv, dtype=int)
+        for e in self.entries:
+            i, jid = e.fd_body, e.pin_joint
+            fv = np.arange(model.idx_v[i], model.idx_v[i] + model.nvs[i])
+            pv = np.arange(pin_model.idx_vs[jid], pin_model.idx_vs[jid] + pin_model.nvs[jid])
+            if e.kind == "free_flyer":
+                pv = pv[SWAP6]
+            elif e.kind == "planar":
+                pv = pv[[2, 0, 1]]
+            if len(fv) != len(pv):
+                raise ModelError(f"joint {model.joint_names[i]!r}: featherdyn nv={len(fv)}, Pinocchio nv={len(pv)} "
+                                 f"({short})")
+            perm[fv] = pv
+        self.v_perm = perm  # v_pin[perm] = v_fd
+
+    def q_to_pin(self, q: np.ndarray) -> np.ndarray:
+        """featherdyn `(..., nq)` → Pinocchio `(..., pin.nq)`."""
+        q = np.asarray(q, dtype=np.float64)
+        out = np.zeros(q.shape[:-1] + (self.pin_model.nq,))
+        for e in self.entries:
+            i, jid = e.fd_body, e.pin_joint
+            qi = q[..., self.model.idx_q[i] : self.model.idx_q[i] + self.model.nqs[i]]
+            s = self.pin_model.idx_qs[jid]
+            if e.continuous:
+                out[..., s] = np.cos(qi[..., 0])
+                out[..., s + 1] = np.sin(qi[..., 0])
+            elif e.kind == "planar":
+                out[..., s : s + 2] = qi[..., :2]
+                out[..., s + 2] = np.cos(qi[..., 2])
+                out[..., s + 3] = np.sin(qi[..., 2])
+            else:
+                out[..., s : s + qi.shape[-1]] = qi
+        return out
+
+    def q_from_pin(self, q_pin: np.ndarray) -> np.ndarray:
+        """Pinocchio `(..., pin.nq)` → featherdyn `(..., nq)`."""
+        q_pin = np.asarray(q_pin, dtype=np.float64)
+        out = np.zeros(q_pin.shape[:-1] + (self.model.nq,))
+        for e in self.entries:
+            i, jid = e.fd_body, e.pin_joint
+            s, t = self.pin_model.idx_qs[jid], self.model.idx_q[i]
+            if e.continuous:
+                out[..., t] = np.arctan2(q_pin[..., s + 1], q_pin[..., s])
+            elif e.kind == "planar":
+                out[..., t : t + 2] = q_pin[..., s : s + 2]
+                out[..., t + 2] = np.arctan2(q_pin[..., s + 3], q_pin[..., s + 2])
+            else:
+                n = self.model.nqs[i]
+                out[..., t : t + n] = q_pin[..., s : s + n]
+        return out
+
+    def v_to_pin(self, v: np.ndarray) -> np.ndarray:
+        """featherdyn `(..., nv)` (also ``a``, ``τ``) → Pinocchio."""
+        v = np.asarray(v, dtype=np.float64)
+        out = np.zeros(v.shape)
+        out[..., self.v_perm] = v
+        return out
+
+    def v_from_pin(self, v_pin: np.ndarray) -> np.ndarray:
+        """Pinocchio `(..., nv)` → featherdyn."""
+        return np.asarray(v_pin)[..., self.v_perm]
+
+    def matrix_from_pin(self, m_pin: np.ndarray) -> np.ndarray:
+        """A joint-space `(..., nv, nv)` matrix from Pinocchio's ordering."""
+        return np.asarray(m_pin)[..., self.v_perm, :][..., :, self.v_perm]
+
+    def columns_from_pin(self, m_pin: np.ndarray) -> np.ndarray:
+        """A `(..., k, nv)` matrix (Jacobian-like) with columns from Pinocchio's ordering."""
+        return np.asarray(m_pin)[..., self.v_perm]
