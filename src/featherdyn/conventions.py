@@ -15,44 +15,47 @@ permutation ``P = [[0, 1], [1, 0]]`` (3×3 blocks), its own inverse::
 
     x_pin = P x,   M_pin = P M P,   J_pin = P J
 
-=================================  ===================================  =========================================================
-featherdyn → other                 other → featherdyn                   what changes
-=================================  ===================================  =========================================================
+=====================================  =====================================  ==========================================================
+featherdyn → other                     other → featherdyn                     what changes
+=====================================  =====================================  ==========================================================
 **Pinocchio** (linear first)
-``motion_to_pinocchio``            ``motion_from_pinocchio``            ``[ω; v]`` ↔ ``[v; ω]`` (raw ``(..., 6)``)
-``force_to_pinocchio``             ``force_from_pinocchio``             ``[n; f]`` ↔ ``[f; n]`` (raw ``(..., 6)``)
-``matrix6_to_pinocchio``           ``matrix6_from_pinocchio``           ``P M P`` for any 6×6 map (X, X*, crm, inertia)
-``jacobian_to_pinocchio``          ``jacobian_from_pinocchio``          rows ``P J`` (and free-flyer columns)
-``freeflyer_v_to_pinocchio``       ``freeflyer_v_from_pinocchio``       ``[ω; v]`` ↔ ``[v; ω]`` (both base frame = LOCAL)
-``to_pinocchio_motion``            ``from_pinocchio_motion``            ``SpatialMotion`` ↔ ``pin.Motion(linear, angular)``
-``to_pinocchio_force``             ``from_pinocchio_force``             ``SpatialForce`` ↔ ``pin.Force(linear, angular)``
-``to_pinocchio_inertia``           ``from_pinocchio_inertia``           ``SpatialInertia`` ↔ ``pin.Inertia(mass, lever, inertia)``
-``transform_to_pinocchio_se3``     ``transform_from_pinocchio_se3``     ``PluckerTransform`` ↔ ``pin.SE3`` (same semantics)
-(free-flyer ``q``)                 (free-flyer ``q``)                   none: both ``[x y z, qx qy qz qw]``
+``motion_to_pinocchio``                ``motion_from_pinocchio``              ``[ω; v]`` ↔ ``[v; ω]`` (raw ``(..., 6)``)
+``force_to_pinocchio``                 ``force_from_pinocchio``               ``[n; f]`` ↔ ``[f; n]`` (raw ``(..., 6)``)
+``matrix6_to_pinocchio``               ``matrix6_from_pinocchio``             ``P M P`` for any 6×6 map (X, X*, crm, inertia)
+``jacobian_to_pinocchio``              ``jacobian_from_pinocchio``            rows ``P J`` (and free-flyer columns)
+``freeflyer_v_to_pinocchio``           ``freeflyer_v_from_pinocchio``         ``[ω; v]`` ↔ ``[v; ω]`` (both base frame = LOCAL)
+``to_pinocchio_motion``                ``from_pinocchio_motion``              ``SpatialMotion`` ↔ ``pin.Motion(linear, angular)``
+``to_pinocchio_force``                 ``from_pinocchio_force``               ``SpatialForce`` ↔ ``pin.Force(linear, angular)``
+``to_pinocchio_inertia``               ``from_pinocchio_inertia``             ``SpatialInertia`` ↔ ``pin.Inertia(mass, lever, inertia)``
+``transform_to_pinocchio_se3``         ``transform_from_pinocchio_se3``       ``PluckerTransform`` ↔ ``pin.SE3`` (same semantics)
+(free-flyer ``q``)                     (free-flyer ``q``)                     none: both ``[x y z, qx qy qz qw]``
+``continuous_q_to_pinocchio``          ``continuous_q_from_pinocchio``        ``θ`` ↔ ``(cos θ, sin θ)``
+``planar_q_to_pinocchio``              ``planar_q_from_pinocchio``            ``[x, y, θ]`` ↔ ``[x, y, cos θ, sin θ]``
+``planar_v_to_pinocchio``              ``planar_v_from_pinocchio``            ``[ω, v_x, v_y]`` ↔ ``[v_x, v_y, ω]``
 **Lynch–Park / Modern Robotics**
-``twist_to_mr``                    ``twist_from_mr``                    none: both ``[ω; v]``
-``wrench_to_mr``                   ``wrench_from_mr``                   none: both ``[m; f]``
-``body_twist_to_spatial_twist``    ``spatial_twist_to_body_twist``      ``V_s = [Ad_T] V_b``
-``adjoint_matrix``                 —                                    ``[Ad_T] = X.matrix()``
-``ad_matrix``                      —                                    ``[ad_V] = crm(V)``
-``wrench_transform_matrix``        —                                    ``[Ad_T]⁻ᵀ = X.dual_matrix()``
-**Drake** (``[ω; v]``, monogram names)
+``twist_to_mr``                        ``twist_from_mr``                      none: both ``[ω; v]``
+``wrench_to_mr``                       ``wrench_from_mr``                     none: both ``[m; f]``
+``body_twist_to_spatial_twist``        ``spatial_twist_to_body_twist``        ``V_s = [Ad_T] V_b``
+``adjoint_matrix``                     —                                      ``[Ad_T] = X.matrix()``
+``ad_matrix``                          —                                      ``[ad_V] = crm(V)``
+``wrench_transform_matrix``            —                                      ``[Ad_T]⁻ᵀ = X.dual_matrix()``
+**Drake** (monogram names)
 ``spatial_to_classical_acceleration``  ``classical_to_spatial_acceleration``  linear part ``± ω × v_O``
-``drake_shift_velocity``           (shift by ``−p``)                    ``v_Bq = v_Bo + ω × p``
-``drake_shift_force``              (shift by ``−p``)                    ``τ_Bq = τ_Bo − p × f``
-``drake_shift_acceleration``       (shift by ``−p``)                    ``a_Bq = a_Bo + α × p + ω × (ω × p)``
-``drake_reexpress``                (with ``R_AEᵀ``)                     both halves rotated
+``drake_shift_velocity``               (shift by ``−p``)                      ``v_Bq = v_Bo + ω × p``
+``drake_shift_force``                  (shift by ``−p``)                      ``τ_Bq = τ_Bo − p × f``
+``drake_shift_acceleration``           (shift by ``−p``)                      ``a_Bq = a_Bo + α × p + ω × (ω × p)``
+``drake_reexpress``                    (with ``R_AEᵀ``)                       both halves rotated
 **ROS** (``geometry_msgs``)
-``motion_to_ros_twist``            ``motion_from_ros_twist``            ``{"linear", "angular"}`` mapping
-``force_to_ros_wrench``            ``force_from_ros_wrench``            ``{"force", "torque"}`` mapping
-``twist_array_to_ros``             ``twist_array_from_ros``             flattened ``[v; ω]``
-``wrench_array_to_ros``            ``wrench_array_from_ros``            flattened ``[f; τ]``
+``motion_to_ros_twist``                ``motion_from_ros_twist``              ``{"linear", "angular"}`` mapping
+``force_to_ros_wrench``                ``force_from_ros_wrench``              ``{"force", "torque"}`` mapping
+``twist_array_to_ros``                 ``twist_array_from_ros``               flattened ``[v; ω]``
+``wrench_array_to_ros``                ``wrench_array_from_ros``              flattened ``[f; τ]``
 **MuJoCo** (free joint)
-``freeflyer_q_to_mujoco``          ``freeflyer_q_from_mujoco``          quaternion ``(x, y, z, w)`` ↔ ``(w, x, y, z)``
-``freeflyer_v_to_mujoco``          ``freeflyer_v_from_mujoco``          ``[ω_b; v_b]`` ↔ ``[R v_b; ω_b]``
+``freeflyer_q_to_mujoco``              ``freeflyer_q_from_mujoco``            quaternion ``(x, y, z, w)`` ↔ ``(w, x, y, z)``
+``freeflyer_v_to_mujoco``              ``freeflyer_v_from_mujoco``            ``[ω_b; v_b]`` ↔ ``[R v_b; ω_b]``
 **Quaternion order**
-``quat_xyzw_to_wxyz``              ``quat_wxyz_to_xyzw``                component order only
-=================================  ===================================  =========================================================
+``quat_xyzw_to_wxyz``                  ``quat_wxyz_to_xyzw``                  component order only
+=====================================  =====================================  ==========================================================
 
 Pinocchio is imported lazily, only by the functions that build or read its
 objects; without it they raise :class:`MissingDependencyError` (an
@@ -71,7 +74,7 @@ from typing import Any
 import numpy as np
 
 from ._validation import as_array, check_rotation, default_tol
-from .errors import FeatherdynError, QuaternionNormError, ShapeError, SpatialTypeError
+from .errors import MissingDependencyError, QuaternionNormError, ShapeError, SpatialTypeError
 from .frames import Frame, merge_frames
 from .rotation import quat_to_matrix
 from .spatial_algebra import PluckerTransform, SpatialForce, SpatialInertia, SpatialMotion, crm
@@ -82,6 +85,8 @@ __all__ = [
     "adjoint_matrix",
     "body_twist_to_spatial_twist",
     "classical_to_spatial_acceleration",
+    "continuous_q_from_pinocchio",
+    "continuous_q_to_pinocchio",
     "drake_reexpress",
     "drake_shift_acceleration",
     "drake_shift_force",
@@ -107,6 +112,10 @@ __all__ = [
     "motion_from_ros_twist",
     "motion_to_pinocchio",
     "motion_to_ros_twist",
+    "planar_q_from_pinocchio",
+    "planar_q_to_pinocchio",
+    "planar_v_from_pinocchio",
+    "planar_v_to_pinocchio",
     "quat_wxyz_to_xyzw",
     "quat_xyzw_to_wxyz",
     "spatial_to_classical_acceleration",
@@ -127,9 +136,6 @@ __all__ = [
     "wrench_transform_matrix",
 ]
 
-
-class MissingDependencyError(FeatherdynError, ImportError):
-    """An optional dependency (Pinocchio) is needed by the function called but is not installed."""
 
 
 # The half swap [a; b] -> [b; a] of a 6-vector; an involution, so the same
@@ -164,8 +170,7 @@ def _pinocchio(function: str) -> Any:
         import pinocchio
     except ImportError as exc:
         raise MissingDependencyError(
-            f"{function} needs Pinocchio, which is not installed: pip install pin "
-            "(or pip install 'featherdyn[verify]')"
+            f"{function} needs Pinocchio, which is not installed: pip install pin (or pip install 'featherdyn[verify]')"
         ) from exc
     return pinocchio
 
@@ -493,6 +498,133 @@ def freeflyer_v_from_pinocchio(v: Any) -> np.ndarray:
     return _swap(_foreign_array(v, "v", "Pinocchio free-flyer [linear; angular]"))
 
 
+def _cos_sin(theta: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    if theta.dtype.kind == "O":
+        import sympy
+
+        return np.vectorize(sympy.cos, otypes=[object])(theta), np.vectorize(sympy.sin, otypes=[object])(theta)
+    return np.cos(theta), np.sin(theta)
+
+
+def _atan2(s: np.ndarray, c: np.ndarray) -> np.ndarray:
+    if s.dtype.kind == "O" or c.dtype.kind == "O":
+        import sympy
+
+        return np.asarray(np.vectorize(sympy.atan2, otypes=[object])(s, c))
+    return np.asarray(np.arctan2(s, c))
+
+
+def continuous_q_to_pinocchio(theta: Any) -> np.ndarray:
+    """A continuous joint's angle as Pinocchio's configuration ``(cos θ, sin θ)``.
+
+    featherdyn stores a continuous joint like a revolute one (``nq = nv = 1``,
+    an angle); Pinocchio's ``JointModelRUB*`` stores a unit complex number
+    (``nq = 2``, ``nv = 1``; the velocity ``θ̇`` is the same in both).
+
+    Args:
+        theta: `(...)` angle.
+
+    Returns:
+        `(..., 2)`::
+
+            q_pin = (cos θ, sin θ)
+
+    Source: Pinocchio ``JointModelRevoluteUnboundedTpl``; DESIGN.md.
+    """
+    t = as_array(theta, "theta")
+    c, s = _cos_sin(t)
+    return np.stack([c, s], axis=-1)
+
+
+def continuous_q_from_pinocchio(q: Any) -> np.ndarray:
+    """Pinocchio's continuous-joint configuration ``(cos θ, sin θ)`` as the angle ``θ ∈ (−π, π]``.
+
+    The pair's norm is not checked (``atan2`` ignores a common scale).
+
+    Args:
+        q: `(..., 2)` ``(cos θ, sin θ)``.
+
+    Returns:
+        `(...)`::
+
+            θ = atan2(sin θ, cos θ)
+
+    Source: Pinocchio ``JointModelRevoluteUnboundedTpl``; DESIGN.md.
+    """
+    cs = _foreign_array(q, "q", "Pinocchio (cos θ, sin θ)", (2,))
+    return _atan2(cs[..., 1], cs[..., 0])
+
+
+def planar_q_to_pinocchio(q: Any) -> np.ndarray:
+    """A planar joint's configuration ``[x, y, θ]`` as Pinocchio's ``[x, y, cos θ, sin θ]``.
+
+    Args:
+        q: `(..., 3)` featherdyn ``[x, y, θ]``.
+
+    Returns:
+        `(..., 4)`::
+
+            q_pin = [x, y, cos θ, sin θ]
+
+    Source: Pinocchio ``JointModelPlanarTpl``; DESIGN.md.
+    """
+    qq = as_array(q, "q", (3,))
+    c, s = _cos_sin(qq[..., 2])
+    return np.concatenate([qq[..., :2], np.stack([c, s], axis=-1)], axis=-1)
+
+
+def planar_q_from_pinocchio(q: Any) -> np.ndarray:
+    """Pinocchio's planar configuration ``[x, y, cos θ, sin θ]`` as featherdyn's ``[x, y, θ]``.
+
+    Args:
+        q: `(..., 4)` Pinocchio ``[x, y, cos θ, sin θ]``.
+
+    Returns:
+        `(..., 3)`::
+
+            [x, y, atan2(sin θ, cos θ)]
+
+    Source: Pinocchio ``JointModelPlanarTpl``; DESIGN.md.
+    """
+    qq = _foreign_array(q, "q", "Pinocchio planar [x, y, cos θ, sin θ]", (4,))
+    theta = _atan2(qq[..., 3], qq[..., 2])
+    return np.concatenate([qq[..., :2], theta[..., None].astype(qq.dtype)], axis=-1)
+
+
+def planar_v_to_pinocchio(v: Any) -> np.ndarray:
+    """A planar joint's velocity ``[ω, v_x, v_y]`` (angular first) as Pinocchio's ``[v_x, v_y, ω]``.
+
+    Both are in the moving (LOCAL) frame; only the order differs.
+
+    Args:
+        v: `(..., 3)` featherdyn ``[ω, v_x, v_y]``.
+
+    Returns:
+        `(..., 3)`::
+
+            v_pin = [v_x, v_y, ω]
+
+    Source: Pinocchio ``JointModelPlanarTpl``; DESIGN.md.
+    """
+    return as_array(v, "v", (3,))[..., [1, 2, 0]]
+
+
+def planar_v_from_pinocchio(v: Any) -> np.ndarray:
+    """Pinocchio's planar velocity ``[v_x, v_y, ω]`` as featherdyn's ``[ω, v_x, v_y]``.
+
+    Args:
+        v: `(..., 3)` Pinocchio ``[v_x, v_y, ω]``.
+
+    Returns:
+        `(..., 3)`::
+
+            v = [ω, v_x, v_y]
+
+    Source: Pinocchio ``JointModelPlanarTpl``; DESIGN.md.
+    """
+    return _foreign_array(v, "v", "Pinocchio planar [v_x, v_y, ω]", (3,))[..., [2, 0, 1]]
+
+
 # --------------------------------------------------------------------------
 # Pinocchio: objects (one value each; Pinocchio imported lazily)
 # --------------------------------------------------------------------------
@@ -538,7 +670,11 @@ def from_pinocchio_motion(motion: Any, frame: Frame = None) -> SpatialMotion:
     if not isinstance(motion, pin.Motion):
         raise SpatialTypeError(
             f"motion: expected a pinocchio.Motion, got a {_type_name(motion)}"
-            + ("; raw [linear; angular] arrays convert with motion_from_pinocchio" if not _is_pinocchio_object(motion) else "")
+            + (
+                "; raw [linear; angular] arrays convert with motion_from_pinocchio"
+                if not _is_pinocchio_object(motion)
+                else ""
+            )
         )
     return SpatialMotion(np.array(motion.angular), np.array(motion.linear), frame)
 
@@ -583,7 +719,11 @@ def from_pinocchio_force(force: Any, frame: Frame = None) -> SpatialForce:
     if not isinstance(force, pin.Force):
         raise SpatialTypeError(
             f"force: expected a pinocchio.Force, got a {_type_name(force)}"
-            + ("; raw [linear; angular] arrays convert with force_from_pinocchio" if not _is_pinocchio_object(force) else "")
+            + (
+                "; raw [linear; angular] arrays convert with force_from_pinocchio"
+                if not _is_pinocchio_object(force)
+                else ""
+            )
         )
     return SpatialForce(np.array(force.angular), np.array(force.linear), frame)
 
@@ -621,7 +761,7 @@ def to_pinocchio_inertia(inertia: SpatialInertia) -> Any:
     return pin.Inertia(
         float(inertia.mass),
         np.array(inertia.com, dtype=np.float64),
-        np.array(inertia.inertia_origin, dtype=np.float64),
+        np.array(inertia.inertia_com, dtype=np.float64),
     )
 
 
@@ -910,7 +1050,9 @@ def spatial_to_classical_acceleration(a_spatial: Any, v: Any) -> np.ndarray:
     """
     a = _motion_array(a_spatial, "a_spatial")
     vv = _motion_array(v, "v")
-    merge_frames(getattr(a_spatial, "frame", None), getattr(v, "frame", None), "spatial_to_classical_acceleration(a_spatial, v)")
+    merge_frames(
+        getattr(a_spatial, "frame", None), getattr(v, "frame", None), "spatial_to_classical_acceleration(a_spatial, v)"
+    )
     lin = a[..., 3:] + np.cross(vv[..., :3], vv[..., 3:])
     return _cat(a[..., :3], lin)
 
@@ -1196,8 +1338,12 @@ def force_from_ros_wrench(wrench: Any, frame: Frame = None) -> SpatialForce:
     Source: ROS ``geometry_msgs/msg/Wrench``.
     """
     keys = ("force", "torque")
-    force = _ros_vector3(_ros_field(wrench, "force", "wrench", keys, "Wrench", "wrench_array_from_ros"), "wrench['force']")
-    torque = _ros_vector3(_ros_field(wrench, "torque", "wrench", keys, "Wrench", "wrench_array_from_ros"), "wrench['torque']")
+    force = _ros_vector3(
+        _ros_field(wrench, "force", "wrench", keys, "Wrench", "wrench_array_from_ros"), "wrench['force']"
+    )
+    torque = _ros_vector3(
+        _ros_field(wrench, "torque", "wrench", keys, "Wrench", "wrench_array_from_ros"), "wrench['torque']"
+    )
     return SpatialForce(torque, force, frame)
 
 
