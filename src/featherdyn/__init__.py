@@ -9,40 +9,6 @@ the pose of frame A in frame B and maps A-coordinates to B-coordinates.
 from __future__ import annotations
 
 from . import algorithms, errors, frames, joints, model, rotation, spatial_algebra
-from .errors import (
-    DTypeError,
-    FeatherdynError,
-    FrameMismatchError,
-    InertiaError,
-    ModelError,
-    NonFiniteError,
-    PhysicalityWarning,
-    QuaternionNormError,
-    RotationError,
-    ShapeError,
-    SpatialTypeError,
-    URDFError,
-)
-from .spatial_algebra import (
-    PluckerTransform,
-    Screw,
-    SpatialForce,
-    SpatialInertia,
-    SpatialMotion,
-    crf,
-    crm,
-    cross_force,
-    cross_motion,
-    plux,
-    rotx,
-    roty,
-    rotz,
-    screw_parameters,
-    skew,
-    unskew,
-    xlt,
-)
-
 from .algorithms import (
     LOCAL,
     LOCAL_WORLD_ALIGNED,
@@ -70,8 +36,41 @@ from .algorithms import (
     potential_energy,
     rnea,
 )
+from .errors import (
+    DTypeError,
+    FeatherdynError,
+    FrameMismatchError,
+    InertiaError,
+    ModelError,
+    NonFiniteError,
+    PhysicalityWarning,
+    QuaternionNormError,
+    RotationError,
+    ShapeError,
+    SpatialTypeError,
+    URDFError,
+)
 from .joints import FreeFlyerJoint, Joint, PlanarJoint, PrismaticJoint, RevoluteJoint, SphericalJoint
 from .model import FrameInfo, Mimic, Model, ModelBuilder
+from .spatial_algebra import (
+    PluckerTransform,
+    Screw,
+    SpatialForce,
+    SpatialInertia,
+    SpatialMotion,
+    crf,
+    crm,
+    cross_force,
+    cross_motion,
+    plux,
+    rotx,
+    roty,
+    rotz,
+    screw_parameters,
+    skew,
+    unskew,
+    xlt,
+)
 
 __version__ = "0.1.0"
 

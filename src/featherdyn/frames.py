@@ -17,13 +17,12 @@ target B) re-tags the expressed-in frame from A to B.
 from __future__ import annotations
 
 from collections.abc import Hashable
-from typing import Optional
 
 from .errors import FrameMismatchError
 
 __all__ = ["FrameMismatchError", "Frame", "check_same_frame", "merge_frames", "chain_bodies"]
 
-Frame = Optional[Hashable]
+Frame = Hashable | None
 
 
 def check_same_frame(a: Frame, b: Frame, what: str) -> None:

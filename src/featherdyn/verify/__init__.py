@@ -1,44 +1,99 @@
 """The verification tool behind ``featherdyn verify``.
 
-``run()`` compares featherdyn with Pinocchio over seeded random values and
-checks the identities that need no oracle; it returns a
-:class:`VerifyReport` (``.passed``, ``.to_table()``, ``.to_json()``).
-
-Today it covers the spatial algebra (transforms, cross products, inertias,
-rotations). Robot models and dynamics add their own check groups to the same
-report.
+:func:`run` builds a robot in featherdyn and in Pinocchio from the same URDF,
+maps joints by name, compares every kinematic and dynamic quantity over
+seeded random states, checks the identities that need no oracle, and reports
+per-link inertia validity, mass-matrix conditioning and singular subtrees. It
+also compares the spatial algebra with Pinocchio's own operations. The result
+is a :class:`VerifyReport` (``.passed``, ``.to_table()``, ``.to_json()``,
+``.to_html()``).
 """
 
 from __future__ import annotations
 
+import os
+import time
+import warnings
+from collections.abc import Callable
+from pathlib import Path
+
 from .report import CheckResult, VerifyReport, compare, machine_meta
 
-__all__ = ["run", "CheckResult", "VerifyReport", "compare", "DEFAULT_TOL"]
+__all__ = ["run", "resolve_robot", "CheckResult", "VerifyReport", "compare", "ALGEBRA_TOL", "DYNAMICS_TOL"]
 
-DEFAULT_TOL = 1e-12
-"""Relative tolerance of the algebra comparisons (float64; both libraries are exact to round-off)."""
+ALGEBRA_TOL = 1e-12
+"""Relative tolerance of the spatial-algebra comparisons (both libraries are exact to round-off)."""
+
+DYNAMICS_TOL = 1e-9
+"""Relative tolerance of the robot comparisons (the dynamics issue's standard)."""
 
 
-def run(*, samples: int = 50, seed: int = 0, tol: float | None = None) -> VerifyReport:
-    """Run every check and return the report.
+def resolve_robot(robot: str | os.PathLike[str] | None) -> tuple[str, Path]:
+    """``(name, urdf_path)`` of a robot-library name, a URDF path, or ``None`` (the default robot)."""
+    from ..robots import DEFAULT_ROBOT, BUNDLED_DEFAULT_ROBOT, _erd_files, robot_path
+
+    if robot is None:
+        name = DEFAULT_ROBOT if _erd_files() else BUNDLED_DEFAULT_ROBOT
+        return name, robot_path(name)
+    text = os.fspath(robot)
+    path = Path(text)
+    if text.lower().endswith((".urdf", ".xml")) or os.sep in text and path.exists() or path.is_file():
+        if not path.is_file():
+            from ..errors import ModelError
+
+            raise ModelError(f"URDF file {text!r} not found")
+        return path.stem, path
+    return text, robot_path(text)
+
+
+def run(robot: str | os.PathLike[str] | None = None, *, floating_base: bool = False, samples: int = 10,
+        seed: int = 0, tol: float | None = None, algebra: bool = True, strict: bool = False,
+        progress: Callable[[str], None] | None = None) -> VerifyReport:
+    """Verify one robot (and the spatial algebra) against Pinocchio.
 
     Args:
-        samples: random values per check.
-        seed: seed of ``numpy.random.default_rng``; the same seed gives the same report.
-        tol: relative tolerance (default :data:`DEFAULT_TOL`).
+        robot: a robot-library name, a URDF path, or ``None`` for the default robot.
+        floating_base: put the root link on a free-flyer joint (in both libraries).
+        samples: random states per check; seed: the random seed (same seed, same report).
+        tol: relative tolerance for the robot comparisons (default :data:`DYNAMICS_TOL`).
+        algebra: also compare the spatial algebra with Pinocchio's operations.
+        strict: physicality warnings of the URDF loader become errors.
+        progress: called with a short message as each stage starts.
 
     Raises:
+        ModelError, URDFError: the robot cannot be found or loaded.
         MissingDependencyError: Pinocchio is not installed.
     """
+    from ..urdf import load_urdf
     from ._pinocchio import pinocchio_version
     from .algebra import algebra_checks
+    from .dynamics import RobotPair, dynamics_checks, model_diagnostics
 
     if samples < 1:
         raise ValueError(f"samples: expected a positive number of samples, got {samples}")
-    tol = DEFAULT_TOL if tol is None else tol
+    tol = DYNAMICS_TOL if tol is None else tol
+    name, path = resolve_robot(robot)
+    t0 = time.perf_counter()
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        model = load_urdf(path, floating_base=floating_base, strict=strict)
+    base = "floating" if floating_base else "fixed"
     report = VerifyReport(
-        title=f"featherdyn verify: spatial algebra vs Pinocchio ({samples} samples, seed {seed})",
-        meta={**machine_meta(), "pinocchio": pinocchio_version(), "samples": samples, "seed": seed, "tol": tol},
+        title=f"featherdyn verify {name} ({base} base, nq={model.nq}, nv={model.nv}, {model.nbodies} bodies; "
+              f"{samples} states, seed {seed})",
+        meta={**machine_meta(), "pinocchio": pinocchio_version(), "robot": name, "urdf": str(path),
+              "floating_base": floating_base, "samples": samples, "seed": seed, "tol": tol,
+              "nq": model.nq, "nv": model.nv, "nbodies": model.nbodies,
+              "load_warnings": sorted({str(w.message) for w in caught})},
     )
-    report.results += algebra_checks(samples=samples, seed=seed, tol=tol)
+    if algebra:
+        if progress:
+            progress("spatial algebra")
+        report.results += algebra_checks(samples=samples, seed=seed, tol=min(tol, ALGEBRA_TOL))
+    if progress:
+        progress("building the Pinocchio model")
+    pair = RobotPair.from_urdf(model, str(path), floating_base)
+    report.results += dynamics_checks(pair, samples=samples, seed=seed, tol=tol, progress=progress)
+    report.diagnostics = model_diagnostics(model).to_dict()
+    report.meta["seconds"] = round(time.perf_counter() - t0, 3)
     return report

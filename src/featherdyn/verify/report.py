@@ -76,6 +76,7 @@ class VerifyReport:
     title: str
     results: list[CheckResult] = field(default_factory=list)
     meta: dict[str, Any] = field(default_factory=dict)
+    diagnostics: dict[str, Any] = field(default_factory=dict)
 
     @property
     def passed(self) -> bool:
@@ -91,16 +92,20 @@ class VerifyReport:
             "title": self.title,
             "passed": self.passed,
             "meta": self.meta,
+            "diagnostics": self.diagnostics,
             "results": [asdict(r) for r in self.results],
         }
 
     def to_json(self, indent: int = 2) -> str:
         def default(o: Any) -> Any:
-            if isinstance(o, (np.floating, np.integer)):
+            if isinstance(o, (np.floating, np.integer, np.bool_)):
                 return o.item()
             raise TypeError(type(o).__name__)
 
         d = self.to_dict()
+        cond = d["diagnostics"].get("mass_matrix_condition")
+        if isinstance(cond, float) and not np.isfinite(cond):
+            d["diagnostics"]["mass_matrix_condition"] = str(cond)
         for r in d["results"]:  # JSON has no inf
             for k in ("max_abs", "max_rel"):
                 if not np.isfinite(r[k]):
@@ -120,6 +125,15 @@ class VerifyReport:
         lines = [self.title, "", fmt.format(*head), fmt.format(*("-" * w for w in widths))]
         lines += [fmt.format(*row) for row in rows]
         n_fail = len(self.failures)
+        d = self.diagnostics
+        if d:
+            lines.append("")
+            lines.append(f"model: total mass {d.get('total_mass', float('nan')):.6g} kg, "
+                         f"mass-matrix condition number {d.get('mass_matrix_condition', float('nan')):.3g}")
+            bad = d.get("invalid_inertias", [])
+            lines.append(f"link inertias: {'all physical' if not bad else f'{len(bad)} not physical'}")
+            lines += [f"  {b['body']}: {b['reason']}" for b in bad]
+            lines += [f"  singular: {s}" for s in d.get("singular_subtrees", [])]
         lines.append("")
         lines.append(
             f"{len(self.results)} checks: {len(self.results) - n_fail} passed, {n_fail} failed"

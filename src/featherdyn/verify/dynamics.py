@@ -1,0 +1,306 @@
+"""Verification of a robot model: featherdyn against Pinocchio, and identities that need no oracle.
+
+Both libraries read the same URDF; joints are mapped by name and layouts
+converted by :class:`~featherdyn.verify.bridge.JointMap`. featherdyn computes
+each quantity for all sampled states in one batched call; Pinocchio state by
+state.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from .. import algorithms as alg
+from ..configuration import integrate, random_configuration
+from ..errors import SingularMassMatrixError
+from ..model import Model, massless_subtrees
+from ._pinocchio import require_pinocchio
+from .bridge import JointMap, from_pin6, from_pin6_rows
+from .report import CheckResult, compare
+
+__all__ = ["RobotPair", "dynamics_checks", "model_diagnostics", "ModelDiagnostics"]
+
+_REFS = (("LOCAL", alg.LOCAL), ("WORLD", alg.WORLD), ("LOCAL_WORLD_ALIGNED", alg.LOCAL_WORLD_ALIGNED))
+
+
+@dataclass
+class RobotPair:
+    """The same robot in featherdyn and in Pinocchio, with the joint map between them."""
+
+    model: Model
+    pin_model: Any
+    jmap: JointMap
+
+    @classmethod
+    def from_urdf(cls, model: Model, path: str, floating_base: bool) -> RobotPair:
+        pin = require_pinocchio()
+        import warnings
+
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            pm = pin.buildModelFromUrdf(str(path), pin.JointModelFreeFlyer()) if floating_base else \
+                pin.buildModelFromUrdf(str(path))
+        return cls(model, pm, JointMap(model, pm))
+
+
+def _pick_frames(model: Model, pin_model: Any, k: int = 3) -> list[str]:
+    """A few frames to check velocities and Jacobians on: the deepest bodies' frames, then merged links."""
+    names = {f.name for f in pin_model.frames}
+    chosen: list[str] = []
+    depth = [0] * model.nbodies
+    for i, p in enumerate(model.parents):
+        depth[i] = 0 if p == -1 else depth[p] + 1
+    bodies = sorted(range(model.nbodies), key=lambda i: -depth[i])
+    for i in bodies:
+        leaves = [f.name for f in model.frames if f.body == i and f.name in names and f.kind in ("link", "body")]
+        for n in leaves[::-1]:
+            if n not in chosen:
+                chosen.append(n)
+                break
+        if len(chosen) >= k:
+            break
+    return chosen
+
+
+def dynamics_checks(pair: RobotPair, samples: int = 10, seed: int = 0, tol: float = 1e-9,
+                    progress: Callable[[str], None] | None = None) -> list[CheckResult]:
+    """Compare every dynamics quantity with Pinocchio over ``samples`` random states, then check identities.
+
+    Relative errors are ``|a − b| / max(|b|, 1)`` per state, held to ``tol``.
+    """
+    pin = require_pinocchio()
+    model, pm, jm = pair.model, pair.pin_model, pair.jmap
+    pd = pm.createData()
+    rng = np.random.default_rng(seed)
+    n = samples
+    q = random_configuration(model, rng, size=n)
+    v = rng.normal(size=(n, model.nv))
+    a = rng.normal(size=(n, model.nv))
+    tau = rng.normal(size=(n, model.nv))
+    qp, vp, ap, taup = jm.q_to_pin(q), jm.v_to_pin(v), jm.v_to_pin(a), jm.v_to_pin(tau)
+    results: list[CheckResult] = []
+
+    def note(msg: str) -> None:
+        if progress is not None:
+            progress(msg)
+
+    def check(quantity: str, ours: Any, theirs: Callable[[int], Any], hint: str = "", group: str = "pinocchio") -> None:
+        ref = np.stack([np.asarray(theirs(s), dtype=np.float64) for s in range(n)])
+        results.append(compare(group, quantity, ours, ref, tol, hint))
+
+    body_jid = [pm.getJointId(name) for name in model.joint_names]
+    fids = {f.name: f for f in pm.frames}
+    frames = _pick_frames(model, pm)
+
+    note("kinematics")
+    kin = alg.forward_kinematics(model, q, v, a)
+    assert kin.velocities is not None and kin.accelerations is not None
+
+    def fk(s: int) -> None:
+        pin.forwardKinematics(pm, pd, qp[s], vp[s], ap[s])
+        pin.updateFramePlacements(pm, pd)
+
+    def per_body(getter: Callable[[int], np.ndarray]) -> Callable[[int], np.ndarray]:
+        def f(s: int) -> np.ndarray:
+            fk(s)
+            return np.stack([getter(j) for j in body_jid]) if body_jid else np.zeros((0,))
+        return f
+
+    if model.nbodies:
+        check("body placements ⁰M_i vs data.oMi", kin.placements.homogeneous(),
+              per_body(lambda j: pd.oMi[j].homogeneous), "joint placement or axis differs")
+        check("body velocities v_i vs data.v", kin.velocities.vector, per_body(lambda j: from_pin6(pd.v[j].vector)),
+              "6D order, or free-flyer velocity frame")
+        check("body spatial accelerations a_i vs data.a", kin.accelerations.vector,
+              per_body(lambda j: from_pin6(pd.a[j].vector)), "spatial vs classical acceleration")
+    common = [f.name for f in model.frames if f.name in fids]
+    if common:
+        ours = np.stack([alg.frame_placement(model, q, name).homogeneous() for name in common], axis=1)
+
+        def frame_poses(s: int) -> np.ndarray:
+            fk(s)
+            return np.stack([pd.oMf[pm.getFrameId(name, fids[name].type)].homogeneous for name in common])
+
+        check(f"frame placements ({len(common)} frames) vs data.oMf", ours, frame_poses,
+              "fixed-joint merging or frame placement")
+
+    note("frame velocities and Jacobians")
+    pin_refs = {"LOCAL": pin.LOCAL, "WORLD": pin.WORLD, "LOCAL_WORLD_ALIGNED": pin.LOCAL_WORLD_ALIGNED}
+    for name in frames:
+        fid = pm.getFrameId(name, fids[name].type)
+        for rname, ref in _REFS:
+            pref = pin_refs[rname]
+
+            def fv(s: int, pref: Any = pref, fid: int = fid) -> np.ndarray:
+                fk(s)
+                return from_pin6(pin.getFrameVelocity(pm, pd, fid, pref).vector)
+
+            def fa(s: int, pref: Any = pref, fid: int = fid) -> np.ndarray:
+                fk(s)
+                return from_pin6(pin.getFrameAcceleration(pm, pd, fid, pref).vector)
+
+            def fc(s: int, pref: Any = pref, fid: int = fid) -> np.ndarray:
+                fk(s)
+                return from_pin6(pin.getFrameClassicalAcceleration(pm, pd, fid, pref).vector)
+
+            def fj(s: int, pref: Any = pref, fid: int = fid) -> np.ndarray:
+                pin.computeJointJacobians(pm, pd, qp[s])
+                pin.updateFramePlacements(pm, pd)
+                return jm.columns_from_pin(from_pin6_rows(pin.getFrameJacobian(pm, pd, fid, pref)))
+
+            def fdj(s: int, pref: Any = pref, fid: int = fid) -> np.ndarray:
+                pin.computeJointJacobiansTimeVariation(pm, pd, qp[s], vp[s])
+                pin.updateFramePlacements(pm, pd)
+                return jm.columns_from_pin(from_pin6_rows(pin.getFrameJacobianTimeVariation(pm, pd, fid, pref)))
+
+            check(f"frame_velocity {name} {rname}", alg.frame_velocity(model, q, v, name, ref).vector, fv,
+                  "reference frame (LOCAL / WORLD / LOCAL_WORLD_ALIGNED)")
+            check(f"frame_acceleration {name} {rname}", alg.frame_acceleration(model, q, v, a, name, ref).vector,
+                  fa, "spatial vs classical acceleration")
+            check(f"frame_classical_acceleration {name} {rname}",
+                  alg.frame_classical_acceleration(model, q, v, a, name, ref).vector, fc,
+                  "classical acceleration adds ω × v to the spatial one")
+            check(f"frame_jacobian {name} {rname}", alg.frame_jacobian(model, q, name, ref), fj,
+                  "Jacobian reference frame or column order")
+            check(f"frame_jacobian_time_variation {name} {rname}",
+                  alg.frame_jacobian_time_variation(model, q, v, name, ref), fdj, "")
+
+    def jj(s: int) -> np.ndarray:
+        pin.computeJointJacobians(pm, pd, qp[s])
+        return jm.columns_from_pin(from_pin6_rows(pd.J))
+
+    check("joint_jacobians vs data.J", alg.joint_jacobians(model, q), jj, "")
+
+    note("dynamics")
+    check("rnea vs pin.rnea", alg.rnea(model, q, v, a), lambda s: jm.v_from_pin(pin.rnea(pm, pd, qp[s], vp[s], ap[s])),
+          "gravity sign or magnitude, or joint order")
+    fext = rng.normal(size=(n, model.nbodies, 6))
+
+    def pin_fext(s: int) -> list[Any]:
+        out = [pin.Force.Zero() for _ in range(pm.njoints)]
+        for i, j in enumerate(body_jid):
+            out[j] = pin.Force(fext[s, i, 3:], fext[s, i, :3])
+        return out
+
+    check("rnea with f_ext vs pin.rnea(fext)", alg.rnea(model, q, v, a, fext),
+          lambda s: jm.v_from_pin(pin.rnea(pm, pd, qp[s], vp[s], ap[s], pin_fext(s))), "f_ext frame (body LOCAL)")
+    M = alg.crba(model, q)
+    check("crba vs pin.crba", M, lambda s: jm.matrix_from_pin(pin.crba(pm, pd, qp[s])),
+          "mass matrix given as upper triangle only?")
+    check("nonlinear_effects vs nonLinearEffects", alg.nonlinear_effects(model, q, v),
+          lambda s: jm.v_from_pin(pin.nonLinearEffects(pm, pd, qp[s], vp[s])), "")
+    check("generalized_gravity vs computeGeneralizedGravity", alg.generalized_gravity(model, q),
+          lambda s: jm.v_from_pin(pin.computeGeneralizedGravity(pm, pd, qp[s])), "gravity sign or magnitude")
+    C = alg.coriolis_matrix(model, q, v)
+    check("coriolis_matrix vs computeCoriolisMatrix", C,
+          lambda s: jm.matrix_from_pin(pin.computeCoriolisMatrix(pm, pd, qp[s], vp[s])), "")
+    singular = False
+    try:
+        ddq = alg.aba(model, q, v, tau)
+        check("aba vs pin.aba", ddq, lambda s: jm.v_from_pin(pin.aba(pm, pd, qp[s], vp[s], taup[s])),
+              "mass matrix conditioning (see diagnostics)")
+        check("aba with f_ext vs pin.aba(fext)", alg.aba(model, q, v, tau, fext),
+              lambda s: jm.v_from_pin(pin.aba(pm, pd, qp[s], vp[s], taup[s], pin_fext(s))), "")
+    except SingularMassMatrixError as exc:
+        singular = True
+        results.append(CheckResult("pinocchio", "aba vs pin.aba", float("nan"), 0.0, 0, tol, True,
+                                   f"skipped: {exc}"))
+
+    note("energy and momentum")
+    check("kinetic_energy vs computeKineticEnergy", alg.kinetic_energy(model, q, v),
+          lambda s: pin.computeKineticEnergy(pm, pd, qp[s], vp[s]), "")
+    check("potential_energy vs computePotentialEnergy", alg.potential_energy(model, q),
+          lambda s: pin.computePotentialEnergy(pm, pd, qp[s]), "")
+    com = alg.center_of_mass(model, q, v)
+
+    def pin_com(s: int) -> np.ndarray:
+        pin.centerOfMass(pm, pd, qp[s], vp[s])
+        return np.concatenate([pd.com[0], pd.vcom[0]])
+
+    check("center_of_mass (c, ċ) vs centerOfMass", np.concatenate([com.position, com.velocity], axis=-1), pin_com, "")
+
+    def pin_ccrba(s: int) -> np.ndarray:
+        pin.ccrba(pm, pd, qp[s], vp[s])
+        return jm.columns_from_pin(from_pin6_rows(pd.Ag))
+
+    check("centroidal_momentum_matrix vs ccrba", alg.centroidal_momentum_matrix(model, q), pin_ccrba, "")
+
+    def pin_hg(s: int) -> np.ndarray:
+        pin.computeCentroidalMomentum(pm, pd, qp[s], vp[s])
+        return from_pin6(pd.hg.vector)
+
+    check("centroidal_momentum vs computeCentroidalMomentum", alg.centroidal_momentum(model, q, v).vector, pin_hg,
+          "")
+
+    note("identities")
+    results += identity_checks(model, q, v, a, tau, M, C, tol, singular)
+    return results
+
+
+def identity_checks(model: Model, q: np.ndarray, v: np.ndarray, a: np.ndarray, tau: np.ndarray, M: np.ndarray,
+                    C: np.ndarray, tol: float, singular: bool) -> list[CheckResult]:
+    """Laws that need no oracle: symmetry and definiteness of M, RNEA = M a + h, ABA∘RNEA = id, Ṁ − 2C skew."""
+    out: list[CheckResult] = []
+    h = alg.nonlinear_effects(model, q, v)
+    g = alg.generalized_gravity(model, q)
+    out.append(compare("identity", "M = Mᵀ", M, np.swapaxes(M, -1, -2), tol))
+    if not singular and model.nv:
+        eig = np.linalg.eigvalsh(M)[..., 0]
+        out.append(CheckResult("identity", "M positive definite (min eigenvalue > 0)", 0.0, 0.0,
+                               int(np.argmin(eig)), tol, bool(np.all(eig > 0)),
+                               "" if np.all(eig > 0) else f"min eigenvalue {float(eig.min()):.3g}"))
+    out.append(compare("identity", "RNEA(q, v, a) = M a + h", alg.rnea(model, q, v, a),
+                       (M @ a[..., None])[..., 0] + h, tol))
+    out.append(compare("identity", "h − g = C v", h - g, (C @ v[..., None])[..., 0], tol))
+    out.append(compare("identity", "T = ½ vᵀ M v", alg.kinetic_energy(model, q, v),
+                       0.5 * np.einsum("...i,...ij,...j->...", v, M, v), tol))
+    if not singular:
+        out.append(compare("identity", "ABA(RNEA(a)) = a", alg.aba(model, q, v, alg.rnea(model, q, v, a)), a, 1e3 * tol,
+                           "ill-conditioned mass matrix"))
+    # Ṁ − 2C skew-symmetric, with Ṁ by a central difference along q(t) = q ⊕ t v
+    eps = 1e-6
+    Mdot = (alg.crba(model, integrate(model, q, eps * v)) - alg.crba(model, integrate(model, q, -eps * v))) / (2 * eps)
+    N = Mdot - 2 * C
+    out.append(compare("identity", "Ṁ − 2C skew-symmetric (finite difference)", N + np.swapaxes(N, -1, -2),
+                       np.zeros_like(N), 1e-5))
+    return out
+
+
+@dataclass
+class ModelDiagnostics:
+    """Per-link inertia validity, mass-matrix conditioning and singular subtrees."""
+
+    invalid_inertias: list[tuple[str, str]] = field(default_factory=list)
+    singular_subtrees: list[str] = field(default_factory=list)
+    mass_matrix_condition: float = float("nan")
+    total_mass: float = 0.0
+
+    def to_dict(self) -> dict[str, Any]:
+        return {
+            "invalid_inertias": [{"body": b, "reason": r} for b, r in self.invalid_inertias],
+            "singular_subtrees": self.singular_subtrees,
+            "mass_matrix_condition": self.mass_matrix_condition,
+            "total_mass": self.total_mass,
+        }
+
+
+def model_diagnostics(model: Model, q: np.ndarray | None = None) -> ModelDiagnostics:
+    """Inertia validity per body (with the reason), conditioning of ``M(q)`` and massless subtrees."""
+    from ..errors import InertiaError
+
+    diag = ModelDiagnostics(total_mass=model.total_mass)
+    for i, name in enumerate(model.body_names):
+        try:
+            model.inertias[i].check(name=f"body {name!r}")
+        except InertiaError as exc:
+            diag.invalid_inertias.append((name, str(exc)))
+    diag.singular_subtrees = massless_subtrees(model)
+    if model.nv:
+        qq = q if q is not None else random_configuration(model, np.random.default_rng(0), size=4)
+        M = alg.crba(model, qq)
+        diag.mass_matrix_condition = float(np.max(np.linalg.cond(M)))
+    return diag
