@@ -85,6 +85,7 @@ _LAZY = {
     "difference": "configuration",
     "normalize": "configuration",
     "is_normalized": "configuration",
+    "interpolate": "configuration",
     "conventions": None,
     "urdf": None,
     "robots": None,
@@ -108,6 +109,7 @@ def __dir__() -> list[str]:
     return sorted(set(globals()) | set(_LAZY))
 
 __all__ = [
+    "algorithms",
     "errors",
     "frames",
     "joints",

@@ -102,7 +102,9 @@ def _like(const: np.ndarray, x: np.ndarray) -> np.ndarray:
 def _batch(size: Any) -> tuple[int, ...]:
     if size is None:
         return ()
-    return (int(size),) if np.isscalar(size) else tuple(int(s) for s in size)
+    if isinstance(size, (int, np.integer)):
+        return (int(size),)
+    return tuple(int(s) for s in size)
 
 
 def _limits(lower: Any, upper: Any, n: int) -> tuple[np.ndarray, np.ndarray]:
@@ -191,10 +193,9 @@ class Joint:
         return ()
 
     def __eq__(self, other: object) -> bool:
-        if type(self) is not type(other):
+        if type(self) is not type(other) or not isinstance(other, Joint):
             return NotImplemented
-        assert isinstance(other, Joint)  # for mypy; type equality was checked above
-        return all(np.array_equal(a, b) for a, b in zip(self._params(), other._params()))
+        return all(np.array_equal(a, b) for a, b in zip(self._params(), other._params(), strict=True))
 
     def __hash__(self) -> int:
         return hash((type(self).__name__, *(tuple(p.tolist()) for p in self._params())))
@@ -412,8 +413,11 @@ class FreeFlyerJoint(Joint):
         return _frozen(np.eye(6))
 
     def pose(self, q: Any) -> PluckerTransform:
-        qq = _q(q, 7)
-        _check_unit_quat(qq[..., 3:], "q[3:7]")
+        return self._pose(_q(q, 7), "q")
+
+    @staticmethod
+    def _pose(qq: np.ndarray, name: str) -> PluckerTransform:
+        _check_unit_quat(qq[..., 3:], f"{name}[3:7]")
         return PluckerTransform(rot.quat_to_matrix(qq[..., 3:], check_norm=False), qq[..., :3], validate=False)
 
     def neutral(self) -> np.ndarray:
@@ -436,8 +440,8 @@ class FreeFlyerJoint(Joint):
         return np.concatenate([p, quat1], axis=-1).astype(dtype)
 
     def difference(self, q0: Any, q1: Any) -> np.ndarray:
-        T0 = self.pose(_q(q0, 7, "q0"))
-        T1 = self.pose(_q(q1, 7, "q1"))
+        T0 = self._pose(_q(q0, 7, "q0"), "q0")
+        T1 = self._pose(_q(q1, 7, "q1"), "q1")
         return rot.se3_log(T0.inverse() @ T1).vector
 
     def random(

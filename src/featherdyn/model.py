@@ -117,6 +117,13 @@ class Model:
     source: str | None = None
     _frame_index: dict[str, int] = field(default_factory=dict, repr=False)
 
+    def __post_init__(self) -> None:
+        # derived from frames (first of a name wins), so dataclasses.replace(model, frames=...) stays consistent
+        index: dict[str, int] = {}
+        for k, f in enumerate(self.frames):
+            index.setdefault(f.name, k)
+        object.__setattr__(self, "_frame_index", index)
+
     @property
     def nbodies(self) -> int:
         """Number of moving bodies ``nb``."""
@@ -366,9 +373,9 @@ class ModelBuilder:
         :class:`PhysicalityWarning`, or raise :class:`ModelError` with
         ``strict=True``.
         """
-        for what, names in (("body", self._body_names), ("joint", self._joint_names)):
+        for what, listed in (("body", self._body_names), ("joint", self._joint_names)):
             seen: set[str] = set()
-            for n in names:
+            for n in listed:
                 if n in seen:
                     raise ModelError(f"{what} name {n!r} is used twice")
                 seen.add(n)
@@ -399,9 +406,6 @@ class ModelBuilder:
             if bname not in names:
                 frames.append(FrameInfo(bname, i, PluckerTransform.identity(), "body"))
                 names.add(bname)
-        frame_index: dict[str, int] = {}
-        for k, f in enumerate(frames):
-            frame_index.setdefault(f.name, k)
         model = Model(
             name=self.name,
             parents=tuple(self._parents),
@@ -422,7 +426,6 @@ class ModelBuilder:
             effort_limit=_ro(np.concatenate(self._eff) if nb else np.zeros(0)),
             mimics=tuple(self._mimics),
             source=self.source,
-            _frame_index=frame_index,
         )
         for msg in self._limit_problems:
             _complain(msg, strict)

@@ -30,14 +30,14 @@ DYNAMICS_TOL = 1e-9
 
 def resolve_robot(robot: str | os.PathLike[str] | None) -> tuple[str, Path]:
     """``(name, urdf_path)`` of a robot-library name, a URDF path, or ``None`` (the default robot)."""
-    from ..robots import DEFAULT_ROBOT, BUNDLED_DEFAULT_ROBOT, _erd_files, robot_path
+    from ..robots import BUNDLED_DEFAULT_ROBOT, DEFAULT_ROBOT, _erd_files, robot_path
 
     if robot is None:
         name = DEFAULT_ROBOT if _erd_files() else BUNDLED_DEFAULT_ROBOT
         return name, robot_path(name)
     text = os.fspath(robot)
     path = Path(text)
-    if text.lower().endswith((".urdf", ".xml")) or os.sep in text and path.exists() or path.is_file():
+    if text.lower().endswith((".urdf", ".xml")) or (os.sep in text and path.exists()) or path.is_file():
         if not path.is_file():
             from ..errors import ModelError
 
