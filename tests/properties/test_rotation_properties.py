@@ -310,8 +310,9 @@ def _loop(fn, *args: np.ndarray, trailing: tuple[int, ...]) -> np.ndarray:
 
 
 def _axis_and_angle(R: np.ndarray) -> np.ndarray:
+    # the axis is ill-conditioned near angle 0 (and its sign near π), so compare the rotation it describes
     axis, angle = rot.matrix_to_axis_angle(R)
-    return np.concatenate([axis, angle[..., None]], axis=-1)
+    return rot.axis_angle_to_matrix(axis, angle)
 
 
 CASES = {
