@@ -97,8 +97,8 @@ def per_batch(fn: Callable[..., Any], *args: tuple[Any, int]) -> np.ndarray:
     float64 with the batch shape leading. This is the "loop" of batch == loop.
     """
     arrays = [np.asarray(a, dtype=np.float64) for a, _ in args]
-    batch = np.broadcast_shapes(*[a.shape[: a.ndim - k] for a, (_, k) in zip(arrays, args)])
-    full = [np.broadcast_to(a, batch + a.shape[a.ndim - k :]) for a, (_, k) in zip(arrays, args)]
+    batch = np.broadcast_shapes(*[a.shape[: a.ndim - k] for a, (_, k) in zip(arrays, args, strict=True)])
+    full = [np.broadcast_to(a, batch + a.shape[a.ndim - k :]) for a, (_, k) in zip(arrays, args, strict=True)]
     outs = [np.asarray(fn(*[f[idx] for f in full]), dtype=np.float64) for idx in np.ndindex(*batch)]
     return np.stack(outs).reshape(batch + outs[0].shape)
 

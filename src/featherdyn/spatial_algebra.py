@@ -83,13 +83,13 @@ def _adopt_dtype(raw: tuple[Any, ...], arrays: list[np.ndarray]) -> list[np.ndar
     ``as_array`` turns ``2.0`` into a float64 array, which would promote a
     float32 computation to float64; NumPy keeps ``float32_array * 2.0`` float32.
     """
-    strong = [a for x, a in zip(raw, arrays) if not _is_weak(x)]
+    strong = [a for x, a in zip(raw, arrays, strict=True) if not _is_weak(x)]
     if not strong:
         return arrays
     dtype = result_dtype(*strong)
     if dtype.kind != "f":
         return arrays
-    return [a.astype(dtype) if _is_weak(x) else a for x, a in zip(raw, arrays)]
+    return [a.astype(dtype) if _is_weak(x) else a for x, a in zip(raw, arrays, strict=True)]
 
 
 def skew(w: Any) -> np.ndarray:
@@ -985,7 +985,11 @@ class PluckerTransform:
         return out
 
     def allclose(self, other: PluckerTransform, rtol: float = 1e-9, atol: float = 1e-12) -> bool:
-        """Elementwise closeness of rotation and translation."""
+        """Elementwise closeness of rotation and translation, after a type and frame check."""
+        if not isinstance(other, PluckerTransform):
+            raise SpatialTypeError(f"X.allclose needs a PluckerTransform, got a {_kind(other)}")
+        check_same_frame(self.source, other.source, "X.allclose: source frames")
+        check_same_frame(self.target, other.target, "X.allclose: target frames")
         return bool(
             np.allclose(self.rotation, other.rotation, rtol=rtol, atol=atol)
             and np.allclose(self.translation, other.translation, rtol=rtol, atol=atol)
@@ -1327,7 +1331,7 @@ class SpatialInertia:
         if not isinstance(other, SpatialInertia):
             _mix_error("add", self, other)
         frame = merge_frames(self.frame, other.frame, "inertia + inertia")
-        m = self.mass + other.mass
+        m = np.asarray(self.mass + other.mass)  # 0-d object arrays add to a bare object
         h = self.com * self.mass[..., None] + other.com * other.mass[..., None]
         i_o = self.inertia_origin + other.inertia_origin
         if m.dtype.kind == "O":
