@@ -47,7 +47,8 @@ class FrameInfo:
         placement: its pose in that body's frame.
         kind: ``"body"`` (a moving link's own frame), ``"link"`` (a link merged
             through a fixed joint, or the fixed root link), ``"joint"`` (a moving
-            joint's frame, placed at the joint before its motion) or
+            joint's frame: the joint's successor frame, i.e. fixed to the child
+            body at identity, moving with ``q`` as Pinocchio's JOINT frames) or
             ``"fixed_joint"``.
     """
 
@@ -241,6 +242,8 @@ class ModelBuilder:
         self._joints: list[Joint] = []
         self._joint_names: list[str] = []
         self._body_names: list[str] = []
+        self._body_set: set[str] = set()  # for O(1) duplicate checks on long chains
+        self._joint_set: set[str] = set()
         self._placements: list[PluckerTransform] = []
         self._inertias: list[SpatialInertia] = []
         self._lower: list[np.ndarray] = []
@@ -284,9 +287,9 @@ class ModelBuilder:
         """
         _check_name(name, "body name")
         joint_name = f"{name}_joint" if joint_name is None else _check_name(joint_name, f"body {name!r}: joint_name")
-        if name in self._body_names:
+        if name in self._body_set:
             raise ModelError(f"body name {name!r} is used twice")
-        if joint_name in self._joint_names:
+        if joint_name in self._joint_set:
             raise ModelError(f"joint name {joint_name!r} is used twice (body {name!r})")
         if not isinstance(joint, Joint):
             raise ModelError(f"body {name!r}: joint must be a featherdyn Joint, got {type(joint).__name__}")
@@ -321,6 +324,8 @@ class ModelBuilder:
         self._joints.append(joint)
         self._joint_names.append(joint_name)
         self._body_names.append(name)
+        self._joint_set.add(joint_name)
+        self._body_set.add(name)
         self._placements.append(placement)
         self._inertias.append(inertia)
         self._lower.append(lo)

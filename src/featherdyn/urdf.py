@@ -22,8 +22,9 @@ The tree (RBDA (2008) §4.1; chapter §8.3 and §18):
 
 Frames (:class:`~featherdyn.FrameInfo`), in Pinocchio's order: the root link
 (kind ``"link"`` on body ``-1``; or ``"root_joint"`` and a ``"body"`` frame with
-a floating base), then per link in body order the joint (``"joint"`` at the
-joint frame in the parent body, or ``"fixed_joint"``) and the link (``"body"``
+a floating base), then per link in body order the joint (``"joint"``: a moving joint's frame is
+its child body's frame, so it moves with ``q`` as in Pinocchio; or
+``"fixed_joint"`` at the joint in the parent body) and the link (``"body"``
 for a moving link, ``"link"`` for a merged one).
 
 Differences from Pinocchio's URDF parser, on purpose:
@@ -46,12 +47,15 @@ import warnings
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
+from xml.etree.ElementTree import TreeBuilder
 
 import numpy as np
+from defusedxml import DefusedXmlException
+from defusedxml.ElementTree import DefusedXMLParser, ParseError
 
 from .errors import ModelError, PhysicalityWarning, URDFError
 from .joints import FreeFlyerJoint, Joint, PlanarJoint, PrismaticJoint, RevoluteJoint
-from .model import Mimic, Model, ModelBuilder, massless_subtrees
+from .model import Mimic, Model, ModelBuilder
 from .rotation import rpy_to_matrix
 from .spatial_algebra import PluckerTransform, SpatialInertia
 
@@ -129,6 +133,8 @@ def _decode(data: bytes, label: str) -> str:
                 encoding = info.name
     try:
         return data.decode(encoding)
+    except LookupError:  # a declared bytes-to-bytes codec such as "zlib" or "base64"
+        raise URDFError(f"{label}: the XML declaration names {encoding!r}, which is not a text encoding") from None
     except UnicodeDecodeError as exc:
         line = data[: exc.start].count(b"\n") + 1
         raise URDFError(
@@ -146,26 +152,24 @@ class _Builder:
     """ElementTree parser target that bounds nesting, rejects XInclude and records line numbers."""
 
     def __init__(self, label: str) -> None:
-        from xml.etree.ElementTree import TreeBuilder
-
         self._tb = TreeBuilder()
         self._label = label
         self._depth = 0
         self.expat: Any = None
         self.lines: dict[Any, int] = {}
 
-    def _line(self) -> int:
+    def line(self) -> int:
         return int(self.expat.CurrentLineNumber) if self.expat is not None else 0
 
     def start(self, tag: str, attrib: dict[str, str]) -> Any:
         self._depth += 1
         if self._depth > MAX_DEPTH:
-            raise URDFError(f"{self._label}: line {self._line()}: elements nested deeper than {MAX_DEPTH} levels")
+            raise URDFError(f"{self._label}: line {self.line()}: elements nested deeper than {MAX_DEPTH} levels")
         if tag.startswith("{") and tag[1:].split("}", 1)[0] in _XINCLUDE_NAMESPACES:
-            raise URDFError(f"{self._label}: line {self._line()}: XInclude ({tag}) is not allowed in a URDF")
+            raise URDFError(f"{self._label}: line {self.line()}: XInclude ({tag}) is not allowed in a URDF")
         elem = self._tb.start(tag, attrib)
         if self._depth <= 4:
-            self.lines[elem] = self._line()
+            self.lines[elem] = self.line()
         return elem
 
     def end(self, tag: str) -> Any:
@@ -181,9 +185,6 @@ class _Builder:
 
 def _parse_xml(text: str, label: str) -> tuple[Any, dict[Any, int]]:
     """The root element and the line number of each element up to depth 4."""
-    from defusedxml import DefusedXmlException
-    from defusedxml.ElementTree import DefusedXMLParser, ParseError
-
     builder = _Builder(label)
     parser = DefusedXMLParser(target=builder, forbid_dtd=True, forbid_entities=True, forbid_external=True)
     builder.expat = parser.parser
@@ -193,12 +194,12 @@ def _parse_xml(text: str, label: str) -> tuple[Any, dict[Any, int]]:
     except URDFError:
         raise
     except ParseError as exc:
-        line = exc.position[0] if getattr(exc, "position", None) else builder._line()
+        line = exc.position[0] if getattr(exc, "position", None) else builder.line()
         raise URDFError(f"{label}: line {line}: malformed XML: {exc}") from None
     except DefusedXmlException as exc:
         kind = type(exc).__name__.replace("Forbidden", "")
         raise URDFError(
-            f"{label}: line {builder._line()}: {kind} declarations are not allowed in a URDF (refused for safety: {exc})"
+            f"{label}: line {builder.line()}: {kind} declarations are not allowed in a URDF (refused for safety: {exc})"
         ) from None
     except RecursionError:
         raise URDFError(f"{label}: XML nested too deeply") from None
@@ -225,7 +226,16 @@ def _local(tag: Any, ns: str) -> str:
 class _Link:
     name: str
     line: int
-    inertia: SpatialInertia | None  # in the link frame
+    inertial: _Inertial | None
+
+
+@dataclass(slots=True)
+class _Inertial:
+    mass: float
+    xyz: list[float]  # <origin>: the centre of mass and the axes the tensor is given in
+    rpy: list[float]
+    tensor: list[list[float]]
+    elem: Any  # the <inertia> element, for messages
 
 
 @dataclass(slots=True)
@@ -235,8 +245,8 @@ class _Joint:
     line: int
     parent: str
     child: str
-    R: np.ndarray  # origin: pose of the joint frame in the parent link frame
-    p: np.ndarray
+    xyz: list[float]  # origin: pose of the joint frame in the parent link frame
+    rpy: list[float]
     axis: np.ndarray
     lower: float
     upper: float
@@ -277,29 +287,30 @@ class _Doc:
                 return c
         return None
 
-    def numbers(self, elem: Any, attr: str, count: int, what: str, default: Any = None) -> np.ndarray:
+    def floats(self, elem: Any, attr: str, count: int, what: str, default: list[float] | None = None) -> list[float]:
         """The attribute as ``count`` finite decimals; ``default`` if absent (``None``: required)."""
         text = elem.get(attr)
         if text is None:
             if default is None:
                 raise self.error(elem, what, f"<{_local(elem.tag, self.ns)}> needs the attribute {attr!r}")
-            return np.array(default, dtype=np.float64)
+            return default
         parts = text.split()
         if len(parts) != count:
             raise self.error(
                 elem, what, f"{attr}={text!r}: expected {count} number{'s' if count > 1 else ''}, got {len(parts)}"
             )
-        out = np.empty(count)
-        for k, s in enumerate(parts):
+        out = []
+        for s in parts:
             if not _NUMBER.fullmatch(s):
                 raise self.error(elem, what, f"{attr}={text!r}: {s!r} is not a decimal number")
-            out[k] = float(s)
-            if not math.isfinite(out[k]):
+            x = float(s)
+            if not math.isfinite(x):
                 raise self.error(elem, what, f"{attr}={text!r}: {s!r} is out of range (not finite)")
+            out.append(x)
         return out
 
     def number(self, elem: Any, attr: str, what: str, default: float | None = None) -> float:
-        return float(self.numbers(elem, attr, 1, what, None if default is None else [default])[0])
+        return self.floats(elem, attr, 1, what, None if default is None else [default])[0]
 
     def name(self, elem: Any, kind: str) -> str:
         name = elem.get("name")
@@ -307,20 +318,19 @@ class _Doc:
             raise self.error(elem, f"<{kind}>", "missing or empty 'name' attribute")
         return name
 
-    def origin(self, elem: Any, what: str) -> tuple[np.ndarray, np.ndarray]:
+    def origin(self, elem: Any, what: str) -> tuple[list[float], list[float]]:
+        """``(xyz, rpy)`` of the element's ``<origin>`` (zeros if absent)."""
         o = self.child(elem, "origin")
         if o is None:
-            return np.eye(3), np.zeros(3)
-        xyz = self.numbers(o, "xyz", 3, what, [0.0, 0.0, 0.0])
-        rpy = self.numbers(o, "rpy", 3, what, [0.0, 0.0, 0.0])
-        return np.asarray(rpy_to_matrix(rpy), dtype=np.float64), xyz
+            return [0.0, 0.0, 0.0], [0.0, 0.0, 0.0]
+        return self.floats(o, "xyz", 3, what, [0.0, 0.0, 0.0]), self.floats(o, "rpy", 3, what, [0.0, 0.0, 0.0])
 
 
 def _parse_link(doc: _Doc, elem: Any) -> _Link:
     name = doc.name(elem, "link")
     what = f"<link name={name!r}>"
     inertial = doc.child(elem, "inertial")
-    inertia = None
+    out = None
     if inertial is not None:
         mass_el = doc.child(inertial, "mass")
         if mass_el is None:
@@ -332,28 +342,40 @@ def _parse_link(doc: _Doc, elem: Any) -> _Link:
         if mass < 0:
             raise doc.error(mass_el, what, f"negative mass {mass:g}")
         ixx, ixy, ixz, iyy, iyz, izz = (doc.number(inertia_el, k, what) for k in _INERTIA_KEYS)
-        I_urdf = np.array([[ixx, ixy, ixz], [ixy, iyy, iyz], [ixz, iyz, izz]])
-        _check_inertia(doc, inertia_el, what, mass, I_urdf)
-        R, com = doc.origin(inertial, what)
-        inertia = SpatialInertia(mass, com, R @ I_urdf @ R.T)
-    return _Link(name, doc.lines.get(elem, 0), inertia)
+        xyz, rpy = doc.origin(inertial, what)
+        out = _Inertial(mass, xyz, rpy, [[ixx, ixy, ixz], [ixy, iyy, iyz], [ixz, iyz, izz]], inertia_el)
+    return _Link(name, doc.lines.get(elem, 0), out)
 
 
-def _check_inertia(doc: _Doc, elem: Any, what: str, mass: float, I: np.ndarray) -> None:
-    """Warn about a non-physical link inertia (eigenvalues are rotation invariant: check the URDF tensor)."""
-    ev = np.linalg.eigvalsh(I)
-    scale = float(np.abs(ev).max())
-    if scale == 0.0:
-        return
-    moments = ", ".join(f"{e:.6g}" for e in ev)
-    if mass == 0.0:
-        doc.warn(elem, what, f"zero mass but non-zero rotational inertia (principal moments {moments})")
-        return
+def _link_inertias(doc: _Doc, links: list[_Link]) -> dict[str, SpatialInertia]:
+    """Check each ``<inertial>`` and express it in its link's frame, all links at once::
+
+        c = xyz,    I_c = R(rpy) I_urdf R(rpy)ᵀ
+    """
+    having = [link for link in links if link.inertial is not None]
+    if not having:
+        return {}
+    ins = [link.inertial for link in having if link.inertial is not None]
+    mass = np.array([i.mass for i in ins])
+    tensor = np.array([i.tensor for i in ins])
+    # eigenvalues are rotation invariant: check the tensor as written
+    ev = np.linalg.eigvalsh(tensor)
+    scale = np.abs(ev).max(axis=-1)
     tol = INERTIA_RTOL * scale
-    if ev[0] < -tol:
-        doc.warn(elem, what, f"inertia is not positive semi-definite (principal moments {moments})")
-    elif ev[0] + ev[1] < ev[2] - tol:
-        doc.warn(elem, what, f"principal moments violate the triangle inequality I1 + I2 >= I3 ({moments})")
+    bad_psd = (ev[:, 0] < -tol) & (scale > 0)
+    bad_tri = (ev[:, 0] + ev[:, 1] < ev[:, 2] - tol) & (scale > 0)
+    for k in np.flatnonzero((scale > 0) & ((mass == 0) | bad_psd | bad_tri)):
+        what = f"<link name={having[k].name!r}>"
+        moments = ", ".join(f"{e:.6g}" for e in ev[k])
+        if mass[k] == 0:
+            doc.warn(ins[k].elem, what, f"zero mass but non-zero rotational inertia (principal moments {moments})")
+        elif bad_psd[k]:
+            doc.warn(ins[k].elem, what, f"inertia is not positive semi-definite (principal moments {moments})")
+        else:
+            doc.warn(ins[k].elem, what, f"principal moments violate the triangle inequality I1 + I2 >= I3 ({moments})")
+    R = np.asarray(rpy_to_matrix(np.array([i.rpy for i in ins])), dtype=np.float64)
+    inertias = SpatialInertia(mass, np.array([i.xyz for i in ins]), R @ tensor @ np.swapaxes(R, -1, -2))
+    return {link.name: inertias[k] for k, link in enumerate(having)}
 
 
 def _parse_joint(doc: _Doc, elem: Any) -> _Joint:
@@ -373,13 +395,13 @@ def _parse_joint(doc: _Doc, elem: Any) -> _Joint:
         if link is None or not link.strip():
             raise doc.error(e, what, f"<{end}> needs a non-empty 'link' attribute")
         ends.append(link)
-    R, p = doc.origin(elem, what)
+    xyz, rpy = doc.origin(elem, what)
 
     axis = np.array([1.0, 0.0, 0.0])  # URDF default
     if jtype in ("revolute", "continuous", "prismatic", "planar"):
         axis_el = doc.child(elem, "axis")
         if axis_el is not None:
-            axis = doc.numbers(axis_el, "xyz", 3, what, [1.0, 0.0, 0.0])
+            axis = np.array(doc.floats(axis_el, "xyz", 3, what, [1.0, 0.0, 0.0]))
             n = float(np.linalg.norm(axis))
             if n < 1e-12:
                 raise doc.error(axis_el, what, f"zero-length joint axis {axis.tolist()}")
@@ -393,10 +415,8 @@ def _parse_joint(doc: _Doc, elem: Any) -> _Joint:
         raise doc.error(elem, what, f"a {jtype} joint needs a <limit lower=... upper=... effort=... velocity=...> element")
     if limit is not None and jtype in ("revolute", "prismatic", "continuous"):
         if jtype != "continuous":
-            lower = doc.number(limit, "lower", what, 0.0)  # URDF defaults
+            lower = doc.number(limit, "lower", what, 0.0)  # URDF defaults; lower > upper: ModelBuilder warns
             upper = doc.number(limit, "upper", what, 0.0)
-            if lower > upper:
-                doc.warn(limit, what, f"lower limit {lower:g} > upper limit {upper:g}")
         velocity = doc.number(limit, "velocity", what, math.inf)
         effort = doc.number(limit, "effort", what, math.inf)
 
@@ -414,7 +434,7 @@ def _parse_joint(doc: _Doc, elem: Any) -> _Joint:
             doc.number(mimic_el, "offset", what, 0.0),
             doc.lines.get(mimic_el, 0),
         )
-    return _Joint(name, jtype, doc.lines.get(elem, 0), ends[0], ends[1], R, p, axis, lower, upper, velocity, effort, mimic)
+    return _Joint(name, jtype, doc.lines.get(elem, 0), ends[0], ends[1], xyz, rpy, axis, lower, upper, velocity, effort, mimic)
 
 
 # ---------------------------------------------------------------------------
@@ -463,19 +483,26 @@ def _link_order(doc: _Doc, links: dict[str, _Link], joints: list[_Joint]) -> tup
     if len(order) != len(links) - 1:
         reached = {root} | {name for name, _ in order}
         # every unreached link has a parent; following parents from one must loop
-        start = next(name for name in links if name not in reached)
-        seen: list[str] = []
-        link = start
+        link = next(name for name in links if name not in reached)
+        seen: dict[str, int] = {}
         while link not in seen:
-            seen.append(link)
+            seen[link] = len(seen)
             link = parent_joint[link].parent
-        loop = seen[seen.index(link):]
+        loop = list(seen)[seen[link]:]
         raise URDFError(
             f"{doc.label}: the joints form a cycle through links "
-            + " -> ".join(repr(x) for x in [*reversed(loop), loop[-1]])
+            + _arrows([*reversed(loop), loop[-1]])
             + f" (joint {parent_joint[loop[0]].name!r}); a URDF must be a tree"
         )
     return root, order
+
+
+def _arrows(names: list[str], most: int = 8) -> str:
+    """``'a' -> 'b' -> 'a'``, shortened in the middle for long loops."""
+    shown = [repr(x) for x in names]
+    if len(shown) > most:
+        shown = [*shown[: most // 2], f"... ({len(names) - most} more)", *shown[-(most // 2):]]
+    return " -> ".join(shown)
 
 
 def _check_mimics(doc: _Doc, joints: dict[str, _Joint]) -> list[Mimic]:
@@ -496,23 +523,26 @@ def _check_mimics(doc: _Doc, joints: dict[str, _Joint]) -> list[Mimic]:
             continue
         follows[j.name] = target
         out.append(Mimic(j.name, target, mult, offset))
+    # each joint follows at most one other: walk each chain once, a chain that meets itself is a cycle
+    done: set[str] = set()
     for start in follows:
-        seen = [start]
-        nxt = follows.get(start)
-        while nxt is not None:
-            if nxt in seen:
-                loop = seen[seen.index(nxt):]
-                raise URDFError(
-                    f"{doc.label}: line {joints[start].line}: <joint name={start!r}>: mimic cycle "
-                    + " -> ".join(repr(x) for x in [*loop, nxt])
-                )
-            seen.append(nxt)
+        path: dict[str, int] = {}
+        nxt: str | None = start
+        while nxt is not None and nxt not in done and nxt not in path:
+            path[nxt] = len(path)
             nxt = follows.get(nxt)
+        if nxt is not None and nxt in path:
+            loop = list(path)[path[nxt]:]
+            raise URDFError(
+                f"{doc.label}: line {joints[loop[0]].line}: <joint name={loop[0]!r}>: mimic cycle "
+                + _arrows([*loop, loop[0]])
+            )
+        done.update(path)
     return out
 
 
 def _make_joint(j: _Joint) -> Joint:
-    if j.type in ("revolute", "continuous"):
+    if j.type in ("revolute", "continuous"):  # continuous: a revolute joint without position limits
         return RevoluteJoint(j.axis)
     if j.type == "prismatic":
         return PrismaticJoint(j.axis)
@@ -598,62 +628,82 @@ def load_urdf(path_or_xml: str | os.PathLike[str] | bytes, floating_base: bool =
     root, order = _link_order(doc, links, list(joints.values()))
     mimics = _check_mimics(doc, joints)
 
+    if floating_base and "root_joint" in joints:
+        raise URDFError(
+            f"{label}: line {joints['root_joint'].line}: <joint name='root_joint'>: the name is taken by the "
+            "free-flyer joint that floating_base=True adds (Pinocchio's name); rename the joint"
+        )
+    inertia_of = _link_inertias(doc, list(links.values()))
+
+    # joint frames in the frame of the parent link's body, all joints at once
+    R_joint = np.asarray(rpy_to_matrix(np.array([j.rpy for _, j in order]).reshape(-1, 3)), dtype=np.float64)
+    p_joint = np.array([j.xyz for _, j in order]).reshape(-1, 3)
+    pose_in_body: dict[str, tuple[np.ndarray, np.ndarray] | None] = {root: None}  # None: the body's own frame
+    for k, (child, j) in enumerate(order):
+        pose = pose_in_body[j.parent]
+        if pose is not None:  # the parent link was merged into its body: compose
+            R0, p0 = pose
+            R_joint[k], p_joint[k] = R0 @ R_joint[k], R0 @ p_joint[k] + p0
+        pose_in_body[child] = (R_joint[k], p_joint[k]) if j.type == "fixed" else None
+    X_joint = PluckerTransform(R_joint, p_joint)
+
     name = root_el.get("name") or (Path(path).stem if path else "robot")
     b = ModelBuilder(name)
     b.source = path
-    # each link: the body it belongs to and its pose in that body's frame
-    body_of: dict[str, int] = {}
-    pose_of: dict[str, tuple[np.ndarray, np.ndarray]] = {}
+    body_of: dict[str, int] = {}  # the body each link belongs to (-1: the world)
     identity = PluckerTransform.identity()
-    root_link = links[root]
     if floating_base:
-        b.add_frame("root_joint", -1, identity, "joint")
-        b.add_body(root, -1, FreeFlyerJoint(), inertia=root_link.inertia, joint_name="root_joint")
+        b.add_body(root, -1, FreeFlyerJoint(), inertia=inertia_of.get(root), joint_name="root_joint")
+        b.add_frame("root_joint", 0, identity, "joint")
         b.add_frame(root, 0, identity, "body")
         body_of[root] = 0
     else:
-        b.add_frame(root, -1, identity, "link")
+        b.add_frame(root, -1, identity, "link")  # its inertia (and its fixed children's) is dropped
         body_of[root] = -1
-    pose_of[root] = (np.eye(3), np.zeros(3))
 
-    for child, j in order:
+    joint_models: dict[tuple[str, tuple[float, ...]], Joint] = {}  # joints are immutable values: share them
+    for k, (child, j) in enumerate(order):
         body = body_of[j.parent]
-        R0, p0 = pose_of[j.parent]
-        R, p = R0 @ j.R, R0 @ j.p + p0  # joint frame in the body's frame
-        X = PluckerTransform(R, p, validate=False)
-        inertia = links[child].inertia
+        X = X_joint[k]
+        inertia = inertia_of.get(child)
         if j.type == "fixed":
             b.add_frame(j.name, body, X, "fixed_joint")
             b.add_frame(child, body, X, "link")
             body_of[child] = body
-            pose_of[child] = (R, p)
             if body >= 0 and inertia is not None:
-                b.add_inertia(body, X.apply(inertia))
+                b.add_inertia(body, X.apply(inertia))  # X* I X⁻¹: parallel-axis theorem
             continue
-        b.add_frame(j.name, body, X, "joint")
-        finite = j.type != "continuous"
-        new = b.add_body(
+        key = (j.type, tuple(j.axis.tolist()))
+        if key not in joint_models:
+            joint_models[key] = _make_joint(j)
+        bounded = j.type != "continuous"
+        body_of[child] = b.add_body(
             child,
             body,
-            _make_joint(j),
+            joint_models[key],
             placement=X,
             inertia=inertia,
             joint_name=j.name,
-            lower=j.lower if finite else None,
-            upper=j.upper if finite else None,
+            lower=j.lower if bounded else None,
+            upper=j.upper if bounded else None,
             velocity_limit=j.velocity,
             effort_limit=j.effort,
         )
-        b.add_frame(child, new, identity, "body")
-        body_of[child] = new
-        pose_of[child] = (np.eye(3), np.zeros(3))
+        b.add_frame(j.name, body_of[child], identity, "joint")  # moves with the joint, as in Pinocchio
+        b.add_frame(child, body_of[child], identity, "body")
     for m in mimics:
         b.add_mimic(m)
 
-    try:
-        model = b.build(strict=False, check_inertias=False)
-    except ModelError as exc:
-        raise URDFError(f"{label}: {exc}") from None
-    for msg in massless_subtrees(model):
-        doc.warn(None, "", msg)
+    # the builder checks the whole model (massless subtrees, lower > upper limits): name the file in its messages
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", PhysicalityWarning)
+        try:
+            model = b.build(strict=strict)
+        except ModelError as exc:
+            raise URDFError(f"{label}: {exc}") from None
+    for w in caught:
+        if issubclass(w.category, PhysicalityWarning):
+            warnings.warn(f"{label}: {w.message}", PhysicalityWarning, stacklevel=2)
+        else:
+            warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
     return model

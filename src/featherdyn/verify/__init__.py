@@ -17,9 +17,11 @@ import warnings
 from collections.abc import Callable
 from pathlib import Path
 
+from .check import check_values
 from .report import CheckResult, VerifyReport, compare, machine_meta
 
-__all__ = ["run", "resolve_robot", "CheckResult", "VerifyReport", "compare", "ALGEBRA_TOL", "DYNAMICS_TOL"]
+__all__ = ["run", "resolve_robot", "check_values", "CheckResult", "VerifyReport", "compare", "ALGEBRA_TOL",
+           "DYNAMICS_TOL"]
 
 ALGEBRA_TOL = 1e-12
 """Relative tolerance of the spatial-algebra comparisons (both libraries are exact to round-off)."""
