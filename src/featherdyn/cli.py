@@ -4,6 +4,8 @@
 
     featherdyn verify [ROBOT|URDF] [--floating-base] [--samples N] [--seed S] [--tol T]
                       [--json FILE] [--report FILE.html] [--all]
+    featherdyn check VALUES.npz --robot ROBOT|URDF [--floating-base] [--convention featherdyn|pinocchio]
+                     [--tol T] [--json FILE]
     featherdyn info ROBOT|URDF [--floating-base]
     featherdyn list
 
@@ -22,6 +24,7 @@ from pathlib import Path
 from typing import Any
 
 from .errors import FeatherdynError
+from .verify.check import add_check_subcommand, cmd_check
 
 __all__ = ["main", "build_parser"]
 
@@ -76,6 +79,7 @@ def build_parser() -> argparse.ArgumentParser:
     i.add_argument("robot", metavar="ROBOT|URDF")
     i.add_argument("--floating-base", action="store_true")
     sub.add_parser("list", help="the names of the robot library")
+    add_check_subcommand(sub)
     return parser
 
 
@@ -155,7 +159,7 @@ def _cmd_info(args: argparse.Namespace) -> int:
     from .urdf import load_urdf
     from .verify import resolve_robot
 
-    name, path = resolve_robot(args.robot)
+    _name, path = resolve_robot(args.robot)
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         model = load_urdf(path, floating_base=args.floating_base)
@@ -193,7 +197,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     if args.command is None:
         parser.print_help()
         return EXIT_USAGE
-    commands = {"verify": _cmd_verify, "list": _cmd_list, "info": _cmd_info}
+    commands = {"verify": _cmd_verify, "list": _cmd_list, "info": _cmd_info, "check": cmd_check}
     try:
         return commands[args.command](args)
     except (FeatherdynError, ValueError) as exc:
