@@ -4,6 +4,9 @@ from __future__ import annotations
 
 import re
 from pathlib import Path
+from typing import Any
+
+import numpy as np
 
 ROOT = Path(__file__).resolve().parents[2]
 README = (ROOT / "README.md").read_text(encoding="utf-8")
@@ -14,13 +17,18 @@ def _blocks(lang: str) -> list[str]:
 
 
 def test_tour_runs_and_its_claims_hold() -> None:
-    (tour,) = _blocks("python")
-    env: dict[str, object] = {}
-    exec(compile(tour, "README.md", "exec"), env)
+    algebra, dynamics = _blocks("python")
+    env: dict[str, Any] = {}
+    exec(compile(algebra, "README.md", "exec"), env)
     # the tour states these values in comments; check them
     v, f, X = env["v"], env["f"], env["X"]
-    assert abs(v.dot(f) - 5.0) < 1e-12  # type: ignore[attr-defined]
-    assert abs((X @ v).dot(X @ f) - 5.0) < 1e-12  # type: ignore[operator]
+    assert abs(v.dot(f) - 5.0) < 1e-12
+    assert abs((X @ v).dot(X @ f) - 5.0) < 1e-12
+    env = {}
+    exec(compile(dynamics, "README.md", "exec"), env)
+    assert np.allclose(env["ddq"], env["a"], atol=1e-9)
+    assert env["taus"].shape == (1000, env["model"].nv) and env["J"].shape == (6, env["model"].nv)
+    assert np.allclose(env["M"], env["M"].T)
 
 
 def test_quick_start_has_exactly_two_commands_run_by_ci() -> None:
