@@ -22,7 +22,7 @@ from ..errors import SingularMassMatrixError
 from ..model import Model
 from ..spatial_algebra import SpatialMotion, cross_force, cross_motion
 from ._common import TreeData, check_state, select_backend, zeros
-from .rnea import _f_ext
+from .rnea import _batch_with_f_ext, _f_ext
 
 __all__ = ["aba"]
 
@@ -78,7 +78,7 @@ def aba(model: Model, q: Any, v: Any, tau: Any, f_ext: Any = None, *, gravity: b
     dtype = st.dtype if fx is None else result_dtype(np.empty(0, st.dtype), fx)
     td = TreeData(model, dtype)
     qd, tau_ = st.arrays["v"], st.arrays["tau"]
-    batch = np.broadcast_shapes(st.batch, fx.shape[:-2] if fx is not None else ())
+    batch = _batch_with_f_ext(st.batch, fx)
     a0 = td.a0 if gravity else SpatialMotion._wrap(np.zeros(6, dtype=td.dtype), None)
 
     nb = td.nb

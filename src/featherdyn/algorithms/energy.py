@@ -13,6 +13,7 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
+from ..errors import ModelError
 from ..model import Model
 from ..spatial_algebra import _cross3
 from ._common import TreeData
@@ -72,11 +73,16 @@ def center_of_mass(model: Model, q: Any, v: Any = None, *, backend: str | None =
         ``(position, velocity)``::
 
             c = Σ m_i ⁰c_i / m,    ċ = Σ m_i ⁰R_i (v_i + ω_i × c_i) / m
+
+    Raises:
+        ModelError: the tree has no mass (the centre of mass is undefined).
     """
     kin = forward_kinematics(model, q, v, backend=backend)
     td = TreeData(model, kin.placements.dtype)
     batch = kin.placements.shape[:-1]
     m = model.total_mass
+    if not m > 0:
+        raise ModelError(f"model {model.name!r} has no mass: its centre of mass is undefined")
     pos = np.zeros(batch + (3,), dtype=td.dtype)
     for i, c in enumerate(_world_coms(model, kin, td)):
         pos = pos + td.I[i].mass * c

@@ -22,7 +22,7 @@ import numpy as np
 
 from ..model import Model
 from ..spatial_algebra import PluckerTransform, SpatialMotion, _crm_apply
-from ._common import LOCAL, ReferenceFrame, TreeData, as_reference_frame, check_state, expand, select_backend, zeros
+from ._common import LOCAL, ReferenceFrame, TreeData, as_reference_frame, check_state, expand, zeros
 from .kinematics import _body_at, _frame_pose, _motion_at, forward_kinematics, resolve_frame
 
 __all__ = ["joint_jacobians", "frame_jacobian", "frame_jacobian_time_variation", "support"]

@@ -36,6 +36,19 @@ def _f_ext(model: Model, f_ext: Any) -> np.ndarray | None:
     return arr
 
 
+def _batch_with_f_ext(batch: tuple[int, ...], fx: np.ndarray | None) -> tuple[int, ...]:
+    """The batch shape of the state broadcast with that of ``f_ext`` `(..., nb, 6)`."""
+    if fx is None:
+        return batch
+    try:
+        return np.broadcast_shapes(batch, fx.shape[:-2])
+    except ValueError:
+        raise ShapeError(
+            f"f_ext: batch shape {tuple(fx.shape[:-2])} (shape {tuple(fx.shape)}) does not broadcast with "
+            f"the batch shape {tuple(batch)} of the state"
+        ) from None
+
+
 def rnea(model: Model, q: Any, v: Any, a: Any, f_ext: Any = None, *, gravity: bool = True,
          backend: str | None = None) -> np.ndarray:
     """Joint forces ``τ`` `(..., nv)` that produce accelerations ``a`` in state ``(q, v)``.
@@ -57,6 +70,7 @@ def rnea(model: Model, q: Any, v: Any, a: Any, f_ext: Any = None, *, gravity: bo
     dtype = st.dtype if fx is None else result_dtype(np.empty(0, st.dtype), fx)
     td = TreeData(model, dtype)
     qd, qdd = st.arrays["v"], st.arrays["a"]
+    batch = _batch_with_f_ext(st.batch, fx)
     a0 = td.a0 if gravity else SpatialMotion._wrap(np.zeros(6, dtype=td.dtype), None)
 
     X_up: list = []
@@ -76,7 +90,6 @@ def rnea(model: Model, q: Any, v: Any, a: Any, f_ext: Any = None, *, gravity: bo
         acc.append(a_i)
         f.append(f_i)
 
-    batch = np.broadcast_shapes(st.batch, fx.shape[:-2] if fx is not None else ())
     tau = zeros(batch, (model.nv,), td.dtype)
     for i in range(td.nb - 1, -1, -1):
         lam = td.parents[i]

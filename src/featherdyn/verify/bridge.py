@@ -45,14 +45,26 @@ def from_pin6_rows(m: np.ndarray) -> np.ndarray:
     return np.asarray(m)[..., SWAP6, :]
 
 
-def pinocchio_model_from(model: Model) -> Any:
+def pinocchio_model_from(model: Model, *, check_order: bool = True) -> Any:
     """A Pinocchio model mirroring ``model`` body by body (same names, placements, inertias, gravity).
 
     Joint types: revolute → ``JointModelRevoluteUnaligned``, prismatic →
     ``JointModelPrismaticUnaligned``, spherical, free-flyer, planar (normal
     +z only, Pinocchio's planar joint is in the xy plane).
+
+    Pinocchio's CRBA and ABA assume depth-first body numbering (each subtree a
+    contiguous index range); featherdyn needs only ``parent[i] < i``. A model
+    numbered otherwise raises :class:`ModelError` unless ``check_order=False``
+    (then only Pinocchio's RNEA can be trusted on the mirror).
     """
     pin = require_pinocchio()
+    for i in range(model.nbodies if check_order else 0):  # Pinocchio's algorithms assume every subtree is a contiguous index range
+        sub = model.subtree(i)
+        if sub[-1] - sub[0] + 1 != len(sub):
+            raise ModelError(
+                f"body {model.body_names[i]!r}: its subtree {sub} is not numbered contiguously; Pinocchio needs "
+                "depth-first body numbering (add each body's descendants right after it)"
+            )
     pm = pin.Model()
     pm.name = model.name
     pm.gravity = pin.Motion(np.array(model.gravity, dtype=float), np.zeros(3))
