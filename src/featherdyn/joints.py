@@ -113,18 +113,23 @@ def _limits(lower: Any, upper: Any, n: int) -> tuple[np.ndarray, np.ndarray]:
     return lo, hi
 
 
+_NO_LIMIT = 1e6
+
+
 def _box(lower: np.ndarray, upper: np.ndarray, lo_default: Any, hi_default: Any) -> tuple[np.ndarray, np.ndarray]:
     """The sampling box: the limits where finite, else the default box.
 
     A half-infinite interval that misses the default box is given the
     default box's width on its finite side, so samples always respect the
-    finite limit.
+    finite limit. Limits beyond ±1e6 count as unbounded: URDFs write "no
+    limit" as ±1e16, and sampling angles of 1e15 rad loses all precision.
     """
     lo_d = np.broadcast_to(np.asarray(lo_default, dtype=np.float64), lower.shape)
     hi_d = np.broadcast_to(np.asarray(hi_default, dtype=np.float64), upper.shape)
     width = hi_d - lo_d
-    fin_lo, fin_hi = np.isfinite(lower), np.isfinite(upper)
     with np.errstate(invalid="ignore"):
+        fin_lo = np.isfinite(lower) & (np.abs(lower) < _NO_LIMIT)
+        fin_hi = np.isfinite(upper) & (np.abs(upper) < _NO_LIMIT)
         lo = np.where(fin_lo, lower, np.where(fin_hi & (upper < lo_d), upper - width, lo_d))
         hi = np.where(fin_hi, upper, np.where(fin_lo & (lower > hi_d), lower + width, hi_d))
     return lo, hi

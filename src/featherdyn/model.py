@@ -155,8 +155,18 @@ class Model:
         """Alias of :attr:`joint_placements` (Featherstone's ``Xtree``, as poses)."""
         return self.joint_placements
 
-    def frame_id(self, name: str) -> int:
-        """Index of the frame called ``name`` in :attr:`frames`; :class:`ModelError` if unknown."""
+    def frame_id(self, name: str, kind: str | None = None) -> int:
+        """Index of the frame called ``name`` in :attr:`frames`; :class:`ModelError` if unknown.
+
+        URDF links and joints may share a name (a link ``LF_KFE`` and its joint
+        ``LF_KFE``): the first frame of that name is returned, or the one of the
+        given ``kind`` (``"body"``, ``"link"``, ``"joint"``, ``"fixed_joint"``).
+        """
+        if kind is not None:
+            for k, f in enumerate(self.frames):
+                if f.name == name and f.kind == kind:
+                    return k
+            raise ModelError(f"no frame {name!r} of kind {kind!r} in model {self.name!r}")
         try:
             return self._frame_index[name]
         except (KeyError, TypeError):
