@@ -20,7 +20,7 @@ import numpy as np
 from .._validation import result_dtype
 from ..errors import SingularMassMatrixError
 from ..model import Model
-from ..spatial_algebra import SpatialMotion, cross_force, cross_motion
+from ..spatial_algebra import PluckerTransform, SpatialMotion, cross_force, cross_motion
 from ._common import TreeData, check_state, select_backend, zeros
 from .rnea import _batch_with_f_ext, _f_ext
 
@@ -82,7 +82,12 @@ def aba(model: Model, q: Any, v: Any, tau: Any, f_ext: Any = None, *, gravity: b
     a0 = td.a0 if gravity else SpatialMotion._wrap(np.zeros(6, dtype=td.dtype), None)
 
     nb = td.nb
-    X_up, Xm, vel, c, IA, pA = [], [], [], [], [], []
+    X_up: list[PluckerTransform] = []
+    vel: list[SpatialMotion] = []
+    Xm: list[np.ndarray] = []
+    c: list[np.ndarray] = []
+    IA: list[np.ndarray] = []
+    pA: list[np.ndarray] = []
     for i in range(nb):
         lam = td.parents[i]
         X_up.append(td.pose_in_parent(st.q, i).inverse())
@@ -98,7 +103,9 @@ def aba(model: Model, q: Any, v: Any, tau: Any, f_ext: Any = None, *, gravity: b
         pA.append(np.broadcast_to(p, batch + (6,)).copy())
 
     scale = max((float(np.max(np.abs(m))) for m in IA), default=1.0) if td.dtype.kind != "O" else 1.0
-    U, Dinv, u = [None] * nb, [None] * nb, [None] * nb
+    U: list[np.ndarray] = [np.empty(0)] * nb
+    Dinv: list[np.ndarray] = [np.empty(0)] * nb
+    u: list[np.ndarray] = [np.empty(0)] * nb
     for i in range(nb - 1, -1, -1):
         lam = td.parents[i]
         S = td.S[i]

@@ -68,7 +68,7 @@ def pinocchio_model_from(model: Model, *, check_order: bool = True) -> Any:
     pm = pin.Model()
     pm.name = model.name
     pm.gravity = pin.Motion(np.array(model.gravity, dtype=float), np.zeros(3))
-    ids = []
+    ids: list[int] = []
     for i, joint in enumerate(model.joints):
         parent = 0 if model.parents[i] == -1 else ids[model.parents[i]]
         if isinstance(joint, RevoluteJoint):
