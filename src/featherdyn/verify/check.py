@@ -1022,18 +1022,10 @@ def check_values(values: Mapping[str, Any] | str | os.PathLike[str], robot: Any,
 # --------------------------------------------------------------------------
 
 
-def _positive_float(text: str) -> float:
-    try:
-        val = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a positive number, got {text!r}") from None
-    if not (val > 0 and val < math.inf):
-        raise argparse.ArgumentTypeError(f"expected a positive finite number, got {text!r}")
-    return val
-
-
 def add_check_subcommand(subparsers: Any) -> argparse.ArgumentParser:
     """Add ``featherdyn check`` to the sub-command parsers of the ``featherdyn`` command."""
+    from ..cli import _positive_float
+
     p: argparse.ArgumentParser = subparsers.add_parser(
         "check", help="check your own numbers (an .npz of q, v, a, tau, M, ddq) against featherdyn and "
                       "diagnose a mismatch",
