@@ -295,14 +295,34 @@ class ModelDiagnostics:
     singular_subtrees: list[str] = field(default_factory=list)
     mass_matrix_condition: float = float("nan")
     total_mass: float = 0.0
+    links: list[dict[str, Any]] = field(default_factory=list)
 
     def to_dict(self) -> dict[str, Any]:
         return {
+            "links": self.links,
             "invalid_inertias": [{"body": b, "reason": r} for b, r in self.invalid_inertias],
             "singular_subtrees": self.singular_subtrees,
             "mass_matrix_condition": self.mass_matrix_condition,
             "total_mass": self.total_mass,
         }
+
+
+def equivalent_ellipsoid(mass: float, moments: np.ndarray) -> list[float] | None:
+    """Semi-axes of the uniform solid ellipsoid with this mass and these principal moments (``None`` if none exists).
+
+    ::
+
+        I₁ = m (b² + c²)/5, …   ⇒   a² = 5 (I₂ + I₃ − I₁) / (2m), …
+
+    The square roots exist exactly when the triangle inequality holds.
+    """
+    if not mass > 0:
+        return None
+    i1, i2, i3 = (float(x) for x in moments)
+    sq = [5 * (i2 + i3 - i1) / (2 * mass), 5 * (i1 + i3 - i2) / (2 * mass), 5 * (i1 + i2 - i3) / (2 * mass)]
+    if min(sq) < 0:
+        return None
+    return [float(np.sqrt(x)) for x in sq]
 
 
 def model_diagnostics(model: Model, q: np.ndarray | None = None) -> ModelDiagnostics:
@@ -311,10 +331,17 @@ def model_diagnostics(model: Model, q: np.ndarray | None = None) -> ModelDiagnos
 
     diag = ModelDiagnostics(total_mass=model.total_mass)
     for i, name in enumerate(model.body_names):
+        inertia = model.inertias[i]
+        reason = ""
         try:
-            model.inertias[i].check(name=f"body {name!r}")
+            inertia.check(name=f"body {name!r}")
         except InertiaError as exc:
-            diag.invalid_inertias.append((name, str(exc)))
+            reason = str(exc)
+            diag.invalid_inertias.append((name, reason))
+        diag.links.append({"body": name, "mass": float(inertia.mass), "principal_moments":
+                           [float(x) for x in inertia.principal_moments()],
+                           "ellipsoid_semi_axes": equivalent_ellipsoid(float(inertia.mass), inertia.principal_moments()),
+                           "valid": not reason, "reason": reason})
     diag.singular_subtrees = massless_subtrees(model)
     if model.nv:
         qq = q if q is not None else random_configuration(model, np.random.default_rng(0), size=4)

@@ -20,7 +20,7 @@ th{background:#f0f0f0} .pass{color:#070} .fail{color:#b00;font-weight:bold}
 
 
 def _error_chart(report: VerifyReport) -> str:
-    """Horizontal bars of log10(max relative error) per quantity, with the tolerance as a red line."""
+    """Per quantity: a bar to the largest relative error, a dot per sample (the distribution), the tolerance in red."""
     rows = [r for r in report.results if math.isfinite(r.max_rel)]
     if not rows:
         return ""
@@ -44,10 +44,26 @@ def _error_chart(report: VerifyReport) -> str:
         parts.append(f'<text x="{label_w - 5}" y="{y + 10}" text-anchor="end">{html.escape(r.quantity[:70])}</text>')
         parts.append(f'<rect x="{label_w}" y="{y}" width="{max(x(r.max_rel) - label_w, 1):.1f}" '
                      f'height="{bar_h - 3}" fill="{color}"/>')
+        for e in r.sample_errors:
+            parts.append(f'<circle cx="{x(e):.1f}" cy="{y + (bar_h - 3) / 2:.1f}" r="2" fill="#124" '
+                         'fill-opacity="0.5"/>')
         tx = x(r.tol)
         parts.append(f'<line x1="{tx:.1f}" y1="{y}" x2="{tx:.1f}" y2="{y + bar_h - 3}" stroke="#b00"/>')
     parts.append("</svg>")
     return "".join(parts)
+
+
+def _ellipse(link: dict) -> str:
+    """A glyph of the link's equivalent uniform ellipsoid (its two largest semi-axes), or a red cross if none exists."""
+    axes = link.get("ellipsoid_semi_axes")
+    if not axes:
+        return ('<svg xmlns="http://www.w3.org/2000/svg" width="40" height="24"><path d="M12 4 L28 20 M28 4 L12 20" '
+                'stroke="#d33" stroke-width="2"/></svg>')
+    a, b = sorted(axes)[-1], sorted(axes)[-2]
+    scale = 18 / max(a, 1e-12)
+    return (f'<svg xmlns="http://www.w3.org/2000/svg" width="40" height="24"><ellipse cx="20" cy="12" '
+            f'rx="{a * scale:.1f}" ry="{max(b * scale, 0.5):.1f}" fill="#9cd" stroke="#246"/></svg>'
+            f' {a:.3g} × {b:.3g} m')
 
 
 def _inertia_chart(report: VerifyReport) -> str:
@@ -65,9 +81,15 @@ def _inertia_chart(report: VerifyReport) -> str:
            f'<rect x="{ok_w:.1f}" y="0" width="{w - ok_w:.1f}" height="20" fill="#d33"/>'
            f'<text x="0" y="34">{n_ok} physical</text>'
            f'<text x="{w}" y="34" text-anchor="end">{n_bad} not physical</text></svg>')
-    rows = "".join(f"<tr><td>{html.escape(b['body'])}</td><td>{html.escape(b['reason'])}</td></tr>"
-                   for b in d.get("invalid_inertias", []))
-    table = f"<table><tr><th>body</th><th>reason</th></tr>{rows}</table>" if rows else ""
+    rows = "".join(
+        f"<tr><td>{html.escape(link['body'])}</td><td>{link['mass']:.4g}</td>"
+        f"<td>{', '.join(f'{x:.3g}' for x in link['principal_moments'])}</td><td>{_ellipse(link)}</td>"
+        f"<td class='{'pass' if link['valid'] else 'fail'}'>{'physical' if link['valid'] else 'NOT physical'}</td>"
+        f"<td class='note'>{html.escape(link['reason'].split(': ', 1)[-1])}</td></tr>"
+        for link in d.get("links", [])
+    )
+    table = ("<table><tr><th>body</th><th>mass (kg)</th><th>principal moments (kg m²)</th>"
+             "<th>equivalent ellipsoid</th><th>validity</th><th>reason</th></tr>" + rows + "</table>") if rows else ""
     sing = "".join(f"<li>{html.escape(s)}</li>" for s in d.get("singular_subtrees", []))
     cond = d.get("mass_matrix_condition")
     extra = f"<p>mass-matrix condition number (worst of 4 random states): {cond:.3g}</p>" \
@@ -91,7 +113,7 @@ def _one(report: VerifyReport) -> str:
     warns = "".join(f"<li>{html.escape(w)}</li>" for w in report.meta.get("load_warnings", []))
     return (
         f"<h2>{html.escape(report.title)}</h2><p class='summary'>{status}</p>"
-        f"<h3>Errors per quantity (log scale; red line = tolerance)</h3>{_error_chart(report)}"
+        f"<h3>Relative error per quantity (log scale; bar = worst state, dots = every state, red line = tolerance)</h3>{_error_chart(report)}"
         "<h3>Results</h3><table><tr><th>group</th><th>quantity</th><th>max abs</th><th>max rel</th>"
         f"<th>worst state</th><th>tol</th><th>result</th><th>likely cause</th></tr>{''.join(rows)}</table>"
         f"<h3>Link inertias</h3>{_inertia_chart(report)}"

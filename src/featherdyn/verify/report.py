@@ -28,6 +28,8 @@ class CheckResult:
         tol: the tolerance the relative error was held to.
         passed: ``max_rel <= tol``.
         note: what the comparison shows on a failure (the likely cause).
+        sample_errors: the relative error of each sample (the distribution the
+            HTML report plots).
     """
 
     group: str
@@ -38,6 +40,7 @@ class CheckResult:
     tol: float
     passed: bool
     note: str = ""
+    sample_errors: tuple[float, ...] = ()
 
 
 def compare(
@@ -66,7 +69,7 @@ def compare(
     worst = int(np.argmax(rel_per)) if n else 0
     max_rel = float(rel_per.max(initial=0.0))
     return CheckResult(group, quantity, float(abs_per.max(initial=0.0)), max_rel, worst, tol, max_rel <= tol,
-                       "" if max_rel <= tol else note)
+                       "" if max_rel <= tol else note, tuple(float(e) for e in rel_per))
 
 
 @dataclass
