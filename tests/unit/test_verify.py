@@ -64,3 +64,20 @@ def test_diagnostics_flag_bad_inertias_and_singular_subtrees() -> None:
     assert [name for name, _ in diag.invalid_inertias] == ["b", "c"]
     assert "triangle" in diag.invalid_inertias[0][1]
     assert len(diag.singular_subtrees) == 1 and "'c_joint'" in diag.singular_subtrees[0]
+
+
+def test_equivalent_ellipsoid_recovers_the_semi_axes() -> None:
+    a, b, c, m = 0.3, 0.2, 0.1, 2.0
+    moments = np.array([m * (b * b + c * c) / 5, m * (a * a + c * c) / 5, m * (a * a + b * b) / 5])
+    assert vdyn.equivalent_ellipsoid(m, moments) == pytest.approx([a, b, c])
+    assert vdyn.equivalent_ellipsoid(m, np.array([1.0, 1.0, 3.0])) is None  # triangle inequality fails
+    assert vdyn.equivalent_ellipsoid(0.0, moments) is None
+
+
+def test_html_report_shows_every_link(tmp_path: Any) -> None:
+    from featherdyn.verify.html import reports_to_html
+
+    report = verify.run("two_link_arm", samples=2, algebra=False)
+    page = reports_to_html([report])
+    assert page.count("<ellipse") == 2 and "link1" in page and "link2" in page
+    assert page.count("<circle") == sum(len(r.sample_errors) for r in report.results)
