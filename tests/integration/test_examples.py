@@ -1,0 +1,38 @@
+"""Every script in ``examples/`` runs top to bottom and exits with status 0.
+
+The examples are the chapter made executable (worked examples, code blocks,
+exercises, errata); each stops with ``SystemExit(1)`` on a failed comparison,
+so a wrong number anywhere fails its test here.
+"""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
+SCRIPTS = sorted(p for p in EXAMPLES.glob("[0-9]*.py"))
+TIMEOUT_S = 120  # each runs in seconds; the budget is generous for slow CI machines
+
+
+def test_examples_found() -> None:
+    assert len(SCRIPTS) >= 20, f"expected the chapter's example scripts in {EXAMPLES}"
+
+
+@pytest.mark.parametrize("script", SCRIPTS, ids=[p.stem for p in SCRIPTS])
+def test_example_runs(script: Path) -> None:
+    pytest.importorskip("pinocchio")
+    pytest.importorskip("sympy")
+    env = dict(os.environ, PYTHONIOENCODING="utf-8", MPLBACKEND="Agg")
+    proc = subprocess.run(
+        [sys.executable, str(script)], cwd=EXAMPLES, capture_output=True, text=True, timeout=TIMEOUT_S, env=env,
+        check=False,
+    )
+    assert proc.returncode == 0, (
+        f"{script.name} exited with {proc.returncode}\n--- stdout (tail) ---\n{proc.stdout[-3000:]}"
+        f"\n--- stderr (tail) ---\n{proc.stderr[-3000:]}"
+    )
