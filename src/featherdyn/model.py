@@ -141,9 +141,13 @@ class Model:
         return sum(self.nvs)
 
     @property
-    def total_mass(self) -> float:
-        """Sum of the body masses (the fixed root link of a fixed-base robot is not a body)."""
-        return float(np.sum(self.inertias.mass))
+    def total_mass(self) -> Any:
+        """Sum of the body masses (the fixed root link of a fixed-base robot is not a body).
+
+        A float, or a SymPy expression for a model with symbolic masses.
+        """
+        total = np.sum(self.inertias.mass)
+        return total if self.inertias.mass.dtype.kind == "O" else float(total)
 
     @property
     def floating_base(self) -> bool:
@@ -212,7 +216,7 @@ class Model:
     def __repr__(self) -> str:
         base = "floating" if self.floating_base else "fixed"
         return (f"Model({self.name!r}: {self.nbodies} bodies, nq={self.nq}, nv={self.nv}, {base} base, "
-                f"mass={self.total_mass:.4g} kg)")
+                f"mass={_fmt_mass(self.total_mass)} kg)")
 
 
 def _similar(name: Any, candidates: Sequence[str]) -> str:
@@ -228,6 +232,10 @@ def _check_name(name: Any, what: str) -> str:
     if not isinstance(name, str) or not name:
         raise ModelError(f"{what}: expected a non-empty string, got {name!r}")
     return name
+
+
+def _fmt_mass(m: Any) -> str:
+    return f"{m:.4g}" if isinstance(m, float) else str(m)
 
 
 class ModelBuilder:
