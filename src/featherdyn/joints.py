@@ -85,6 +85,11 @@ def unit_axis(axis: Any, name: str = "axis", *, warn: bool = True, stacklevel: i
     return out
 
 
+def _skew3(w: np.ndarray) -> np.ndarray:
+    x, y, z = (float(c) for c in w)
+    return np.array([[0.0, -z, y], [z, 0.0, -x], [-y, x, 0.0]])
+
+
 def _frozen(a: np.ndarray) -> np.ndarray:
     a.flags.writeable = False
     return a
@@ -286,8 +291,13 @@ class RevoluteJoint(Joint):
 
     def pose(self, q: Any) -> PluckerTransform:
         qq = _q(q, 1)
-        R = rot.axis_angle_to_matrix(_like(self.axis, qq), qq[..., 0])
-        return PluckerTransform(R, np.zeros(qq.shape[:-1] + (3,), dtype=R.dtype), validate=False)
+        if qq.dtype.kind == "O":  # SymPy: symbolic cos/sin
+            R = rot.axis_angle_to_matrix(_like(self.axis, qq), qq[..., 0])
+        else:  # Rodrigues with the constant [a]× and [a]×² of this axis: R = 1 + sin q [a]× + (1 − cos q) [a]×²
+            K = _skew3(self.axis).astype(qq.dtype)
+            th = qq[..., 0, None, None]
+            R = np.eye(3, dtype=qq.dtype) + np.sin(th) * K + (1 - np.cos(th)) * (K @ K)
+        return PluckerTransform._wrap(R, np.zeros(qq.shape[:-1] + (3,), dtype=R.dtype), None, None)
 
     def __repr__(self) -> str:
         return f"RevoluteJoint(axis={self.axis.tolist()})"

@@ -52,11 +52,18 @@ __all__ = [
 # --------------------------------------------------------------------------
 
 
+_NEXT = np.array([1, 2, 0])
+_PREV = np.array([2, 0, 1])
+
+
 def _cross3(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """``a × b`` over the last axis, broadcasting; works for object arrays."""
-    a0, a1, a2 = a[..., 0], a[..., 1], a[..., 2]
-    b0, b1, b2 = b[..., 0], b[..., 1], b[..., 2]
-    return np.stack([a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0], axis=-1)
+    """``a × b`` over the last axis, broadcasting; works for object arrays.
+
+    ::
+
+        (a × b)_i = a_{i+1} b_{i+2} − a_{i+2} b_{i+1}     (indices mod 3)
+    """
+    return a[..., _NEXT] * b[..., _PREV] - a[..., _PREV] * b[..., _NEXT]
 
 
 def _matvec(m: np.ndarray, x: np.ndarray) -> np.ndarray:
@@ -175,16 +182,21 @@ def crf(v: Any) -> np.ndarray:
     return -_mT(crm(v))
 
 
+# the three 3D cross products of each spatial one, gathered so one vectorised call does them all
+_CRM_A, _CRM_B = np.array([0, 1, 2, 0, 1, 2, 3, 4, 5]), np.array([0, 1, 2, 3, 4, 5, 0, 1, 2])
+_CRF_A, _CRF_B = np.array([0, 1, 2, 3, 4, 5, 0, 1, 2]), np.array([0, 1, 2, 3, 4, 5, 3, 4, 5])
+
+
 def _crm_apply(v: np.ndarray, m: np.ndarray) -> np.ndarray:
-    w, lin = v[..., :3], v[..., 3:]
-    mw, ml = m[..., :3], m[..., 3:]
-    return np.concatenate([_cross3(w, mw), _cross3(w, ml) + _cross3(lin, mw)], axis=-1)
+    """``[ω × m_ω;  ω × m_v + v × m_ω]`` via the three products (ω×m_ω, ω×m_v, v×m_ω)."""
+    c = _cross3(v[..., _CRM_A].reshape(v.shape[:-1] + (3, 3)), m[..., _CRM_B].reshape(m.shape[:-1] + (3, 3)))
+    return np.concatenate([c[..., 0, :], c[..., 1, :] + c[..., 2, :]], axis=-1)
 
 
 def _crf_apply(v: np.ndarray, f: np.ndarray) -> np.ndarray:
-    w, lin = v[..., :3], v[..., 3:]
-    n, force = f[..., :3], f[..., 3:]
-    return np.concatenate([_cross3(w, n) + _cross3(lin, force), _cross3(w, force)], axis=-1)
+    """``[ω × n + v × f;  ω × f]`` via the three products (ω×n, v×f, ω×f)."""
+    c = _cross3(v[..., _CRF_A].reshape(v.shape[:-1] + (3, 3)), f[..., _CRF_B].reshape(f.shape[:-1] + (3, 3)))
+    return np.concatenate([c[..., 0, :] + c[..., 1, :], c[..., 2, :]], axis=-1)
 
 
 # --------------------------------------------------------------------------
@@ -1015,6 +1027,8 @@ def _init_x(obj: Any, rot: np.ndarray, p: np.ndarray, source: Frame, target: Fra
 
 
 def _bcast(a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    if a.shape[:-1] == b.shape[:-1]:
+        return a, b
     shape = np.broadcast_shapes(a.shape[:-1], b.shape[:-1])
     return np.broadcast_to(a, shape + a.shape[-1:]), np.broadcast_to(b, shape + b.shape[-1:])
 
