@@ -91,6 +91,8 @@ _LAZY = {
     "robots": None,
     "configuration": None,
     "verify": None,
+    "compile": "engine",
+    "engine": None,
 }
 
 

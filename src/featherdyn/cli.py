@@ -8,6 +8,7 @@
                      [--tol T] [--json FILE]
     featherdyn info ROBOT|URDF [--floating-base]
     featherdyn list
+    featherdyn bench [ROBOT] [--floating-base] [--repeats N] [--batch N] [--chains 8,16,...] [--output FILE]
 
 Exit codes: 0 everything agrees, 1 a mismatch, 2 a usage or model error
 (with a one-line message, never a traceback).
@@ -80,6 +81,9 @@ def build_parser() -> argparse.ArgumentParser:
     i.add_argument("--floating-base", action="store_true")
     sub.add_parser("list", help="the names of the robot library")
     add_check_subcommand(sub)
+    from .engine.bench import add_arguments as add_bench_arguments
+
+    add_bench_arguments(sub.add_parser("bench", help="time the compiled engine against Pinocchio (ratios)"))
     return parser
 
 
@@ -190,6 +194,12 @@ def _cmd_info(args: argparse.Namespace) -> int:
     return EXIT_OK
 
 
+def _cmd_bench(args: argparse.Namespace) -> int:
+    from .engine.bench import run
+
+    return run(args)
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point; returns the exit code."""
     parser = build_parser()
@@ -197,7 +207,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     if args.command is None:
         parser.print_help()
         return EXIT_USAGE
-    commands = {"verify": _cmd_verify, "list": _cmd_list, "info": _cmd_info, "check": cmd_check}
+    commands = {"verify": _cmd_verify, "list": _cmd_list, "info": _cmd_info, "check": cmd_check, "bench": _cmd_bench}
     try:
         return commands[args.command](args)
     except (FeatherdynError, ValueError) as exc:

@@ -10,6 +10,7 @@ gravity) cast to that dtype.
 from __future__ import annotations
 
 import enum
+import os
 from dataclasses import dataclass
 from typing import Any
 
@@ -51,16 +52,32 @@ class BackendError(FeatherdynError, ValueError):
 
 
 def select_backend(backend: str | None, dtype: np.dtype) -> str:
-    """Resolve ``backend=`` to ``"reference"`` (the only implementation so far).
+    """Resolve ``backend=`` to ``"reference"`` or ``"compiled"``.
 
-    ``None`` picks the compiled engine for float64 once it exists, the
-    reference otherwise.
+    ``None`` picks the compiled engine (:mod:`featherdyn.engine`) for float64
+    input when Numba is installed, and the reference otherwise (float32, SymPy
+    object arrays); ``$FEATHERDYN_BACKEND=reference`` makes the reference the
+    default. ``"compiled"`` forces the engine: input is converted to float64
+    (an error if it cannot be) and the result cast back to float32 for
+    float32 input.
     """
-    if backend is None or backend == "reference":
+    if backend is None:
+        if dtype == np.float64 and _engine_available() and os.environ.get("FEATHERDYN_BACKEND") != "reference":
+            return "compiled"
+        return "reference"
+    if backend == "reference":
         return "reference"
     if backend == "compiled":
-        raise BackendError("backend='compiled': the compiled engine is not available in this version; use 'reference'")
+        if not _engine_available():
+            raise BackendError("backend='compiled' needs Numba (pip install numba); use backend='reference'")
+        return "compiled"
     raise BackendError(f"backend: expected None, 'reference' or 'compiled', got {backend!r}")
+
+
+def _engine_available() -> bool:
+    from ..engine import available
+
+    return available()
 
 
 def as_reference_frame(reference: Any) -> ReferenceFrame:

@@ -74,11 +74,14 @@ def aba(model: Model, q: Any, v: Any, tau: Any, f_ext: Any = None, *, gravity: b
     """
     fx = _f_ext(model, f_ext)
     st = check_state(model, q, v=v, tau=tau)
-    select_backend(backend, st.dtype)
     dtype = st.dtype if fx is None else result_dtype(np.empty(0, st.dtype), fx)
+    batch = _batch_with_f_ext(st.batch, fx)
+    if select_backend(backend, dtype) == "compiled":
+        from ..engine import _dispatch
+
+        return _dispatch.aba(model, st.q, st.arrays["v"], st.arrays["tau"], fx, gravity, dtype)
     td = TreeData(model, dtype)
     qd, tau_ = st.arrays["v"], st.arrays["tau"]
-    batch = _batch_with_f_ext(st.batch, fx)
     a0 = td.a0 if gravity else SpatialMotion._wrap(np.zeros(6, dtype=td.dtype), None)
 
     nb = td.nb

@@ -42,7 +42,10 @@ def crba(model: Model, q: Any, *, backend: str | None = None) -> np.ndarray:
         T = ½ q̇ᵀ M(q) q̇,    M_ij = S_iᵀ ⁱX_j^* I^C_j S_j   (j in the subtree of i)
     """
     st = check_state(model, q)
-    select_backend(backend, st.dtype)
+    if select_backend(backend, st.dtype) == "compiled":
+        from ..engine import _dispatch
+
+        return _dispatch.crba(model, st.q, st.dtype)
     td = TreeData(model, st.dtype)
     X_up, IC = composite_inertias(td, st.q)
     M = zeros(st.batch, (model.nv, model.nv), td.dtype)

@@ -22,7 +22,7 @@ import numpy as np
 
 from ..model import Model
 from ..spatial_algebra import PluckerTransform, SpatialMotion, _crm_apply
-from ._common import LOCAL, ReferenceFrame, TreeData, as_reference_frame, check_state, expand, zeros
+from ._common import LOCAL, ReferenceFrame, TreeData, as_reference_frame, check_state, expand, select_backend, zeros
 from .kinematics import _body_at, _frame_pose, _motion_at, forward_kinematics, resolve_frame
 
 __all__ = ["joint_jacobians", "frame_jacobian", "frame_jacobian_time_variation", "support"]
@@ -87,6 +87,11 @@ def frame_jacobian(model: Model, q: Any, frame: Any, reference: Any = LOCAL, *,
     """
     fid = resolve_frame(model, frame)
     ref = as_reference_frame(reference)
+    st = check_state(model, q)
+    if select_backend(backend, st.dtype) == "compiled":
+        from ..engine import _dispatch
+
+        return _dispatch.frame_jacobian(model, st.q, fid, ref, st.dtype)
     kin = forward_kinematics(model, q, backend=backend)
     batch, dtype = kin.placements.shape[:-1], kin.placements.dtype
     td = TreeData(model, dtype)

@@ -80,7 +80,10 @@ def forward_kinematics(model: Model, q: Any, v: Any = None, a: Any = None, *, ba
     if a is not None and v is None:
         raise ShapeError("a: joint accelerations need joint velocities v as well")
     st = check_state(model, q, v=v, a=a)
-    select_backend(backend, st.dtype)
+    if select_backend(backend, st.dtype) == "compiled":
+        from ..engine import _dispatch
+
+        return _dispatch.forward_kinematics(model, st.q, st.arrays.get("v"), st.arrays.get("a"), st.dtype)
     td = TreeData(model, st.dtype)
     qd, qdd = st.arrays.get("v"), st.arrays.get("a")
     oM: list[PluckerTransform] = []

@@ -66,11 +66,14 @@ def rnea(model: Model, q: Any, v: Any, a: Any, f_ext: Any = None, *, gravity: bo
     """
     fx = _f_ext(model, f_ext)
     st = check_state(model, q, v=v, a=a)
-    select_backend(backend, st.dtype)
     dtype = st.dtype if fx is None else result_dtype(np.empty(0, st.dtype), fx)
+    batch = _batch_with_f_ext(st.batch, fx)
+    if select_backend(backend, dtype) == "compiled":
+        from ..engine import _dispatch
+
+        return _dispatch.rnea(model, st.q, st.arrays["v"], st.arrays["a"], fx, gravity, dtype)
     td = TreeData(model, dtype)
     qd, qdd = st.arrays["v"], st.arrays["a"]
-    batch = _batch_with_f_ext(st.batch, fx)
     a0 = td.a0 if gravity else SpatialMotion._wrap(np.zeros(6, dtype=td.dtype), None)
 
     X_up: list = []

@@ -1,0 +1,64 @@
+"""The compiled engine: Numba kernels over flat per-model arrays (DESIGN.md, "Two implementations").
+
+The reference algorithms (:mod:`featherdyn.algorithms`) read like the book;
+this package computes the same quantities fast:
+
+* :mod:`._layout` flattens a :class:`~featherdyn.Model` into a few flat
+  arrays (parents, joint codes, axes, joint placements, inertias as ten
+  parameters, ``idx_q`` / ``idx_v``);
+* :mod:`._kernels` holds generic kernels over those arrays — one *core* per
+  algorithm computing one state (FK, RNEA with ``f_ext`` and a gravity flag,
+  CRBA, ABA, frame Jacobian), and a *batched* form running the core over
+  states with ``prange``, one workspace per thread. They are compiled on first
+  use and cached on disk by Numba (``cache=True``), once for every model;
+* :mod:`._dispatch` is what ``fd.rnea`` & co. call for float64 input (or with
+  ``backend="compiled"``) after the reference's input checks;
+* :func:`compile_model` (``fd.compile``) binds the kernels to one model for
+  control loops: the model's arrays and a workspace travel as *one* argument,
+  so a call costs little more than Numba's dispatch of the state arrays.
+
+Nothing is compiled per model: a per-model specialisation (the arrays baked
+into generated, disk-cached code) was measured at 4–6 s of compilation per
+model for a saving of ~0.08 µs per call, so the kernels stay generic and are
+compiled once per machine (Numba's cache; about a minute the very first time,
+then ~1 s to load). Importing :mod:`featherdyn` compiles nothing and does not
+import Numba; this package is imported on the first compiled call.
+"""
+
+from __future__ import annotations
+
+import importlib.util
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from .compiled import CompiledModel
+
+__all__ = ["available", "compile_model", "compile", "CompiledModel"]
+
+_AVAILABLE: bool | None = None
+
+
+def available() -> bool:
+    """Whether Numba is installed (the compiled backend can be used)."""
+    global _AVAILABLE
+    if _AVAILABLE is None:
+        _AVAILABLE = importlib.util.find_spec("numba") is not None
+    return _AVAILABLE
+
+
+def compile_model(model: Any, *, warmup: bool = True) -> CompiledModel:
+    """The compiled engine bound to ``model``: see :func:`featherdyn.engine.compiled.compile_model`."""
+    from .compiled import compile_model as _compile
+
+    return _compile(model, warmup=warmup)
+
+
+compile = compile_model  # fd.compile(model) is the documented spelling
+
+
+def __getattr__(name: str) -> Any:
+    if name == "CompiledModel":
+        from .compiled import CompiledModel
+
+        return CompiledModel
+    raise AttributeError(f"module 'featherdyn.engine' has no attribute {name!r}")
