@@ -61,7 +61,7 @@ def as_array(
     nt = len(trailing)
     if arr.ndim < nt or (nt and tuple(arr.shape[arr.ndim - nt :]) != tuple(trailing)):
         raise ShapeError(f"{name}: expected shape {_shape_text(trailing)}, got shape {tuple(arr.shape)}")
-    if check_finite and arr.dtype.kind == "f" and not np.all(np.isfinite(arr)):
+    if check_finite and arr.dtype.kind == "f" and not np.isfinite(arr).all():
         bad = tuple(int(i) for i in np.argwhere(~np.isfinite(arr))[0])
         raise NonFiniteError(f"{name}: expected finite numbers, got {arr[bad]!r} at index {bad}")
     return arr

@@ -116,8 +116,9 @@ def check_state(model: Model, q: Any, check_finite: bool = True, **vectors: Any)
         if val is not None:
             arrays[name] = _vec(val, name, model.nv, "nv", check_finite)
     all_arrays = [qq, *arrays.values()]
+    batches = {a.shape[:-1] for a in all_arrays}
     try:
-        batch = np.broadcast_shapes(*(a.shape[:-1] for a in all_arrays))
+        batch = batches.pop() if len(batches) == 1 else np.broadcast_shapes(*(a.shape[:-1] for a in all_arrays))
     except ValueError:
         shapes = ", ".join(f"{n}: {a.shape}" for n, a in [("q", qq), *arrays.items()])
         raise ShapeError(f"batch shapes do not broadcast ({shapes})") from None
