@@ -13,6 +13,7 @@ from typing import Any
 import numpy as np
 
 from .. import rotation as rot
+from ..conventions import matrix6_from_pinocchio
 from ..spatial_algebra import (
     PluckerTransform,
     SpatialForce,
@@ -25,19 +26,13 @@ from ..spatial_algebra import (
     skew,
 )
 from ._pinocchio import require_pinocchio
+from .bridge import from_pin6
 from .report import CheckResult, compare
 
 __all__ = ["algebra_checks", "random_transforms", "random_inertias"]
 
-_SWAP = np.array([3, 4, 5, 0, 1, 2])  # Pinocchio [lin; ang] <-> featherdyn [ang; lin]
-
-
-def _from_pin6(vec: np.ndarray) -> np.ndarray:
-    return np.asarray(vec)[..., _SWAP]
-
-
-def _from_pin66(mat: np.ndarray) -> np.ndarray:
-    return np.asarray(mat)[..., _SWAP, :][..., :, _SWAP]
+# Pinocchio stores 6D quantities linear first; the named converters of featherdyn.conventions swap them
+_from_pin66 = matrix6_from_pinocchio
 
 
 def random_transforms(rng: np.random.Generator, n: int) -> PluckerTransform:
@@ -88,7 +83,7 @@ def algebra_checks(samples: int = 20, seed: int = 0, tol: float = 1e-12) -> list
         return np.stack([np.asarray(fn(i), dtype=np.float64) for i in range(n)])
 
     def vec(x: Any) -> np.ndarray:  # a pinocchio Motion/Force in featherdyn order
-        return _from_pin6(x.vector)
+        return from_pin6(x.vector)
 
     layout = "layout: Pinocchio stores 6D vectors [linear; angular]"
     rows: list[tuple[str, Any, Any, str]] = [
