@@ -36,6 +36,7 @@ from .algorithms import (
     potential_energy,
     rnea,
 )
+from .engine._fast import default_backend, set_default_backend
 from .errors import (
     DTypeError,
     FeatherdynError,
@@ -182,6 +183,8 @@ __all__ = [
     "nonlinear_effects",
     "potential_energy",
     "rnea",
+    "set_default_backend",
+    "default_backend",
     "__version__",
     *_LAZY,
 ]

@@ -22,7 +22,7 @@ import difflib
 import math
 import warnings
 from collections.abc import Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields
 from typing import Any
 
 import numpy as np
@@ -117,6 +117,8 @@ class Model:
     mimics: tuple[Mimic, ...] = ()
     source: str | None = None
     _frame_index: dict[str, int] = field(default_factory=dict, repr=False)
+    # the compiled engine's one-state fast path, set on first use (engine/_fast.py); unset until then
+    _fast: Any = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         # derived from frames (first of a name wins), so dataclasses.replace(model, frames=...) stays consistent
@@ -124,6 +126,14 @@ class Model:
         for k, f in enumerate(self.frames):
             index.setdefault(f.name, k)
         object.__setattr__(self, "_frame_index", index)
+
+    # pickling leaves out the engine's fast path (rebuilt on first use)
+    def __getstate__(self) -> list[Any]:
+        return [getattr(self, f.name) for f in fields(self) if f.name != "_fast"]
+
+    def __setstate__(self, state: list[Any]) -> None:
+        for f, value in zip([f for f in fields(self) if f.name != "_fast"], state, strict=True):
+            object.__setattr__(self, f.name, value)
 
     @property
     def nbodies(self) -> int:

@@ -273,7 +273,7 @@ def test_dtype_routing() -> None:
 
 def test_backend_selection(monkeypatch: pytest.MonkeyPatch) -> None:
     from featherdyn.algorithms._common import select_backend
-    from featherdyn.engine import _dispatch
+    from featherdyn.engine import _dispatch, _fast
 
     f64, f32, obj = np.dtype(np.float64), np.dtype(np.float32), np.dtype(object)
     assert select_backend(None, f64) == "compiled"
@@ -281,19 +281,45 @@ def test_backend_selection(monkeypatch: pytest.MonkeyPatch) -> None:
     assert select_backend("reference", f64) == "reference"
     assert select_backend("compiled", f32) == "compiled"
     model = tree("revolute_chain")
-    st = random_state(model, 12)
-    calls = []
+    st = random_state(model, 12, (3,))
+    calls: list[str] = []
     original = _dispatch.rnea
-    monkeypatch.setattr(_dispatch, "rnea", lambda *a, **k: calls.append(1) or original(*a, **k))
-    fd.rnea(model, st.q, st.v, st.a)
-    fd.nonlinear_effects(model, st.q, st.v)  # through rnea
-    fd.rnea(model, st.q.astype(np.float32), st.v, st.a)  # promoted to float64 by v, a: compiled
-    fd.rnea(model, st.q, st.v, st.a, backend="reference")
-    assert len(calls) == 3
-    monkeypatch.setenv("FEATHERDYN_BACKEND", "reference")
-    assert select_backend(None, f64) == "reference"
-    fd.rnea(model, st.q, st.v, st.a)
-    assert len(calls) == 3
+    monkeypatch.setattr(_dispatch, "rnea", lambda *a, **k: calls.append("batch") or original(*a, **k))
+    fast = _fast.attach(model)
+    assert fast is not None
+    kernel = fast.rnea
+    fast.rnea = lambda *a: (kernel(*a), calls.append("one"))[0]  # logged when the kernel accepted the call
+    try:
+        fd.rnea(model, st.q, st.v, st.a)  # a batch: the general engine path
+        fd.rnea(model, st.q[0], st.v[0], st.a[0])  # one float64 state: the checked kernel
+        fd.rnea(model, st.q.astype(np.float32), st.v, st.a)  # promoted to float64 by v, a: compiled
+        fd.rnea(model, st.q, st.v, st.a, backend="reference")
+        assert calls == ["batch", "one", "batch"]
+        fd.set_default_backend("reference")
+        assert fd.default_backend() == "reference"
+        assert select_backend(None, f64) == "reference"
+        fd.rnea(model, st.q, st.v, st.a)
+        fd.rnea(model, st.q[0], st.v[0], st.a[0])
+        assert calls == ["batch", "one", "batch"]
+        with pytest.raises(BackendError, match="backend"):
+            fd.set_default_backend("fast")
+    finally:
+        fd.set_default_backend(None)
+        fast.rnea = kernel
+    assert select_backend(None, f64) == "compiled"
+
+
+def test_backend_environment_variable() -> None:
+    """``FEATHERDYN_BACKEND=reference`` at import makes the reference the default."""
+    import os
+    import subprocess
+    import sys
+
+    code = ("import featherdyn as fd; from featherdyn.algorithms._common import select_backend; import numpy as np; "
+            "print(fd.default_backend(), select_backend(None, np.dtype(np.float64)))")
+    env = {**os.environ, "FEATHERDYN_BACKEND": "reference"}
+    out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True)
+    assert out.stdout.split() == ["reference", "reference"]
 
 
 def test_reference_input_errors_still_raised() -> None:

@@ -10,13 +10,13 @@ gravity) cast to that dtype.
 from __future__ import annotations
 
 import enum
-import os
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
 from .._validation import as_array, result_dtype
+from ..engine import _fast
 from ..errors import FeatherdynError, QuaternionNormError, ShapeError
 from ..joints import FreeFlyerJoint, SphericalJoint
 from ..model import Model
@@ -56,13 +56,14 @@ def select_backend(backend: str | None, dtype: np.dtype) -> str:
 
     ``None`` picks the compiled engine (:mod:`featherdyn.engine`) for float64
     input when Numba is installed, and the reference otherwise (float32, SymPy
-    object arrays); ``$FEATHERDYN_BACKEND=reference`` makes the reference the
-    default. ``"compiled"`` forces the engine: input is converted to float64
+    object arrays); :func:`featherdyn.set_default_backend` changes that default
+    (``$FEATHERDYN_BACKEND=reference`` when featherdyn is imported makes the
+    reference the default). ``"compiled"`` forces the engine: input is converted to float64
     (an error if it cannot be) and the result cast back to float32 for
     float32 input.
     """
     if backend is None:
-        if dtype == np.float64 and _engine_available() and os.environ.get("FEATHERDYN_BACKEND") != "reference":
+        if dtype == np.float64 and _fast.ON and _engine_available():
             return "compiled"
         return "reference"
     if backend == "reference":

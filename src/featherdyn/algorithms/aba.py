@@ -18,6 +18,7 @@ from typing import Any
 import numpy as np
 
 from .._validation import result_dtype
+from ..engine import _fast
 from ..errors import SingularMassMatrixError
 from ..model import Model
 from ..spatial_algebra import PluckerTransform, SpatialMotion, cross_force, cross_motion
@@ -72,6 +73,22 @@ def aba(model: Model, q: Any, v: Any, tau: Any, f_ext: Any = None, *, gravity: b
     Raises:
         SingularMassMatrixError: naming the joint, when ``M(q)`` is singular.
     """
+    if backend is None and f_ext is None and _fast.ON:
+        # one float64 state: the checked kernel validates and computes (see engine/_fast.py)
+        try:
+            fast = model._fast
+        except AttributeError:
+            fast = _fast.attach(model)
+        if fast is not None:
+            qdd_ = _fast._EMPTY(fast.nv)
+            try:
+                bad = fast.aba(fast.MD, q, v, tau, gravity, qdd_)
+            except TypeError:
+                bad = -2
+            if bad == -1:
+                return qdd_
+            if bad >= 0:
+                raise SingularMassMatrixError(fast.singular[bad])
     fx = _f_ext(model, f_ext)
     st = check_state(model, q, v=v, tau=tau)
     dtype = st.dtype if fx is None else result_dtype(np.empty(0, st.dtype), fx)

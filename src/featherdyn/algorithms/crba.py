@@ -16,6 +16,7 @@ from typing import Any
 
 import numpy as np
 
+from ..engine import _fast
 from ..model import Model
 from ..spatial_algebra import PluckerTransform, SpatialInertia, SpatialMotion
 from ._common import TreeData, check_state, expand, expand_inertia, select_backend, zeros
@@ -41,6 +42,19 @@ def crba(model: Model, q: Any, *, backend: str | None = None) -> np.ndarray:
 
         T = ½ q̇ᵀ M(q) q̇,    M_ij = S_iᵀ ⁱX_j^* I^C_j S_j   (j in the subtree of i)
     """
+    if backend is None and _fast.ON:
+        # one float64 configuration: the checked kernel validates and computes (see engine/_fast.py)
+        try:
+            fast = model._fast
+        except AttributeError:
+            fast = _fast.attach(model)
+        if fast is not None:
+            M = _fast._EMPTY(fast.shape_M)
+            try:
+                if fast.crba(fast.MD, q, M) == 0:
+                    return M
+            except TypeError:
+                pass
     st = check_state(model, q)
     if select_backend(backend, st.dtype) == "compiled":
         from ..engine import _dispatch

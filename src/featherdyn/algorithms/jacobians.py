@@ -20,9 +20,21 @@ from typing import Any
 
 import numpy as np
 
+from ..engine import _fast
 from ..model import Model
 from ..spatial_algebra import PluckerTransform, SpatialMotion, _crm_apply
-from ._common import LOCAL, ReferenceFrame, TreeData, as_reference_frame, check_state, expand, select_backend, zeros
+from ._common import (
+    LOCAL,
+    LOCAL_WORLD_ALIGNED,
+    WORLD,
+    ReferenceFrame,
+    TreeData,
+    as_reference_frame,
+    check_state,
+    expand,
+    select_backend,
+    zeros,
+)
 from .kinematics import _body_at, _frame_pose, _motion_at, forward_kinematics, resolve_frame
 
 __all__ = ["joint_jacobians", "frame_jacobian", "frame_jacobian_time_variation", "support"]
@@ -79,12 +91,32 @@ def _to_reference(cols_world: np.ndarray, oMf: PluckerTransform, ref: ReferenceF
     return np.concatenate([(R @ local[..., :3, None])[..., 0], (R @ local[..., 3:, None])[..., 0]], axis=-1)
 
 
+#: the reference-frame codes of the compiled Jacobian kernel (engine/_layout.py)
+_REF_CODES = {LOCAL: 0, WORLD: 1, LOCAL_WORLD_ALIGNED: 2}
+
+
 def frame_jacobian(model: Model, q: Any, frame: Any, reference: Any = LOCAL, *,
                    backend: str | None = None) -> np.ndarray:
     """The geometric Jacobian of a frame, `(..., 6, nv)`, rows ``[ω; v]`` (``getFrameJacobian``).
 
     ``frame_velocity(model, q, v, frame, reference) = J @ v``.
     """
+    if backend is None and _fast.ON:
+        # one float64 configuration: the checked kernel validates and computes (see engine/_fast.py)
+        try:
+            fast = model._fast
+        except AttributeError:
+            fast = _fast.attach(model)
+        if fast is not None:
+            ref_code = _REF_CODES.get(reference, -1)
+            fid_ = fast.frames.get(frame, -1) if frame.__class__ is str else frame
+            if ref_code >= 0 and fid_.__class__ is int:
+                J_ = _fast._EMPTY(fast.shape_J)
+                try:
+                    if fast.frame_jacobian(fast.MD, q, fid_, ref_code, J_) == 0:
+                        return J_
+                except TypeError:
+                    pass
     fid = resolve_frame(model, frame)
     ref = as_reference_frame(reference)
     st = check_state(model, q)

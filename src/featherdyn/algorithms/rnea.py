@@ -16,6 +16,7 @@ from typing import Any
 import numpy as np
 
 from .._validation import as_array, result_dtype
+from ..engine import _fast
 from ..errors import ShapeError
 from ..model import Model
 from ..spatial_algebra import SpatialForce, SpatialMotion, cross_force, cross_motion
@@ -64,6 +65,19 @@ def rnea(model: Model, q: Any, v: Any, a: Any, f_ext: Any = None, *, gravity: bo
 
         τ = M(q) q̈ + C(q, q̇) q̇ + g(q) − Σ_i J_iᵀ f_i^ext
     """
+    if backend is None and f_ext is None and _fast.ON:
+        # one float64 state: the checked kernel validates and computes (see engine/_fast.py)
+        try:
+            fast = model._fast
+        except AttributeError:
+            fast = _fast.attach(model)
+        if fast is not None:
+            tau = _fast._EMPTY(fast.nv)
+            try:
+                if fast.rnea(fast.MD, q, v, a, gravity, tau) == 0:
+                    return tau
+            except TypeError:
+                pass
     fx = _f_ext(model, f_ext)
     st = check_state(model, q, v=v, a=a)
     dtype = st.dtype if fx is None else result_dtype(np.empty(0, st.dtype), fx)
@@ -107,6 +121,18 @@ def nonlinear_effects(model: Model, q: Any, v: Any, *, backend: str | None = Non
 
         h(q, q̇) = C(q, q̇) q̇ + g(q) = RNEA(q, q̇, 0)
     """
+    if backend is None and _fast.ON:
+        try:
+            fast = model._fast
+        except AttributeError:
+            fast = _fast.attach(model)
+        if fast is not None:
+            h = _fast._EMPTY(fast.nv)
+            try:
+                if fast.nle(fast.MD, q, v, h) == 0:
+                    return h
+            except TypeError:
+                pass
     st = check_state(model, q, v=v)
     zero = np.zeros(st.arrays["v"].shape, dtype=st.arrays["v"].dtype)
     return rnea(model, st.q, st.arrays["v"], zero, backend=backend)
@@ -117,6 +143,18 @@ def generalized_gravity(model: Model, q: Any, *, backend: str | None = None) -> 
 
         g(q) = RNEA(q, 0, 0)
     """
+    if backend is None and _fast.ON:
+        try:
+            fast = model._fast
+        except AttributeError:
+            fast = _fast.attach(model)
+        if fast is not None:
+            g = _fast._EMPTY(fast.nv)
+            try:
+                if fast.gravity(fast.MD, q, g) == 0:
+                    return g
+            except TypeError:
+                pass
     st = check_state(model, q)
     zero = np.zeros(st.q.shape[:-1] + (model.nv,), dtype=st.dtype)
     return rnea(model, st.q, zero, zero, backend=backend)

@@ -1256,3 +1256,151 @@ def lock_entries() -> None:
         if not fn.signatures:
             fn.compile(sig)
             fn.disable_compile()
+
+
+# ---------------------------------------------------------------------------
+# checked entry points of the public functions (fd.rnea & co. on one state)
+# ---------------------------------------------------------------------------
+#
+# ``fd.rnea(model, q, v, a)`` on one float64 state calls these directly: they
+# check everything the reference's input validation checks (lengths,
+# finiteness, unit quaternions) inside the kernel and return a status instead
+# of raising, and on any non-zero status the public function takes its
+# general path, which raises the reference's worded error. They hold the GIL
+# (no ``nogil``), so the per-model workspace in ``MD`` cannot be used by two
+# Python threads at once.
+
+#: status codes of the checked entry points
+OK, BAD_LENGTH, NOT_FINITE, NOT_UNIT_QUATERNION = 0, 1, 2, 3
+
+_GJIT: dict[str, Any] = {"cache": True, "nogil": False, "error_model": "numpy", "_nrt": False}
+
+#: a quaternion is accepted when | ‖quat‖ − 1 | ≤ this (the reference's QUAT_TOL for float64)
+QUAT_TOL = 1e-6
+
+
+@njit(**_IJIT)
+def _all_finite(x):  # pragma: no cover - compiled
+    for k in range(x.shape[0]):
+        if not math.isfinite(x[k]):
+            return False
+    return True
+
+
+@njit(**_IJIT)
+def _check_q(BI, q, nq):  # pragma: no cover - compiled
+    """Status of ``q``: its length, finiteness and the norm of every quaternion (spherical, free-flyer)."""
+    if q.shape[0] != nq:
+        return BAD_LENGTH
+    if not _all_finite(q):
+        return NOT_FINITE
+    for i in range(BI.shape[0] // NBI):
+        jt = BI[NBI * i + JT]
+        if jt == SPH or jt == FF:
+            o = BI[NBI * i + IQ] + (3 if jt == FF else 0)
+            n = math.sqrt(q[o] * q[o] + q[o + 1] * q[o + 1] + q[o + 2] * q[o + 2] + q[o + 3] * q[o + 3])
+            if abs(n - 1.0) > QUAT_TOL:
+                return NOT_UNIT_QUATERNION
+    return OK
+
+
+@njit(**_IJIT)
+def _check_vec(x, n):  # pragma: no cover - compiled
+    if x.shape[0] != n:
+        return BAD_LENGTH
+    if not _all_finite(x):
+        return NOT_FINITE
+    return OK
+
+
+@njit(**_GJIT)
+def checked_rnea(MD, q, v, a, gravity, tau):  # pragma: no cover - compiled
+    """``tau`` ← RNEA(q, v, a) if the state is valid; returns the status (``OK`` = 0)."""
+    BI, BF, G, _FB, _FR, W, _nb, nq, nv = _unpack(MD, WS_RNEA)
+    st = max(_check_q(BI, q, nq), _check_vec(v, nv), _check_vec(a, nv))
+    if st != OK or tau.shape[0] != nv:
+        return max(st, BAD_LENGTH)
+    rnea_core(BI, BF, G, q, v, a, W[:0].reshape((0, 6)), gravity, tau, W)
+    return OK
+
+
+@njit(**_GJIT)
+def checked_nle(MD, q, v, h):  # pragma: no cover - compiled
+    """``h`` ← RNEA(q, v, 0) if the state is valid; returns the status."""
+    BI, BF, G, _FB, _FR, W, nb, nq, nv = _unpack(MD, WS_RNEA)
+    st = max(_check_q(BI, q, nq), _check_vec(v, nv))
+    if st != OK or h.shape[0] != nv:
+        return max(st, BAD_LENGTH)
+    z = WS_RNEA * nb + WS_TAIL
+    zero = W[z : z + nv]
+    zero[:] = 0.0
+    rnea_core(BI, BF, G, q, v, zero, W[:0].reshape((0, 6)), True, h, W)
+    return OK
+
+
+@njit(**_GJIT)
+def checked_gravity(MD, q, g):  # pragma: no cover - compiled
+    """``g`` ← RNEA(q, 0, 0) if ``q`` is valid; returns the status."""
+    BI, BF, G, _FB, _FR, W, nb, nq, nv = _unpack(MD, WS_RNEA)
+    st = _check_q(BI, q, nq)
+    if st != OK or g.shape[0] != nv:
+        return max(st, BAD_LENGTH)
+    z = WS_RNEA * nb + WS_TAIL
+    zero = W[z : z + nv]
+    zero[:] = 0.0
+    rnea_core(BI, BF, G, q, zero, zero, W[:0].reshape((0, 6)), True, g, W)
+    return OK
+
+
+@njit(**_GJIT)
+def checked_crba(MD, q, M):  # pragma: no cover - compiled
+    """``M`` ← CRBA(q) if ``q`` is valid; returns the status."""
+    BI, BF, _G, _FB, _FR, W, _nb, nq, nv = _unpack(MD, WS_CRBA)
+    st = _check_q(BI, q, nq)
+    if st != OK or M.shape[0] != nv or M.shape[1] != nv:
+        return max(st, BAD_LENGTH)
+    crba_core(BI, BF, q, M, W)
+    return OK
+
+
+@njit(**_GJIT)
+def checked_aba(MD, q, v, tau, gravity, qdd):  # pragma: no cover - compiled
+    """``qdd`` ← ABA(q, v, τ) if the state is valid; returns ``-1`` (done), the index of a joint with a
+    singular articulated inertia, or ``-1 − status`` for an invalid state."""
+    BI, BF, G, _FB, _FR, W, _nb, nq, nv = _unpack(MD, WS_ABA)
+    st = max(_check_q(BI, q, nq), _check_vec(v, nv), _check_vec(tau, nv))
+    if st != OK or qdd.shape[0] != nv:
+        return -1 - max(st, BAD_LENGTH)
+    return aba_core(BI, BF, G, q, v, tau, W[:0].reshape((0, 6)), gravity, qdd, W)
+
+
+@njit(**_GJIT)
+def checked_frame_jacobian(MD, q, frame, ref, J):  # pragma: no cover - compiled
+    """``J`` ← the Jacobian of frame index ``frame`` in ``ref`` (0 LOCAL, 1 WORLD, 2 LWA) if valid; the status."""
+    BI, BF, _G, FB, FR, W, _nb, nq, nv = _unpack(MD, 0)
+    st = _check_q(BI, q, nq)
+    if st != OK or J.shape[0] != 6 or J.shape[1] != nv or frame < 0 or frame >= FB.shape[0] or ref < 0 or ref > 2:
+        return max(st, BAD_LENGTH)
+    frame_jacobian_core(BI, BF, q, FB[frame], FR, 12 * frame, ref, J, W)
+    return OK
+
+
+_I64 = types.int64
+_B = types.boolean
+#: the one signature of each checked entry point (locked by :func:`lock_checked`)
+CHECKED_SIGNATURES = {
+    checked_rnea: _I64(_MD, _V, _V, _V, _B, _V),
+    checked_nle: _I64(_MD, _V, _V, _V),
+    checked_gravity: _I64(_MD, _V, _V),
+    checked_crba: _I64(_MD, _V, _M),
+    checked_aba: _I64(_MD, _V, _V, _V, _B, _V),
+    checked_frame_jacobian: _I64(_MD, _V, _I64, _I64, _M),
+}
+
+
+def lock_checked() -> None:
+    """Compile (or load from the disk cache) each checked entry point for its one signature, then forbid others."""
+    for fn, sig in CHECKED_SIGNATURES.items():
+        if not fn.signatures:
+            fn.compile(sig)
+            fn.disable_compile()
