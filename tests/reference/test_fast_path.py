@@ -172,3 +172,32 @@ def test_pickled_model_rebuilds_its_fast_path() -> None:
     for clone in (pickle.loads(pickle.dumps(model)), copy.deepcopy(model)):
         assert np.array_equal(fd.rnea(clone, st.q, st.v, st.a), tau)
         assert clone._fast is not model._fast
+
+
+@pytest.mark.parametrize("name", TREES)
+def test_fast_forward_kinematics(name: str) -> None:
+    model = tree(name)
+    st = random_state(model, 8)
+    for args in [(st.q,), (st.q, st.v), (st.q, st.v, st.a)]:
+        fast = fd.forward_kinematics(model, *args)
+        engine = fd.forward_kinematics(model, *args, backend="compiled")
+        ref = fd.forward_kinematics(model, *args, backend="reference")
+        for attr in ("placements", "parent_placements"):
+            for part in ("rotation", "translation"):
+                got = getattr(getattr(fast, attr), part)
+                assert np.array_equal(got, getattr(getattr(engine, attr), part)), f"{name} {attr}.{part}"
+                assert np.allclose(got, getattr(getattr(ref, attr), part), rtol=1e-12, atol=1e-12)
+                assert not got.flags.writeable
+        for attr in ("velocities", "accelerations"):
+            if getattr(ref, attr) is None:
+                assert getattr(fast, attr) is None
+            else:
+                assert np.array_equal(getattr(fast, attr).vector, getattr(engine, attr).vector)
+                assert np.allclose(getattr(fast, attr).vector, getattr(ref, attr).vector, rtol=1e-12, atol=1e-12)
+    # bad input: the reference's errors
+    nan_q = st.q.copy()
+    nan_q[0] = np.nan
+    for args in [(nan_q,), (st.q, np.zeros(0)), (st.q, None, st.a), (st.q, st.v, st.a[:-1].copy()),
+                 (st.q[:-1].copy(), st.v)]:
+        assert _error(lambda a=args: fd.forward_kinematics(model, *a)) == \
+            _error(lambda a=args: fd.forward_kinematics(model, *a, backend="reference"))

@@ -20,6 +20,7 @@ from typing import Any
 
 import numpy as np
 
+from ..engine import _fast
 from ..errors import ModelError, ShapeError
 from ..model import Model
 from ..spatial_algebra import PluckerTransform, SpatialMotion, _cross3, cross_motion
@@ -64,6 +65,27 @@ class Kinematics:
     parent_placements: PluckerTransform
 
 
+def _fast_kinematics(fast: Any, q: Any, v: Any, a: Any) -> Kinematics | None:
+    """:func:`forward_kinematics` of one float64 state by the checked kernel, or ``None`` (general path)."""
+    H = _fast._EMPTY(fast.shape_H)
+    vel = _fast._EMPTY(fast.shape_V) if v is not None else _fast.NO_BODIES
+    acc = _fast._EMPTY(fast.shape_V) if a is not None else _fast.NO_BODIES
+    try:
+        status = fast.fk(fast.MD, q, _fast.NO_VECTOR if v is None else v, _fast.NO_VECTOR if a is None else a,
+                         H, vel, acc)
+    except TypeError:
+        return None
+    if status != 0:
+        return None
+    return Kinematics(
+        model=fast.model,
+        placements=PluckerTransform._wrap(H[0, :, :3, :3], H[0, :, :3, 3], None, None),
+        velocities=SpatialMotion._wrap(vel, None) if v is not None else None,
+        accelerations=SpatialMotion._wrap(acc, None) if a is not None else None,
+        parent_placements=PluckerTransform._wrap(H[1, :, :3, :3], H[1, :, :3, 3], None, None),
+    )
+
+
 def forward_kinematics(model: Model, q: Any, v: Any = None, a: Any = None, *, backend: str | None = None) -> Kinematics:
     """World placements, body velocities and spatial accelerations of every body.
 
@@ -77,6 +99,16 @@ def forward_kinematics(model: Model, q: Any, v: Any = None, a: Any = None, *, ba
         :class:`Kinematics`; see the module docstring for the recursion.
         Gravity is *not* included in the accelerations.
     """
+    if backend is None and _fast.ON and (v is not None or a is None):
+        # one float64 state: the checked kernel validates and computes (see engine/_fast.py)
+        try:
+            fast = model._fast
+        except AttributeError:
+            fast = _fast.attach(model)
+        if fast is not None and fast.fk is not None:
+            kin = _fast_kinematics(fast, q, v, a)
+            if kin is not None:
+                return kin
     if a is not None and v is None:
         raise ShapeError("a: joint accelerations need joint velocities v as well")
     st = check_state(model, q, v=v, a=a)

@@ -43,14 +43,18 @@ class FastPath:
         "MD",
         "aba",
         "crba",
+        "fk",
         "frame_jacobian",
         "frames",
         "gravity",
+        "model",
         "nle",
         "nv",
         "rnea",
+        "shape_H",
         "shape_J",
         "shape_M",
+        "shape_V",
         "singular",
     )
 
@@ -72,6 +76,10 @@ class FastPath:
         self.crba = _k.checked_crba
         self.aba = _k.checked_aba
         self.frame_jacobian = _k.checked_frame_jacobian
+        self.fk = _k.checked_fk if model.nv > 0 else None
+        self.shape_H = (2, model.nbodies, 4, 4)
+        self.shape_V = (model.nbodies, 6)
+        self.model = model
 
 
 def attach(model: Any) -> FastPath | None:
@@ -118,3 +126,6 @@ def default_backend() -> str | None:
 
 
 _EMPTY = np.empty
+#: "not wanted" for the optional vectors of the checked FK kernel
+NO_VECTOR = np.empty(0)
+NO_BODIES = np.empty((0, 6))

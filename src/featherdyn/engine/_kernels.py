@@ -1385,8 +1385,29 @@ def checked_frame_jacobian(MD, q, frame, ref, J):  # pragma: no cover - compiled
     return OK
 
 
+@njit(**_GJIT)
+def checked_fk(MD, q, v, a, H, vel, acc):  # pragma: no cover - compiled
+    """``H`` `(2, nb, 4, 4)` ← ``⁰M_i`` and ``ᵖM_i``; ``vel`` `(nb, 6)` ← ``v_i`` unless it is empty `(0, 6)`
+    (then ``v`` is not read), ``acc`` likewise ← ``a_i`` (needs ``vel``). Returns the status."""
+    BI, BF, _G, _FB, _FR, W, nb, nq, nv = _unpack(MD, WS_FK)
+    st = _check_q(BI, q, nq)
+    want_v = vel.shape[0] > 0
+    want_a = acc.shape[0] > 0
+    if want_v:
+        st = max(st, _check_vec(v, nv))
+    if want_a:
+        st = max(st, _check_vec(a, nv))
+    if (st != OK or H.shape[0] != 2 or H.shape[1] != nb or H.shape[2] != 4 or H.shape[3] != 4
+            or (want_v and (vel.shape[0] != nb or vel.shape[1] != 6))
+            or (want_a and (acc.shape[0] != nb or acc.shape[1] != 6)) or (want_a and not want_v) or nb == 0):
+        return max(st, BAD_LENGTH)
+    fk_core(BI, BF, q, v, a, H[0], H[1], vel, acc, W)
+    return OK
+
+
 _I64 = types.int64
 _B = types.boolean
+_A4 = types.Array(types.float64, 4, "C")
 #: the one signature of each checked entry point (locked by :func:`lock_checked`)
 CHECKED_SIGNATURES = {
     checked_rnea: _I64(_MD, _V, _V, _V, _B, _V),
@@ -1395,6 +1416,7 @@ CHECKED_SIGNATURES = {
     checked_crba: _I64(_MD, _V, _M),
     checked_aba: _I64(_MD, _V, _V, _V, _B, _V),
     checked_frame_jacobian: _I64(_MD, _V, _I64, _I64, _M),
+    checked_fk: _I64(_MD, _V, _V, _V, _A4, _M, _M),
 }
 
 
