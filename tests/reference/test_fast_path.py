@@ -201,3 +201,25 @@ def test_fast_forward_kinematics(name: str) -> None:
                  (st.q[:-1].copy(), st.v)]:
         assert _error(lambda a=args: fd.forward_kinematics(model, *a)) == \
             _error(lambda a=args: fd.forward_kinematics(model, *a, backend="reference"))
+
+
+@pytest.mark.parametrize("name", TREES)
+def test_fast_frame_placement(name: str) -> None:
+    model = tree(name)
+    st = random_state(model, 9)
+    for fid in range(len(model.frames)):
+        for frame in (fid, model.frames[fid].name):
+            fast = fd.frame_placement(model, st.q, frame)
+            ref = fd.frame_placement(model, st.q, frame, backend="reference")
+            if isinstance(frame, str) and model.frame_id(frame) != fid:
+                continue  # a duplicated name resolves to its first frame
+            assert np.allclose(fast.rotation, ref.rotation, rtol=0, atol=1e-12), f"{name} frame {frame}"
+            assert np.allclose(fast.translation, ref.translation, rtol=0, atol=1e-12), f"{name} frame {frame}"
+            assert fast.rotation.shape == (3, 3) and fast.translation.shape == (3,)
+            assert not fast.rotation.flags.writeable
+    nan_q = st.q.copy()
+    nan_q[-1] = np.nan
+    for frame, q in [("no such frame", st.q), (len(model.frames), st.q), (-1, st.q), (0, nan_q), (0, st.q[:-1].copy()),
+                     (1.5, st.q)]:
+        assert _error(lambda f=frame, x=q: fd.frame_placement(model, x, f)) == \
+            _error(lambda f=frame, x=q: fd.frame_placement(model, x, f, backend="reference"))

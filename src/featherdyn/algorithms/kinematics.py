@@ -180,6 +180,22 @@ def frame_placement(model: Model, q: Any, frame: Any, *, backend: str | None = N
 
         ⁰M_f = ⁰M_body(f) · placement_f
     """
+    if backend is None and _fast.ON:
+        # one float64 configuration: the checked kernel walks the frame's support (see engine/_fast.py)
+        try:
+            fast = model._fast
+        except AttributeError:
+            fast = _fast.attach(model)
+        if fast is not None:
+            fid_ = fast.frames.get(frame, -1) if frame.__class__ is str else frame
+            if fid_.__class__ is int:
+                pose = _fast._EMPTY(12)
+                try:
+                    status = fast.frame_placement(fast.MD, q, fid_, pose)
+                except TypeError:
+                    status = -1
+                if status == 0:
+                    return PluckerTransform._wrap(pose[:9].reshape(3, 3), pose[9:], None, None)
     fid = resolve_frame(model, frame)
     return _frame_pose(model, forward_kinematics(model, q, backend=backend), fid)
 

@@ -45,6 +45,7 @@ class FastPath:
         "crba",
         "fk",
         "frame_jacobian",
+        "frame_placement",
         "frames",
         "gravity",
         "model",
@@ -77,6 +78,7 @@ class FastPath:
         self.aba = _k.checked_aba
         self.frame_jacobian = _k.checked_frame_jacobian
         self.fk = _k.checked_fk if model.nv > 0 else None
+        self.frame_placement = _k.checked_frame_placement
         self.shape_H = (2, model.nbodies, 4, 4)
         self.shape_V = (model.nbodies, 6)
         self.model = model

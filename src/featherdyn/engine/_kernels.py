@@ -1405,6 +1405,31 @@ def checked_fk(MD, q, v, a, H, vel, acc):  # pragma: no cover - compiled
     return OK
 
 
+@njit(**_GJIT)
+def checked_frame_placement(MD, q, frame, out):  # pragma: no cover - compiled
+    """``out`` `(12,)` ← ``⁰M_f`` = ``(R row-major, p)`` of frame index ``frame``, walking its support to the root::
+
+        ⁰M_f = ᵖM_root ⋯ ᵖM_body(f) · placement_f
+
+    Returns the status."""
+    BI, BF, _G, FB, FR, W, _nb, nq, _nv = _unpack(MD, 0)
+    st = _check_q(BI, q, nq)
+    if st != OK or out.shape[0] != 12 or frame < 0 or frame >= FB.shape[0]:
+        return max(st, BAD_LENGTH)
+    T = 0
+    X = 12
+    for k in range(12):
+        W[T + k] = FR[12 * frame + k]
+    j = FB[frame]
+    while j != -1:
+        _pose_in_parent(BI, BF, j, q, W, X)
+        _compose(W, X, T, T)
+        j = BI[NBI * j + PARENT]
+    for k in range(12):
+        out[k] = W[T + k]
+    return OK
+
+
 _I64 = types.int64
 _B = types.boolean
 _A4 = types.Array(types.float64, 4, "C")
@@ -1417,6 +1442,7 @@ CHECKED_SIGNATURES = {
     checked_aba: _I64(_MD, _V, _V, _V, _B, _V),
     checked_frame_jacobian: _I64(_MD, _V, _I64, _I64, _M),
     checked_fk: _I64(_MD, _V, _V, _V, _A4, _M, _M),
+    checked_frame_placement: _I64(_MD, _V, _I64, _V),
 }
 
 
