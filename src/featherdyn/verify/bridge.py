@@ -22,6 +22,7 @@ from typing import Any
 
 import numpy as np
 
+from .. import conventions
 from ..errors import ModelError
 from ..joints import FreeFlyerJoint, PlanarJoint, PrismaticJoint, RevoluteJoint, SphericalJoint
 from ..model import Model
@@ -154,12 +155,9 @@ class JointMap:
             qi = q[..., self.model.idx_q[i] : self.model.idx_q[i] + self.model.nqs[i]]
             s = self.pin_model.idx_qs[jid]
             if e.continuous:
-                out[..., s] = np.cos(qi[..., 0])
-                out[..., s + 1] = np.sin(qi[..., 0])
+                out[..., s : s + 2] = conventions.continuous_q_to_pinocchio(qi[..., 0])
             elif e.kind == "planar":
-                out[..., s : s + 2] = qi[..., :2]
-                out[..., s + 2] = np.cos(qi[..., 2])
-                out[..., s + 3] = np.sin(qi[..., 2])
+                out[..., s : s + 4] = conventions.planar_q_to_pinocchio(qi)
             else:
                 out[..., s : s + qi.shape[-1]] = qi
         return out
@@ -172,10 +170,9 @@ class JointMap:
             i, jid = e.fd_body, e.pin_joint
             s, t = self.pin_model.idx_qs[jid], self.model.idx_q[i]
             if e.continuous:
-                out[..., t] = np.arctan2(q_pin[..., s + 1], q_pin[..., s])
+                out[..., t] = conventions.continuous_q_from_pinocchio(q_pin[..., s : s + 2])
             elif e.kind == "planar":
-                out[..., t : t + 2] = q_pin[..., s : s + 2]
-                out[..., t + 2] = np.arctan2(q_pin[..., s + 3], q_pin[..., s + 2])
+                out[..., t : t + 3] = conventions.planar_q_from_pinocchio(q_pin[..., s : s + 4])
             else:
                 n = self.model.nqs[i]
                 out[..., t : t + n] = q_pin[..., s : s + n]
