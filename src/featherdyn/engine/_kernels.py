@@ -482,39 +482,49 @@ def fk_core(BI, BF, q, qd, qdd, oM, pM, vel, acc, W):  # pragma: no cover - comp
         q: `(nq,)`; qd, qdd: `(nv,)`, or empty when velocities / accelerations are not wanted.
         oM: `(nb, 4, 4)` out, homogeneous ``⁰M_i``; pM: `(nb, 4, 4)` out ``ᵖM_i`` or `(0, 4, 4)`.
         vel, acc: `(nb, 6)` out body velocities / spatial accelerations (no gravity), or `(0, 6)`.
-        W: workspace `(WS_FK nb + WS_TAIL,)`.
+        W: workspace (36 entries; `(WS_FK nb + WS_TAIL,)` as every kernel is given).
 
     ::
 
         ⁰M_i = ⁰M_λ(i) ᵖM_i,   v_i = X_up[i] v_λ(i) + S_i q̇_i,   a_i = X_up[i] a_λ(i) + S_i q̈_i + v_i × S_i q̇_i
     """
     nb = BI.shape[0] // NBI
-    oX = 0  # ⁰M_i
-    t = 12 * nb
-    X_up = t  # ᵖM_i of the current body only
-    vJ = t + 12
-    aJ = t + 18
-    v = t + 24  # v_i, a_i of the current body (copied to vel, acc)
-    a = t + 30
+    X_up = 0  # ᵖM_i of the current body only
+    vJ = 12
+    aJ = 18
+    v = 24  # v_i, a_i of the current body (copied to vel, acc)
+    a = 30
     want_parent = pM.shape[0] > 0
     want_v = vel.shape[0] > 0
     want_a = acc.shape[0] > 0
-    oH = oM.reshape(oM.shape[0] * 16)  # flat views: cheaper stores than 3-d indexing
+    # flat views: cheaper stores than 3-d indexing; ⁰M_i is composed in the output itself (row stride 4)
+    oH = oM.reshape(oM.shape[0] * 16)
     pH = pM.reshape(pM.shape[0] * 16)
     for i in range(nb):
         lam = BI[NBI * i + PARENT]
-        Xi = oX + 12 * i
+        h = 16 * i
+        _pose_in_parent(BI, BF, i, q, W, X_up)
         if lam == -1:
-            _pose_in_parent(BI, BF, i, q, W, Xi)
-            if want_parent or want_v:
-                for k in range(12):
-                    W[X_up + k] = W[Xi + k]
+            _homogeneous(W, X_up, oH, h)
         else:
-            _pose_in_parent(BI, BF, i, q, W, X_up)
-            _compose(W, oX + 12 * lam, X_up, Xi)
-        _homogeneous(W, Xi, oH, 16 * i)
+            # ⁰M_i = ⁰M_λ ᵖM_i: R = R_λ R, p = p_λ + R_λ p (the order of _compose)
+            A = 16 * lam
+            b0, b1, b2 = W[X_up], W[X_up + 1], W[X_up + 2]
+            b3, b4, b5 = W[X_up + 3], W[X_up + 4], W[X_up + 5]
+            b6, b7, b8 = W[X_up + 6], W[X_up + 7], W[X_up + 8]
+            q0, q1, q2 = W[X_up + 9], W[X_up + 10], W[X_up + 11]
+            for r in range(3):
+                a0, a1, a2 = oH[A + 4 * r], oH[A + 4 * r + 1], oH[A + 4 * r + 2]
+                oH[h + 4 * r] = a0 * b0 + a1 * b3 + a2 * b6
+                oH[h + 4 * r + 1] = a0 * b1 + a1 * b4 + a2 * b7
+                oH[h + 4 * r + 2] = a0 * b2 + a1 * b5 + a2 * b8
+                oH[h + 4 * r + 3] = oH[A + 4 * r + 3] + a0 * q0 + a1 * q1 + a2 * q2
+            oH[h + 12] = 0.0
+            oH[h + 13] = 0.0
+            oH[h + 14] = 0.0
+            oH[h + 15] = 1.0
         if want_parent:
-            _homogeneous(W, X_up, pH, 16 * i)
+            _homogeneous(W, X_up, pH, h)
         if want_v:
             _S_times(BI, BF, i, qd, W, vJ)
             if lam == -1:
