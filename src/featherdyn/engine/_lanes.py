@@ -39,6 +39,7 @@ from typing import Any
 import numpy as np
 from llvmlite import ir
 from numba import njit, prange, types
+from numba.core import cgutils
 from numba.extending import intrinsic, lower_builtin, models, register_model, type_callable
 
 from ._kernels import _chunks
@@ -59,14 +60,18 @@ from ._layout import (
     REV,
     REV_X,
     REV_Z,
+    SINGULAR_RTOL,
     SPH,
+    UNIT,
+    WS_ABA,
+    WS_CRBA,
     WS_RNEA,
     WS_TAIL,
     XP,
     XR,
 )
 
-__all__ = ["LANES", "lane_rows", "rnea_lanes"]
+__all__ = ["LANES", "lane_rows", "rnea_lanes", "crba_lanes", "aba_lanes"]
 
 #: states per block (SIMD lanes)
 LANES = 8
@@ -210,8 +215,38 @@ def _sqrt(typingctx: Any, x: Any) -> Any:
 
     def codegen(context: Any, builder: Any, signature: Any, args: Any) -> Any:
         vt = ir.VectorType(ir.DoubleType(), LANES)
-        fn = builder.module.declare_intrinsic("llvm.sqrt", [vt])
+        fn = cgutils.get_or_insert_function(builder.module, ir.FunctionType(vt, [vt]), f"llvm.sqrt.v{LANES}f64")
         return builder.call(fn, [args[0]])
+
+    return sig, codegen
+
+
+@intrinsic
+def _stv(typingctx: Any, A: Any, i: Any, x: Any) -> Any:
+    """``A[i : i + L] = x`` at any element offset ``i``; a number ``x`` is broadcast."""
+    sig = types.void(A, i, x)
+
+    def codegen(context: Any, builder: Any, signature: Any, args: Any) -> Any:
+        ary = context.make_array(signature.args[0])(context, builder, args[0])
+        o = context.cast(builder, args[1], signature.args[1], types.intp)
+        p = builder.bitcast(builder.gep(ary.data, [o], inbounds=True),
+                            ir.PointerType(ir.VectorType(ir.DoubleType(), LANES)))
+        builder.store(_splat_ir(context, builder, signature.args[2], args[2], LANES), p, align=8)
+        return context.get_dummy_value()
+
+    return sig, codegen
+
+
+@intrinsic
+def _sts(typingctx: Any, A: Any, i: Any, x: Any) -> Any:
+    """``A[i] = x`` for a float64 ``x`` (no wraparound: Numba's ``A[i] = x`` costs a select on the index)."""
+    sig = types.void(A, i, types.float64)
+
+    def codegen(context: Any, builder: Any, signature: Any, args: Any) -> Any:
+        ary = context.make_array(signature.args[0])(context, builder, args[0])
+        o = context.cast(builder, args[1], signature.args[1], types.intp)
+        builder.store(args[2], builder.gep(ary.data, [o], inbounds=True))
+        return context.get_dummy_value()
 
     return sig, codegen
 
@@ -613,6 +648,34 @@ def _inertia_matrix_apply(mass, h0, h1, h2, xx, xy, xz, yy, yz, zz, W, o):  # pr
 
 
 @njit(**_IJIT)
+def _inertia_to_parent_model(BF, I, W, X, out):  # pragma: no cover - compiled
+    """``W[out] = X_upᵀ I X_up`` with the model's parameters ``BF[I:I+10]``."""
+    _inertia_to_parent_apply(BF[I], BF[I + 1], BF[I + 2], BF[I + 3], BF[I + 4], BF[I + 5], BF[I + 6], BF[I + 7],
+                             BF[I + 8], BF[I + 9], W, X, out)
+
+
+@njit(**_IJIT)
+def _inertia_to_parent_rows(W, I, X, out):  # pragma: no cover - compiled
+    """``W[out] = X_upᵀ I X_up`` with the parameters in rows ``I:I+10``."""
+    _inertia_to_parent_apply(_ld(W, I), _ld(W, I + 1), _ld(W, I + 2), _ld(W, I + 3), _ld(W, I + 4), _ld(W, I + 5),
+                             _ld(W, I + 6), _ld(W, I + 7), _ld(W, I + 8), _ld(W, I + 9), W, X, out)
+
+
+@njit(**_IJIT)
+def _inertia_matrix_model(BF, I, W, out):  # pragma: no cover - compiled
+    """Rows ``out:out+36`` = the 6×6 inertia matrix of the model's parameters ``BF[I:I+10]``."""
+    _inertia_matrix_apply(BF[I], BF[I + 1], BF[I + 2], BF[I + 3], BF[I + 4], BF[I + 5], BF[I + 6], BF[I + 7],
+                          BF[I + 8], BF[I + 9], W, out)
+
+
+@njit(**_IJIT)
+def _inertia_matrix_rows(W, I, out):  # pragma: no cover - compiled
+    """Rows ``out:out+36`` = the 6×6 inertia matrix of the parameters in rows ``I:I+10``."""
+    _inertia_matrix_apply(_ld(W, I), _ld(W, I + 1), _ld(W, I + 2), _ld(W, I + 3), _ld(W, I + 4), _ld(W, I + 5),
+                          _ld(W, I + 6), _ld(W, I + 7), _ld(W, I + 8), _ld(W, I + 9), W, out)
+
+
+@njit(**_IJIT)
 def _matrix6_to_parent_add(W, X, Ia, out, T):  # pragma: no cover - compiled
     """``W[out] += X_upᵀ W[Ia] X_up`` for a symmetric 6×6 ``Ia`` (scratch rows ``T:T+27``)."""
     for blk in range(3):
@@ -689,15 +752,15 @@ def _scatter(W, o, Y, s0, count):  # pragma: no cover - compiled
 
 def lane_rows(width: int, nb: int, nq: int, nv: int) -> int:
     """Rows (of ``LANES`` doubles) of a block's workspace: the scalar core's entries as rows, then the inputs,
-    external forces, outputs and two rows of scratch."""
-    return width * nb + WS_TAIL + nq + 3 * nv + 6 * nb + 2
+    external forces, outputs and four rows of scratch."""
+    return width * nb + WS_TAIL + nq + 3 * nv + 6 * nb + 4
 
 
 @njit(**_IJIT)
 def _rows(width, nb, nq, nv):  # pragma: no cover - compiled
     """:func:`lane_rows` in compiled code, and the offsets ``(in1, in2, in3, fext, out, scratch)`` of the rows."""
     o = width * nb + WS_TAIL
-    return o + nq + 3 * nv + 6 * nb + 2, o, o + nq, o + nq + nv, o + nq + 2 * nv, o + nq + 2 * nv + 6 * nb, \
+    return o + nq + 3 * nv + 6 * nb + 4, o, o + nq, o + nq + nv, o + nq + 2 * nv, o + nq + 2 * nv + 6 * nb, \
         o + nq + 3 * nv + 6 * nb
 
 
@@ -791,3 +854,417 @@ def rnea_lanes(BI, BF, G, Q, QD, QDD, FEXT, gravity, TAU, threads):  # pragma: n
         for blk in range(t * chunk, min(nblk, (t + 1) * chunk)):
             s0 = blk * LANES
             rnea_block(BI, BF, G, Q, QD, QDD, FEXT, gravity, TAU, s0, min(LANES, n - s0), W)
+
+
+# ---------------------------------------------------------------------------
+# CRBA
+# ---------------------------------------------------------------------------
+
+
+@njit(**_IJIT)
+def _put(Mf, o, stride, count, x):  # pragma: no cover - compiled
+    """``Mf[o + s · stride]`` = lane ``s`` of ``x``, for the block's ``count`` states."""
+    if count == LANES:
+        for s in range(LANES):
+            _sts(Mf, o + s * stride, _lane(x, s))
+    else:
+        for s in range(count):
+            _sts(Mf, o + s * stride, _lane(x, s))
+
+
+@njit(**_IJIT)
+def _zero(A, o, n):  # pragma: no cover - compiled
+    """``A[o : o + n] = 0`` with vector stores."""
+    k = o
+    end = o + n
+    while k + LANES <= end:
+        _stv(A, k, 0.0)
+        k += LANES
+    while k < end:
+        _sts(A, k, 0.0)
+        k += 1
+
+
+@njit(**_JIT)
+def crba_block(BI, BF, Q, M, s0, count, W):  # pragma: no cover - compiled
+    """:func:`._kernels.crba_core` on the states ``s0 … s0 + count − 1`` (``count ≤ LANES``) in lanes."""
+    nb = BI.shape[0] // NBI
+    nq = Q.shape[1]
+    nv = M.shape[1]
+    nn = nv * nv
+    _n, q, _i2, _i3, _fx, _out, sc = _rows(WS_CRBA, nb, nq, nv)
+    _gather(Q, s0, count, W, q)
+    Mf = M.reshape(M.shape[0] * nn)
+    m0 = s0 * nn  # M[s0] in Mf
+    oX = 0
+    IC = 12 * nb
+    J = 22 * nb
+    t = 58 * nb
+    X = t
+    F = t + 12
+    Fj = t + 18
+    Iloc = t + 24
+    Ib = t + 34
+    for i in range(nb):
+        lam = BI[NBI * i + PARENT]
+        Xi = oX + 12 * i
+        if lam == -1:
+            _pose_in_parent(BI, BF, i, q, W, Xi, sc)
+        else:
+            _pose_in_parent(BI, BF, i, q, W, X, sc)
+            _compose(W, oX + 12 * lam, X, Xi)
+        _inertia_to_parent_model(BF, NBF * i + MASS, W, Xi, IC + 10 * i)
+        ki = BI[NBI * i + NV]
+        if ki == 1:
+            _S_col(BI, BF, i, 0, W, J + 36 * i)
+            _motion_to_parent(W, Xi, J + 36 * i, J + 36 * i)
+        elif lam == -1 and BI[NBI * i + JT] == FF:
+            pass
+        else:
+            for c in range(ki):
+                _S_col(BI, BF, i, c, W, J + 36 * i + 6 * c)
+                _motion_to_parent(W, Xi, J + 36 * i + 6 * c, J + 36 * i + 6 * c)
+    for i in range(nb - 1, -1, -1):
+        lam = BI[NBI * i + PARENT]
+        if lam != -1:
+            for k in range(10):
+                _st(W, IC + 10 * lam + k, _ld(W, IC + 10 * lam + k) + _ld(W, IC + 10 * i + k))
+    _zero(Mf, m0, count * nn)
+    for i in range(nb):
+        iv = BI[NBI * i + IV]
+        lam = BI[NBI * i + PARENT]
+        first = i
+        if BI[NBI * i + JT] == FF:
+            Xi = oX + 12 * i
+            for r in range(3):
+                for c in range(3):
+                    _st(W, X + 3 * r + c, _ld(W, Xi + 3 * c + r))
+            for r in range(3):
+                _st(W, X + 9 + r, -(_ld(W, Xi + r) * _ld(W, Xi + 9) + _ld(W, Xi + 3 + r) * _ld(W, Xi + 10)
+                                    + _ld(W, Xi + 6 + r) * _ld(W, Xi + 11)))
+            _inertia_to_parent_rows(W, IC + 10 * i, X, Iloc)
+            _inertia_matrix_rows(W, Iloc, Ib)
+            for r in range(6):
+                for c in range(6):
+                    _put(Mf, m0 + (iv + r) * nv + iv + c, nn, count, _ld(W, Ib + 6 * r + c))
+            if lam == -1:
+                continue
+            first = lam
+        for c in range(BI[NBI * i + NV]):
+            _inertia_times_rows(W, IC + 10 * i, J + 36 * i + 6 * c, F)
+            f0, f1, f2, f3, f4, f5 = _ld(W, F), _ld(W, F + 1), _ld(W, F + 2), _ld(W, F + 3), _ld(W, F + 4), \
+                _ld(W, F + 5)
+            j = first
+            while j != -1:
+                jv = BI[NBI * j + IV]
+                kj = BI[NBI * j + NV]
+                Jr = J + 36 * j
+                if kj == 1:
+                    val = (_ld(W, Jr) * f0 + _ld(W, Jr + 1) * f1 + _ld(W, Jr + 2) * f2
+                           + _ld(W, Jr + 3) * f3 + _ld(W, Jr + 4) * f4 + _ld(W, Jr + 5) * f5)
+                    _put(Mf, m0 + jv * nv + iv + c, nn, count, val)
+                    _put(Mf, m0 + (iv + c) * nv + jv, nn, count, val)
+                elif BI[NBI * j + JT] == FF:
+                    _force_to_child(W, oX + 12 * j, F, Fj)
+                    for r in range(6):
+                        x = _ld(W, Fj + r)
+                        _put(Mf, m0 + (jv + r) * nv + iv + c, nn, count, x)
+                        _put(Mf, m0 + (iv + c) * nv + jv + r, nn, count, x)
+                else:
+                    for r in range(kj):
+                        val = (_ld(W, Jr) * f0 + _ld(W, Jr + 1) * f1 + _ld(W, Jr + 2) * f2
+                               + _ld(W, Jr + 3) * f3 + _ld(W, Jr + 4) * f4 + _ld(W, Jr + 5) * f5)
+                        _put(Mf, m0 + (jv + r) * nv + iv + c, nn, count, val)
+                        _put(Mf, m0 + (iv + c) * nv + jv + r, nn, count, val)
+                        Jr += 6
+                j = BI[NBI * j + PARENT]
+
+
+@njit(**_PJIT)
+def crba_lanes(BI, BF, Q, M, threads):  # pragma: no cover - compiled
+    """:func:`._kernels.crba_batch` in blocks of ``LANES`` states."""
+    n = M.shape[0]
+    nb = BI.shape[0] // NBI
+    rows = _rows(WS_CRBA, nb, Q.shape[1], M.shape[1])[0]
+    nblk = (n + LANES - 1) // LANES
+    nt, chunk = _chunks(nblk, threads)
+    for t in prange(nt):
+        W = np.empty(rows * LANES)
+        for blk in range(t * chunk, min(nblk, (t + 1) * chunk)):
+            s0 = blk * LANES
+            crba_block(BI, BF, Q, M, s0, min(LANES, n - s0), W)
+
+
+# ---------------------------------------------------------------------------
+# ABA
+# ---------------------------------------------------------------------------
+
+
+@njit(**_IJIT)
+def _flag(W, d, tol, bad, i):  # pragma: no cover - compiled
+    """Lanes whose pivot ``d`` is ``<= tol`` and have no singular joint yet get joint ``i`` in row ``bad``."""
+    for s in range(LANES):
+        if _lane(d, s) <= tol and W[bad * LANES + s] < 0.0:
+            W[bad * LANES + s] = i
+
+
+@njit(**_IJIT)
+def _spd_inverse(W, D, k, Dinv, L, tol, bad, i):  # pragma: no cover - compiled
+    """:func:`._kernels._spd_inverse` per lane: rows ``Dinv`` = rows ``D`` inverted; a lane with a pivot
+    ``<= tol`` (where the scalar form returns) is flagged with joint ``i`` in row ``bad`` and computes on."""
+    if k == 1:
+        d = _ld(W, D)
+        _st(W, Dinv, 1.0 / d)
+        _flag(W, d, tol, bad, i)
+        return
+    for j in range(k):
+        d = _ld(W, D + 7 * j)
+        for m in range(j):
+            d = d - _ld(W, L + 6 * j + m) * _ld(W, L + 6 * j + m)
+        _flag(W, d, tol, bad, i)
+        ljj = _sqrt(d)
+        _st(W, L + 7 * j, ljj)
+        for r in range(j + 1, k):
+            x = _ld(W, D + 6 * r + j)
+            for m in range(j):
+                x = x - _ld(W, L + 6 * r + m) * _ld(W, L + 6 * j + m)
+            _st(W, L + 6 * r + j, x / ljj)
+    for j in range(k):
+        _st(W, L + 7 * j, 1.0 / _ld(W, L + 7 * j))
+        for r in range(j + 1, k):
+            x = _v(0.0)
+            for m in range(j, r):
+                x = x - _ld(W, L + 6 * r + m) * _ld(W, L + 6 * m + j)
+            _st(W, L + 6 * r + j, x / _ld(W, L + 7 * r))
+    for r in range(k):
+        for c in range(r, k):
+            x = _v(0.0)
+            for m in range(c, k):
+                x = x + _ld(W, L + 6 * m + r) * _ld(W, L + 6 * m + c)
+            _st(W, Dinv + 6 * r + c, x)
+            _st(W, Dinv + 6 * c + r, x)
+
+
+@njit(**_JIT)
+def aba_block(BI, BF, G, Q, QD, TAU, FEXT, gravity, QDD, s0, count, W):  # pragma: no cover - compiled
+    """:func:`._kernels.aba_core` on the states ``s0 … s0 + count − 1`` (``count ≤ LANES``) in lanes.
+
+    Returns ``-1``, or ``state · nb + joint`` for the first of these states that is singular, with the joint
+    :func:`._kernels.aba_core` reports for it.
+    """
+    nb = BI.shape[0] // NBI
+    nq = Q.shape[1]
+    nv = QDD.shape[1]
+    _n, q, qd, tau, fx, qdd, sc = _rows(WS_ABA, nb, nq, nv)
+    bad = sc + 2
+    _gather(Q, s0, count, W, q)
+    _gather(QD, s0, count, W, qd)
+    _gather(TAU, s0, count, W, tau)
+    _st(W, bad, -1.0)
+    X_up = 0
+    v = 12 * nb
+    c = 18 * nb
+    IA = 24 * nb
+    pA = 60 * nb
+    U = 66 * nb
+    Dinv = 102 * nb
+    u = 138 * nb
+    a = 144 * nb
+    t = 150 * nb
+    vJ = t
+    Iv = t + 6
+    Ia = t + 12
+    pa = t + 48
+    UD = t + 54
+    D = t + 90
+    T = t + 126
+    s = t + 153
+    a0 = Iv
+    L = Ia
+    tol = SINGULAR_RTOL * G[3]
+    has_fext = FEXT.shape[1] > 0
+    if has_fext:
+        for ln in range(LANES):
+            r = 0 if FEXT.shape[0] == 1 else s0 + (ln if ln < count else count - 1)
+            for i in range(nb):
+                for k in range(6):
+                    W[(fx + 6 * i + k) * LANES + ln] = FEXT[r, i, k]
+
+    for i in range(nb):
+        lam = BI[NBI * i + PARENT]
+        Xi = X_up + 12 * i
+        vi = v + 6 * i
+        _pose_in_parent(BI, BF, i, q, W, Xi, sc)
+        _S_times(BI, BF, i, qd, W, vJ)
+        if lam == -1:
+            for k in range(6):
+                _st(W, vi + k, _ld(W, vJ + k))
+        else:
+            _motion_to_child(W, Xi, v + 6 * lam, vi)
+            for k in range(6):
+                _st(W, vi + k, _ld(W, vi + k) + _ld(W, vJ + k))
+        for k in range(6):
+            _st(W, c + 6 * i + k, 0.0)
+            _st(W, pA + 6 * i + k, 0.0)
+        _cross_motion_add(W, vi, vJ, c + 6 * i)
+        I = NBF * i + MASS
+        _inertia_matrix_model(BF, I, W, IA + 36 * i)
+        _inertia_times_model(BF, I, W, vi, Iv)
+        _cross_force_add(W, vi, Iv, pA + 6 * i)
+        if has_fext:
+            for k in range(6):
+                _st(W, pA + 6 * i + k, _ld(W, pA + 6 * i + k) - _ld(W, fx + 6 * i + k))
+
+    for i in range(nb - 1, -1, -1):
+        lam = BI[NBI * i + PARENT]
+        ki = BI[NBI * i + NV]
+        iv = BI[NBI * i + IV]
+        IAi = IA + 36 * i
+        Ui = U + 36 * i
+        unit = BI[NBI * i + UNIT]
+        if unit >= 0:
+            sg = BF[NBF * i + AX + (unit - 3 if unit >= 3 else unit)]
+            for r in range(6):
+                _st(W, Ui + r, sg * _ld(W, IAi + 6 * r + unit))
+            _st(W, D, _ld(W, IAi + 7 * unit))
+            _st(W, u + 6 * i, _ld(W, tau + iv) - sg * _ld(W, pA + 6 * i + unit))
+        elif BI[NBI * i + JT] == FF:
+            for r in range(6):
+                for m in range(6):
+                    x = _ld(W, IAi + 6 * r + m)
+                    _st(W, Ui + 6 * m + r, x)
+                    _st(W, D + 6 * r + m, x)
+                _st(W, u + 6 * i + r, _ld(W, tau + iv + r) - _ld(W, pA + 6 * i + r))
+        elif ki == 1:
+            _S_col(BI, BF, i, 0, W, s)
+            d = _v(0.0)
+            for r in range(6):
+                x = _v(0.0)
+                for m in range(6):
+                    x = x + _ld(W, IAi + 6 * r + m) * _ld(W, s + m)
+                _st(W, Ui + r, x)
+                d = d + _ld(W, s + r) * x
+            _st(W, D, d)
+            _st(W, u + 6 * i, _ld(W, tau + iv) - _St_dot(BI, BF, i, 0, W, pA + 6 * i))
+        else:
+            for j in range(ki):
+                _S_col(BI, BF, i, j, W, s)
+                for r in range(6):
+                    x = _v(0.0)
+                    for m in range(6):
+                        x = x + _ld(W, IAi + 6 * r + m) * _ld(W, s + m)
+                    _st(W, Ui + 6 * j + r, x)
+            for r in range(ki):
+                for j in range(ki):
+                    _st(W, D + 6 * r + j, _St_dot(BI, BF, i, r, W, Ui + 6 * j))
+                _st(W, u + 6 * i + r, _ld(W, tau + iv + r) - _St_dot(BI, BF, i, r, W, pA + 6 * i))
+        Di = Dinv + 36 * i
+        _spd_inverse(W, D, ki, Di, L, tol, bad, i)
+        if lam == -1:
+            continue
+        if ki == 1:
+            dinv = _ld(W, Di)
+            uu = _ld(W, u + 6 * i)
+            for r in range(6):
+                _st(W, UD + r, _ld(W, Ui + r) * dinv)
+            for r in range(6):
+                ud = _ld(W, UD + r)
+                for col in range(r, 6):
+                    x = _ld(W, IAi + 6 * r + col) - ud * _ld(W, Ui + col)
+                    _st(W, Ia + 6 * r + col, x)
+                    _st(W, Ia + 6 * col + r, x)
+            for r in range(6):
+                x = _ld(W, pA + 6 * i + r) + _ld(W, UD + r) * uu
+                for m in range(6):
+                    x = x + _ld(W, Ia + 6 * r + m) * _ld(W, c + 6 * i + m)
+                _st(W, pa + r, x)
+        else:
+            for j in range(ki):
+                for r in range(6):
+                    x = _v(0.0)
+                    for m in range(ki):
+                        x = x + _ld(W, Ui + 6 * m + r) * _ld(W, Di + 6 * m + j)
+                    _st(W, UD + 6 * j + r, x)
+            for r in range(6):
+                for col in range(r, 6):
+                    x = _ld(W, IAi + 6 * r + col)
+                    for j in range(ki):
+                        x = x - _ld(W, UD + 6 * j + r) * _ld(W, Ui + 6 * j + col)
+                    _st(W, Ia + 6 * r + col, x)
+                    _st(W, Ia + 6 * col + r, x)
+            for r in range(6):
+                x = _ld(W, pA + 6 * i + r)
+                for m in range(6):
+                    x = x + _ld(W, Ia + 6 * r + m) * _ld(W, c + 6 * i + m)
+                for j in range(ki):
+                    x = x + _ld(W, UD + 6 * j + r) * _ld(W, u + 6 * i + j)
+                _st(W, pa + r, x)
+        _matrix6_to_parent_add(W, X_up + 12 * i, Ia, IA + 36 * lam, T)
+        _force_to_parent(W, X_up + 12 * i, pa, pA + 6 * lam, True)
+
+    g = 1.0 if gravity else 0.0
+    _st(W, a0, 0.0)
+    _st(W, a0 + 1, 0.0)
+    _st(W, a0 + 2, 0.0)
+    _st(W, a0 + 3, -g * G[0])
+    _st(W, a0 + 4, -g * G[1])
+    _st(W, a0 + 5, -g * G[2])
+    for i in range(nb):
+        lam = BI[NBI * i + PARENT]
+        ki = BI[NBI * i + NV]
+        iv = BI[NBI * i + IV]
+        ai = a + 6 * i
+        _motion_to_child(W, X_up + 12 * i, a0 if lam == -1 else a + 6 * lam, ai)
+        for k in range(6):
+            _st(W, ai + k, _ld(W, ai + k) + _ld(W, c + 6 * i + k))
+        Ui = U + 36 * i
+        Di = Dinv + 36 * i
+        if ki == 1:
+            x = _ld(W, u + 6 * i)
+            for r in range(6):
+                x = x - _ld(W, Ui + r) * _ld(W, ai + r)
+            _st(W, qdd + iv, _ld(W, Di) * x)
+        else:
+            for j in range(ki):
+                x = _ld(W, u + 6 * i + j)
+                for r in range(6):
+                    x = x - _ld(W, Ui + 6 * j + r) * _ld(W, ai + r)
+                _st(W, s + j, x)
+            for r in range(ki):
+                x = _v(0.0)
+                for j in range(ki):
+                    x = x + _ld(W, Di + 6 * r + j) * _ld(W, s + j)
+                _st(W, qdd + iv + r, x)
+        _S_times(BI, BF, i, qdd, W, vJ)
+        for k in range(6):
+            _st(W, ai + k, _ld(W, ai + k) + _ld(W, vJ + k))
+    _scatter(W, qdd, QDD, s0, count)
+    for ln in range(count):
+        j = W[bad * LANES + ln]
+        if j >= 0.0:
+            return (s0 + ln) * nb + int(j)
+    return -1
+
+
+@njit(**_PJIT)
+def aba_lanes(BI, BF, G, Q, QD, TAU, FEXT, gravity, QDD, threads):  # pragma: no cover - compiled
+    """:func:`._kernels.aba_batch` in blocks of ``LANES`` states; returns ``-1`` or ``state · nb + joint`` of the
+    first singular state (the same as :func:`._kernels.aba_batch`)."""
+    n = QDD.shape[0]
+    nb = BI.shape[0] // NBI
+    rows = _rows(WS_ABA, nb, Q.shape[1], QDD.shape[1])[0]
+    nblk = (n + LANES - 1) // LANES
+    nt, chunk = _chunks(nblk, threads)
+    status = np.full(nt, -1, dtype=np.int64)
+    for t in prange(nt):
+        W = np.empty(rows * LANES)
+        for blk in range(t * chunk, min(nblk, (t + 1) * chunk)):
+            s0 = blk * LANES
+            bad = aba_block(BI, BF, G, Q, QD, TAU, FEXT, gravity, QDD, s0, min(LANES, n - s0), W)
+            if bad >= 0:
+                status[t] = bad
+                break
+    for t in range(nt):
+        if status[t] >= 0:
+            return status[t]
+    return -1
