@@ -156,6 +156,23 @@ def test_lanes_broadcast_rows_gravity_off_and_threads(name: str) -> None:
     assert np.array_equal(M, _scalar_crba(md, Q[:1], n))
 
 
+@pytest.mark.parametrize("name", ["free_branch", "planar_root_branch"])
+def test_crba_lanes_streamed_output(name: str) -> None:
+    """A batch above STREAM_MIN entries: non-temporal stores of whole lines, element stores at the ends of each
+    block's region — into an output that starts anywhere in a cache line."""
+    model = _model(name)
+    md = arrays_of(model)
+    nn = md.nv * md.nv
+    n = lanes.STREAM_MIN // nn + B + 3
+    Q = _inputs(model, n, 8)[0]
+    expected = _scalar_crba(md, Q, n)
+    for shift in (0, 1, 5):
+        buf = np.full(n * nn + shift, np.nan)
+        M = buf[shift:].reshape(n, md.nv, md.nv)
+        lanes.crba_lanes(md.BI, md.BF, Q, M, 2)
+        assert np.array_equal(M, expected), f"crba streamed, output shifted by {shift}"
+
+
 def test_lanes_empty_batch() -> None:
     md = arrays_of(_model("free_branch"))
     empty = np.zeros((0, md.nv))

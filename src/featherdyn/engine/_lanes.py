@@ -75,6 +75,9 @@ __all__ = ["LANES", "lane_rows", "rnea_lanes", "crba_lanes", "aba_lanes"]
 
 #: states per block (SIMD lanes)
 LANES = 8
+#: CRBA writes its output with non-temporal stores from this many entries on (1 MiB): the stores skip reading
+#: each line of the output from memory before writing it, the larger part of the memory traffic otherwise
+STREAM_MIN = 1 << 17
 
 # ---------------------------------------------------------------------------
 # the lane vector type
@@ -246,6 +249,65 @@ def _sts(typingctx: Any, A: Any, i: Any, x: Any) -> Any:
         ary = context.make_array(signature.args[0])(context, builder, args[0])
         o = context.cast(builder, args[1], signature.args[1], types.intp)
         builder.store(args[2], builder.gep(ary.data, [o], inbounds=True))
+        return context.get_dummy_value()
+
+    return sig, codegen
+
+
+@intrinsic
+def _ldv(typingctx: Any, A: Any, i: Any) -> Any:
+    """``A[i : i + L]`` as a vector, at any element offset ``i``."""
+    sig = _VEC(A, i)
+
+    def codegen(context: Any, builder: Any, signature: Any, args: Any) -> Any:
+        ary = context.make_array(signature.args[0])(context, builder, args[0])
+        o = context.cast(builder, args[1], signature.args[1], types.intp)
+        p = builder.bitcast(builder.gep(ary.data, [o], inbounds=True),
+                            ir.PointerType(ir.VectorType(ir.DoubleType(), LANES)))
+        return builder.load(p, align=8)
+
+    return sig, codegen
+
+
+@intrinsic
+def _stream_line(typingctx: Any, A: Any, i: Any, S: Any, j: Any) -> Any:
+    """``A[i : i + 8] = S[j : j + 8]`` (one cache line) with a non-temporal store; ``A + i`` is 64-byte aligned."""
+    sig = types.void(A, i, S, j)
+
+    def codegen(context: Any, builder: Any, signature: Any, args: Any) -> Any:
+        vt = ir.PointerType(ir.VectorType(ir.DoubleType(), 8))
+        a = context.make_array(signature.args[0])(context, builder, args[0])
+        b = context.make_array(signature.args[2])(context, builder, args[2])
+        pa = builder.gep(a.data, [context.cast(builder, args[1], signature.args[1], types.intp)], inbounds=True)
+        pb = builder.gep(b.data, [context.cast(builder, args[3], signature.args[3], types.intp)], inbounds=True)
+        st = builder.store(builder.load(builder.bitcast(pb, vt), align=8), builder.bitcast(pa, vt), align=64)
+        st.set_metadata("nontemporal", builder.module.add_metadata([ir.Constant(_I32, 1)]))
+        return context.get_dummy_value()
+
+    return sig, codegen
+
+
+@intrinsic
+def _line_offset(typingctx: Any, A: Any, i: Any) -> Any:
+    """``(address of A[i] / 8) mod 8``: the position of ``A[i]`` in its 64-byte cache line."""
+    sig = types.intp(A, i)
+
+    def codegen(context: Any, builder: Any, signature: Any, args: Any) -> Any:
+        a = context.make_array(signature.args[0])(context, builder, args[0])
+        p = builder.gep(a.data, [context.cast(builder, args[1], signature.args[1], types.intp)], inbounds=True)
+        addr = builder.ptrtoint(p, ir.IntType(64))
+        return builder.and_(builder.lshr(addr, ir.Constant(ir.IntType(64), 3)), ir.Constant(ir.IntType(64), 7))
+
+    return sig, codegen
+
+
+@intrinsic
+def _fence(typingctx: Any) -> Any:
+    """A full memory fence (orders the non-temporal stores before what follows)."""
+    sig = types.void()
+
+    def codegen(context: Any, builder: Any, signature: Any, args: Any) -> Any:
+        builder.fence("seq_cst")
         return context.get_dummy_value()
 
     return sig, codegen
@@ -862,40 +924,51 @@ def rnea_lanes(BI, BF, G, Q, QD, QDD, FEXT, gravity, TAU, threads):  # pragma: n
 
 
 @njit(**_IJIT)
-def _put(Mf, o, stride, count, x):  # pragma: no cover - compiled
-    """``Mf[o + s · stride]`` = lane ``s`` of ``x``, for the block's ``count`` states."""
+def _put(A, o, stride, count, x):  # pragma: no cover - compiled
+    """``A[o + s · stride]`` = lane ``s`` of ``x``, for the block's ``count`` states."""
     if count == LANES:
         for s in range(LANES):
-            _sts(Mf, o + s * stride, _lane(x, s))
+            _sts(A, o + s * stride, _lane(x, s))
     else:
         for s in range(count):
-            _sts(Mf, o + s * stride, _lane(x, s))
+            _sts(A, o + s * stride, _lane(x, s))
 
 
 @njit(**_IJIT)
-def _zero(A, o, n):  # pragma: no cover - compiled
-    """``A[o : o + n] = 0`` with vector stores."""
-    k = o
-    end = o + n
-    while k + LANES <= end:
-        _stv(A, k, 0.0)
-        k += LANES
-    while k < end:
-        _sts(A, k, 0.0)
+def _copy_out(S, n, A, o, stream):  # pragma: no cover - compiled
+    """``A[o : o + n] = S[0 : n]``; with ``stream``, whole cache lines of ``A`` are written with non-temporal
+    stores (no read of the line from memory before it is written, and no eviction of the cached data)."""
+    k = 0
+    if stream:
+        while k < n and _line_offset(A, o + k) != 0:
+            _sts(A, o + k, S[k])
+            k += 1
+        while k + 8 <= n:
+            _stream_line(A, o + k, S, k)
+            k += 8
+    else:
+        while k + LANES <= n:
+            _stv(A, o + k, _ldv(S, k))
+            k += LANES
+    while k < n:
+        _sts(A, o + k, S[k])
         k += 1
 
 
 @njit(**_JIT)
-def crba_block(BI, BF, Q, M, s0, count, W):  # pragma: no cover - compiled
-    """:func:`._kernels.crba_core` on the states ``s0 … s0 + count − 1`` (``count ≤ LANES``) in lanes."""
+def crba_block(BI, BF, Q, M, s0, count, W, S, stream):  # pragma: no cover - compiled
+    """:func:`._kernels.crba_core` on the states ``s0 … s0 + count − 1`` (``count ≤ LANES``) in lanes.
+
+    The mass matrices are assembled in ``S`` (`(LANES nv²,)`, state-major, zero where the tree leaves ``M``
+    zero: the entries written are the same for every state, so ``S`` is zeroed once by the caller) and
+    copied to ``M`` (with ``stream``, by non-temporal stores).
+    """
     nb = BI.shape[0] // NBI
     nq = Q.shape[1]
     nv = M.shape[1]
     nn = nv * nv
     _n, q, _i2, _i3, _fx, _out, sc = _rows(WS_CRBA, nb, nq, nv)
     _gather(Q, s0, count, W, q)
-    Mf = M.reshape(M.shape[0] * nn)
-    m0 = s0 * nn  # M[s0] in Mf
     oX = 0
     IC = 12 * nb
     J = 22 * nb
@@ -929,7 +1002,6 @@ def crba_block(BI, BF, Q, M, s0, count, W):  # pragma: no cover - compiled
         if lam != -1:
             for k in range(10):
                 _st(W, IC + 10 * lam + k, _ld(W, IC + 10 * lam + k) + _ld(W, IC + 10 * i + k))
-    _zero(Mf, m0, count * nn)
     for i in range(nb):
         iv = BI[NBI * i + IV]
         lam = BI[NBI * i + PARENT]
@@ -946,7 +1018,7 @@ def crba_block(BI, BF, Q, M, s0, count, W):  # pragma: no cover - compiled
             _inertia_matrix_rows(W, Iloc, Ib)
             for r in range(6):
                 for c in range(6):
-                    _put(Mf, m0 + (iv + r) * nv + iv + c, nn, count, _ld(W, Ib + 6 * r + c))
+                    _put(S, (iv + r) * nv + iv + c, nn, count, _ld(W, Ib + 6 * r + c))
             if lam == -1:
                 continue
             first = lam
@@ -962,22 +1034,23 @@ def crba_block(BI, BF, Q, M, s0, count, W):  # pragma: no cover - compiled
                 if kj == 1:
                     val = (_ld(W, Jr) * f0 + _ld(W, Jr + 1) * f1 + _ld(W, Jr + 2) * f2
                            + _ld(W, Jr + 3) * f3 + _ld(W, Jr + 4) * f4 + _ld(W, Jr + 5) * f5)
-                    _put(Mf, m0 + jv * nv + iv + c, nn, count, val)
-                    _put(Mf, m0 + (iv + c) * nv + jv, nn, count, val)
+                    _put(S, jv * nv + iv + c, nn, count, val)
+                    _put(S, (iv + c) * nv + jv, nn, count, val)
                 elif BI[NBI * j + JT] == FF:
                     _force_to_child(W, oX + 12 * j, F, Fj)
                     for r in range(6):
                         x = _ld(W, Fj + r)
-                        _put(Mf, m0 + (jv + r) * nv + iv + c, nn, count, x)
-                        _put(Mf, m0 + (iv + c) * nv + jv + r, nn, count, x)
+                        _put(S, (jv + r) * nv + iv + c, nn, count, x)
+                        _put(S, (iv + c) * nv + jv + r, nn, count, x)
                 else:
                     for r in range(kj):
                         val = (_ld(W, Jr) * f0 + _ld(W, Jr + 1) * f1 + _ld(W, Jr + 2) * f2
                                + _ld(W, Jr + 3) * f3 + _ld(W, Jr + 4) * f4 + _ld(W, Jr + 5) * f5)
-                        _put(Mf, m0 + (jv + r) * nv + iv + c, nn, count, val)
-                        _put(Mf, m0 + (iv + c) * nv + jv + r, nn, count, val)
+                        _put(S, (jv + r) * nv + iv + c, nn, count, val)
+                        _put(S, (iv + c) * nv + jv + r, nn, count, val)
                         Jr += 6
                 j = BI[NBI * j + PARENT]
+    _copy_out(S, count * nn, M.reshape(M.shape[0] * nn), s0 * nn, stream)
 
 
 @njit(**_PJIT)
@@ -987,12 +1060,17 @@ def crba_lanes(BI, BF, Q, M, threads):  # pragma: no cover - compiled
     nb = BI.shape[0] // NBI
     rows = _rows(WS_CRBA, nb, Q.shape[1], M.shape[1])[0]
     nblk = (n + LANES - 1) // LANES
+    nn = M.shape[1] * M.shape[1]
+    stream = n * nn >= STREAM_MIN
     nt, chunk = _chunks(nblk, threads)
     for t in prange(nt):
         W = np.empty(rows * LANES)
+        S = np.zeros(LANES * nn)
         for blk in range(t * chunk, min(nblk, (t + 1) * chunk)):
             s0 = blk * LANES
-            crba_block(BI, BF, Q, M, s0, min(LANES, n - s0), W)
+            crba_block(BI, BF, Q, M, s0, min(LANES, n - s0), W, S, stream)
+        if stream:
+            _fence()
 
 
 # ---------------------------------------------------------------------------
