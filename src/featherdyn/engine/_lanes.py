@@ -301,6 +301,56 @@ def _line_offset(typingctx: Any, A: Any, i: Any) -> Any:
     return sig, codegen
 
 
+def _transpose_ir(builder: Any, rows: list[Any]) -> list[Any]:
+    """The ``L × L`` transpose of ``L`` vectors (``L`` a power of two): ``log2 L`` stages of two-vector shuffles,
+    stage ``b`` interleaving blocks of ``b`` lanes of rows ``i`` and ``i + b``."""
+    n = len(rows)
+    v = list(rows)
+    b = 1
+    while b < n:
+        lo = []
+        hi = []
+        for g in range(n // (2 * b)):
+            lo += [g * 2 * b + k for k in range(b)] + [n + g * 2 * b + k for k in range(b)]
+            hi += [g * 2 * b + b + k for k in range(b)] + [n + g * 2 * b + b + k for k in range(b)]
+        mlo = ir.Constant(ir.VectorType(_I32, n), lo)
+        mhi = ir.Constant(ir.VectorType(_I32, n), hi)
+        w = list(v)
+        for i in range(n):
+            if (i // b) % 2 == 0:
+                w[i] = builder.shuffle_vector(v[i], v[i + b], mlo)
+                w[i + b] = builder.shuffle_vector(v[i], v[i + b], mhi)
+        v = w
+        b *= 2
+    return v
+
+
+@intrinsic
+def _transpose_rows(typingctx: Any, W: Any, row: Any, S: Any, o: Any, stride: Any) -> Any:
+    """``S[o + s · stride + k] = W[(row + k) L + s]`` for lanes ``s`` and ``k`` in ``0 … L − 1``: the tile of
+    ``L`` rows, transposed, each lane's ``L`` entries stored contiguously."""
+    sig = types.void(W, row, S, o, stride)
+
+    def codegen(context: Any, builder: Any, signature: Any, args: Any) -> Any:
+        vt = ir.PointerType(ir.VectorType(ir.DoubleType(), LANES))
+        w = context.make_array(signature.args[0])(context, builder, args[0])
+        t = context.make_array(signature.args[2])(context, builder, args[2])
+        r0 = context.cast(builder, args[1], signature.args[1], types.intp)
+        o = context.cast(builder, args[3], signature.args[3], types.intp)
+        st = context.cast(builder, args[4], signature.args[4], types.intp)
+        rows = []
+        for k in range(LANES):
+            idx = builder.mul(builder.add(r0, ir.Constant(r0.type, k)), ir.Constant(r0.type, LANES))
+            rows.append(builder.load(builder.bitcast(builder.gep(w.data, [idx], inbounds=True), vt), align=8))
+        cols = _transpose_ir(builder, rows)
+        for k in range(LANES):
+            idx = builder.add(o, builder.mul(st, ir.Constant(st.type, k)))
+            builder.store(cols[k], builder.bitcast(builder.gep(t.data, [idx], inbounds=True), vt), align=8)
+        return context.get_dummy_value()
+
+    return sig, codegen
+
+
 @intrinsic
 def _fence(typingctx: Any) -> Any:
     """A full memory fence (orders the non-temporal stores before what follows)."""
@@ -812,18 +862,27 @@ def _scatter(W, o, Y, s0, count):  # pragma: no cover - compiled
             Y[s0 + s, k] = W[(o + k) * LANES + s]
 
 
-def lane_rows(width: int, nb: int, nq: int, nv: int) -> int:
+@njit(cache=True, nogil=True)
+def _aligned_empty(n):  # pragma: no cover - compiled
+    """``np.empty(n)`` starting on a 64-byte boundary: rows of the workspace then never straddle two cache lines."""
+    buf = np.empty(n + 8)
+    o = (8 - _line_offset(buf, 0)) & 7
+    return buf[o : o + n]
+
+
+def lane_rows(width: int, nb: int, nq: int, nv: int, extra: int = 0) -> int:
     """Rows (of ``LANES`` doubles) of a block's workspace: the scalar core's entries as rows, then the inputs,
-    external forces, outputs and four rows of scratch."""
-    return width * nb + WS_TAIL + nq + 3 * nv + 6 * nb + 4
+    external forces, outputs, four rows of scratch and ``extra`` rows."""
+    return width * nb + WS_TAIL + nq + 3 * nv + 6 * nb + 4 + extra
 
 
 @njit(**_IJIT)
-def _rows(width, nb, nq, nv):  # pragma: no cover - compiled
-    """:func:`lane_rows` in compiled code, and the offsets ``(in1, in2, in3, fext, out, scratch)`` of the rows."""
+def _rows(width, nb, nq, nv, extra):  # pragma: no cover - compiled
+    """:func:`lane_rows` in compiled code, and the offsets ``(in1, in2, in3, fext, out, scratch, extra)`` of the
+    rows."""
     o = width * nb + WS_TAIL
-    return o + nq + 3 * nv + 6 * nb + 4, o, o + nq, o + nq + nv, o + nq + 2 * nv, o + nq + 2 * nv + 6 * nb, \
-        o + nq + 3 * nv + 6 * nb
+    e = o + nq + 3 * nv + 6 * nb + 4
+    return e + extra, o, o + nq, o + nq + nv, o + nq + 2 * nv, o + nq + 2 * nv + 6 * nb, e - 4, e
 
 
 # ---------------------------------------------------------------------------
@@ -837,7 +896,7 @@ def rnea_block(BI, BF, G, Q, QD, QDD, FEXT, gravity, TAU, s0, count, W):  # prag
     nb = BI.shape[0] // NBI
     nq = Q.shape[1]
     nv = TAU.shape[1]
-    _n, q, qd, qdd, fx, tau, sc = _rows(WS_RNEA, nb, nq, nv)
+    _n, q, qd, qdd, fx, tau, sc, _e = _rows(WS_RNEA, nb, nq, nv, 0)
     _gather(Q, s0, count, W, q)
     _gather(QD, s0, count, W, qd)
     _gather(QDD, s0, count, W, qdd)
@@ -908,11 +967,11 @@ def rnea_lanes(BI, BF, G, Q, QD, QDD, FEXT, gravity, TAU, threads):  # pragma: n
     """:func:`._kernels.rnea_batch` in blocks of ``LANES`` states."""
     n = TAU.shape[0]
     nb = BI.shape[0] // NBI
-    rows = _rows(WS_RNEA, nb, Q.shape[1], TAU.shape[1])[0]
+    rows = _rows(WS_RNEA, nb, Q.shape[1], TAU.shape[1], 0)[0]
     nblk = (n + LANES - 1) // LANES
     nt, chunk = _chunks(nblk, threads)
     for t in prange(nt):
-        W = np.empty(rows * LANES)
+        W = _aligned_empty(rows * LANES)
         for blk in range(t * chunk, min(nblk, (t + 1) * chunk)):
             s0 = blk * LANES
             rnea_block(BI, BF, G, Q, QD, QDD, FEXT, gravity, TAU, s0, min(LANES, n - s0), W)
@@ -921,17 +980,6 @@ def rnea_lanes(BI, BF, G, Q, QD, QDD, FEXT, gravity, TAU, threads):  # pragma: n
 # ---------------------------------------------------------------------------
 # CRBA
 # ---------------------------------------------------------------------------
-
-
-@njit(**_IJIT)
-def _put(A, o, stride, count, x):  # pragma: no cover - compiled
-    """``A[o + s · stride]`` = lane ``s`` of ``x``, for the block's ``count`` states."""
-    if count == LANES:
-        for s in range(LANES):
-            _sts(A, o + s * stride, _lane(x, s))
-    else:
-        for s in range(count):
-            _sts(A, o + s * stride, _lane(x, s))
 
 
 @njit(**_IJIT)
@@ -955,19 +1003,26 @@ def _copy_out(S, n, A, o, stream):  # pragma: no cover - compiled
         k += 1
 
 
+@njit(**_IJIT)
+def _crba_extra(nv):  # pragma: no cover - compiled
+    """Lane rows of CRBA's assembled entries: ``nv²``, padded to whole tiles of ``LANES``."""
+    return (nv * nv + LANES - 1) // LANES * LANES
+
+
 @njit(**_JIT)
 def crba_block(BI, BF, Q, M, s0, count, W, S, stream):  # pragma: no cover - compiled
     """:func:`._kernels.crba_core` on the states ``s0 … s0 + count − 1`` (``count ≤ LANES``) in lanes.
 
-    The mass matrices are assembled in ``S`` (`(LANES nv²,)`, state-major, zero where the tree leaves ``M``
-    zero: the entries written are the same for every state, so ``S`` is zeroed once by the caller) and
-    copied to ``M`` (with ``stream``, by non-temporal stores).
+    The entries of ``M`` are assembled in lane rows of ``W`` (row ``r nv + c`` of the region :func:`_crba_rows`
+    gives; the entries written are the same for every state, so the caller zeroes the region once), transposed
+    tile by tile into ``S`` (`(LANES nv² + LANES,)`, state-major) and copied to ``M`` (with ``stream``, by
+    non-temporal stores).
     """
     nb = BI.shape[0] // NBI
     nq = Q.shape[1]
     nv = M.shape[1]
     nn = nv * nv
-    _n, q, _i2, _i3, _fx, _out, sc = _rows(WS_CRBA, nb, nq, nv)
+    _n, q, _i2, _i3, _fx, _out, sc, Mb = _rows(WS_CRBA, nb, nq, nv, _crba_extra(nv))
     _gather(Q, s0, count, W, q)
     oX = 0
     IC = 12 * nb
@@ -1018,7 +1073,7 @@ def crba_block(BI, BF, Q, M, s0, count, W, S, stream):  # pragma: no cover - com
             _inertia_matrix_rows(W, Iloc, Ib)
             for r in range(6):
                 for c in range(6):
-                    _put(S, (iv + r) * nv + iv + c, nn, count, _ld(W, Ib + 6 * r + c))
+                    _st(W, Mb + (iv + r) * nv + iv + c, _ld(W, Ib + 6 * r + c))
             if lam == -1:
                 continue
             first = lam
@@ -1034,22 +1089,26 @@ def crba_block(BI, BF, Q, M, s0, count, W, S, stream):  # pragma: no cover - com
                 if kj == 1:
                     val = (_ld(W, Jr) * f0 + _ld(W, Jr + 1) * f1 + _ld(W, Jr + 2) * f2
                            + _ld(W, Jr + 3) * f3 + _ld(W, Jr + 4) * f4 + _ld(W, Jr + 5) * f5)
-                    _put(S, jv * nv + iv + c, nn, count, val)
-                    _put(S, (iv + c) * nv + jv, nn, count, val)
+                    _st(W, Mb + jv * nv + iv + c, val)
+                    _st(W, Mb + (iv + c) * nv + jv, val)
                 elif BI[NBI * j + JT] == FF:
                     _force_to_child(W, oX + 12 * j, F, Fj)
                     for r in range(6):
                         x = _ld(W, Fj + r)
-                        _put(S, (jv + r) * nv + iv + c, nn, count, x)
-                        _put(S, (iv + c) * nv + jv + r, nn, count, x)
+                        _st(W, Mb + (jv + r) * nv + iv + c, x)
+                        _st(W, Mb + (iv + c) * nv + jv + r, x)
                 else:
                     for r in range(kj):
                         val = (_ld(W, Jr) * f0 + _ld(W, Jr + 1) * f1 + _ld(W, Jr + 2) * f2
                                + _ld(W, Jr + 3) * f3 + _ld(W, Jr + 4) * f4 + _ld(W, Jr + 5) * f5)
-                        _put(S, (jv + r) * nv + iv + c, nn, count, val)
-                        _put(S, (iv + c) * nv + jv + r, nn, count, val)
+                        _st(W, Mb + (jv + r) * nv + iv + c, val)
+                        _st(W, Mb + (iv + c) * nv + jv + r, val)
                         Jr += 6
                 j = BI[NBI * j + PARENT]
+    # tiles of LANES entries; the last one (read past nn into padding rows) first, since its lanes spill into
+    # the first entries of the next state in S, which tile 0 then overwrites
+    for t in range((nn + LANES - 1) // LANES - 1, -1, -1):
+        _transpose_rows(W, Mb + t * LANES, S, t * LANES, nn)
     _copy_out(S, count * nn, M.reshape(M.shape[0] * nn), s0 * nn, stream)
 
 
@@ -1058,14 +1117,16 @@ def crba_lanes(BI, BF, Q, M, threads):  # pragma: no cover - compiled
     """:func:`._kernels.crba_batch` in blocks of ``LANES`` states."""
     n = M.shape[0]
     nb = BI.shape[0] // NBI
-    rows = _rows(WS_CRBA, nb, Q.shape[1], M.shape[1])[0]
+    nv = M.shape[1]
+    rows, _q, _i2, _i3, _fx, _out, _sc, Mb = _rows(WS_CRBA, nb, Q.shape[1], nv, _crba_extra(nv))
     nblk = (n + LANES - 1) // LANES
-    nn = M.shape[1] * M.shape[1]
+    nn = nv * nv
     stream = n * nn >= STREAM_MIN
     nt, chunk = _chunks(nblk, threads)
     for t in prange(nt):
-        W = np.empty(rows * LANES)
-        S = np.zeros(LANES * nn)
+        W = _aligned_empty(rows * LANES)
+        W[Mb * LANES : rows * LANES] = 0.0
+        S = _aligned_empty(LANES * nn + LANES)
         for blk in range(t * chunk, min(nblk, (t + 1) * chunk)):
             s0 = blk * LANES
             crba_block(BI, BF, Q, M, s0, min(LANES, n - s0), W, S, stream)
@@ -1133,7 +1194,7 @@ def aba_block(BI, BF, G, Q, QD, TAU, FEXT, gravity, QDD, s0, count, W):  # pragm
     nb = BI.shape[0] // NBI
     nq = Q.shape[1]
     nv = QDD.shape[1]
-    _n, q, qd, tau, fx, qdd, sc = _rows(WS_ABA, nb, nq, nv)
+    _n, q, qd, tau, fx, qdd, sc, _e = _rows(WS_ABA, nb, nq, nv, 0)
     bad = sc + 2
     _gather(Q, s0, count, W, q)
     _gather(QD, s0, count, W, qd)
@@ -1330,12 +1391,12 @@ def aba_lanes(BI, BF, G, Q, QD, TAU, FEXT, gravity, QDD, threads):  # pragma: no
     first singular state (the same as :func:`._kernels.aba_batch`)."""
     n = QDD.shape[0]
     nb = BI.shape[0] // NBI
-    rows = _rows(WS_ABA, nb, Q.shape[1], QDD.shape[1])[0]
+    rows = _rows(WS_ABA, nb, Q.shape[1], QDD.shape[1], 0)[0]
     nblk = (n + LANES - 1) // LANES
     nt, chunk = _chunks(nblk, threads)
     status = np.full(nt, -1, dtype=np.int64)
     for t in prange(nt):
-        W = np.empty(rows * LANES)
+        W = _aligned_empty(rows * LANES)
         for blk in range(t * chunk, min(nblk, (t + 1) * chunk)):
             s0 = blk * LANES
             bad = aba_block(BI, BF, G, Q, QD, TAU, FEXT, gravity, QDD, s0, min(LANES, n - s0), W)
