@@ -28,6 +28,20 @@ A block reads its states' inputs into rows of the workspace (a broadcast input
 of length 1 fills every lane), and writes its lanes back into the output rows.
 The last block of a batch whose length is not a multiple of ``LANES`` is padded
 with copies of the batch's last state, whose results are computed and dropped.
+ABA flags, lane by lane, the first joint whose pivot is singular (where the
+scalar core returns) and computes on; the block reports its first flagged state.
+
+CRBA's output is the bulk of its memory traffic (`nv²` entries a state): the
+entries are stored as lane rows (one vector store each, into rows zeroed once
+per thread — the tree fixes which entries are written), transposed by
+``LANES × LANES`` shuffles into a state-major scratch, and copied out, with
+non-temporal stores for large batches. (Scattering each vector's lanes straight
+into the output took eight extracts and stores per entry: slower, and 30 %
+slower still when loaded from Numba's disk cache than freshly compiled.)
+
+``LANES = 8`` (one AVX-512 register; two AVX2 registers where there is no
+AVX-512): measured against 4 and 16 on panda, solo12 and talos, 8 was fastest
+or within noise for all three algorithms.
 """
 
 from __future__ import annotations
@@ -1013,10 +1027,10 @@ def _crba_extra(nv):  # pragma: no cover - compiled
 def crba_block(BI, BF, Q, M, s0, count, W, S, stream):  # pragma: no cover - compiled
     """:func:`._kernels.crba_core` on the states ``s0 … s0 + count − 1`` (``count ≤ LANES``) in lanes.
 
-    The entries of ``M`` are assembled in lane rows of ``W`` (row ``r nv + c`` of the region :func:`_crba_rows`
-    gives; the entries written are the same for every state, so the caller zeroes the region once), transposed
-    tile by tile into ``S`` (`(LANES nv² + LANES,)`, state-major) and copied to ``M`` (with ``stream``, by
-    non-temporal stores).
+    The entries of ``M`` are assembled in lane rows of ``W`` (entry ``(r, c)`` in row ``r nv + c`` of the
+    :func:`_crba_extra` rows at the end of the workspace; the entries written are the same for every state, so
+    the caller zeroes these rows once), transposed tile by tile into ``S`` (`(LANES nv² + LANES,)`,
+    state-major) and copied to ``M`` (with ``stream``, by non-temporal stores).
     """
     nb = BI.shape[0] // NBI
     nq = Q.shape[1]
