@@ -20,6 +20,7 @@ from ..errors import SingularMassMatrixError
 from ..model import Model
 from ..spatial_algebra import PluckerTransform, SpatialMotion
 from . import _kernels as _k
+from . import _lanes as _ln
 from . import _layout as _lay
 from ._layout import LOCAL_CODE, LWA_CODE, WORLD_CODE, ModelArrays, model_arrays, workspace_size
 
@@ -125,8 +126,8 @@ def rnea(model: Model, q: np.ndarray, v: np.ndarray, a: np.ndarray, fext: np.nda
     FX = np.zeros((1, 0, 6)) if fext is None else _rows(fext, "f_ext", batch, 2)
     result = _batch_out(out, batch + (md.nv,))
     TAU = result.reshape((math.prod(batch), md.nv))
-    _k.rnea_batch(md.BI, md.BF, md.G, _rows(q, "q", batch, 1), _rows(v, "v", batch, 1), _rows(a, "a", batch, 1),
-                 FX, bool(gravity), TAU, workspace_size(_lay.WS_RNEA, md.nb), _threads())
+    _ln.rnea_lanes(md.BI, md.BF, md.G, _rows(q, "q", batch, 1), _rows(v, "v", batch, 1), _rows(a, "a", batch, 1),
+                   FX, bool(gravity), TAU, _threads())
     return _out(result, dtype)
 
 
@@ -140,7 +141,7 @@ def crba(model: Model, q: np.ndarray, dtype: np.dtype, out: np.ndarray | None = 
         return _out(M, dtype)
     result = _batch_out(out, batch + (md.nv, md.nv))
     M = result.reshape((math.prod(batch), md.nv, md.nv))
-    _k.crba_batch(md.BI, md.BF, _rows(q, "q", batch, 1), M, workspace_size(_lay.WS_CRBA, md.nb), _threads())
+    _ln.crba_lanes(md.BI, md.BF, _rows(q, "q", batch, 1), M, _threads())
     return _out(result, dtype)
 
 
@@ -176,9 +177,8 @@ def aba(model: Model, q: np.ndarray, v: np.ndarray, tau: np.ndarray, fext: np.nd
     FX = np.zeros((1, 0, 6)) if fext is None else _rows(fext, "f_ext", batch, 2)
     result = _batch_out(out, batch + (md.nv,))
     QDD = result.reshape((math.prod(batch), md.nv))
-    bad = _k.aba_batch(md.BI, md.BF, md.G, _rows(q, "q", batch, 1), _rows(v, "v", batch, 1),
-                      _rows(tau, "tau", batch, 1), FX, bool(gravity), QDD, workspace_size(_lay.WS_ABA, md.nb),
-                      _threads())
+    bad = _ln.aba_lanes(md.BI, md.BF, md.G, _rows(q, "q", batch, 1), _rows(v, "v", batch, 1),
+                        _rows(tau, "tau", batch, 1), FX, bool(gravity), QDD, _threads())
     if bad >= 0:
         state, joint = divmod(int(bad), max(md.nb, 1))
         raise _singular(model, joint, tuple(int(i) for i in np.unravel_index(state, batch)))
