@@ -97,7 +97,7 @@ def _scalar_crba(md, Q, n):  # type: ignore[no-untyped-def]
 
 
 def _scalar_aba(md, Q, V, T, FX, gravity, n):  # type: ignore[no-untyped-def]
-    """``aba_core`` state by state, and the status ``kernels.aba_batch`` returns: ``state · nb + joint`` of the
+    """``aba_core`` state by state, and the status a batched ABA must return: ``state · nb + joint`` of the
     first singular state, or ``-1``."""
     out = np.empty((n, md.nv))
     W = np.empty(lay.workspace_size(lay.WS_ABA, md.nb))

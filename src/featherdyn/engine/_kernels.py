@@ -1079,48 +1079,6 @@ def fk_batch(BI, BF, Q, QD, QDD, OM, PM, VEL, ACC, wsize, threads):  # pragma: n
 
 
 @njit(**_PJIT)
-def rnea_batch(BI, BF, G, Q, QD, QDD, FEXT, gravity, TAU, wsize, threads):  # pragma: no cover - compiled
-    """:func:`rnea_core` over rows: ``FEXT`` `(N or 1, nb, 6)` or `(1, 0, 6)`, ``TAU`` `(N, nv)`."""
-    n = TAU.shape[0]
-    nt, chunk = _chunks(n, threads)
-    for t in prange(nt):
-        W = np.empty(wsize)
-        for s in range(t * chunk, min(n, (t + 1) * chunk)):
-            rnea_core(BI, BF, G, _row(Q, s), _row(QD, s), _row(QDD, s), _row(FEXT, s), gravity, TAU[s], W)
-
-
-@njit(**_PJIT)
-def crba_batch(BI, BF, Q, M, wsize, threads):  # pragma: no cover - compiled
-    """:func:`crba_core` over rows: ``M`` `(N, nv, nv)`."""
-    n = M.shape[0]
-    nt, chunk = _chunks(n, threads)
-    for t in prange(nt):
-        W = np.empty(wsize)
-        for s in range(t * chunk, min(n, (t + 1) * chunk)):
-            crba_core(BI, BF, _row(Q, s), M[s], W)
-
-
-@njit(**_PJIT)
-def aba_batch(BI, BF, G, Q, QD, TAU, FEXT, gravity, QDD, wsize, threads):  # pragma: no cover - compiled
-    """:func:`aba_core` over rows; returns ``-1`` or ``state · nb + joint`` of a singular case."""
-    n = QDD.shape[0]
-    nb = BI.shape[0] // NBI
-    nt, chunk = _chunks(n, threads)
-    status = np.full(nt, -1, dtype=np.int64)
-    for t in prange(nt):
-        W = np.empty(wsize)
-        for s in range(t * chunk, min(n, (t + 1) * chunk)):
-            bad = aba_core(BI, BF, G, _row(Q, s), _row(QD, s), _row(TAU, s), _row(FEXT, s), gravity, QDD[s], W)
-            if bad >= 0:
-                status[t] = s * nb + bad
-                break
-    for t in range(nt):
-        if status[t] >= 0:
-            return status[t]
-    return -1
-
-
-@njit(**_PJIT)
 def frame_jacobian_batch(BI, BF, Q, body, FR, fo, ref, J, wsize, threads):  # pragma: no cover - compiled
     """:func:`frame_jacobian_core` over rows: ``J`` `(N, 6, nv)`."""
     n = J.shape[0]

@@ -978,7 +978,8 @@ def rnea_block(BI, BF, G, Q, QD, QDD, FEXT, gravity, TAU, s0, count, W):  # prag
 
 @njit(**_PJIT)
 def rnea_lanes(BI, BF, G, Q, QD, QDD, FEXT, gravity, TAU, threads):  # pragma: no cover - compiled
-    """:func:`._kernels.rnea_batch` in blocks of ``LANES`` states."""
+    """:func:`._kernels.rnea_core` over the rows of `(N or 1, ·)` inputs (``FEXT`` `(N or 1, nb, 6)` or
+    `(1, 0, 6)`), into ``TAU`` `(N, nv)`, in blocks of ``LANES`` states, one chunk of blocks per thread."""
     n = TAU.shape[0]
     nb = BI.shape[0] // NBI
     rows = _rows(WS_RNEA, nb, Q.shape[1], TAU.shape[1], 0)[0]
@@ -1128,7 +1129,7 @@ def crba_block(BI, BF, Q, M, s0, count, W, S, stream):  # pragma: no cover - com
 
 @njit(**_PJIT)
 def crba_lanes(BI, BF, Q, M, threads):  # pragma: no cover - compiled
-    """:func:`._kernels.crba_batch` in blocks of ``LANES`` states."""
+    """:func:`._kernels.crba_core` over the rows of ``Q``, into ``M`` `(N, nv, nv)`, in blocks of ``LANES`` states."""
     n = M.shape[0]
     nb = BI.shape[0] // NBI
     nv = M.shape[1]
@@ -1401,8 +1402,8 @@ def aba_block(BI, BF, G, Q, QD, TAU, FEXT, gravity, QDD, s0, count, W):  # pragm
 
 @njit(**_PJIT)
 def aba_lanes(BI, BF, G, Q, QD, TAU, FEXT, gravity, QDD, threads):  # pragma: no cover - compiled
-    """:func:`._kernels.aba_batch` in blocks of ``LANES`` states; returns ``-1`` or ``state · nb + joint`` of the
-    first singular state (the same as :func:`._kernels.aba_batch`)."""
+    """:func:`._kernels.aba_core` over rows, in blocks of ``LANES`` states; returns ``-1`` or
+    ``state · nb + joint`` of the first singular state (where the per-state core would stop)."""
     n = QDD.shape[0]
     nb = BI.shape[0] // NBI
     rows = _rows(WS_ABA, nb, Q.shape[1], QDD.shape[1], 0)[0]
