@@ -628,6 +628,43 @@ def rnea_core(BI, BF, G, q, qd, qdd, fext, gravity, tau, W):  # pragma: no cover
             _force_to_parent(W, X_up + 12 * i, fi, f + 6 * lam, True)
 
 
+@njit(**_JIT)
+def gravity_core(BI, BF, G, q, tau, W):  # pragma: no cover - compiled
+    """Generalized gravity ``g(q)`` of one state into ``tau`` `(nv,)`: :func:`rnea_core` with ``q̇ = q̈ = 0``.
+
+    With no velocity the velocity-product terms vanish, so only the
+    accelerations of gravity (entered as the base acceleration ``a₀ = −g``)
+    travel out and the forces travel back::
+
+        a_i = X_up[i] a_λ(i),   f_i = I_i a_i,   g_i = S_iᵀ f_i,   f_λ(i) += X_up[i]ᵀ f_i
+
+    Every skipped term of :func:`rnea_core` is an exact zero, so the results
+    are the same numbers (up to the sign of zeros).
+    W: workspace `(WS_RNEA nb + WS_TAIL,)`.
+    """
+    nb = BI.shape[0] // NBI
+    X_up = 0
+    a = 18 * nb
+    f = 24 * nb
+    a0 = 30 * nb + 18
+    W[a0], W[a0 + 1], W[a0 + 2] = 0.0, 0.0, 0.0
+    W[a0 + 3], W[a0 + 4], W[a0 + 5] = -G[0], -G[1], -G[2]
+    for i in range(nb):
+        lam = BI[NBI * i + PARENT]
+        Xi = X_up + 12 * i
+        _pose_in_parent(BI, BF, i, q, W, Xi)
+        _motion_to_child(W, Xi, a0 if lam == -1 else a + 6 * lam, a + 6 * i)
+        _inertia_times(BF, NBF * i + MASS, W, a + 6 * i, f + 6 * i)
+    for i in range(nb - 1, -1, -1):
+        lam = BI[NBI * i + PARENT]
+        iv = BI[NBI * i + IV]
+        fi = f + 6 * i
+        for c in range(BI[NBI * i + NV]):
+            tau[iv + c] = _St_dot(BI, BF, i, c, W, fi)
+        if lam != -1:
+            _force_to_parent(W, X_up + 12 * i, fi, f + 6 * lam, True)
+
+
 # ---------------------------------------------------------------------------
 # CRBA
 # ---------------------------------------------------------------------------
@@ -1159,13 +1196,10 @@ def entry_nle(MD, q, v, h):  # pragma: no cover - compiled
 @njit(**_JIT)
 def entry_gravity(MD, q, g):  # pragma: no cover - compiled
     """``g`` `(nv,)` ← RNEA(q, 0, 0)."""
-    BI, BF, G, _FB, _FR, W, nb, nq, nv = _unpack(MD, WS_RNEA)
+    BI, BF, G, _FB, _FR, W, _nb, nq, nv = _unpack(MD, WS_RNEA)
     if q.shape[0] != nq or g.shape[0] != nv:
         raise ValueError("gravity: wrong length of q or out")
-    z = WS_RNEA * nb + WS_TAIL
-    zero = W[z : z + nv]
-    zero[:] = 0.0
-    rnea_core(BI, BF, G, q, zero, zero, W[:0].reshape((0, 6)), True, g, W)
+    gravity_core(BI, BF, G, q, g, W)
 
 
 @njit(**_JIT)
@@ -1309,14 +1343,11 @@ def checked_nle(MD, q, v, h):  # pragma: no cover - compiled
 @njit(**_GJIT)
 def checked_gravity(MD, q, g):  # pragma: no cover - compiled
     """``g`` ← RNEA(q, 0, 0) if ``q`` is valid; returns the status."""
-    BI, BF, G, _FB, _FR, W, nb, nq, nv = _unpack(MD, WS_RNEA)
+    BI, BF, G, _FB, _FR, W, _nb, nq, nv = _unpack(MD, WS_RNEA)
     st = _check_q(BI, q, nq)
     if st != OK or g.shape[0] != nv:
         return max(st, BAD_LENGTH)
-    z = WS_RNEA * nb + WS_TAIL
-    zero = W[z : z + nv]
-    zero[:] = 0.0
-    rnea_core(BI, BF, G, q, zero, zero, W[:0].reshape((0, 6)), True, g, W)
+    gravity_core(BI, BF, G, q, g, W)
     return OK
 
 
