@@ -91,10 +91,6 @@ def _to_reference(cols_world: np.ndarray, oMf: PluckerTransform, ref: ReferenceF
     return np.concatenate([(R @ local[..., :3, None])[..., 0], (R @ local[..., 3:, None])[..., 0]], axis=-1)
 
 
-#: the reference-frame codes of the compiled Jacobian kernel (engine/_layout.py)
-_REF_CODES = {LOCAL: 0, WORLD: 1, LOCAL_WORLD_ALIGNED: 2}
-
-
 def frame_jacobian(model: Model, q: Any, frame: Any, reference: Any = LOCAL, *,
                    backend: str | None = None) -> np.ndarray:
     """The geometric Jacobian of a frame, `(..., 6, nv)`, rows ``[ω; v]`` (``getFrameJacobian``).
@@ -108,7 +104,9 @@ def frame_jacobian(model: Model, q: Any, frame: Any, reference: Any = LOCAL, *,
         except AttributeError:
             fast = _fast.attach(model)
         if fast is not None:
-            ref_code = _REF_CODES.get(reference, -1)
+            # identity tests: an Enum's __hash__ runs in Python, a dict lookup would cost more
+            ref_code = (0 if reference is LOCAL else 1 if reference is WORLD
+                        else 2 if reference is LOCAL_WORLD_ALIGNED else -1)
             fid_ = fast.frames.get(frame, -1) if frame.__class__ is str else frame
             if ref_code >= 0 and fid_.__class__ is int:
                 J_ = _fast._EMPTY(fast.shape_J)
