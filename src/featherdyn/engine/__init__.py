@@ -8,11 +8,18 @@ this package computes the same quantities fast:
   parameters, ``idx_q`` / ``idx_v``);
 * :mod:`._kernels` holds generic kernels over those arrays — one *core* per
   algorithm computing one state (FK, RNEA with ``f_ext`` and a gravity flag,
-  CRBA, ABA, frame Jacobian), and a *batched* form running the core over
-  states with ``prange``, one workspace per thread. They are compiled on first
-  use and cached on disk by Numba (``cache=True``), once for every model;
-* :mod:`._dispatch` is what ``fd.rnea`` & co. call for float64 input (or with
-  ``backend="compiled"``) after the reference's input checks;
+  gravity, CRBA, ABA, frame Jacobian, frame placement), *checked* entry points
+  that validate one state inside the kernel, and batched FK / Jacobian forms
+  running a core over states with ``prange``. They are compiled on first use
+  and cached on disk by Numba (``cache=True``), once for every model;
+* :mod:`._lanes` runs batched RNEA, CRBA and ABA eight states at a time in
+  SIMD lanes, bit-identical per state to the scalar cores;
+* :mod:`._fast` is the one-state fast path of ``fd.rnea`` & co.: a call with
+  one float64 state goes straight to a checked kernel, and anything the kernel
+  refuses (other types, batches, a bad state) takes the general path;
+* :mod:`._dispatch` is the general path for float64 input (or with
+  ``backend="compiled"``), after the reference's input checks: batches,
+  broadcasting, conversions;
 * :func:`compile_model` (``fd.compile``) binds the kernels to one model for
   control loops: the model's arrays and a workspace travel as *one* argument,
   so a call costs little more than Numba's dispatch of the state arrays.
@@ -20,8 +27,8 @@ this package computes the same quantities fast:
 Nothing is compiled per model: a per-model specialisation (the arrays baked
 into generated, disk-cached code) was measured at 4–6 s of compilation per
 model for a saving of ~0.08 µs per call, so the kernels stay generic and are
-compiled once per machine (Numba's cache; about a minute the very first time,
-then ~1 s to load). Importing :mod:`featherdyn` compiles nothing and does not
+compiled once per machine (Numba's cache; a few minutes the very first time,
+then ~0.5 s to load in a new process, most of it Numba's own start-up). Importing :mod:`featherdyn` compiles nothing and does not
 import Numba; this package is imported on the first compiled call.
 """
 
