@@ -223,3 +223,19 @@ def test_fast_frame_placement(name: str) -> None:
                      (1.5, st.q)]:
         assert _error(lambda f=frame, x=q: fd.frame_placement(model, x, f)) == \
             _error(lambda f=frame, x=q: fd.frame_placement(model, x, f, backend="reference"))
+
+
+def test_exotic_arrays_are_computed_correctly() -> None:
+    """Big-endian, unaligned and subclassed float64 arrays: whichever path takes them, the numbers are right."""
+    model = tree("free_chain")
+    st = random_state(model, 10)
+    expected_tau = fd.rnea(model, st.q, st.v, st.a, backend="reference")
+    expected_M = fd.crba(model, st.q, backend="reference")
+    buf = np.zeros(model.nq * 8 + 1, np.uint8)
+    unaligned = buf[1:].view(np.float64)
+    unaligned[:] = st.q
+    assert not unaligned.flags.aligned
+    subclass = st.q.view(type("Sub", (np.ndarray,), {}))
+    for q in (st.q.astype(">f8"), unaligned, subclass):
+        assert np.allclose(fd.rnea(model, q, st.v, st.a), expected_tau, rtol=1e-12, atol=1e-12)
+        assert np.allclose(fd.crba(model, q), expected_M, rtol=1e-12, atol=1e-12)
