@@ -239,3 +239,16 @@ def test_exotic_arrays_are_computed_correctly() -> None:
     for q in (st.q.astype(">f8"), unaligned, subclass):
         assert np.allclose(fd.rnea(model, q, st.v, st.a), expected_tau, rtol=1e-12, atol=1e-12)
         assert np.allclose(fd.crba(model, q), expected_M, rtol=1e-12, atol=1e-12)
+
+
+def test_objects_numba_cannot_type_get_the_reference_errors() -> None:
+    """An empty list makes Numba's dispatch raise ValueError (not TypeError): still the reference's error."""
+    model = tree("free_chain")
+    st = random_state(model, 11)
+    for bad in ([], {}, set(), object(), (), [[]], b""):
+        for call in (lambda x: fd.rnea(model, x, st.v, st.a), lambda x: fd.crba(model, x),
+                     lambda x: fd.aba(model, st.q, x, st.tau), lambda x: fd.generalized_gravity(model, x),
+                     lambda x: fd.frame_jacobian(model, x, 0), lambda x: fd.frame_placement(model, x, 0),
+                     lambda x: fd.forward_kinematics(model, x), lambda x: fd.nonlinear_effects(model, st.q, x)):
+            with pytest.raises(fd.FeatherdynError):
+                call(bad)

@@ -83,7 +83,7 @@ def aba(model: Model, q: Any, v: Any, tau: Any, f_ext: Any = None, *, gravity: b
             qdd_ = _fast._EMPTY(fast.nv)
             try:
                 bad = fast.aba(fast.MD, q, v, tau, gravity, qdd_)
-            except TypeError:
+            except (TypeError, ValueError):  # Numba refuses the argument types
                 bad = -2
             if bad == -1:
                 return qdd_

@@ -53,7 +53,7 @@ def crba(model: Model, q: Any, *, backend: str | None = None) -> np.ndarray:
             try:
                 if fast.crba(fast.MD, q, M) == 0:
                     return M
-            except TypeError:
+            except (TypeError, ValueError):  # Numba refuses the argument types
                 pass
     st = check_state(model, q)
     if select_backend(backend, st.dtype) == "compiled":

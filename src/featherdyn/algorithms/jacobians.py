@@ -113,7 +113,7 @@ def frame_jacobian(model: Model, q: Any, frame: Any, reference: Any = LOCAL, *,
                 try:
                     if fast.frame_jacobian(fast.MD, q, fid_, ref_code, J_) == 0:
                         return J_
-                except TypeError:
+                except (TypeError, ValueError):  # Numba refuses the argument types
                     pass
     fid = resolve_frame(model, frame)
     ref = as_reference_frame(reference)

@@ -73,7 +73,7 @@ def _fast_kinematics(fast: Any, q: Any, v: Any, a: Any) -> Kinematics | None:
     try:
         status = fast.fk(fast.MD, q, _fast.NO_VECTOR if v is None else v, _fast.NO_VECTOR if a is None else a,
                          H, vel, acc)
-    except TypeError:
+    except (TypeError, ValueError):  # Numba refuses the argument types
         return None
     if status != 0:
         return None
@@ -192,7 +192,7 @@ def frame_placement(model: Model, q: Any, frame: Any, *, backend: str | None = N
                 pose = _fast._EMPTY(12)
                 try:
                     status = fast.frame_placement(fast.MD, q, fid_, pose)
-                except TypeError:
+                except (TypeError, ValueError):  # Numba refuses the argument types
                     status = -1
                 if status == 0:
                     return PluckerTransform._wrap(pose[:9].reshape(3, 3), pose[9:], None, None)

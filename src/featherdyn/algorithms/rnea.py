@@ -76,7 +76,7 @@ def rnea(model: Model, q: Any, v: Any, a: Any, f_ext: Any = None, *, gravity: bo
             try:
                 if fast.rnea(fast.MD, q, v, a, gravity, tau) == 0:
                     return tau
-            except TypeError:
+            except (TypeError, ValueError):  # Numba refuses the argument types
                 pass
     fx = _f_ext(model, f_ext)
     st = check_state(model, q, v=v, a=a)
@@ -131,7 +131,7 @@ def nonlinear_effects(model: Model, q: Any, v: Any, *, backend: str | None = Non
             try:
                 if fast.nle(fast.MD, q, v, h) == 0:
                     return h
-            except TypeError:
+            except (TypeError, ValueError):  # Numba refuses the argument types
                 pass
     st = check_state(model, q, v=v)
     zero = np.zeros(st.arrays["v"].shape, dtype=st.arrays["v"].dtype)
@@ -153,7 +153,7 @@ def generalized_gravity(model: Model, q: Any, *, backend: str | None = None) -> 
             try:
                 if fast.gravity(fast.MD, q, g) == 0:
                     return g
-            except TypeError:
+            except (TypeError, ValueError):  # Numba refuses the argument types
                 pass
     st = check_state(model, q)
     zero = np.zeros(st.q.shape[:-1] + (model.nv,), dtype=st.dtype)
