@@ -73,22 +73,18 @@ def aba(model: Model, q: Any, v: Any, tau: Any, f_ext: Any = None, *, gravity: b
     Raises:
         SingularMassMatrixError: naming the joint, when ``M(q)`` is singular.
     """
-    if backend is None and f_ext is None and _fast.ON:
-        # one float64 state: the checked kernel validates and computes (see engine/_fast.py)
+    fast = _fast.path(model, backend)
+    # one float64 state: the checked kernel validates and computes (see engine/_fast.py)
+    if fast is not None and f_ext is None:
+        qdd_ = _fast._EMPTY(fast.nv)
         try:
-            fast = model._fast
-        except AttributeError:
-            fast = _fast.attach(model)
-        if fast is not None:
-            qdd_ = _fast._EMPTY(fast.nv)
-            try:
-                bad = fast.aba(fast.MD, q, v, tau, gravity, qdd_)
-            except (TypeError, ValueError):  # Numba refuses the argument types
-                bad = -2
-            if bad == -1:
-                return qdd_
-            if bad >= 0:
-                raise SingularMassMatrixError(fast.singular[bad])
+            bad = fast.aba(fast.MD, q, v, tau, gravity, qdd_)
+        except (TypeError, ValueError):  # Numba refuses the argument types
+            bad = -2
+        if bad == -1:
+            return qdd_
+        if bad >= 0:
+            raise SingularMassMatrixError(fast.singular[bad])
     fx = _f_ext(model, f_ext)
     st = check_state(model, q, v=v, tau=tau)
     dtype = st.dtype if fx is None else result_dtype(np.empty(0, st.dtype), fx)

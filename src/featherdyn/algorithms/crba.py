@@ -42,19 +42,15 @@ def crba(model: Model, q: Any, *, backend: str | None = None) -> np.ndarray:
 
         T = ½ q̇ᵀ M(q) q̇,    M_ij = S_iᵀ ⁱX_j^* I^C_j S_j   (j in the subtree of i)
     """
-    if backend is None and _fast.ON:
-        # one float64 configuration: the checked kernel validates and computes (see engine/_fast.py)
+    fast = _fast.path(model, backend)
+    # one float64 configuration: the checked kernel validates and computes (see engine/_fast.py)
+    if fast is not None:
+        M = _fast._EMPTY(fast.shape_M)
         try:
-            fast = model._fast
-        except AttributeError:
-            fast = _fast.attach(model)
-        if fast is not None:
-            M = _fast._EMPTY(fast.shape_M)
-            try:
-                if fast.crba(fast.MD, q, M) == 0:
-                    return M
-            except (TypeError, ValueError):  # Numba refuses the argument types
-                pass
+            if fast.crba(fast.MD, q, M) == 0:
+                return M
+        except (TypeError, ValueError):  # Numba refuses the argument types
+            pass
     st = check_state(model, q)
     if select_backend(backend, st.dtype) == "compiled":
         from ..engine import _dispatch

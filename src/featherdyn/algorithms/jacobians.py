@@ -97,24 +97,20 @@ def frame_jacobian(model: Model, q: Any, frame: Any, reference: Any = LOCAL, *,
 
     ``frame_velocity(model, q, v, frame, reference) = J @ v``.
     """
-    if backend is None and _fast.ON:
-        # one float64 configuration: the checked kernel validates and computes (see engine/_fast.py)
-        try:
-            fast = model._fast
-        except AttributeError:
-            fast = _fast.attach(model)
-        if fast is not None:
-            # identity tests: an Enum's __hash__ runs in Python, a dict lookup would cost more
-            ref_code = (0 if reference is LOCAL else 1 if reference is WORLD
-                        else 2 if reference is LOCAL_WORLD_ALIGNED else -1)
-            fid_ = fast.frames.get(frame, -1) if frame.__class__ is str else frame
-            if ref_code >= 0 and fid_.__class__ is int:
-                J_ = _fast._EMPTY(fast.shape_J)
-                try:
-                    if fast.frame_jacobian(fast.MD, q, fid_, ref_code, J_) == 0:
-                        return J_
-                except (TypeError, ValueError):  # Numba refuses the argument types
-                    pass
+    fast = _fast.path(model, backend)
+    # one float64 configuration: the checked kernel validates and computes (see engine/_fast.py)
+    if fast is not None:
+        # identity tests: an Enum's __hash__ runs in Python, a dict lookup would cost more
+        ref_code = (0 if reference is LOCAL else 1 if reference is WORLD
+                    else 2 if reference is LOCAL_WORLD_ALIGNED else -1)
+        fid_ = fast.frames.get(frame, -1) if frame.__class__ is str else frame
+        if ref_code >= 0 and fid_.__class__ is int:
+            J_ = _fast._EMPTY(fast.shape_J)
+            try:
+                if fast.frame_jacobian(fast.MD, q, fid_, ref_code, J_) == 0:
+                    return J_
+            except (TypeError, ValueError):  # Numba refuses the argument types
+                pass
     fid = resolve_frame(model, frame)
     ref = as_reference_frame(reference)
     st = check_state(model, q)

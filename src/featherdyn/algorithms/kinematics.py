@@ -99,16 +99,12 @@ def forward_kinematics(model: Model, q: Any, v: Any = None, a: Any = None, *, ba
         :class:`Kinematics`; see the module docstring for the recursion.
         Gravity is *not* included in the accelerations.
     """
-    if backend is None and _fast.ON and (v is not None or a is None):
-        # one float64 state: the checked kernel validates and computes (see engine/_fast.py)
-        try:
-            fast = model._fast
-        except AttributeError:
-            fast = _fast.attach(model)
-        if fast is not None and fast.fk is not None:
-            kin = _fast_kinematics(fast, q, v, a)
-            if kin is not None:
-                return kin
+    fast = _fast.path(model, backend)
+    # one float64 state: the checked kernel validates and computes (see engine/_fast.py)
+    if fast is not None and (v is not None or a is None) and fast.fk is not None:
+        kin = _fast_kinematics(fast, q, v, a)
+        if kin is not None:
+            return kin
     if a is not None and v is None:
         raise ShapeError("a: joint accelerations need joint velocities v as well")
     st = check_state(model, q, v=v, a=a)
@@ -180,22 +176,18 @@ def frame_placement(model: Model, q: Any, frame: Any, *, backend: str | None = N
 
         ⁰M_f = ⁰M_body(f) · placement_f
     """
-    if backend is None and _fast.ON:
-        # one float64 configuration: the checked kernel walks the frame's support (see engine/_fast.py)
-        try:
-            fast = model._fast
-        except AttributeError:
-            fast = _fast.attach(model)
-        if fast is not None:
-            fid_ = fast.frames.get(frame, -1) if frame.__class__ is str else frame
-            if fid_.__class__ is int:
-                pose = _fast._EMPTY(12)
-                try:
-                    status = fast.frame_placement(fast.MD, q, fid_, pose)
-                except (TypeError, ValueError):  # Numba refuses the argument types
-                    status = -1
-                if status == 0:
-                    return PluckerTransform._wrap(pose[:9].reshape(3, 3), pose[9:], None, None)
+    fast = _fast.path(model, backend)
+    # one float64 configuration: the checked kernel walks the frame's support (see engine/_fast.py)
+    if fast is not None:
+        fid_ = fast.frames.get(frame, -1) if frame.__class__ is str else frame
+        if fid_.__class__ is int:
+            pose = _fast._EMPTY(12)
+            try:
+                status = fast.frame_placement(fast.MD, q, fid_, pose)
+            except (TypeError, ValueError):  # Numba refuses the argument types
+                status = -1
+            if status == 0:
+                return PluckerTransform._wrap(pose[:9].reshape(3, 3), pose[9:], None, None)
     fid = resolve_frame(model, frame)
     return _frame_pose(model, forward_kinematics(model, q, backend=backend), fid)
 

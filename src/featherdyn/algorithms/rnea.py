@@ -65,19 +65,15 @@ def rnea(model: Model, q: Any, v: Any, a: Any, f_ext: Any = None, *, gravity: bo
 
         τ = M(q) q̈ + C(q, q̇) q̇ + g(q) − Σ_i J_iᵀ f_i^ext
     """
-    if backend is None and f_ext is None and _fast.ON:
-        # one float64 state: the checked kernel validates and computes (see engine/_fast.py)
+    fast = _fast.path(model, backend)
+    # one float64 state: the checked kernel validates and computes (see engine/_fast.py)
+    if fast is not None and f_ext is None:
+        tau = _fast._EMPTY(fast.nv)
         try:
-            fast = model._fast
-        except AttributeError:
-            fast = _fast.attach(model)
-        if fast is not None:
-            tau = _fast._EMPTY(fast.nv)
-            try:
-                if fast.rnea(fast.MD, q, v, a, gravity, tau) == 0:
-                    return tau
-            except (TypeError, ValueError):  # Numba refuses the argument types
-                pass
+            if fast.rnea(fast.MD, q, v, a, gravity, tau) == 0:
+                return tau
+        except (TypeError, ValueError):  # Numba refuses the argument types
+            pass
     fx = _f_ext(model, f_ext)
     st = check_state(model, q, v=v, a=a)
     dtype = st.dtype if fx is None else result_dtype(np.empty(0, st.dtype), fx)
@@ -121,18 +117,14 @@ def nonlinear_effects(model: Model, q: Any, v: Any, *, backend: str | None = Non
 
         h(q, q̇) = C(q, q̇) q̇ + g(q) = RNEA(q, q̇, 0)
     """
-    if backend is None and _fast.ON:
+    fast = _fast.path(model, backend)
+    if fast is not None:
+        h = _fast._EMPTY(fast.nv)
         try:
-            fast = model._fast
-        except AttributeError:
-            fast = _fast.attach(model)
-        if fast is not None:
-            h = _fast._EMPTY(fast.nv)
-            try:
-                if fast.nle(fast.MD, q, v, h) == 0:
-                    return h
-            except (TypeError, ValueError):  # Numba refuses the argument types
-                pass
+            if fast.nle(fast.MD, q, v, h) == 0:
+                return h
+        except (TypeError, ValueError):  # Numba refuses the argument types
+            pass
     st = check_state(model, q, v=v)
     zero = np.zeros(st.arrays["v"].shape, dtype=st.arrays["v"].dtype)
     return rnea(model, st.q, st.arrays["v"], zero, backend=backend)
@@ -143,18 +135,14 @@ def generalized_gravity(model: Model, q: Any, *, backend: str | None = None) -> 
 
         g(q) = RNEA(q, 0, 0)
     """
-    if backend is None and _fast.ON:
+    fast = _fast.path(model, backend)
+    if fast is not None:
+        g = _fast._EMPTY(fast.nv)
         try:
-            fast = model._fast
-        except AttributeError:
-            fast = _fast.attach(model)
-        if fast is not None:
-            g = _fast._EMPTY(fast.nv)
-            try:
-                if fast.gravity(fast.MD, q, g) == 0:
-                    return g
-            except (TypeError, ValueError):  # Numba refuses the argument types
-                pass
+            if fast.gravity(fast.MD, q, g) == 0:
+                return g
+        except (TypeError, ValueError):  # Numba refuses the argument types
+            pass
     st = check_state(model, q)
     zero = np.zeros(st.q.shape[:-1] + (model.nv,), dtype=st.dtype)
     return rnea(model, st.q, zero, zero, backend=backend)

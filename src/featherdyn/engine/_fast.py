@@ -28,7 +28,7 @@ import numpy as np
 
 from ..model import Model
 
-__all__ = ["FastPath", "attach", "set_default_backend", "default_backend"]
+__all__ = ["FastPath", "attach", "path", "set_default_backend", "default_backend"]
 
 #: the default backend (see :func:`set_default_backend`); ``$FEATHERDYN_BACKEND=reference`` at import
 _STATE: dict[str, Any] = {"backend": "reference" if os.environ.get("FEATHERDYN_BACKEND") == "reference" else None}
@@ -103,6 +103,20 @@ def attach(model: Any) -> FastPath | None:
             fast = None
     object.__setattr__(model, "_fast", fast)
     return fast
+
+
+def path(model: Any, backend: str | None) -> FastPath | None:
+    """The fast path a public function takes for ``model`` and ``backend=``, or ``None`` (its general path).
+
+    ``None`` also when the default backend is the reference, ``model`` is not a
+    :class:`~featherdyn.Model`, or the engine is not available.
+    """
+    if backend is None and ON:
+        try:
+            return model._fast
+        except AttributeError:
+            return attach(model)
+    return None
 
 
 def set_default_backend(backend: str | None) -> None:

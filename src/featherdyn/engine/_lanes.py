@@ -931,12 +931,8 @@ def rnea_block(BI, BF, G, Q, QD, QDD, FEXT, gravity, TAU, s0, count, W):  # prag
     _st(W, a0 + 4, -g * G[1])
     _st(W, a0 + 5, -g * G[2])
     has_fext = FEXT.shape[1] > 0
-    if has_fext:
-        for s in range(LANES):
-            r = 0 if FEXT.shape[0] == 1 else s0 + (s if s < count else count - 1)
-            for i in range(nb):
-                for k in range(6):
-                    W[(fx + 6 * i + k) * LANES + s] = FEXT[r, i, k]
+    if has_fext:  # (N or 1, nb, 6) → rows fx + 6 i + k
+        _gather(FEXT.reshape((FEXT.shape[0], 6 * nb)), s0, count, W, fx)
     for i in range(nb):
         lam = BI[NBI * i + PARENT]
         Xi = X_up + 12 * i
@@ -1237,12 +1233,8 @@ def aba_block(BI, BF, G, Q, QD, TAU, FEXT, gravity, QDD, s0, count, W):  # pragm
     L = Ia
     tol = SINGULAR_RTOL * G[3]
     has_fext = FEXT.shape[1] > 0
-    if has_fext:
-        for ln in range(LANES):
-            r = 0 if FEXT.shape[0] == 1 else s0 + (ln if ln < count else count - 1)
-            for i in range(nb):
-                for k in range(6):
-                    W[(fx + 6 * i + k) * LANES + ln] = FEXT[r, i, k]
+    if has_fext:  # (N or 1, nb, 6) → rows fx + 6 i + k
+        _gather(FEXT.reshape((FEXT.shape[0], 6 * nb)), s0, count, W, fx)
 
     for i in range(nb):
         lam = BI[NBI * i + PARENT]

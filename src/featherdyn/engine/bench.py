@@ -40,32 +40,30 @@ TARGETS = {"single": 1.0, "batch": 6.0, "chain512": 0.5}
 def _median_ratio(fd_call: Callable[[], Any], pin_call: Callable[[], Any], repeats: int,
                   budget: float = 2e-3) -> tuple[float, float]:
     """Median seconds per call of both, interleaved; each sample runs about ``budget`` seconds."""
+    def pair(n: int) -> tuple[float, float]:
+        """Seconds for ``n`` featherdyn calls, then for ``n`` Pinocchio calls."""
+        t0 = time.perf_counter()
+        for _ in range(n):
+            fd_call()
+        t1 = time.perf_counter()
+        for _ in range(n):
+            pin_call()
+        return t1 - t0, time.perf_counter() - t1
+
     fd_call()
     pin_call()
     n = 1
     while True:  # calibrate on the slower of the two
-        t0 = time.perf_counter()
-        for _ in range(n):
-            fd_call()
-        t1 = time.perf_counter()
-        for _ in range(n):
-            pin_call()
-        t2 = time.perf_counter()
-        if max(t1 - t0, t2 - t1) >= budget / 4 or n >= 1 << 20:
+        t_fd, t_pin = pair(n)
+        if max(t_fd, t_pin) >= budget / 4 or n >= 1 << 20:
             break
         n *= 2
-    n = max(1, int(n * budget / max(t1 - t0, t2 - t1, 1e-9) / 1))
+    n = max(1, int(n * budget / max(t_fd, t_pin, 1e-9)))
     a, b = [], []
     for _ in range(repeats):
-        t0 = time.perf_counter()
-        for _ in range(n):
-            fd_call()
-        t1 = time.perf_counter()
-        for _ in range(n):
-            pin_call()
-        t2 = time.perf_counter()
-        a.append((t1 - t0) / n)
-        b.append((t2 - t1) / n)
+        t_fd, t_pin = pair(n)
+        a.append(t_fd / n)
+        b.append(t_pin / n)
     return statistics.median(a), statistics.median(b)
 
 
