@@ -252,3 +252,24 @@ def test_objects_numba_cannot_type_get_the_reference_errors() -> None:
                      lambda x: fd.forward_kinematics(model, x), lambda x: fd.nonlinear_effects(model, st.q, x)):
             with pytest.raises(fd.FeatherdynError):
                 call(bad)
+
+
+def test_model_without_bodies() -> None:
+    """A model with no moving bodies: empty results, and a frame index is refused with a clear error."""
+    import warnings
+
+    b = fd.ModelBuilder("empty")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        model = b.build()
+    z = np.zeros(0)
+    assert fd.rnea(model, z, z, z).shape == (0,)
+    assert fd.crba(model, z).shape == (0, 0)
+    assert fd.aba(model, z, z, z).shape == (0,)
+    assert fd.generalized_gravity(model, z).shape == (0,)
+    assert fd.forward_kinematics(model, z).placements.rotation.shape == (0, 3, 3)
+    with pytest.raises(fd.ModelError, match="no frames"):
+        fd.frame_jacobian(model, z, 0)
+    with pytest.raises(fd.ModelError, match="no frames"):
+        fd.frame_placement(model, z, 0)
+

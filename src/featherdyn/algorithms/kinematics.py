@@ -147,6 +147,8 @@ def resolve_frame(model: Model, frame: Any) -> int:
         return model.frame_id(frame)
     if isinstance(frame, (int, np.integer)) and not isinstance(frame, bool):
         if not 0 <= int(frame) < len(model.frames):
+            if not model.frames:
+                raise ModelError(f"frame: index {frame}, but model {model.name!r} has no frames")
             raise ModelError(f"frame: index {frame} out of range 0..{len(model.frames) - 1}")
         return int(frame)
     raise ShapeError(f"frame: expected a frame name or index, got {type(frame).__name__}")
