@@ -35,6 +35,8 @@ from .spatial_algebra import PluckerTransform, SpatialInertia
 __all__ = ["Model", "ModelBuilder", "FrameInfo", "Mimic", "DEFAULT_GRAVITY"]
 
 DEFAULT_GRAVITY = (0.0, 0.0, -9.81)
+# per-model caches of the compiled engines: set on first use, never pickled
+_CACHES = ("_fast", "_core")
 
 
 @dataclass(frozen=True, slots=True)
@@ -119,6 +121,8 @@ class Model:
     _frame_index: dict[str, int] = field(default_factory=dict, repr=False)
     # the compiled engine's one-state fast path, set on first use (engine/_fast.py); unset until then
     _fast: Any = field(init=False, repr=False, compare=False)
+    # the compiled core's flat model arrays, set on first use (core/_model_view.py); unset until then
+    _core: Any = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         # derived from frames (first of a name wins), so dataclasses.replace(model, frames=...) stays consistent
@@ -127,12 +131,12 @@ class Model:
             index.setdefault(f.name, k)
         object.__setattr__(self, "_frame_index", index)
 
-    # pickling leaves out the engine's fast path (rebuilt on first use)
+    # pickling leaves out the caches of the compiled engines (rebuilt on first use)
     def __getstate__(self) -> list[Any]:
-        return [getattr(self, f.name) for f in fields(self) if f.name != "_fast"]
+        return [getattr(self, f.name) for f in fields(self) if f.name not in _CACHES]
 
     def __setstate__(self, state: list[Any]) -> None:
-        for f, value in zip([f for f in fields(self) if f.name != "_fast"], state, strict=True):
+        for f, value in zip([f for f in fields(self) if f.name not in _CACHES], state, strict=True):
             object.__setattr__(self, f.name, value)
 
     @property

@@ -1,0 +1,492 @@
+"""The compiled core: C++ kernels of the dynamics algorithms, built at install (no JIT).
+
+Each kernel is written once, templated on the scalar type, in the reference's
+order and symbols (``featherdyn/algorithms``; see ``docs/architecture.md``), in
+body coordinates. This module is its Python side: it converts arguments to
+what the binding accepts — native-endian, aligned, C-contiguous float64 —
+(lists, integers, float32, big-endian, strided and unaligned arrays are
+copied; object arrays that cannot become float64 raise
+:class:`~featherdyn.errors.DTypeError`), calls one kernel, and turns the
+core's status into the reference's exception and message.
+
+Every function takes one state (1-D ``q`` etc.) or a batch (leading axes,
+broadcast; the batch runs on the core's thread pool with the GIL released).
+Results are float64; ``out=`` gives an array to write into (float64,
+C-contiguous, the result's shape). Conventions: motion ``[ω; v]``, force
+``[n; f]``, free-flyer ``q = [p, quat xyzw]`` and ``v = [ω; v]`` in the base
+frame, gravity from ``model.gravity`` entered as a base acceleration ``−g``.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+
+from .._validation import as_array
+from ..errors import DTypeError, ShapeError
+from ..model import Model
+from . import _errors
+from ._model_view import model_view
+
+try:
+    from . import _core
+except ImportError:  # pragma: no cover - a source checkout without the built extension
+    _core = None
+
+__all__ = [
+    "available",
+    "rnea",
+    "nle",
+    "gravity",
+    "crba",
+    "aba",
+    "fk",
+    "frame_placement",
+    "frame_jacobian",
+    "rnea_complex",
+    "rnea_batch",
+    "nle_batch",
+    "gravity_batch",
+    "crba_batch",
+    "aba_batch",
+    "fk_batch",
+    "frame_placement_batch",
+    "frame_jacobian_batch",
+    "set_num_threads",
+    "get_num_threads",
+    "REFERENCE_CODES",
+]
+
+_F64 = np.dtype(np.float64)
+#: reference frame → the kernel's code
+REFERENCE_CODES = {"local": 0, "world": 1, "local_world_aligned": 2}
+
+
+def available() -> bool:
+    """Whether the compiled extension ``featherdyn.core._core`` is importable."""
+    return _core is not None
+
+
+def _lib() -> Any:
+    if _core is None:
+        from ..errors import MissingDependencyError
+
+        raise MissingDependencyError("featherdyn.core._core is not built; reinstall featherdyn with pip")
+    return _core
+
+
+def _view(model: Model) -> Any:
+    if not isinstance(model, Model):
+        raise ShapeError(f"model: expected a featherdyn Model, got {type(model).__name__}")
+    return model_view(model, _lib())
+
+
+def _f64(x: Any, name: str) -> np.ndarray:
+    """``x`` as a native-endian, aligned, C-contiguous float64 array; no copy when it already is one."""
+    if type(x) is np.ndarray and x.dtype == _F64 and x.dtype.isnative and x.flags.c_contiguous and x.flags.aligned:
+        return x
+    arr = as_array(x, name, check_finite=False)  # the reference's DTypeError / ShapeError for unreadable input
+    try:
+        return np.array(arr, dtype=np.float64, order="C")  # a fresh array: native, aligned, contiguous
+    except (TypeError, ValueError) as exc:
+        raise DTypeError(f"{name}: the compiled core computes in float64 and cannot convert this ({exc}); "
+                         "use the reference algorithms for symbolic input") from None
+
+
+def _out(out: Any, shape: tuple[int, ...]) -> np.ndarray:
+    if out is None:
+        return np.empty(shape)
+    if not (isinstance(out, np.ndarray) and out.dtype == _F64 and out.dtype.isnative and out.flags.c_contiguous
+            and out.flags.aligned and out.flags.writeable):
+        raise TypeError("out: expected a writable, aligned, C-contiguous float64 array")
+    if out.shape != shape:
+        raise ShapeError(f"out: expected shape {shape}, got {out.shape}")
+    return out
+
+
+def _reference_code(reference: Any) -> int:
+    if isinstance(reference, (int, np.integer)) and not isinstance(reference, bool) and 0 <= reference <= 2:
+        return int(reference)
+    value = getattr(reference, "value", reference)  # fd.LOCAL & co. are an Enum of these strings
+    if isinstance(value, str) and value.lower() in REFERENCE_CODES:
+        return REFERENCE_CODES[value.lower()]
+    raise ShapeError(f"reference: expected fd.LOCAL, fd.WORLD or fd.LOCAL_WORLD_ALIGNED, got {reference!r}")
+
+
+# ---------------------------------------------------------------------------
+# batching: leading axes → rows
+# ---------------------------------------------------------------------------
+
+
+def _batch_shape(model: Model, arrays: list[tuple[np.ndarray, int]], q: Any, vectors: list[tuple[str, Any]],
+                 f_ext: Any) -> tuple[int, ...]:
+    """The broadcast batch shape of ``(array, trailing ndim)`` pairs; the reference's error when there is none."""
+    try:
+        return np.broadcast_shapes(*(a.shape[: a.ndim - k] for a, k in arrays))
+    except ValueError:
+        _errors.validate(model, q, vectors, f_ext)
+        raise
+
+
+def _rows(x: np.ndarray | None, batch: tuple[int, ...], tail: tuple[int, ...]) -> np.ndarray | None:
+    """``x`` with batch shape broadcastable to ``batch`` as `(N or 1, prod(tail))`` rows (a copy only to broadcast)."""
+    if x is None:
+        return None
+    n = math.prod(tail)
+    if x.ndim < len(tail) or x.shape[x.ndim - len(tail):] != tail:
+        return x.reshape(-1, max(x.shape[-1] if x.ndim else 1, 1))  # wrong length: the core reports it
+    bx = x.shape[: x.ndim - len(tail)]
+    if bx == batch:
+        return x.reshape(math.prod(batch), n)
+    if math.prod(bx) == 1:
+        return x.reshape(1, n)
+    return np.ascontiguousarray(np.broadcast_to(x, batch + tail)).reshape(math.prod(batch), n)
+
+
+def _check_batch(status: tuple[int, int], model: Model, q: Any, vectors: list[tuple[str, Any]],
+                 f_ext: Any = None) -> None:
+    row, s = status
+    if s:
+        _errors.raise_for(s, model, q, vectors, f_ext)
+
+
+# ---------------------------------------------------------------------------
+# inverse dynamics
+# ---------------------------------------------------------------------------
+
+
+def rnea(model: Model, q: Any, v: Any, a: Any, f_ext: Any = None, gravity: bool = True, out: Any = None) -> np.ndarray:
+    """Joint forces ``τ`` `(..., nv)` for ``q`` `(..., nq)`, ``v``, ``a`` `(..., nv)` (RNEA; RBDA table 5.1).
+
+    Args:
+        f_ext: optional `(..., nb, 6)` external forces ``[n; f]`` on each body, in body coordinates.
+        gravity: set ``False`` to leave gravity out.
+        out: an array of the result's shape to write into.
+
+    ::
+
+        τ = M(q) q̈ + C(q, q̇) q̇ + g(q) − Σ_i J_iᵀ f_i^ext
+    """
+    cm = _view(model)
+    q_, v_, a_ = _f64(q, "q"), _f64(v, "v"), _f64(a, "a")
+    fx = None if f_ext is None else _f64(f_ext, "f_ext")
+    if q_.ndim == 1 and v_.ndim == 1 and a_.ndim == 1 and (fx is None or fx.ndim == 2):
+        tau = _out(out, (model.nv,))
+        s = _core.rnea(cm, q_, v_, a_, fx, bool(gravity), tau)
+        if s:
+            _errors.raise_for(s, model, q, [("v", v), ("a", a)], f_ext)
+        return tau
+    return rnea_batch(model, q_, v_, a_, fx, gravity, out)
+
+
+def rnea_batch(model: Model, q: Any, v: Any, a: Any, f_ext: Any = None, gravity: bool = True,
+               out: Any = None) -> np.ndarray:
+    """:func:`rnea` over batch axes `(..., nq)` etc. (broadcast), on the core's threads."""
+    cm = _view(model)
+    q_, v_, a_ = _f64(q, "q"), _f64(v, "v"), _f64(a, "a")
+    fx = None if f_ext is None else _f64(f_ext, "f_ext")
+    vectors = [("v", v), ("a", a)]
+    parts = [(q_, 1), (v_, 1), (a_, 1)] + ([] if fx is None else [(fx, 2)])
+    batch = _batch_shape(model, parts, q, vectors, f_ext)
+    result = _out(out, batch + (model.nv,))
+    st = _core.rnea_batch(cm, _rows(q_, batch, (model.nq,)), _rows(v_, batch, (model.nv,)),
+                          _rows(a_, batch, (model.nv,)), _rows(fx, batch, (model.nbodies, 6)), bool(gravity),
+                          result.reshape(-1, model.nv))
+    _check_batch(st, model, q, vectors, f_ext)
+    return result
+
+
+def nle(model: Model, q: Any, v: Any, out: Any = None) -> np.ndarray:
+    """Coriolis, centrifugal and gravity forces `(..., nv)`::
+
+        h(q, q̇) = C(q, q̇) q̇ + g(q) = RNEA(q, q̇, 0)
+    """
+    cm = _view(model)
+    q_, v_ = _f64(q, "q"), _f64(v, "v")
+    if q_.ndim == 1 and v_.ndim == 1:
+        h = _out(out, (model.nv,))
+        s = _core.nle(cm, q_, v_, h)
+        if s:
+            _errors.raise_for(s, model, q, [("v", v)])
+        return h
+    return nle_batch(model, q_, v_, out)
+
+
+def nle_batch(model: Model, q: Any, v: Any, out: Any = None) -> np.ndarray:
+    """:func:`nle` over batch axes (broadcast), on the core's threads."""
+    return rnea_batch(model, q, v, np.zeros((1, model.nv)), None, True, out)
+
+
+def gravity(model: Model, q: Any, out: Any = None) -> np.ndarray:
+    """Generalized gravity `(..., nv)`::
+
+        g(q) = RNEA(q, 0, 0)
+    """
+    cm = _view(model)
+    q_ = _f64(q, "q")
+    if q_.ndim == 1:
+        g = _out(out, (model.nv,))
+        s = _core.gravity(cm, q_, g)
+        if s:
+            _errors.raise_for(s, model, q)
+        return g
+    return gravity_batch(model, q_, out)
+
+
+def gravity_batch(model: Model, q: Any, out: Any = None) -> np.ndarray:
+    """:func:`gravity` over batch axes, on the core's threads."""
+    zero = np.zeros((1, model.nv))
+    return rnea_batch(model, q, zero, zero, None, True, out)
+
+
+def rnea_complex(model: Model, q: Any, v: Any, a: Any, f_ext: Any = None, gravity: bool = True) -> np.ndarray:
+    """:func:`rnea` of one state in complex arithmetic `(nv,)` complex128 — the same template as the float64 kernel.
+
+    For complex-step derivatives: ``Im rnea(q + i h δq) / h ≈ ∂τ/∂q δq`` (joint angles;
+    quaternions must stay unit to first order). No finiteness or quaternion checks.
+    """
+    cm = _view(model)
+
+    def c128(x: Any) -> np.ndarray:
+        return np.array(x, dtype=np.complex128, order="C")
+
+    tau = np.empty(model.nv, dtype=np.complex128)
+    s = _core.rnea_complex(cm, c128(q), c128(v), c128(a), None if f_ext is None else c128(f_ext), bool(gravity), tau)
+    if s:
+        _errors.raise_for(s, model, np.real(q), [("v", np.real(v)), ("a", np.real(a))],
+                          None if f_ext is None else np.real(f_ext))
+    return tau
+
+
+# ---------------------------------------------------------------------------
+# mass matrix and forward dynamics
+# ---------------------------------------------------------------------------
+
+
+def crba(model: Model, q: Any, out: Any = None) -> np.ndarray:
+    """The joint-space mass matrix ``M(q)`` `(..., nv, nv)`, full and exactly symmetric (CRBA; RBDA table 6.2).
+
+    ::
+
+        T = ½ q̇ᵀ M(q) q̇,    M_ij = S_iᵀ ⁱX_j^* I^C_j S_j   (j in the subtree of i)
+    """
+    cm = _view(model)
+    q_ = _f64(q, "q")
+    if q_.ndim == 1:
+        M = _out(out, (model.nv, model.nv))
+        s = _core.crba(cm, q_, M)
+        if s:
+            _errors.raise_for(s, model, q)
+        return M
+    return crba_batch(model, q_, out)
+
+
+def crba_batch(model: Model, q: Any, out: Any = None) -> np.ndarray:
+    """:func:`crba` over batch axes, on the core's threads."""
+    cm = _view(model)
+    q_ = _f64(q, "q")
+    batch = _batch_shape(model, [(q_, 1)], q, [], None)
+    result = _out(out, batch + (model.nv, model.nv))
+    st = _core.crba_batch(cm, _rows(q_, batch, (model.nq,)), result.reshape(-1, model.nv * model.nv))
+    _check_batch(st, model, q, [])
+    return result
+
+
+def aba(model: Model, q: Any, v: Any, tau: Any, f_ext: Any = None, gravity: bool = True, out: Any = None) -> np.ndarray:
+    """Joint accelerations ``q̈`` `(..., nv)` for joint forces ``τ`` in state ``(q, v)`` (ABA; RBDA table 7.1).
+
+    ::
+
+        q̈ = M(q)⁻¹ (τ − C(q, q̇) q̇ − g(q) + Σ_i J_iᵀ f_i^ext)
+
+    Raises:
+        SingularMassMatrixError: naming the joint (the reference's rule and message).
+    """
+    cm = _view(model)
+    q_, v_, t_ = _f64(q, "q"), _f64(v, "v"), _f64(tau, "tau")
+    fx = None if f_ext is None else _f64(f_ext, "f_ext")
+    if q_.ndim == 1 and v_.ndim == 1 and t_.ndim == 1 and (fx is None or fx.ndim == 2):
+        qdd = _out(out, (model.nv,))
+        D = np.empty(36)
+        s = _core.aba(cm, q_, v_, t_, fx, bool(gravity), qdd, D)
+        if s:
+            if _errors.decode(s)[0] == _errors.SINGULAR:
+                _errors.validate(model, q, [("v", v), ("tau", tau)], f_ext)
+                joint = _errors.decode(s)[2]
+                raise _errors.singular_error(model, joint, _errors.eig_min(D, model.nvs[joint]))
+            _errors.raise_for(s, model, q, [("v", v), ("tau", tau)], f_ext, ("q", "v", "tau", "f_ext", "out"))
+        return qdd
+    return aba_batch(model, q_, v_, t_, fx, gravity, out)
+
+
+def aba_batch(model: Model, q: Any, v: Any, tau: Any, f_ext: Any = None, gravity: bool = True,
+              out: Any = None) -> np.ndarray:
+    """:func:`aba` over batch axes (broadcast), on the core's threads.
+
+    A singular state raises the reference's error: the joint nearest the leaves
+    that is singular in any state, with the smallest eigenvalue over those states.
+    """
+    cm = _view(model)
+    q_, v_, t_ = _f64(q, "q"), _f64(v, "v"), _f64(tau, "tau")
+    fx = None if f_ext is None else _f64(f_ext, "f_ext")
+    vectors = [("v", v), ("tau", tau)]
+    parts = [(q_, 1), (v_, 1), (t_, 1)] + ([] if fx is None else [(fx, 2)])
+    batch = _batch_shape(model, parts, q, vectors, f_ext)
+    result = _out(out, batch + (model.nv,))
+    Q, V, T = _rows(q_, batch, (model.nq,)), _rows(v_, batch, (model.nv,)), _rows(t_, batch, (model.nv,))
+    FX = _rows(fx, batch, (model.nbodies, 6))
+    row, s = _core.aba_batch(cm, Q, V, T, FX, bool(gravity), result.reshape(-1, model.nv))
+    if s:
+        _errors.validate(model, q, vectors, f_ext)
+        if _errors.decode(s)[0] != _errors.SINGULAR:
+            _errors.raise_for(s, model, q, vectors, f_ext, ("q", "v", "tau", "f_ext", "out"))
+        _raise_singular_batch(model, cm, Q, V, T, FX, bool(gravity), math.prod(batch))
+    return result
+
+
+def _raise_singular_batch(model: Model, cm: Any, Q: Any, V: Any, T: Any, FX: Any, grav: bool, N: int) -> None:
+    """The reference's error for a batch: the singular joint nearest the leaves, its smallest eigenvalue."""
+    found: dict[int, float] = {}
+    qdd, D = np.empty(model.nv), np.empty(36)
+    for r in range(N):
+        def row(x: Any) -> Any:
+            return None if x is None else x[0 if x.shape[0] == 1 else r]
+        s = _core.aba(cm, row(Q), row(V), row(T), None if FX is None else row(FX).reshape(model.nbodies, 6), grav,
+                      qdd, D)
+        if s:
+            joint = _errors.decode(s)[2]
+            e = _errors.eig_min(D, model.nvs[joint])
+            found[joint] = min(found.get(joint, e), e)
+    joint = max(found)
+    raise _errors.singular_error(model, joint, found[joint])
+
+
+# ---------------------------------------------------------------------------
+# kinematics
+# ---------------------------------------------------------------------------
+
+
+def fk(model: Model, q: Any, v: Any = None, a: Any = None, out: Any = None) -> Any:
+    """World placements of the bodies as homogeneous matrices ``⁰M_i`` `(..., nb, 4, 4)`.
+
+    With ``v`` (one state only), returns ``(H, vel)``, and with ``a`` also,
+    ``(H, vel, acc)``: body velocities and spatial accelerations (without
+    gravity) in body coordinates `(nb, 6)`::
+
+        ⁰M_i = ⁰M_λ(i) · Xtree_i · M_J(q_i)
+        v_i = X_up[i] v_λ(i) + S_i q̇_i,   a_i = X_up[i] a_λ(i) + S_i q̈_i + v_i × S_i q̇_i
+    """
+    cm = _view(model)
+    if a is not None and v is None:
+        raise ShapeError("a: joint accelerations need joint velocities v as well")
+    q_ = _f64(q, "q")
+    if q_.ndim != 1:
+        if v is not None:
+            raise ShapeError("fk: velocities and accelerations are computed for one state at a time")
+        return fk_batch(model, q_, out)
+    v_ = None if v is None else _f64(v, "v")
+    a_ = None if a is None else _f64(a, "a")
+    nb = model.nbodies
+    H = _out(out, (nb, 4, 4))
+    vel = None if v is None else np.empty((nb, 6))
+    acc = None if a is None else np.empty((nb, 6))
+    s = _core.fk(cm, q_, v_, a_, H, vel, acc)
+    if s:
+        _errors.raise_for(s, model, q, [("v", v), ("a", a)])
+    if v is None:
+        return H
+    return (H, vel) if a is None else (H, vel, acc)
+
+
+def fk_batch(model: Model, q: Any, out: Any = None) -> np.ndarray:
+    """:func:`fk` placements over batch axes `(..., nb, 4, 4)`, on the core's threads."""
+    cm = _view(model)
+    q_ = _f64(q, "q")
+    batch = _batch_shape(model, [(q_, 1)], q, [], None)
+    result = _out(out, batch + (model.nbodies, 4, 4))
+    st = _core.fk_batch(cm, _rows(q_, batch, (model.nq,)), result.reshape(-1, 16 * model.nbodies))
+    _check_batch(st, model, q, [])
+    return result
+
+
+def frame_placement(model: Model, q: Any, frame: Any, out: Any = None) -> tuple[np.ndarray, np.ndarray]:
+    """The world placement ``⁰M_f = ⁰M_body(f) · placement_f`` of a frame (name or index).
+
+    Returns ``(R, p)``: rotation `(..., 3, 3)` and translation `(..., 3)`. ``out``:
+    `(..., 12)` (row-major rotation, then translation), of which ``R`` and ``p`` are views.
+    """
+    cm = _view(model)
+    fid = _errors.frame_index(model, frame)
+    q_ = _f64(q, "q")
+    if q_.ndim != 1:
+        return frame_placement_batch(model, q_, fid, out)
+    pose = _out(out, (12,))
+    s = _core.frame_placement(cm, q_, fid, pose)
+    if s:
+        _errors.raise_for(s, model, q)
+    return pose[:9].reshape(3, 3), pose[9:]
+
+
+def frame_placement_batch(model: Model, q: Any, frame: Any, out: Any = None) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`frame_placement` over batch axes, on the core's threads."""
+    cm = _view(model)
+    fid = _errors.frame_index(model, frame)
+    q_ = _f64(q, "q")
+    batch = _batch_shape(model, [(q_, 1)], q, [], None)
+    pose = _out(out, batch + (12,))
+    st = _core.frame_placement_batch(cm, _rows(q_, batch, (model.nq,)), fid, pose.reshape(-1, 12))
+    _check_batch(st, model, q, [])
+    return pose[..., :9].reshape(batch + (3, 3)), pose[..., 9:]
+
+
+def frame_jacobian(model: Model, q: Any, frame: Any, reference: Any = 0, out: Any = None) -> np.ndarray:
+    """The geometric Jacobian `(..., 6, nv)` of a frame (name or index), rows ``[ω; v]``.
+
+    ``reference``: ``0`` / ``fd.LOCAL``, ``1`` / ``fd.WORLD``, ``2`` / ``fd.LOCAL_WORLD_ALIGNED``
+    (Pinocchio's meanings), so that ``frame_velocity(reference) = J q̇``::
+
+        ⁰J[:, k] = ⁰X_k S_k  (k on the path root → body(f)),   LOCAL: ᶠX_0 ⁰J,   LWA: [ω; v − p_f × ω]
+    """
+    cm = _view(model)
+    fid = _errors.frame_index(model, frame)
+    ref = _reference_code(reference)
+    q_ = _f64(q, "q")
+    if q_.ndim != 1:
+        return frame_jacobian_batch(model, q_, fid, ref, out)
+    J = _out(out, (6, model.nv))
+    s = _core.frame_jacobian(cm, q_, fid, ref, J)
+    if s:
+        _errors.raise_for(s, model, q)
+    return J
+
+
+def frame_jacobian_batch(model: Model, q: Any, frame: Any, reference: Any = 0, out: Any = None) -> np.ndarray:
+    """:func:`frame_jacobian` over batch axes `(..., 6, nv)`, on the core's threads."""
+    cm = _view(model)
+    fid = _errors.frame_index(model, frame)
+    ref = _reference_code(reference)
+    q_ = _f64(q, "q")
+    batch = _batch_shape(model, [(q_, 1)], q, [], None)
+    J = _out(out, batch + (6, model.nv))
+    st = _core.frame_jacobian_batch(cm, _rows(q_, batch, (model.nq,)), fid, ref, J.reshape(-1, 6 * model.nv))
+    _check_batch(st, model, q, [])
+    return J
+
+
+# ---------------------------------------------------------------------------
+# threads
+# ---------------------------------------------------------------------------
+
+
+def set_num_threads(n: int) -> None:
+    """Threads of the batched calls (the calling thread included); ``n <= 0``: the cores available to the process."""
+    if isinstance(n, bool) or not isinstance(n, (int, np.integer)):
+        raise TypeError(f"n: expected an integer, got {type(n).__name__}")
+    _lib().set_num_threads(int(n))
+
+
+def get_num_threads() -> int:
+    """The number of threads of the batched calls."""
+    return int(_lib().get_num_threads())

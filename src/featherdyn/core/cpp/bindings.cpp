@@ -1,0 +1,398 @@
+// featherdyn.core._core: the nanobind binding of the compiled core (docs/architecture.md).
+//
+// Thin on purpose: each entry point takes native-endian, aligned, C-contiguous float64 arrays
+// (no implicit conversion: every array argument is noconvert), checks their lengths, lets the
+// core check finiteness and quaternions, runs one kernel, and returns a status (checks.hpp)
+// that featherdyn/core/_errors.py turns into the reference's exception. No numerics here.
+// Batched entry points release the GIL and run rows on the core's thread pool; they return
+// (row, status) of the first failing row, or (−1, 0).
+#include <nanobind/nanobind.h>
+#include <nanobind/ndarray.h>
+#include <nanobind/stl/complex.h>
+#include <nanobind/stl/pair.h>
+
+#include <complex>
+#include <cstdint>
+#include <mutex>
+#include <utility>
+
+#include "aba.hpp"
+#include "checks.hpp"
+#include "crba.hpp"
+#include "frames.hpp"
+#include "kinematics.hpp"
+#include "model_view.hpp"
+#include "rnea.hpp"
+#include "thread_pool.hpp"
+
+namespace nb = nanobind;
+using namespace fdcore;
+
+using In = nb::ndarray<const double, nb::c_contig, nb::device::cpu>;
+using Out = nb::ndarray<double, nb::c_contig, nb::device::cpu>;
+using InC = nb::ndarray<const std::complex<double>, nb::c_contig, nb::device::cpu>;
+using OutC = nb::ndarray<std::complex<double>, nb::c_contig, nb::device::cpu>;
+using Ints = nb::ndarray<const std::int32_t, nb::c_contig, nb::device::cpu>;
+using RowStatus = std::pair<std::int64_t, std::int64_t>;
+
+namespace {
+
+template <class A>
+void require_aligned(const A& x) {
+  if (x.is_valid() && reinterpret_cast<std::uintptr_t>(x.data()) % alignof(typename A::Scalar) != 0)
+    throw nb::type_error("featherdyn.core: arrays must be aligned (the Python wrapper copies unaligned ones)");
+}
+
+// One state: a 1-D array of length n. OK or a LENGTH status naming the argument.
+template <class A>
+std::int64_t vec(const A& x, size_t n, std::int64_t arg) {
+  require_aligned(x);
+  if (x.ndim() != 1 || x.shape(0) != n) return make_status(LENGTH, arg, x.ndim() == 1 ? x.shape(0) : -1);
+  return OK;
+}
+
+// A batch: (R, n) with R = N rows, or R = 1 broadcast to every row.
+struct Rows {
+  const double* p = nullptr;
+  std::int64_t stride = 0;
+  const double* row(std::int64_t r) const { return p ? p + r * stride : nullptr; }
+};
+
+std::int64_t rows(const In& x, std::int64_t N, size_t n, std::int64_t arg, Rows& out) {
+  require_aligned(x);
+  if (!x.is_valid()) return OK;
+  if (x.ndim() != 2 || x.shape(1) != n || !(x.shape(0) == static_cast<size_t>(N) || x.shape(0) == 1))
+    return make_status(LENGTH, arg, x.ndim() == 2 ? static_cast<std::int64_t>(x.shape(x.ndim() - 1)) : -1);
+  out.p = x.data();
+  out.stride = x.shape(0) == 1 ? 0 : static_cast<std::int64_t>(n);
+  return OK;
+}
+
+std::int64_t out_rows(const Out& x, size_t n, std::int64_t& N) {
+  require_aligned(x);
+  if (x.ndim() < 1) return make_status(LENGTH, ARG_OUT, -1);
+  size_t total = 1;
+  for (size_t d = 1; d < x.ndim(); ++d) total *= x.shape(d);
+  if (total != n) return make_status(LENGTH, ARG_OUT, static_cast<std::int64_t>(total));
+  N = static_cast<std::int64_t>(x.shape(0));
+  return OK;
+}
+
+std::int64_t out_len(const Out& x, size_t n) {
+  require_aligned(x);
+  if (x.size() != n) return make_status(LENGTH, ARG_OUT, static_cast<std::int64_t>(x.size()));
+  return OK;
+}
+
+#define FD_TRY(expr)                   \
+  do {                                 \
+    const std::int64_t s_ = (expr);    \
+    if (s_ != OK) return s_;           \
+  } while (0)
+#define FD_TRY_ROWS(expr)                              \
+  do {                                                 \
+    const std::int64_t s_ = (expr);                    \
+    if (s_ != OK) return RowStatus{-1, s_};            \
+  } while (0)
+
+// Run body(row) → status over N rows on the pool, GIL released; (first failing row, its status).
+template <class F>
+RowStatus for_rows(std::int64_t N, const F& body) {
+  std::mutex m;
+  RowStatus first{-1, OK};
+  {
+    nb::gil_scoped_release release;
+    std::shared_ptr<ThreadPool> pool = GlobalPool::instance().get();
+    pool->parallel_for(N, [&](std::int64_t begin, std::int64_t end) {
+      for (std::int64_t r = begin; r < end; ++r) {
+        const std::int64_t s = body(r);
+        if (s != OK) {
+          std::lock_guard<std::mutex> lock(m);
+          if (first.first < 0 || r < first.first) first = {r, s};
+          return;  // the rest of this chunk is left undone: the call fails anyway
+        }
+      }
+    });
+  }
+  return first;
+}
+
+// ---------------------------------------------------------------------------
+// one state
+// ---------------------------------------------------------------------------
+
+std::int64_t rnea1(const ModelData& md, const In& q, const In& v, const In& a, const In& f_ext, bool gravity,
+                   Out tau) {
+  const ModelView& mv = md.view;
+  FD_TRY(vec(q, mv.nq, ARG_Q));
+  FD_TRY(vec(v, mv.nv, ARG_V));
+  FD_TRY(vec(a, mv.nv, ARG_A));
+  if (f_ext.is_valid()) {
+    require_aligned(f_ext);
+    if (f_ext.size() != 6 * static_cast<size_t>(mv.nb)) return make_status(LENGTH, ARG_FEXT, f_ext.size());
+  }
+  FD_TRY(out_len(tau, mv.nv));
+  const double* fx = f_ext.is_valid() ? f_ext.data() : nullptr;
+  FD_TRY(check_state(mv, q.data(), v.data(), a.data(), fx));
+  rnea(mv, q.data(), v.data(), a.data(), fx, gravity, tau.data());
+  return OK;
+}
+
+std::int64_t nle1(const ModelData& md, const In& q, const In& v, Out h) {
+  const ModelView& mv = md.view;
+  FD_TRY(vec(q, mv.nq, ARG_Q));
+  FD_TRY(vec(v, mv.nv, ARG_V));
+  FD_TRY(out_len(h, mv.nv));
+  FD_TRY(check_state(mv, q.data(), v.data(), nullptr, nullptr));
+  rnea<double>(mv, q.data(), v.data(), nullptr, nullptr, true, h.data());
+  return OK;
+}
+
+std::int64_t gravity1(const ModelData& md, const In& q, Out g) {
+  const ModelView& mv = md.view;
+  FD_TRY(vec(q, mv.nq, ARG_Q));
+  FD_TRY(out_len(g, mv.nv));
+  FD_TRY(check_state(mv, q.data(), nullptr, nullptr, nullptr));
+  rnea<double>(mv, q.data(), nullptr, nullptr, nullptr, true, g.data());
+  return OK;
+}
+
+std::int64_t crba1(const ModelData& md, const In& q, Out M) {
+  const ModelView& mv = md.view;
+  FD_TRY(vec(q, mv.nq, ARG_Q));
+  FD_TRY(out_len(M, static_cast<size_t>(mv.nv) * mv.nv));
+  FD_TRY(check_state(mv, q.data(), nullptr, nullptr, nullptr));
+  crba(mv, q.data(), M.data());
+  return OK;
+}
+
+// D_singular (36,) receives the singular joint's D_i (row stride 6) when the status is SINGULAR.
+std::int64_t aba1(const ModelData& md, const In& q, const In& v, const In& tau, const In& f_ext, bool gravity,
+                  Out qdd, Out D_singular) {
+  const ModelView& mv = md.view;
+  FD_TRY(vec(q, mv.nq, ARG_Q));
+  FD_TRY(vec(v, mv.nv, ARG_V));
+  FD_TRY(vec(tau, mv.nv, ARG_A));
+  if (f_ext.is_valid()) {
+    require_aligned(f_ext);
+    if (f_ext.size() != 6 * static_cast<size_t>(mv.nb)) return make_status(LENGTH, ARG_FEXT, f_ext.size());
+  }
+  FD_TRY(out_len(qdd, mv.nv));
+  if (D_singular.is_valid()) FD_TRY(out_len(D_singular, 36));
+  const double* fx = f_ext.is_valid() ? f_ext.data() : nullptr;
+  FD_TRY(check_state(mv, q.data(), v.data(), tau.data(), fx));
+  const int bad = aba(mv, q.data(), v.data(), tau.data(), fx, gravity, qdd.data(),
+                      D_singular.is_valid() ? D_singular.data() : nullptr);
+  return bad < 0 ? OK : make_status(SINGULAR, ARG_Q, bad);
+}
+
+// H (nb, 4, 4); vel, acc (nb, 6) when v (and a) are given.
+std::int64_t fk1(const ModelData& md, const In& q, const In& v, const In& a, Out H, Out vel, Out acc) {
+  const ModelView& mv = md.view;
+  FD_TRY(vec(q, mv.nq, ARG_Q));
+  if (v.is_valid()) FD_TRY(vec(v, mv.nv, ARG_V));
+  if (a.is_valid()) FD_TRY(vec(a, mv.nv, ARG_A));
+  if (a.is_valid() && !v.is_valid()) return make_status(LENGTH, ARG_V, -1);
+  FD_TRY(out_len(H, 16 * static_cast<size_t>(mv.nb)));
+  if (v.is_valid()) FD_TRY(out_len(vel, 6 * static_cast<size_t>(mv.nb)));
+  if (a.is_valid()) FD_TRY(out_len(acc, 6 * static_cast<size_t>(mv.nb)));
+  const double* vp = v.is_valid() ? v.data() : nullptr;
+  const double* ap = a.is_valid() ? a.data() : nullptr;
+  FD_TRY(check_state(mv, q.data(), vp, ap, nullptr));
+  forward_kinematics(mv, q.data(), vp, ap, H.data(), vp ? vel.data() : nullptr, ap ? acc.data() : nullptr);
+  return OK;
+}
+
+std::int64_t frame_placement1(const ModelData& md, const In& q, int frame, Out pose) {
+  const ModelView& mv = md.view;
+  FD_TRY(vec(q, mv.nq, ARG_Q));
+  if (frame < 0 || frame >= mv.nf) return make_status(LENGTH, ARG_FRAME, frame < 0 ? 0 : frame);
+  FD_TRY(out_len(pose, 12));
+  FD_TRY(check_state(mv, q.data(), nullptr, nullptr, nullptr));
+  frame_placement(mv, q.data(), frame, pose.data());
+  return OK;
+}
+
+std::int64_t frame_jacobian1(const ModelData& md, const In& q, int frame, int ref, Out J) {
+  const ModelView& mv = md.view;
+  FD_TRY(vec(q, mv.nq, ARG_Q));
+  if (frame < 0 || frame >= mv.nf) return make_status(LENGTH, ARG_FRAME, frame < 0 ? 0 : frame);
+  if (ref < LOCAL || ref > LOCAL_WORLD_ALIGNED) throw nb::value_error("reference code must be 0, 1 or 2");
+  FD_TRY(out_len(J, 6 * static_cast<size_t>(mv.nv)));
+  FD_TRY(check_state(mv, q.data(), nullptr, nullptr, nullptr));
+  frame_jacobian(mv, q.data(), frame, ref, J.data());
+  return OK;
+}
+
+// RNEA on complex input (complex-step checks); no finiteness or quaternion checks.
+std::int64_t rnea_complex1(const ModelData& md, const InC& q, const InC& v, const InC& a, const InC& f_ext,
+                           bool gravity, OutC tau) {
+  const ModelView& mv = md.view;
+  FD_TRY(vec(q, mv.nq, ARG_Q));
+  FD_TRY(vec(v, mv.nv, ARG_V));
+  FD_TRY(vec(a, mv.nv, ARG_A));
+  if (f_ext.is_valid()) {
+    require_aligned(f_ext);
+    if (f_ext.size() != 6 * static_cast<size_t>(mv.nb)) return make_status(LENGTH, ARG_FEXT, f_ext.size());
+  }
+  require_aligned(tau);
+  if (tau.size() != static_cast<size_t>(mv.nv)) return make_status(LENGTH, ARG_OUT, tau.size());
+  rnea(mv, q.data(), v.data(), a.data(), f_ext.is_valid() ? f_ext.data() : nullptr, gravity, tau.data());
+  return OK;
+}
+
+// ---------------------------------------------------------------------------
+// batches: row r of each input (or its only row), row r of the output
+// ---------------------------------------------------------------------------
+
+RowStatus rnea_n(const ModelData& md, const In& q, const In& v, const In& a, const In& f_ext, bool gravity,
+                 Out tau) {
+  const ModelView& mv = md.view;
+  std::int64_t N = 0;
+  Rows Q, V, A, FX;
+  FD_TRY_ROWS(out_rows(tau, mv.nv, N));
+  FD_TRY_ROWS(rows(q, N, mv.nq, ARG_Q, Q));
+  FD_TRY_ROWS(rows(v, N, mv.nv, ARG_V, V));
+  FD_TRY_ROWS(rows(a, N, mv.nv, ARG_A, A));
+  FD_TRY_ROWS(rows(f_ext, N, 6 * static_cast<size_t>(mv.nb), ARG_FEXT, FX));
+  double* T = tau.data();
+  return for_rows(N, [&](std::int64_t r) -> std::int64_t {
+    FD_TRY(check_state(mv, Q.row(r), V.row(r), A.row(r), FX.row(r)));
+    rnea(mv, Q.row(r), V.row(r), A.row(r), FX.row(r), gravity, T + r * mv.nv);
+    return OK;
+  });
+}
+
+RowStatus crba_n(const ModelData& md, const In& q, Out M) {
+  const ModelView& mv = md.view;
+  std::int64_t N = 0;
+  Rows Q;
+  const std::int64_t nv2 = static_cast<std::int64_t>(mv.nv) * mv.nv;
+  FD_TRY_ROWS(out_rows(M, nv2, N));
+  FD_TRY_ROWS(rows(q, N, mv.nq, ARG_Q, Q));
+  double* out = M.data();
+  return for_rows(N, [&](std::int64_t r) -> std::int64_t {
+    FD_TRY(check_state(mv, Q.row(r), nullptr, nullptr, nullptr));
+    crba(mv, Q.row(r), out + r * nv2);
+    return OK;
+  });
+}
+
+RowStatus aba_n(const ModelData& md, const In& q, const In& v, const In& tau, const In& f_ext, bool gravity,
+                Out qdd) {
+  const ModelView& mv = md.view;
+  std::int64_t N = 0;
+  Rows Q, V, T, FX;
+  FD_TRY_ROWS(out_rows(qdd, mv.nv, N));
+  FD_TRY_ROWS(rows(q, N, mv.nq, ARG_Q, Q));
+  FD_TRY_ROWS(rows(v, N, mv.nv, ARG_V, V));
+  FD_TRY_ROWS(rows(tau, N, mv.nv, ARG_A, T));
+  FD_TRY_ROWS(rows(f_ext, N, 6 * static_cast<size_t>(mv.nb), ARG_FEXT, FX));
+  double* out = qdd.data();
+  return for_rows(N, [&](std::int64_t r) -> std::int64_t {
+    FD_TRY(check_state(mv, Q.row(r), V.row(r), T.row(r), FX.row(r)));
+    const int bad = aba(mv, Q.row(r), V.row(r), T.row(r), FX.row(r), gravity, out + r * mv.nv);
+    return bad < 0 ? OK : make_status(SINGULAR, ARG_Q, bad);
+  });
+}
+
+RowStatus fk_n(const ModelData& md, const In& q, Out H) {
+  const ModelView& mv = md.view;
+  std::int64_t N = 0;
+  Rows Q;
+  const std::int64_t n = 16 * static_cast<std::int64_t>(mv.nb);
+  FD_TRY_ROWS(out_rows(H, n, N));
+  FD_TRY_ROWS(rows(q, N, mv.nq, ARG_Q, Q));
+  double* out = H.data();
+  return for_rows(N, [&](std::int64_t r) -> std::int64_t {
+    FD_TRY(check_state(mv, Q.row(r), nullptr, nullptr, nullptr));
+    forward_kinematics<double>(mv, Q.row(r), nullptr, nullptr, out + r * n, nullptr, nullptr);
+    return OK;
+  });
+}
+
+RowStatus frame_placement_n(const ModelData& md, const In& q, int frame, Out pose) {
+  const ModelView& mv = md.view;
+  std::int64_t N = 0;
+  Rows Q;
+  FD_TRY_ROWS(out_rows(pose, 12, N));
+  FD_TRY_ROWS(rows(q, N, mv.nq, ARG_Q, Q));
+  if (frame < 0 || frame >= mv.nf) return {-1, make_status(LENGTH, ARG_FRAME, frame < 0 ? 0 : frame)};
+  double* out = pose.data();
+  return for_rows(N, [&](std::int64_t r) -> std::int64_t {
+    FD_TRY(check_state(mv, Q.row(r), nullptr, nullptr, nullptr));
+    frame_placement(mv, Q.row(r), frame, out + 12 * r);
+    return OK;
+  });
+}
+
+RowStatus frame_jacobian_n(const ModelData& md, const In& q, int frame, int ref, Out J) {
+  const ModelView& mv = md.view;
+  std::int64_t N = 0;
+  Rows Q;
+  const std::int64_t n = 6 * static_cast<std::int64_t>(mv.nv);
+  FD_TRY_ROWS(out_rows(J, n, N));
+  FD_TRY_ROWS(rows(q, N, mv.nq, ARG_Q, Q));
+  if (frame < 0 || frame >= mv.nf) return {-1, make_status(LENGTH, ARG_FRAME, frame < 0 ? 0 : frame)};
+  if (ref < LOCAL || ref > LOCAL_WORLD_ALIGNED) throw nb::value_error("reference code must be 0, 1 or 2");
+  double* out = J.data();
+  return for_rows(N, [&](std::int64_t r) -> std::int64_t {
+    FD_TRY(check_state(mv, Q.row(r), nullptr, nullptr, nullptr));
+    frame_jacobian(mv, Q.row(r), frame, ref, out + r * n);
+    return OK;
+  });
+}
+
+ModelData* make_model(int nb, int nq, int nv, const Ints& body_ints, const In& body_reals, const In& gravity,
+                      double singular_tol, const Ints& frame_body, const In& frame_reals) {
+  const int nf = static_cast<int>(frame_body.size());
+  if (nb < 0 || body_ints.size() != 5 * static_cast<size_t>(nb) || body_reals.size() != 34 * static_cast<size_t>(nb) ||
+      gravity.size() != 3 || frame_reals.size() != 12 * static_cast<size_t>(nf))
+    throw nb::value_error("featherdyn.core: inconsistent model arrays");
+  return new ModelData(nb, nq, nv, nf, body_ints.data(), body_reals.data(), gravity.data(), singular_tol,
+                       frame_body.data(), frame_reals.data());
+}
+
+}  // namespace
+
+NB_MODULE(_core, m) {
+  m.doc() = "featherdyn's compiled core (see featherdyn.core for the documented Python API)";
+
+  nb::class_<ModelData>(m, "Model")
+      .def(nb::new_(&make_model), nb::arg("nb"), nb::arg("nq"), nb::arg("nv"), nb::arg("body_ints"),
+           nb::arg("body_reals"), nb::arg("gravity"), nb::arg("singular_tol"), nb::arg("frame_body"),
+           nb::arg("frame_reals"))
+      .def_prop_ro("nb", [](const ModelData& d) { return d.view.nb; })
+      .def_prop_ro("nq", [](const ModelData& d) { return d.view.nq; })
+      .def_prop_ro("nv", [](const ModelData& d) { return d.view.nv; })
+      .def_prop_ro("nf", [](const ModelData& d) { return d.view.nf; });
+
+  // every array argument: noconvert (no implicit copies or casts); optional ones accept None
+  auto A = [](const char* name) { return nb::arg(name).noconvert(); };
+  auto O = [](const char* name) { return nb::arg(name).noconvert().none(); };
+
+  m.def("rnea", &rnea1, nb::arg("model"), A("q"), A("v"), A("a"), O("f_ext"), nb::arg("gravity"), A("out"));
+  m.def("nle", &nle1, nb::arg("model"), A("q"), A("v"), A("out"));
+  m.def("gravity", &gravity1, nb::arg("model"), A("q"), A("out"));
+  m.def("crba", &crba1, nb::arg("model"), A("q"), A("out"));
+  m.def("aba", &aba1, nb::arg("model"), A("q"), A("v"), A("tau"), O("f_ext"), nb::arg("gravity"), A("out"),
+        O("D_singular"));
+  m.def("fk", &fk1, nb::arg("model"), A("q"), O("v"), O("a"), A("H"), O("vel"), O("acc"));
+  m.def("frame_placement", &frame_placement1, nb::arg("model"), A("q"), nb::arg("frame"), A("out"));
+  m.def("frame_jacobian", &frame_jacobian1, nb::arg("model"), A("q"), nb::arg("frame"), nb::arg("reference"),
+        A("out"));
+  m.def("rnea_complex", &rnea_complex1, nb::arg("model"), A("q"), A("v"), A("a"), O("f_ext"), nb::arg("gravity"),
+        A("out"));
+
+  m.def("rnea_batch", &rnea_n, nb::arg("model"), A("q"), A("v"), A("a"), O("f_ext"), nb::arg("gravity"), A("out"));
+  m.def("crba_batch", &crba_n, nb::arg("model"), A("q"), A("out"));
+  m.def("aba_batch", &aba_n, nb::arg("model"), A("q"), A("v"), A("tau"), O("f_ext"), nb::arg("gravity"), A("out"));
+  m.def("fk_batch", &fk_n, nb::arg("model"), A("q"), A("out"));
+  m.def("frame_placement_batch", &frame_placement_n, nb::arg("model"), A("q"), nb::arg("frame"), A("out"));
+  m.def("frame_jacobian_batch", &frame_jacobian_n, nb::arg("model"), A("q"), nb::arg("frame"),
+        nb::arg("reference"), A("out"));
+
+  m.def("set_num_threads", [](int n) { GlobalPool::instance().set_num_threads(n); }, nb::arg("n"));
+  m.def("get_num_threads", [] { return GlobalPool::instance().num_threads(); });
+  m.def("available_cores", &available_cores);
+}

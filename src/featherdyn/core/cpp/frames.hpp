@@ -1,0 +1,97 @@
+// Frame placement and frame Jacobian (reference: featherdyn/algorithms/kinematics.py and
+// jacobians.py; RBDA §4.5). Only the support of the frame's body is walked:
+//
+//     ⁰M_f = ⁰M_body(f) · placement_f
+//     ⁰J[:, k] = ⁰X_k S_k      for every joint k from the root to body(f)
+//     LOCAL: ᶠX_0 ⁰J      LOCAL_WORLD_ALIGNED: [ω; v − p_f × ω] of each WORLD column
+#pragma once
+
+#include "joints.hpp"
+#include "scratch.hpp"
+
+namespace fdcore {
+
+enum Reference : int { LOCAL = 0, WORLD = 1, LOCAL_WORLD_ALIGNED = 2 };
+
+template <class S>
+struct SupportWork {
+  std::vector<int> path;
+  std::vector<Mat3<S>> oR;
+  std::vector<Vec3<S>> op;
+  void resize(size_t nb) {
+    if (path.size() < nb) path.resize(nb), oR.resize(nb), op.resize(nb);
+  }
+};
+
+// The world placements of the bodies from the root to `body` (w.path[0 .. n), root first); returns n.
+template <class S>
+inline int support_placements(const ModelView& mv, int body, const S* q, SupportWork<S>& w) {
+  int n = 0;
+  for (int j = body; j != -1; j = mv.parent[j]) ++n;
+  int m = n;
+  for (int j = body; j != -1; j = mv.parent[j]) w.path[--m] = j;
+  for (int s = 0; s < n; ++s) {
+    Mat3<S> R;
+    Vec3<S> p;
+    pose_in_parent(mv, w.path[s], q, R, p);
+    if (s == 0) {
+      w.oR[0] = R;
+      w.op[0] = p;
+    } else {
+      w.oR[s] = w.oR[s - 1] * R;
+      w.op[s] = w.op[s - 1] + w.oR[s - 1] * p;
+    }
+  }
+  return n;
+}
+
+// ⁰M_f: R (3, 3) row-major and p (3,) in pose[0..12).
+template <class S>
+void frame_placement(const ModelView& mv, const S* q, int frame, S* pose) {
+  SupportWork<S>& w = thread_workspace<SupportWork<S>>(mv.nb);
+  const int body = mv.frame_body[frame];
+  Mat3<S> R = load9<S>(mv.frame_R + 9 * frame);
+  Vec3<S> p = load3<S>(mv.frame_p + 3 * frame);
+  const int n = support_placements(mv, body, q, w);
+  if (n > 0) {
+    p = w.op[n - 1] + w.oR[n - 1] * p;
+    R = w.oR[n - 1] * R;
+  }
+  for (int k = 0; k < 9; ++k) pose[k] = R.m[k];
+  pose[9] = p.x, pose[10] = p.y, pose[11] = p.z;
+}
+
+// J (6, nv) row-major, rows [ω; v], in the reference frame `ref`.
+template <class S>
+void frame_jacobian(const ModelView& mv, const S* q, int frame, int ref, S* J) {
+  SupportWork<S>& w = thread_workspace<SupportWork<S>>(mv.nb);
+  const int nv = mv.nv;
+  for (int k = 0; k < 6 * nv; ++k) J[k] = S(0.0);
+  const int body = mv.frame_body[frame];
+  const int n = support_placements(mv, body, q, w);
+  if (n == 0) return;  // a frame fixed to the world does not move
+  const Mat3<S> Rf = w.oR[n - 1] * load9<S>(mv.frame_R + 9 * frame);
+  const Vec3<S> pf = w.op[n - 1] + w.oR[n - 1] * load3<S>(mv.frame_p + 3 * frame);
+  const S z(0.0);
+  const Vec3<S> origin = ref == WORLD ? Vec3<S>{z, z, z} : pf;
+  for (int s = 0; s < n; ++s) {
+    const int k = w.path[s];
+    const Mat3<S>& R = w.oR[s];
+    // the reference point of the columns: the world origin (WORLD) or the frame origin
+    const Vec3<S> d = w.op[s] - origin;
+    for (int c = 0; c < mv.nv_i[k]; ++c) {
+      const Motion<S> Sc = S_col<S>(mv, k, c);
+      Vec3<S> om = R * Sc.w;
+      Vec3<S> vel = R * Sc.v + cross(d, om);
+      if (ref == LOCAL) {
+        om = mul_transpose(Rf, om);
+        vel = mul_transpose(Rf, vel);
+      }
+      const int col = mv.idx_v[k] + c;
+      J[0 * nv + col] = om.x, J[1 * nv + col] = om.y, J[2 * nv + col] = om.z;
+      J[3 * nv + col] = vel.x, J[4 * nv + col] = vel.y, J[5 * nv + col] = vel.z;
+    }
+  }
+}
+
+}  // namespace fdcore

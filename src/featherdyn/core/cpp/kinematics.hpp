@@ -1,0 +1,70 @@
+// Forward kinematics (chapter §8.1, RBDA §5.3; reference: featherdyn/algorithms/kinematics.py):
+//
+//     ᵖM_i = Xtree_i · M_J(q_i),      X_up[i] = (ᵖM_i)⁻¹,      ⁰M_i = ⁰M_λ(i) · ᵖM_i
+//     v_i  = X_up[i] v_λ(i) + S_i q̇_i
+//     a_i  = X_up[i] a_λ(i) + S_i q̈_i + v_i × S_i q̇_i          (no gravity)
+#pragma once
+
+#include "joints.hpp"
+#include "scratch.hpp"
+
+namespace fdcore {
+
+// World placements ⁰M_i as homogeneous matrices H (nb, 4, 4); body velocities vel and
+// accelerations acc (nb, 6) in body coordinates when qd (and qdd) are given (else nullptr).
+template <class S>
+struct FkWork {
+  std::vector<Mat3<S>> oR;
+  std::vector<Vec3<S>> op;
+  std::vector<Motion<S>> v, a;
+  void resize(size_t nb) {
+    if (oR.size() < nb) oR.resize(nb), op.resize(nb), v.resize(nb), a.resize(nb);
+  }
+};
+
+template <class S>
+void forward_kinematics(const ModelView& mv, const S* q, const S* qd, const S* qdd, S* H, S* vel, S* acc) {
+  const int nb = mv.nb;
+  FkWork<S>& w = thread_workspace<FkWork<S>>(nb);
+  Mat3<S>* oR = w.oR.data();
+  Vec3<S>* op = w.op.data();
+  Motion<S>* v = w.v.data();
+  Motion<S>* a = w.a.data();
+  for (int i = 0; i < nb; ++i) {
+    const int lam = mv.parent[i];
+    Mat3<S> R;
+    Vec3<S> p;
+    pose_in_parent(mv, i, q, R, p);
+    if (lam == -1) {
+      oR[i] = R;
+      op[i] = p;
+    } else {
+      oR[i] = oR[lam] * R;
+      op[i] = op[lam] + oR[lam] * p;
+    }
+    S* Hi = H + 16 * i;
+    for (int r = 0; r < 3; ++r) {
+      for (int c = 0; c < 3; ++c) Hi[4 * r + c] = oR[i](r, c);
+    }
+    Hi[3] = op[i].x;
+    Hi[7] = op[i].y;
+    Hi[11] = op[i].z;
+    Hi[12] = Hi[13] = Hi[14] = S(0.0);
+    Hi[15] = S(1.0);
+    if (qd == nullptr) continue;
+    const Xform<S> X_up{R.transpose(), p};
+    const Motion<S> vJ = S_times(mv, i, qd);
+    v[i] = lam == -1 ? vJ : X_up.apply(v[lam]) + vJ;
+    const Motion<S>& vi = v[i];
+    S* out = vel + 6 * i;
+    out[0] = vi.w.x, out[1] = vi.w.y, out[2] = vi.w.z, out[3] = vi.v.x, out[4] = vi.v.y, out[5] = vi.v.z;
+    if (qdd == nullptr) continue;
+    const Motion<S> aJ = S_times(mv, i, qdd) + cross_motion(vi, vJ);
+    a[i] = lam == -1 ? aJ : X_up.apply(a[lam]) + aJ;
+    const Motion<S>& ai = a[i];
+    out = acc + 6 * i;
+    out[0] = ai.w.x, out[1] = ai.w.y, out[2] = ai.w.z, out[3] = ai.v.x, out[4] = ai.v.y, out[5] = ai.v.z;
+  }
+}
+
+}  // namespace fdcore

@@ -1,0 +1,80 @@
+// The model as the kernels see it: a flat, read-only struct of arrays built once per
+// featherdyn.Model (featherdyn/core/_model_view.py builds the arrays; the binding copies
+// them into a ModelData that owns them). A reader greps a field and finds every use.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+namespace fdcore {
+
+enum JointType : std::int32_t { REVOLUTE = 0, PRISMATIC = 1, SPHERICAL = 2, FREE_FLYER = 3, PLANAR = 4 };
+
+struct ModelView {
+  int nb = 0, nq = 0, nv = 0, nf = 0;
+  // per body i
+  const std::int32_t* parent = nullptr;  // λ(i), −1 = the world
+  const std::int32_t* jtype = nullptr;   // JointType
+  const std::int32_t* idx_q = nullptr;   // where q_i starts
+  const std::int32_t* idx_v = nullptr;   // where v_i starts
+  const std::int32_t* nv_i = nullptr;    // joint dofs
+  const double* Xtree_R = nullptr;       // (nb, 9) joint frame's rotation in the parent body, row-major
+  const double* Xtree_p = nullptr;       // (nb, 3) joint frame's origin in the parent body
+  const double* mass = nullptr;          // (nb,)
+  const double* h = nullptr;             // (nb, 3) m c
+  const double* Ibar = nullptr;          // (nb, 6) Ī about the body origin: xx, xy, xz, yy, yz, zz
+  const double* axis = nullptr;          // (nb, 3) revolute / prismatic axis, planar normal
+  const double* basis = nullptr;         // (nb, 9) planar basis [e1 e2 n] as columns, row-major
+  // per model
+  const double* gravity = nullptr;       // (3,) in world coordinates
+  double singular_tol = 0.0;             // ABA: a pivot ≤ this is singular (1e-14 × largest inertia entry)
+  // per frame k
+  const std::int32_t* frame_body = nullptr;  // (nf,) −1 = the world
+  const double* frame_R = nullptr;           // (nf, 9) placement in the body
+  const double* frame_p = nullptr;           // (nf, 3)
+};
+
+// The storage behind a ModelView (owned by the Python object featherdyn.core._core.Model).
+struct ModelData {
+  std::vector<std::int32_t> ints;  // parent, jtype, idx_q, idx_v, nv_i (nb each), frame_body (nf)
+  std::vector<double> reals;       // Xtree_R, Xtree_p, mass, h, Ibar, axis, basis, gravity, frame_R, frame_p
+  ModelView view;
+
+  ModelData(int nb, int nq, int nv, int nf, const std::int32_t* body_ints, const double* body_reals,
+            const double* gravity3, double singular_tol, const std::int32_t* frame_body, const double* frame_reals)
+      : ints(5 * static_cast<size_t>(nb) + nf), reals(static_cast<size_t>(nb) * 34 + 3 + static_cast<size_t>(nf) * 12) {
+    for (size_t k = 0; k < 5 * static_cast<size_t>(nb); ++k) ints[k] = body_ints[k];
+    for (int k = 0; k < nf; ++k) ints[5 * static_cast<size_t>(nb) + k] = frame_body[k];
+    const size_t nbr = static_cast<size_t>(nb) * 34;
+    for (size_t k = 0; k < nbr; ++k) reals[k] = body_reals[k];
+    for (int k = 0; k < 3; ++k) reals[nbr + k] = gravity3[k];
+    for (size_t k = 0; k < static_cast<size_t>(nf) * 12; ++k) reals[nbr + 3 + k] = frame_reals[k];
+    ModelView& m = view;
+    m.nb = nb;
+    m.nq = nq;
+    m.nv = nv;
+    m.nf = nf;
+    const std::int32_t* I = ints.data();
+    m.parent = I;
+    m.jtype = I + nb;
+    m.idx_q = I + 2 * nb;
+    m.idx_v = I + 3 * nb;
+    m.nv_i = I + 4 * nb;
+    m.frame_body = I + 5 * nb;
+    // body_reals is (34, nb)-blocked by field: 9 + 3 + 1 + 3 + 6 + 3 + 9 = 34 per body
+    const double* R = reals.data();
+    m.Xtree_R = R;
+    m.Xtree_p = R + 9 * nb;
+    m.mass = R + 12 * nb;
+    m.h = R + 13 * nb;
+    m.Ibar = R + 16 * nb;
+    m.axis = R + 22 * nb;
+    m.basis = R + 25 * nb;
+    m.gravity = R + nbr;
+    m.singular_tol = singular_tol;
+    m.frame_R = R + nbr + 3;
+    m.frame_p = R + nbr + 3 + 9 * static_cast<size_t>(nf);
+  }
+};
+
+}  // namespace fdcore

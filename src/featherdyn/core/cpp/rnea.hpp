@@ -1,0 +1,73 @@
+// Inverse dynamics by the Recursive Newton–Euler Algorithm (chapter §8.1, appendix F.5;
+// RBDA table 5.1; reference: featherdyn/algorithms/rnea.py), gravity as a base acceleration −g:
+//
+//     v_i = X_up[i] v_λ(i) + S_i q̇_i
+//     a_i = X_up[i] a_λ(i) + S_i q̈_i + v_i × S_i q̇_i
+//     f_i = I_i a_i + v_i ×* I_i v_i − f_i^ext
+//     τ_i = S_iᵀ f_i,        f_λ(i) += X_up[i]ᵀ f_i      (i = nb−1 … 0)
+#pragma once
+
+#include "joints.hpp"
+#include "scratch.hpp"
+
+namespace fdcore {
+
+template <class S>
+struct RneaWork {
+  std::vector<Xform<S>> X_up;
+  std::vector<Motion<S>> v, a;
+  std::vector<Force<S>> f;
+  void resize(size_t nb) {
+    if (X_up.size() < nb) X_up.resize(nb), v.resize(nb), a.resize(nb), f.resize(nb);
+  }
+};
+
+template <class S>
+inline RigidInertia<S> body_inertia(const ModelView& mv, int i) {
+  const double* I = mv.Ibar + 6 * i;
+  return {S(mv.mass[i]), load3<S>(mv.h + 3 * i), {S(I[0]), S(I[1]), S(I[2]), S(I[3]), S(I[4]), S(I[5])}};
+}
+
+// The base acceleration a₀ = [0; −g] (or 0 without gravity).
+template <class S>
+inline Motion<S> base_acceleration(const ModelView& mv, bool gravity) {
+  const S z(0.0);
+  if (!gravity) return {{z, z, z}, {z, z, z}};
+  return {{z, z, z}, {S(-mv.gravity[0]), S(-mv.gravity[1]), S(-mv.gravity[2])}};
+}
+
+// τ (nv,) for the state (q, q̇, q̈); f_ext (nb, 6) body-frame forces [n; f] or nullptr.
+// q̇ or q̈ may be nullptr for zero (NLE: q̈ = 0; gravity: q̇ = q̈ = 0).
+template <class S>
+void rnea(const ModelView& mv, const S* q, const S* qd, const S* qdd, const S* f_ext, bool gravity, S* tau) {
+  const int nb = mv.nb;
+  RneaWork<S>& w = thread_workspace<RneaWork<S>>(nb);
+  Xform<S>* X_up = w.X_up.data();
+  Motion<S>* v = w.v.data();
+  Motion<S>* a = w.a.data();
+  Force<S>* f = w.f.data();
+  const S z(0.0);
+  const Motion<S> zero{{z, z, z}, {z, z, z}};
+  const Motion<S> a0 = base_acceleration<S>(mv, gravity);
+
+  for (int i = 0; i < nb; ++i) {
+    const int lam = mv.parent[i];
+    X_up[i] = joint_X_up(mv, i, q);
+    const Motion<S> vJ = qd ? S_times(mv, i, qd) : zero;
+    v[i] = lam == -1 ? vJ : X_up[i].apply(v[lam]) + vJ;
+    a[i] = X_up[i].apply(lam == -1 ? a0 : a[lam]) + (qdd ? S_times(mv, i, qdd) : zero) + cross_motion(v[i], vJ);
+    const RigidInertia<S> I = body_inertia<S>(mv, i);
+    f[i] = I * a[i] + cross_force(v[i], I * v[i]);
+    if (f_ext) {
+      const S* fx = f_ext + 6 * i;
+      f[i] = f[i] - Force<S>{{fx[0], fx[1], fx[2]}, {fx[3], fx[4], fx[5]}};
+    }
+  }
+  for (int i = nb - 1; i >= 0; --i) {
+    const int lam = mv.parent[i];
+    St_times(mv, i, f[i], tau + mv.idx_v[i]);
+    if (lam != -1) f[lam] += X_up[i].apply_transpose(f[i]);
+  }
+}
+
+}  // namespace fdcore

@@ -1,0 +1,229 @@
+// Spatial vector algebra as small value types, templated on the scalar S.
+//
+// Conventions (docs/architecture.md): a motion is [ω; v], a force [n; f];
+// Xform is Featherstone's plux(E, r): the transform of motion vectors from a
+// frame A to a frame B whose origin sits at r (A coordinates) and whose axes
+// are E (B's axes in A, as rows), RBDA §2.8 table 2.5:
+//
+//     X m   = [E ω;  E (v − r × ω)]
+//     Xᵀ f  = [Eᵀ n + r × Eᵀ f;  Eᵀ f]          (X* maps forces B → A when transposed)
+//
+// A body's pose (R, p) in its parent gives X_up = plux(Rᵀ, p).
+// RigidInertia holds (m, h = m c, Ī about the frame origin); ArticulatedInertia
+// a symmetric 6×6 [[A, B], [Bᵀ, C]].
+#pragma once
+
+namespace fdcore {
+
+template <class S>
+struct Vec3 {
+  S x, y, z;
+};
+
+template <class S>
+inline Vec3<S> operator+(const Vec3<S>& a, const Vec3<S>& b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
+template <class S>
+inline Vec3<S> operator-(const Vec3<S>& a, const Vec3<S>& b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
+template <class S>
+inline Vec3<S> operator-(const Vec3<S>& a) { return {-a.x, -a.y, -a.z}; }
+template <class S>
+inline Vec3<S> operator*(const S& s, const Vec3<S>& a) { return {s * a.x, s * a.y, s * a.z}; }
+template <class S>
+inline Vec3<S>& operator+=(Vec3<S>& a, const Vec3<S>& b) { a.x += b.x; a.y += b.y; a.z += b.z; return a; }
+template <class S>
+inline Vec3<S>& operator-=(Vec3<S>& a, const Vec3<S>& b) { a.x -= b.x; a.y -= b.y; a.z -= b.z; return a; }
+template <class S>
+inline S dot(const Vec3<S>& a, const Vec3<S>& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+template <class S>
+inline Vec3<S> cross(const Vec3<S>& a, const Vec3<S>& b) {
+  return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
+
+// A 3×3 matrix, row-major.
+template <class S>
+struct Mat3 {
+  S m[9];
+  S operator()(int r, int c) const { return m[3 * r + c]; }
+  S& operator()(int r, int c) { return m[3 * r + c]; }
+  static Mat3 identity() {
+    Mat3 I;
+    for (int k = 0; k < 9; ++k) I.m[k] = S(k % 4 == 0 ? 1.0 : 0.0);
+    return I;
+  }
+  Mat3 transpose() const {
+    return {{m[0], m[3], m[6], m[1], m[4], m[7], m[2], m[5], m[8]}};
+  }
+};
+
+template <class S>
+inline Vec3<S> operator*(const Mat3<S>& R, const Vec3<S>& a) {
+  return {R.m[0] * a.x + R.m[1] * a.y + R.m[2] * a.z, R.m[3] * a.x + R.m[4] * a.y + R.m[5] * a.z,
+          R.m[6] * a.x + R.m[7] * a.y + R.m[8] * a.z};
+}
+// Rᵀ a
+template <class S>
+inline Vec3<S> mul_transpose(const Mat3<S>& R, const Vec3<S>& a) {
+  return {R.m[0] * a.x + R.m[3] * a.y + R.m[6] * a.z, R.m[1] * a.x + R.m[4] * a.y + R.m[7] * a.z,
+          R.m[2] * a.x + R.m[5] * a.y + R.m[8] * a.z};
+}
+template <class S>
+inline Mat3<S> operator*(const Mat3<S>& A, const Mat3<S>& B) {
+  Mat3<S> C;
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) C(r, c) = A(r, 0) * B(0, c) + A(r, 1) * B(1, c) + A(r, 2) * B(2, c);
+  return C;
+}
+template <class S>
+inline Mat3<S> operator+(const Mat3<S>& A, const Mat3<S>& B) {
+  Mat3<S> C;
+  for (int k = 0; k < 9; ++k) C.m[k] = A.m[k] + B.m[k];
+  return C;
+}
+template <class S>
+inline Mat3<S> operator-(const Mat3<S>& A, const Mat3<S>& B) {
+  Mat3<S> C;
+  for (int k = 0; k < 9; ++k) C.m[k] = A.m[k] - B.m[k];
+  return C;
+}
+// [a]×
+template <class S>
+inline Mat3<S> skew(const Vec3<S>& a) {
+  const S z(0.0);
+  return {{z, -a.z, a.y, a.z, z, -a.x, -a.y, a.x, z}};
+}
+
+// Spatial motion [ω; v] and force [n; f].
+template <class S>
+struct Motion {
+  Vec3<S> w, v;
+};
+template <class S>
+struct Force {
+  Vec3<S> n, f;
+};
+
+template <class S>
+inline Motion<S> operator+(const Motion<S>& a, const Motion<S>& b) { return {a.w + b.w, a.v + b.v}; }
+template <class S>
+inline Force<S> operator+(const Force<S>& a, const Force<S>& b) { return {a.n + b.n, a.f + b.f}; }
+template <class S>
+inline Force<S> operator-(const Force<S>& a, const Force<S>& b) { return {a.n - b.n, a.f - b.f}; }
+template <class S>
+inline Force<S>& operator+=(Force<S>& a, const Force<S>& b) { a.n += b.n; a.f += b.f; return a; }
+// the pairing m · f (power)
+template <class S>
+inline S dot(const Motion<S>& m, const Force<S>& f) { return dot(m.w, f.n) + dot(m.v, f.f); }
+
+// v × m  (crm(v) m)
+template <class S>
+inline Motion<S> cross_motion(const Motion<S>& a, const Motion<S>& m) {
+  return {cross(a.w, m.w), cross(a.w, m.v) + cross(a.v, m.w)};
+}
+// v ×* f  (crf(v) f = −crm(v)ᵀ f)
+template <class S>
+inline Force<S> cross_force(const Motion<S>& a, const Force<S>& f) {
+  return {cross(a.w, f.n) + cross(a.v, f.f), cross(a.w, f.f)};
+}
+
+// plux(E, r): see the file comment.
+template <class S>
+struct Xform {
+  Mat3<S> E;
+  Vec3<S> r;
+
+  // X m
+  Motion<S> apply(const Motion<S>& m) const { return {E * m.w, E * (m.v - cross(r, m.w))}; }
+  // X⁻¹ m
+  Motion<S> apply_inverse(const Motion<S>& m) const {
+    const Vec3<S> w = mul_transpose(E, m.w);
+    return {w, mul_transpose(E, m.v) + cross(r, w)};
+  }
+  // Xᵀ f
+  Force<S> apply_transpose(const Force<S>& f) const {
+    const Vec3<S> ff = mul_transpose(E, f.f);
+    return {mul_transpose(E, f.n) + cross(r, ff), ff};
+  }
+};
+
+// A symmetric 3×3 matrix (xx, xy, xz, yy, yz, zz).
+template <class S>
+struct Sym3 {
+  S xx, xy, xz, yy, yz, zz;
+  Mat3<S> full() const { return {{xx, xy, xz, xy, yy, yz, xz, yz, zz}}; }
+  static Sym3 from(const Mat3<S>& M) { return {M.m[0], M.m[1], M.m[2], M.m[4], M.m[5], M.m[8]}; }
+};
+template <class S>
+inline Vec3<S> operator*(const Sym3<S>& I, const Vec3<S>& a) {
+  return {I.xx * a.x + I.xy * a.y + I.xz * a.z, I.xy * a.x + I.yy * a.y + I.yz * a.z,
+          I.xz * a.x + I.yz * a.y + I.zz * a.z};
+}
+template <class S>
+inline Sym3<S> operator+(const Sym3<S>& a, const Sym3<S>& b) {
+  return {a.xx + b.xx, a.xy + b.xy, a.xz + b.xz, a.yy + b.yy, a.yz + b.yz, a.zz + b.zz};
+}
+
+// A rigid body's spatial inertia about the frame origin: m, h = m c, Ī = I_c − m [c]×².
+template <class S>
+struct RigidInertia {
+  S m;
+  Vec3<S> h;
+  Sym3<S> I;
+
+  // I v = [Ī ω + h × v;  m v − h × ω]
+  Force<S> operator*(const Motion<S>& a) const { return {I * a.w + cross(h, a.v), m * a.v - cross(h, a.w)}; }
+  RigidInertia operator+(const RigidInertia& o) const { return {m + o.m, h + o.h, I + o.I}; }
+};
+
+// Xᵀ I X: a child's rigid inertia expressed in the parent (RBDA eq. 2.66 in the (m, h, Ī) form):
+//     h' = Eᵀ h + m r,   Ī' = Eᵀ Ī E − [r]× [Eᵀ h]× − [h']× [r]×
+template <class S>
+inline RigidInertia<S> transform_to_parent(const Xform<S>& X, const RigidInertia<S>& I) {
+  const Vec3<S> Eh = mul_transpose(X.E, I.h);
+  const Vec3<S> h = Eh + I.m * X.r;
+  const Mat3<S> Et = X.E.transpose();
+  const Mat3<S> rot = Et * I.I.full() * X.E;
+  const Mat3<S> rx = skew(X.r);
+  const Mat3<S> Ibar = rot - rx * skew(Eh) - skew(h) * rx;
+  // the exact result is symmetric; keep the upper triangle
+  return {I.m, h, Sym3<S>::from(Ibar)};
+}
+
+// A symmetric 6×6 articulated-body inertia [[A, B], [Bᵀ, C]] (A, C symmetric).
+template <class S>
+struct ArticulatedInertia {
+  Mat3<S> A, B, C;
+
+  static ArticulatedInertia from_rigid(const RigidInertia<S>& I) {
+    // [[Ī, [h]×], [[h]×ᵀ, m 1]]
+    const S z(0.0);
+    return {I.I.full(), skew(I.h), {{I.m, z, z, z, I.m, z, z, z, I.m}}};
+  }
+  Force<S> operator*(const Motion<S>& a) const {
+    return {A * a.w + B * a.v, mul_transpose(B, a.w) + C * a.v};
+  }
+  ArticulatedInertia& operator+=(const ArticulatedInertia& o) {
+    A = A + o.A;
+    B = B + o.B;
+    C = C + o.C;
+    return *this;
+  }
+};
+
+// Xᵀ I^a X for X = blkdiag(E, E) [[1, 0], [−[r]×, 1]]: rotate the blocks to the parent's axes
+// (A' = Eᵀ A E, ...), then shift by r:  A'' = A' − B'[r]× + [r]×B'ᵀ − [r]×C'[r]×,  B'' = B' + [r]×C',  C'' = C'.
+template <class S>
+inline ArticulatedInertia<S> transform_to_parent(const Xform<S>& X, const ArticulatedInertia<S>& I) {
+  const Mat3<S> Et = X.E.transpose();
+  const Mat3<S> A = Et * I.A * X.E, B = Et * I.B * X.E, C = Et * I.C * X.E;
+  const Mat3<S> rx = skew(X.r);
+  const Mat3<S> Brx = B * rx;
+  const Mat3<S> rxC = rx * C;
+  Mat3<S> A2 = A - Brx - Brx.transpose() - rxC * rx;
+  // symmetric by construction up to rounding: mirror the upper triangle
+  A2(1, 0) = A2(0, 1);
+  A2(2, 0) = A2(0, 2);
+  A2(2, 1) = A2(1, 2);
+  return {A2, B + rxC, C};
+}
+
+}  // namespace fdcore

@@ -1,0 +1,177 @@
+// The core's own thread pool (std::thread, no OpenMP) for the batched calls.
+//
+// * parallel_for(n, fn) runs fn(begin, end) over chunks of [0, n); the calling thread works too.
+// * Several threads may call parallel_for at once: each call is a job in a shared queue.
+// * fork: the child has none of the parent's threads, so the child drops the pool (leaking it;
+//   its threads are gone) and builds a new one on first use (pthread_atfork, plus a pid check).
+#pragma once
+
+#include <pthread.h>
+#include <sched.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <condition_variable>
+#include <cstdint>
+#include <deque>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <new>
+#include <thread>
+#include <vector>
+
+namespace fdcore {
+
+class ThreadPool {
+ public:
+  explicit ThreadPool(int nthreads) : nthreads_(std::max(1, nthreads)) {
+    for (int t = 1; t < nthreads_; ++t) workers_.emplace_back([this] { work(); });
+  }
+  ~ThreadPool() {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      stop_ = true;
+    }
+    wake_.notify_all();
+    for (auto& t : workers_) t.join();
+  }
+  ThreadPool(const ThreadPool&) = delete;
+  ThreadPool& operator=(const ThreadPool&) = delete;
+
+  int size() const { return nthreads_; }
+
+  void parallel_for(std::int64_t n, const std::function<void(std::int64_t, std::int64_t)>& fn) {
+    if (n <= 0) return;
+    // about four chunks per thread balances uneven rows without much queue traffic
+    const std::int64_t chunk = std::max<std::int64_t>(1, n / (4 * nthreads_));
+    if (nthreads_ == 1 || n <= chunk) {
+      fn(0, n);
+      return;
+    }
+    Job job{fn, n, chunk};
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      queue_.push_back(&job);
+    }
+    wake_.notify_all();
+    run_chunks(job);
+    std::unique_lock<std::mutex> lock(mutex_);
+    remove(&job);
+    done_.wait(lock, [&] { return job.users == 0 && job.finished.load() == job.nchunks(); });
+  }
+
+ private:
+  struct Job {
+    const std::function<void(std::int64_t, std::int64_t)>& fn;
+    std::int64_t n, chunk;
+    std::atomic<std::int64_t> next{0};
+    std::atomic<std::int64_t> finished{0};
+    int users = 0;  // workers inside run_chunks (guarded by mutex_)
+    Job(const std::function<void(std::int64_t, std::int64_t)>& f, std::int64_t n_, std::int64_t c)
+        : fn(f), n(n_), chunk(c) {}
+    std::int64_t nchunks() const { return (n + chunk - 1) / chunk; }
+  };
+
+  void run_chunks(Job& job) {
+    for (;;) {
+      const std::int64_t c = job.next.fetch_add(1);
+      if (c >= job.nchunks()) return;
+      const std::int64_t begin = c * job.chunk;
+      job.fn(begin, std::min(job.n, begin + job.chunk));
+      job.finished.fetch_add(1);
+    }
+  }
+
+  void remove(Job* job) {  // with mutex_ held
+    auto it = std::find(queue_.begin(), queue_.end(), job);
+    if (it != queue_.end()) queue_.erase(it);
+  }
+
+  void work() {
+    std::unique_lock<std::mutex> lock(mutex_);
+    for (;;) {
+      wake_.wait(lock, [&] { return stop_ || !queue_.empty(); });
+      if (stop_) return;
+      Job* job = queue_.front();
+      ++job->users;
+      lock.unlock();
+      run_chunks(*job);
+      lock.lock();
+      remove(job);  // exhausted: no more chunks to hand out
+      --job->users;
+      done_.notify_all();
+    }
+  }
+
+  int nthreads_;
+  std::vector<std::thread> workers_;
+  std::mutex mutex_;
+  std::condition_variable wake_, done_;
+  std::deque<Job*> queue_;
+  bool stop_ = false;
+};
+
+// The cores this process may run on.
+inline int available_cores() {
+  cpu_set_t set;
+  if (sched_getaffinity(0, sizeof(set), &set) == 0) return std::max(1, CPU_COUNT(&set));
+  return std::max(1u, std::thread::hardware_concurrency());
+}
+
+// The process-wide pool, rebuilt after fork and by set_num_threads.
+class GlobalPool {
+ public:
+  static GlobalPool& instance() {
+    static GlobalPool* g = new GlobalPool();  // never destroyed: worker threads must not outlive it at exit
+    return *g;
+  }
+
+  std::shared_ptr<ThreadPool> get() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (!pool_ || pid_ != getpid()) {
+      if (pid_ != getpid()) forget();
+      pool_ = std::make_shared<ThreadPool>(nthreads_);
+      pid_ = getpid();
+    }
+    return pool_;
+  }
+
+  void set_num_threads(int n) {
+    std::shared_ptr<ThreadPool> old;
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      nthreads_ = n > 0 ? n : available_cores();
+      if (pid_ == getpid()) old.swap(pool_);  // running batches keep their pool until they finish
+      else forget();
+    }
+  }
+
+  int num_threads() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return nthreads_;
+  }
+
+ private:
+  GlobalPool() : nthreads_(available_cores()), pid_(getpid()) {
+    pthread_atfork([] { instance().mutex_.lock(); }, [] { instance().mutex_.unlock(); },
+                   [] {
+                     GlobalPool& g = instance();
+                     g.mutex_.unlock();
+                     g.forget();
+                   });
+  }
+  // In a forked child the pool's threads do not exist: drop it without running its destructor.
+  void forget() {
+    new (&pool_) std::shared_ptr<ThreadPool>();
+    pid_ = getpid();
+  }
+
+  std::mutex mutex_;
+  std::shared_ptr<ThreadPool> pool_;
+  int nthreads_;
+  pid_t pid_;
+};
+
+}  // namespace fdcore
