@@ -30,8 +30,9 @@ from ..model import Model
 from . import _errors
 from ._model_view import model_view
 
+_core: Any
 try:
-    from . import _core
+    from . import _core  # type: ignore[attr-defined]  # the compiled extension (no stub)
 except ImportError:  # pragma: no cover - a source checkout without the built extension
     _core = None
 
@@ -147,7 +148,7 @@ def _rows(x: np.ndarray | None, batch: tuple[int, ...], tail: tuple[int, ...]) -
 
 def _check_batch(status: tuple[int, int], model: Model, q: Any, vectors: list[tuple[str, Any]],
                  f_ext: Any = None) -> None:
-    row, s = status
+    _, s = status
     if s:
         _errors.raise_for(s, model, q, vectors, f_ext)
 
@@ -193,7 +194,7 @@ def rnea_batch(model: Model, q: Any, v: Any, a: Any, f_ext: Any = None, gravity:
     result = _out(out, batch + (model.nv,))
     st = _core.rnea_batch(cm, _rows(q_, batch, (model.nq,)), _rows(v_, batch, (model.nv,)),
                           _rows(a_, batch, (model.nv,)), _rows(fx, batch, (model.nbodies, 6)), bool(gravity),
-                          result.reshape(-1, model.nv))
+                          result.reshape(math.prod(batch), model.nv))
     _check_batch(st, model, q, vectors, f_ext)
     return result
 
@@ -289,7 +290,7 @@ def crba_batch(model: Model, q: Any, out: Any = None) -> np.ndarray:
     q_ = _f64(q, "q")
     batch = _batch_shape(model, [(q_, 1)], q, [], None)
     result = _out(out, batch + (model.nv, model.nv))
-    st = _core.crba_batch(cm, _rows(q_, batch, (model.nq,)), result.reshape(-1, model.nv * model.nv))
+    st = _core.crba_batch(cm, _rows(q_, batch, (model.nq,)), result.reshape(math.prod(batch), model.nv * model.nv))
     _check_batch(st, model, q, [])
     return result
 
@@ -337,7 +338,7 @@ def aba_batch(model: Model, q: Any, v: Any, tau: Any, f_ext: Any = None, gravity
     result = _out(out, batch + (model.nv,))
     Q, V, T = _rows(q_, batch, (model.nq,)), _rows(v_, batch, (model.nv,)), _rows(t_, batch, (model.nv,))
     FX = _rows(fx, batch, (model.nbodies, 6))
-    row, s = _core.aba_batch(cm, Q, V, T, FX, bool(gravity), result.reshape(-1, model.nv))
+    _, s = _core.aba_batch(cm, Q, V, T, FX, bool(gravity), result.reshape(math.prod(batch), model.nv))
     if s:
         _errors.validate(model, q, vectors, f_ext)
         if _errors.decode(s)[0] != _errors.SINGULAR:
@@ -350,11 +351,13 @@ def _raise_singular_batch(model: Model, cm: Any, Q: Any, V: Any, T: Any, FX: Any
     """The reference's error for a batch: the singular joint nearest the leaves, its smallest eigenvalue."""
     found: dict[int, float] = {}
     qdd, D = np.empty(model.nv), np.empty(36)
+
+    def row(x: Any, r: int) -> Any:
+        return None if x is None else x[0 if x.shape[0] == 1 else r]
+
     for r in range(N):
-        def row(x: Any) -> Any:
-            return None if x is None else x[0 if x.shape[0] == 1 else r]
-        s = _core.aba(cm, row(Q), row(V), row(T), None if FX is None else row(FX).reshape(model.nbodies, 6), grav,
-                      qdd, D)
+        fx = None if FX is None else row(FX, r).reshape(model.nbodies, 6)
+        s = _core.aba(cm, row(Q, r), row(V, r), row(T, r), fx, grav, qdd, D)
         if s:
             joint = _errors.decode(s)[2]
             e = _errors.eig_min(D, model.nvs[joint])
@@ -406,7 +409,7 @@ def fk_batch(model: Model, q: Any, out: Any = None) -> np.ndarray:
     q_ = _f64(q, "q")
     batch = _batch_shape(model, [(q_, 1)], q, [], None)
     result = _out(out, batch + (model.nbodies, 4, 4))
-    st = _core.fk_batch(cm, _rows(q_, batch, (model.nq,)), result.reshape(-1, 16 * model.nbodies))
+    st = _core.fk_batch(cm, _rows(q_, batch, (model.nq,)), result.reshape(math.prod(batch), 16 * model.nbodies))
     _check_batch(st, model, q, [])
     return result
 
@@ -436,7 +439,7 @@ def frame_placement_batch(model: Model, q: Any, frame: Any, out: Any = None) -> 
     q_ = _f64(q, "q")
     batch = _batch_shape(model, [(q_, 1)], q, [], None)
     pose = _out(out, batch + (12,))
-    st = _core.frame_placement_batch(cm, _rows(q_, batch, (model.nq,)), fid, pose.reshape(-1, 12))
+    st = _core.frame_placement_batch(cm, _rows(q_, batch, (model.nq,)), fid, pose.reshape(math.prod(batch), 12))
     _check_batch(st, model, q, [])
     return pose[..., :9].reshape(batch + (3, 3)), pose[..., 9:]
 
@@ -470,7 +473,7 @@ def frame_jacobian_batch(model: Model, q: Any, frame: Any, reference: Any = 0, o
     q_ = _f64(q, "q")
     batch = _batch_shape(model, [(q_, 1)], q, [], None)
     J = _out(out, batch + (6, model.nv))
-    st = _core.frame_jacobian_batch(cm, _rows(q_, batch, (model.nq,)), fid, ref, J.reshape(-1, 6 * model.nv))
+    st = _core.frame_jacobian_batch(cm, _rows(q_, batch, (model.nq,)), fid, ref, J.reshape(math.prod(batch), 6 * model.nv))
     _check_batch(st, model, q, [])
     return J
 

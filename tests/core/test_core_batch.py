@@ -1,0 +1,167 @@
+"""Batched calls of featherdyn.core: batch == a loop of one-state calls, bit for bit; threads; fork.
+
+* every batched entry point equals the loop of its one-state call exactly, for
+  batch sizes around the chunking of the thread pool, with broadcast rows, and
+  writing into ``out=``;
+* 8 Python threads sharing one model (one-state and batched calls) get the
+  single-threaded results;
+* a fork-start ``multiprocessing`` pool after a batched call works (the child
+  rebuilds the core's thread pool);
+* ``set_num_threads`` changes the pool and not the numbers.
+"""
+
+from __future__ import annotations
+
+import multiprocessing
+import threading
+
+import numpy as np
+import pytest
+from _core_helpers import state
+from _models import TREES, random_state, tree
+
+import featherdyn as fd
+from featherdyn import core
+
+SIZES = [1, 2, 3, 7, 8, 9, 33]
+
+
+def _loop(fn, *rows):  # type: ignore[no-untyped-def]
+    return np.stack([fn(*r) for r in zip(*rows, strict=True)])
+
+
+@pytest.mark.parametrize("spec", TREES, ids=lambda s: s.name)
+@pytest.mark.parametrize("N", SIZES)
+def test_batch_equals_loop_bit_for_bit(spec, N: int) -> None:  # type: ignore[no-untyped-def]
+    model = tree(spec.name)
+    st = random_state(model, 10 + N, (N,))
+    q, v, a, tau, f = st.q, st.v, st.a, st.tau, st.f_ext
+    fid = len(model.frames) - 1
+    cases = {
+        "rnea": (core.rnea_batch(model, q, v, a), _loop(lambda *x: core.rnea(model, *x), q, v, a)),
+        "rnea f_ext": (core.rnea_batch(model, q, v, a, f, gravity=False),
+                       _loop(lambda *x: core.rnea(model, *x, gravity=False), q, v, a, f)),
+        "nle": (core.nle_batch(model, q, v), _loop(lambda *x: core.nle(model, *x), q, v)),
+        "gravity": (core.gravity_batch(model, q), _loop(lambda x: core.gravity(model, x), q)),
+        "crba": (core.crba_batch(model, q), _loop(lambda x: core.crba(model, x), q)),
+        "aba": (core.aba_batch(model, q, v, tau, f), _loop(lambda *x: core.aba(model, *x), q, v, tau, f)),
+        "fk": (core.fk_batch(model, q), _loop(lambda x: core.fk(model, x), q)),
+        "frame_placement": (np.concatenate([x.reshape(N, -1) for x in core.frame_placement_batch(model, q, fid)], 1),
+                            _loop(lambda x: np.concatenate([y.ravel() for y in core.frame_placement(model, x, fid)]),
+                                  q)),
+    }
+    for ref in (0, 1, 2):
+        cases[f"frame_jacobian {ref}"] = (core.frame_jacobian_batch(model, q, fid, ref),
+                                          _loop(lambda x, r=ref: core.frame_jacobian(model, x, fid, r), q))
+    for what, (batch, loop) in cases.items():
+        assert batch.shape == loop.shape, f"{spec.name} N={N} {what}: shape {batch.shape} != {loop.shape}"
+        assert np.array_equal(batch, loop), f"{spec.name} N={N} {what}: batch differs from the loop"
+
+
+def test_broadcast_rows_and_batch_axes() -> None:
+    """A one-row input is used for every state; leading axes (2, 3) come back as they went in."""
+    model = tree("free_branch")
+    st = random_state(model, 11, (2, 3))
+    q0 = st.q[0, 0]
+    tau = core.rnea(model, q0, st.v, st.a)  # q broadcast over (2, 3)
+    assert tau.shape == (2, 3, model.nv)
+    for idx in np.ndindex(2, 3):
+        assert np.array_equal(tau[idx], core.rnea(model, q0, st.v[idx], st.a[idx])), idx
+    tau2 = core.rnea(model, st.q, st.v[:1, :1], np.zeros(model.nv))
+    for idx in np.ndindex(2, 3):
+        assert np.array_equal(tau2[idx], core.rnea(model, st.q[idx], st.v[0, 0], np.zeros(model.nv))), idx
+    M = core.crba(model, st.q)
+    assert M.shape == (2, 3, model.nv, model.nv)
+    assert np.array_equal(M[1, 2], core.crba(model, st.q[1, 2]))
+
+
+def test_out_is_written_and_returned() -> None:
+    model = tree("fixed_branch_mixed")
+    st = random_state(model, 12, (4,))
+    out = np.full((4, model.nv), np.nan)
+    res = core.rnea(model, st.q, st.v, st.a, out=out)
+    assert res is out
+    assert np.array_equal(out, core.rnea(model, st.q, st.v, st.a))
+    one = np.full(model.nv, np.nan)
+    assert core.aba(model, st.q[0], st.v[0], st.tau[0], out=one) is one
+    with pytest.raises(fd.errors.ShapeError, match="out: expected shape"):
+        core.rnea(model, st.q, st.v, st.a, out=np.empty((3, model.nv)))
+    with pytest.raises(TypeError, match="out:"):
+        core.rnea(model, st.q[0], st.v[0], st.a[0], out=np.empty(model.nv, dtype=np.float32))
+
+
+def test_eight_python_threads_sharing_a_model() -> None:
+    """Concurrent one-state and batched calls on one model give the single-threaded results."""
+    model = tree("free_branch")
+    st = random_state(model, 13, (64,))
+    expected = (core.rnea_batch(model, st.q, st.v, st.a), core.crba_batch(model, st.q),
+                core.aba_batch(model, st.q, st.v, st.tau))
+    errors: list[str] = []
+
+    def work(k: int) -> None:
+        for rep in range(20):
+            got = (core.rnea_batch(model, st.q, st.v, st.a), core.crba_batch(model, st.q),
+                   core.aba_batch(model, st.q, st.v, st.tau))
+            for name, g, e in zip(("rnea", "crba", "aba"), got, expected, strict=True):
+                if not np.array_equal(g, e):
+                    errors.append(f"thread {k} rep {rep}: batched {name} differs")
+            r = (k + rep) % 64
+            if not np.array_equal(core.rnea(model, st.q[r], st.v[r], st.a[r]), expected[0][r]):
+                errors.append(f"thread {k} rep {rep}: one-state rnea differs")
+
+    threads = [threading.Thread(target=work, args=(k,)) for k in range(8)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    assert not errors, errors[:5]
+
+
+def _child_rnea(args):  # type: ignore[no-untyped-def]
+    name, q, v, a = args
+    return core.rnea_batch(tree(name), q, v, a)
+
+
+def test_fork_pool_after_a_batched_call() -> None:
+    """The core's pool is running in the parent; forked children build their own and compute the same."""
+    if "fork" not in multiprocessing.get_all_start_methods():
+        pytest.skip("no fork on this platform")
+    model = tree("free_chain")
+    st = random_state(model, 14, (40,))
+    expected = core.rnea_batch(model, st.q, st.v, st.a)  # the pool exists now
+    ctx = multiprocessing.get_context("fork")
+    with ctx.Pool(2) as pool:
+        chunks = [("free_chain", st.q[k::4], st.v[k::4], st.a[k::4]) for k in range(4)]
+        results = pool.map(_child_rnea, chunks, chunksize=1)
+    for k, r in enumerate(results):
+        assert np.array_equal(r, expected[k::4]), f"child chunk {k} differs"
+    assert np.array_equal(core.rnea_batch(model, st.q, st.v, st.a), expected)  # the parent's pool still works
+
+
+def test_set_num_threads() -> None:
+    model = tree("free_branch")
+    st = random_state(model, 15, (50,))
+    before = core.get_num_threads()
+    try:
+        expected = core.crba_batch(model, st.q)
+        for n in (1, 3, 8):
+            core.set_num_threads(n)
+            assert core.get_num_threads() == n
+            assert np.array_equal(core.crba_batch(model, st.q), expected), f"{n} threads"
+        core.set_num_threads(0)  # back to the cores available
+        assert core.get_num_threads() >= 1
+    finally:
+        core.set_num_threads(before)
+    with pytest.raises(TypeError):
+        core.set_num_threads(2.5)  # type: ignore[arg-type]
+
+
+def test_batch_on_a_library_robot() -> None:
+    """Batched rnea on solo12 (floating) equals the loop of one-state calls exactly."""
+    from _core_helpers import robot
+
+    model = robot("solo12", True)
+    assert model is not None
+    q, v, a, tau, f = state(model, 16, (20,))
+    assert np.array_equal(core.rnea_batch(model, q, v, a, f), _loop(lambda *x: core.rnea(model, *x), q, v, a, f))
+    assert np.array_equal(core.aba_batch(model, q, v, tau), _loop(lambda *x: core.aba(model, *x), q, v, tau))
