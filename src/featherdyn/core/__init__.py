@@ -32,7 +32,7 @@ from ._model_view import model_view
 
 _core: Any
 try:
-    from . import _core  # type: ignore[attr-defined]  # the compiled extension (no stub)
+    from . import _core  # the compiled extension (no stub: typed Any above)
 except ImportError:  # pragma: no cover - a source checkout without the built extension
     _core = None
 
