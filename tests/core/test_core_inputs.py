@@ -92,7 +92,7 @@ def test_object_arrays_of_numbers_convert_and_symbols_are_refused() -> None:
 def test_the_binding_never_reinterprets_memory(bad: str) -> None:
     """Called directly, the extension refuses every array it would have to reinterpret or copy."""
     model = tree("revolute_chain")
-    cm = core._view(model)
+    cm = core._view(model).cm
     st = random_state(model, 23)
     arrays = {"float32": st.q.astype(np.float32), "int": np.zeros(model.nq, dtype=np.int64), "list": st.q.tolist()}
     arrays.update({k: v for k, v in _variants(st.q).items() if k in ("big-endian", "strided", "unaligned")})

@@ -11,6 +11,12 @@ core's status into the reference's exception and message.
 
 Every function takes one state (1-D ``q`` etc.) or a batch (leading axes,
 broadcast; the batch runs on the core's thread pool with the GIL released).
+A one-state call first hands its arguments to the binding as they are; only
+when the binding refuses them (a ``TypeError``: not a native-endian, aligned,
+C-contiguous float64 array of the exact shape) or reports a status (a batch,
+a bad value) does the wrapper take its general path, which converts,
+dispatches batches and raises the reference's errors. The general path never
+changes what a call returns, only how long it takes.
 Results are float64; ``out=`` gives an array to write into (float64,
 C-contiguous, the result's shape). Conventions: motion ``[ω; v]``, force
 ``[n; f]``, free-flyer ``q = [p, quat xyzw]`` and ``v = [ω; v]`` in the base
@@ -28,7 +34,7 @@ from .._validation import as_array
 from ..errors import DTypeError, ShapeError
 from ..model import Model
 from . import _errors
-from ._model_view import model_view
+from ._model_view import CoreHandle, model_view
 
 _core: Any
 try:
@@ -61,8 +67,11 @@ __all__ = [
 ]
 
 _F64 = np.dtype(np.float64)
+_empty = np.empty
 #: reference frame → the kernel's code
 REFERENCE_CODES = {"local": 0, "world": 1, "local_world_aligned": 2}
+# the values of fd.LOCAL & co. (an Enum of these strings) → code, for the one-state fast path
+_REF_VALUES = dict(REFERENCE_CODES)
 
 
 def available() -> bool:
@@ -78,7 +87,7 @@ def _lib() -> Any:
     return _core
 
 
-def _view(model: Model) -> Any:
+def _view(model: Model) -> CoreHandle:
     if not isinstance(model, Model):
         raise ShapeError(f"model: expected a featherdyn Model, got {type(model).__name__}")
     return model_view(model, _lib())
@@ -170,12 +179,19 @@ def rnea(model: Model, q: Any, v: Any, a: Any, f_ext: Any = None, gravity: bool 
 
         τ = M(q) q̈ + C(q, q̇) q̇ + g(q) − Σ_i J_iᵀ f_i^ext
     """
-    cm = _view(model)
+    try:
+        h = model._core
+        tau = _empty(h.nv) if out is None else out
+        if _core.rnea(h.cm, q, v, a, f_ext, gravity, tau) == 0:
+            return tau
+    except (AttributeError, TypeError):
+        pass
+    h = _view(model)
     q_, v_, a_ = _f64(q, "q"), _f64(v, "v"), _f64(a, "a")
     fx = None if f_ext is None else _f64(f_ext, "f_ext")
     if q_.ndim == 1 and v_.ndim == 1 and a_.ndim == 1 and (fx is None or fx.ndim == 2):
-        tau = _out(out, (model.nv,))
-        s = _core.rnea(cm, q_, v_, a_, fx, bool(gravity), tau)
+        tau = _out(out, (h.nv,))
+        s = _core.rnea(h.cm, q_, v_, a_, fx, bool(gravity), tau)
         if s:
             _errors.raise_for(s, model, q, [("v", v), ("a", a)], f_ext)
         return tau
@@ -185,16 +201,16 @@ def rnea(model: Model, q: Any, v: Any, a: Any, f_ext: Any = None, gravity: bool 
 def rnea_batch(model: Model, q: Any, v: Any, a: Any, f_ext: Any = None, gravity: bool = True,
                out: Any = None) -> np.ndarray:
     """:func:`rnea` over batch axes `(..., nq)` etc. (broadcast), on the core's threads."""
-    cm = _view(model)
+    h = _view(model)
     q_, v_, a_ = _f64(q, "q"), _f64(v, "v"), _f64(a, "a")
     fx = None if f_ext is None else _f64(f_ext, "f_ext")
     vectors = [("v", v), ("a", a)]
     parts = [(q_, 1), (v_, 1), (a_, 1)] + ([] if fx is None else [(fx, 2)])
     batch = _batch_shape(model, parts, q, vectors, f_ext)
-    result = _out(out, batch + (model.nv,))
-    st = _core.rnea_batch(cm, _rows(q_, batch, (model.nq,)), _rows(v_, batch, (model.nv,)),
-                          _rows(a_, batch, (model.nv,)), _rows(fx, batch, (model.nbodies, 6)), bool(gravity),
-                          result.reshape(math.prod(batch), model.nv))
+    N = math.prod(batch)
+    result = _out(out, batch + (h.nv,))
+    st = _core.rnea_batch(h.cm, _rows(q_, batch, (h.nq,)), _rows(v_, batch, (h.nv,)), _rows(a_, batch, (h.nv,)),
+                          _rows(fx, batch, (h.nb, 6)), bool(gravity), result.reshape(N, h.nv))
     _check_batch(st, model, q, vectors, f_ext)
     return result
 
@@ -204,20 +220,27 @@ def nle(model: Model, q: Any, v: Any, out: Any = None) -> np.ndarray:
 
         h(q, q̇) = C(q, q̇) q̇ + g(q) = RNEA(q, q̇, 0)
     """
-    cm = _view(model)
+    try:
+        h = model._core
+        res = _empty(h.nv) if out is None else out
+        if _core.nle(h.cm, q, v, res) == 0:
+            return res
+    except (AttributeError, TypeError):
+        pass
+    h = _view(model)
     q_, v_ = _f64(q, "q"), _f64(v, "v")
     if q_.ndim == 1 and v_.ndim == 1:
-        h = _out(out, (model.nv,))
-        s = _core.nle(cm, q_, v_, h)
+        res = _out(out, (h.nv,))
+        s = _core.nle(h.cm, q_, v_, res)
         if s:
             _errors.raise_for(s, model, q, [("v", v)])
-        return h
+        return res
     return nle_batch(model, q_, v_, out)
 
 
 def nle_batch(model: Model, q: Any, v: Any, out: Any = None) -> np.ndarray:
     """:func:`nle` over batch axes (broadcast), on the core's threads."""
-    return rnea_batch(model, q, v, np.zeros((1, model.nv)), None, True, out)
+    return rnea_batch(model, q, v, np.zeros((1, _view(model).nv)), None, True, out)
 
 
 def gravity(model: Model, q: Any, out: Any = None) -> np.ndarray:
@@ -225,11 +248,18 @@ def gravity(model: Model, q: Any, out: Any = None) -> np.ndarray:
 
         g(q) = RNEA(q, 0, 0)
     """
-    cm = _view(model)
+    try:
+        h = model._core
+        g = _empty(h.nv) if out is None else out
+        if _core.gravity(h.cm, q, g) == 0:
+            return g
+    except (AttributeError, TypeError):
+        pass
+    h = _view(model)
     q_ = _f64(q, "q")
     if q_.ndim == 1:
-        g = _out(out, (model.nv,))
-        s = _core.gravity(cm, q_, g)
+        g = _out(out, (h.nv,))
+        s = _core.gravity(h.cm, q_, g)
         if s:
             _errors.raise_for(s, model, q)
         return g
@@ -238,7 +268,7 @@ def gravity(model: Model, q: Any, out: Any = None) -> np.ndarray:
 
 def gravity_batch(model: Model, q: Any, out: Any = None) -> np.ndarray:
     """:func:`gravity` over batch axes, on the core's threads."""
-    zero = np.zeros((1, model.nv))
+    zero = np.zeros((1, _view(model).nv))
     return rnea_batch(model, q, zero, zero, None, True, out)
 
 
@@ -248,13 +278,14 @@ def rnea_complex(model: Model, q: Any, v: Any, a: Any, f_ext: Any = None, gravit
     For complex-step derivatives: ``Im rnea(q + i h δq) / h ≈ ∂τ/∂q δq`` (joint angles;
     quaternions must stay unit to first order). No finiteness or quaternion checks.
     """
-    cm = _view(model)
+    h = _view(model)
 
     def c128(x: Any) -> np.ndarray:
         return np.array(x, dtype=np.complex128, order="C")
 
-    tau = np.empty(model.nv, dtype=np.complex128)
-    s = _core.rnea_complex(cm, c128(q), c128(v), c128(a), None if f_ext is None else c128(f_ext), bool(gravity), tau)
+    tau = np.empty(h.nv, dtype=np.complex128)
+    s = _core.rnea_complex(h.cm, c128(q), c128(v), c128(a), None if f_ext is None else c128(f_ext), bool(gravity),
+                           tau)
     if s:
         _errors.raise_for(s, model, np.real(q), [("v", np.real(v)), ("a", np.real(a))],
                           None if f_ext is None else np.real(f_ext))
@@ -273,11 +304,18 @@ def crba(model: Model, q: Any, out: Any = None) -> np.ndarray:
 
         T = ½ q̇ᵀ M(q) q̇,    M_ij = S_iᵀ ⁱX_j^* I^C_j S_j   (j in the subtree of i)
     """
-    cm = _view(model)
+    try:
+        h = model._core
+        M = _empty((h.nv, h.nv)) if out is None else out
+        if _core.crba(h.cm, q, M) == 0:
+            return M
+    except (AttributeError, TypeError):
+        pass
+    h = _view(model)
     q_ = _f64(q, "q")
     if q_.ndim == 1:
-        M = _out(out, (model.nv, model.nv))
-        s = _core.crba(cm, q_, M)
+        M = _out(out, (h.nv, h.nv))
+        s = _core.crba(h.cm, q_, M)
         if s:
             _errors.raise_for(s, model, q)
         return M
@@ -286,13 +324,16 @@ def crba(model: Model, q: Any, out: Any = None) -> np.ndarray:
 
 def crba_batch(model: Model, q: Any, out: Any = None) -> np.ndarray:
     """:func:`crba` over batch axes, on the core's threads."""
-    cm = _view(model)
+    h = _view(model)
     q_ = _f64(q, "q")
     batch = _batch_shape(model, [(q_, 1)], q, [], None)
-    result = _out(out, batch + (model.nv, model.nv))
-    st = _core.crba_batch(cm, _rows(q_, batch, (model.nq,)), result.reshape(math.prod(batch), model.nv * model.nv))
+    result = _out(out, batch + (h.nv, h.nv))
+    st = _core.crba_batch(h.cm, _rows(q_, batch, (h.nq,)), result.reshape(math.prod(batch), h.nv * h.nv))
     _check_batch(st, model, q, [])
     return result
+
+
+_ABA_ARGS = ("q", "v", "tau", "f_ext", "out")
 
 
 def aba(model: Model, q: Any, v: Any, tau: Any, f_ext: Any = None, gravity: bool = True, out: Any = None) -> np.ndarray:
@@ -305,19 +346,26 @@ def aba(model: Model, q: Any, v: Any, tau: Any, f_ext: Any = None, gravity: bool
     Raises:
         SingularMassMatrixError: naming the joint (the reference's rule and message).
     """
-    cm = _view(model)
+    try:
+        h = model._core
+        qdd = _empty(h.nv) if out is None else out
+        if _core.aba(h.cm, q, v, tau, f_ext, gravity, qdd, None) == 0:
+            return qdd
+    except (AttributeError, TypeError):
+        pass
+    h = _view(model)
     q_, v_, t_ = _f64(q, "q"), _f64(v, "v"), _f64(tau, "tau")
     fx = None if f_ext is None else _f64(f_ext, "f_ext")
     if q_.ndim == 1 and v_.ndim == 1 and t_.ndim == 1 and (fx is None or fx.ndim == 2):
-        qdd = _out(out, (model.nv,))
+        qdd = _out(out, (h.nv,))
         D = np.empty(36)
-        s = _core.aba(cm, q_, v_, t_, fx, bool(gravity), qdd, D)
+        s = _core.aba(h.cm, q_, v_, t_, fx, bool(gravity), qdd, D)
         if s:
             if _errors.decode(s)[0] == _errors.SINGULAR:
                 _errors.validate(model, q, [("v", v), ("tau", tau)], f_ext)
                 joint = _errors.decode(s)[2]
                 raise _errors.singular_error(model, joint, _errors.eig_min(D, model.nvs[joint]))
-            _errors.raise_for(s, model, q, [("v", v), ("tau", tau)], f_ext, ("q", "v", "tau", "f_ext", "out"))
+            _errors.raise_for(s, model, q, [("v", v), ("tau", tau)], f_ext, _ABA_ARGS)
         return qdd
     return aba_batch(model, q_, v_, t_, fx, gravity, out)
 
@@ -329,21 +377,21 @@ def aba_batch(model: Model, q: Any, v: Any, tau: Any, f_ext: Any = None, gravity
     A singular state raises the reference's error: the joint nearest the leaves
     that is singular in any state, with the smallest eigenvalue over those states.
     """
-    cm = _view(model)
+    h = _view(model)
     q_, v_, t_ = _f64(q, "q"), _f64(v, "v"), _f64(tau, "tau")
     fx = None if f_ext is None else _f64(f_ext, "f_ext")
     vectors = [("v", v), ("tau", tau)]
     parts = [(q_, 1), (v_, 1), (t_, 1)] + ([] if fx is None else [(fx, 2)])
     batch = _batch_shape(model, parts, q, vectors, f_ext)
-    result = _out(out, batch + (model.nv,))
-    Q, V, T = _rows(q_, batch, (model.nq,)), _rows(v_, batch, (model.nv,)), _rows(t_, batch, (model.nv,))
-    FX = _rows(fx, batch, (model.nbodies, 6))
-    _, s = _core.aba_batch(cm, Q, V, T, FX, bool(gravity), result.reshape(math.prod(batch), model.nv))
+    result = _out(out, batch + (h.nv,))
+    Q, V, T = _rows(q_, batch, (h.nq,)), _rows(v_, batch, (h.nv,)), _rows(t_, batch, (h.nv,))
+    FX = _rows(fx, batch, (h.nb, 6))
+    _, s = _core.aba_batch(h.cm, Q, V, T, FX, bool(gravity), result.reshape(math.prod(batch), h.nv))
     if s:
         _errors.validate(model, q, vectors, f_ext)
         if _errors.decode(s)[0] != _errors.SINGULAR:
-            _errors.raise_for(s, model, q, vectors, f_ext, ("q", "v", "tau", "f_ext", "out"))
-        _raise_singular_batch(model, cm, Q, V, T, FX, bool(gravity), math.prod(batch))
+            _errors.raise_for(s, model, q, vectors, f_ext, _ABA_ARGS)
+        _raise_singular_batch(model, h.cm, Q, V, T, FX, bool(gravity), math.prod(batch))
     return result
 
 
@@ -381,7 +429,15 @@ def fk(model: Model, q: Any, v: Any = None, a: Any = None, out: Any = None) -> A
         ⁰M_i = ⁰M_λ(i) · Xtree_i · M_J(q_i)
         v_i = X_up[i] v_λ(i) + S_i q̇_i,   a_i = X_up[i] a_λ(i) + S_i q̈_i + v_i × S_i q̇_i
     """
-    cm = _view(model)
+    if v is None:
+        try:
+            h = model._core
+            H = _empty((h.nb, 4, 4)) if out is None else out
+            if _core.fk(h.cm, q, None, None, H, None, None) == 0:
+                return H
+        except (AttributeError, TypeError):
+            pass
+    h = _view(model)
     if a is not None and v is None:
         raise ShapeError("a: joint accelerations need joint velocities v as well")
     q_ = _f64(q, "q")
@@ -391,11 +447,10 @@ def fk(model: Model, q: Any, v: Any = None, a: Any = None, out: Any = None) -> A
         return fk_batch(model, q_, out)
     v_ = None if v is None else _f64(v, "v")
     a_ = None if a is None else _f64(a, "a")
-    nb = model.nbodies
-    H = _out(out, (nb, 4, 4))
-    vel = None if v is None else np.empty((nb, 6))
-    acc = None if a is None else np.empty((nb, 6))
-    s = _core.fk(cm, q_, v_, a_, H, vel, acc)
+    H = _out(out, (h.nb, 4, 4))
+    vel = None if v is None else np.empty((h.nb, 6))
+    acc = None if a is None else np.empty((h.nb, 6))
+    s = _core.fk(h.cm, q_, v_, a_, H, vel, acc)
     if s:
         _errors.raise_for(s, model, q, [("v", v), ("a", a)])
     if v is None:
@@ -405,11 +460,11 @@ def fk(model: Model, q: Any, v: Any = None, a: Any = None, out: Any = None) -> A
 
 def fk_batch(model: Model, q: Any, out: Any = None) -> np.ndarray:
     """:func:`fk` placements over batch axes `(..., nb, 4, 4)`, on the core's threads."""
-    cm = _view(model)
+    h = _view(model)
     q_ = _f64(q, "q")
     batch = _batch_shape(model, [(q_, 1)], q, [], None)
-    result = _out(out, batch + (model.nbodies, 4, 4))
-    st = _core.fk_batch(cm, _rows(q_, batch, (model.nq,)), result.reshape(math.prod(batch), 16 * model.nbodies))
+    result = _out(out, batch + (h.nb, 4, 4))
+    st = _core.fk_batch(h.cm, _rows(q_, batch, (h.nq,)), result.reshape(math.prod(batch), 16 * h.nb))
     _check_batch(st, model, q, [])
     return result
 
@@ -420,13 +475,22 @@ def frame_placement(model: Model, q: Any, frame: Any, out: Any = None) -> tuple[
     Returns ``(R, p)``: rotation `(..., 3, 3)` and translation `(..., 3)`. ``out``:
     `(..., 12)` (row-major rotation, then translation), of which ``R`` and ``p`` are views.
     """
-    cm = _view(model)
+    try:
+        h = model._core
+        fid = h.frames.get(frame, frame) if frame.__class__ is str else frame
+        if fid.__class__ is int:
+            pose = _empty(12) if out is None else out
+            if _core.frame_placement(h.cm, q, fid, pose) == 0:
+                return pose[:9].reshape(3, 3), pose[9:]
+    except (AttributeError, TypeError):
+        pass
+    h = _view(model)
     fid = _errors.frame_index(model, frame)
     q_ = _f64(q, "q")
     if q_.ndim != 1:
         return frame_placement_batch(model, q_, fid, out)
     pose = _out(out, (12,))
-    s = _core.frame_placement(cm, q_, fid, pose)
+    s = _core.frame_placement(h.cm, q_, fid, pose)
     if s:
         _errors.raise_for(s, model, q)
     return pose[:9].reshape(3, 3), pose[9:]
@@ -434,12 +498,12 @@ def frame_placement(model: Model, q: Any, frame: Any, out: Any = None) -> tuple[
 
 def frame_placement_batch(model: Model, q: Any, frame: Any, out: Any = None) -> tuple[np.ndarray, np.ndarray]:
     """:func:`frame_placement` over batch axes, on the core's threads."""
-    cm = _view(model)
+    h = _view(model)
     fid = _errors.frame_index(model, frame)
     q_ = _f64(q, "q")
     batch = _batch_shape(model, [(q_, 1)], q, [], None)
     pose = _out(out, batch + (12,))
-    st = _core.frame_placement_batch(cm, _rows(q_, batch, (model.nq,)), fid, pose.reshape(math.prod(batch), 12))
+    st = _core.frame_placement_batch(h.cm, _rows(q_, batch, (h.nq,)), fid, pose.reshape(math.prod(batch), 12))
     _check_batch(st, model, q, [])
     return pose[..., :9].reshape(batch + (3, 3)), pose[..., 9:]
 
@@ -452,14 +516,24 @@ def frame_jacobian(model: Model, q: Any, frame: Any, reference: Any = 0, out: An
 
         ⁰J[:, k] = ⁰X_k S_k  (k on the path root → body(f)),   LOCAL: ᶠX_0 ⁰J,   LWA: [ω; v − p_f × ω]
     """
-    cm = _view(model)
+    try:
+        h = model._core
+        fid = h.frames.get(frame, frame) if frame.__class__ is str else frame
+        ref = reference if reference.__class__ is int else _REF_VALUES.get(getattr(reference, "value", None), -1)
+        if fid.__class__ is int and 0 <= ref <= 2:
+            J = _empty((6, h.nv)) if out is None else out
+            if _core.frame_jacobian(h.cm, q, fid, ref, J) == 0:
+                return J
+    except (AttributeError, TypeError):
+        pass
+    h = _view(model)
     fid = _errors.frame_index(model, frame)
     ref = _reference_code(reference)
     q_ = _f64(q, "q")
     if q_.ndim != 1:
         return frame_jacobian_batch(model, q_, fid, ref, out)
-    J = _out(out, (6, model.nv))
-    s = _core.frame_jacobian(cm, q_, fid, ref, J)
+    J = _out(out, (6, h.nv))
+    s = _core.frame_jacobian(h.cm, q_, fid, ref, J)
     if s:
         _errors.raise_for(s, model, q)
     return J
@@ -467,13 +541,13 @@ def frame_jacobian(model: Model, q: Any, frame: Any, reference: Any = 0, out: An
 
 def frame_jacobian_batch(model: Model, q: Any, frame: Any, reference: Any = 0, out: Any = None) -> np.ndarray:
     """:func:`frame_jacobian` over batch axes `(..., 6, nv)`, on the core's threads."""
-    cm = _view(model)
+    h = _view(model)
     fid = _errors.frame_index(model, frame)
     ref = _reference_code(reference)
     q_ = _f64(q, "q")
     batch = _batch_shape(model, [(q_, 1)], q, [], None)
-    J = _out(out, batch + (6, model.nv))
-    st = _core.frame_jacobian_batch(cm, _rows(q_, batch, (model.nq,)), fid, ref, J.reshape(math.prod(batch), 6 * model.nv))
+    J = _out(out, batch + (6, h.nv))
+    st = _core.frame_jacobian_batch(h.cm, _rows(q_, batch, (h.nq,)), fid, ref, J.reshape(math.prod(batch), 6 * h.nv))
     _check_batch(st, model, q, [])
     return J
 

@@ -24,7 +24,7 @@ import numpy as np
 from ..joints import FreeFlyerJoint, Joint, PlanarJoint, PrismaticJoint, RevoluteJoint, SphericalJoint
 from ..model import Model
 
-__all__ = ["JOINT_TYPES", "SINGULAR_RTOL", "model_view"]
+__all__ = ["JOINT_TYPES", "SINGULAR_RTOL", "CoreHandle", "model_view"]
 
 #: joint type codes (``cpp/model_view.hpp``: ``JointType``)
 JOINT_TYPES: dict[type[Joint], int] = {
@@ -76,12 +76,25 @@ def _build(model: Model, core: Any) -> Any:
                       np.ascontiguousarray(frame_reals))
 
 
-def model_view(model: Model, core: Any) -> Any:
-    """The core's ``Model`` for ``model``, built on first use and kept on the model as ``model._core``."""
+class CoreHandle:
+    """What the wrappers need of a model on every call: the core's ``Model`` and the sizes."""
+
+    __slots__ = ("cm", "frames", "nb", "nq", "nv")
+
+    def __init__(self, model: Model, cm: Any) -> None:
+        self.cm = cm
+        self.nb, self.nq, self.nv = model.nbodies, model.nq, model.nv
+        #: frame name → index (the first frame of a name, as ``model.frame_id``)
+        self.frames = model._frame_index
+
+
+def model_view(model: Model, core: Any) -> CoreHandle:
+    """The :class:`CoreHandle` of ``model``, built on first use and kept on the model as ``model._core``."""
     try:
-        return model._core
+        handle: CoreHandle = model._core
+        return handle
     except AttributeError:
         pass
-    view = _build(model, core)
-    object.__setattr__(model, "_core", view)
-    return view
+    handle = CoreHandle(model, _build(model, core))
+    object.__setattr__(model, "_core", handle)
+    return handle

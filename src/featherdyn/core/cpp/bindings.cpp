@@ -13,6 +13,7 @@
 
 #include <complex>
 #include <cstdint>
+#include <initializer_list>
 #include <mutex>
 #include <utility>
 
@@ -78,10 +79,14 @@ std::int64_t out_rows(const Out& x, size_t n, std::int64_t& N) {
   return OK;
 }
 
-std::int64_t out_len(const Out& x, size_t n) {
+// An output (or a one-state f_ext) of exactly this shape.
+template <class A>
+std::int64_t exact_shape(const A& x, std::initializer_list<size_t> shape, std::int64_t arg = ARG_OUT) {
   require_aligned(x);
-  if (x.size() != n) return make_status(LENGTH, ARG_OUT, static_cast<std::int64_t>(x.size()));
-  return OK;
+  bool same = x.ndim() == shape.size();
+  size_t d = 0;
+  for (size_t n : shape) same = same && x.shape(d++) == n;
+  return same ? OK : make_status(LENGTH, arg, static_cast<std::int64_t>(x.size()));
 }
 
 #define FD_TRY(expr)                   \
@@ -127,11 +132,8 @@ std::int64_t rnea1(const ModelData& md, const In& q, const In& v, const In& a, c
   FD_TRY(vec(q, mv.nq, ARG_Q));
   FD_TRY(vec(v, mv.nv, ARG_V));
   FD_TRY(vec(a, mv.nv, ARG_A));
-  if (f_ext.is_valid()) {
-    require_aligned(f_ext);
-    if (f_ext.size() != 6 * static_cast<size_t>(mv.nb)) return make_status(LENGTH, ARG_FEXT, f_ext.size());
-  }
-  FD_TRY(out_len(tau, mv.nv));
+  if (f_ext.is_valid()) FD_TRY(exact_shape(f_ext, {size_t(mv.nb), 6}, ARG_FEXT));
+  FD_TRY(exact_shape(tau, {size_t(mv.nv)}));
   const double* fx = f_ext.is_valid() ? f_ext.data() : nullptr;
   FD_TRY(check_state(mv, q.data(), v.data(), a.data(), fx));
   rnea(mv, q.data(), v.data(), a.data(), fx, gravity, tau.data());
@@ -142,7 +144,7 @@ std::int64_t nle1(const ModelData& md, const In& q, const In& v, Out h) {
   const ModelView& mv = md.view;
   FD_TRY(vec(q, mv.nq, ARG_Q));
   FD_TRY(vec(v, mv.nv, ARG_V));
-  FD_TRY(out_len(h, mv.nv));
+  FD_TRY(exact_shape(h, {size_t(mv.nv)}));
   FD_TRY(check_state(mv, q.data(), v.data(), nullptr, nullptr));
   rnea<double>(mv, q.data(), v.data(), nullptr, nullptr, true, h.data());
   return OK;
@@ -151,7 +153,7 @@ std::int64_t nle1(const ModelData& md, const In& q, const In& v, Out h) {
 std::int64_t gravity1(const ModelData& md, const In& q, Out g) {
   const ModelView& mv = md.view;
   FD_TRY(vec(q, mv.nq, ARG_Q));
-  FD_TRY(out_len(g, mv.nv));
+  FD_TRY(exact_shape(g, {size_t(mv.nv)}));
   FD_TRY(check_state(mv, q.data(), nullptr, nullptr, nullptr));
   rnea<double>(mv, q.data(), nullptr, nullptr, nullptr, true, g.data());
   return OK;
@@ -160,7 +162,7 @@ std::int64_t gravity1(const ModelData& md, const In& q, Out g) {
 std::int64_t crba1(const ModelData& md, const In& q, Out M) {
   const ModelView& mv = md.view;
   FD_TRY(vec(q, mv.nq, ARG_Q));
-  FD_TRY(out_len(M, static_cast<size_t>(mv.nv) * mv.nv));
+  FD_TRY(exact_shape(M, {size_t(mv.nv), size_t(mv.nv)}));
   FD_TRY(check_state(mv, q.data(), nullptr, nullptr, nullptr));
   crba(mv, q.data(), M.data());
   return OK;
@@ -173,12 +175,9 @@ std::int64_t aba1(const ModelData& md, const In& q, const In& v, const In& tau, 
   FD_TRY(vec(q, mv.nq, ARG_Q));
   FD_TRY(vec(v, mv.nv, ARG_V));
   FD_TRY(vec(tau, mv.nv, ARG_A));
-  if (f_ext.is_valid()) {
-    require_aligned(f_ext);
-    if (f_ext.size() != 6 * static_cast<size_t>(mv.nb)) return make_status(LENGTH, ARG_FEXT, f_ext.size());
-  }
-  FD_TRY(out_len(qdd, mv.nv));
-  if (D_singular.is_valid()) FD_TRY(out_len(D_singular, 36));
+  if (f_ext.is_valid()) FD_TRY(exact_shape(f_ext, {size_t(mv.nb), 6}, ARG_FEXT));
+  FD_TRY(exact_shape(qdd, {size_t(mv.nv)}));
+  if (D_singular.is_valid()) FD_TRY(exact_shape(D_singular, {36}));
   const double* fx = f_ext.is_valid() ? f_ext.data() : nullptr;
   FD_TRY(check_state(mv, q.data(), v.data(), tau.data(), fx));
   const int bad = aba(mv, q.data(), v.data(), tau.data(), fx, gravity, qdd.data(),
@@ -193,9 +192,9 @@ std::int64_t fk1(const ModelData& md, const In& q, const In& v, const In& a, Out
   if (v.is_valid()) FD_TRY(vec(v, mv.nv, ARG_V));
   if (a.is_valid()) FD_TRY(vec(a, mv.nv, ARG_A));
   if (a.is_valid() && !v.is_valid()) return make_status(LENGTH, ARG_V, -1);
-  FD_TRY(out_len(H, 16 * static_cast<size_t>(mv.nb)));
-  if (v.is_valid()) FD_TRY(out_len(vel, 6 * static_cast<size_t>(mv.nb)));
-  if (a.is_valid()) FD_TRY(out_len(acc, 6 * static_cast<size_t>(mv.nb)));
+  FD_TRY(exact_shape(H, {size_t(mv.nb), 4, 4}));
+  if (v.is_valid()) FD_TRY(exact_shape(vel, {size_t(mv.nb), 6}));
+  if (a.is_valid()) FD_TRY(exact_shape(acc, {size_t(mv.nb), 6}));
   const double* vp = v.is_valid() ? v.data() : nullptr;
   const double* ap = a.is_valid() ? a.data() : nullptr;
   FD_TRY(check_state(mv, q.data(), vp, ap, nullptr));
@@ -207,7 +206,7 @@ std::int64_t frame_placement1(const ModelData& md, const In& q, int frame, Out p
   const ModelView& mv = md.view;
   FD_TRY(vec(q, mv.nq, ARG_Q));
   if (frame < 0 || frame >= mv.nf) return make_status(LENGTH, ARG_FRAME, frame < 0 ? 0 : frame);
-  FD_TRY(out_len(pose, 12));
+  FD_TRY(exact_shape(pose, {12}));
   FD_TRY(check_state(mv, q.data(), nullptr, nullptr, nullptr));
   frame_placement(mv, q.data(), frame, pose.data());
   return OK;
@@ -218,7 +217,7 @@ std::int64_t frame_jacobian1(const ModelData& md, const In& q, int frame, int re
   FD_TRY(vec(q, mv.nq, ARG_Q));
   if (frame < 0 || frame >= mv.nf) return make_status(LENGTH, ARG_FRAME, frame < 0 ? 0 : frame);
   if (ref < LOCAL || ref > LOCAL_WORLD_ALIGNED) throw nb::value_error("reference code must be 0, 1 or 2");
-  FD_TRY(out_len(J, 6 * static_cast<size_t>(mv.nv)));
+  FD_TRY(exact_shape(J, {6, size_t(mv.nv)}));
   FD_TRY(check_state(mv, q.data(), nullptr, nullptr, nullptr));
   frame_jacobian(mv, q.data(), frame, ref, J.data());
   return OK;
@@ -231,10 +230,7 @@ std::int64_t rnea_complex1(const ModelData& md, const InC& q, const InC& v, cons
   FD_TRY(vec(q, mv.nq, ARG_Q));
   FD_TRY(vec(v, mv.nv, ARG_V));
   FD_TRY(vec(a, mv.nv, ARG_A));
-  if (f_ext.is_valid()) {
-    require_aligned(f_ext);
-    if (f_ext.size() != 6 * static_cast<size_t>(mv.nb)) return make_status(LENGTH, ARG_FEXT, f_ext.size());
-  }
+  if (f_ext.is_valid()) FD_TRY(exact_shape(f_ext, {size_t(mv.nb), 6}, ARG_FEXT));
   require_aligned(tau);
   if (tau.size() != static_cast<size_t>(mv.nv)) return make_status(LENGTH, ARG_OUT, tau.size());
   rnea(mv, q.data(), v.data(), a.data(), f_ext.is_valid() ? f_ext.data() : nullptr, gravity, tau.data());

@@ -1,0 +1,169 @@
+"""featherdyn.core (the compiled C++ core) against Pinocchio: ``python benchmarks/bench_core.py [--quick]``.
+
+Times core calls and the equivalent Pinocchio calls interleaved in this process
+(medians of alternating samples) on panda (fixed base) and solo12 (floating
+base), and prints ratios core / Pinocchio (below 1: the core is faster). The
+states are converted to Pinocchio's layout (linear-first 6D vectors, free-flyer
+``[v; ω]`` in the base frame) by :class:`featherdyn.verify.bridge.JointMap`
+before timing, so only the calls are timed.
+
+Sections:
+
+* one state: ``core.rnea(model, q, v, a, out=)`` & co. against ``pin.rnea(model, data, ...)``
+  (the core's calls include the Python wrapper's checks and the model lookup);
+* batched, N states on T threads: ``core.rnea_batch`` / ``core.aba_batch`` against
+  ``pin.rneaInParallel`` / ``pin.abaInParallel`` with the same thread count, and
+  ``core.crba_batch`` against a Python loop over ``pin.crba``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import platform
+import statistics
+import sys
+import time
+import warnings
+from collections.abc import Callable
+from typing import Any
+
+import numpy as np
+
+import featherdyn as fd
+from featherdyn import core
+
+ROBOTS = [("panda", False, "panda_hand"), ("solo12", True, "HR_FOOT")]
+
+
+def median_pair(a: Callable[[], Any], b: Callable[[], Any], repeats: int, budget: float) -> tuple[float, float]:
+    """Median seconds per call of ``a`` and ``b``, timed in alternating samples of about ``budget`` seconds."""
+
+    def sample(n: int) -> tuple[float, float]:
+        t0 = time.perf_counter()
+        for _ in range(n):
+            a()
+        t1 = time.perf_counter()
+        for _ in range(n):
+            b()
+        return t1 - t0, time.perf_counter() - t1
+
+    a(), b()
+    n = 1
+    while True:
+        ta, tb = sample(n)
+        if max(ta, tb) >= budget / 4 or n >= 1 << 20:
+            break
+        n *= 2
+    n = max(1, int(n * budget / max(ta, tb, 1e-9)))
+    xs, ys = [], []
+    for _ in range(repeats):
+        ta, tb = sample(n)
+        xs.append(ta / n)
+        ys.append(tb / n)
+    return statistics.median(xs), statistics.median(ys)
+
+
+class Pair:
+    """A library robot loaded by featherdyn and by Pinocchio, with a converter of states."""
+
+    def __init__(self, name: str, floating: bool) -> None:
+        import pinocchio as pin
+
+        from featherdyn.robots import robot_path
+        from featherdyn.verify.bridge import JointMap
+
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            self.model = fd.load_robot(name, floating_base=floating)
+            path = str(robot_path(name))
+            self.pm = pin.buildModelFromUrdf(path, pin.JointModelFreeFlyer()) if floating else pin.buildModelFromUrdf(path)
+        self.pd = self.pm.createData()
+        self.jm = JointMap(self.model, self.pm)
+        self.rng = np.random.default_rng(0)
+
+    def states(self, n: int) -> tuple[np.ndarray, ...]:
+        m = self.model
+        q = np.asarray(fd.random_configuration(m, self.rng, size=n), dtype=np.float64).reshape(n, m.nq)
+        v = self.rng.normal(size=(n, m.nv))
+        a = self.rng.normal(size=(n, m.nv))
+        return q, v, a, self.jm.q_to_pin(q), self.jm.v_to_pin(v), self.jm.v_to_pin(a)
+
+
+def single_rows(p: Pair, frame: str, repeats: int, budget: float) -> list[tuple[str, float, float]]:
+    import pinocchio as pin
+
+    m, pm, pd = p.model, p.pm, p.pd
+    Q, V, A, Qp, Vp, Ap = p.states(1)
+    q, v, a, qp, vp, ap = Q[0], V[0], A[0], np.ascontiguousarray(Qp[0]), np.ascontiguousarray(Vp[0]), np.ascontiguousarray(Ap[0])
+    tau, M, H = np.empty(m.nv), np.empty((m.nv, m.nv)), np.empty((m.nbodies, 4, 4))
+    J, pose = np.empty((6, m.nv)), np.empty(12)
+    fid, fid_pin = m.frame_id(frame), pm.getFrameId(frame)
+    calls: list[tuple[str, Callable[[], Any], Callable[[], Any]]] = [
+        ("rnea", lambda: core.rnea(m, q, v, a, out=tau), lambda: pin.rnea(pm, pd, qp, vp, ap)),
+        ("nle", lambda: core.nle(m, q, v, out=tau), lambda: pin.nonLinearEffects(pm, pd, qp, vp)),
+        ("gravity", lambda: core.gravity(m, q, out=tau), lambda: pin.computeGeneralizedGravity(pm, pd, qp)),
+        ("crba", lambda: core.crba(m, q, out=M), lambda: pin.crba(pm, pd, qp)),
+        ("aba", lambda: core.aba(m, q, v, a, out=tau), lambda: pin.aba(pm, pd, qp, vp, ap)),
+        ("fk (placements)", lambda: core.fk(m, q, out=H), lambda: pin.forwardKinematics(pm, pd, qp)),
+        ("frame_placement", lambda: core.frame_placement(m, q, fid, out=pose),
+         lambda: pin.updateFramePlacement(pm, pd, fid_pin) if pin.forwardKinematics(pm, pd, qp) is None else None),
+    ]
+    for code, ref in ((0, pin.LOCAL), (1, pin.WORLD), (2, pin.LOCAL_WORLD_ALIGNED)):
+        calls.append((f"frame_jacobian {ref.name}", lambda c=code: core.frame_jacobian(m, q, fid, c, out=J),
+                      lambda r=ref: pin.computeFrameJacobian(pm, pd, qp, fid_pin, r)))
+    return [(name, *median_pair(f, g, repeats, budget)) for name, f, g in calls]
+
+
+def batch_rows(p: Pair, n: int, threads: int, repeats: int, budget: float) -> list[tuple[str, float, float]]:
+    import pinocchio as pin
+
+    m, pm = p.model, p.pm
+    Q, V, A, Qp, Vp, Ap = p.states(n)
+    # Pinocchio's parallel calls take (nq, N) column-major batches
+    Qc, Vc, Ac = (np.asfortranarray(x.T) for x in (Qp, Vp, Ap))
+    tau_pin = np.asfortranarray(np.empty((m.nv, n)))
+    pool = pin.ModelPool(pm, threads)
+    tau, M = np.empty((n, m.nv)), np.empty((n, m.nv, m.nv))
+    core.set_num_threads(threads)
+    rows = [
+        (f"rnea_batch N={n} / rneaInParallel", *median_pair(lambda: core.rnea_batch(m, Q, V, A, out=tau),
+                                                           lambda: pin.rneaInParallel(threads, pool, Qc, Vc, Ac, tau_pin),
+                                                           repeats, budget)),
+        (f"aba_batch N={n} / abaInParallel", *median_pair(lambda: core.aba_batch(m, Q, V, A, out=tau),
+                                                         lambda: pin.abaInParallel(threads, pool, Qc, Vc, Ac, tau_pin),
+                                                         repeats, budget)),
+    ]
+    pd = pm.createData()
+    Qrows = [np.ascontiguousarray(x) for x in Qp]
+    rows.append((f"crba_batch N={n} / loop of pin.crba", *median_pair(lambda: core.crba_batch(m, Q, out=M),
+                                                                     lambda: [pin.crba(pm, pd, x) for x in Qrows],
+                                                                     repeats, budget)))
+    return rows
+
+
+def main(argv: list[str]) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--quick", action="store_true", help="fewer, shorter samples (a smoke run)")
+    parser.add_argument("--batch", type=int, default=2000, help="states per batched call")
+    parser.add_argument("--threads", type=int, default=2)
+    args = parser.parse_args(argv)
+    repeats, budget = (5, 2e-3) if args.quick else (15, 5e-3)
+    import pinocchio
+
+    print(f"featherdyn.core vs Pinocchio {pinocchio.__version__}; numpy {np.__version__}; Python "
+          f"{platform.python_version()}; {os.cpu_count()} logical cores; core threads {core.get_num_threads()}")
+    print("ratio = core / Pinocchio (median of interleaved samples; < 1: the core is faster)\n")
+    for name, floating, frame in ROBOTS:
+        p = Pair(name, floating)
+        print(f"## {name} ({'floating' if floating else 'fixed'}; nq={p.model.nq}, nv={p.model.nv})")
+        print(f"{'call':40s} {'core µs':>9s} {'pin µs':>9s} {'ratio':>7s}")
+        for row, t_core, t_pin in single_rows(p, frame, repeats, budget) + batch_rows(p, args.batch, args.threads,
+                                                                                    max(3, repeats // 3), budget * 10):
+            print(f"{row:40s} {t_core * 1e6:9.2f} {t_pin * 1e6:9.2f} {t_core / t_pin:7.2f}")
+        print()
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))
