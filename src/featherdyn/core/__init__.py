@@ -71,7 +71,7 @@ _empty = np.empty
 #: reference frame → the kernel's code
 REFERENCE_CODES = {"local": 0, "world": 1, "local_world_aligned": 2}
 # the values of fd.LOCAL & co. (an Enum of these strings) → code, for the one-state fast path
-_REF_VALUES = dict(REFERENCE_CODES)
+_REF_VALUES: dict[Any, int] = dict(REFERENCE_CODES)
 
 
 def available() -> bool:
