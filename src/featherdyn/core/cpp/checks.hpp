@@ -18,8 +18,9 @@ namespace fdcore {
 enum StatusCode : std::int64_t { OK = 0, LENGTH = 1, NONFINITE = 2, QUATERNION = 3, SINGULAR = 4 };
 enum Arg : std::int64_t { ARG_Q = 0, ARG_V = 1, ARG_A = 2, ARG_FEXT = 3, ARG_OUT = 4, ARG_FRAME = 5 };
 
+// (an unknown index, e.g. the length of an array that is not 1-D, is given as −1 and stored as 0)
 inline std::int64_t make_status(std::int64_t code, std::int64_t arg, std::int64_t index) {
-  return code | (arg << 3) | (index << 8);
+  return code | (arg << 3) | ((index < 0 ? 0 : index) << 8);
 }
 
 // A quaternion in q may be off unit norm by this much (the reference's QUAT_TOL for float64).
