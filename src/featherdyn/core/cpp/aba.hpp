@@ -15,6 +15,7 @@
 
 #include <cmath>
 
+#include "pack.hpp"
 #include "rnea.hpp"
 
 namespace fdcore {
@@ -37,12 +38,12 @@ struct AbaWork {
 };
 
 // Dinv = D⁻¹ for a symmetric positive definite (k, k) D (row stride 6) by Cholesky, D = L Lᵀ.
-// Returns false when a pivot is ≤ tol (D singular; Dinv undefined).
+// Returns false when a pivot is ≤ tol (D singular; Dinv undefined) — in any lane, for a Pack.
 template <class S>
 inline bool spd_inverse(const S* D, int k, S* Dinv, double tol) {
   using std::sqrt;
   if (k == 1) {
-    if (!(D[0] > tol)) return false;
+    if (lanes_le(D[0], tol)) return false;
     Dinv[0] = S(1.0) / D[0];
     return true;
   }
@@ -50,7 +51,7 @@ inline bool spd_inverse(const S* D, int k, S* Dinv, double tol) {
   for (int j = 0; j < k; ++j) {
     S d = D[7 * j];
     for (int m = 0; m < j; ++m) d -= L[6 * j + m] * L[6 * j + m];
-    if (!(d > tol)) return false;
+    if (lanes_le(d, tol)) return false;
     L[7 * j] = sqrt(d);
     for (int r = j + 1; r < k; ++r) {
       S x = D[6 * r + j];
@@ -92,8 +93,8 @@ inline void subtract_outer(ArticulatedInertia<S>& I, const Force<S>& x, const Fo
 }
 
 // q̈ (nv,) for (q, q̇, τ); f_ext (nb, 6) body-frame forces or nullptr. Returns −1, or the
-// first joint (from the leaves) whose D_i is singular; then D_singular (36, row stride 6),
-// if given, receives that D_i and q̈ is undefined.
+// first joint (from the leaves) whose D_i is singular (in some lane, for a Pack); then
+// D_singular (36, row stride 6), if given, receives that D_i and q̈ is undefined.
 template <class S>
 int aba(const ModelView& mv, const S* q, const S* qd, const S* tau, const S* f_ext, bool gravity, S* qdd,
         S* D_singular = nullptr) {
@@ -127,7 +128,7 @@ int aba(const ModelView& mv, const S* q, const S* qd, const S* tau, const S* f_e
     Force<S>* U = w.U.data() + 6 * i;
     S* Dinv = w.Dinv.data() + 36 * i;
     S* u = w.u.data() + 6 * i;
-    S D[36];
+    S D[36] = {};
     for (int col = 0; col < k; ++col) U[col] = IA[i] * S_col<S>(mv, i, col);
     for (int col = 0; col < k; ++col) {
       S Sr_U[6];

@@ -23,6 +23,7 @@
 #include "frames.hpp"
 #include "kinematics.hpp"
 #include "model_view.hpp"
+#include "pack.hpp"
 #include "rnea.hpp"
 #include "thread_pool.hpp"
 
@@ -100,20 +101,22 @@ std::int64_t exact_shape(const A& x, std::initializer_list<size_t> shape, std::i
     if (s_ != OK) return RowStatus{-1, s_};            \
   } while (0)
 
-// Run body(row) → status over N rows on the pool, GIL released; (first failing row, its status).
+// Run body(item) → status over `items` items on the pool, GIL released; (first failing row, its
+// status). An item is `group` consecutive rows; a failing body adds (row − first row of the item) << 60.
 template <class F>
-RowStatus for_rows(std::int64_t N, const F& body) {
+RowStatus for_rows(std::int64_t items, const F& body, std::int64_t group = 1) {
   std::mutex m;
   RowStatus first{-1, OK};
   {
     nb::gil_scoped_release release;
     std::shared_ptr<ThreadPool> pool = GlobalPool::instance().get();
-    pool->parallel_for(N, [&](std::int64_t begin, std::int64_t end) {
-      for (std::int64_t r = begin; r < end; ++r) {
-        const std::int64_t s = body(r);
+    pool->parallel_for(items, [&](std::int64_t begin, std::int64_t end) {
+      for (std::int64_t g = begin; g < end; ++g) {
+        const std::int64_t s = body(g);
         if (s != OK) {
+          const std::int64_t r = g * group + (s >> 60), status = s & ((std::int64_t(1) << 60) - 1);
           std::lock_guard<std::mutex> lock(m);
-          if (first.first < 0 || r < first.first) first = {r, s};
+          if (first.first < 0 || r < first.first) first = {r, status};
           return;  // the rest of this chunk is left undone: the call fails anyway
         }
       }
@@ -241,6 +244,55 @@ std::int64_t rnea_complex1(const ModelData& md, const InC& q, const InC& v, cons
 // batches: row r of each input (or its only row), row r of the output
 // ---------------------------------------------------------------------------
 
+// Rows in groups of PACK_WIDTH on the pool. Every row is checked; a full group runs the Pack
+// instantiation (lanes bit-identical to one state), the tail and any group whose packed run
+// reports a status run row by row with the double instantiation (which then names the row).
+//   check(r) → status;  one(r) → status;  many(r0) → status (OK or some lane failed)
+template <class Check, class One, class Many>
+RowStatus for_row_groups(std::int64_t N, const Check& check, const One& one, const Many& many) {
+  const std::int64_t W = PACK_WIDTH;
+  return for_rows((N + W - 1) / W, [&](std::int64_t g) -> std::int64_t {
+    const std::int64_t r0 = g * W, n = std::min(W, N - r0);
+    for (std::int64_t r = r0; r < r0 + n; ++r) {
+      const std::int64_t s = check(r);
+      if (s != OK) return s + ((r - r0) << 60);  // the row within the group (see for_rows)
+    }
+    if (n == W && many(r0) == OK) return OK;
+    for (std::int64_t r = r0; r < r0 + n; ++r) {
+      const std::int64_t s = one(r);
+      if (s != OK) return s + ((r - r0) << 60);
+    }
+    return OK;
+  }, W);
+}
+
+// Lanes: W rows of the inputs gathered into Packs, and the result scattered back; one buffer
+// per thread, sized once per call (`total` Packs) so that the pointers handed out stay valid.
+struct Lanes {
+  std::vector<Pack> buf;
+  Pack* gather(const Rows& X, std::int64_t r0, size_t n, size_t offset) {
+    if (!X.p) return nullptr;
+    Pack* out = buf.data() + offset;
+    for (int lane = 0; lane < PACK_WIDTH; ++lane) {
+      const double* x = X.row(r0 + lane);
+      for (size_t k = 0; k < n; ++k) out[k].set(lane, x[k]);
+    }
+    return out;
+  }
+  Pack* space(size_t offset) { return buf.data() + offset; }
+};
+
+inline void scatter(const Pack* x, size_t n, double* out, std::int64_t stride) {
+  for (int lane = 0; lane < PACK_WIDTH; ++lane)
+    for (size_t k = 0; k < n; ++k) out[lane * stride + k] = x[k][lane];
+}
+
+inline Lanes& thread_lanes(size_t total) {
+  thread_local Lanes lanes;
+  if (lanes.buf.size() < total) lanes.buf.resize(total);
+  return lanes;
+}
+
 RowStatus rnea_n(const ModelData& md, const In& q, const In& v, const In& a, const In& f_ext, bool gravity,
                  Out tau) {
   const ModelView& mv = md.view;
@@ -250,13 +302,26 @@ RowStatus rnea_n(const ModelData& md, const In& q, const In& v, const In& a, con
   FD_TRY_ROWS(rows(q, N, mv.nq, ARG_Q, Q));
   FD_TRY_ROWS(rows(v, N, mv.nv, ARG_V, V));
   FD_TRY_ROWS(rows(a, N, mv.nv, ARG_A, A));
-  FD_TRY_ROWS(rows(f_ext, N, 6 * static_cast<size_t>(mv.nb), ARG_FEXT, FX));
+  const size_t nq = mv.nq, nv = mv.nv, nf = 6 * static_cast<size_t>(mv.nb);
+  FD_TRY_ROWS(rows(f_ext, N, nf, ARG_FEXT, FX));
   double* T = tau.data();
-  return for_rows(N, [&](std::int64_t r) -> std::int64_t {
-    FD_TRY(check_state(mv, Q.row(r), V.row(r), A.row(r), FX.row(r)));
-    rnea(mv, Q.row(r), V.row(r), A.row(r), FX.row(r), gravity, T + r * mv.nv);
-    return OK;
-  });
+  return for_row_groups(
+      N, [&](std::int64_t r) { return check_state(mv, Q.row(r), V.row(r), A.row(r), FX.row(r)); },
+      [&](std::int64_t r) -> std::int64_t {
+        rnea(mv, Q.row(r), V.row(r), A.row(r), FX.row(r), gravity, T + r * mv.nv);
+        return OK;
+      },
+      [&](std::int64_t r0) -> std::int64_t {
+        Lanes& L = thread_lanes(nq + 3 * nv + nf);
+        const Pack* q_ = L.gather(Q, r0, nq, 0);
+        const Pack* v_ = L.gather(V, r0, nv, nq);
+        const Pack* a_ = L.gather(A, r0, nv, nq + nv);
+        const Pack* f_ = L.gather(FX, r0, nf, nq + 2 * nv);
+        Pack* t_ = L.space(nq + 2 * nv + nf);
+        rnea(mv, q_, v_, a_, f_, gravity, t_);
+        scatter(t_, nv, T + r0 * mv.nv, mv.nv);
+        return OK;
+      });
 }
 
 RowStatus crba_n(const ModelData& md, const In& q, Out M) {
@@ -267,11 +332,20 @@ RowStatus crba_n(const ModelData& md, const In& q, Out M) {
   FD_TRY_ROWS(out_rows(M, nv2, N));
   FD_TRY_ROWS(rows(q, N, mv.nq, ARG_Q, Q));
   double* out = M.data();
-  return for_rows(N, [&](std::int64_t r) -> std::int64_t {
-    FD_TRY(check_state(mv, Q.row(r), nullptr, nullptr, nullptr));
-    crba(mv, Q.row(r), out + r * nv2);
-    return OK;
-  });
+  return for_row_groups(
+      N, [&](std::int64_t r) { return check_state(mv, Q.row(r), nullptr, nullptr, nullptr); },
+      [&](std::int64_t r) -> std::int64_t {
+        crba(mv, Q.row(r), out + r * nv2);
+        return OK;
+      },
+      [&](std::int64_t r0) -> std::int64_t {
+        Lanes& L = thread_lanes(mv.nq + nv2);
+        const Pack* q_ = L.gather(Q, r0, mv.nq, 0);
+        Pack* m_ = L.space(mv.nq);
+        crba(mv, q_, m_);
+        scatter(m_, nv2, out + r0 * nv2, nv2);
+        return OK;
+      });
 }
 
 RowStatus aba_n(const ModelData& md, const In& q, const In& v, const In& tau, const In& f_ext, bool gravity,
@@ -283,13 +357,26 @@ RowStatus aba_n(const ModelData& md, const In& q, const In& v, const In& tau, co
   FD_TRY_ROWS(rows(q, N, mv.nq, ARG_Q, Q));
   FD_TRY_ROWS(rows(v, N, mv.nv, ARG_V, V));
   FD_TRY_ROWS(rows(tau, N, mv.nv, ARG_A, T));
-  FD_TRY_ROWS(rows(f_ext, N, 6 * static_cast<size_t>(mv.nb), ARG_FEXT, FX));
+  const size_t nq = mv.nq, nv = mv.nv, nf = 6 * static_cast<size_t>(mv.nb);
+  FD_TRY_ROWS(rows(f_ext, N, nf, ARG_FEXT, FX));
   double* out = qdd.data();
-  return for_rows(N, [&](std::int64_t r) -> std::int64_t {
-    FD_TRY(check_state(mv, Q.row(r), V.row(r), T.row(r), FX.row(r)));
-    const int bad = aba(mv, Q.row(r), V.row(r), T.row(r), FX.row(r), gravity, out + r * mv.nv);
-    return bad < 0 ? OK : make_status(SINGULAR, ARG_Q, bad);
-  });
+  return for_row_groups(
+      N, [&](std::int64_t r) { return check_state(mv, Q.row(r), V.row(r), T.row(r), FX.row(r)); },
+      [&](std::int64_t r) -> std::int64_t {
+        const int bad = aba(mv, Q.row(r), V.row(r), T.row(r), FX.row(r), gravity, out + r * mv.nv);
+        return bad < 0 ? OK : make_status(SINGULAR, ARG_Q, bad);
+      },
+      [&](std::int64_t r0) -> std::int64_t {
+        Lanes& L = thread_lanes(nq + 3 * nv + nf);
+        const Pack* q_ = L.gather(Q, r0, nq, 0);
+        const Pack* v_ = L.gather(V, r0, nv, nq);
+        const Pack* t_ = L.gather(T, r0, nv, nq + nv);
+        const Pack* f_ = L.gather(FX, r0, nf, nq + 2 * nv);
+        Pack* a_ = L.space(nq + 2 * nv + nf);
+        if (aba(mv, q_, v_, t_, f_, gravity, a_) >= 0) return SINGULAR;  // some lane: redone row by row
+        scatter(a_, nv, out + r0 * mv.nv, mv.nv);
+        return OK;
+      });
 }
 
 RowStatus fk_n(const ModelData& md, const In& q, Out H) {
@@ -300,11 +387,20 @@ RowStatus fk_n(const ModelData& md, const In& q, Out H) {
   FD_TRY_ROWS(out_rows(H, n, N));
   FD_TRY_ROWS(rows(q, N, mv.nq, ARG_Q, Q));
   double* out = H.data();
-  return for_rows(N, [&](std::int64_t r) -> std::int64_t {
-    FD_TRY(check_state(mv, Q.row(r), nullptr, nullptr, nullptr));
-    forward_kinematics<double>(mv, Q.row(r), nullptr, nullptr, out + r * n, nullptr, nullptr);
-    return OK;
-  });
+  return for_row_groups(
+      N, [&](std::int64_t r) { return check_state(mv, Q.row(r), nullptr, nullptr, nullptr); },
+      [&](std::int64_t r) -> std::int64_t {
+        forward_kinematics<double>(mv, Q.row(r), nullptr, nullptr, out + r * n, nullptr, nullptr);
+        return OK;
+      },
+      [&](std::int64_t r0) -> std::int64_t {
+        Lanes& L = thread_lanes(mv.nq + n);
+        const Pack* q_ = L.gather(Q, r0, mv.nq, 0);
+        Pack* h_ = L.space(mv.nq);
+        forward_kinematics<Pack>(mv, q_, nullptr, nullptr, h_, nullptr, nullptr);
+        scatter(h_, n, out + r0 * n, n);
+        return OK;
+      });
 }
 
 RowStatus frame_placement_n(const ModelData& md, const In& q, int frame, Out pose) {

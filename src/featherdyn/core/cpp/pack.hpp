@@ -1,0 +1,60 @@
+// Pack: W doubles processed together (GCC/Clang vector extensions), so that one instantiation
+// of a kernel template runs W states per instruction. Each lane does exactly the IEEE operations
+// of the one-state `double` instantiation in the same order (no reassociation, and the core is
+// built with -ffp-contract=off so that no multiply-add is fused differently), and sin, cos and
+// sqrt are the scalar library calls lane by lane: every lane is bit-identical to the one-state
+// result. Comparisons give a lane mask (see lanes_le).
+#pragma once
+
+#include <cmath>
+
+namespace fdcore {
+
+constexpr int PACK_WIDTH = 4;
+
+struct Pack {
+  typedef double V __attribute__((vector_size(8 * PACK_WIDTH)));
+  V v;
+
+  Pack() = default;
+  Pack(double x) : v(V{} + x) {}  // NOLINT(google-explicit-constructor): scalars broadcast, as for double
+  static Pack raw(V x) {
+    Pack p;
+    p.v = x;
+    return p;
+  }
+  double operator[](int k) const { return v[k]; }
+  void set(int k, double x) { v[k] = x; }
+
+  Pack& operator+=(const Pack& o) { v += o.v; return *this; }
+  Pack& operator-=(const Pack& o) { v -= o.v; return *this; }
+  Pack& operator*=(const Pack& o) { v *= o.v; return *this; }
+};
+
+inline Pack operator+(const Pack& a, const Pack& b) { return Pack::raw(a.v + b.v); }
+inline Pack operator-(const Pack& a, const Pack& b) { return Pack::raw(a.v - b.v); }
+inline Pack operator*(const Pack& a, const Pack& b) { return Pack::raw(a.v * b.v); }
+inline Pack operator/(const Pack& a, const Pack& b) { return Pack::raw(a.v / b.v); }
+inline Pack operator-(const Pack& a) { return Pack::raw(-a.v); }
+
+#define FD_PACK_LANEWISE(fn)                              \
+  inline Pack fn(const Pack& a) {                         \
+    Pack r;                                               \
+    for (int k = 0; k < PACK_WIDTH; ++k) r.set(k, std::fn(a[k]));     \
+    return r;                                             \
+  }
+FD_PACK_LANEWISE(sin)
+FD_PACK_LANEWISE(cos)
+FD_PACK_LANEWISE(sqrt)
+#undef FD_PACK_LANEWISE
+
+// The lanes where !(x > tol) (a pivot too small, or NaN), as a bit mask; for double 0 or 1.
+inline int lanes_le(double x, double tol) { return !(x > tol) ? 1 : 0; }
+inline int lanes_le(const Pack& x, double tol) {
+  int mask = 0;
+  for (int k = 0; k < PACK_WIDTH; ++k)
+    if (!(x[k] > tol)) mask |= 1 << k;
+  return mask;
+}
+
+}  // namespace fdcore
