@@ -23,7 +23,7 @@ from _models import TREES, random_state, tree
 import featherdyn as fd
 from featherdyn import core
 
-SIZES = [1, 2, 3, 7, 8, 9, 33]
+SIZES = [1, 2, 3, 4, 5, 7, 8, 9, 33]  # around the SIMD width (2) and the pool's chunks
 
 
 def _loop(fn, *rows):  # type: ignore[no-untyped-def]
