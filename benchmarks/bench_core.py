@@ -97,7 +97,7 @@ def single_rows(p: Pair, frame: str, repeats: int, budget: float) -> list[tuple[
     Q, V, A, Qp, Vp, Ap = p.states(1)
     q, v, a, qp, vp, ap = Q[0], V[0], A[0], np.ascontiguousarray(Qp[0]), np.ascontiguousarray(Vp[0]), np.ascontiguousarray(Ap[0])
     tau, M, H = np.empty(m.nv), np.empty((m.nv, m.nv)), np.empty((m.nbodies, 4, 4))
-    J, pose = np.empty((6, m.nv)), np.empty(12)
+    J, pose = np.empty((6, m.nv)), np.empty((4, 4))
     fid, fid_pin = m.frame_id(frame), pm.getFrameId(frame)
     calls: list[tuple[str, Callable[[], Any], Callable[[], Any]]] = [
         ("rnea", lambda: core.rnea(m, q, v, a, out=tau), lambda: pin.rnea(pm, pd, qp, vp, ap)),

@@ -49,7 +49,9 @@ def check_all(model: fd.Model, q: np.ndarray, v: np.ndarray, a: np.ndarray, tau:
         assert_rel(vel, kin.velocities.vector, f"{label}: fk velocities")
         assert_rel(acc, kin.accelerations.vector, f"{label}: fk accelerations")
     for fid in frames_of(model):
-        R, p = core.frame_placement(model, q, fid)
+        H = core.frame_placement(model, q, fid)
+        R, p = H[..., :3, :3], H[..., :3, 3]
+        assert np.all(H[..., 3, :] == [0.0, 0.0, 0.0, 1.0]), f"{label}: frame_placement({fid}) last row"
         X = fd.frame_placement(model, q, fid, backend=ref)
         assert_rel(R, X.rotation, f"{label}: frame_placement({fid}) rotation")
         assert_rel(p, X.translation, f"{label}: frame_placement({fid}) translation")

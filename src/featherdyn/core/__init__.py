@@ -469,19 +469,18 @@ def fk_batch(model: Model, q: Any, out: Any = None) -> np.ndarray:
     return result
 
 
-def frame_placement(model: Model, q: Any, frame: Any, out: Any = None) -> tuple[np.ndarray, np.ndarray]:
-    """The world placement ``⁰M_f = ⁰M_body(f) · placement_f`` of a frame (name or index).
+def frame_placement(model: Model, q: Any, frame: Any, out: Any = None) -> np.ndarray:
+    """The world placement of a frame (name or index) as a homogeneous matrix `(..., 4, 4)`::
 
-    Returns ``(R, p)``: rotation `(..., 3, 3)` and translation `(..., 3)`. ``out``:
-    `(..., 12)` (row-major rotation, then translation), of which ``R`` and ``p`` are views.
+        ⁰M_f = ⁰M_body(f) · placement_f = [[R, p], [0, 1]]
     """
     try:
         h = model._core
         fid = h.frames.get(frame, frame) if frame.__class__ is str else frame
         if fid.__class__ is int:
-            pose = _empty(12) if out is None else out
-            if _core.frame_placement(h.cm, q, fid, pose) == 0:
-                return pose[:9].reshape(3, 3), pose[9:]
+            H = _empty((4, 4)) if out is None else out
+            if _core.frame_placement(h.cm, q, fid, H) == 0:
+                return H
     except (AttributeError, TypeError):
         pass
     h = _view(model)
@@ -489,23 +488,23 @@ def frame_placement(model: Model, q: Any, frame: Any, out: Any = None) -> tuple[
     q_ = _f64(q, "q")
     if q_.ndim != 1:
         return frame_placement_batch(model, q_, fid, out)
-    pose = _out(out, (12,))
-    s = _core.frame_placement(h.cm, q_, fid, pose)
+    H = _out(out, (4, 4))
+    s = _core.frame_placement(h.cm, q_, fid, H)
     if s:
         _errors.raise_for(s, model, q)
-    return pose[:9].reshape(3, 3), pose[9:]
+    return H
 
 
-def frame_placement_batch(model: Model, q: Any, frame: Any, out: Any = None) -> tuple[np.ndarray, np.ndarray]:
-    """:func:`frame_placement` over batch axes, on the core's threads."""
+def frame_placement_batch(model: Model, q: Any, frame: Any, out: Any = None) -> np.ndarray:
+    """:func:`frame_placement` over batch axes `(..., 4, 4)`, on the core's threads."""
     h = _view(model)
     fid = _errors.frame_index(model, frame)
     q_ = _f64(q, "q")
     batch = _batch_shape(model, [(q_, 1)], q, [], None)
-    pose = _out(out, batch + (12,))
-    st = _core.frame_placement_batch(h.cm, _rows(q_, batch, (h.nq,)), fid, pose.reshape(math.prod(batch), 12))
+    H = _out(out, batch + (4, 4))
+    st = _core.frame_placement_batch(h.cm, _rows(q_, batch, (h.nq,)), fid, H.reshape(math.prod(batch), 16))
     _check_batch(st, model, q, [])
-    return pose[..., :9].reshape(batch + (3, 3)), pose[..., 9:]
+    return H
 
 
 def frame_jacobian(model: Model, q: Any, frame: Any, reference: Any = 0, out: Any = None) -> np.ndarray:

@@ -8,7 +8,8 @@ and copied into a ``featherdyn.core._core.Model``, whose C++ side is the
 * reals, field after field: joint placement ``Xtree`` rotation `(nb, 9)` (row-major) and
   translation `(nb, 3)`, mass `(nb,)`, ``h = m c`` `(nb, 3)`, ``Ī = I_c − m [c]×²`` about the body
   origin `(nb, 6)` (xx, xy, xz, yy, yz, zz), joint axis or plane normal `(nb, 3)`, plane basis
-  ``[e1 e2 n]`` `(nb, 9)` (row-major);
+  ``[e1 e2 n]`` `(nb, 9)` (row-major), and for revolute and planar joints ``Xtree_R [a]×`` and
+  ``Xtree_R [a]×²`` `(nb, 9)` each (so the joint rotation needs no matrix product);
 
 per model gravity `(3,)` and the ABA singularity tolerance ``1e-14 ×`` the largest entry of
 any body's spatial inertia matrix (the reference's rule, ``algorithms/aba.py``); per frame
@@ -55,6 +56,14 @@ def _build(model: Model, core: Any) -> Any:
         elif isinstance(joint, PlanarJoint):
             axis[i] = joint.normal
             basis[i] = joint.basis.reshape(9)
+    # Xtree_R [a]× and Xtree_R [a]×² for revolute and planar joints (cpp/joints.hpp: rotate_about_axis)
+    Rt = np.asarray(pl.rotation, dtype=np.float64).reshape(nb, 3, 3)
+    K = np.zeros((nb, 3, 3))
+    K[:, 0, 1], K[:, 0, 2], K[:, 1, 2] = -axis[:, 2], axis[:, 1], -axis[:, 0]
+    K = K - np.swapaxes(K, -1, -2)
+    rotating = np.array([isinstance(j, (RevoluteJoint, PlanarJoint)) for j in model.joints], dtype=bool).reshape(nb)
+    RK = np.where(rotating[:, None, None], Rt @ K, 0.0)
+    RK2 = np.where(rotating[:, None, None], Rt @ (K @ K), 0.0)
     reals = np.concatenate([
         np.asarray(pl.rotation, dtype=np.float64).reshape(nb * 9),
         np.asarray(pl.translation, dtype=np.float64).reshape(nb * 3),
@@ -63,6 +72,8 @@ def _build(model: Model, core: Any) -> Any:
         Ibar[:, [0, 0, 0, 1, 1, 2], [0, 1, 2, 1, 2, 2]].reshape(nb * 6),
         axis.reshape(nb * 3),
         basis.reshape(nb * 9),
+        RK.reshape(nb * 9),
+        RK2.reshape(nb * 9),
     ])
     scale = max((float(np.max(np.abs(inertias[i].matrix()))) for i in range(nb)), default=1.0)
     frames = model.frames

@@ -209,7 +209,7 @@ std::int64_t frame_placement1(const ModelData& md, const In& q, int frame, Out p
   const ModelView& mv = md.view;
   FD_TRY(vec(q, mv.nq, ARG_Q));
   if (frame < 0 || frame >= mv.nf) return make_status(LENGTH, ARG_FRAME, frame < 0 ? 0 : frame);
-  FD_TRY(exact_shape(pose, {12}));
+  FD_TRY(exact_shape(pose, {4, 4}));
   FD_TRY(check_state(mv, q.data(), nullptr, nullptr, nullptr));
   frame_placement(mv, q.data(), frame, pose.data());
   return OK;
@@ -407,13 +407,13 @@ RowStatus frame_placement_n(const ModelData& md, const In& q, int frame, Out pos
   const ModelView& mv = md.view;
   std::int64_t N = 0;
   Rows Q;
-  FD_TRY_ROWS(out_rows(pose, 12, N));
+  FD_TRY_ROWS(out_rows(pose, 16, N));
   FD_TRY_ROWS(rows(q, N, mv.nq, ARG_Q, Q));
   if (frame < 0 || frame >= mv.nf) return {-1, make_status(LENGTH, ARG_FRAME, frame < 0 ? 0 : frame)};
   double* out = pose.data();
   return for_rows(N, [&](std::int64_t r) -> std::int64_t {
     FD_TRY(check_state(mv, Q.row(r), nullptr, nullptr, nullptr));
-    frame_placement(mv, Q.row(r), frame, out + 12 * r);
+    frame_placement(mv, Q.row(r), frame, out + 16 * r);
     return OK;
   });
 }
@@ -438,7 +438,7 @@ RowStatus frame_jacobian_n(const ModelData& md, const In& q, int frame, int ref,
 ModelData* make_model(int nb, int nq, int nv, const Ints& body_ints, const In& body_reals, const In& gravity,
                       double singular_tol, const Ints& frame_body, const In& frame_reals) {
   const int nf = static_cast<int>(frame_body.size());
-  if (nb < 0 || body_ints.size() != 5 * static_cast<size_t>(nb) || body_reals.size() != 34 * static_cast<size_t>(nb) ||
+  if (nb < 0 || body_ints.size() != 5 * static_cast<size_t>(nb) || body_reals.size() != BODY_REALS * static_cast<size_t>(nb) ||
       gravity.size() != 3 || frame_reals.size() != 12 * static_cast<size_t>(nf))
     throw nb::value_error("featherdyn.core: inconsistent model arrays");
   return new ModelData(nb, nq, nv, nf, body_ints.data(), body_reals.data(), gravity.data(), singular_tol,

@@ -45,9 +45,9 @@ inline int support_placements(const ModelView& mv, int body, const S* q, Support
   return n;
 }
 
-// ⁰M_f: R (3, 3) row-major and p (3,) in pose[0..12).
+// ⁰M_f as a homogeneous matrix H (4, 4), row-major.
 template <class S>
-void frame_placement(const ModelView& mv, const S* q, int frame, S* pose) {
+void frame_placement(const ModelView& mv, const S* q, int frame, S* H) {
   SupportWork<S>& w = thread_workspace<SupportWork<S>>(mv.nb);
   const int body = mv.frame_body[frame];
   Mat3<S> R = load9<S>(mv.frame_R + 9 * frame);
@@ -57,8 +57,12 @@ void frame_placement(const ModelView& mv, const S* q, int frame, S* pose) {
     p = w.op[n - 1] + w.oR[n - 1] * p;
     R = w.oR[n - 1] * R;
   }
-  for (int k = 0; k < 9; ++k) pose[k] = R.m[k];
-  pose[9] = p.x, pose[10] = p.y, pose[11] = p.z;
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) H[4 * r + c] = R(r, c);
+  }
+  H[3] = p.x, H[7] = p.y, H[11] = p.z;
+  H[12] = H[13] = H[14] = S(0.0);
+  H[15] = S(1.0);
 }
 
 // J (6, nv) row-major, rows [ω; v], in the reference frame `ref`.

@@ -28,16 +28,16 @@ inline Mat3<S> load9(const double* p) {
   return R;
 }
 
-// R = 1 + sin θ [a]× + (1 − cos θ) [a]×²   (unit a)
+// Xtree_R · Rodrigues(a, θ) = Xtree_R + sin θ · Xtree_R [a]× + (1 − cos θ) · Xtree_R [a]×²  (revolute, planar)
 template <class S>
-inline Mat3<S> rodrigues(const Vec3<S>& a, const S& theta) {
+inline Mat3<S> rotate_about_axis(const ModelView& mv, int i, const Mat3<S>& Rt, const S& theta) {
   using std::cos;
   using std::sin;
-  const Mat3<S> K = skew(a);
-  const Mat3<S> K2 = K * K;
   const S s = sin(theta), c1 = S(1.0) - cos(theta);
-  Mat3<S> R = Mat3<S>::identity();
-  for (int k = 0; k < 9; ++k) R.m[k] = R.m[k] + s * K.m[k] + c1 * K2.m[k];
+  const double* K = mv.RK + 9 * i;
+  const double* K2 = mv.RK2 + 9 * i;
+  Mat3<S> R;
+  for (int k = 0; k < 9; ++k) R.m[k] = Rt.m[k] + s * S(K[k]) + c1 * S(K2[k]);
   return R;
 }
 
@@ -60,7 +60,7 @@ inline void pose_in_parent(const ModelView& mv, int i, const S* q, Mat3<S>& R, V
   const S* qi = q + mv.idx_q[i];
   switch (mv.jtype[i]) {
     case REVOLUTE:
-      R = Rt * rodrigues(load3<S>(mv.axis + 3 * i), qi[0]);
+      R = rotate_about_axis(mv, i, Rt, qi[0]);
       p = pt;
       break;
     case PRISMATIC:
@@ -78,7 +78,7 @@ inline void pose_in_parent(const ModelView& mv, int i, const S* q, Mat3<S>& R, V
     default: {  // PLANAR
       const double* B = mv.basis + 9 * i;
       const Vec3<S> e1{S(B[0]), S(B[3]), S(B[6])}, e2{S(B[1]), S(B[4]), S(B[7])};
-      R = Rt * rodrigues(load3<S>(mv.axis + 3 * i), qi[2]);
+      R = rotate_about_axis(mv, i, Rt, qi[2]);
       p = pt + Rt * (qi[0] * e1 + qi[1] * e2);
     }
   }

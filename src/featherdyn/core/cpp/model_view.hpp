@@ -25,6 +25,10 @@ struct ModelView {
   const double* Ibar = nullptr;          // (nb, 6) Ī about the body origin: xx, xy, xz, yy, yz, zz
   const double* axis = nullptr;          // (nb, 3) revolute / prismatic axis, planar normal
   const double* basis = nullptr;         // (nb, 9) planar basis [e1 e2 n] as columns, row-major
+  // revolute and planar joints: Xtree_R [a]× and Xtree_R [a]×² (axis or normal a), so that
+  // Xtree_R · Rodrigues(a, θ) = Xtree_R + sin θ · RK + (1 − cos θ) · RK2 costs no matrix product
+  const double* RK = nullptr;            // (nb, 9) row-major
+  const double* RK2 = nullptr;           // (nb, 9) row-major
   // per model
   const double* gravity = nullptr;       // (3,) in world coordinates
   double singular_tol = 0.0;             // ABA: a pivot ≤ this is singular (1e-14 × largest inertia entry)
@@ -34,18 +38,21 @@ struct ModelView {
   const double* frame_p = nullptr;           // (nf, 3)
 };
 
+// Reals per body in ModelData::reals.
+constexpr size_t BODY_REALS = 52;
+
 // The storage behind a ModelView (owned by the Python object featherdyn.core._core.Model).
 struct ModelData {
   std::vector<std::int32_t> ints;  // parent, jtype, idx_q, idx_v, nv_i (nb each), frame_body (nf)
-  std::vector<double> reals;       // Xtree_R, Xtree_p, mass, h, Ibar, axis, basis, gravity, frame_R, frame_p
+  std::vector<double> reals;       // Xtree_R, Xtree_p, mass, h, Ibar, axis, basis, RK, RK2, gravity, frame_R, frame_p
   ModelView view;
 
   ModelData(int nb, int nq, int nv, int nf, const std::int32_t* body_ints, const double* body_reals,
             const double* gravity3, double singular_tol, const std::int32_t* frame_body, const double* frame_reals)
-      : ints(5 * static_cast<size_t>(nb) + nf), reals(static_cast<size_t>(nb) * 34 + 3 + static_cast<size_t>(nf) * 12) {
+      : ints(5 * static_cast<size_t>(nb) + nf), reals(static_cast<size_t>(nb) * BODY_REALS + 3 + static_cast<size_t>(nf) * 12) {
     for (size_t k = 0; k < 5 * static_cast<size_t>(nb); ++k) ints[k] = body_ints[k];
     for (int k = 0; k < nf; ++k) ints[5 * static_cast<size_t>(nb) + k] = frame_body[k];
-    const size_t nbr = static_cast<size_t>(nb) * 34;
+    const size_t nbr = static_cast<size_t>(nb) * BODY_REALS;
     for (size_t k = 0; k < nbr; ++k) reals[k] = body_reals[k];
     for (int k = 0; k < 3; ++k) reals[nbr + k] = gravity3[k];
     for (size_t k = 0; k < static_cast<size_t>(nf) * 12; ++k) reals[nbr + 3 + k] = frame_reals[k];
@@ -61,7 +68,7 @@ struct ModelData {
     m.idx_v = I + 3 * nb;
     m.nv_i = I + 4 * nb;
     m.frame_body = I + 5 * nb;
-    // body_reals is (34, nb)-blocked by field: 9 + 3 + 1 + 3 + 6 + 3 + 9 = 34 per body
+    // body_reals is blocked by field: 9 + 3 + 1 + 3 + 6 + 3 + 9 + 9 + 9 = BODY_REALS per body
     const double* R = reals.data();
     m.Xtree_R = R;
     m.Xtree_p = R + 9 * nb;
@@ -70,6 +77,8 @@ struct ModelData {
     m.Ibar = R + 16 * nb;
     m.axis = R + 22 * nb;
     m.basis = R + 25 * nb;
+    m.RK = R + 34 * nb;
+    m.RK2 = R + 43 * nb;
     m.gravity = R + nbr;
     m.singular_tol = singular_tol;
     m.frame_R = R + nbr + 3;
