@@ -175,17 +175,23 @@ struct RigidInertia {
 };
 
 // Xᵀ I X: a child's rigid inertia expressed in the parent (RBDA eq. 2.66 in the (m, h, Ī) form):
-//     h' = Eᵀ h + m r,   Ī' = Eᵀ Ī E − [r]× [Eᵀ h]× − [h']× [r]×
+//     g = Eᵀ h,   h' = g + m r,   Ī' = Eᵀ Ī E − [r]× [g]× − [h']× [r]×
+// and with [a]×[b]× = b aᵀ − (a·b) 1 the last two terms are symmetric rank-two updates:
+//     Ī' = Eᵀ Ī E − (g rᵀ + r gᵀ) − m r rᵀ + (2 r·g + m r·r) 1
 template <class S>
 inline RigidInertia<S> transform_to_parent(const Xform<S>& X, const RigidInertia<S>& I) {
-  const Vec3<S> Eh = mul_transpose(X.E, I.h);
-  const Vec3<S> h = Eh + I.m * X.r;
-  const Mat3<S> Et = X.E.transpose();
-  const Mat3<S> rot = Et * I.I.full() * X.E;
-  const Mat3<S> rx = skew(X.r);
-  const Mat3<S> Ibar = rot - rx * skew(Eh) - skew(h) * rx;
-  // the exact result is symmetric; keep the upper triangle
-  return {I.m, h, Sym3<S>::from(Ibar)};
+  const Vec3<S> g = mul_transpose(X.E, I.h);
+  const Vec3<S>& r = X.r;
+  const Mat3<S> T = I.I.full() * X.E;  // Ī E; then Eᵀ (Ī E), upper triangle only
+  const Mat3<S>& E = X.E;
+  auto rot = [&](int a, int b) { return E(0, a) * T(0, b) + E(1, a) * T(1, b) + E(2, a) * T(2, b); };
+  const S rr[3] = {r.x, r.y, r.z}, gg[3] = {g.x, g.y, g.z};
+  const S diag = S(2.0) * dot(r, g) + I.m * dot(r, r);
+  auto entry = [&](int a, int b) {
+    S x = rot(a, b) - (gg[a] * rr[b] + rr[a] * gg[b]) - I.m * rr[a] * rr[b];
+    return a == b ? x + diag : x;
+  };
+  return {I.m, g + I.m * r, {entry(0, 0), entry(0, 1), entry(0, 2), entry(1, 1), entry(1, 2), entry(2, 2)}};
 }
 
 // A symmetric 6×6 articulated-body inertia [[A, B], [Bᵀ, C]] (A, C symmetric).
