@@ -107,11 +107,12 @@ def test_eight_python_threads_sharing_a_model() -> None:
             if not np.array_equal(core.rnea(model, st.q[r], st.v[r], st.a[r]), expected[0][r]):
                 errors.append(f"thread {k} rep {rep}: one-state rnea differs")
 
-    threads = [threading.Thread(target=work, args=(k,)) for k in range(8)]
+    threads = [threading.Thread(target=work, args=(k,), daemon=True) for k in range(8)]
     for t in threads:
         t.start()
     for t in threads:
-        t.join()
+        t.join(timeout=120)
+    assert not any(t.is_alive() for t in threads), "a thread is stuck in the core"
     assert not errors, errors[:5]
 
 
@@ -130,7 +131,8 @@ def test_fork_pool_after_a_batched_call() -> None:
     ctx = multiprocessing.get_context("fork")
     with ctx.Pool(2) as pool:
         chunks = [("free_chain", st.q[k::4], st.v[k::4], st.a[k::4]) for k in range(4)]
-        results = pool.map(_child_rnea, chunks, chunksize=1)
+        # a child stuck on the parent's (absent) pool threads would hang: fail after a generous minute instead
+        results = pool.map_async(_child_rnea, chunks, chunksize=1).get(timeout=60)
     for k, r in enumerate(results):
         assert np.array_equal(r, expected[k::4]), f"child chunk {k} differs"
     assert np.array_equal(core.rnea_batch(model, st.q, st.v, st.a), expected)  # the parent's pool still works
@@ -163,3 +165,34 @@ def test_batch_on_a_library_robot() -> None:
     q, v, a, tau, f = state(model, 16, (20,))
     assert np.array_equal(core.rnea_batch(model, q, v, a, f), _loop(lambda *x: core.rnea(model, *x), q, v, a, f))
     assert np.array_equal(core.aba_batch(model, q, v, tau), _loop(lambda *x: core.aba(model, *x), q, v, tau))
+
+
+def test_set_num_threads_while_batches_run() -> None:
+    """Replacing the pool while other threads run batches: running batches finish on the old pool, unchanged."""
+    model = tree("fixed_branch_mixed")
+    st = random_state(model, 17, (40,))
+    expected = core.aba_batch(model, st.q, st.v, st.tau)
+    before = core.get_num_threads()
+    errors: list[str] = []
+    stop = threading.Event()
+
+    def work() -> None:
+        while not stop.is_set():
+            if not np.array_equal(core.aba_batch(model, st.q, st.v, st.tau), expected):
+                errors.append("aba_batch differs")
+
+    threads = [threading.Thread(target=work, daemon=True) for _ in range(3)]
+    for t in threads:
+        t.start()
+    try:
+        for n in [1, 4, 2, 3, 1, 2] * 5:
+            core.set_num_threads(n)
+            if not np.array_equal(core.aba_batch(model, st.q, st.v, st.tau), expected):
+                errors.append(f"aba_batch differs with {n} threads")
+    finally:
+        stop.set()
+        for t in threads:
+            t.join(timeout=120)
+        core.set_num_threads(before)
+    assert not any(t.is_alive() for t in threads), "a thread is stuck in the core"
+    assert not errors, errors[:5]
