@@ -163,6 +163,14 @@ def test_bad_input_raises_the_reference_error(case: str, batch: tuple[int, ...])
     _same_error(lambda: core.frame_placement(model, q, 3), lambda: fd.frame_placement(model, q, 3, backend=ref))
 
 
+def test_fk_accelerations_need_velocities() -> None:
+    model = tree("free_branch")
+    st = random_state(model, 28)
+    core.fk(model, st.q)  # the model's arrays are cached: the one-state fast path is live
+    with pytest.raises(fd.errors.ShapeError, match="need joint velocities"):
+        core.fk(model, st.q, a=st.a)
+
+
 def test_batch_shapes_that_do_not_broadcast() -> None:
     model = tree("free_branch")
     st = random_state(model, 25, (3,))

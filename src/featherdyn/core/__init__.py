@@ -429,7 +429,7 @@ def fk(model: Model, q: Any, v: Any = None, a: Any = None, out: Any = None) -> A
         ⁰M_i = ⁰M_λ(i) · Xtree_i · M_J(q_i)
         v_i = X_up[i] v_λ(i) + S_i q̇_i,   a_i = X_up[i] a_λ(i) + S_i q̈_i + v_i × S_i q̇_i
     """
-    if v is None:
+    if v is None and a is None:
         try:
             h = model._core
             H = _empty((h.nb, 4, 4)) if out is None else out
