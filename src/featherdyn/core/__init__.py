@@ -141,7 +141,7 @@ def _batch_shape(model: Model, arrays: list[tuple[np.ndarray, int]], q: Any, vec
 
 
 def _rows(x: np.ndarray | None, batch: tuple[int, ...], tail: tuple[int, ...]) -> np.ndarray | None:
-    """``x`` with batch shape broadcastable to ``batch`` as `(N or 1, prod(tail))`` rows (a copy only to broadcast)."""
+    """``x`` with batch shape broadcastable to ``batch`` as `(N or 1, prod(tail))` rows (a copy only to broadcast)."""
     if x is None:
         return None
     n = math.prod(tail)
