@@ -449,6 +449,10 @@ ModelData* make_model(int nb, int nq, int nv, const Ints& body_ints, const In& b
 
 NB_MODULE(_core, m) {
   m.doc() = "featherdyn's compiled core (see featherdyn.core for the documented Python API)";
+  // A core Model lives as long as its featherdyn Model (cached on it), and models held by
+  // module-level caches (functools.cache, lru tables) may outlive this module at interpreter
+  // exit; nanobind would report those as leaks. They are not: nothing here holds a reference.
+  nb::set_leak_warnings(false);
 
   nb::class_<ModelData>(m, "Model")
       .def(nb::new_(&make_model), nb::arg("nb"), nb::arg("nq"), nb::arg("nv"), nb::arg("body_ints"),
