@@ -1,7 +1,8 @@
 // featherdyn.core._core: the nanobind binding of the compiled core (docs/architecture.md).
 //
 // Thin on purpose: each entry point takes native-endian, aligned, C-contiguous float64 arrays
-// (no implicit conversion: every array argument is noconvert), checks their lengths, lets the
+// (no implicit conversion: nb::ndarray arguments are noconvert, and the one-state entry points
+// take the buffer protocol's view with the same rules, buffer.hpp), checks their lengths, lets the
 // core check finiteness and quaternions, runs one kernel, and returns a status (checks.hpp)
 // that featherdyn/core/_errors.py turns into the reference's exception. No numerics here.
 // Batched entry points release the GIL and run rows on the core's thread pool; they return
@@ -18,6 +19,7 @@
 #include <utility>
 
 #include "aba.hpp"
+#include "buffer.hpp"
 #include "checks.hpp"
 #include "crba.hpp"
 #include "frames.hpp"
@@ -40,6 +42,11 @@ using RowStatus = std::pair<std::int64_t, std::int64_t>;
 namespace {
 
 template <class A>
+void require_present(const A& x) {
+  if (!x.is_valid()) throw nb::type_error("featherdyn.core: a required array argument is None");
+}
+
+template <class A>
 void require_aligned(const A& x) {
   if (x.is_valid() && reinterpret_cast<std::uintptr_t>(x.data()) % alignof(typename A::Scalar) != 0)
     throw nb::type_error("featherdyn.core: arrays must be aligned (the Python wrapper copies unaligned ones)");
@@ -48,6 +55,7 @@ void require_aligned(const A& x) {
 // One state: a 1-D array of length n. OK or a LENGTH status naming the argument.
 template <class A>
 std::int64_t vec(const A& x, size_t n, std::int64_t arg) {
+  require_present(x);
   require_aligned(x);
   if (x.ndim() != 1 || x.shape(0) != n) return make_status(LENGTH, arg, x.ndim() == 1 ? x.shape(0) : -1);
   return OK;
@@ -83,6 +91,7 @@ std::int64_t out_rows(const Out& x, size_t n, std::int64_t& N) {
 // An output (or a one-state f_ext) of exactly this shape.
 template <class A>
 std::int64_t exact_shape(const A& x, std::initializer_list<size_t> shape, std::int64_t arg = ARG_OUT) {
+  require_present(x);
   require_aligned(x);
   bool same = x.ndim() == shape.size();
   size_t d = 0;
@@ -129,8 +138,8 @@ RowStatus for_rows(std::int64_t items, const F& body, std::int64_t group = 1) {
 // one state
 // ---------------------------------------------------------------------------
 
-std::int64_t rnea1(const ModelData& md, const In& q, const In& v, const In& a, const In& f_ext, bool gravity,
-                   Out tau) {
+std::int64_t rnea1(const ModelData& md, const F64In& q, const F64In& v, const F64In& a, const F64In& f_ext,
+                   bool gravity, const F64Out& tau) {
   const ModelView& mv = md.view;
   FD_TRY(vec(q, mv.nq, ARG_Q));
   FD_TRY(vec(v, mv.nv, ARG_V));
@@ -143,7 +152,7 @@ std::int64_t rnea1(const ModelData& md, const In& q, const In& v, const In& a, c
   return OK;
 }
 
-std::int64_t nle1(const ModelData& md, const In& q, const In& v, Out h) {
+std::int64_t nle1(const ModelData& md, const F64In& q, const F64In& v, const F64Out& h) {
   const ModelView& mv = md.view;
   FD_TRY(vec(q, mv.nq, ARG_Q));
   FD_TRY(vec(v, mv.nv, ARG_V));
@@ -153,7 +162,7 @@ std::int64_t nle1(const ModelData& md, const In& q, const In& v, Out h) {
   return OK;
 }
 
-std::int64_t gravity1(const ModelData& md, const In& q, Out g) {
+std::int64_t gravity1(const ModelData& md, const F64In& q, const F64Out& g) {
   const ModelView& mv = md.view;
   FD_TRY(vec(q, mv.nq, ARG_Q));
   FD_TRY(exact_shape(g, {size_t(mv.nv)}));
@@ -162,7 +171,7 @@ std::int64_t gravity1(const ModelData& md, const In& q, Out g) {
   return OK;
 }
 
-std::int64_t crba1(const ModelData& md, const In& q, Out M) {
+std::int64_t crba1(const ModelData& md, const F64In& q, const F64Out& M) {
   const ModelView& mv = md.view;
   FD_TRY(vec(q, mv.nq, ARG_Q));
   FD_TRY(exact_shape(M, {size_t(mv.nv), size_t(mv.nv)}));
@@ -172,8 +181,8 @@ std::int64_t crba1(const ModelData& md, const In& q, Out M) {
 }
 
 // D_singular (36,) receives the singular joint's D_i (row stride 6) when the status is SINGULAR.
-std::int64_t aba1(const ModelData& md, const In& q, const In& v, const In& tau, const In& f_ext, bool gravity,
-                  Out qdd, Out D_singular) {
+std::int64_t aba1(const ModelData& md, const F64In& q, const F64In& v, const F64In& tau, const F64In& f_ext,
+                  bool gravity, const F64Out& qdd, const F64Out& D_singular) {
   const ModelView& mv = md.view;
   FD_TRY(vec(q, mv.nq, ARG_Q));
   FD_TRY(vec(v, mv.nv, ARG_V));
@@ -189,7 +198,8 @@ std::int64_t aba1(const ModelData& md, const In& q, const In& v, const In& tau, 
 }
 
 // H (nb, 4, 4); vel, acc (nb, 6) when v (and a) are given.
-std::int64_t fk1(const ModelData& md, const In& q, const In& v, const In& a, Out H, Out vel, Out acc) {
+std::int64_t fk1(const ModelData& md, const F64In& q, const F64In& v, const F64In& a, const F64Out& H,
+                 const F64Out& vel, const F64Out& acc) {
   const ModelView& mv = md.view;
   FD_TRY(vec(q, mv.nq, ARG_Q));
   if (v.is_valid()) FD_TRY(vec(v, mv.nv, ARG_V));
@@ -205,7 +215,7 @@ std::int64_t fk1(const ModelData& md, const In& q, const In& v, const In& a, Out
   return OK;
 }
 
-std::int64_t frame_placement1(const ModelData& md, const In& q, int frame, Out pose) {
+std::int64_t frame_placement1(const ModelData& md, const F64In& q, int frame, const F64Out& pose) {
   const ModelView& mv = md.view;
   FD_TRY(vec(q, mv.nq, ARG_Q));
   if (frame < 0 || frame >= mv.nf) return make_status(LENGTH, ARG_FRAME, frame < 0 ? 0 : frame);
@@ -215,7 +225,7 @@ std::int64_t frame_placement1(const ModelData& md, const In& q, int frame, Out p
   return OK;
 }
 
-std::int64_t frame_jacobian1(const ModelData& md, const In& q, int frame, int ref, Out J) {
+std::int64_t frame_jacobian1(const ModelData& md, const F64In& q, int frame, int ref, const F64Out& J) {
   const ModelView& mv = md.view;
   FD_TRY(vec(q, mv.nq, ARG_Q));
   if (frame < 0 || frame >= mv.nf) return make_status(LENGTH, ARG_FRAME, frame < 0 ? 0 : frame);

@@ -53,11 +53,16 @@ void rnea(const ModelView& mv, const S* q, const S* qd, const S* qdd, const S* f
   for (int i = 0; i < nb; ++i) {
     const int lam = mv.parent[i];
     X_up[i] = joint_X_up(mv, i, q);
-    const Motion<S> vJ = qd ? S_times(mv, i, qd) : zero;
-    v[i] = lam == -1 ? vJ : X_up[i].apply(v[lam]) + vJ;
-    a[i] = X_up[i].apply(lam == -1 ? a0 : a[lam]) + (qdd ? S_times(mv, i, qdd) : zero) + cross_motion(v[i], vJ);
     const RigidInertia<S> I = body_inertia<S>(mv, i);
-    f[i] = I * a[i] + cross_force(v[i], I * v[i]);
+    a[i] = X_up[i].apply(lam == -1 ? a0 : a[lam]) + (qdd ? S_times(mv, i, qdd) : zero);
+    if (qd) {  // (without q̇, as for g(q), every velocity term is zero)
+      const Motion<S> vJ = S_times(mv, i, qd);
+      v[i] = lam == -1 ? vJ : X_up[i].apply(v[lam]) + vJ;
+      a[i] = a[i] + cross_motion(v[i], vJ);
+      f[i] = I * a[i] + cross_force(v[i], I * v[i]);
+    } else {
+      f[i] = I * a[i];
+    }
     if (f_ext) {
       const S* fx = f_ext + 6 * i;
       f[i] = f[i] - Force<S>{{fx[0], fx[1], fx[2]}, {fx[3], fx[4], fx[5]}};
