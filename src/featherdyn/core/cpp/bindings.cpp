@@ -11,11 +11,15 @@
 #include <nanobind/ndarray.h>
 #include <nanobind/stl/complex.h>
 #include <nanobind/stl/pair.h>
+#include <nanobind/stl/string.h>
 
 #include <complex>
 #include <cstdint>
 #include <initializer_list>
+#include <cstdlib>
+#include <cstring>
 #include <mutex>
+#include <string>
 #include <utility>
 
 #include "aba.hpp"
@@ -27,10 +31,15 @@
 #include "model_view.hpp"
 #include "pack.hpp"
 #include "rnea.hpp"
+#include "simd_groups.hpp"
 #include "thread_pool.hpp"
 
 namespace nb = nanobind;
 using namespace fdcore;
+
+#if defined(FEATHERDYN_HAVE_AVX2)
+fdgroup::GroupKernels featherdyn_avx2_group_kernels();  // simd_avx2.cpp
+#endif
 
 using In = nb::ndarray<const double, nb::c_contig, nb::device::cpu>;
 using Out = nb::ndarray<double, nb::c_contig, nb::device::cpu>;
@@ -61,12 +70,8 @@ std::int64_t vec(const A& x, size_t n, std::int64_t arg) {
   return OK;
 }
 
-// A batch: (R, n) with R = N rows, or R = 1 broadcast to every row.
-struct Rows {
-  const double* p = nullptr;
-  std::int64_t stride = 0;
-  const double* row(std::int64_t r) const { return p ? p + r * stride : nullptr; }
-};
+// A batch input: (R, n) with R = N rows, or R = 1 broadcast to every row.
+using fdgroup::Rows;
 
 std::int64_t rows(const In& x, std::int64_t N, size_t n, std::int64_t arg, Rows& out) {
   require_aligned(x);
@@ -254,53 +259,41 @@ std::int64_t rnea_complex1(const ModelData& md, const InC& q, const InC& v, cons
 // batches: row r of each input (or its only row), row r of the output
 // ---------------------------------------------------------------------------
 
-// Rows in groups of PACK_WIDTH on the pool. Every row is checked; a full group runs the Pack
-// instantiation (lanes bit-identical to one state), the tail and any group whose packed run
-// reports a status run row by row with the double instantiation (which then names the row).
-//   check(r) → status;  one(r) → status;  many(r0) → status (OK or some lane failed)
-template <class Check, class One, class Many>
-RowStatus for_row_groups(std::int64_t N, const Check& check, const One& one, const Many& many) {
-  const std::int64_t W = PACK_WIDTH;
+// The batched group kernels for this CPU: AVX2 (4 lanes) when it has it, else the x86-64
+// baseline (2 lanes); FEATHERDYN_SIMD=baseline forces the baseline (to measure both ways).
+const fdgroup::GroupKernels& group_kernels() {
+  static const fdgroup::GroupKernels kernels = [] {
+#if defined(FEATHERDYN_HAVE_AVX2)
+    const char* env = std::getenv("FEATHERDYN_SIMD");
+    const bool baseline = env != nullptr && std::strcmp(env, "baseline") == 0;
+    if (!baseline && __builtin_cpu_supports("avx2")) return featherdyn_avx2_group_kernels();
+#endif
+    return fdcore::group_kernels("baseline");
+  }();
+  return kernels;
+}
+
+// Rows in groups of the kernels' width on the pool. Every row is checked; a full group runs the
+// Pack instantiation (lanes bit-identical to one state), the tail and any group whose packed run
+// fails (a singular ABA lane) run row by row with the double instantiation, which names the row.
+//   check(r) → status;  one(r) → status;  many: the group kernel
+template <class Check, class One>
+RowStatus for_row_groups(std::int64_t N, const Check& check, const One& one, fdgroup::GroupFn many,
+                         const fdgroup::GroupArgs& args) {
+  const std::int64_t W = group_kernels().width;
   return for_rows((N + W - 1) / W, [&](std::int64_t g) -> std::int64_t {
     const std::int64_t r0 = g * W, n = std::min(W, N - r0);
     for (std::int64_t r = r0; r < r0 + n; ++r) {
       const std::int64_t s = check(r);
       if (s != OK) return s + ((r - r0) << 60);  // the row within the group (see for_rows)
     }
-    if (n == W && many(r0) == OK) return OK;
+    if (n == W && many(args, r0) == 0) return OK;
     for (std::int64_t r = r0; r < r0 + n; ++r) {
       const std::int64_t s = one(r);
       if (s != OK) return s + ((r - r0) << 60);
     }
     return OK;
   }, W);
-}
-
-// Lanes: W rows of the inputs gathered into Packs, and the result scattered back; one buffer
-// per thread, sized once per call (`total` Packs) so that the pointers handed out stay valid.
-struct Lanes {
-  std::vector<Pack> buf;
-  Pack* gather(const Rows& X, std::int64_t r0, size_t n, size_t offset) {
-    if (!X.p) return nullptr;
-    Pack* out = buf.data() + offset;
-    for (int lane = 0; lane < PACK_WIDTH; ++lane) {
-      const double* x = X.row(r0 + lane);
-      for (size_t k = 0; k < n; ++k) out[k].set(lane, x[k]);
-    }
-    return out;
-  }
-  Pack* space(size_t offset) { return buf.data() + offset; }
-};
-
-inline void scatter(const Pack* x, size_t n, double* out, std::int64_t stride) {
-  for (int lane = 0; lane < PACK_WIDTH; ++lane)
-    for (size_t k = 0; k < n; ++k) out[lane * stride + k] = x[k][lane];
-}
-
-inline Lanes& thread_lanes(size_t total) {
-  thread_local Lanes lanes;
-  if (lanes.buf.size() < total) lanes.buf.resize(total);
-  return lanes;
 }
 
 RowStatus rnea_n(const ModelData& md, const In& q, const In& v, const In& a, const In& f_ext, bool gravity,
@@ -312,7 +305,7 @@ RowStatus rnea_n(const ModelData& md, const In& q, const In& v, const In& a, con
   FD_TRY_ROWS(rows(q, N, mv.nq, ARG_Q, Q));
   FD_TRY_ROWS(rows(v, N, mv.nv, ARG_V, V));
   FD_TRY_ROWS(rows(a, N, mv.nv, ARG_A, A));
-  const size_t nq = mv.nq, nv = mv.nv, nf = 6 * static_cast<size_t>(mv.nb);
+  const size_t nf = 6 * static_cast<size_t>(mv.nb);
   FD_TRY_ROWS(rows(f_ext, N, nf, ARG_FEXT, FX));
   double* T = tau.data();
   return for_row_groups(
@@ -321,17 +314,7 @@ RowStatus rnea_n(const ModelData& md, const In& q, const In& v, const In& a, con
         rnea(mv, Q.row(r), V.row(r), A.row(r), FX.row(r), gravity, T + r * mv.nv);
         return OK;
       },
-      [&](std::int64_t r0) -> std::int64_t {
-        Lanes& L = thread_lanes(nq + 3 * nv + nf);
-        const Pack* q_ = L.gather(Q, r0, nq, 0);
-        const Pack* v_ = L.gather(V, r0, nv, nq);
-        const Pack* a_ = L.gather(A, r0, nv, nq + nv);
-        const Pack* f_ = L.gather(FX, r0, nf, nq + 2 * nv);
-        Pack* t_ = L.space(nq + 2 * nv + nf);
-        rnea(mv, q_, v_, a_, f_, gravity, t_);
-        scatter(t_, nv, T + r0 * mv.nv, mv.nv);
-        return OK;
-      });
+      group_kernels().rnea, {&mv, Q, V, A, FX, gravity, T, mv.nv});
 }
 
 RowStatus crba_n(const ModelData& md, const In& q, Out M) {
@@ -348,14 +331,7 @@ RowStatus crba_n(const ModelData& md, const In& q, Out M) {
         crba(mv, Q.row(r), out + r * nv2);
         return OK;
       },
-      [&](std::int64_t r0) -> std::int64_t {
-        Lanes& L = thread_lanes(mv.nq + nv2);
-        const Pack* q_ = L.gather(Q, r0, mv.nq, 0);
-        Pack* m_ = L.space(mv.nq);
-        crba(mv, q_, m_);
-        scatter(m_, nv2, out + r0 * nv2, nv2);
-        return OK;
-      });
+      group_kernels().crba, {&mv, Q, {}, {}, {}, true, out, nv2});
 }
 
 RowStatus aba_n(const ModelData& md, const In& q, const In& v, const In& tau, const In& f_ext, bool gravity,
@@ -367,7 +343,7 @@ RowStatus aba_n(const ModelData& md, const In& q, const In& v, const In& tau, co
   FD_TRY_ROWS(rows(q, N, mv.nq, ARG_Q, Q));
   FD_TRY_ROWS(rows(v, N, mv.nv, ARG_V, V));
   FD_TRY_ROWS(rows(tau, N, mv.nv, ARG_A, T));
-  const size_t nq = mv.nq, nv = mv.nv, nf = 6 * static_cast<size_t>(mv.nb);
+  const size_t nf = 6 * static_cast<size_t>(mv.nb);
   FD_TRY_ROWS(rows(f_ext, N, nf, ARG_FEXT, FX));
   double* out = qdd.data();
   return for_row_groups(
@@ -376,17 +352,7 @@ RowStatus aba_n(const ModelData& md, const In& q, const In& v, const In& tau, co
         const int bad = aba(mv, Q.row(r), V.row(r), T.row(r), FX.row(r), gravity, out + r * mv.nv);
         return bad < 0 ? OK : make_status(SINGULAR, ARG_Q, bad);
       },
-      [&](std::int64_t r0) -> std::int64_t {
-        Lanes& L = thread_lanes(nq + 3 * nv + nf);
-        const Pack* q_ = L.gather(Q, r0, nq, 0);
-        const Pack* v_ = L.gather(V, r0, nv, nq);
-        const Pack* t_ = L.gather(T, r0, nv, nq + nv);
-        const Pack* f_ = L.gather(FX, r0, nf, nq + 2 * nv);
-        Pack* a_ = L.space(nq + 2 * nv + nf);
-        if (aba(mv, q_, v_, t_, f_, gravity, a_) >= 0) return SINGULAR;  // some lane: redone row by row
-        scatter(a_, nv, out + r0 * mv.nv, mv.nv);
-        return OK;
-      });
+      group_kernels().aba, {&mv, Q, V, T, FX, gravity, out, mv.nv});
 }
 
 RowStatus fk_n(const ModelData& md, const In& q, Out H) {
@@ -403,14 +369,7 @@ RowStatus fk_n(const ModelData& md, const In& q, Out H) {
         forward_kinematics<double>(mv, Q.row(r), nullptr, nullptr, out + r * n, nullptr, nullptr);
         return OK;
       },
-      [&](std::int64_t r0) -> std::int64_t {
-        Lanes& L = thread_lanes(mv.nq + n);
-        const Pack* q_ = L.gather(Q, r0, mv.nq, 0);
-        Pack* h_ = L.space(mv.nq);
-        forward_kinematics<Pack>(mv, q_, nullptr, nullptr, h_, nullptr, nullptr);
-        scatter(h_, n, out + r0 * n, n);
-        return OK;
-      });
+      group_kernels().fk, {&mv, Q, {}, {}, {}, true, out, n});
 }
 
 RowStatus frame_placement_n(const ModelData& md, const In& q, int frame, Out pose) {
@@ -501,4 +460,6 @@ NB_MODULE(_core, m) {
   m.def("set_num_threads", [](int n) { GlobalPool::instance().set_num_threads(n); }, nb::arg("n"));
   m.def("get_num_threads", [] { return GlobalPool::instance().num_threads(); });
   m.def("available_cores", &available_cores);
+  m.def("simd", [] { return std::make_pair(std::string(group_kernels().isa), group_kernels().width); },
+        "(instruction set, lanes) of the batched kernels");
 }

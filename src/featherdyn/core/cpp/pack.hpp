@@ -10,11 +10,15 @@
 
 namespace fdcore {
 
-// Two doubles: one SSE2 register, the x86-64 baseline the binary is built for. (Measured on panda
-// batches: width 2 runs at 0.65× the one-state kernel's time per state, width 4 — split into two
-// SSE2 halves — at 1.3×. Width 4/8 pays off with AVX2/AVX-512 code paths, which need runtime
-// dispatch: not built yet.)
+// The lanes: one vector register. Two doubles on the x86-64 baseline (SSE2), four where the
+// translation unit is compiled for AVX2 (simd_avx2.cpp, chosen at import when the CPU has it).
+// (Four doubles on SSE2 — two registers — measured slower than two: 1.3× vs 0.65× the
+// one-state kernel's time per state on panda.)
+#if defined(__AVX2__)
+constexpr int PACK_WIDTH = 4;
+#else
 constexpr int PACK_WIDTH = 2;
+#endif
 
 struct Pack {
   typedef double V __attribute__((vector_size(8 * PACK_WIDTH)));

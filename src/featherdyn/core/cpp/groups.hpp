@@ -1,0 +1,35 @@
+// What a batch hands to the SIMD kernels of one group of rows (simd_groups.hpp), independent of
+// the instruction set those kernels were compiled for (bindings.cpp picks one at import).
+#pragma once
+
+#include <cstdint>
+
+#include "model_view.hpp"
+
+namespace fdgroup {
+
+// A batch input: (R, n) rows with R = N, or R = 1 broadcast to every row (stride 0).
+struct Rows {
+  const double* p = nullptr;
+  std::int64_t stride = 0;
+  const double* row(std::int64_t r) const { return p ? p + r * stride : nullptr; }
+};
+
+struct GroupArgs {
+  const fdcore::ModelView* mv;
+  Rows Q, V, A, FX;  // A: q̈ or τ; V, A, FX may be absent
+  bool gravity;
+  double* out;       // row r at out + r * out_stride
+  std::int64_t out_stride;
+};
+
+// One group of `width` rows from row r0: 0, or non-zero when some lane failed (ABA: singular).
+using GroupFn = std::int64_t (*)(const GroupArgs&, std::int64_t r0);
+
+struct GroupKernels {
+  const char* isa;
+  int width;
+  GroupFn rnea, crba, aba, fk;
+};
+
+}  // namespace fdgroup

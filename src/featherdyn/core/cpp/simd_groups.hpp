@@ -1,0 +1,98 @@
+// The batched kernels of one group of PACK_WIDTH rows: gather the rows into Packs, run the same
+// templates as one state (instantiated for Pack), scatter the result. Included by bindings.cpp
+// (the x86-64 baseline) and by simd_avx2.cpp (compiled with -mavx2 in its own namespace).
+#pragma once
+
+#include <vector>
+
+#include "aba.hpp"
+#include "crba.hpp"
+#include "groups.hpp"
+#include "kinematics.hpp"
+#include "pack.hpp"
+#include "rnea.hpp"
+
+namespace fdcore {
+
+// W rows of the inputs gathered into Packs, and results scattered back; one buffer per thread,
+// sized before any pointer is handed out.
+struct Lanes {
+  std::vector<Pack> buf;
+  Pack* gather(const fdgroup::Rows& X, std::int64_t r0, size_t n, size_t offset) {
+    if (!X.p) return nullptr;
+    Pack* out = buf.data() + offset;
+    for (int lane = 0; lane < PACK_WIDTH; ++lane) {
+      const double* x = X.row(r0 + lane);
+      for (size_t k = 0; k < n; ++k) out[k].set(lane, x[k]);
+    }
+    return out;
+  }
+  Pack* space(size_t offset) { return buf.data() + offset; }
+};
+
+inline void scatter(const Pack* x, size_t n, double* out, std::int64_t stride) {
+  for (int lane = 0; lane < PACK_WIDTH; ++lane)
+    for (size_t k = 0; k < n; ++k) out[lane * stride + k] = x[k][lane];
+}
+
+inline Lanes& thread_lanes(size_t total) {
+  thread_local Lanes lanes;
+  if (lanes.buf.size() < total) lanes.buf.resize(total);
+  return lanes;
+}
+
+inline std::int64_t rnea_group(const fdgroup::GroupArgs& g, std::int64_t r0) {
+  const ModelView& mv = *g.mv;
+  const size_t nq = mv.nq, nv = mv.nv, nf = 6 * static_cast<size_t>(mv.nb);
+  Lanes& L = thread_lanes(nq + 3 * nv + nf);
+  const Pack* q = L.gather(g.Q, r0, nq, 0);
+  const Pack* v = L.gather(g.V, r0, nv, nq);
+  const Pack* a = L.gather(g.A, r0, nv, nq + nv);
+  const Pack* f = L.gather(g.FX, r0, nf, nq + 2 * nv);
+  Pack* tau = L.space(nq + 2 * nv + nf);
+  rnea(mv, q, v, a, f, g.gravity, tau);
+  scatter(tau, nv, g.out + r0 * g.out_stride, g.out_stride);
+  return 0;
+}
+
+inline std::int64_t crba_group(const fdgroup::GroupArgs& g, std::int64_t r0) {
+  const ModelView& mv = *g.mv;
+  const size_t nq = mv.nq, nv2 = static_cast<size_t>(mv.nv) * mv.nv;
+  Lanes& L = thread_lanes(nq + nv2);
+  const Pack* q = L.gather(g.Q, r0, nq, 0);
+  Pack* M = L.space(nq);
+  crba(mv, q, M);
+  scatter(M, nv2, g.out + r0 * g.out_stride, g.out_stride);
+  return 0;
+}
+
+inline std::int64_t aba_group(const fdgroup::GroupArgs& g, std::int64_t r0) {
+  const ModelView& mv = *g.mv;
+  const size_t nq = mv.nq, nv = mv.nv, nf = 6 * static_cast<size_t>(mv.nb);
+  Lanes& L = thread_lanes(nq + 3 * nv + nf);
+  const Pack* q = L.gather(g.Q, r0, nq, 0);
+  const Pack* v = L.gather(g.V, r0, nv, nq);
+  const Pack* tau = L.gather(g.A, r0, nv, nq + nv);
+  const Pack* f = L.gather(g.FX, r0, nf, nq + 2 * nv);
+  Pack* qdd = L.space(nq + 2 * nv + nf);
+  if (aba(mv, q, v, tau, f, g.gravity, qdd) >= 0) return 1;  // singular in some lane: redone row by row
+  scatter(qdd, nv, g.out + r0 * g.out_stride, g.out_stride);
+  return 0;
+}
+
+inline std::int64_t fk_group(const fdgroup::GroupArgs& g, std::int64_t r0) {
+  const ModelView& mv = *g.mv;
+  const size_t nq = mv.nq, n = 16 * static_cast<size_t>(mv.nb);
+  Lanes& L = thread_lanes(nq + n);
+  const Pack* q = L.gather(g.Q, r0, nq, 0);
+  Pack* H = L.space(nq);
+  forward_kinematics<Pack>(mv, q, nullptr, nullptr, H, nullptr, nullptr);
+  scatter(H, n, g.out + r0 * g.out_stride, g.out_stride);
+  return 0;
+}
+
+inline fdgroup::GroupKernels group_kernels(const char* isa) {
+  return {isa, PACK_WIDTH, &rnea_group, &crba_group, &aba_group, &fk_group};
+}
+
+}  // namespace fdcore
