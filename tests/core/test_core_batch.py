@@ -196,3 +196,39 @@ def test_set_num_threads_while_batches_run() -> None:
         core.set_num_threads(before)
     assert not any(t.is_alive() for t in threads), "a thread is stuck in the core"
     assert not errors, errors[:5]
+
+
+_BASELINE_SCRIPT = """
+import sys
+import numpy as np
+sys.path.insert(0, {tests!r})
+from _models import TREES, random_state, tree
+from featherdyn import core
+print(core._core.simd()[0])
+for spec in TREES:
+    model = tree(spec.name)
+    st = random_state(model, 18, (9,))
+    for batch, one in [
+        (core.rnea_batch(model, st.q, st.v, st.a, st.f_ext), [core.rnea(model, *x) for x in zip(st.q, st.v, st.a, st.f_ext)]),
+        (core.crba_batch(model, st.q), [core.crba(model, x) for x in st.q]),
+        (core.aba_batch(model, st.q, st.v, st.tau), [core.aba(model, *x) for x in zip(st.q, st.v, st.tau)]),
+        (core.fk_batch(model, st.q), [core.fk(model, x) for x in st.q]),
+    ]:
+        assert np.array_equal(batch, np.stack(one)), spec.name
+print("ok")
+"""
+
+
+def test_baseline_simd_build_is_bit_identical_too() -> None:
+    """FEATHERDYN_SIMD=baseline (2 SSE2 lanes) in a fresh process: batch == loop as with the default kernels."""
+    import os
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    tests = str(Path(__file__).resolve().parents[1])
+    env = dict(os.environ, FEATHERDYN_SIMD="baseline")
+    res = subprocess.run([sys.executable, "-c", _BASELINE_SCRIPT.format(tests=tests)], env=env, capture_output=True,
+                         text=True, timeout=300)
+    assert res.returncode == 0, res.stderr[-2000:]
+    assert res.stdout.split() == ["baseline", "ok"], res.stdout
