@@ -407,8 +407,9 @@ RowStatus frame_jacobian_n(const ModelData& md, const In& q, int frame, int ref,
 ModelData* make_model(int nb, int nq, int nv, const Ints& body_ints, const In& body_reals, const In& gravity,
                       double singular_tol, const Ints& frame_body, const In& frame_reals) {
   const int nf = static_cast<int>(frame_body.size());
-  if (nb < 0 || body_ints.size() != 5 * static_cast<size_t>(nb) || body_reals.size() != BODY_REALS * static_cast<size_t>(nb) ||
-      gravity.size() != 3 || frame_reals.size() != 12 * static_cast<size_t>(nf))
+  const size_t n = nb < 0 ? 0 : static_cast<size_t>(nb);
+  if (nb < 0 || body_ints.size() != 5 * n || body_reals.size() != BODY_REALS * n || gravity.size() != 3 ||
+      frame_reals.size() != 12 * static_cast<size_t>(nf))
     throw nb::value_error("featherdyn.core: inconsistent model arrays");
   return new ModelData(nb, nq, nv, nf, body_ints.data(), body_reals.data(), gravity.data(), singular_tol,
                        frame_body.data(), frame_reals.data());

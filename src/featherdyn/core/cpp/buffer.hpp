@@ -37,7 +37,8 @@ class F64Buffer {
       return false;
     }
     const char* f = view_.format;
-    const bool native_f64 = view_.itemsize == 8 && f != nullptr && (std::strcmp(f, "d") == 0 || std::strcmp(f, "=d") == 0);
+    const bool native_f64 =
+        view_.itemsize == 8 && f != nullptr && (std::strcmp(f, "d") == 0 || std::strcmp(f, "=d") == 0);
     const bool aligned = reinterpret_cast<std::uintptr_t>(view_.buf) % alignof(double) == 0;
     if (!native_f64 || !aligned) {
       PyBuffer_Release(&view_);

@@ -49,7 +49,8 @@ struct ModelData {
 
   ModelData(int nb, int nq, int nv, int nf, const std::int32_t* body_ints, const double* body_reals,
             const double* gravity3, double singular_tol, const std::int32_t* frame_body, const double* frame_reals)
-      : ints(5 * static_cast<size_t>(nb) + nf), reals(static_cast<size_t>(nb) * BODY_REALS + 3 + static_cast<size_t>(nf) * 12) {
+      : ints(5 * static_cast<size_t>(nb) + nf),
+        reals(static_cast<size_t>(nb) * BODY_REALS + 3 + static_cast<size_t>(nf) * 12) {
     for (size_t k = 0; k < 5 * static_cast<size_t>(nb); ++k) ints[k] = body_ints[k];
     for (int k = 0; k < nf; ++k) ints[5 * static_cast<size_t>(nb) + k] = frame_body[k];
     const size_t nbr = static_cast<size_t>(nb) * BODY_REALS;
