@@ -113,11 +113,13 @@ class ThreadPool {
   bool stop_ = false;
 };
 
-// The cores this process may run on.
+// The cores this process may run on (its CPU affinity on Linux).
 inline int available_cores() {
+#if defined(__linux__)
   cpu_set_t set;
   if (sched_getaffinity(0, sizeof(set), &set) == 0) return std::max(1, CPU_COUNT(&set));
-  return std::max(1u, std::thread::hardware_concurrency());
+#endif
+  return static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
 }
 
 // The process-wide pool, rebuilt after fork and by set_num_threads.
