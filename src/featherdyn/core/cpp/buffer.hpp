@@ -1,5 +1,5 @@
-// F64In / F64Out: a borrowed float64 array for the one-state entry points, taken through the
-// buffer protocol (PEP 3118), and their nanobind casters.
+// F64In / F64Out: a borrowed float64 NumPy array for the one-state entry points, taken through
+// the buffer protocol (PEP 3118), and their nanobind casters.
 //
 // Why not nb::ndarray here: nanobind imports a NumPy array through __dlpack__, which costs
 // about 0.1 µs per array (a Python-level call with keyword arguments and a capsule); the
@@ -29,8 +29,11 @@ class F64Buffer {
     if (valid_) PyBuffer_Release(&view_);
   }
 
-  // Borrow o's memory if it is a native, aligned, C-contiguous float64 buffer (writable if asked).
+  // Borrow o's memory if it is a NumPy array (exactly: subclasses such as masked arrays carry
+  // meaning the buffer does not, and go to the wrapper) holding native, aligned, C-contiguous
+  // float64 (writable if asked).
   bool acquire(PyObject* o) noexcept {
+    if (std::strcmp(Py_TYPE(o)->tp_name, "numpy.ndarray") != 0) return false;
     const int flags = PyBUF_C_CONTIGUOUS | PyBUF_FORMAT | (Writable ? PyBUF_WRITABLE : 0);
     if (PyObject_GetBuffer(o, &view_, flags) != 0) {
       PyErr_Clear();
