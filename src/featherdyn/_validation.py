@@ -18,6 +18,7 @@ from typing import Any
 import numpy as np
 
 from .errors import DTypeError, NonFiniteError, ShapeError
+from .tolerances import ROTATION_ORTHONORMAL
 
 
 def _shape_text(shape: tuple[int | str, ...]) -> str:
@@ -85,11 +86,6 @@ def readonly(arr: np.ndarray) -> np.ndarray:
     return arr
 
 
-def default_tol(dtype: np.dtype, float64: float, float32: float) -> float:
-    """Pick a tolerance by dtype (object arrays use the float64 one)."""
-    return float32 if np.dtype(dtype) == np.float32 else float64
-
-
 def check_rotation(rotation: np.ndarray, name: str, tol: float | None = None) -> None:
     """Raise :class:`RotationError` unless every ``(..., 3, 3)`` matrix is in SO(3).
 
@@ -102,7 +98,7 @@ def check_rotation(rotation: np.ndarray, name: str, tol: float | None = None) ->
     if rotation.dtype.kind == "O":
         return
     if tol is None:
-        tol = default_tol(rotation.dtype, 1e-6, 1e-4)
+        tol = ROTATION_ORTHONORMAL.of(rotation.dtype)
     rtr = np.swapaxes(rotation, -1, -2) @ rotation
     err = np.abs(rtr - np.eye(3, dtype=rotation.dtype)).max(axis=(-2, -1))
     if np.any(err > tol):

@@ -33,10 +33,11 @@ from typing import Any
 
 import numpy as np
 
-from ._validation import as_array, default_tol, result_dtype
+from ._validation import as_array, result_dtype
 from .errors import QuaternionNormError, ShapeError
 from .joints import FreeFlyerJoint, SphericalJoint
 from .model import Model
+from .tolerances import QUATERNION_NORM
 
 __all__ = [
     "neutral",
@@ -49,8 +50,6 @@ __all__ = [
 ]
 
 # the same thresholds as featherdyn.rotation and featherdyn.joints
-_QUAT_NORM_TOL_FLOAT64 = 1e-6
-_QUAT_NORM_TOL_FLOAT32 = 1e-4
 
 
 # --------------------------------------------------------------------------
@@ -88,7 +87,7 @@ def _check_quaternions(model: Model, q: np.ndarray, name: str) -> None:
     """Raise :class:`QuaternionNormError` naming the joint unless each quaternion of ``q`` is unit."""
     if q.dtype.kind == "O":
         return
-    tol = default_tol(q.dtype, _QUAT_NORM_TOL_FLOAT64, _QUAT_NORM_TOL_FLOAT32)
+    tol = QUATERNION_NORM.of(q.dtype)
     for i, sl in _quat_slices(model):
         quat = q[..., sl]
         norm = np.sqrt(np.sum(quat * quat, axis=-1))

@@ -73,11 +73,12 @@ from typing import Any
 
 import numpy as np
 
-from ._validation import as_array, check_rotation, default_tol
+from ._validation import as_array, check_rotation
 from .errors import MissingDependencyError, QuaternionNormError, ShapeError, SpatialTypeError
 from .frames import Frame, merge_frames
 from .rotation import quat_to_matrix
 from .spatial_algebra import PluckerTransform, SpatialForce, SpatialInertia, SpatialMotion, crm
+from .tolerances import QUATERNION_NORM, SPATIAL_STRUCTURE
 
 __all__ = [
     "MissingDependencyError",
@@ -142,9 +143,6 @@ __all__ = [
 # index array converts in both directions (and for motions and forces alike).
 _SWAP = np.array([3, 4, 5, 0, 1, 2])
 
-# Same tolerances as featherdyn.rotation (DESIGN: off unit norm by more than 1e-6).
-_QUAT_NORM_TOL_FLOAT64 = 1e-6
-_QUAT_NORM_TOL_FLOAT32 = 1e-4
 
 _SPATIAL_TYPES = (SpatialMotion, SpatialForce, SpatialInertia, PluckerTransform)
 
@@ -257,7 +255,7 @@ def _as_transform(T: Any, name: str) -> PluckerTransform:
     if t.dtype.kind != "O":
         bottom = t[..., 3, :]
         expected = np.array([0, 0, 0, 1], dtype=t.dtype)
-        if not np.allclose(bottom, expected, atol=default_tol(t.dtype, 1e-9, 1e-5), rtol=0):
+        if not np.allclose(bottom, expected, atol=SPATIAL_STRUCTURE.of(t.dtype), rtol=0):
             raise ShapeError(
                 f"{name}: expected a homogeneous transform with last row [0, 0, 0, 1], "
                 f"got {np.asarray(bottom).reshape(-1, 4)[0].tolist()}"
@@ -270,7 +268,7 @@ def _check_unit_quat(quat: np.ndarray, name: str, order: str) -> None:
     if quat.dtype.kind == "O":
         return
     norm = np.sqrt(np.sum(quat * quat, axis=-1))
-    tol = default_tol(quat.dtype, _QUAT_NORM_TOL_FLOAT64, _QUAT_NORM_TOL_FLOAT32)
+    tol = QUATERNION_NORM.of(quat.dtype)
     bad = np.abs(norm - 1) > tol
     if np.any(bad):
         idx = tuple(int(i) for i in np.argwhere(bad)[0]) if bad.ndim else ()

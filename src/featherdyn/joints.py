@@ -34,9 +34,10 @@ from typing import Any, ClassVar
 import numpy as np
 
 from . import rotation as rot
-from ._validation import as_array, default_tol
+from ._validation import as_array
 from .errors import ModelError, PhysicalityWarning, QuaternionNormError
 from .spatial_algebra import PluckerTransform, SpatialMotion
+from .tolerances import QUATERNION_NORM, SMALL_ANGLE, UNIT_AXIS
 
 __all__ = [
     "Joint",
@@ -48,7 +49,6 @@ __all__ = [
     "unit_axis",
 ]
 
-_UNIT_TOL = 1e-6
 # A quaternion in q may be off unit norm by this much before integrate/difference refuse it
 # (URDF and user input carry ~7 digits; the same thresholds as featherdyn.rotation).
 _QUAT_NORM_TOL_FLOAT64 = 1e-6
@@ -76,7 +76,7 @@ def unit_axis(axis: Any, name: str = "axis", *, warn: bool = True, stacklevel: i
     n = float(np.linalg.norm(a))
     if n < 1e-12:
         raise ModelError(f"{name}: zero-length joint axis {a.tolist()}")
-    if warn and abs(n - 1.0) > _UNIT_TOL:
+    if warn and abs(n - 1.0) > UNIT_AXIS:
         warnings.warn(
             f"{name}: axis {a.tolist()} has length {n:.6g}; normalised", PhysicalityWarning, stacklevel=stacklevel
         )
@@ -157,7 +157,7 @@ def _check_unit_quat(quat: np.ndarray, name: str) -> None:
     """Raise :class:`QuaternionNormError` naming ``name`` unless every `(..., 4)` quaternion is unit."""
     if quat.dtype.kind == "O":
         return
-    tol = default_tol(quat.dtype, _QUAT_NORM_TOL_FLOAT64, _QUAT_NORM_TOL_FLOAT32)
+    tol = QUATERNION_NORM.of(quat.dtype)
     norm = np.sqrt(np.sum(quat * quat, axis=-1))
     bad = np.abs(norm - 1) > tol
     if np.any(bad):
@@ -175,7 +175,7 @@ def _quat_exp(omega: np.ndarray) -> np.ndarray:
         exp(ω) = (sin(θ/2) ω/θ, cos(θ/2)),   θ = |ω|
     """
     theta = np.sqrt(np.sum(omega * omega, axis=-1))
-    small = theta < default_tol(omega.dtype, 1e-2, 1e-1)
+    small = theta < SMALL_ANGLE.of(omega.dtype)
     t = np.where(small, np.ones_like(theta), theta)
     t2 = theta * theta
     half_sinc = np.where(small, 0.5 - t2 / 48 * (1 - t2 / 80), np.sin(t / 2) / t)  # sin(θ/2)/θ

@@ -23,8 +23,9 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from ._validation import as_array, check_rotation, default_tol, result_dtype
+from ._validation import as_array, check_rotation, result_dtype
 from .errors import DTypeError, QuaternionNormError, RotationError, SpatialTypeError
+from .tolerances import QUATERNION_NORM, SMALL_ANGLE
 
 if TYPE_CHECKING:
     from .spatial_algebra import PluckerTransform, SpatialMotion
@@ -48,11 +49,7 @@ __all__ = [
 # Below these angles the closed forms divide ~0 by ~0; a Taylor series to θ⁴
 # is used instead. Its truncation error (~θ⁶/5040) is below the dtype's
 # rounding there, and above them the closed forms lose at most a few digits.
-_SMALL_ANGLE_FLOAT64 = 1e-2
-_SMALL_ANGLE_FLOAT32 = 1e-1
 
-_QUAT_NORM_TOL_FLOAT64 = 1e-6
-_QUAT_NORM_TOL_FLOAT32 = 1e-4
 
 
 # --------------------------------------------------------------------------
@@ -87,7 +84,7 @@ _sqrt = _elementwise("sqrt", np.sqrt)
 
 
 def _small_angle(dtype: np.dtype) -> float:
-    return default_tol(dtype, _SMALL_ANGLE_FLOAT64, _SMALL_ANGLE_FLOAT32)
+    return SMALL_ANGLE.of(dtype)
 
 
 def _require_numeric(arr: np.ndarray, name: str, function: str) -> None:
@@ -183,7 +180,7 @@ def quat_to_matrix(quat: Any, *, check_norm: bool = True) -> np.ndarray:
         two: Any = 2
     else:
         norm = _quat_norm(q)
-        tol = default_tol(q.dtype, _QUAT_NORM_TOL_FLOAT64, _QUAT_NORM_TOL_FLOAT32)
+        tol = QUATERNION_NORM.of(q.dtype)
         bad = (np.abs(norm - 1) > tol) if check_norm else (norm == 0)
         if np.any(bad):
             raise _quat_norm_error("quat", norm, bad, tol)

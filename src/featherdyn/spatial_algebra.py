@@ -22,9 +22,10 @@ from typing import Any, NamedTuple, NoReturn
 
 import numpy as np
 
-from ._validation import as_array, check_rotation, default_tol, readonly, result_dtype
+from ._validation import as_array, check_rotation, readonly, result_dtype
 from .errors import DTypeError, InertiaError, NonFiniteError, ShapeError, SpatialTypeError
 from .frames import Frame, chain_bodies, check_same_frame, merge_frames
+from .tolerances import INERTIA_PHYSICAL, INERTIA_STRUCTURE, SPATIAL_STRUCTURE
 
 __all__ = [
     "SpatialMotion",
@@ -832,7 +833,7 @@ class PluckerTransform:
         if t.dtype.kind != "O":
             bottom = t[..., 3, :]
             expected = np.array([0, 0, 0, 1], dtype=t.dtype)
-            if not np.allclose(bottom, expected, atol=default_tol(t.dtype, 1e-9, 1e-5), rtol=0):
+            if not np.allclose(bottom, expected, atol=SPATIAL_STRUCTURE.of(t.dtype), rtol=0):
                 raise ShapeError(
                     f"matrix: expected a homogeneous transform with last row [0, 0, 0, 1], got {_fmt(bottom.reshape(-1, 4)[0])}"
                 )
@@ -859,7 +860,7 @@ class PluckerTransform:
         x = as_array(matrix, "matrix", (6, 6))
         rot = x[..., :3, :3]
         check_rotation(rot, "matrix[:3, :3]")
-        tol = default_tol(x.dtype, 1e-9, 1e-5)
+        tol = SPATIAL_STRUCTURE.of(x.dtype)
         scale = max(1.0, float(np.abs(x).max())) if x.size else 1.0
         if np.abs(x[..., :3, 3:]).max(initial=0.0) > tol * scale or np.abs(x[..., 3:, 3:] - rot).max(initial=0.0) > tol * scale:
             raise ShapeError("matrix: not a Plücker motion transform: expected [[R, 0], [[p]×R, R]]")
@@ -1135,7 +1136,7 @@ class SpatialInertia:
         if ic.dtype.kind != "O":
             asym = np.abs(ic - _mT(ic)).max(axis=(-2, -1), initial=0.0)
             scale = np.maximum(np.abs(ic).max(axis=(-2, -1), initial=0.0), 1.0)
-            tol = default_tol(ic.dtype, 1e-9, 1e-5)
+            tol = INERTIA_STRUCTURE.of(ic.dtype)
             if np.any(asym > tol * scale):
                 raise InertiaError(
                     f"inertia_com: expected a symmetric 3×3 matrix, max |I − Iᵀ| = {float(np.max(asym)):.3g}"
@@ -1165,7 +1166,7 @@ class SpatialInertia:
         if mat.dtype.kind == "O":
             raise DTypeError("matrix: from_matrix needs floating-point numbers, got an object array")
         if tol is None:
-            tol = default_tol(mat.dtype, 1e-9, 1e-5)
+            tol = INERTIA_STRUCTURE.of(mat.dtype)
         scale = np.maximum(np.abs(mat).max(axis=(-2, -1), initial=0.0), 1.0)
 
         def fail(cond: np.ndarray, msg: str) -> None:
@@ -1384,7 +1385,7 @@ class SpatialInertia:
         if self.dtype.kind == "O":
             raise DTypeError("physical checks need floating-point numbers, got an object array")
         if tol is None:
-            tol = default_tol(self.dtype, 1e-12, 1e-6)
+            tol = INERTIA_PHYSICAL.of(self.dtype)
         ev = self.principal_moments()
         scale = np.maximum(np.abs(ev).max(axis=-1), np.finfo(self.dtype).tiny)
         a, b, c = ev[..., 0], ev[..., 1], ev[..., 2]

@@ -58,15 +58,12 @@ from .joints import FreeFlyerJoint, Joint, PlanarJoint, PrismaticJoint, Revolute
 from .model import Mimic, Model, ModelBuilder
 from .rotation import rpy_to_matrix
 from .spatial_algebra import PluckerTransform, SpatialInertia
+from .tolerances import UNIT_AXIS, URDF_INERTIA_RTOL
 
 __all__ = ["load_urdf"]
 
 #: Deepest element nesting accepted (real URDFs nest about 5 deep).
 MAX_DEPTH = 1000
-#: Relative tolerance of the inertia checks: URDF files print about 6 significant digits.
-INERTIA_RTOL = 1e-6
-#: A joint axis whose length is off 1 by more than this is normalised with a warning.
-AXIS_TOL = 1e-6
 
 _XINCLUDE_NAMESPACES = ("http://www.w3.org/2001/XInclude", "http://www.w3.org/2003/XInclude")
 _NUMBER = re.compile(r"[+-]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?")
@@ -361,7 +358,7 @@ def _link_inertias(doc: _Doc, links: list[_Link]) -> dict[str, SpatialInertia]:
     # eigenvalues are rotation invariant: check the tensor as written
     ev = np.linalg.eigvalsh(tensor)
     scale = np.abs(ev).max(axis=-1)
-    tol = INERTIA_RTOL * scale
+    tol = URDF_INERTIA_RTOL * scale
     bad_psd = (ev[:, 0] < -tol) & (scale > 0)
     bad_tri = (ev[:, 0] + ev[:, 1] < ev[:, 2] - tol) & (scale > 0)
     for k in np.flatnonzero((scale > 0) & ((mass == 0) | bad_psd | bad_tri)):
@@ -405,7 +402,7 @@ def _parse_joint(doc: _Doc, elem: Any) -> _Joint:
             n = float(np.linalg.norm(axis))
             if n < 1e-12:
                 raise doc.error(axis_el, what, f"zero-length joint axis {axis.tolist()}")
-            if abs(n - 1.0) > AXIS_TOL:
+            if abs(n - 1.0) > UNIT_AXIS:
                 doc.warn(axis_el, what, f"axis {axis.tolist()} has length {n:.6g}; normalised")
             axis = axis / n
 
@@ -587,7 +584,7 @@ def load_urdf(path_or_xml: str | os.PathLike[str] | bytes, floating_base: bool =
     Warns:
         PhysicalityWarning: a link inertia that is indefinite or violates the
             triangle inequality beyond the relative tolerance
-            :data:`INERTIA_RTOL`; zero mass with non-zero inertia; a non-unit
+            :data:`featherdyn.tolerances.URDF_INERTIA_RTOL`; zero mass with non-zero inertia; a non-unit
             axis (normalised); lower > upper limits; a mimic of an unknown or
             fixed joint (ignored); a moving joint whose subtree has no mass (a
             singular mass matrix). Real robot files have all of these.

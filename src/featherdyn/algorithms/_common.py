@@ -21,11 +21,9 @@ from ..errors import FeatherdynError, QuaternionNormError, ShapeError
 from ..joints import FreeFlyerJoint, SphericalJoint
 from ..model import Model
 from ..spatial_algebra import PluckerTransform, SpatialInertia, SpatialMotion
+from ..tolerances import QUATERNION_NORM
 
 __all__ = ["ReferenceFrame", "LOCAL", "WORLD", "LOCAL_WORLD_ALIGNED", "check_state", "TreeData", "select_backend"]
-
-QUAT_TOL = 1e-6
-
 
 class ReferenceFrame(enum.Enum):
     """Where frame velocities, accelerations and Jacobians are expressed (Pinocchio's meanings).
@@ -144,7 +142,7 @@ def _check_quaternions(model: Model, q: np.ndarray) -> None:
             quat = q[..., model.idx_q[i] + 3 : model.idx_q[i] + 7]
         else:
             continue
-        tol = 1e-3 if q.dtype == np.float32 else QUAT_TOL
+        tol = QUATERNION_NORM.of(q.dtype)
         err = np.abs(np.sqrt(np.sum(quat * quat, axis=-1)) - 1)
         if np.any(err > tol):
             worst = float(np.max(err))

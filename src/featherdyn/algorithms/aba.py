@@ -22,13 +22,11 @@ from ..engine import _fast
 from ..errors import SingularMassMatrixError
 from ..model import Model
 from ..spatial_algebra import PluckerTransform, SpatialMotion, cross_force, cross_motion
+from ..tolerances import SINGULAR_PIVOT_RTOL
 from ._common import TreeData, check_state, select_backend, zeros
 from .rnea import _batch_with_f_ext, _f_ext
 
 __all__ = ["aba"]
-
-_SINGULAR_RTOL = 1e-14
-
 
 def _mT(x: np.ndarray) -> np.ndarray:
     return np.swapaxes(x, -1, -2)
@@ -47,12 +45,8 @@ def _inv_small(D: np.ndarray, model: Model, i: int, scale: Any) -> np.ndarray:
             out[n] = np.array(sympy.Matrix(block).inv(), dtype=object)
         return out.reshape(D.shape)
     eig_min = np.linalg.eigvalsh((D + _mT(D)) / 2)[..., 0]
-    if np.any(eig_min <= _SINGULAR_RTOL * scale):
-        raise SingularMassMatrixError(
-            f"joint {model.joint_names[i]!r} (body {model.body_names[i]!r}): the articulated inertia of its subtree "
-            f"along the joint axis is {float(np.min(eig_min)):.3g} — the subtree has no mass or inertia that this "
-            "joint can move, so the mass matrix is singular and q̈ is not unique"
-        )
+    if np.any(eig_min <= SINGULAR_PIVOT_RTOL * scale):
+        raise SingularMassMatrixError.for_joint(model.joint_names[i], model.body_names[i], float(np.min(eig_min)))
     return np.linalg.inv(D)
 
 

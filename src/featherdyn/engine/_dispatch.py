@@ -147,17 +147,12 @@ def crba(model: Model, q: np.ndarray, dtype: np.dtype, out: np.ndarray | None = 
 
 def singular_messages(model: Model) -> tuple[str, ...]:
     """The :class:`~featherdyn.errors.SingularMassMatrixError` message for each joint."""
-    return tuple(
-        f"joint {model.joint_names[i]!r} (body {model.body_names[i]!r}): the articulated inertia of its subtree "
-        "along the joint axis is singular — the subtree has no mass or inertia that this joint can move, so the "
-        "mass matrix is singular and q̈ is not unique"
-        for i in range(model.nbodies)
-    )
+    return tuple(str(SingularMassMatrixError.for_joint(model.joint_names[i], model.body_names[i]))
+                 for i in range(model.nbodies))
 
 
 def _singular(model: Model, joint: int, state: tuple[int, ...] | None) -> SingularMassMatrixError:
-    where = f" (batch index {state})" if state else ""
-    return SingularMassMatrixError(singular_messages(model)[joint] + where)
+    return SingularMassMatrixError.for_joint(model.joint_names[joint], model.body_names[joint], batch_index=state)
 
 
 def aba(model: Model, q: np.ndarray, v: np.ndarray, tau: np.ndarray, fext: np.ndarray | None, gravity: bool,

@@ -37,6 +37,7 @@ from typing import Any
 import numpy as np
 from numba import njit, prange, types
 
+from ..tolerances import QUATERNION_NORM
 from ._layout import (
     AX,
     FF,
@@ -1277,8 +1278,8 @@ OK, BAD_LENGTH, NOT_FINITE, NOT_UNIT_QUATERNION = 0, 1, 2, 3
 
 _GJIT: dict[str, Any] = {"cache": True, "nogil": False, "error_model": "numpy", "_nrt": False}
 
-#: a quaternion is accepted when | ‖quat‖ − 1 | ≤ this (the reference's QUAT_TOL for float64)
-QUAT_TOL = 1e-6
+#: a quaternion is accepted when | ‖quat‖ − 1 | ≤ this (float64; defined in :mod:`featherdyn.tolerances`)
+QUAT_TOL = QUATERNION_NORM.float64
 
 
 @njit(**_IJIT)

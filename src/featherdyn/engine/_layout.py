@@ -36,6 +36,7 @@ import numpy as np
 
 from ..joints import FreeFlyerJoint, Joint, PlanarJoint, PrismaticJoint, RevoluteJoint, SphericalJoint
 from ..model import Model
+from ..tolerances import SINGULAR_PIVOT_RTOL
 
 __all__ = ["ModelArrays", "model_arrays", "JOINT_CODES"]
 
@@ -53,8 +54,8 @@ NBF = 34
 # reference-frame codes of the Jacobian kernel
 LOCAL_CODE, WORLD_CODE, LWA_CODE = 0, 1, 2
 
-#: ABA raises when a joint's articulated inertia ``D`` has a pivot below this times the largest inertia entry
-SINGULAR_RTOL = 1e-14
+#: ABA's singularity rule (defined in :mod:`featherdyn.tolerances`)
+SINGULAR_RTOL = SINGULAR_PIVOT_RTOL
 
 
 def _joint_code(joint: Joint) -> int:
