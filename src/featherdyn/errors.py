@@ -27,6 +27,7 @@ __all__ = [
     "PhysicalityWarning",
     "MissingDependencyError",
     "SingularMassMatrixError",
+    "BackendError",
 ]
 
 
@@ -128,3 +129,7 @@ class SingularMassMatrixError(FeatherdynError, ValueError):
             f"{value} — the subtree has no mass or inertia that this joint can move, so the mass matrix is "
             f"singular and q̈ is not unique{where}"
         )
+
+
+class BackendError(FeatherdynError, ValueError):
+    """An unknown or unavailable ``backend=`` was requested."""

@@ -676,7 +676,7 @@ def mass_matrix(model: Any, q: Any, *, pretty: bool = True) -> Any:
 
         M_ij = S_iᵀ ⁱX_j^* I^C_j S_j      (CRBA, chapter §5.3)
     """
-    from .algorithms import crba
+    from .api import crba
 
     sym, values = _exact_model(model)
     return _finish(crba(sym, _vector(q, model.nq, "q")), pretty, values)
@@ -688,7 +688,7 @@ def coriolis(model: Any, q: Any, v: Any, *, pretty: bool = True) -> Any:
     ``C(q, q̇) q̇ = RNEA(q, q̇, 0) − g(q)``; for the 2R arm it equals the
     Christoffel-symbol matrix of the Lagrangian derivation.
     """
-    from .algorithms import coriolis_matrix
+    from .api import coriolis_matrix
 
     sym, values = _exact_model(model)
     return _finish(coriolis_matrix(sym, _vector(q, model.nq, "q"), _vector(v, model.nv, "v")), pretty, values)
@@ -696,7 +696,7 @@ def coriolis(model: Any, q: Any, v: Any, *, pretty: bool = True) -> Any:
 
 def gravity(model: Any, q: Any, *, pretty: bool = True) -> Any:
     """The generalised gravity ``g(q) = RNEA(q, 0, 0)`` as an `(nv, 1)` SymPy matrix."""
-    from .algorithms import generalized_gravity
+    from .api import generalized_gravity
 
     sym, values = _exact_model(model)
     return _finish(generalized_gravity(sym, _vector(q, model.nq, "q"))[:, None], pretty, values)

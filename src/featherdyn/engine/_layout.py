@@ -34,6 +34,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..frames import LOCAL, LOCAL_WORLD_ALIGNED, WORLD
 from ..joints import FreeFlyerJoint, Joint, PlanarJoint, PrismaticJoint, RevoluteJoint, SphericalJoint
 from ..model import Model
 from ..tolerances import SINGULAR_PIVOT_RTOL
@@ -52,7 +53,7 @@ NBI = 7
 XR, XP, MASS, H, IBAR, AX, PB = 0, 9, 12, 13, 16, 22, 25
 NBF = 34
 # reference-frame codes of the Jacobian kernel
-LOCAL_CODE, WORLD_CODE, LWA_CODE = 0, 1, 2
+LOCAL_CODE, WORLD_CODE, LWA_CODE = LOCAL.code, WORLD.code, LOCAL_WORLD_ALIGNED.code
 
 #: ABA's singularity rule (defined in :mod:`featherdyn.tolerances`)
 SINGULAR_RTOL = SINGULAR_PIVOT_RTOL

@@ -37,8 +37,8 @@ from typing import Any
 
 import numpy as np
 
-from ..algorithms._common import LOCAL, LOCAL_WORLD_ALIGNED, WORLD
 from ..errors import ShapeError, SingularMassMatrixError
+from ..frames import LOCAL, LOCAL_WORLD_ALIGNED, WORLD, as_reference_frame
 from ..model import Model
 from . import _dispatch
 from ._layout import LOCAL_CODE, LWA_CODE, WORLD_CODE, with_workspace
@@ -84,11 +84,9 @@ def _slow_call(model: Model, where: str, call: Any, inputs: dict[str, Any], out:
 
 def _reference_code(reference: Any) -> int:
     """0, 1, 2 for LOCAL, WORLD, LOCAL_WORLD_ALIGNED (enum members, their names, or the codes themselves)."""
-    from ..algorithms._common import as_reference_frame
-
     if isinstance(reference, (int, np.integer)) and not isinstance(reference, bool) and 0 <= reference <= 2:
         return int(reference)
-    return _dispatch.REFERENCE_CODES[as_reference_frame(reference).value]
+    return as_reference_frame(reference).code
 
 
 class CompiledModel:
@@ -216,9 +214,7 @@ class CompiledModel:
             try:
                 k_jac(MD, q, frames[frame] if frame.__class__ is str else frame, ref, out)
             except (TypeError, ValueError, KeyError):
-                from ..algorithms.kinematics import resolve_frame
-
-                fid = resolve_frame(model, frame)
+                fid = model.resolve_frame(frame)
                 _slow_call(model, "frame_jacobian", lambda q_, J: k_jac(MD, q_, fid, ref, J), {"q": q}, out)
             return out
 
@@ -260,9 +256,7 @@ class CompiledModel:
 
     def frame_jacobian_batch(self, q: Any, frame: Any, reference: Any = LOCAL) -> np.ndarray:
         """Jacobians `(..., 6, nv)` of ``frame`` for a batch of configurations, on all cores."""
-        from ..algorithms.kinematics import resolve_frame
-
-        return _dispatch.frame_jacobian(self.model, np.asarray(q), resolve_frame(self.model, frame),
+        return _dispatch.frame_jacobian(self.model, np.asarray(q), self.model.resolve_frame(frame),
                                         _reference_code(reference), _F64)
 
     def warmup(self) -> None:

@@ -642,7 +642,7 @@ class _Checker(_Layout):
         return r if r.group == group else dataclasses.replace(r, group=group)
 
     def expected_and_given(self, h: _Hypothesis, quantity: str) -> tuple[np.ndarray, np.ndarray]:
-        from .. import algorithms as alg
+        from .. import api as alg
 
         x = self.read(h)
         model = self.model_for(h)

@@ -14,7 +14,7 @@ from typing import Any
 
 import numpy as np
 
-from .. import algorithms as alg
+from .. import api as alg
 from ..configuration import integrate, random_configuration
 from ..errors import SingularMassMatrixError
 from ..model import Model, massless_subtrees
