@@ -24,7 +24,7 @@ Batch axes lead and broadcast; float32 stays float32.
 
 Source: Pinocchio ``algorithm/joint-configuration.hpp`` and its Lie groups;
 Solà, Deray & Atchuthan (2018), "A micro Lie theory for state estimation in
-robotics"; DESIGN.md conventions.
+robotics"; docs/architecture.md ("Conventions").
 """
 
 from __future__ import annotations

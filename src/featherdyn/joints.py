@@ -22,7 +22,7 @@ free-flyer      7    6   [x y z, qx qy qz qw] (pose in the parent)     [ω; v] i
 planar          3    3   [x, y, θ] in the plane normal to ``normal``   [ω, v_x, v_y] child frame
 =============  ===  ===  ============================================  ==========================
 
-Source: RBDA (2008) §4.4 and table 4.1; chapter §8.3; DESIGN.md conventions.
+Source: RBDA (2008) §4.4 and table 4.1; chapter §8.3; docs/architecture.md ("Conventions").
 """
 
 from __future__ import annotations
@@ -48,11 +48,6 @@ __all__ = [
     "PlanarJoint",
     "unit_axis",
 ]
-
-# A quaternion in q may be off unit norm by this much before integrate/difference refuse it
-# (URDF and user input carry ~7 digits; the same thresholds as featherdyn.rotation).
-_QUAT_NORM_TOL_FLOAT64 = 1e-6
-_QUAT_NORM_TOL_FLOAT32 = 1e-4
 
 
 def unit_axis(axis: Any, name: str = "axis", *, warn: bool = True, stacklevel: int = 3) -> np.ndarray:

@@ -1,6 +1,6 @@
 """Rotations: quaternions, roll-pitch-yaw, axis-angle and the exponential maps.
 
-Conventions (fixed, see ``DESIGN.md``):
+Conventions (fixed, see ``docs/architecture.md``):
 
 * quaternions are stored **(x, y, z, w)** — the order of Pinocchio's, Eigen's
   and ROS's ``coeffs()`` — never (w, x, y, z);

@@ -29,6 +29,9 @@ __all__ = [
     "URDF_INERTIA_RTOL",
     "SINGULAR_PIVOT_RTOL",
     "COMPARISON",
+    "VERIFY_ALGEBRA",
+    "VERIFY_DYNAMICS",
+    "CHECK_VALUES",
     "default_tol",
 ]
 
@@ -89,3 +92,13 @@ COMPARISON: dict[str, tuple[float, float]] = {
     "float32": (1e-4, 1e-4),
     "float16": (1e-2, 1e-2),
 }
+
+#: ``featherdyn verify``: relative tolerance of the spatial-algebra comparisons with Pinocchio.
+VERIFY_ALGEBRA = 1e-12
+
+#: ``featherdyn verify``: default relative tolerance of the robot comparisons with Pinocchio.
+VERIFY_DYNAMICS = 1e-9
+
+#: ``featherdyn check``: default relative tolerance ``|a − b| / max(|b|, 1)`` for the user's values
+#: (float32-saved values of long arms carry ~1e-6 of round-off).
+CHECK_VALUES = 1e-6

@@ -15,7 +15,7 @@ from ..errors import ModelError
 from ..model import Model
 from ..results import CenterOfMass, Kinematics
 from ..spatial_algebra import _cross3
-from ._common import TreeData
+from ._common import TreeData, zeros
 from .kinematics import _body_at, _motion_at
 
 __all__ = ["kinetic_energy", "potential_energy", "center_of_mass"]
@@ -28,10 +28,10 @@ def kinetic_energy(model: Model, kin: Kinematics) -> np.ndarray:
     """
     assert kin.velocities is not None
     td = TreeData(model, kin.placements.dtype)
-    T = 0
+    T = zeros(kin.placements.shape[:-1], (), td.dtype)
     for i in range(model.nbodies):
         T = T + td.I[i].kinetic_energy(_motion_at(kin.velocities, i))
-    return T if model.nbodies else np.zeros(kin.placements.shape[:-1], kin.placements.dtype)
+    return T
 
 
 def _world_coms(model: Model, kin: Kinematics, td: TreeData) -> list[np.ndarray]:

@@ -10,9 +10,8 @@ docstrings; the recursions are in ``algorithms/rnea.py``, ``crba.py``,
 
 from __future__ import annotations
 
-from typing import Any
-
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ..algorithms import aba as _aba
 from ..algorithms import coriolis as _coriolis
@@ -40,7 +39,7 @@ def _inverse_dynamics(model: Model, st: State, v: np.ndarray, a: np.ndarray, fx:
     return _rnea.rnea(model, st.q, v, a, fx, gravity)
 
 
-def rnea(model: Model, q: Any, v: Any, a: Any, f_ext: Any = None, *, gravity: bool = True,
+def rnea(model: Model, q: ArrayLike, v: ArrayLike, a: ArrayLike, f_ext: ArrayLike | None = None, *, gravity: bool = True,
          backend: str | None = None) -> np.ndarray:
     """Joint forces ``τ`` `(..., nv)` that produce accelerations ``a`` in state ``(q, v)`` (RNEA).
 
@@ -66,7 +65,7 @@ def rnea(model: Model, q: Any, v: Any, a: Any, f_ext: Any = None, *, gravity: bo
     return _inverse_dynamics(model, st, st.arrays["v"], st.arrays["a"], fx, gravity, backend)
 
 
-def nonlinear_effects(model: Model, q: Any, v: Any, *, backend: str | None = None) -> np.ndarray:
+def nonlinear_effects(model: Model, q: ArrayLike, v: ArrayLike, *, backend: str | None = None) -> np.ndarray:
     """Coriolis, centrifugal and gravity forces `(..., nv)`::
 
         h(q, q̇) = C(q, q̇) q̇ + g(q) = RNEA(q, q̇, 0)
@@ -81,7 +80,7 @@ def nonlinear_effects(model: Model, q: Any, v: Any, *, backend: str | None = Non
     return _inverse_dynamics(model, st, qd, np.zeros(qd.shape, dtype=qd.dtype), None, True, backend)
 
 
-def generalized_gravity(model: Model, q: Any, *, backend: str | None = None) -> np.ndarray:
+def generalized_gravity(model: Model, q: ArrayLike, *, backend: str | None = None) -> np.ndarray:
     """Gravity forces `(..., nv)`::
 
         g(q) = RNEA(q, 0, 0)
@@ -96,7 +95,7 @@ def generalized_gravity(model: Model, q: Any, *, backend: str | None = None) -> 
     return _inverse_dynamics(model, st, zero, zero, None, True, backend)
 
 
-def crba(model: Model, q: Any, *, backend: str | None = None) -> np.ndarray:
+def crba(model: Model, q: ArrayLike, *, backend: str | None = None) -> np.ndarray:
     """The joint-space mass matrix ``M(q)`` `(..., nv, nv)`, full and symmetric (CRBA).
 
     ::
@@ -116,7 +115,7 @@ def crba(model: Model, q: Any, *, backend: str | None = None) -> np.ndarray:
     return _crba.crba(model, st.q)
 
 
-def aba(model: Model, q: Any, v: Any, tau: Any, f_ext: Any = None, *, gravity: bool = True,
+def aba(model: Model, q: ArrayLike, v: ArrayLike, tau: ArrayLike, f_ext: ArrayLike | None = None, *, gravity: bool = True,
         backend: str | None = None) -> np.ndarray:
     """Joint accelerations ``q̈`` `(..., nv)` produced by joint forces ``τ`` in state ``(q, v)`` (ABA).
 
@@ -153,7 +152,7 @@ def aba(model: Model, q: Any, v: Any, tau: Any, f_ext: Any = None, *, gravity: b
     return _aba.aba(model, st.q, st.arrays["v"], st.arrays["tau"], fx, gravity)
 
 
-def coriolis_matrix(model: Model, q: Any, v: Any, *, backend: str | None = None) -> np.ndarray:
+def coriolis_matrix(model: Model, q: ArrayLike, v: ArrayLike, *, backend: str | None = None) -> np.ndarray:
     """``C(q, q̇)`` `(..., nv, nv)`: ``C q̇ = RNEA(q, q̇, 0) − g(q)`` and ``Ṁ − 2C`` is skew-symmetric.
 
     The Christoffel-consistent factorisation (Pinocchio's ``computeCoriolisMatrix``);

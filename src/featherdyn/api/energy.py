@@ -7,9 +7,10 @@ then the reference formulas of ``algorithms/energy.py`` and
 
 from __future__ import annotations
 
-from typing import Any
+from typing import overload
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ..algorithms import centroidal as _centroidal
 from ..algorithms import energy as _energy
@@ -23,7 +24,7 @@ __all__ = ["kinetic_energy", "potential_energy", "center_of_mass", "centroidal_m
            "centroidal_momentum"]
 
 
-def kinetic_energy(model: Model, q: Any, v: Any, *, backend: str | None = None) -> np.ndarray:
+def kinetic_energy(model: Model, q: ArrayLike, v: ArrayLike, *, backend: str | None = None) -> np.ndarray:
     """Kinetic energy `(...)`::
 
         T = Σ_i ½ v_iᵀ I_i v_i = ½ q̇ᵀ M(q) q̇
@@ -32,7 +33,7 @@ def kinetic_energy(model: Model, q: Any, v: Any, *, backend: str | None = None) 
     return _energy.kinetic_energy(model, kinematics_of(model, st, st.arrays["v"], None, backend))
 
 
-def potential_energy(model: Model, q: Any, *, backend: str | None = None) -> np.ndarray:
+def potential_energy(model: Model, q: ArrayLike, *, backend: str | None = None) -> np.ndarray:
     """Gravitational potential energy `(...)` (zero at the world origin)::
 
         U = −Σ_i m_i gᵀ ⁰c_i
@@ -41,7 +42,11 @@ def potential_energy(model: Model, q: Any, *, backend: str | None = None) -> np.
     return _energy.potential_energy(model, kinematics_of(model, st, None, None, backend))
 
 
-def center_of_mass(model: Model, q: Any, v: Any = None, *, backend: str | None = None) -> np.ndarray | CenterOfMass:
+@overload
+def center_of_mass(model: Model, q: ArrayLike, v: None = None, *, backend: str | None = None) -> np.ndarray: ...
+@overload
+def center_of_mass(model: Model, q: ArrayLike, v: ArrayLike, *, backend: str | None = None) -> CenterOfMass: ...
+def center_of_mass(model: Model, q: ArrayLike, v: ArrayLike | None = None, *, backend: str | None = None) -> np.ndarray | CenterOfMass:
     """The centre of mass of the whole tree in world coordinates.
 
     Returns:
@@ -57,7 +62,7 @@ def center_of_mass(model: Model, q: Any, v: Any = None, *, backend: str | None =
     return _energy.center_of_mass(model, kinematics_of(model, st, st.arrays.get("v"), None, backend))
 
 
-def centroidal_momentum_matrix(model: Model, q: Any, *, backend: str | None = None) -> np.ndarray:
+def centroidal_momentum_matrix(model: Model, q: ArrayLike, *, backend: str | None = None) -> np.ndarray:
     """``A_G(q)`` `(..., 6, nv)` with ``h_G = A_G q̇`` (rows ``[k_G; p]``, world axes, about the CoM; ``ccrba``).
 
     ::
@@ -68,7 +73,7 @@ def centroidal_momentum_matrix(model: Model, q: Any, *, backend: str | None = No
     return _centroidal.centroidal_momentum_matrix(model, kinematics_of(model, st, None, None, backend))
 
 
-def centroidal_momentum(model: Model, q: Any, v: Any, *, backend: str | None = None) -> SpatialForce:
+def centroidal_momentum(model: Model, q: ArrayLike, v: ArrayLike, *, backend: str | None = None) -> SpatialForce:
     """The centroidal momentum ``h_G = [k_G; p]`` `(..., 6)` as a :class:`SpatialForce`.
 
     ::

@@ -11,11 +11,12 @@ from __future__ import annotations
 from typing import Any
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ..algorithms import jacobians as _jac
 from ..algorithms import kinematics as _kin
 from ..errors import ShapeError
-from ..frames import LOCAL, LOCAL_WORLD_ALIGNED, WORLD, as_reference_frame
+from ..frames import LOCAL, LOCAL_WORLD_ALIGNED, WORLD, ReferenceFrame, as_reference_frame
 from ..model import Model
 from ..results import Kinematics
 from ..spatial_algebra import PluckerTransform, SpatialMotion
@@ -50,7 +51,7 @@ def kinematics_of(model: Model, st: State, v: np.ndarray | None, a: np.ndarray |
     return _kin.forward_kinematics(model, st.q, v, a)
 
 
-def _fast_kinematics(fast: Any, q: Any, v: Any, a: Any) -> Kinematics | None:
+def _fast_kinematics(fast: Any, q: ArrayLike, v: ArrayLike | None, a: ArrayLike | None) -> Kinematics | None:
     """:func:`forward_kinematics` of one float64 state by the checked kernel, or ``None`` (general path)."""
     H = _EMPTY(fast.shape_H)
     vel = _EMPTY(fast.shape_V) if v is not None else _NO_BODIES
@@ -68,7 +69,7 @@ def _fast_kinematics(fast: Any, q: Any, v: Any, a: Any) -> Kinematics | None:
     )
 
 
-def forward_kinematics(model: Model, q: Any, v: Any = None, a: Any = None, *, backend: str | None = None) -> Kinematics:
+def forward_kinematics(model: Model, q: ArrayLike, v: ArrayLike | None = None, a: ArrayLike | None = None, *, backend: str | None = None) -> Kinematics:
     """World placements, body velocities and spatial accelerations of every body.
 
     Args:
@@ -95,7 +96,7 @@ def forward_kinematics(model: Model, q: Any, v: Any = None, a: Any = None, *, ba
     return kinematics_of(model, st, st.arrays.get("v"), st.arrays.get("a"), backend)
 
 
-def frame_placement(model: Model, q: Any, frame: Any, *, backend: str | None = None) -> PluckerTransform:
+def frame_placement(model: Model, q: ArrayLike, frame: str | int, *, backend: str | None = None) -> PluckerTransform:
     """The world placement ``⁰M_f`` of a frame (name or index), batch shape `(...)`::
 
         ⁰M_f = ⁰M_body(f) · placement_f
@@ -112,7 +113,7 @@ def frame_placement(model: Model, q: Any, frame: Any, *, backend: str | None = N
     return _kin.frame_pose(model, kinematics_of(model, st, None, None, backend), fid)
 
 
-def frame_velocity(model: Model, q: Any, v: Any, frame: Any, reference: Any = LOCAL, *,
+def frame_velocity(model: Model, q: ArrayLike, v: ArrayLike, frame: str | int, reference: ReferenceFrame | str = LOCAL, *,
                    backend: str | None = None) -> SpatialMotion:
     """The spatial velocity of a frame `(..., 6)` in ``reference`` (Pinocchio's ``getFrameVelocity``).
 
@@ -125,7 +126,7 @@ def frame_velocity(model: Model, q: Any, v: Any, frame: Any, reference: Any = LO
     return _kin.frame_velocity(model, kinematics_of(model, st, st.arrays["v"], None, backend), fid, ref)
 
 
-def frame_acceleration(model: Model, q: Any, v: Any, a: Any, frame: Any, reference: Any = LOCAL, *,
+def frame_acceleration(model: Model, q: ArrayLike, v: ArrayLike, a: ArrayLike, frame: str | int, reference: ReferenceFrame | str = LOCAL, *,
                        backend: str | None = None) -> SpatialMotion:
     """The *spatial* acceleration of a frame `(..., 6)` in ``reference`` (``getFrameAcceleration``).
 
@@ -139,7 +140,7 @@ def frame_acceleration(model: Model, q: Any, v: Any, a: Any, frame: Any, referen
     return _kin.frame_acceleration(model, kin, fid, ref)
 
 
-def frame_classical_acceleration(model: Model, q: Any, v: Any, a: Any, frame: Any, reference: Any = LOCAL, *,
+def frame_classical_acceleration(model: Model, q: ArrayLike, v: ArrayLike, a: ArrayLike, frame: str | int, reference: ReferenceFrame | str = LOCAL, *,
                                  backend: str | None = None) -> SpatialMotion:
     """The classical acceleration of a frame `(..., 6)` (``getFrameClassicalAcceleration``).
 
@@ -157,7 +158,7 @@ def frame_classical_acceleration(model: Model, q: Any, v: Any, a: Any, frame: An
     return _kin.frame_classical_acceleration(model, kin, fid, ref)
 
 
-def joint_jacobians(model: Model, q: Any, *, backend: str | None = None) -> np.ndarray:
+def joint_jacobians(model: Model, q: ArrayLike, *, backend: str | None = None) -> np.ndarray:
     """All joint columns in the world frame, `(..., 6, nv)` (Pinocchio's ``computeJointJacobians`` → ``data.J``).
 
     ::
@@ -168,7 +169,7 @@ def joint_jacobians(model: Model, q: Any, *, backend: str | None = None) -> np.n
     return _jac.joint_jacobians(model, kinematics_of(model, st, None, None, backend))
 
 
-def frame_jacobian(model: Model, q: Any, frame: Any, reference: Any = LOCAL, *,
+def frame_jacobian(model: Model, q: ArrayLike, frame: str | int, reference: ReferenceFrame | str = LOCAL, *,
                    backend: str | None = None) -> np.ndarray:
     """The geometric Jacobian of a frame, `(..., 6, nv)`, rows ``[ω; v]`` (``getFrameJacobian``).
 
@@ -195,7 +196,7 @@ def frame_jacobian(model: Model, q: Any, frame: Any, reference: Any = LOCAL, *,
     return _jac.frame_jacobian(model, _kin.forward_kinematics(model, st.q), fid, ref)
 
 
-def frame_jacobian_time_variation(model: Model, q: Any, v: Any, frame: Any, reference: Any = LOCAL, *,
+def frame_jacobian_time_variation(model: Model, q: ArrayLike, v: ArrayLike, frame: str | int, reference: ReferenceFrame | str = LOCAL, *,
                                   backend: str | None = None) -> np.ndarray:
     """``J̇ = dJ/dt`` of :func:`frame_jacobian` along ``q̇ = v``, `(..., 6, nv)` (``getFrameJacobianTimeVariation``).
 
@@ -213,6 +214,6 @@ def frame_jacobian_time_variation(model: Model, q: Any, v: Any, frame: Any, refe
     return _jac.frame_jacobian_time_variation(model, kin, st.arrays["v"], fid, ref)
 
 
-def _frame(model: Model, frame: Any) -> int:
+def _frame(model: Model, frame: str | int) -> int:
     """The frame index (:meth:`Model.resolve_frame`); a non-model is left to :func:`check_state` to word."""
     return model.resolve_frame(frame) if isinstance(model, Model) else -1

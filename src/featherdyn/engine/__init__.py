@@ -1,4 +1,4 @@
-"""The compiled engine: Numba kernels over flat per-model arrays (DESIGN.md, "Two implementations").
+"""The compiled engine: Numba kernels over flat per-model arrays (docs/architecture.md, "Two implementations").
 
 The reference algorithms (:mod:`featherdyn.algorithms`) read like the book;
 this package computes the same quantities fast:
