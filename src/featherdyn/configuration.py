@@ -32,6 +32,7 @@ from __future__ import annotations
 from typing import Any
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ._validation import as_array, result_dtype
 from .errors import QuaternionNormError, ShapeError
@@ -142,7 +143,7 @@ def neutral(model: Model) -> np.ndarray:
     return q
 
 
-def random_configuration(model: Model, rng: Any = None, size: Any = None) -> np.ndarray:
+def random_configuration(model: Model, rng: np.random.Generator | int | None = None, size: int | tuple[int, ...] | None = None) -> np.ndarray:
     """Random configurations within the position limits.
 
     Each coordinate is uniform between ``model.lower`` and ``model.upper``
@@ -168,7 +169,7 @@ def random_configuration(model: Model, rng: Any = None, size: Any = None) -> np.
     except (TypeError, ValueError) as exc:
         raise TypeError(f"rng: expected a numpy Generator, an int seed or None, got {rng!r} ({exc})") from None
     try:
-        shape = () if size is None else ((int(size),) if np.ndim(size) == 0 else tuple(int(s) for s in size))
+        shape = () if size is None else ((int(size),) if isinstance(size, (int, np.integer)) else tuple(int(s) for s in size))
     except (TypeError, ValueError):
         raise ShapeError(f"size: expected None, an int or a tuple of ints, got {size!r}") from None
     if any(s < 0 for s in shape):
@@ -180,7 +181,7 @@ def random_configuration(model: Model, rng: Any = None, size: Any = None) -> np.
     return q
 
 
-def integrate(model: Model, q: Any, v: Any) -> np.ndarray:
+def integrate(model: Model, q: ArrayLike, v: ArrayLike) -> np.ndarray:
     """The configuration reached from ``q`` moving with velocity ``v`` for unit time.
 
     Joint by joint, on each joint's Lie group (velocities in the moving
@@ -212,7 +213,7 @@ def integrate(model: Model, q: Any, v: Any) -> np.ndarray:
     return out
 
 
-def difference(model: Model, q0: Any, q1: Any) -> np.ndarray:
+def difference(model: Model, q0: ArrayLike, q1: ArrayLike) -> np.ndarray:
     """The velocity that takes ``q0`` to ``q1`` in unit time: the inverse of :func:`integrate`.
 
     ::
@@ -247,7 +248,7 @@ def difference(model: Model, q0: Any, q1: Any) -> np.ndarray:
     return out
 
 
-def interpolate(model: Model, q0: Any, q1: Any, t: Any) -> np.ndarray:
+def interpolate(model: Model, q0: ArrayLike, q1: ArrayLike, t: ArrayLike) -> np.ndarray:
     """The configuration a fraction ``t`` of the way from ``q0`` to ``q1`` (geodesic per joint).
 
     ::
@@ -272,7 +273,7 @@ def interpolate(model: Model, q0: Any, q1: Any, t: Any) -> np.ndarray:
     return integrate(model, q0, tt[..., None] * dv)
 
 
-def normalize(model: Model, q: Any) -> np.ndarray:
+def normalize(model: Model, q: ArrayLike) -> np.ndarray:
     """The nearest valid configuration: every quaternion scaled to unit norm, the rest unchanged.
 
     ::
@@ -304,7 +305,7 @@ def normalize(model: Model, q: Any) -> np.ndarray:
     return out
 
 
-def is_normalized(model: Model, q: Any, tol: float = 1e-10) -> np.ndarray | bool:
+def is_normalized(model: Model, q: ArrayLike, tol: float = 1e-10) -> np.ndarray | bool:
     """Whether every quaternion of ``q`` has unit norm within ``tol``.
 
     ::

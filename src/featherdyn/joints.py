@@ -32,6 +32,7 @@ from dataclasses import dataclass, field
 from typing import Any, ClassVar
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from . import rotation as rot
 from ._validation import as_array
@@ -50,7 +51,7 @@ __all__ = [
 ]
 
 
-def unit_axis(axis: Any, name: str = "axis", *, warn: bool = True, stacklevel: int = 3) -> np.ndarray:
+def unit_axis(axis: ArrayLike, name: str = "axis", *, warn: bool = True, stacklevel: int = 3) -> np.ndarray:
     """Normalise a joint axis `(3,)`; zero length raises, non-unit length warns.
 
     Real URDFs have axes like ``0 0 -1`` (kept: the sign is meaningful) and
@@ -90,7 +91,7 @@ def _frozen(a: np.ndarray) -> np.ndarray:
     return a
 
 
-def _q(q: Any, nq: int, name: str = "q") -> np.ndarray:
+def _q(q: ArrayLike, nq: int, name: str = "q") -> np.ndarray:
     return as_array(q, name, (nq,))
 
 
@@ -210,7 +211,7 @@ class Joint:
         """`(6, nv)` motion subspace in successor coordinates (constant)."""
         raise NotImplementedError
 
-    def pose(self, q: Any) -> PluckerTransform:
+    def pose(self, q: ArrayLike) -> PluckerTransform:
         """The pose of the successor frame in the joint frame for ``q`` `(..., nq)`."""
         raise NotImplementedError
 
@@ -218,7 +219,7 @@ class Joint:
         """`(nq,)` the neutral configuration (zero angle, identity quaternion)."""
         return np.zeros(self.nq)
 
-    def integrate(self, q: Any, v: Any) -> np.ndarray:
+    def integrate(self, q: ArrayLike, v: ArrayLike) -> np.ndarray:
         """`(..., nq)`: the configuration reached from ``q`` moving with ``v`` `(..., nv)` for unit time.
 
         Batch axes of ``q`` and ``v`` broadcast. For the vector-space joints::
@@ -227,12 +228,12 @@ class Joint:
         """
         return np.asarray(_q(q, self.nq) + as_array(v, "v", (self.nv,)))
 
-    def difference(self, q0: Any, q1: Any) -> np.ndarray:
+    def difference(self, q0: ArrayLike, q1: ArrayLike) -> np.ndarray:
         """`(..., nv)`: the velocity ``v`` with ``integrate(q0, v) = q1``."""
         return np.asarray(_q(q1, self.nq, "q1") - _q(q0, self.nq, "q0"))
 
     def random(
-        self, rng: Any = None, lower: Any = None, upper: Any = None, size: Any = None
+        self, rng: np.random.Generator | int | None = None, lower: ArrayLike | None = None, upper: ArrayLike | None = None, size: int | tuple[int, ...] | None = None
     ) -> np.ndarray:
         """Random configurations `(*size, nq)` uniform within ``[lower, upper]`` `(nq,)`.
 
@@ -242,16 +243,16 @@ class Joint:
         lo, hi = _box(*_limits(lower, upper, self.nq), -np.pi, np.pi)
         return _uniform(np.random.default_rng(rng), lo, hi, _batch(size))
 
-    def normalize(self, q: Any) -> np.ndarray:
+    def normalize(self, q: ArrayLike) -> np.ndarray:
         """`(..., nq)` the nearest valid configuration (unit quaternions); identity for vector joints."""
         return np.array(_q(q, self.nq))
 
-    def is_normalized(self, q: Any, tol: float = 1e-10) -> Any:
+    def is_normalized(self, q: ArrayLike, tol: float = 1e-10) -> Any:
         """`(...)` bool: whether ``q`` is a valid configuration (``| |quat| − 1 | <= tol``)."""
         qq = _q(q, self.nq)
         return np.ones(qq.shape[:-1], dtype=bool)
 
-    def motion(self, qd: Any) -> SpatialMotion:
+    def motion(self, qd: ArrayLike) -> SpatialMotion:
         """Joint velocity ``v_J = S q̇`` `(..., 6)` in successor coordinates."""
         qd = as_array(qd, "qd", (self.nv,))
         return SpatialMotion.from_vector(qd @ self.S.T.astype(qd.dtype))
@@ -284,7 +285,7 @@ class RevoluteJoint(Joint):
     def S(self) -> np.ndarray:
         return _frozen(np.concatenate([self.axis, np.zeros(3)])[:, None])
 
-    def pose(self, q: Any) -> PluckerTransform:
+    def pose(self, q: ArrayLike) -> PluckerTransform:
         qq = _q(q, 1)
         if qq.dtype.kind == "O":  # SymPy: symbolic cos/sin
             R = rot.axis_angle_to_matrix(_like(self.axis, qq), qq[..., 0])
@@ -322,14 +323,14 @@ class PrismaticJoint(Joint):
     def S(self) -> np.ndarray:
         return _frozen(np.concatenate([np.zeros(3), self.axis])[:, None])
 
-    def pose(self, q: Any) -> PluckerTransform:
+    def pose(self, q: ArrayLike) -> PluckerTransform:
         qq = _q(q, 1)
         p = qq[..., 0:1] * _like(self.axis, qq)
         eye = np.broadcast_to(np.eye(3), qq.shape[:-1] + (3, 3)).astype(p.dtype)
         return PluckerTransform(eye, p, validate=False)
 
     def random(
-        self, rng: Any = None, lower: Any = None, upper: Any = None, size: Any = None
+        self, rng: np.random.Generator | int | None = None, lower: ArrayLike | None = None, upper: ArrayLike | None = None, size: int | tuple[int, ...] | None = None
     ) -> np.ndarray:
         lo, hi = _box(*_limits(lower, upper, 1), -1.0, 1.0)
         return _uniform(np.random.default_rng(rng), lo, hi, _batch(size))
@@ -360,7 +361,7 @@ class SphericalJoint(Joint):
     def S(self) -> np.ndarray:
         return _frozen(np.vstack([np.eye(3), np.zeros((3, 3))]))
 
-    def pose(self, q: Any) -> PluckerTransform:
+    def pose(self, q: ArrayLike) -> PluckerTransform:
         qq = _q(q, 4)
         _check_unit_quat(qq, "q")
         R = rot.quat_to_matrix(qq, check_norm=False)
@@ -369,14 +370,14 @@ class SphericalJoint(Joint):
     def neutral(self) -> np.ndarray:
         return np.array([0.0, 0.0, 0.0, 1.0])
 
-    def integrate(self, q: Any, v: Any) -> np.ndarray:
+    def integrate(self, q: ArrayLike, v: ArrayLike) -> np.ndarray:
         qq = _q(q, 4)
         w = as_array(v, "v", (3,))
         _check_unit_quat(qq, "q")
         dtype = np.result_type(qq, w)
         return _quat_mul_normalized(qq.astype(dtype), _quat_exp(w.astype(dtype))).astype(dtype)
 
-    def difference(self, q0: Any, q1: Any) -> np.ndarray:
+    def difference(self, q0: ArrayLike, q1: ArrayLike) -> np.ndarray:
         a0, a1 = _q(q0, 4, "q0"), _q(q1, 4, "q1")
         _check_unit_quat(a0, "q0")
         _check_unit_quat(a1, "q1")
@@ -385,14 +386,14 @@ class SphericalJoint(Joint):
         return rot.so3_log(np.swapaxes(R0, -1, -2) @ R1)
 
     def random(
-        self, rng: Any = None, lower: Any = None, upper: Any = None, size: Any = None
+        self, rng: np.random.Generator | int | None = None, lower: ArrayLike | None = None, upper: ArrayLike | None = None, size: int | tuple[int, ...] | None = None
     ) -> np.ndarray:
         return _uniform_quat(np.random.default_rng(rng), _batch(size))
 
-    def normalize(self, q: Any) -> np.ndarray:
+    def normalize(self, q: ArrayLike) -> np.ndarray:
         return rot.quat_normalize(_q(q, 4))
 
-    def is_normalized(self, q: Any, tol: float = 1e-10) -> Any:
+    def is_normalized(self, q: ArrayLike, tol: float = 1e-10) -> Any:
         qq = _q(q, 4)
         return np.abs(np.linalg.norm(qq, axis=-1) - 1) <= tol
 
@@ -422,7 +423,7 @@ class FreeFlyerJoint(Joint):
     def S(self) -> np.ndarray:
         return _frozen(np.eye(6))
 
-    def pose(self, q: Any) -> PluckerTransform:
+    def pose(self, q: ArrayLike) -> PluckerTransform:
         return self._pose(_q(q, 7), "q")
 
     @staticmethod
@@ -433,7 +434,7 @@ class FreeFlyerJoint(Joint):
     def neutral(self) -> np.ndarray:
         return np.array([0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0])
 
-    def integrate(self, q: Any, v: Any) -> np.ndarray:
+    def integrate(self, q: ArrayLike, v: ArrayLike) -> np.ndarray:
         qq = _q(q, 7)
         vv = as_array(v, "v", (6,))
         _check_unit_quat(qq[..., 3:], "q[3:7]")
@@ -449,13 +450,13 @@ class FreeFlyerJoint(Joint):
         p, quat1 = np.broadcast_to(p, batch + (3,)), np.broadcast_to(quat1, batch + (4,))
         return np.concatenate([p, quat1], axis=-1).astype(dtype)
 
-    def difference(self, q0: Any, q1: Any) -> np.ndarray:
+    def difference(self, q0: ArrayLike, q1: ArrayLike) -> np.ndarray:
         T0 = self._pose(_q(q0, 7, "q0"), "q0")
         T1 = self._pose(_q(q1, 7, "q1"), "q1")
         return rot.se3_log(T0.inverse() @ T1).vector
 
     def random(
-        self, rng: Any = None, lower: Any = None, upper: Any = None, size: Any = None
+        self, rng: np.random.Generator | int | None = None, lower: ArrayLike | None = None, upper: ArrayLike | None = None, size: int | tuple[int, ...] | None = None
     ) -> np.ndarray:
         gen = np.random.default_rng(rng)
         shape = _batch(size)
@@ -463,12 +464,12 @@ class FreeFlyerJoint(Joint):
         pos = _uniform(gen, *_box(lo[:3], hi[:3], -1.0, 1.0), shape)
         return np.concatenate([pos, _uniform_quat(gen, shape)], axis=-1)
 
-    def normalize(self, q: Any) -> np.ndarray:
+    def normalize(self, q: ArrayLike) -> np.ndarray:
         qq = np.array(_q(q, 7))
         qq[..., 3:] = rot.quat_normalize(qq[..., 3:])
         return qq
 
-    def is_normalized(self, q: Any, tol: float = 1e-10) -> Any:
+    def is_normalized(self, q: ArrayLike, tol: float = 1e-10) -> Any:
         qq = _q(q, 7)
         return np.abs(np.linalg.norm(qq[..., 3:], axis=-1) - 1) <= tol
 
@@ -523,14 +524,14 @@ class PlanarJoint(Joint):
         S[3:, 2] = B[:, 1]
         return _frozen(S)
 
-    def pose(self, q: Any) -> PluckerTransform:
+    def pose(self, q: ArrayLike) -> PluckerTransform:
         qq = _q(q, 3)
         B = _like(self.basis, qq)
         R = rot.axis_angle_to_matrix(_like(self.normal, qq), qq[..., 2])
         p = qq[..., 0:1] * B[:, 0] + qq[..., 1:2] * B[:, 1]
         return PluckerTransform(R, p, validate=False)
 
-    def integrate(self, q: Any, v: Any) -> np.ndarray:
+    def integrate(self, q: ArrayLike, v: ArrayLike) -> np.ndarray:
         # SE(2) exponential of the body velocity, composed on the right
         qq = _q(q, 3)
         vv = as_array(v, "v", (3,))
@@ -545,7 +546,7 @@ class PlanarJoint(Joint):
         out = np.stack(np.broadcast_arrays(qq[..., 0] + c * dx - s * dy, qq[..., 1] + s * dx + c * dy, th + w), axis=-1)
         return out.astype(np.result_type(qq, vv))
 
-    def difference(self, q0: Any, q1: Any) -> np.ndarray:
+    def difference(self, q0: ArrayLike, q1: ArrayLike) -> np.ndarray:
         a0, a1 = _q(q0, 3, "q0"), _q(q1, 3, "q1")
         dth = np.arctan2(np.sin(a1[..., 2] - a0[..., 2]), np.cos(a1[..., 2] - a0[..., 2]))
         c, s = np.cos(a0[..., 2]), np.sin(a0[..., 2])
@@ -560,7 +561,7 @@ class PlanarJoint(Joint):
         return np.stack(np.broadcast_arrays(dth, vx, vy), axis=-1).astype(np.result_type(a0, a1))
 
     def random(
-        self, rng: Any = None, lower: Any = None, upper: Any = None, size: Any = None
+        self, rng: np.random.Generator | int | None = None, lower: ArrayLike | None = None, upper: ArrayLike | None = None, size: int | tuple[int, ...] | None = None
     ) -> np.ndarray:
         lo, hi = _box(*_limits(lower, upper, 3), [-1.0, -1.0, -np.pi], [1.0, 1.0, np.pi])
         return _uniform(np.random.default_rng(rng), lo, hi, _batch(size))

@@ -26,6 +26,7 @@ from dataclasses import dataclass, field, fields
 from typing import Any
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ._validation import as_array
 from .errors import InertiaError, ModelError, PhysicalityWarning, ShapeError
@@ -313,10 +314,10 @@ class ModelBuilder:
         placement: PluckerTransform | None = None,
         inertia: SpatialInertia | None = None,
         joint_name: str | None = None,
-        lower: Any = None,
-        upper: Any = None,
-        velocity_limit: Any = None,
-        effort_limit: Any = None,
+        lower: ArrayLike | None = None,
+        upper: ArrayLike | None = None,
+        velocity_limit: ArrayLike | None = None,
+        effort_limit: ArrayLike | None = None,
     ) -> int:
         """Add a body hanging from ``parent`` (``-1`` = world) through ``joint``; returns its index.
 

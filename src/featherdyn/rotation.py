@@ -22,6 +22,7 @@ from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ._validation import as_array, check_rotation, result_dtype
 from .errors import DTypeError, QuaternionNormError, RotationError, SpatialTypeError
@@ -151,7 +152,7 @@ def _quat_norm(q: np.ndarray) -> np.ndarray:
 # --------------------------------------------------------------------------
 
 
-def quat_to_matrix(quat: Any, *, check_norm: bool = True) -> np.ndarray:
+def quat_to_matrix(quat: ArrayLike, *, check_norm: bool = True) -> np.ndarray:
     """Rotation matrix of a unit quaternion in (x, y, z, w) order.
 
     With ``q = (v, w)``, ``v = (x, y, z)``::
@@ -195,7 +196,7 @@ def quat_to_matrix(quat: Any, *, check_norm: bool = True) -> np.ndarray:
     )
 
 
-def matrix_to_quat(rotation: Any) -> np.ndarray:
+def matrix_to_quat(rotation: ArrayLike) -> np.ndarray:
     """Unit quaternion (x, y, z, w) of a rotation matrix, with ``w >= 0``.
 
     Shepperd's method: the symmetric matrix ``K = 4 q qᵀ`` is read off ``R``
@@ -246,7 +247,7 @@ def matrix_to_quat(rotation: Any) -> np.ndarray:
     return np.asarray(np.where(q[..., 3:4] < 0, -q, q))
 
 
-def quat_multiply(q1: Any, q2: Any) -> np.ndarray:
+def quat_multiply(q1: ArrayLike, q2: ArrayLike) -> np.ndarray:
     """Hamilton product ``q1 ⊗ q2`` of quaternions in (x, y, z, w) order.
 
     With ``q = (v, w)``::
@@ -280,7 +281,7 @@ def quat_multiply(q1: Any, q2: Any) -> np.ndarray:
     )
 
 
-def quat_conjugate(quat: Any) -> np.ndarray:
+def quat_conjugate(quat: ArrayLike) -> np.ndarray:
     """Conjugate of a quaternion in (x, y, z, w) order (the inverse of a unit one).
 
     ::
@@ -299,7 +300,7 @@ def quat_conjugate(quat: Any) -> np.ndarray:
     return np.concatenate([-q[..., :3], q[..., 3:]], axis=-1)
 
 
-def quat_normalize(quat: Any) -> np.ndarray:
+def quat_normalize(quat: ArrayLike) -> np.ndarray:
     """Scale a quaternion to unit norm.
 
     ::
@@ -336,7 +337,7 @@ def quat_normalize(quat: Any) -> np.ndarray:
 # --------------------------------------------------------------------------
 
 
-def rpy_to_matrix(rpy: Any) -> np.ndarray:
+def rpy_to_matrix(rpy: ArrayLike) -> np.ndarray:
     """Rotation matrix of URDF roll-pitch-yaw angles.
 
     Roll about the fixed X axis, then pitch about fixed Y, then yaw about
@@ -369,7 +370,7 @@ def rpy_to_matrix(rpy: Any) -> np.ndarray:
     )
 
 
-def matrix_to_rpy(rotation: Any) -> np.ndarray:
+def matrix_to_rpy(rotation: ArrayLike) -> np.ndarray:
     """URDF roll-pitch-yaw angles of a rotation matrix, pitch in ``[−π/2, π/2]``.
 
     Yaw is read first, then roll from the matrix with the yaw taken out, which
@@ -416,7 +417,7 @@ def matrix_to_rpy(rotation: Any) -> np.ndarray:
 # --------------------------------------------------------------------------
 
 
-def so3_exp(omega: Any) -> np.ndarray:
+def so3_exp(omega: ArrayLike) -> np.ndarray:
     """Exponential map of so(3): the rotation by ``|ω|`` about ``ω`` (Rodrigues).
 
     ::
@@ -468,7 +469,7 @@ def _rodrigues_coefficients(theta: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return np.asarray(A), np.asarray(half_sinc * half_sinc / 2)
 
 
-def so3_log(rotation: Any) -> np.ndarray:
+def so3_log(rotation: ArrayLike) -> np.ndarray:
     """Logarithm of SO(3): the rotation vector ``ω = θ k`` with ``θ`` in ``[0, π]``.
 
     The angle comes from both the trace and the skew part, which is accurate
@@ -532,7 +533,7 @@ def _so3_log(R: np.ndarray) -> np.ndarray:
     return omega.reshape((*batch, 3))
 
 
-def axis_angle_to_matrix(axis: Any, angle: Any) -> np.ndarray:
+def axis_angle_to_matrix(axis: ArrayLike, angle: ArrayLike) -> np.ndarray:
     """Rotation matrix of a rotation by ``angle`` about ``axis`` (normalised here).
 
     ::
@@ -581,7 +582,7 @@ def axis_angle_to_matrix(axis: Any, angle: Any) -> np.ndarray:
     return np.asarray(eye + s * K + one_minus_c * (K @ K))
 
 
-def matrix_to_axis_angle(rotation: Any) -> tuple[np.ndarray, np.ndarray]:
+def matrix_to_axis_angle(rotation: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
     """Unit axis and angle in ``[0, π]`` of a rotation matrix.
 
     ::
@@ -629,7 +630,7 @@ def _se3_coefficients(theta: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return B, np.asarray(C)
 
 
-def se3_exp(twist: Any) -> PluckerTransform:
+def se3_exp(twist: ArrayLike | SpatialMotion) -> PluckerTransform:
     """Exponential map of se(3): the transform reached by following ``twist`` for unit time.
 
     With the twist ``[ω; v]`` (Featherstone order, angular first)::

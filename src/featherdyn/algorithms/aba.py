@@ -91,7 +91,7 @@ def aba(model: Model, q: np.ndarray, qd: np.ndarray, tau: np.ndarray, f_ext: np.
             p = p - f_ext[..., i, :]
         pA.append(np.broadcast_to(p, batch + (6,)).copy())
 
-    scale = max((float(np.max(np.abs(m))) for m in IA), default=1.0) if td.dtype.kind != "O" else 1.0
+    scale = max((float(np.max(np.abs(m), initial=0.0)) for m in IA), default=1.0) if td.dtype.kind != "O" else 1.0
     U: list[np.ndarray] = [np.empty(0)] * nb
     Dinv: list[np.ndarray] = [np.empty(0)] * nb
     u: list[np.ndarray] = [np.empty(0)] * nb

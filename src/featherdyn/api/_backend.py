@@ -8,8 +8,8 @@ Every public function (``fd.rnea`` & co.) takes ``backend=None | "reference" |
   (:mod:`featherdyn.algorithms`) otherwise (float32, SymPy object arrays);
 * :func:`fast_path` gives the engine's one-state fast path of a model (a
   :class:`featherdyn.engine._fast.FastPath`) when a call may take it, and
-  :func:`run_checked` calls one of its *checked* kernels, which validate the
-  state inside the compiled code. A kernel that refuses its arguments (other
+  the public function calls one of its *checked* kernels, which validate the
+  state inside the compiled code (catching :data:`KERNEL_REFUSALS`). A kernel that refuses its arguments (other
   types, batches, a bad state) sends the call down its general path, which
   converts, validates and raises the reference's worded errors: the fast path
   changes how long a call takes, never what it returns or raises.
@@ -21,7 +21,6 @@ Every public function (``fd.rnea`` & co.) takes ``backend=None | "reference" |
 from __future__ import annotations
 
 import os
-from collections.abc import Callable
 from typing import Any
 
 import numpy as np
@@ -34,7 +33,7 @@ __all__ = [
     "default_backend",
     "select_backend",
     "fast_path",
-    "run_checked",
+    "KERNEL_REFUSALS",
     "REFUSED",
     "OK",
     "ABA_OK",
@@ -47,7 +46,11 @@ _BACKENDS = (None, "reference", "compiled")
 #: status of a checked kernel that computed its result (ABA: :data:`ABA_OK`; a joint index ``>= 0`` is singular)
 OK = 0
 ABA_OK = -1
-#: :func:`run_checked`'s status when the kernel refused the argument types (Numba's dispatch, an int overflow)
+#: what calling a checked kernel raises when it cannot take the argument types (Numba's dispatch: an
+#: untypeable or out-of-range argument); the public function then takes its general path. Each call site
+#: writes its ``try`` inline (a helper function would add a Python call, ~5 % of a small robot's RNEA)
+KERNEL_REFUSALS = (TypeError, ValueError, OverflowError)
+#: the status a call site records when the kernel refused its arguments
 REFUSED = -(1 << 30)
 
 
@@ -120,11 +123,3 @@ def fast_path(model: Any, backend: str | None) -> Any:
 
             return attach(model)
     return None
-
-
-def run_checked(kernel: Callable[..., int], *args: Any) -> int:
-    """Call a checked kernel; its status, or :data:`REFUSED` when it refuses the argument types."""
-    try:
-        return kernel(*args)
-    except (TypeError, ValueError, OverflowError):  # Numba's dispatch: untypeable or out-of-range arguments
-        return REFUSED

@@ -9,18 +9,20 @@ batch shape, and ``f_ext`` `(..., nb, 6)`.
 
 from __future__ import annotations
 
+import math
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, TypeVar
 
 import numpy as np
 
-from .._validation import as_array, result_dtype
-from ..errors import QuaternionNormError, ShapeError
+from .._validation import as_array, numeric_value, result_dtype
+from ..errors import NonFiniteError, QuaternionNormError, ShapeError
 from ..joints import FreeFlyerJoint, SphericalJoint
 from ..model import Model
 from ..tolerances import QUATERNION_NORM
 
-__all__ = ["State", "check_state", "check_f_ext", "batch_with_f_ext"]
+__all__ = ["State", "check_state", "check_f_ext", "batch_with_f_ext", "finite_result", "quiet"]
 
 
 @dataclass(frozen=True)
@@ -61,9 +63,13 @@ def check_state(model: Model, q: Any, check_finite: bool = True, optional: tuple
         shapes = ", ".join(f"{n}: {a.shape}" for n, a in [("q", qq), *arrays.items()])
         raise ShapeError(f"batch shapes do not broadcast ({shapes})") from None
     dtype = result_dtype(*all_arrays)
-    if dtype.kind != "O":
-        _check_quaternions(model, qq)
+    _check_quaternions(model, qq if qq.dtype.kind != "O" else _numeric_part(qq))
     return State(batch, dtype, qq, arrays)
+
+
+def _numeric_part(q: np.ndarray) -> np.ndarray:
+    """An object array's entries as floats, NaN where an entry is symbolic (unchecked)."""
+    return np.vectorize(lambda x: math.nan if (v := numeric_value(x)) is None else v, otypes=[np.float64])(q)
 
 
 def _vec(x: Any, name: str, n: int, what: str, check_finite: bool) -> np.ndarray:
@@ -85,6 +91,7 @@ def _check_quaternions(model: Model, q: np.ndarray) -> None:
         else:
             continue
         err = np.abs(np.sqrt(np.sum(quat * quat, axis=-1)) - 1)
+        err = err[~np.isnan(err)]  # a symbolic quaternion (object arrays) is not checked
         if np.any(err > tol):
             worst = float(np.max(err))
             raise QuaternionNormError(
@@ -119,3 +126,32 @@ def batch_with_f_ext(st: State, fx: np.ndarray | None) -> tuple[tuple[int, ...],
             f"the batch shape {tuple(st.batch)} of the state"
         ) from None
     return batch, result_dtype(np.empty(0, st.dtype), fx)
+
+
+def finite_result(result: np.ndarray, what: str) -> np.ndarray:
+    """``result``, or :class:`NonFiniteError` when checked, finite input gave a non-finite result.
+
+    Finite input overflows only when the state or the model holds magnitudes
+    whose products exceed float64's range (about 1.8e308): say so rather than
+    return inf or NaN. Object (SymPy) results are not checked.
+    """
+    if result.dtype.kind == "f" and not np.isfinite(result).all():
+        bad = tuple(int(i) for i in np.argwhere(~np.isfinite(result))[0])
+        raise NonFiniteError(
+            f"{what}: the result overflowed ({result[bad]!r} at index {bad}) although every input is finite: "
+            f"the state or the model holds magnitudes whose products exceed float64's range (about 1.8e308)"
+        )
+    return result
+
+
+_R = TypeVar("_R")
+
+
+def quiet(function: Callable[..., _R], *args: Any) -> _R:
+    """``function(*args)`` (a reference computation) without NumPy's overflow warnings.
+
+    Finite input that overflows is reported by :func:`finite_result` as a
+    featherdyn error instead of a ``RuntimeWarning`` followed by inf or NaN.
+    """
+    with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
+        return function(*args)

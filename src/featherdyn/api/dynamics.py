@@ -19,8 +19,8 @@ from ..algorithms import crba as _crba
 from ..algorithms import rnea as _rnea
 from ..errors import SingularMassMatrixError
 from ..model import Model
-from ._backend import ABA_OK, OK, fast_path, run_checked, select_backend
-from ._checks import State, batch_with_f_ext, check_f_ext, check_state
+from ._backend import ABA_OK, KERNEL_REFUSALS, OK, REFUSED, fast_path, select_backend
+from ._checks import State, batch_with_f_ext, check_f_ext, check_state, finite_result, quiet
 from .kinematics import kinematics_of
 
 __all__ = ["rnea", "nonlinear_effects", "generalized_gravity", "crba", "aba", "coriolis_matrix"]
@@ -35,8 +35,8 @@ def _inverse_dynamics(model: Model, st: State, v: np.ndarray, a: np.ndarray, fx:
     if select_backend(backend, dtype) == "compiled":
         from ..engine import _dispatch
 
-        return _dispatch.rnea(model, st.q, v, a, fx, gravity, dtype)
-    return _rnea.rnea(model, st.q, v, a, fx, gravity)
+        return finite_result(_dispatch.rnea(model, st.q, v, a, fx, gravity, dtype), "rnea")
+    return finite_result(quiet(_rnea.rnea, model, st.q, v, a, fx, gravity), "rnea")
 
 
 def rnea(model: Model, q: ArrayLike, v: ArrayLike, a: ArrayLike, f_ext: ArrayLike | None = None, *, gravity: bool = True,
@@ -58,8 +58,11 @@ def rnea(model: Model, q: ArrayLike, v: ArrayLike, a: ArrayLike, f_ext: ArrayLik
     fast = fast_path(model, backend)
     if fast is not None and f_ext is None:
         tau = _EMPTY(fast.nv)
-        if run_checked(fast.rnea, fast.MD, q, v, a, gravity, tau) == OK:
-            return tau
+        try:
+            if fast.rnea(fast.MD, q, v, a, gravity, tau) == OK:
+                return tau
+        except KERNEL_REFUSALS:  # argument types the kernel cannot take: the general path
+            pass
     fx = check_f_ext(model, f_ext)
     st = check_state(model, q, v=v, a=a)
     return _inverse_dynamics(model, st, st.arrays["v"], st.arrays["a"], fx, gravity, backend)
@@ -73,8 +76,11 @@ def nonlinear_effects(model: Model, q: ArrayLike, v: ArrayLike, *, backend: str 
     fast = fast_path(model, backend)
     if fast is not None:
         h = _EMPTY(fast.nv)
-        if run_checked(fast.nle, fast.MD, q, v, h) == OK:
-            return h
+        try:
+            if fast.nle(fast.MD, q, v, h) == OK:
+                return h
+        except KERNEL_REFUSALS:  # argument types the kernel cannot take: the general path
+            pass
     st = check_state(model, q, v=v)
     qd = st.arrays["v"]
     return _inverse_dynamics(model, st, qd, np.zeros(qd.shape, dtype=qd.dtype), None, True, backend)
@@ -88,8 +94,11 @@ def generalized_gravity(model: Model, q: ArrayLike, *, backend: str | None = Non
     fast = fast_path(model, backend)
     if fast is not None:
         g = _EMPTY(fast.nv)
-        if run_checked(fast.gravity, fast.MD, q, g) == OK:
-            return g
+        try:
+            if fast.gravity(fast.MD, q, g) == OK:
+                return g
+        except KERNEL_REFUSALS:  # argument types the kernel cannot take: the general path
+            pass
     st = check_state(model, q)
     zero = np.zeros(st.q.shape[:-1] + (model.nv,), dtype=st.dtype)
     return _inverse_dynamics(model, st, zero, zero, None, True, backend)
@@ -105,14 +114,17 @@ def crba(model: Model, q: ArrayLike, *, backend: str | None = None) -> np.ndarra
     fast = fast_path(model, backend)
     if fast is not None:
         M = _EMPTY(fast.shape_M)
-        if run_checked(fast.crba, fast.MD, q, M) == OK:
-            return M
+        try:
+            if fast.crba(fast.MD, q, M) == OK:
+                return M
+        except KERNEL_REFUSALS:  # argument types the kernel cannot take: the general path
+            pass
     st = check_state(model, q)
     if select_backend(backend, st.dtype) == "compiled":
         from ..engine import _dispatch
 
-        return _dispatch.crba(model, st.q, st.dtype)
-    return _crba.crba(model, st.q)
+        return finite_result(_dispatch.crba(model, st.q, st.dtype), "crba")
+    return finite_result(quiet(_crba.crba, model, st.q), "crba")
 
 
 def aba(model: Model, q: ArrayLike, v: ArrayLike, tau: ArrayLike, f_ext: ArrayLike | None = None, *, gravity: bool = True,
@@ -136,7 +148,10 @@ def aba(model: Model, q: ArrayLike, v: ArrayLike, tau: ArrayLike, f_ext: ArrayLi
     fast = fast_path(model, backend)
     if fast is not None and f_ext is None:
         qdd = _EMPTY(fast.nv)
-        status = run_checked(fast.aba, fast.MD, q, v, tau, gravity, qdd)
+        try:
+            status = fast.aba(fast.MD, q, v, tau, gravity, qdd)
+        except KERNEL_REFUSALS:  # argument types the kernel cannot take: the general path
+            status = REFUSED
         if status == ABA_OK:
             return qdd
         if status >= 0:
@@ -148,8 +163,8 @@ def aba(model: Model, q: ArrayLike, v: ArrayLike, tau: ArrayLike, f_ext: ArrayLi
     if select_backend(backend, dtype) == "compiled":
         from ..engine import _dispatch
 
-        return _dispatch.aba(model, st.q, st.arrays["v"], st.arrays["tau"], fx, gravity, dtype)
-    return _aba.aba(model, st.q, st.arrays["v"], st.arrays["tau"], fx, gravity)
+        return finite_result(_dispatch.aba(model, st.q, st.arrays["v"], st.arrays["tau"], fx, gravity, dtype), "aba")
+    return finite_result(quiet(_aba.aba, model, st.q, st.arrays["v"], st.arrays["tau"], fx, gravity), "aba")
 
 
 def coriolis_matrix(model: Model, q: ArrayLike, v: ArrayLike, *, backend: str | None = None) -> np.ndarray:
@@ -159,4 +174,5 @@ def coriolis_matrix(model: Model, q: ArrayLike, v: ArrayLike, *, backend: str | 
     see ``algorithms/coriolis.py``.
     """
     st = check_state(model, q, v=v)
-    return _coriolis.coriolis_matrix(model, kinematics_of(model, st, st.arrays["v"], None, backend))
+    return finite_result(quiet(_coriolis.coriolis_matrix, model, kinematics_of(model, st, st.arrays["v"], None, backend)),
+                         "coriolis_matrix")

@@ -17,7 +17,7 @@ from ..algorithms import energy as _energy
 from ..model import Model
 from ..results import CenterOfMass
 from ..spatial_algebra import SpatialForce
-from ._checks import check_state
+from ._checks import check_state, finite_result, quiet
 from .kinematics import kinematics_of
 
 __all__ = ["kinetic_energy", "potential_energy", "center_of_mass", "centroidal_momentum_matrix",
@@ -30,7 +30,8 @@ def kinetic_energy(model: Model, q: ArrayLike, v: ArrayLike, *, backend: str | N
         T = Σ_i ½ v_iᵀ I_i v_i = ½ q̇ᵀ M(q) q̇
     """
     st = check_state(model, q, v=v)
-    return _energy.kinetic_energy(model, kinematics_of(model, st, st.arrays["v"], None, backend))
+    return finite_result(quiet(_energy.kinetic_energy, model, kinematics_of(model, st, st.arrays["v"], None, backend)),
+                         "kinetic_energy")
 
 
 def potential_energy(model: Model, q: ArrayLike, *, backend: str | None = None) -> np.ndarray:
@@ -39,7 +40,8 @@ def potential_energy(model: Model, q: ArrayLike, *, backend: str | None = None) 
         U = −Σ_i m_i gᵀ ⁰c_i
     """
     st = check_state(model, q)
-    return _energy.potential_energy(model, kinematics_of(model, st, None, None, backend))
+    return finite_result(quiet(_energy.potential_energy, model, kinematics_of(model, st, None, None, backend)),
+                         "potential_energy")
 
 
 @overload
@@ -59,7 +61,10 @@ def center_of_mass(model: Model, q: ArrayLike, v: ArrayLike | None = None, *, ba
         ModelError: the tree has no mass (the centre of mass is undefined).
     """
     st = check_state(model, q, optional=("v",), v=v)
-    return _energy.center_of_mass(model, kinematics_of(model, st, st.arrays.get("v"), None, backend))
+    com = quiet(_energy.center_of_mass, model, kinematics_of(model, st, st.arrays.get("v"), None, backend))
+    for part in (com if isinstance(com, CenterOfMass) else (com,)):
+        finite_result(part, "center_of_mass")
+    return com
 
 
 def centroidal_momentum_matrix(model: Model, q: ArrayLike, *, backend: str | None = None) -> np.ndarray:
@@ -70,7 +75,8 @@ def centroidal_momentum_matrix(model: Model, q: ArrayLike, *, backend: str | Non
         A_O[:, k] = ⁰I^C_k ⁰X_k S_k,    A_G = [[1, −c×], [0, 1]] A_O
     """
     st = check_state(model, q)
-    return _centroidal.centroidal_momentum_matrix(model, kinematics_of(model, st, None, None, backend))
+    return finite_result(quiet(_centroidal.centroidal_momentum_matrix, model, kinematics_of(model, st, None, None, backend)),
+                         "centroidal_momentum_matrix")
 
 
 def centroidal_momentum(model: Model, q: ArrayLike, v: ArrayLike, *, backend: str | None = None) -> SpatialForce:
@@ -81,4 +87,6 @@ def centroidal_momentum(model: Model, q: ArrayLike, v: ArrayLike, *, backend: st
         h_G = A_G(q) q̇     (p = m ċ)
     """
     st = check_state(model, q, v=v)
-    return _centroidal.centroidal_momentum(model, kinematics_of(model, st, None, None, backend), st.arrays["v"])
+    h = quiet(_centroidal.centroidal_momentum, model, kinematics_of(model, st, None, None, backend), st.arrays["v"])
+    finite_result(h.vector, "centroidal_momentum")
+    return h

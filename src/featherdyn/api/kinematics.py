@@ -20,8 +20,8 @@ from ..frames import LOCAL, LOCAL_WORLD_ALIGNED, WORLD, ReferenceFrame, as_refer
 from ..model import Model
 from ..results import Kinematics
 from ..spatial_algebra import PluckerTransform, SpatialMotion
-from ._backend import OK, fast_path, run_checked, select_backend
-from ._checks import State, check_state
+from ._backend import KERNEL_REFUSALS, OK, fast_path, select_backend
+from ._checks import State, check_state, finite_result, quiet
 
 __all__ = [
     "kinematics_of",
@@ -47,8 +47,14 @@ def kinematics_of(model: Model, st: State, v: np.ndarray | None, a: np.ndarray |
     if select_backend(backend, st.dtype) == "compiled":
         from ..engine import _dispatch
 
-        return _dispatch.forward_kinematics(model, st.q, v, a, st.dtype)
-    return _kin.forward_kinematics(model, st.q, v, a)
+        kin = _dispatch.forward_kinematics(model, st.q, v, a, st.dtype)
+    else:
+        kin = quiet(_kin.forward_kinematics, model, st.q, v, a)
+    finite_result(kin.placements.translation, "forward kinematics: placements")
+    for what, m in (("velocities", kin.velocities), ("accelerations", kin.accelerations)):
+        if m is not None:
+            finite_result(m.vector, f"forward kinematics: {what}")
+    return kin
 
 
 def _fast_kinematics(fast: Any, q: ArrayLike, v: ArrayLike | None, a: ArrayLike | None) -> Kinematics | None:
@@ -56,8 +62,10 @@ def _fast_kinematics(fast: Any, q: ArrayLike, v: ArrayLike | None, a: ArrayLike 
     H = _EMPTY(fast.shape_H)
     vel = _EMPTY(fast.shape_V) if v is not None else _NO_BODIES
     acc = _EMPTY(fast.shape_V) if a is not None else _NO_BODIES
-    status = run_checked(fast.fk, fast.MD, q, _NO_VECTOR if v is None else v, _NO_VECTOR if a is None else a,
-                         H, vel, acc)
+    try:
+        status = fast.fk(fast.MD, q, _NO_VECTOR if v is None else v, _NO_VECTOR if a is None else a, H, vel, acc)
+    except KERNEL_REFUSALS:  # argument types the kernel cannot take: the general path
+        return None
     if status != OK:
         return None
     return Kinematics(
@@ -106,11 +114,16 @@ def frame_placement(model: Model, q: ArrayLike, frame: str | int, *, backend: st
         fid_ = fast.frames.get(frame, -1) if frame.__class__ is str else frame
         if fid_.__class__ is int:
             pose = _EMPTY(12)
-            if run_checked(fast.frame_placement, fast.MD, q, fid_, pose) == OK:
-                return PluckerTransform._wrap(pose[:9].reshape(3, 3), pose[9:], None, None)
+            try:
+                if fast.frame_placement(fast.MD, q, fid_, pose) == OK:
+                    return PluckerTransform._wrap(pose[:9].reshape(3, 3), pose[9:], None, None)
+            except KERNEL_REFUSALS:  # argument types the kernel cannot take: the general path
+                pass
     fid = _frame(model, frame)
     st = check_state(model, q)
-    return _kin.frame_pose(model, kinematics_of(model, st, None, None, backend), fid)
+    oMf = quiet(_kin.frame_pose, model, kinematics_of(model, st, None, None, backend), fid)
+    finite_result(oMf.translation, "frame_placement")
+    return oMf
 
 
 def frame_velocity(model: Model, q: ArrayLike, v: ArrayLike, frame: str | int, reference: ReferenceFrame | str = LOCAL, *,
@@ -123,7 +136,9 @@ def frame_velocity(model: Model, q: ArrayLike, v: ArrayLike, frame: str | int, r
     """
     fid, ref = _frame(model, frame), as_reference_frame(reference)
     st = check_state(model, q, v=v)
-    return _kin.frame_velocity(model, kinematics_of(model, st, st.arrays["v"], None, backend), fid, ref)
+    vel = quiet(_kin.frame_velocity, model, kinematics_of(model, st, st.arrays["v"], None, backend), fid, ref)
+    finite_result(vel.vector, "frame_velocity")
+    return vel
 
 
 def frame_acceleration(model: Model, q: ArrayLike, v: ArrayLike, a: ArrayLike, frame: str | int, reference: ReferenceFrame | str = LOCAL, *,
@@ -137,7 +152,9 @@ def frame_acceleration(model: Model, q: ArrayLike, v: ArrayLike, a: ArrayLike, f
     fid, ref = _frame(model, frame), as_reference_frame(reference)
     st = check_state(model, q, v=v, a=a)
     kin = kinematics_of(model, st, st.arrays["v"], st.arrays["a"], backend)
-    return _kin.frame_acceleration(model, kin, fid, ref)
+    acc = quiet(_kin.frame_acceleration, model, kin, fid, ref)
+    finite_result(acc.vector, "frame_acceleration")
+    return acc
 
 
 def frame_classical_acceleration(model: Model, q: ArrayLike, v: ArrayLike, a: ArrayLike, frame: str | int, reference: ReferenceFrame | str = LOCAL, *,
@@ -155,7 +172,9 @@ def frame_classical_acceleration(model: Model, q: ArrayLike, v: ArrayLike, a: Ar
     fid, ref = _frame(model, frame), as_reference_frame(reference)
     st = check_state(model, q, v=v, a=a)
     kin = kinematics_of(model, st, st.arrays["v"], st.arrays["a"], backend)
-    return _kin.frame_classical_acceleration(model, kin, fid, ref)
+    acc = quiet(_kin.frame_classical_acceleration, model, kin, fid, ref)
+    finite_result(acc.vector, "frame_classical_acceleration")
+    return acc
 
 
 def joint_jacobians(model: Model, q: ArrayLike, *, backend: str | None = None) -> np.ndarray:
@@ -166,7 +185,7 @@ def joint_jacobians(model: Model, q: ArrayLike, *, backend: str | None = None) -
         J[:, k] = ⁰X_k S_k      (the Jacobian of body b keeps the columns of its support)
     """
     st = check_state(model, q)
-    return _jac.joint_jacobians(model, kinematics_of(model, st, None, None, backend))
+    return finite_result(quiet(_jac.joint_jacobians, model, kinematics_of(model, st, None, None, backend)), "joint_jacobians")
 
 
 def frame_jacobian(model: Model, q: ArrayLike, frame: str | int, reference: ReferenceFrame | str = LOCAL, *,
@@ -185,15 +204,18 @@ def frame_jacobian(model: Model, q: ArrayLike, frame: str | int, reference: Refe
         fid_ = fast.frames.get(frame, -1) if frame.__class__ is str else frame
         if ref_code >= 0 and fid_.__class__ is int:
             J_ = _EMPTY(fast.shape_J)
-            if run_checked(fast.frame_jacobian, fast.MD, q, fid_, ref_code, J_) == OK:
-                return J_
+            try:
+                if fast.frame_jacobian(fast.MD, q, fid_, ref_code, J_) == OK:
+                    return J_
+            except KERNEL_REFUSALS:  # argument types the kernel cannot take: the general path
+                pass
     fid, ref = _frame(model, frame), as_reference_frame(reference)
     st = check_state(model, q)
     if select_backend(backend, st.dtype) == "compiled":
         from ..engine import _dispatch
 
-        return _dispatch.frame_jacobian(model, st.q, fid, ref, st.dtype)
-    return _jac.frame_jacobian(model, _kin.forward_kinematics(model, st.q), fid, ref)
+        return finite_result(_dispatch.frame_jacobian(model, st.q, fid, ref, st.dtype), "frame_jacobian")
+    return finite_result(quiet(_jac.frame_jacobian, model, quiet(_kin.forward_kinematics, model, st.q), fid, ref), "frame_jacobian")
 
 
 def frame_jacobian_time_variation(model: Model, q: ArrayLike, v: ArrayLike, frame: str | int, reference: ReferenceFrame | str = LOCAL, *,
@@ -211,7 +233,8 @@ def frame_jacobian_time_variation(model: Model, q: ArrayLike, v: ArrayLike, fram
     fid, ref = _frame(model, frame), as_reference_frame(reference)
     st = check_state(model, q, v=v)
     kin = kinematics_of(model, st, st.arrays["v"], None, backend)
-    return _jac.frame_jacobian_time_variation(model, kin, st.arrays["v"], fid, ref)
+    return finite_result(quiet(_jac.frame_jacobian_time_variation, model, kin, st.arrays["v"], fid, ref),
+                         "frame_jacobian_time_variation")
 
 
 def _frame(model: Model, frame: str | int) -> int:

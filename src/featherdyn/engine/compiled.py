@@ -260,7 +260,11 @@ class CompiledModel:
                                         _reference_code(reference), _F64)
 
     def warmup(self) -> None:
-        """Call every single-state method once (loads or compiles the kernels)."""
+        """Call every single-state method once (loads or compiles the kernels), in O(nb) memory.
+
+        The kernels are generic, so the mass matrix — the one output of size
+        ``nv²`` — is warmed up on a one-joint model when this model is large.
+        """
         from ..configuration import neutral
 
         q = np.ascontiguousarray(neutral(self.model), dtype=np.float64)
@@ -270,7 +274,10 @@ class CompiledModel:
         self.rnea(q, z, z, f_ext=np.zeros((self.nb, 6)))
         self.nle(q, z)
         self.gravity(q)
-        self.crba(q)
+        if self.nv <= _WARMUP_CRBA_MAX_NV:
+            self.crba(q)
+        else:
+            _one_joint_model().crba(np.zeros(1))
         try:
             self.aba(q, z, z)
         except SingularMassMatrixError:
@@ -279,6 +286,22 @@ class CompiledModel:
 
     def __repr__(self) -> str:
         return f"CompiledModel({self.model!r}, compiled in {self.compile_seconds:.2f} s)"
+
+
+#: above this many velocities, warm-up does not build this model's (nv, nv) mass matrix
+_WARMUP_CRBA_MAX_NV = 256
+
+
+def _one_joint_model() -> CompiledModel:
+    """A compiled one-revolute-joint model: warms up the generic kernels at no memory cost."""
+    from ..joints import RevoluteJoint
+    from ..model import ModelBuilder
+    from ..spatial_algebra import SpatialInertia
+
+    b = ModelBuilder("warmup")
+    b.add_body("link", parent=-1, joint=RevoluteJoint(np.array([0.0, 0.0, 1.0])),
+               inertia=SpatialInertia(1.0, [0.1, 0.0, 0.0], np.eye(3) * 0.01))
+    return CompiledModel(b.build())
 
 
 def compile_model(model: Model, *, warmup: bool = True) -> CompiledModel:
