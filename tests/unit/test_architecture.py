@@ -46,6 +46,8 @@ LAYER_OF: dict[str, str] = {
     "core": "engine",
     "api": "api",
     "symbolic": "tools",
+    "_symbolic_reduce": "tools",
+    "_symbolic_dynamics": "tools",
     "verify": "tools",
     "cli": "tools",
     "bench": "tools",
