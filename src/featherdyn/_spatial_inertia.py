@@ -15,6 +15,7 @@ from dataclasses import dataclass
 from typing import Any, ClassVar
 
 import numpy as np
+from numpy.typing import ArrayLike, DTypeLike
 
 from ._spatial_ops import (
     _adopt_dtype,
@@ -65,7 +66,7 @@ class SpatialInertia(_SpatialValue):
         "a SpatialInertia maps motion to force (inertia @ motion = momentum); it only adds to another SpatialInertia"
     )
 
-    def __init__(self, mass: Any, com: Any, inertia_com: Any, frame: Frame = None) -> None:
+    def __init__(self, mass: ArrayLike, com: ArrayLike, inertia_com: ArrayLike, frame: Frame = None) -> None:
         m, c, ic = _adopt_dtype(
             (mass, com, inertia_com),
             [as_array(mass, "mass"), as_array(com, "com", (3,)), as_array(inertia_com, "inertia_com", (3, 3))],
@@ -90,7 +91,7 @@ class SpatialInertia(_SpatialValue):
     # constructors --------------------------------------------------------------
 
     @classmethod
-    def from_matrix(cls, matrix: Any, frame: Frame = None, *, tol: float | None = None) -> SpatialInertia:
+    def from_matrix(cls, matrix: ArrayLike, frame: Frame = None, *, tol: float | None = None) -> SpatialInertia:
         """Recover ``(m, c, I_c)`` from a `(..., 6, 6)` spatial inertia matrix (inverse of :meth:`matrix`).
 
         Rejects (:class:`InertiaError`, naming the block and the error) a matrix
@@ -130,7 +131,7 @@ class SpatialInertia(_SpatialValue):
         return cls(m, c, ic, frame)
 
     @classmethod
-    def from_dynamic_parameters(cls, params: Any, frame: Frame = None) -> SpatialInertia:
+    def from_dynamic_parameters(cls, params: ArrayLike, frame: Frame = None) -> SpatialInertia:
         """From the 10 dynamic parameters `(..., 10)`, in Pinocchio's order::
 
             π = [m, m c_x, m c_y, m c_z, I_xx, I_xy, I_yy, I_xz, I_yz, I_zz]
@@ -153,7 +154,7 @@ class SpatialInertia(_SpatialValue):
         return cls(m, c, i_o + m[..., None, None] * (cx @ cx), frame)
 
     @classmethod
-    def box(cls, mass: Any, size: Any, frame: Frame = None) -> SpatialInertia:
+    def box(cls, mass: ArrayLike, size: ArrayLike, frame: Frame = None) -> SpatialInertia:
         """A solid box of side lengths ``size`` `(..., 3)` centred at the origin::
 
             I_c = m/12 · diag(y² + z², x² + z², x² + y²)
@@ -164,7 +165,7 @@ class SpatialInertia(_SpatialValue):
         return cls._from_diag(m, d * (m[..., None] / 12), frame, size=s)
 
     @classmethod
-    def cylinder(cls, mass: Any, radius: Any, length: Any, frame: Frame = None) -> SpatialInertia:
+    def cylinder(cls, mass: ArrayLike, radius: ArrayLike, length: ArrayLike, frame: Frame = None) -> SpatialInertia:
         """A solid cylinder along z, centred at the origin::
 
             I_c = diag(m(3r² + l²)/12, m(3r² + l²)/12, m r²/2)
@@ -176,20 +177,20 @@ class SpatialInertia(_SpatialValue):
         return cls._from_diag(m, np.stack(np.broadcast_arrays(a, a, m * r * r / 2), axis=-1), frame, radius=r, length=ln)
 
     @classmethod
-    def sphere(cls, mass: Any, radius: Any, frame: Frame = None) -> SpatialInertia:
+    def sphere(cls, mass: ArrayLike, radius: ArrayLike, frame: Frame = None) -> SpatialInertia:
         """A solid sphere centred at the origin: ``I_c = 2/5 m r² 1``."""
         m, r = _adopt_dtype((mass, radius), [as_array(mass, "mass"), as_array(radius, "radius")])
         a = 2 * m * r * r / 5
         return cls._from_diag(m, np.stack([a, a, a], axis=-1), frame, radius=r)
 
     @classmethod
-    def point_mass(cls, mass: Any, com: Any, frame: Frame = None) -> SpatialInertia:
+    def point_mass(cls, mass: ArrayLike, com: ArrayLike, frame: Frame = None) -> SpatialInertia:
         """A point mass at ``com`` (``I_c = 0``)."""
         m, c = _adopt_dtype((mass, com), [as_array(mass, "mass"), as_array(com, "com", (3,))])
         return cls(m, c, np.zeros(c.shape[:-1] + (3, 3), dtype=result_dtype(m, c)), frame)
 
     @classmethod
-    def zero(cls, shape: tuple[int, ...] = (), dtype: Any = np.float64, frame: Frame = None) -> SpatialInertia:
+    def zero(cls, shape: tuple[int, ...] = (), dtype: DTypeLike = np.float64, frame: Frame = None) -> SpatialInertia:
         """The zero inertia (the neutral element of ``+``)."""
         shape = tuple(shape)
         return cls._wrap(np.zeros(shape, dtype), np.zeros(shape + (3,), dtype), np.zeros(shape + (3, 3), dtype), frame)
@@ -251,7 +252,7 @@ class SpatialInertia(_SpatialValue):
 
     # algebra ---------------------------------------------------------------------
 
-    def __matmul__(self, motion: Any) -> SpatialForce:
+    def __matmul__(self, motion: SpatialMotion) -> SpatialForce:
         """Momentum ``h = I v`` (a force vector), computed without forming the 6×6 matrix.
 
         ::
@@ -274,7 +275,7 @@ class SpatialInertia(_SpatialValue):
         hn = _matvec(self.inertia_com, w) + _cross3(self.com, hf)
         return np.concatenate(_bcast(hn, hf), axis=-1)
 
-    def __add__(self, other: Any) -> SpatialInertia:
+    def __add__(self, other: SpatialInertia) -> SpatialInertia:
         """Composite inertia of two bodies rigidly joined (both expressed in the same frame).
 
         Adds the linear parameters ``(m, m c, Ī)`` (chapter §5.3)::
@@ -295,12 +296,12 @@ class SpatialInertia(_SpatialValue):
         cx = _skew(c)
         return SpatialInertia._wrap(*_bcast_inertia(m, c, i_o + m[..., None, None] * (cx @ cx)), frame)
 
-    def __radd__(self, other: Any) -> SpatialInertia:
+    def __radd__(self, other: object) -> SpatialInertia:
         if isinstance(other, int) and other == 0:  # sum() starts from 0
             return self
         _mix_error("add", other, self)
 
-    def kinetic_energy(self, motion: Any) -> Any:
+    def kinetic_energy(self, motion: SpatialMotion) -> Any:
         """Kinetic energy `(...)` of the body moving with ``motion``::
 
             T = ½ vᵀ I v
@@ -332,7 +333,7 @@ class SpatialInertia(_SpatialValue):
             (a + b < c - tol * scale, "principal moments satisfy the triangle inequality I1 + I2 >= I3"),
         ]
 
-    def is_physical(self, *, tol: float | None = None) -> Any:
+    def is_physical(self, *, tol: float | None = None) -> bool | np.ndarray:
         """Whether each inertia is physically realisable, `(...)` bool (see :meth:`check`)."""
         bad = np.zeros(self.shape, dtype=bool)
         for cond, _ in self._violations(tol):
@@ -364,7 +365,9 @@ class SpatialInertia(_SpatialValue):
         )
 
 
-def _sym_from(xx: Any, xy: Any, yy: Any, xz: Any, yz: Any, zz: Any) -> np.ndarray:
+def _sym_from(
+    xx: np.ndarray, xy: np.ndarray, yy: np.ndarray, xz: np.ndarray, yz: np.ndarray, zz: np.ndarray
+) -> np.ndarray:
     rows = [np.stack([xx, xy, xz], axis=-1), np.stack([xy, yy, yz], axis=-1), np.stack([xz, yz, zz], axis=-1)]
     return np.stack(rows, axis=-2)
 
@@ -379,7 +382,7 @@ def _bcast_inertia(m: np.ndarray, c: np.ndarray, ic: np.ndarray) -> tuple[np.nda
     )
 
 
-def _init_i(obj: Any, m: np.ndarray, c: np.ndarray, ic: np.ndarray, frame: Frame) -> None:
+def _init_i(obj: object, m: np.ndarray, c: np.ndarray, ic: np.ndarray, frame: Frame) -> None:
     object.__setattr__(obj, "mass", readonly(m))
     object.__setattr__(obj, "com", readonly(c))
     object.__setattr__(obj, "inertia_com", readonly(ic))

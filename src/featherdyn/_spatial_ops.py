@@ -14,6 +14,7 @@ from __future__ import annotations
 from typing import Any
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ._validation import as_array, result_dtype
 
@@ -45,12 +46,12 @@ def _sum_last(x: np.ndarray) -> Any:
     return x.sum(axis=-1)
 
 
-def _is_weak(x: Any) -> bool:
+def _is_weak(x: object) -> bool:
     """A plain Python number: like NumPy (NEP 50), it takes the dtype of the arrays it meets."""
     return isinstance(x, (int, float)) and not isinstance(x, np.generic)
 
 
-def _adopt_dtype(raw: tuple[Any, ...], arrays: list[np.ndarray]) -> list[np.ndarray]:
+def _adopt_dtype(raw: tuple[object, ...], arrays: list[np.ndarray]) -> list[np.ndarray]:
     """Cast the arrays made from plain Python numbers to the floating dtype of the others.
 
     ``as_array`` turns ``2.0`` into a float64 array, which would promote a
@@ -65,7 +66,7 @@ def _adopt_dtype(raw: tuple[Any, ...], arrays: list[np.ndarray]) -> list[np.ndar
     return [a.astype(dtype) if _is_weak(x) else a for x, a in zip(raw, arrays, strict=True)]
 
 
-def skew(w: Any) -> np.ndarray:
+def skew(w: ArrayLike) -> np.ndarray:
     """The cross-product matrix ``[w]×`` of a 3-vector.
 
     Args:
@@ -89,7 +90,7 @@ def _skew(w: np.ndarray) -> np.ndarray:
     return np.stack(rows, axis=-2)
 
 
-def unskew(matrix: Any) -> np.ndarray:
+def unskew(matrix: ArrayLike) -> np.ndarray:
     """The vector ``w`` of a skew-symmetric ``[w]×`` (the "vee" map; inverse of :func:`skew`).
 
     Args:
@@ -155,7 +156,7 @@ def _batch_index(vec: np.ndarray, idx: Any, trailing: int) -> Any:
 # --------------------------------------------------------------------------
 
 
-def _kind(x: Any) -> str:
+def _kind(x: object) -> str:
     return type(x).__name__ if not isinstance(x, np.ndarray) else "numpy.ndarray"
 
 
@@ -170,7 +171,7 @@ def _fmt(a: np.ndarray) -> str:
     return np.array2string(np.asarray(a), precision=6, separator=", ", threshold=20)
 
 
-def _tags(obj: Any) -> str:
+def _tags(obj: object) -> str:
     out = []
     for name in ("frame", "body", "relative_to", "source", "target"):
         val = getattr(obj, name, None)

@@ -12,9 +12,10 @@ Sources: RBDA (2008) §2.8, eqs. 2.24–2.25; chapter §3; spatial_v2.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any, NoReturn
+from typing import Any, NoReturn, overload
 
 import numpy as np
+from numpy.typing import ArrayLike, DTypeLike
 
 from ._spatial_inertia import SpatialInertia, _bcast_inertia
 from ._spatial_ops import _batch_index, _bcast, _bcast_rp, _cross3, _fmt, _kind, _matvec, _mT, _skew, _tags, _unskew
@@ -23,6 +24,9 @@ from ._validation import as_array, check_rotation, readonly, result_dtype
 from .errors import ShapeError, SpatialTypeError
 from .frames import Frame, check_same_frame
 from .tolerances import SPATIAL_STRUCTURE
+
+#: what a transform acts on
+_Transformable = SpatialMotion | SpatialForce | SpatialInertia
 
 
 @dataclass(frozen=True, slots=True, init=False, eq=False, repr=False)
@@ -53,7 +57,7 @@ class PluckerTransform(_SpatialValue):
     __array_ufunc__ = None
 
     def __init__(
-        self, rotation: Any, translation: Any, source: Frame = None, target: Frame = None, *, validate: bool = True
+        self, rotation: ArrayLike, translation: ArrayLike, source: Frame = None, target: Frame = None, *, validate: bool = True
     ) -> None:
         rot = as_array(rotation, "rotation", (3, 3))
         p = as_array(translation, "translation", (3,))
@@ -71,7 +75,7 @@ class PluckerTransform(_SpatialValue):
 
     @classmethod
     def identity(
-        cls, shape: tuple[int, ...] = (), dtype: Any = np.float64, source: Frame = None, target: Frame = None
+        cls, shape: tuple[int, ...] = (), dtype: DTypeLike = np.float64, source: Frame = None, target: Frame = None
     ) -> PluckerTransform:
         """The identity transform with batch shape ``shape``."""
         rot = np.broadcast_to(np.eye(3, dtype=dtype), tuple(shape) + (3, 3)).copy()
@@ -79,7 +83,7 @@ class PluckerTransform(_SpatialValue):
 
     @classmethod
     def from_homogeneous(
-        cls, matrix: Any, source: Frame = None, target: Frame = None, *, validate: bool = True
+        cls, matrix: ArrayLike, source: Frame = None, target: Frame = None, *, validate: bool = True
     ) -> PluckerTransform:
         """From a `(..., 4, 4)` homogeneous matrix ``[[R, p], [0, 1]]`` (the pose of A in B)."""
         t = as_array(matrix, "matrix", (4, 4))
@@ -93,7 +97,7 @@ class PluckerTransform(_SpatialValue):
         return cls(t[..., :3, :3], t[..., :3, 3], source, target, validate=validate)
 
     @classmethod
-    def from_plux(cls, E: Any, r: Any, source: Frame = None, target: Frame = None) -> PluckerTransform:
+    def from_plux(cls, E: ArrayLike, r: ArrayLike, source: Frame = None, target: Frame = None) -> PluckerTransform:
         """From Featherstone's ``plux(E, r)``: ``E`` rotates A- to B-coordinates, ``r`` is B's origin in A.
 
         ::
@@ -108,7 +112,7 @@ class PluckerTransform(_SpatialValue):
         return cls._wrap(*_bcast_rp(e, -_matvec(e, rr)), source, target)
 
     @classmethod
-    def from_matrix(cls, matrix: Any, source: Frame = None, target: Frame = None) -> PluckerTransform:
+    def from_matrix(cls, matrix: ArrayLike, source: Frame = None, target: Frame = None) -> PluckerTransform:
         """From a `(..., 6, 6)` motion transform matrix ``[[R, 0], [[p]×R, R]]`` (structure checked)."""
         x = as_array(matrix, "matrix", (6, 6))
         rot = x[..., :3, :3]
@@ -137,7 +141,14 @@ class PluckerTransform(_SpatialValue):
 
     # action on spatial values ----------------------------------------------
 
-    def apply(self, x: Any) -> Any:
+    @overload
+    def apply(self, x: SpatialMotion) -> SpatialMotion: ...
+    @overload
+    def apply(self, x: SpatialForce) -> SpatialForce: ...
+    @overload
+    def apply(self, x: SpatialInertia) -> SpatialInertia: ...
+
+    def apply(self, x: _Transformable) -> _Transformable:
         """Transform a motion (``X m``), a force (``X* f``) or an inertia (``X* I X⁻¹``) from A to B.
 
         Args:
@@ -168,7 +179,14 @@ class PluckerTransform(_SpatialValue):
             return SpatialInertia._wrap(*_bcast_inertia(x.mass, com, ic), self.target)
         raise _apply_type_error("X.apply", x)
 
-    def apply_inverse(self, x: Any) -> Any:
+    @overload
+    def apply_inverse(self, x: SpatialMotion) -> SpatialMotion: ...
+    @overload
+    def apply_inverse(self, x: SpatialForce) -> SpatialForce: ...
+    @overload
+    def apply_inverse(self, x: SpatialInertia) -> SpatialInertia: ...
+
+    def apply_inverse(self, x: _Transformable) -> _Transformable:
         """Transform from B back to A: ``X⁻¹ m``, ``X⁻¹* f = Xᵀ f``, ``Xᵀ I X`` (Pinocchio's ``actInv``).
 
         Equal to ``X.inverse().apply(x)`` without forming the inverse::
@@ -194,7 +212,16 @@ class PluckerTransform(_SpatialValue):
             return SpatialInertia._wrap(*_bcast_inertia(x.mass, com, ic), self.source)
         raise _apply_type_error("X.apply_inverse", x)
 
-    def __matmul__(self, other: Any) -> Any:
+    @overload
+    def __matmul__(self, other: PluckerTransform) -> PluckerTransform: ...
+    @overload
+    def __matmul__(self, other: SpatialMotion) -> SpatialMotion: ...
+    @overload
+    def __matmul__(self, other: SpatialForce) -> SpatialForce: ...
+    @overload
+    def __matmul__(self, other: SpatialInertia) -> SpatialInertia: ...
+
+    def __matmul__(self, other: PluckerTransform | _Transformable) -> PluckerTransform | _Transformable:
         """``X_CB @ X_BA = X_CA`` (composition); ``X @ value`` is ``X.apply(value)``.
 
         ::
@@ -208,7 +235,7 @@ class PluckerTransform(_SpatialValue):
             return PluckerTransform._wrap(*_bcast_rp(rot, p), other.source, self.target)
         return self.apply(other)
 
-    def __rmatmul__(self, other: Any) -> NoReturn:
+    def __rmatmul__(self, other: object) -> NoReturn:
         raise _apply_type_error("@", other)
 
     def inverse(self) -> PluckerTransform:
@@ -266,7 +293,7 @@ class PluckerTransform(_SpatialValue):
         return f"PluckerTransform(rotation={_fmt(self.rotation)}, translation={_fmt(self.translation)}{_tags(self)})"
 
 
-def _apply_type_error(what: str, x: Any) -> SpatialTypeError:
+def _apply_type_error(what: str, x: object) -> SpatialTypeError:
     return SpatialTypeError(
         f"{what} needs a SpatialMotion, SpatialForce or SpatialInertia, got a {_kind(x)}: motions transform "
         "with X and forces with X* = X⁻ᵀ, so a raw 6-vector is ambiguous. Wrap it with "
@@ -274,14 +301,14 @@ def _apply_type_error(what: str, x: Any) -> SpatialTypeError:
     )
 
 
-def _init_x(obj: Any, rot: np.ndarray, p: np.ndarray, source: Frame, target: Frame) -> None:
+def _init_x(obj: object, rot: np.ndarray, p: np.ndarray, source: Frame, target: Frame) -> None:
     object.__setattr__(obj, "rotation", readonly(rot))
     object.__setattr__(obj, "translation", readonly(p))
     object.__setattr__(obj, "source", source)
     object.__setattr__(obj, "target", target)
 
 
-def rotx(theta: Any) -> PluckerTransform:
+def rotx(theta: ArrayLike) -> PluckerTransform:
     """spatial_v2 ``rotx``: the coordinate transform to a frame rotated by ``theta`` about x.
 
     A coordinate transform (as in the book), so ``R = Rx(θ)ᵀ``::
@@ -291,17 +318,17 @@ def rotx(theta: Any) -> PluckerTransform:
     return _rot_axis(theta, 0)
 
 
-def roty(theta: Any) -> PluckerTransform:
+def roty(theta: ArrayLike) -> PluckerTransform:
     """spatial_v2 ``roty``: ``E = [[c, 0, −s], [0, 1, 0], [s, 0, c]]`` (``R = Ry(θ)ᵀ``)."""
     return _rot_axis(theta, 1)
 
 
-def rotz(theta: Any) -> PluckerTransform:
+def rotz(theta: ArrayLike) -> PluckerTransform:
     """spatial_v2 ``rotz``: ``E = [[c, s, 0], [−s, c, 0], [0, 0, 1]]`` (``R = Rz(θ)ᵀ``)."""
     return _rot_axis(theta, 2)
 
 
-def _rot_axis(theta: Any, axis: int) -> PluckerTransform:
+def _rot_axis(theta: ArrayLike, axis: int) -> PluckerTransform:
     t = as_array(theta, "theta")
     if t.dtype.kind == "O":
         import sympy
@@ -323,7 +350,7 @@ def _rot_axis(theta: Any, axis: int) -> PluckerTransform:
     return PluckerTransform._wrap(e, np.zeros(t.shape + (3,), dtype=t.dtype), None, None)
 
 
-def xlt(r: Any) -> PluckerTransform:
+def xlt(r: ArrayLike) -> PluckerTransform:
     """spatial_v2 ``xlt``: the coordinate transform to a frame whose origin is at ``r``.
 
     ::
@@ -335,6 +362,6 @@ def xlt(r: Any) -> PluckerTransform:
     return PluckerTransform._wrap(rot, -rr, None, None)
 
 
-def plux(E: Any, r: Any) -> PluckerTransform:
+def plux(E: ArrayLike, r: ArrayLike) -> PluckerTransform:
     """spatial_v2 ``plux(E, r) = rot(E) @ xlt(r)``; see :meth:`PluckerTransform.from_plux`."""
     return PluckerTransform.from_plux(E, r)

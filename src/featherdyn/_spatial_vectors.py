@@ -18,9 +18,10 @@ Sources: RBDA (2008) §2.2–§2.9; chapter §2, §4 and §13.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any, ClassVar, NamedTuple, NoReturn
+from typing import Any, ClassVar, NamedTuple, NoReturn, overload
 
 import numpy as np
+from numpy.typing import ArrayLike, DTypeLike
 
 from ._spatial_ops import (
     _adopt_dtype,
@@ -54,7 +55,7 @@ class _SpatialValue:
     _mix_note: ClassVar[str] = ""
 
 
-def _mix_error(op: str, left: Any, right: Any) -> NoReturn:
+def _mix_error(op: str, left: object, right: object) -> NoReturn:
     lk, rk = _kind(left), _kind(right)
     pair = {type(left), type(right)}
     if pair == {SpatialMotion, SpatialForce}:
@@ -71,7 +72,7 @@ def _mix_error(op: str, left: Any, right: Any) -> NoReturn:
     raise SpatialTypeError(f"cannot {op} a {lk} and a {rk}: {_raw_hint(cls)}")
 
 
-def _raw_motion(v: Any, name: str) -> np.ndarray:
+def _raw_motion(v: object, name: str) -> np.ndarray:
     """A motion argument as a raw (..., 6) array; a SpatialForce is refused."""
     if isinstance(v, SpatialMotion):
         return v.vector
@@ -85,7 +86,7 @@ def _raw_motion(v: Any, name: str) -> np.ndarray:
     return as_array(v, name, (6,))
 
 
-def _raw_force(f: Any, name: str) -> np.ndarray:
+def _raw_force(f: object, name: str) -> np.ndarray:
     if isinstance(f, SpatialForce):
         return f.vector
     if isinstance(f, SpatialMotion):
@@ -98,7 +99,7 @@ def _raw_force(f: Any, name: str) -> np.ndarray:
     return as_array(f, name, (6,))
 
 
-def _scalar_factor(s: Any, batch_shape: tuple[int, ...], what: str, dtype: np.dtype) -> np.ndarray:
+def _scalar_factor(s: object, batch_shape: tuple[int, ...], what: str, dtype: np.dtype) -> np.ndarray:
     if isinstance(s, _SpatialValue):
         raise SpatialTypeError(
             f"{what}: cannot multiply by a {_kind(s)}; use cross (v × m, v ×* f), dot (power) or inertia @ motion"
@@ -168,7 +169,7 @@ class SpatialMotion(_SpatialValue):
     __array_ufunc__ = None  # make numpy defer to our reflected operators
 
     def __init__(
-        self, angular: Any, linear: Any, frame: Frame = None, *, body: Frame = None, relative_to: Frame = None
+        self, angular: ArrayLike, linear: ArrayLike, frame: Frame = None, *, body: Frame = None, relative_to: Frame = None
     ) -> None:
         w = as_array(angular, "angular", (3,))
         v = as_array(linear, "linear", (3,))
@@ -181,20 +182,20 @@ class SpatialMotion(_SpatialValue):
 
     @classmethod
     def from_vector(
-        cls, vector: Any, frame: Frame = None, *, body: Frame = None, relative_to: Frame = None
+        cls, vector: ArrayLike, frame: Frame = None, *, body: Frame = None, relative_to: Frame = None
     ) -> SpatialMotion:
         """Wrap a raw `(..., 6)` array in Featherstone order ``[ω; v]`` (copied, read-only)."""
         vec = as_array(vector, "vector", (6,), copy=True)
         return cls._wrap(vec, frame, body, relative_to)
 
     @classmethod
-    def zero(cls, shape: tuple[int, ...] = (), dtype: Any = np.float64, frame: Frame = None) -> SpatialMotion:
+    def zero(cls, shape: tuple[int, ...] = (), dtype: DTypeLike = np.float64, frame: Frame = None) -> SpatialMotion:
         """The zero motion with batch shape ``shape``."""
         return cls._wrap(np.zeros(tuple(shape) + (6,), dtype=dtype), frame, None, None)
 
     @classmethod
     def from_screw(
-        cls, direction: Any, point: Any, pitch: Any, magnitude: Any = 1.0, frame: Frame = None
+        cls, direction: ArrayLike, point: ArrayLike, pitch: ArrayLike, magnitude: ArrayLike = 1.0, frame: Frame = None
     ) -> SpatialMotion:
         """The motion of a screw: rotation ``magnitude`` about the axis through ``point`` along ``direction``.
 
@@ -267,39 +268,39 @@ class SpatialMotion(_SpatialValue):
 
     # linear structure within the type ------------------------------------
 
-    def __add__(self, other: Any) -> SpatialMotion:
+    def __add__(self, other: SpatialMotion) -> SpatialMotion:
         if not isinstance(other, SpatialMotion):
             _mix_error("add", self, other)
         frame = merge_frames(self.frame, other.frame, "motion + motion")
         body, rel = chain_bodies(self.body, self.relative_to, other.body, other.relative_to, "motion + motion")
         return SpatialMotion._wrap(self.vector + other.vector, frame, body, rel)
 
-    def __radd__(self, other: Any) -> NoReturn:
+    def __radd__(self, other: object) -> NoReturn:
         _mix_error("add", other, self)
 
-    def __sub__(self, other: Any) -> SpatialMotion:
+    def __sub__(self, other: SpatialMotion) -> SpatialMotion:
         if not isinstance(other, SpatialMotion):
             _mix_error("subtract", self, other)
         return self + (-other)
 
-    def __rsub__(self, other: Any) -> NoReturn:
+    def __rsub__(self, other: object) -> NoReturn:
         _mix_error("subtract", other, self)
 
     def __neg__(self) -> SpatialMotion:
         # v_B/A = −v_A/B
         return SpatialMotion._wrap(-self.vector, self.frame, self.relative_to, self.body)
 
-    def __mul__(self, scalar: Any) -> SpatialMotion:
+    def __mul__(self, scalar: ArrayLike) -> SpatialMotion:
         s = _scalar_factor(scalar, self.shape, "motion * scalar", self.dtype)
         return SpatialMotion._wrap(self.vector * s[..., None], self.frame, self.body, self.relative_to)
 
     __rmul__ = __mul__
 
-    def __truediv__(self, scalar: Any) -> SpatialMotion:
+    def __truediv__(self, scalar: ArrayLike) -> SpatialMotion:
         s = _scalar_factor(scalar, self.shape, "motion / scalar", self.dtype)
         return SpatialMotion._wrap(self.vector / s[..., None], self.frame, self.body, self.relative_to)
 
-    def __matmul__(self, other: Any) -> NoReturn:
+    def __matmul__(self, other: object) -> NoReturn:
         raise SpatialTypeError(
             "motion @ x is not defined: use motion.dot(force) for power, motion.cross(x) for the spatial "
             "cross product, or X @ motion / inertia @ motion"
@@ -309,7 +310,7 @@ class SpatialMotion(_SpatialValue):
 
     # products ----------------------------------------------------------------
 
-    def dot(self, force: Any) -> Any:
+    def dot(self, force: SpatialForce) -> Any:
         """Power: the scalar product of this motion with a force, `(...)`.
 
         ::
@@ -329,7 +330,12 @@ class SpatialMotion(_SpatialValue):
         check_same_frame(self.frame, force.frame, "motion.dot(force)")
         return _sum_last(self.vector * force.vector)
 
-    def cross(self, other: Any) -> SpatialMotion | SpatialForce:
+    @overload
+    def cross(self, other: SpatialMotion) -> SpatialMotion: ...
+    @overload
+    def cross(self, other: SpatialForce) -> SpatialForce: ...
+
+    def cross(self, other: SpatialMotion | SpatialForce) -> SpatialMotion | SpatialForce:
         """Spatial cross product, dispatching on the argument type.
 
         ``motion.cross(m)`` is ``v × m`` (:func:`cross_motion`), ``motion.cross(f)``
@@ -382,7 +388,7 @@ class SpatialForce(_SpatialValue):
 
     __array_ufunc__ = None
 
-    def __init__(self, angular: Any, linear: Any, frame: Frame = None) -> None:
+    def __init__(self, angular: ArrayLike, linear: ArrayLike, frame: Frame = None) -> None:
         n = as_array(angular, "angular", (3,))
         f = as_array(linear, "linear", (3,))
         shape = np.broadcast_shapes(n.shape[:-1], f.shape[:-1])
@@ -392,12 +398,12 @@ class SpatialForce(_SpatialValue):
         _init(self, vec, frame)
 
     @classmethod
-    def from_vector(cls, vector: Any, frame: Frame = None) -> SpatialForce:
+    def from_vector(cls, vector: ArrayLike, frame: Frame = None) -> SpatialForce:
         """Wrap a raw `(..., 6)` array in Featherstone order ``[n; f]`` (copied, read-only)."""
         return cls._wrap(as_array(vector, "vector", (6,), copy=True), frame)
 
     @classmethod
-    def zero(cls, shape: tuple[int, ...] = (), dtype: Any = np.float64, frame: Frame = None) -> SpatialForce:
+    def zero(cls, shape: tuple[int, ...] = (), dtype: DTypeLike = np.float64, frame: Frame = None) -> SpatialForce:
         """The zero force with batch shape ``shape``."""
         return cls._wrap(np.zeros(tuple(shape) + (6,), dtype=dtype), frame)
 
@@ -435,43 +441,43 @@ class SpatialForce(_SpatialValue):
             raise TypeError("len() of an unbatched SpatialForce")
         return int(self.vector.shape[0])
 
-    def __add__(self, other: Any) -> SpatialForce:
+    def __add__(self, other: SpatialForce) -> SpatialForce:
         if not isinstance(other, SpatialForce):
             _mix_error("add", self, other)
         return SpatialForce._wrap(self.vector + other.vector, merge_frames(self.frame, other.frame, "force + force"))
 
-    def __radd__(self, other: Any) -> NoReturn:
+    def __radd__(self, other: object) -> NoReturn:
         _mix_error("add", other, self)
 
-    def __sub__(self, other: Any) -> SpatialForce:
+    def __sub__(self, other: SpatialForce) -> SpatialForce:
         if not isinstance(other, SpatialForce):
             _mix_error("subtract", self, other)
         return SpatialForce._wrap(self.vector - other.vector, merge_frames(self.frame, other.frame, "force - force"))
 
-    def __rsub__(self, other: Any) -> NoReturn:
+    def __rsub__(self, other: object) -> NoReturn:
         _mix_error("subtract", other, self)
 
     def __neg__(self) -> SpatialForce:
         return SpatialForce._wrap(-self.vector, self.frame)
 
-    def __mul__(self, scalar: Any) -> SpatialForce:
+    def __mul__(self, scalar: ArrayLike) -> SpatialForce:
         s = _scalar_factor(scalar, self.shape, "force * scalar", self.dtype)
         return SpatialForce._wrap(self.vector * s[..., None], self.frame)
 
     __rmul__ = __mul__
 
-    def __truediv__(self, scalar: Any) -> SpatialForce:
+    def __truediv__(self, scalar: ArrayLike) -> SpatialForce:
         s = _scalar_factor(scalar, self.shape, "force / scalar", self.dtype)
         return SpatialForce._wrap(self.vector / s[..., None], self.frame)
 
-    def __matmul__(self, other: Any) -> NoReturn:
+    def __matmul__(self, other: object) -> NoReturn:
         raise SpatialTypeError(
             "force @ x is not defined: use motion.dot(force) for power or X @ force to transform it"
         )
 
     __rmatmul__ = __matmul__
 
-    def dot(self, motion: Any) -> Any:
+    def dot(self, motion: SpatialMotion) -> Any:
         """Power ``f · m``, the same pairing as :meth:`SpatialMotion.dot`, `(...)`."""
         if isinstance(motion, SpatialForce):
             raise SpatialTypeError(
@@ -482,7 +488,7 @@ class SpatialForce(_SpatialValue):
             _mix_error("take the power (dot) of", self, motion)
         return motion.dot(self)
 
-    def cross(self, other: Any) -> NoReturn:
+    def cross(self, other: object) -> NoReturn:
         raise SpatialTypeError(
             "a force has no cross product on the left: the spatial cross products are motion × motion "
             "(cross_motion, crm) and motion ×* force (cross_force, crf). Did you mean motion.cross(force)?"
@@ -499,7 +505,7 @@ class SpatialForce(_SpatialValue):
         return f"SpatialForce(angular={_fmt(self.angular)}, linear={_fmt(self.linear)}{_tags(self)})"
 
 
-def _init(obj: Any, vec: np.ndarray, frame: Frame, **tags: Frame) -> None:
+def _init(obj: object, vec: np.ndarray, frame: Frame, **tags: Frame) -> None:
     object.__setattr__(obj, "vector", readonly(vec))
     object.__setattr__(obj, "frame", frame)
     for k, val in tags.items():
@@ -511,7 +517,7 @@ def _init(obj: Any, vec: np.ndarray, frame: Frame, **tags: Frame) -> None:
 # --------------------------------------------------------------------------
 
 
-def crm(v: Any) -> np.ndarray:
+def crm(v: SpatialMotion | ArrayLike) -> np.ndarray:
     """The motion cross-product matrix ``[v]×`` (Lynch–Park ``[ad_V]``).
 
     Args:
@@ -531,7 +537,7 @@ def crm(v: Any) -> np.ndarray:
     return np.concatenate([np.concatenate([w, zero], axis=-1), np.concatenate([lin, w], axis=-1)], axis=-2)
 
 
-def crf(v: Any) -> np.ndarray:
+def crf(v: SpatialMotion | ArrayLike) -> np.ndarray:
     """The force cross-product matrix ``[v]×* = −[v]×ᵀ`` (Lynch–Park ``−[ad_V]ᵀ``).
 
     Args:
@@ -548,7 +554,7 @@ def crf(v: Any) -> np.ndarray:
     return -_mT(crm(v))
 
 
-def cross_motion(v: Any, m: Any) -> SpatialMotion:
+def cross_motion(v: SpatialMotion | ArrayLike, m: SpatialMotion | ArrayLike) -> SpatialMotion:
     """Motion cross product ``v × m`` (the Lie bracket of se(3), ``ad_v m``).
 
     Args:
@@ -567,7 +573,7 @@ def cross_motion(v: Any, m: Any) -> SpatialMotion:
     return SpatialMotion._wrap(_crm_apply(vv, mm), frame)
 
 
-def cross_force(v: Any, f: Any) -> SpatialForce:
+def cross_force(v: SpatialMotion | ArrayLike, f: SpatialForce | ArrayLike) -> SpatialForce:
     """Force cross product ``v ×* f`` (the coadjoint ``−ad_vᵀ f``).
 
     Args:
@@ -586,7 +592,7 @@ def cross_force(v: Any, f: Any) -> SpatialForce:
     return SpatialForce._wrap(_crf_apply(vv, ff), frame)
 
 
-def screw_parameters(motion: Any) -> Screw:
+def screw_parameters(motion: SpatialMotion | ArrayLike) -> Screw:
     """Chasles' screw of a motion: axis direction, nearest axis point, pitch, magnitude.
 
     Args:

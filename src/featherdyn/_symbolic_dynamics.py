@@ -15,13 +15,17 @@ from __future__ import annotations
 
 import dataclasses
 import itertools
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from typing import Any, NamedTuple
 
 import numpy as np
 
-from ._symbolic_reduce import _mat, _obj, _pretty, _Reducer, _sympy, canonical, is_zero
+from ._symbolic_reduce import SymExpr, SymMatrix, _mat, _obj, _pretty, _Reducer, _sympy, canonical, is_zero
+from .api import coriolis_matrix, crba, generalized_gravity
 from .errors import ShapeError
+from .joints import RevoluteJoint
+from .model import Model, ModelBuilder
+from .spatial_algebra import PluckerTransform, SpatialInertia
 
 #: the chapter's appendix-D arm (D.1): lengths, masses, CoM distances from the joint, I_zz about the CoM
 APPENDIX_D: dict[str, float] = {
@@ -31,7 +35,13 @@ APPENDIX_D: dict[str, float] = {
 }
 
 
-def symbolic_model(model: Any, *, inertias: Any = None, placements: Any = None, gravity: Any = None) -> Any:
+def symbolic_model(
+    model: Model,
+    *,
+    inertias: SpatialInertia | None = None,
+    placements: PluckerTransform | None = None,
+    gravity: Sequence[SymExpr] | np.ndarray | None = None,
+) -> Model:
     """A copy of ``model`` whose inertias, joint placements or gravity hold SymPy expressions.
 
     :class:`~featherdyn.ModelBuilder` accepts floating-point data only; this
@@ -44,8 +54,6 @@ def symbolic_model(model: Any, *, inertias: Any = None, placements: Any = None, 
         placements: a :class:`~featherdyn.PluckerTransform` with batch shape `(nb,)`.
         gravity: `(3,)` gravity in world coordinates.
     """
-    from .spatial_algebra import PluckerTransform, SpatialInertia
-
     nb = model.nbodies
     changes: dict[str, Any] = {}
     if inertias is not None:
@@ -68,7 +76,7 @@ def symbolic_model(model: Any, *, inertias: Any = None, placements: Any = None, 
     return dataclasses.replace(model, **changes)
 
 
-def _exact(x: Any) -> Any:
+def _exact(x: object) -> SymExpr:
     """A float as the rational it prints as (``0.1 → 1/10``); anything else through ``sympify``."""
     sp = _sympy()
     if isinstance(x, (float, np.floating)):
@@ -76,7 +84,7 @@ def _exact(x: Any) -> Any:
     return sp.sympify(x)
 
 
-def _placeholders(a: np.ndarray, table: dict[Any, Any]) -> np.ndarray:
+def _placeholders(a: np.ndarray, table: dict[SymExpr, SymExpr]) -> np.ndarray:
     """``a`` as an object array in which every entry other than an integer or a plain symbol is a
     placeholder symbol (see :func:`_exact_model`); ``table`` maps each value to its placeholder."""
     sp = _sympy()
@@ -93,7 +101,7 @@ def _placeholders(a: np.ndarray, table: dict[Any, Any]) -> np.ndarray:
     return out
 
 
-def _exact_model(model: Any) -> tuple[Any, dict[Any, Any]]:
+def _exact_model(model: Model) -> tuple[Model, dict[SymExpr, SymExpr]]:
     """``model`` with every model constant that is not an integer or a plain symbol (inertias, placements,
     gravity) replaced by a placeholder symbol, and the map from each placeholder to its exact value.
 
@@ -103,9 +111,7 @@ def _exact_model(model: Any) -> tuple[Any, dict[Any, Any]]:
     symbolic until the end, where the exact values (floats as the rationals
     they print as) are substituted.
     """
-    from .spatial_algebra import PluckerTransform, SpatialInertia
-
-    table: dict[Any, Any] = {}
+    table: dict[SymExpr, SymExpr] = {}
     I, X = model.inertias, model.joint_placements
     sym = symbolic_model(
         model,
@@ -118,17 +124,17 @@ def _exact_model(model: Any) -> tuple[Any, dict[Any, Any]]:
     return sym, {d: x for x, d in table.items()}
 
 
-def _vector(x: Any, n: int, name: str) -> np.ndarray:
+def _vector(x: Sequence[SymExpr] | np.ndarray, n: int, name: str) -> np.ndarray:
     arr = np.asarray(list(x) if not isinstance(x, np.ndarray) else x, dtype=object)
     if arr.shape != (n,):
         raise ShapeError(f"{name}: expected {n} entries, got shape {arr.shape}")
     return arr
 
 
-def _finish(M: np.ndarray, pretty: bool, values: Mapping[Any, Any]) -> Any:
+def _finish(M: np.ndarray, pretty: bool, values: Mapping[SymExpr, SymExpr]) -> SymMatrix:
     red = _Reducer()
 
-    def one(e: Any) -> Any:
+    def one(e: SymExpr) -> SymExpr:
         r = red.reduce(e)
         if values:
             r = red.reduce(r.xreplace(dict(values)))
@@ -138,7 +144,7 @@ def _finish(M: np.ndarray, pretty: bool, values: Mapping[Any, Any]) -> Any:
     return out.applyfunc(_pretty) if pretty else out
 
 
-def mass_matrix(model: Any, q: Any, *, pretty: bool = True) -> Any:
+def mass_matrix(model: Model, q: Sequence[SymExpr] | np.ndarray, *, pretty: bool = True) -> SymMatrix:
     """The joint-space mass matrix ``M(q)`` as a SymPy matrix, from :func:`featherdyn.crba` on symbols.
 
     Args:
@@ -151,28 +157,24 @@ def mass_matrix(model: Any, q: Any, *, pretty: bool = True) -> Any:
 
         M_ij = S_iᵀ ⁱX_j^* I^C_j S_j      (CRBA, chapter §5.3)
     """
-    from .api import crba
-
     sym, values = _exact_model(model)
     return _finish(crba(sym, _vector(q, model.nq, "q")), pretty, values)
 
 
-def coriolis(model: Any, q: Any, v: Any, *, pretty: bool = True) -> Any:
+def coriolis(
+    model: Model, q: Sequence[SymExpr] | np.ndarray, v: Sequence[SymExpr] | np.ndarray, *, pretty: bool = True
+) -> SymMatrix:
     """The Coriolis matrix ``C(q, q̇)`` (Pinocchio's factorisation, ``Ṁ − 2C`` skew) from :func:`featherdyn.coriolis_matrix`.
 
     ``C(q, q̇) q̇ = RNEA(q, q̇, 0) − g(q)``; for the 2R arm it equals the
     Christoffel-symbol matrix of the Lagrangian derivation.
     """
-    from .api import coriolis_matrix
-
     sym, values = _exact_model(model)
     return _finish(coriolis_matrix(sym, _vector(q, model.nq, "q"), _vector(v, model.nv, "v")), pretty, values)
 
 
-def gravity(model: Any, q: Any, *, pretty: bool = True) -> Any:
+def gravity(model: Model, q: Sequence[SymExpr] | np.ndarray, *, pretty: bool = True) -> SymMatrix:
     """The generalised gravity ``g(q) = RNEA(q, 0, 0)`` as an `(nv, 1)` SymPy matrix."""
-    from .api import generalized_gravity
-
     sym, values = _exact_model(model)
     return _finish(generalized_gravity(sym, _vector(q, model.nq, "q"))[:, None], pretty, values)
 
@@ -185,22 +187,22 @@ def gravity(model: Any, q: Any, *, pretty: bool = True) -> Any:
 class TwoLinkDynamics(NamedTuple):
     """``M(q) q̈ + C(q, q̇) q̇ + g(q) = τ`` of a planar 2R arm, as SymPy objects."""
 
-    q: tuple[Any, Any]
-    v: tuple[Any, Any]
-    M: Any
-    C: Any
-    g: Any
-    kinetic: Any
-    potential: Any
+    q: tuple[SymExpr, SymExpr]
+    v: tuple[SymExpr, SymExpr]
+    M: SymMatrix
+    C: SymMatrix
+    g: SymMatrix
+    kinetic: SymExpr
+    potential: SymExpr
 
 
-def two_link_symbols() -> dict[str, Any]:
+def two_link_symbols() -> dict[str, SymExpr]:
     """The arm's parameters as positive SymPy symbols ``l1 m1 c1 I1 l2 m2 c2 I2 g``."""
     sp = _sympy()
     return {name: sp.Symbol(name, positive=True) for name in APPENDIX_D}
 
 
-def two_link_arm(params: Mapping[str, Any] | None = None) -> Any:
+def two_link_arm(params: Mapping[str, float | SymExpr] | None = None) -> Model:
     """The chapter's planar 2R arm (appendix D.1) as a featherdyn model.
 
     Both joints turn about z; the arm moves in the vertical x–y plane with
@@ -215,12 +217,8 @@ def two_link_arm(params: Mapping[str, Any] | None = None) -> Any:
             expressions); missing names are symbols. Numbers only → a float
             model, anything symbolic → a :func:`symbolic_model`.
     """
-    from .joints import RevoluteJoint
-    from .model import ModelBuilder
-    from .spatial_algebra import PluckerTransform, SpatialInertia
-
     sp = _sympy()
-    values: dict[str, Any] = two_link_symbols()
+    values: dict[str, SymExpr] = two_link_symbols()
     values.update(params or {})
     numeric = {k: v for k, v in values.items() if isinstance(v, (int, float, np.floating, np.integer))}
     f = {k: float(numeric.get(k, APPENDIX_D[k])) for k in APPENDIX_D}
@@ -249,7 +247,7 @@ def two_link_arm(params: Mapping[str, Any] | None = None) -> Any:
     return symbolic_model(model, inertias=inertias, placements=placements, gravity=_obj([zero, -v["g"], zero]))
 
 
-def lagrangian_two_link(params: Mapping[str, Any] | None = None) -> TwoLinkDynamics:
+def lagrangian_two_link(params: Mapping[str, float | SymExpr] | None = None) -> TwoLinkDynamics:
     """``M``, ``C``, ``g`` of the 2R arm from its Lagrangian, with no spatial algebra (appendix I, exercise 5).
 
     With ``θ₁ = q₁``, ``θ₂ = q₁ + q₂`` and the CoMs at
@@ -267,7 +265,7 @@ def lagrangian_two_link(params: Mapping[str, Any] | None = None) -> TwoLinkDynam
         params: values for some of ``l1 m1 c1 I1 m2 c2 I2 g``; the rest stay symbols.
     """
     sp = _sympy()
-    p: dict[str, Any] = two_link_symbols()
+    p: dict[str, SymExpr] = two_link_symbols()
     p.update({k: _exact(val) for k, val in (params or {}).items()})
     q1, q2 = sp.symbols("q1 q2", real=True)
     v1, v2 = sp.symbols("v1 v2", real=True)
@@ -301,7 +299,7 @@ def lagrangian_two_link(params: Mapping[str, Any] | None = None) -> TwoLinkDynam
     )
 
 
-def check_two_link(params: Mapping[str, Any] | None = None) -> bool:
+def check_two_link(params: Mapping[str, float | SymExpr] | None = None) -> bool:
     """The Lagrangian ``M``, ``C``, ``g`` of the 2R arm equal the spatial-algebra ones, exactly.
 
     The spatial side is :func:`mass_matrix`, :func:`coriolis` and

@@ -16,14 +16,19 @@ Sources: Cox, Little & O'Shea, *Ideals, Varieties, and Algorithms* ch. 2 (remain
 from __future__ import annotations
 
 from collections.abc import Iterable, Sequence
-from typing import Any
+from types import ModuleType
+from typing import Any, TypeAlias
 
 import numpy as np
 
 from .errors import MissingDependencyError
 
+# SymPy ships no type stubs: its expressions (and matrices of them) are typed by name only.
+SymExpr: TypeAlias = Any
+SymMatrix: TypeAlias = Any
 
-def _sympy() -> Any:
+
+def _sympy() -> ModuleType:
     try:
         import sympy
     except ImportError:
@@ -33,12 +38,12 @@ def _sympy() -> Any:
     return sympy
 
 
-def _obj(values: Iterable[Any]) -> np.ndarray:
+def _obj(values: Iterable[SymExpr]) -> np.ndarray:
     """An object array (SymPy entries) from a nested sequence."""
     return np.array(list(values) if not isinstance(values, np.ndarray) else values, dtype=object)
 
 
-def _mat(a: Any) -> Any:
+def _mat(a: np.ndarray) -> SymMatrix:
     return _sympy().Matrix(np.asarray(a, dtype=object).tolist())
 
 
@@ -55,18 +60,18 @@ class _Reducer:
     and denominator reduced.
     """
 
-    def __init__(self, quaternion: Sequence[Any] | None = None) -> None:
+    def __init__(self, quaternion: Sequence[SymExpr] | None = None) -> None:
         self.sp = _sympy()
         self.quaternion = tuple(quaternion) if quaternion is not None else None
-        self._sc: dict[Any, tuple[Any, Any]] = {}
+        self._sc: dict[SymExpr, tuple[SymExpr, SymExpr]] = {}
 
-    def _pair(self, arg: Any) -> tuple[Any, Any]:
+    def _pair(self, arg: SymExpr) -> tuple[SymExpr, SymExpr]:
         if arg not in self._sc:
             name = str(arg)
             self._sc[arg] = (self.sp.Symbol(f"_s[{name}]", real=True), self.sp.Symbol(f"_c[{name}]", real=True))
         return self._sc[arg]
 
-    def poly(self, expr: Any) -> Any:
+    def poly(self, expr: SymExpr) -> SymExpr:
         """``expr`` with floats made rational and sin/cos of symbols replaced by ``s``/``c`` symbols."""
         sp = self.sp
         expr = sp.sympify(expr)
@@ -83,7 +88,7 @@ class _Reducer:
             mapping[t] = s if isinstance(t, sp.sin) else c
         return expr.xreplace(mapping) if mapping else expr
 
-    def reduce(self, expr: Any) -> Any:
+    def reduce(self, expr: SymExpr) -> SymExpr:
         """The canonical form of ``expr``: a reduced, expanded polynomial (or a quotient of two, cancelled)."""
         sp = self.sp
         e = self.poly(expr)
@@ -94,26 +99,26 @@ class _Reducer:
             return sp.cancel(num / den) if num != 0 else sp.Integer(0)
         return self._reduce_poly(e)
 
-    def _reduce_poly(self, e: Any) -> Any:
+    def _reduce_poly(self, e: SymExpr) -> SymExpr:
         sp = self.sp
         e = sp.expand(e)
-        rules: dict[Any, Any] = {s: 1 - c**2 for s, c in self._sc.values()}
+        rules: dict[SymExpr, SymExpr] = {s: 1 - c**2 for s, c in self._sc.values()}
         if self.quaternion is not None:
             x, y, z, w = self.quaternion
             rules[w] = 1 - x**2 - y**2 - z**2
         if not rules:
             return e
 
-        def high_power(a: Any) -> bool:
+        def high_power(a: SymExpr) -> bool:
             return bool(a.is_Pow and a.base in rules and a.exp.is_Integer and a.exp >= 2)
 
-        def lower(a: Any) -> Any:
+        def lower(a: SymExpr) -> SymExpr:
             k = int(a.exp)
             return a.base ** (k % 2) * rules[a.base] ** (k // 2)
 
         return sp.expand(e.replace(high_power, lower))
 
-    def back(self, expr: Any) -> Any:
+    def back(self, expr: SymExpr) -> SymExpr:
         """Replace the ``s``/``c`` symbols by ``sin``/``cos`` again."""
         sp = self.sp
         mapping = {}
@@ -122,7 +127,7 @@ class _Reducer:
             mapping[c] = sp.cos(arg)
         return expr.xreplace(mapping) if mapping else expr
 
-    def is_zero(self, expr: Any) -> bool:
+    def is_zero(self, expr: SymExpr) -> bool:
         sp = self.sp
         if isinstance(expr, np.ndarray):
             return all(self.is_zero(e) for e in expr.ravel())
@@ -131,7 +136,7 @@ class _Reducer:
         return bool(self.reduce(expr) == 0)
 
 
-def canonical(expr: Any, *, unit_quaternion: Sequence[Any] | None = None) -> Any:
+def canonical(expr: SymExpr, *, unit_quaternion: Sequence[SymExpr] | None = None) -> SymExpr:
     """The canonical expanded form of a trigonometric (and/or unit-quaternion) polynomial.
 
     ``sin``/``cos`` of symbols are reduced with ``sin² = 1 − cos²`` (compound
@@ -152,12 +157,12 @@ def canonical(expr: Any, *, unit_quaternion: Sequence[Any] | None = None) -> Any
     return red.back(red.reduce(expr))
 
 
-def is_zero(expr: Any, *, unit_quaternion: Sequence[Any] | None = None) -> bool:
+def is_zero(expr: SymExpr, *, unit_quaternion: Sequence[SymExpr] | None = None) -> bool:
     """Whether ``expr`` (scalar, matrix or object array) reduces to exactly zero (see :func:`canonical`)."""
     return _Reducer(unit_quaternion).is_zero(expr)
 
 
-def _pretty(expr: Any) -> Any:
+def _pretty(expr: SymExpr) -> SymExpr:
     """A readable form of a canonical expression: collect, then recombine cos(a ± b) where it shortens."""
     sp = _sympy()
     if expr == 0:

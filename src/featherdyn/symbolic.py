@@ -43,7 +43,6 @@ from __future__ import annotations
 
 import itertools
 from collections.abc import Callable, Sequence
-from typing import Any
 
 import numpy as np
 
@@ -60,6 +59,8 @@ from ._symbolic_dynamics import (
     two_link_symbols,
 )
 from ._symbolic_reduce import _mat, _obj, _Reducer, _sympy, canonical, is_zero
+from .rotation import quat_to_matrix, rpy_to_matrix
+from .spatial_algebra import PluckerTransform, SpatialForce, SpatialInertia, SpatialMotion, crf, crm, skew
 
 __all__ = [
     "PARAMETRIZATIONS",
@@ -103,8 +104,6 @@ PARAMETRIZATIONS = ("quaternion", "rpy")
 
 def _rotation(parametrization: str) -> tuple[np.ndarray, _Reducer]:
     """A general symbolic rotation (featherdyn's own formula) and the reducer that knows its constraint."""
-    from .rotation import quat_to_matrix, rpy_to_matrix
-
     sp = _sympy()
     if parametrization == "quaternion":
         quat = sp.symbols("q_x q_y q_z q_w", real=True)
@@ -114,34 +113,26 @@ def _rotation(parametrization: str) -> tuple[np.ndarray, _Reducer]:
     raise ValueError(f"parametrization: expected one of {PARAMETRIZATIONS}, got {parametrization!r}")
 
 
-def _transform(parametrization: str) -> tuple[Any, _Reducer]:
+def _transform(parametrization: str) -> tuple[PluckerTransform, _Reducer]:
     """``X = (R, p)`` with a general rotation and a symbolic translation ``p``."""
-    from .spatial_algebra import PluckerTransform
-
     sp = _sympy()
     R, red = _rotation(parametrization)
     p = _obj(sp.symbols("p_x p_y p_z", real=True))
     return PluckerTransform(R, p, validate=False), red
 
 
-def _motion(name: str) -> Any:
-    from .spatial_algebra import SpatialMotion
-
+def _motion(name: str) -> SpatialMotion:
     sp = _sympy()
     return SpatialMotion.from_vector(_obj(sp.symbols(f"{name}_0:6", real=True)))
 
 
-def _force(name: str) -> Any:
-    from .spatial_algebra import SpatialForce
-
+def _force(name: str) -> SpatialForce:
     sp = _sympy()
     return SpatialForce.from_vector(_obj(sp.symbols(f"{name}_0:6", real=True)))
 
 
-def _inertia(name: str = "") -> Any:
+def _inertia(name: str = "") -> SpatialInertia:
     """A general spatial inertia: symbolic m, c and a symmetric I_c (10 symbols)."""
-    from .spatial_algebra import SpatialInertia
-
     sp = _sympy()
     m = sp.Symbol(f"m{name}", positive=True)
     c = _obj(sp.symbols(f"c{name}_x c{name}_y c{name}_z", real=True))
@@ -176,8 +167,6 @@ def prove_pure_rotation_orthogonal(parametrization: str = "quaternion") -> bool:
     (A transform with ``p ≠ 0`` is not: ``X Xᵀ`` has the block ``[p]×[p]×ᵀ + 1``;
     see ``tests/unit/test_symbolic.py``.)
     """
-    from .spatial_algebra import PluckerTransform
-
     R, red = _rotation(parametrization)
     Xrot = _mat(PluckerTransform(R, _obj([0, 0, 0]), validate=False).matrix())
     sp = _sympy()
@@ -239,8 +228,6 @@ def prove_jacobi_identity() -> bool:
 
     for general ``v₁, v₂, v₃`` (18 symbols), with featherdyn's ``crm``.
     """
-    from .spatial_algebra import crm
-
     v1, v2, v3 = (_motion(n).vector for n in ("a", "b", "c"))
 
     def x(a: np.ndarray, b: np.ndarray) -> np.ndarray:
@@ -263,8 +250,6 @@ def prove_crf_is_minus_crm_transpose() -> bool:
 
         crf(v) = [[[ω]×, [v_O]×], [0, [ω]×]] = −crm(v)ᵀ
     """
-    from .spatial_algebra import crf, crm
-
     v = _motion("v").vector
     return is_zero(crf(v) + crm(v).T)
 
@@ -286,8 +271,6 @@ def prove_gyroscopic_identity() -> bool:
 
     for a general ``v`` and a general spatial inertia ``I``.
     """
-    from .spatial_algebra import crm
-
     v = _motion("v")
     inertia = _inertia()
     Iv = inertia @ v
@@ -312,8 +295,6 @@ def prove_parallel_axis(parametrization: str = "quaternion") -> bool:
     moves ``c`` and ``I_c`` directly), and the closed form written out here
     with SymPy matrices.
     """
-    from .spatial_algebra import skew
-
     sp = _sympy()
     X, red = _transform(parametrization)
     I_A = _inertia()
@@ -340,8 +321,6 @@ def prove_dynamic_parameters_round_trip() -> bool:
 
         π = [m, m c, I_xx, I_xy, I_yy, I_xz, I_yz, I_zz]    (I about the origin, Pinocchio's order)
     """
-    from .spatial_algebra import SpatialInertia
-
     I_A = _inertia()
     back = SpatialInertia.from_dynamic_parameters(I_A.to_dynamic_parameters())
     sp = _sympy()
@@ -363,8 +342,6 @@ def prove_inertia_linear_in_dynamic_parameters() -> bool:
     although ``c = h/m`` and ``I_c = I_O + [h]×[h]×/m`` are not: the ``1/m``
     terms cancel. This is what makes ``τ = Y(q, q̇, q̈) π`` (RBDA §2.13).
     """
-    from .spatial_algebra import SpatialInertia
-
     sp = _sympy()
     pi = sp.symbols("pi_0:10", real=True)
     Imat = _mat(SpatialInertia.from_dynamic_parameters(_obj(pi)).matrix()).applyfunc(lambda e: sp.cancel(sp.together(e)))
