@@ -9,7 +9,9 @@ Every public function (``fd.rnea`` & co.) takes ``backend=None | "reference" |
 * :func:`fast_path` gives the engine's one-state fast path of a model (a
   :class:`featherdyn.engine._fast.FastPath`) when a call may take it, and
   the public function calls one of its *checked* kernels, which validate the
-  state inside the compiled code (catching :data:`KERNEL_REFUSALS`). A kernel that refuses its arguments (other
+  state inside the compiled code. A kernel that cannot take the argument
+  types raises one of ``fast.refusals``; each call site writes its ``try``
+  inline (a helper function would add a Python call, ~5 % of a small robot's RNEA). A kernel that refuses its arguments (other
   types, batches, a bad state) sends the call down its general path, which
   converts, validates and raises the reference's worded errors: the fast path
   changes how long a call takes, never what it returns or raises.
@@ -33,7 +35,6 @@ __all__ = [
     "default_backend",
     "select_backend",
     "fast_path",
-    "KERNEL_REFUSALS",
     "REFUSED",
     "OK",
     "ABA_OK",
@@ -46,10 +47,6 @@ _BACKENDS = (None, "reference", "compiled")
 #: status of a checked kernel that computed its result (ABA: :data:`ABA_OK`; a joint index ``>= 0`` is singular)
 OK = 0
 ABA_OK = -1
-#: what calling a checked kernel raises when it cannot take the argument types (Numba's dispatch: an
-#: untypeable or out-of-range argument); the public function then takes its general path. Each call site
-#: writes its ``try`` inline (a helper function would add a Python call, ~5 % of a small robot's RNEA)
-KERNEL_REFUSALS = (TypeError, ValueError, OverflowError)
 #: the status a call site records when the kernel refused its arguments
 REFUSED = -(1 << 30)
 

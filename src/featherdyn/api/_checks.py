@@ -90,7 +90,8 @@ def _check_quaternions(model: Model, q: np.ndarray) -> None:
             quat = q[..., model.idx_q[i] + 3 : model.idx_q[i] + 7]
         else:
             continue
-        err = np.abs(np.sqrt(np.sum(quat * quat, axis=-1)) - 1)
+        with np.errstate(over="ignore", invalid="ignore"):  # a huge entry: inf norm, refused below
+            err = np.abs(np.sqrt(np.sum(quat * quat, axis=-1)) - 1)
         err = err[~np.isnan(err)]  # a symbolic quaternion (object arrays) is not checked
         if np.any(err > tol):
             worst = float(np.max(err))

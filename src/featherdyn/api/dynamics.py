@@ -19,7 +19,7 @@ from ..algorithms import crba as _crba
 from ..algorithms import rnea as _rnea
 from ..errors import SingularMassMatrixError
 from ..model import Model
-from ._backend import ABA_OK, KERNEL_REFUSALS, OK, REFUSED, fast_path, select_backend
+from ._backend import ABA_OK, OK, REFUSED, fast_path, select_backend
 from ._checks import State, batch_with_f_ext, check_f_ext, check_state, finite_result, quiet
 from .kinematics import kinematics_of
 
@@ -61,7 +61,7 @@ def rnea(model: Model, q: ArrayLike, v: ArrayLike, a: ArrayLike, f_ext: ArrayLik
         try:
             if fast.rnea(fast.MD, q, v, a, gravity, tau) == OK:
                 return tau
-        except KERNEL_REFUSALS:  # argument types the kernel cannot take: the general path
+        except fast.refusals:  # argument types the kernel cannot take: the general path
             pass
     fx = check_f_ext(model, f_ext)
     st = check_state(model, q, v=v, a=a)
@@ -79,7 +79,7 @@ def nonlinear_effects(model: Model, q: ArrayLike, v: ArrayLike, *, backend: str 
         try:
             if fast.nle(fast.MD, q, v, h) == OK:
                 return h
-        except KERNEL_REFUSALS:  # argument types the kernel cannot take: the general path
+        except fast.refusals:  # argument types the kernel cannot take: the general path
             pass
     st = check_state(model, q, v=v)
     qd = st.arrays["v"]
@@ -97,7 +97,7 @@ def generalized_gravity(model: Model, q: ArrayLike, *, backend: str | None = Non
         try:
             if fast.gravity(fast.MD, q, g) == OK:
                 return g
-        except KERNEL_REFUSALS:  # argument types the kernel cannot take: the general path
+        except fast.refusals:  # argument types the kernel cannot take: the general path
             pass
     st = check_state(model, q)
     zero = np.zeros(st.q.shape[:-1] + (model.nv,), dtype=st.dtype)
@@ -117,7 +117,7 @@ def crba(model: Model, q: ArrayLike, *, backend: str | None = None) -> np.ndarra
         try:
             if fast.crba(fast.MD, q, M) == OK:
                 return M
-        except KERNEL_REFUSALS:  # argument types the kernel cannot take: the general path
+        except fast.refusals:  # argument types the kernel cannot take: the general path
             pass
     st = check_state(model, q)
     if select_backend(backend, st.dtype) == "compiled":
@@ -150,7 +150,7 @@ def aba(model: Model, q: ArrayLike, v: ArrayLike, tau: ArrayLike, f_ext: ArrayLi
         qdd = _EMPTY(fast.nv)
         try:
             status = fast.aba(fast.MD, q, v, tau, gravity, qdd)
-        except KERNEL_REFUSALS:  # argument types the kernel cannot take: the general path
+        except fast.refusals:  # argument types the kernel cannot take: the general path
             status = REFUSED
         if status == ABA_OK:
             return qdd

@@ -20,7 +20,7 @@ from ..frames import LOCAL, LOCAL_WORLD_ALIGNED, WORLD, ReferenceFrame, as_refer
 from ..model import Model
 from ..results import Kinematics
 from ..spatial_algebra import PluckerTransform, SpatialMotion
-from ._backend import KERNEL_REFUSALS, OK, fast_path, select_backend
+from ._backend import OK, fast_path, select_backend
 from ._checks import State, check_state, finite_result, quiet
 
 __all__ = [
@@ -64,7 +64,7 @@ def _fast_kinematics(fast: Any, q: ArrayLike, v: ArrayLike | None, a: ArrayLike 
     acc = _EMPTY(fast.shape_V) if a is not None else _NO_BODIES
     try:
         status = fast.fk(fast.MD, q, _NO_VECTOR if v is None else v, _NO_VECTOR if a is None else a, H, vel, acc)
-    except KERNEL_REFUSALS:  # argument types the kernel cannot take: the general path
+    except fast.refusals:  # argument types the kernel cannot take: the general path
         return None
     if status != OK:
         return None
@@ -117,7 +117,7 @@ def frame_placement(model: Model, q: ArrayLike, frame: str | int, *, backend: st
             try:
                 if fast.frame_placement(fast.MD, q, fid_, pose) == OK:
                     return PluckerTransform._wrap(pose[:9].reshape(3, 3), pose[9:], None, None)
-            except KERNEL_REFUSALS:  # argument types the kernel cannot take: the general path
+            except fast.refusals:  # argument types the kernel cannot take: the general path
                 pass
     fid = _frame(model, frame)
     st = check_state(model, q)
@@ -207,7 +207,7 @@ def frame_jacobian(model: Model, q: ArrayLike, frame: str | int, reference: Refe
             try:
                 if fast.frame_jacobian(fast.MD, q, fid_, ref_code, J_) == OK:
                     return J_
-            except KERNEL_REFUSALS:  # argument types the kernel cannot take: the general path
+            except fast.refusals:  # argument types the kernel cannot take: the general path
                 pass
     fid, ref = _frame(model, frame), as_reference_frame(reference)
     st = check_state(model, q)

@@ -44,6 +44,7 @@ class FastPath:
         "model",
         "nle",
         "nv",
+        "refusals",
         "rnea",
         "shape_H",
         "shape_J",
@@ -53,11 +54,16 @@ class FastPath:
     )
 
     def __init__(self, model: Model) -> None:
+        from numba.core.errors import NumbaError
+
         from . import _dispatch
         from . import _kernels as _k
         from ._layout import with_workspace
 
         _k.lock_checked()
+        #: what a checked kernel raises for arguments it cannot take (Numba's dispatch: an untypeable,
+        #: unsupported — e.g. a masked array — or out-of-range argument); the caller takes its general path
+        self.refusals = (TypeError, ValueError, OverflowError, NumbaError)
         self.MD = with_workspace(_dispatch.arrays_of(model).packed, model.nbodies, model.nv)
         self.nv = model.nv
         self.shape_M = (model.nv, model.nv)
