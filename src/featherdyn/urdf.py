@@ -21,10 +21,15 @@ a body's inertia about its joint is below ``3e220`` kg·m² and a chain of
 ``n`` bodies has composite inertias below ``3n³·1e220``; for ``n ≤ 10⁴``
 links and velocities, accelerations and torques up to ``1e10`` the products
 RNEA, CRBA and ABA form stay below about ``1e270``, short of the float64
-overflow at ``1.8e308``. Larger values are refused with a
-:class:`~featherdyn.URDFError`; real robots are more than 50 orders of
-magnitude inside these limits. Angles (``rpy``) and axis directions may be any
-finite number.
+overflow at ``1.8e308``. At the other end ABA divides by articulated
+inertias, which it calls singular below ``1e-14`` times the largest inertia
+entry; a link's ``<inertial>`` must therefore be all zero (massless) or reach
+:data:`MIN_INERTIAL` ``= 1e-100`` in its mass or some inertia entry, so that
+``q̈`` stays below about ``1e124`` (a subnormal mass gave NaN). Values outside these
+limits are refused with a :class:`~featherdyn.URDFError`; real robots are
+more than 50 orders of magnitude inside them. Angles (``rpy``) and axis
+directions may be any finite number; single tiny inertia entries (round-off
+such as ``ixz="2.4e-35"``) are fine.
 
 The tree (RBDA (2008) §4.1; chapter §8.3 and §18):
 
@@ -32,7 +37,8 @@ The tree (RBDA (2008) §4.1; chapter §8.3 and §18):
 * a fixed base hangs the root link on the world (body ``-1``): its inertia,
   and that of links fixed to it, is dropped as Pinocchio does;
   ``floating_base=True`` makes the root link body 0 on a
-  :class:`~featherdyn.FreeFlyerJoint` named ``"root_joint"`` (Pinocchio's name);
+  :class:`~featherdyn.FreeFlyerJoint` named ``"root_joint"`` (Pinocchio's name;
+  ``"root_joint_1"``, ... if the URDF has a joint or link of that name);
 * fixed joints are merged: the child's inertia is moved into the nearest moving
   ancestor's body frame (parallel-axis theorem, ``X* I X⁻¹``) and the link and
   the joint stay as frames;
@@ -95,6 +101,8 @@ MAX_LENGTH = 1e60
 MAX_MASS = 1e100
 #: Largest magnitude of an inertia tensor entry accepted, in kg·m² (module doc).
 MAX_INERTIA = 1e100
+#: Smallest scale of a non-zero ``<inertial>`` accepted: its mass or some inertia entry must reach it (module doc).
+MIN_INERTIAL = 1e-100
 
 _XINCLUDE_NAMESPACES = ("http://www.w3.org/2001/XInclude", "http://www.w3.org/2003/XInclude")
 # a digit run matches one way only (the fraction needs its dot), so a failed match backtracks in linear time
@@ -453,6 +461,13 @@ def _parse_link(doc: _Doc, elem: Any) -> _Link:
             doc.number(inertia_el, k, what, bound=(MAX_INERTIA, "MAX_INERTIA")) for k in _INERTIA_KEYS
         )
         xyz, rpy = doc.origin(inertial, what)
+        scale = max(mass, abs(ixx), abs(ixy), abs(ixz), abs(iyy), abs(iyz), abs(izz))
+        if 0 < scale < MIN_INERTIAL:
+            raise doc.error(
+                inertial, what, f"<inertial>: expected 0 (a massless link) or a mass or inertia entry of at least "
+                f"{MIN_INERTIAL:g} (MIN_INERTIAL: forward dynamics divides by it), got mass {mass:g} and inertia "
+                f"entries of at most {max(abs(ixx), abs(ixy), abs(ixz), abs(iyy), abs(iyz), abs(izz)):g}"
+            )
         out = _Inertial(mass, xyz, rpy, [[ixx, ixy, ixz], [ixy, iyy, iyz], [ixz, iyz, izz]], inertia_el)
     return _Link(name, doc.lines.get(elem, 0), out)
 
@@ -818,7 +833,8 @@ def load_urdf(path_or_xml: str | os.PathLike[str] | bytes, floating_base: bool =
             parents, a cycle, more than one root; a revolute or prismatic joint
             without ``<limit>``; a number that is not a finite decimal or a
             wrong count of them; a length, position limit, mass or inertia entry
-            beyond :data:`MAX_LENGTH`, :data:`MAX_MASS` or :data:`MAX_INERTIA`
+            beyond :data:`MAX_LENGTH`, :data:`MAX_MASS` or :data:`MAX_INERTIA`,
+            or an ``<inertial>`` below :data:`MIN_INERTIAL` but not zero
             (module doc); a negative mass; ``<inertial>`` without ``<mass>`` or
             ``<inertia>``; a zero-length axis; a joint mimicking itself or a
             mimic cycle. Every failure of the loader is a ``URDFError`` (a

@@ -62,6 +62,7 @@ NUMBERS = [
     "abc", "0x10", "1_0", "1,2", "+-1", "1e", ".", "-.5e+3", "\u0663", "1" * 12_000, "1" * 9_999 + "x",
     "9" * 400, "0." + "0" * 5000 + "1",
 ]
+MAGNITUDES = [1e-320, 1e-300, 1e-120, 1e-99, 1e40, 1e59, 1e61, 1e99, 1e150, 1e200, 1e300]
 NAMES = ["", " ", "root_joint", "root_joint_1", "world", "n" * 12_000, "ü\u0301", "a'b\"c", "<&>", "\t"]
 TEXT_INSERTS = ["&", "<", ">", "]]>", "&#0;", "&#xD800;", "&lol;", "<!-- x", "\x00", "\ufffe", "<?pi x?>", "'\""]
 PROLOGUES = [
@@ -113,8 +114,16 @@ def _hostile_number(rng: random.Random, old: str) -> str:
     return value
 
 
+def _is_float(text: str | None) -> bool:
+    try:
+        float(text or "")
+    except ValueError:
+        return False
+    return True
+
+
 def _mutate_tree(rng: random.Random, root: ET.Element) -> None:
-    kind = rng.randrange(12)
+    kind = rng.randrange(14)
     elements = _elements(root)
     attributes = _attributes(root)
     links = [e.get("name", "") for e in root.iter("link")]
@@ -166,6 +175,15 @@ def _mutate_tree(rng: random.Random, root: ET.Element) -> None:
             ET.SubElement(j, "limit", {"lower": "-1", "upper": "1"})
         if rng.random() < 0.3:
             ET.SubElement(j, "mimic", {"joint": rng.choice(["jn", "root_joint", "nope"])})
+    elif kind == 12:  # a whole robot rescaled: every mass and inertia entry, or every origin, to one magnitude
+        magnitude = rng.choice(MAGNITUDES)
+        if rng.random() < 0.5:
+            for e in list(root.iter("mass")) + list(root.iter("inertia")):
+                for key in e.attrib:
+                    e.set(key, f"{float(e.get(key, '0') or 0) * magnitude:.17g}" if _is_float(e.get(key)) else "1")
+        else:
+            for e in root.iter("origin"):
+                e.set("xyz", " ".join(f"{rng.uniform(-1, 1) * magnitude:.17g}" for _ in range(3)))
     else:  # foreign, namespaced and XInclude elements
         tag = rng.choice(["{http://www.w3.org/2001/XInclude}include", "{http://example.org/x}link", "gazebo",
                           "transmission", "{http://www.w3.org/2003/XInclude}include"])

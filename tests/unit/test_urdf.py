@@ -788,3 +788,37 @@ def test_line_numbers_survive_whitespace_before_the_declaration() -> None:
     xml = "\n\n\n" + DECLARATION + "\n" + robot(link("a"), link("a"))
     with pytest.raises(URDFError, match=r"<string>: line 7: <link name='a'>: duplicate link name \(first defined on line 6\)"):
         fd.load_urdf(xml)
+
+
+@pytest.mark.parametrize("tiny", ["1e-310", "5e-324", "1e-101"])
+def test_a_vanishing_inertial_is_refused(tiny: str) -> None:
+    """A chain of subnormal masses loaded without a word and ABA returned NaN."""
+    inertial = (f'<inertial><mass value="{tiny}"/><inertia ixx="{tiny}" ixy="0" ixz="0" iyy="{tiny}" iyz="0" '
+                f'izz="{tiny}"/></inertial>')
+    with pytest.raises(URDFError, match=rf"<string>: line 2: <link name='base'>: <inertial>: expected 0 \(a massless "
+                                        rf"link\) or a mass or inertia entry of at least 1e-100 \(MIN_INERTIAL.*got mass "
+                                        rf"{float(tiny):g}"):
+        fd.load_urdf(arm().replace(INERTIAL, inertial))
+
+
+def test_tiny_entries_beside_a_real_scale_are_fine(no_warnings) -> None:
+    """Round-off off-diagonals such as iCub's ixz=2.4e-35 (and subnormal ones) stay accepted, as does a bare 1e-100 kg."""
+    inertial = ('<inertial><mass value="0.5"/><inertia ixx="1e-3" ixy="5e-324" ixz="2.4e-35" iyy="1e-3" iyz="0" '
+                'izz="1e-3"/></inertial>')
+    fd.load_urdf(robot(link("a"), link("b", inertial), link("c"), joint("j", "a", "b"), joint("k", "b", "c")), strict=True)
+    point = '<inertial><mass value="1e-100"/><inertia ixx="0" ixy="0" ixz="0" iyy="0" iyz="0" izz="0"/></inertial>'
+    fd.load_urdf(robot(link("a"), link("b", point), joint("j", "a", "b", "prismatic")), strict=True)
+
+
+@pytest.mark.parametrize("floating_base", [False, True], ids=["fixed", "floating"])
+def test_dynamics_at_the_smallest_inertial_stay_finite(floating_base: bool) -> None:
+    """Every link at MIN_INERTIAL, torques up to 1e10: ABA gives numbers (or says the matrix is singular)."""
+    inertial = '<inertial><mass value="1e-100"/><inertia ixx="1e-100" ixy="0" ixz="0" iyy="1e-100" iyz="0" izz="1e-100"/></inertial>'
+    m = fd.load_urdf(arm().replace(INERTIAL, inertial), floating_base=floating_base)
+    rng = np.random.default_rng(16)
+    for scale in (1.0, 1e10):
+        q = fd.random_configuration(m, rng)
+        v, a, tau = (scale * rng.standard_normal(m.nv) for _ in range(3))
+        for value in (fd.rnea(m, q, v, a, backend="reference"), fd.crba(m, q, backend="reference"),
+                      fd.aba(m, q, v, tau, backend="reference")):
+            assert np.all(np.isfinite(value))
