@@ -22,7 +22,8 @@ a body's inertia about its joint is below ``3e220`` kg·m² and a chain of
 links and velocities, accelerations and torques up to ``1e10`` the products
 RNEA, CRBA and ABA form stay below about ``1e270``, short of the float64
 overflow at ``1.8e308``. At the other end ABA divides by articulated
-inertias, which it calls singular below ``1e-14`` times the largest inertia
+inertias, which it calls singular below
+:data:`featherdyn.tolerances.SINGULAR_PIVOT_RTOL` times the largest inertia
 entry; a link's ``<inertial>`` must therefore be all zero (massless) or reach
 :data:`MIN_INERTIAL` ``= 1e-100`` in its mass or some inertia entry, so that
 ``q̈`` stays below about ``1e124`` (a subnormal mass gave NaN). Values outside these
