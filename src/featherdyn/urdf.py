@@ -898,12 +898,12 @@ def load_urdf(path_or_xml: str | os.PathLike[str] | bytes, floating_base: bool =
     _check_limits_given(doc, list(joints.values()))
     root, order = _link_order(doc, links, list(joints.values()))
     mimics = _check_mimics(doc, joints)
-    inertia_of = _link_inertias(doc, list(links.values()))
     try:
+        inertia_of = _link_inertias(doc, list(links.values()))
         model, caught = _build(doc, root_el, path, root, order, inertia_of, mimics, floating_base, joints, links)
     except URDFError:
         raise
-    except FeatherdynError as exc:  # a check of the model builder: name the file
+    except FeatherdynError as exc:  # a check of the spatial types or the model builder: name the file
         raise URDFError(f"{label}: {_shorten_quoted(str(exc))}") from None
     for w in caught:
         if issubclass(w.category, PhysicalityWarning):
