@@ -705,10 +705,12 @@ ROTARY = ("revolute", "continuous")
 ALL_TYPES = ("revolute", "prismatic", "continuous", "floating", "planar")
 
 
+@pytest.mark.parametrize("backend", ["reference", "compiled"])
 @pytest.mark.parametrize("types", [ROTARY, ALL_TYPES], ids=["rotary", "all-types"])
 @pytest.mark.parametrize("floating_base", [False, True], ids=["fixed", "floating"])
 @pytest.mark.parametrize("scale", [1.0, 1e10], ids=["state1", "state1e10"])
-def test_dynamics_at_the_limits_stay_finite(types: tuple[str, ...], floating_base: bool, scale: float) -> None:
+def test_dynamics_at_the_limits_stay_finite(types: tuple[str, ...], floating_base: bool, scale: float,
+                                            backend: str) -> None:
     """The documented limits keep RNEA, CRBA and ABA finite (module doc of featherdyn.urdf).
 
     ABA's singularity test is relative to the largest inertia entry (``m·|c|²``, 1e220 here): a joint
@@ -720,13 +722,13 @@ def test_dynamics_at_the_limits_stay_finite(types: tuple[str, ...], floating_bas
     for _ in range(3):
         q = fd.random_configuration(m, rng)
         v, a, tau = (scale * rng.standard_normal(m.nv) for _ in range(3))
-        results = {"rnea": fd.rnea(m, q, v, a, backend="reference"), "crba": fd.crba(m, q, backend="reference")}
+        results = {"rnea": fd.rnea(m, q, v, a, backend=backend), "crba": fd.crba(m, q, backend=backend)}
         try:
-            results["aba"] = fd.aba(m, q, v, tau, backend="reference")
+            results["aba"] = fd.aba(m, q, v, tau, backend=backend)
         except fd.errors.SingularMassMatrixError:
             assert types != ROTARY or floating_base, "ABA called a rotary chain at the limits singular"
         for name, value in results.items():
-            assert np.all(np.isfinite(value)), f"{name}: not finite at the limits (floating_base={floating_base})"
+            assert np.all(np.isfinite(value)), f"{name} ({backend}): not finite at the limits (floating_base={floating_base})"
 
 
 # ---------------------------------------------------------------------------
@@ -810,8 +812,9 @@ def test_tiny_entries_beside_a_real_scale_are_fine(no_warnings) -> None:
     fd.load_urdf(robot(link("a"), link("b", point), joint("j", "a", "b", "prismatic")), strict=True)
 
 
+@pytest.mark.parametrize("backend", ["reference", "compiled"])
 @pytest.mark.parametrize("floating_base", [False, True], ids=["fixed", "floating"])
-def test_dynamics_at_the_smallest_inertial_stay_finite(floating_base: bool) -> None:
+def test_dynamics_at_the_smallest_inertial_stay_finite(floating_base: bool, backend: str) -> None:
     """Every link at MIN_INERTIAL, torques up to 1e10: ABA gives numbers (or says the matrix is singular)."""
     inertial = '<inertial><mass value="1e-100"/><inertia ixx="1e-100" ixy="0" ixz="0" iyy="1e-100" iyz="0" izz="1e-100"/></inertial>'
     m = fd.load_urdf(arm().replace(INERTIAL, inertial), floating_base=floating_base)
@@ -819,6 +822,6 @@ def test_dynamics_at_the_smallest_inertial_stay_finite(floating_base: bool) -> N
     for scale in (1.0, 1e10):
         q = fd.random_configuration(m, rng)
         v, a, tau = (scale * rng.standard_normal(m.nv) for _ in range(3))
-        for value in (fd.rnea(m, q, v, a, backend="reference"), fd.crba(m, q, backend="reference"),
-                      fd.aba(m, q, v, tau, backend="reference")):
+        for value in (fd.rnea(m, q, v, a, backend=backend), fd.crba(m, q, backend=backend),
+                      fd.aba(m, q, v, tau, backend=backend)):
             assert np.all(np.isfinite(value))
