@@ -1,8 +1,8 @@
 """Worker of the URDF mutation fuzz test: load mutants, report one outcome each (run as a subprocess).
 
 Usage: ``python _urdf_fuzz_worker.py MUTANTS.jsonl``. Each input line is
-``{"id": int, "xml": str, "floating_base": bool}`` (``"xml_bytes"``: latin-1
-text of raw bytes instead of ``"xml"``). Each output line, written and flushed
+``{"id": int, "xml": str, "floating_base": bool, "backend": str}``
+(``"xml_bytes"``: latin-1 text of raw bytes instead of ``"xml"``). Each output line, written and flushed
 as soon as a mutant is done, is::
 
     {"id": int, "load": "ok" | "URDFError" | <other exception class>,
@@ -13,7 +13,8 @@ as soon as a mutant is done, is::
 
 The parent knows a mutant that crashed or hung the worker as the first one
 without an output line. The dynamics run (reference backend: no JIT) only on
-models that loaded without any warning, at a seeded random state.
+models that loaded without any warning, at a seeded random state, on the
+job's backend (``"reference"`` by default: no JIT compilation).
 """
 
 from __future__ import annotations
@@ -30,7 +31,7 @@ import featherdyn as fd
 from featherdyn.errors import FeatherdynError, URDFError
 
 
-def _dynamics(model: fd.Model, seed: int) -> tuple[str, list[str]]:
+def _dynamics(model: fd.Model, seed: int, backend: str) -> tuple[str, list[str]]:
     rng = np.random.default_rng(seed)
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
@@ -38,9 +39,9 @@ def _dynamics(model: fd.Model, seed: int) -> tuple[str, list[str]]:
             q = fd.random_configuration(model, rng)
             v, a, tau = (rng.standard_normal(model.nv) for _ in range(3))
             results = {
-                "rnea": fd.rnea(model, q, v, a, backend="reference"),
-                "crba": fd.crba(model, q, backend="reference"),
-                "aba": fd.aba(model, q, v, tau, backend="reference"),
+                "rnea": fd.rnea(model, q, v, a, backend=backend),
+                "crba": fd.crba(model, q, backend=backend),
+                "aba": fd.aba(model, q, v, tau, backend=backend),
             }
         except FeatherdynError as exc:
             outcome = f"error:{type(exc).__name__}"
@@ -67,7 +68,7 @@ def _one(job: dict[str, Any]) -> dict[str, Any]:
             out["message"], out["message_length"] = str(exc)[:3000], len(str(exc))
     out["warnings"] = sorted({w.category.__name__ for w in caught})
     if model is not None and not caught:
-        out["dynamics"], out["dynamics_warnings"] = _dynamics(model, job["id"])
+        out["dynamics"], out["dynamics_warnings"] = _dynamics(model, job["id"], job.get("backend", "reference"))
     out["seconds"] = time.perf_counter() - start
     return out
 

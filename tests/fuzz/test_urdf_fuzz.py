@@ -20,8 +20,9 @@ was on, and a fresh worker takes the rest. The test asserts, for every mutant:
   numpy warning on the way.
 
 Everything is seeded: a failure names the mutant's id, and
-``_mutants()[id]`` rebuilds it. ``FEATHERDYN_URDF_FUZZ=2000,1`` runs 2000
-mutants per seed file from random seed 1 instead (CI: 500 per file, seed 16).
+``_mutants()[id]`` rebuilds it. ``FEATHERDYN_URDF_FUZZ=2000,1,compiled`` runs
+2000 mutants per seed file from random seed 1, the dynamics on the compiled
+engine (CI: 500 per file, seed 16, the reference algorithms).
 """
 
 from __future__ import annotations
@@ -44,8 +45,11 @@ import pytest
 import featherdyn as fd
 
 WORKER = Path(__file__).with_name("_urdf_fuzz_worker.py")
-#: Mutants per seed file, and the random seed; a longer local run: FEATHERDYN_URDF_FUZZ=<per seed>,<seed>.
-PER_SEED, RANDOM_SEED = (int(x) for x in os.environ.get("FEATHERDYN_URDF_FUZZ", "500,16").split(","))
+#: Mutants per seed file, the random seed and the dynamics backend; another run:
+#: FEATHERDYN_URDF_FUZZ=<per seed>,<seed>[,<backend>]. CI keeps "reference": the compiled engine's
+#: first compilation takes minutes, longer than the worker's hang limit.
+_SPEC = os.environ.get("FEATHERDYN_URDF_FUZZ", "500,16").split(",")
+PER_SEED, RANDOM_SEED, BACKEND = int(_SPEC[0]), int(_SPEC[1]), (_SPEC[2] if len(_SPEC) > 2 else "reference")
 #: Parallel workers (the CI machines have 2 cores).
 WORKERS = 2
 #: A single mutant taking longer than this counts as a hang.
@@ -229,7 +233,8 @@ def _mutants() -> list[dict[str, Any]]:
                 xml = '<?xml version="1.0" encoding="utf-8"?>\n' + xml
             if rng.random() < 0.2:
                 xml = _mutate_text(rng, xml)
-            job: dict[str, Any] = {"id": len(out), "seed": seed_name, "floating_base": rng.random() < 0.3}
+            job: dict[str, Any] = {"id": len(out), "seed": seed_name, "floating_base": rng.random() < 0.3,
+                                   "backend": BACKEND}
             if rng.random() < 0.1:  # as bytes, in some encoding (possibly a wrong one)
                 encoding = rng.choice(["utf-8", "utf-16", "utf-16-le", "latin-1", "utf-32"])
                 job["xml_bytes"] = xml.encode(encoding, errors="replace").decode("latin-1")
