@@ -457,17 +457,18 @@ def _parse_link(doc: _Doc, elem: Any) -> _Link:
             raise doc.error(inertial, what, "<inertial> needs an <inertia ixx=... izz=...> element")
         mass = doc.number(mass_el, "value", what, bound=(MAX_MASS, "MAX_MASS"))
         if mass < 0:
-            raise doc.error(mass_el, what, f"negative mass {mass:g}")
+            raise doc.error(mass_el, what, f"<mass> value={_quote(mass_el.get('value'))}: expected a mass >= 0, got a "
+                            f"negative mass {mass:g}")
         ixx, ixy, ixz, iyy, iyz, izz = (
             doc.number(inertia_el, k, what, bound=(MAX_INERTIA, "MAX_INERTIA")) for k in _INERTIA_KEYS
         )
         xyz, rpy = doc.origin(inertial, what)
-        scale = max(mass, abs(ixx), abs(ixy), abs(ixz), abs(iyy), abs(iyz), abs(izz))
-        if 0 < scale < MIN_INERTIAL:
+        largest_entry = max(abs(ixx), abs(ixy), abs(ixz), abs(iyy), abs(iyz), abs(izz))
+        if 0 < max(mass, largest_entry) < MIN_INERTIAL:
             raise doc.error(
                 inertial, what, f"<inertial>: expected 0 (a massless link) or a mass or inertia entry of at least "
                 f"{MIN_INERTIAL:g} (MIN_INERTIAL: forward dynamics divides by it), got mass {mass:g} and inertia "
-                f"entries of at most {max(abs(ixx), abs(ixy), abs(ixz), abs(iyy), abs(iyz), abs(izz)):g}"
+                f"entries of at most {largest_entry:g}"
             )
         out = _Inertial(mass, xyz, rpy, [[ixx, ixy, ixz], [ixy, iyy, iyz], [ixz, iyz, izz]], inertia_el)
     return _Link(name, doc.lines.get(elem, 0), out)

@@ -281,7 +281,7 @@ STRUCTURE = {
     "prismatic-without-limit": (robot(link("a"), link("b"), joint("j", "a", "b", "prismatic", body='<axis xyz="0 0 1"/>')),
                                 r"<joint name='j'>: a prismatic joint needs a <limit"),
     "negative-mass": (robot(link("a", '<inertial><mass value="-1"/><inertia ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" izz="1"/></inertial>')),
-                      r"<link name='a'>: negative mass -1"),
+                      r"<link name='a'>: <mass> value='-1': expected a mass >= 0, got a negative mass -1$"),
     "inertial-without-mass": (robot(link("a", '<inertial><inertia ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" izz="1"/></inertial>')),
                               r"<link name='a'>: <inertial> needs a <mass"),
     "inertial-without-inertia": (robot(link("a", '<inertial><mass value="1"/></inertial>')),
