@@ -251,7 +251,11 @@ def _mutants() -> list[dict[str, Any]]:
 
 def _run_shard(jobs: list[dict[str, Any]], tmp: Path) -> list[dict[str, Any]]:
     """Outcomes of ``jobs`` in order; a crash or hang is the outcome of the mutant the worker was on."""
-    env = dict(os.environ, PYTHONHASHSEED="0", OMP_NUM_THREADS="1", OPENBLAS_NUM_THREADS="1", MKL_NUM_THREADS="1")
+    # the workers import the featherdyn this test imported; one BLAS thread each (there are WORKERS of them)
+    package_root = str(Path(fd.__file__).resolve().parents[1])
+    pythonpath = os.pathsep.join(p for p in (package_root, os.environ.get("PYTHONPATH", "")) if p)
+    env = dict(os.environ, PYTHONPATH=pythonpath, PYTHONHASHSEED="0", OMP_NUM_THREADS="1", OPENBLAS_NUM_THREADS="1",
+               MKL_NUM_THREADS="1")
     results: list[dict[str, Any]] = []
     while len(results) < len(jobs):
         rest = jobs[len(results):]
@@ -326,3 +330,13 @@ def test_urdf_mutants_load_or_fail_cleanly(tmp_path: Path) -> None:
     print(summary)
     assert not failures, f"{len(failures)} failures ({summary}):\n" + "\n".join(failures[:30])
     assert outcomes["ok"] > 0 and outcomes["URDFError"] > 0, summary  # the mutants reach both sides
+
+
+def test_a_mutant_that_kills_the_worker_is_named_and_the_rest_still_run(tmp_path: Path) -> None:
+    """The harness itself: a job the worker dies on (no document: a KeyError) is reported as the crash."""
+    arm = '<robot name="r"><link name="a"/></robot>'
+    jobs = [{"id": 0, "xml": arm, "floating_base": False}, {"id": 1, "floating_base": False},
+            {"id": 2, "xml": "<robot/>", "floating_base": True}]
+    results = _run_shard(jobs, tmp_path)
+    assert [(r["id"], r["load"]) for r in results] == [(0, "ok"), (1, "CRASH"), (2, "URDFError")]
+    assert "worker exited with status 1" in results[1]["message"] and "KeyError" in results[1]["message"]
