@@ -33,7 +33,7 @@ def _wrong(fn: Any, factor: float) -> Any:
 @pytest.mark.parametrize("name, quantity", [("rnea", "rnea vs pin.rnea"), ("crba", "crba vs pin.crba"),
                                             ("aba", "aba vs pin.aba")])
 def test_an_injected_bug_is_reported(monkeypatch: pytest.MonkeyPatch, name: str, quantity: str) -> None:
-    monkeypatch.setattr(vdyn.alg, name, _wrong(getattr(fd, name), 1.0 + 1e-6))
+    monkeypatch.setattr(vdyn.fd, name, _wrong(getattr(fd, name), 1.0 + 1e-6))
     report = verify.run("two_link_arm", samples=2, algebra=False)
     failed = {r.quantity for r in report.failures}
     assert quantity in failed

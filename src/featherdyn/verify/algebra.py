@@ -8,9 +8,9 @@ compares. The identities at the end need no oracle (appendix F of the chapter).
 from __future__ import annotations
 
 from collections.abc import Callable
-from typing import Any
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from .. import rotation as rot
 from ..conventions import matrix6_from_pinocchio
@@ -25,7 +25,7 @@ from ..spatial_algebra import (
     cross_motion,
     skew,
 )
-from ._pinocchio import require_pinocchio
+from ._pinocchio import PinValue, require_pinocchio
 from .bridge import from_pin6
 from .report import CheckResult, compare
 
@@ -67,26 +67,26 @@ def algebra_checks(samples: int = 20, seed: int = 0, tol: float = 1e-12) -> list
     inertia = random_inertias(rng, n)
     inertia2 = random_inertias(rng, n)
 
-    def se3(i: int, T: PluckerTransform = X) -> Any:
+    def se3(i: int, T: PluckerTransform = X) -> PinValue:
         return pin.SE3(np.array(T.rotation[i]), np.array(T.translation[i]))
 
-    def pm(i: int, mm: SpatialMotion = m) -> Any:
+    def pm(i: int, mm: SpatialMotion = m) -> PinValue:
         return pin.Motion(np.array(mm.linear[i]), np.array(mm.angular[i]))
 
-    def pf(i: int) -> Any:
+    def pf(i: int) -> PinValue:
         return pin.Force(np.array(f.linear[i]), np.array(f.angular[i]))
 
-    def pI(i: int, ii: SpatialInertia = inertia) -> Any:
+    def pI(i: int, ii: SpatialInertia = inertia) -> PinValue:
         return pin.Inertia(float(ii.mass[i]), np.array(ii.com[i]), np.array(ii.inertia_com[i]))
 
-    def oracle(fn: Callable[[int], Any]) -> np.ndarray:
+    def oracle(fn: Callable[[int], PinValue]) -> np.ndarray:
         return np.stack([np.asarray(fn(i), dtype=np.float64) for i in range(n)])
 
-    def vec(x: Any) -> np.ndarray:  # a pinocchio Motion/Force in featherdyn order
+    def vec(x: PinValue) -> np.ndarray:  # a pinocchio Motion/Force in featherdyn order
         return from_pin6(x.vector)
 
     layout = "layout: Pinocchio stores 6D vectors [linear; angular]"
-    rows: list[tuple[str, Any, Any, str]] = [
+    rows: list[tuple[str, ArrayLike, ArrayLike, str]] = [
         ("X.apply(motion) vs SE3.act(Motion)", X.apply(m).vector, oracle(lambda i: vec(se3(i).act(pm(i)))), layout),
         ("X.apply_inverse(motion) vs SE3.actInv(Motion)", X.apply_inverse(m).vector,
          oracle(lambda i: vec(se3(i).actInv(pm(i)))), layout),

@@ -18,7 +18,6 @@ planar        [x, y, θ] / [ω, vx, vy]     [x, y, cos θ, sin θ] / [vx, vy, ω
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any
 
 import numpy as np
 
@@ -26,7 +25,7 @@ from .. import conventions
 from ..errors import ModelError
 from ..joints import FreeFlyerJoint, PlanarJoint, PrismaticJoint, RevoluteJoint, SphericalJoint
 from ..model import Model
-from ._pinocchio import require_pinocchio
+from ._pinocchio import PinModel, require_pinocchio
 
 __all__ = ["pinocchio_model_from", "JointMap", "SWAP6", "to_pin6", "from_pin6", "from_pin6_rows"]
 
@@ -46,7 +45,7 @@ def from_pin6_rows(m: np.ndarray) -> np.ndarray:
     return np.asarray(m)[..., SWAP6, :]
 
 
-def pinocchio_model_from(model: Model, *, check_order: bool = True) -> Any:
+def pinocchio_model_from(model: Model, *, check_order: bool = True) -> PinModel:
     """A Pinocchio model mirroring ``model`` body by body (same names, placements, inertias, gravity).
 
     Joint types: revolute → ``JointModelRevoluteUnaligned``, prismatic →
@@ -113,7 +112,7 @@ class JointMap:
             universe) must be exactly featherdyn's joints, by name.
     """
 
-    def __init__(self, model: Model, pin_model: Any) -> None:
+    def __init__(self, model: Model, pin_model: PinModel) -> None:
         self.model = model
         self.pin_model = pin_model
         pin_names = list(pin_model.names)[1:]

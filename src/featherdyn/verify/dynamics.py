@@ -10,21 +10,22 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Any
 
 import numpy as np
+from numpy.typing import ArrayLike
 
-from .. import algorithms as alg
+import featherdyn as fd
+
 from ..configuration import integrate, random_configuration
 from ..errors import SingularMassMatrixError
 from ..model import Model, massless_subtrees
-from ._pinocchio import require_pinocchio
+from ._pinocchio import PinModel, PinValue, require_pinocchio
 from .bridge import JointMap, from_pin6, from_pin6_rows
 from .report import CheckResult, compare
 
 __all__ = ["RobotPair", "dynamics_checks", "model_diagnostics", "ModelDiagnostics"]
 
-_REFS = (("LOCAL", alg.LOCAL), ("WORLD", alg.WORLD), ("LOCAL_WORLD_ALIGNED", alg.LOCAL_WORLD_ALIGNED))
+_REFS = (("LOCAL", fd.LOCAL), ("WORLD", fd.WORLD), ("LOCAL_WORLD_ALIGNED", fd.LOCAL_WORLD_ALIGNED))
 
 
 @dataclass
@@ -32,7 +33,7 @@ class RobotPair:
     """The same robot in featherdyn and in Pinocchio, with the joint map between them."""
 
     model: Model
-    pin_model: Any
+    pin_model: PinModel
     jmap: JointMap
 
     @classmethod
@@ -50,7 +51,7 @@ class RobotPair:
 _PIN_TYPE = {"body": "BODY", "link": "BODY", "joint": "JOINT", "fixed_joint": "FIXED_JOINT"}
 
 
-def _pin_frame_ids(model: Model, pin_model: Any) -> dict[int, int]:
+def _pin_frame_ids(model: Model, pin_model: PinModel) -> dict[int, int]:
     """featherdyn frame index → Pinocchio frame id, matched by name and type (links and joints may share names)."""
     pin_ids = {(f.name, str(f.type).rsplit(".", 1)[-1]): k for k, f in enumerate(pin_model.frames)}
     out = {}
@@ -98,7 +99,8 @@ def dynamics_checks(pair: RobotPair, samples: int = 10, seed: int = 0, tol: floa
         if progress is not None:
             progress(msg)
 
-    def check(quantity: str, ours: Any, theirs: Callable[[int], Any], hint: str = "", group: str = "pinocchio") -> None:
+    def check(quantity: str, ours: ArrayLike, theirs: Callable[[int], ArrayLike], hint: str = "",
+              group: str = "pinocchio") -> None:
         ref = np.stack([np.asarray(theirs(s), dtype=np.float64) for s in range(n)])
         results.append(compare(group, quantity, ours, ref, tol, hint))
 
@@ -107,7 +109,7 @@ def dynamics_checks(pair: RobotPair, samples: int = 10, seed: int = 0, tol: floa
     frames = _pick_frames(model, matched)
 
     note("kinematics")
-    kin = alg.forward_kinematics(model, q, v, a)
+    kin = fd.forward_kinematics(model, q, v, a)
     assert kin.velocities is not None and kin.accelerations is not None
 
     def fk(s: int) -> None:
@@ -129,7 +131,7 @@ def dynamics_checks(pair: RobotPair, samples: int = 10, seed: int = 0, tol: floa
               per_body(lambda j: from_pin6(pd.a[j].vector)), "spatial vs classical acceleration")
     common = sorted(matched)
     if common:
-        ours = np.stack([alg.frame_placement(model, q, k).homogeneous() for k in common], axis=1)
+        ours = np.stack([fd.frame_placement(model, q, k).homogeneous() for k in common], axis=1)
 
         def frame_poses(s: int) -> np.ndarray:
             fk(s)
@@ -145,75 +147,75 @@ def dynamics_checks(pair: RobotPair, samples: int = 10, seed: int = 0, tol: floa
         for rname, ref in _REFS:
             pref = pin_refs[rname]
 
-            def fv(s: int, pref: Any = pref, fid: int = fid) -> np.ndarray:
+            def fv(s: int, pref: PinValue = pref, fid: int = fid) -> np.ndarray:
                 fk(s)
                 return from_pin6(pin.getFrameVelocity(pm, pd, fid, pref).vector)
 
-            def fa(s: int, pref: Any = pref, fid: int = fid) -> np.ndarray:
+            def fa(s: int, pref: PinValue = pref, fid: int = fid) -> np.ndarray:
                 fk(s)
                 return from_pin6(pin.getFrameAcceleration(pm, pd, fid, pref).vector)
 
-            def fc(s: int, pref: Any = pref, fid: int = fid) -> np.ndarray:
+            def fc(s: int, pref: PinValue = pref, fid: int = fid) -> np.ndarray:
                 fk(s)
                 return from_pin6(pin.getFrameClassicalAcceleration(pm, pd, fid, pref).vector)
 
-            def fj(s: int, pref: Any = pref, fid: int = fid) -> np.ndarray:
+            def fj(s: int, pref: PinValue = pref, fid: int = fid) -> np.ndarray:
                 pin.computeJointJacobians(pm, pd, qp[s])
                 pin.updateFramePlacements(pm, pd)
                 return jm.columns_from_pin(from_pin6_rows(pin.getFrameJacobian(pm, pd, fid, pref)))
 
-            def fdj(s: int, pref: Any = pref, fid: int = fid) -> np.ndarray:
+            def fdj(s: int, pref: PinValue = pref, fid: int = fid) -> np.ndarray:
                 pin.computeJointJacobiansTimeVariation(pm, pd, qp[s], vp[s])
                 pin.updateFramePlacements(pm, pd)
                 return jm.columns_from_pin(from_pin6_rows(pin.getFrameJacobianTimeVariation(pm, pd, fid, pref)))
 
-            check(f"frame_velocity {name} {rname}", alg.frame_velocity(model, q, v, frame, ref).vector, fv,
+            check(f"frame_velocity {name} {rname}", fd.frame_velocity(model, q, v, frame, ref).vector, fv,
                   "reference frame (LOCAL / WORLD / LOCAL_WORLD_ALIGNED)")
-            check(f"frame_acceleration {name} {rname}", alg.frame_acceleration(model, q, v, a, frame, ref).vector,
+            check(f"frame_acceleration {name} {rname}", fd.frame_acceleration(model, q, v, a, frame, ref).vector,
                   fa, "spatial vs classical acceleration")
             check(f"frame_classical_acceleration {name} {rname}",
-                  alg.frame_classical_acceleration(model, q, v, a, frame, ref).vector, fc,
+                  fd.frame_classical_acceleration(model, q, v, a, frame, ref).vector, fc,
                   "classical acceleration adds ω × v to the spatial one")
-            check(f"frame_jacobian {name} {rname}", alg.frame_jacobian(model, q, frame, ref), fj,
+            check(f"frame_jacobian {name} {rname}", fd.frame_jacobian(model, q, frame, ref), fj,
                   "Jacobian reference frame or column order")
             check(f"frame_jacobian_time_variation {name} {rname}",
-                  alg.frame_jacobian_time_variation(model, q, v, frame, ref), fdj, "")
+                  fd.frame_jacobian_time_variation(model, q, v, frame, ref), fdj, "")
 
     def jj(s: int) -> np.ndarray:
         pin.computeJointJacobians(pm, pd, qp[s])
         return jm.columns_from_pin(from_pin6_rows(pd.J))
 
-    check("joint_jacobians vs data.J", alg.joint_jacobians(model, q), jj, "")
+    check("joint_jacobians vs data.J", fd.joint_jacobians(model, q), jj, "")
 
     note("dynamics")
-    check("rnea vs pin.rnea", alg.rnea(model, q, v, a), lambda s: jm.v_from_pin(pin.rnea(pm, pd, qp[s], vp[s], ap[s])),
+    check("rnea vs pin.rnea", fd.rnea(model, q, v, a), lambda s: jm.v_from_pin(pin.rnea(pm, pd, qp[s], vp[s], ap[s])),
           "gravity sign or magnitude, or joint order")
     fext = rng.normal(size=(n, model.nbodies, 6))
 
-    def pin_fext(s: int) -> list[Any]:
+    def pin_fext(s: int) -> list[PinValue]:
         out = [pin.Force.Zero() for _ in range(pm.njoints)]
         for i, j in enumerate(body_jid):
             out[j] = pin.Force(fext[s, i, 3:], fext[s, i, :3])
         return out
 
-    check("rnea with f_ext vs pin.rnea(fext)", alg.rnea(model, q, v, a, fext),
+    check("rnea with f_ext vs pin.rnea(fext)", fd.rnea(model, q, v, a, fext),
           lambda s: jm.v_from_pin(pin.rnea(pm, pd, qp[s], vp[s], ap[s], pin_fext(s))), "f_ext frame (body LOCAL)")
-    M = alg.crba(model, q)
+    M = fd.crba(model, q)
     check("crba vs pin.crba", M, lambda s: jm.matrix_from_pin(pin.crba(pm, pd, qp[s])),
           "mass matrix given as upper triangle only?")
-    check("nonlinear_effects vs nonLinearEffects", alg.nonlinear_effects(model, q, v),
+    check("nonlinear_effects vs nonLinearEffects", fd.nonlinear_effects(model, q, v),
           lambda s: jm.v_from_pin(pin.nonLinearEffects(pm, pd, qp[s], vp[s])), "")
-    check("generalized_gravity vs computeGeneralizedGravity", alg.generalized_gravity(model, q),
+    check("generalized_gravity vs computeGeneralizedGravity", fd.generalized_gravity(model, q),
           lambda s: jm.v_from_pin(pin.computeGeneralizedGravity(pm, pd, qp[s])), "gravity sign or magnitude")
-    C = alg.coriolis_matrix(model, q, v)
+    C = fd.coriolis_matrix(model, q, v)
     check("coriolis_matrix vs computeCoriolisMatrix", C,
           lambda s: jm.matrix_from_pin(pin.computeCoriolisMatrix(pm, pd, qp[s], vp[s])), "")
     singular = False
     try:
-        ddq = alg.aba(model, q, v, tau)
+        ddq = fd.aba(model, q, v, tau)
         check("aba vs pin.aba", ddq, lambda s: jm.v_from_pin(pin.aba(pm, pd, qp[s], vp[s], taup[s])),
               "mass matrix conditioning (see diagnostics)")
-        check("aba with f_ext vs pin.aba(fext)", alg.aba(model, q, v, tau, fext),
+        check("aba with f_ext vs pin.aba(fext)", fd.aba(model, q, v, tau, fext),
               lambda s: jm.v_from_pin(pin.aba(pm, pd, qp[s], vp[s], taup[s], pin_fext(s))), "")
     except SingularMassMatrixError as exc:
         singular = True
@@ -221,12 +223,12 @@ def dynamics_checks(pair: RobotPair, samples: int = 10, seed: int = 0, tol: floa
                                    f"skipped: {exc}"))
 
     note("energy and momentum")
-    check("kinetic_energy vs computeKineticEnergy", alg.kinetic_energy(model, q, v),
+    check("kinetic_energy vs computeKineticEnergy", fd.kinetic_energy(model, q, v),
           lambda s: pin.computeKineticEnergy(pm, pd, qp[s], vp[s]), "")
-    check("potential_energy vs computePotentialEnergy", alg.potential_energy(model, q),
+    check("potential_energy vs computePotentialEnergy", fd.potential_energy(model, q),
           lambda s: pin.computePotentialEnergy(pm, pd, qp[s]), "")
     if model.total_mass > 0:
-        com = alg.center_of_mass(model, q, v)
+        com = fd.center_of_mass(model, q, v)
 
         def pin_com(s: int) -> np.ndarray:
             pin.centerOfMass(pm, pd, qp[s], vp[s])
@@ -238,13 +240,13 @@ def dynamics_checks(pair: RobotPair, samples: int = 10, seed: int = 0, tol: floa
             pin.ccrba(pm, pd, qp[s], vp[s])
             return jm.columns_from_pin(from_pin6_rows(pd.Ag))
 
-        check("centroidal_momentum_matrix vs ccrba", alg.centroidal_momentum_matrix(model, q), pin_ccrba, "")
+        check("centroidal_momentum_matrix vs ccrba", fd.centroidal_momentum_matrix(model, q), pin_ccrba, "")
 
         def pin_hg(s: int) -> np.ndarray:
             pin.computeCentroidalMomentum(pm, pd, qp[s], vp[s])
             return from_pin6(pd.hg.vector)
 
-        check("centroidal_momentum vs computeCentroidalMomentum", alg.centroidal_momentum(model, q, v).vector, pin_hg,
+        check("centroidal_momentum vs computeCentroidalMomentum", fd.centroidal_momentum(model, q, v).vector, pin_hg,
               "")
 
     else:  # a fixed-base robot whose mass is all in the fixed root link: no centre of mass
@@ -262,25 +264,25 @@ def identity_checks(model: Model, q: np.ndarray, v: np.ndarray, a: np.ndarray, t
                     C: np.ndarray, tol: float, singular: bool) -> list[CheckResult]:
     """Laws that need no oracle: symmetry and definiteness of M, RNEA = M a + h, ABA∘RNEA = id, Ṁ − 2C skew."""
     out: list[CheckResult] = []
-    h = alg.nonlinear_effects(model, q, v)
-    g = alg.generalized_gravity(model, q)
+    h = fd.nonlinear_effects(model, q, v)
+    g = fd.generalized_gravity(model, q)
     out.append(compare("identity", "M = Mᵀ", M, np.swapaxes(M, -1, -2), tol))
     if not singular and model.nv:
         eig = np.linalg.eigvalsh(M)[..., 0]
         out.append(CheckResult("identity", "M positive definite (min eigenvalue > 0)", 0.0, 0.0,
                                int(np.argmin(eig)), tol, bool(np.all(eig > 0)),
                                "" if np.all(eig > 0) else f"min eigenvalue {float(eig.min()):.3g}"))
-    out.append(compare("identity", "RNEA(q, v, a) = M a + h", alg.rnea(model, q, v, a),
+    out.append(compare("identity", "RNEA(q, v, a) = M a + h", fd.rnea(model, q, v, a),
                        (M @ a[..., None])[..., 0] + h, tol))
     out.append(compare("identity", "h − g = C v", h - g, (C @ v[..., None])[..., 0], tol))
-    out.append(compare("identity", "T = ½ vᵀ M v", alg.kinetic_energy(model, q, v),
+    out.append(compare("identity", "T = ½ vᵀ M v", fd.kinetic_energy(model, q, v),
                        0.5 * np.einsum("...i,...ij,...j->...", v, M, v), tol))
     if not singular:
-        out.append(compare("identity", "ABA(RNEA(a)) = a", alg.aba(model, q, v, alg.rnea(model, q, v, a)), a, 1e3 * tol,
+        out.append(compare("identity", "ABA(RNEA(a)) = a", fd.aba(model, q, v, fd.rnea(model, q, v, a)), a, 1e3 * tol,
                            "ill-conditioned mass matrix"))
     # Ṁ − 2C skew-symmetric, with Ṁ by a central difference along q(t) = q ⊕ t v
     eps = 1e-6
-    Mdot = (alg.crba(model, integrate(model, q, eps * v)) - alg.crba(model, integrate(model, q, -eps * v))) / (2 * eps)
+    Mdot = (fd.crba(model, integrate(model, q, eps * v)) - fd.crba(model, integrate(model, q, -eps * v))) / (2 * eps)
     N = Mdot - 2 * C
     out.append(compare("identity", "Ṁ − 2C skew-symmetric (finite difference)", N + np.swapaxes(N, -1, -2),
                        np.zeros_like(N), 1e-5))
@@ -295,9 +297,9 @@ class ModelDiagnostics:
     singular_subtrees: list[str] = field(default_factory=list)
     mass_matrix_condition: float = float("nan")
     total_mass: float = 0.0
-    links: list[dict[str, Any]] = field(default_factory=list)
+    links: list[dict[str, object]] = field(default_factory=list)
 
-    def to_dict(self) -> dict[str, Any]:
+    def to_dict(self) -> dict[str, object]:
         return {
             "links": self.links,
             "invalid_inertias": [{"body": b, "reason": r} for b, r in self.invalid_inertias],
@@ -345,6 +347,6 @@ def model_diagnostics(model: Model, q: np.ndarray | None = None) -> ModelDiagnos
     diag.singular_subtrees = massless_subtrees(model)
     if model.nv:
         qq = q if q is not None else random_configuration(model, np.random.default_rng(0), size=4)
-        M = alg.crba(model, qq)
+        M = fd.crba(model, qq)
         diag.mass_matrix_condition = float(np.max(np.linalg.cond(M)))
     return diag

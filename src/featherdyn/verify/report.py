@@ -8,6 +8,7 @@ from dataclasses import asdict, dataclass, field
 from typing import Any
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 __all__ = ["CheckResult", "VerifyReport", "compare"]
 
@@ -44,7 +45,7 @@ class CheckResult:
 
 
 def compare(
-    group: str, quantity: str, actual: Any, expected: Any, tol: float, note: str = ""
+    group: str, quantity: str, actual: ArrayLike, expected: ArrayLike, tol: float, note: str = ""
 ) -> CheckResult:
     """Compare stacked samples ``actual`` and ``expected`` (leading axis = sample).
 
@@ -100,7 +101,7 @@ class VerifyReport:
         }
 
     def to_json(self, indent: int = 2) -> str:
-        def default(o: Any) -> Any:
+        def default(o: object) -> object:
             if isinstance(o, (np.floating, np.integer, np.bool_)):
                 return o.item()
             raise TypeError(type(o).__name__)

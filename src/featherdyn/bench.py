@@ -24,9 +24,11 @@ import sys
 import time
 import warnings
 from collections.abc import Callable, Sequence
-from typing import Any
 
 import numpy as np
+
+from .model import Model
+from .verify._pinocchio import PinModel
 
 __all__ = ["bench_main", "build_parser", "add_arguments", "run", "chain_urdf"]
 
@@ -37,7 +39,7 @@ JACOBIAN_FRAMES = {"panda": "panda_hand", "solo12": "HR_FOOT", "talos_full_v2": 
 TARGETS = {"single": 1.0, "batch": 6.0, "chain512": 0.5}
 
 
-def _median_ratio(fd_call: Callable[[], Any], pin_call: Callable[[], Any], repeats: int,
+def _median_ratio(fd_call: Callable[[], object], pin_call: Callable[[], object], repeats: int,
                   budget: float = 2e-3) -> tuple[float, float]:
     """Median seconds per call of both, interleaved; each sample runs about ``budget`` seconds."""
     def pair(n: int) -> tuple[float, float]:
@@ -94,29 +96,33 @@ def _versions() -> list[str]:
 class _Pair:
     """A robot loaded by both libraries, with converted random states."""
 
-    def __init__(self, name: str, floating: bool, model: Any = None, pin_model: Any = None, seed: int = 0) -> None:
-        import pinocchio as pin
+    def __init__(self, name: str, model: Model, pin_model: PinModel, seed: int = 0) -> None:
+        from .engine import compile_model
+        from .verify.bridge import JointMap
 
-        from ..robots import load_robot, robot_path
-        from ..verify.bridge import JointMap
-        from .compiled import compile_model
-
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")
-            if model is None:
-                model = load_robot(name, floating_base=floating)
-                path = str(robot_path(name))
-                pin_model = (pin.buildModelFromUrdf(path, pin.JointModelFreeFlyer()) if floating
-                             else pin.buildModelFromUrdf(path))
         self.name, self.model, self.pm = name, model, pin_model
         self.pd = pin_model.createData()
         self.jm = JointMap(model, pin_model)
         self.cm = compile_model(model)
-        rng = np.random.default_rng(seed)
-        self.rng = rng
+        self.rng = np.random.default_rng(seed)
+
+    @classmethod
+    def from_library(cls, name: str, floating: bool) -> _Pair:
+        """A robot of the library, read from the same URDF by both libraries."""
+        import pinocchio as pin
+
+        from .robots import load_robot, robot_path
+
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            model = load_robot(name, floating_base=floating)
+            path = str(robot_path(name))
+            pin_model = (pin.buildModelFromUrdf(path, pin.JointModelFreeFlyer()) if floating
+                         else pin.buildModelFromUrdf(path))
+        return cls(name, model, pin_model)
 
     def states(self, n: int) -> tuple[np.ndarray, ...]:
-        from ..configuration import random_configuration
+        from .configuration import random_configuration
 
         m = self.model
         q = np.asarray(random_configuration(m, self.rng, size=n), dtype=np.float64).reshape(n, m.nq)
@@ -143,7 +149,7 @@ def _single_rows(pair: _Pair, repeats: int) -> list[tuple[str, float, float, flo
         frame = pair.model.frames[-1].name
     fid, fid_pin = pair.model.frame_id(frame), pm.getFrameId(frame)
     tau, M, H, J = np.empty(nv), np.empty((nv, nv)), np.empty((nb, 4, 4)), np.empty((6, nv))
-    cases: list[tuple[str, Callable[[], Any], Callable[[], Any], Callable[[], Any]]] = [
+    cases: list[tuple[str, Callable[[], object], Callable[[], object], Callable[[], object]]] = [
         ("RNEA", lambda: cm.rnea(q, v, a), lambda: cm.rnea(q, v, a, out=tau), lambda: pin.rnea(pm, pd, qp, vp, ap)),
         ("CRBA", lambda: cm.crba(q), lambda: cm.crba(q, out=M), lambda: pin.crba(pm, pd, qp)),
         ("ABA", lambda: cm.aba(q, v, a), lambda: cm.aba(q, v, a, out=tau), lambda: pin.aba(pm, pd, qp, vp, ap)),
@@ -249,13 +255,13 @@ def chain_urdf(n: int) -> str:
 def _chain_rows(lengths: Sequence[int], repeats: int) -> list[tuple[float, ...]]:
     import pinocchio as pin
 
-    from ..urdf import load_urdf
+    from .urdf import load_urdf
 
     rows: list[tuple[float, ...]] = []
     for n in lengths:
         xml = chain_urdf(n)
         model = load_urdf(xml)
-        pair = _Pair(f"chain{n}", False, model, pin.buildModelFromXML(xml))
+        pair = _Pair(f"chain{n}", model, pin.buildModelFromXML(xml))
         r: list[float] = []
         for f_fd, f_pin in _dynamics_calls(pair):
             t_fd, t_pin = _median_ratio(f_fd, f_pin, repeats)
@@ -264,7 +270,7 @@ def _chain_rows(lengths: Sequence[int], repeats: int) -> list[tuple[float, ...]]
     return rows
 
 
-def _dynamics_calls(pair: _Pair) -> list[tuple[Callable[[], Any], Callable[[], Any]]]:
+def _dynamics_calls(pair: _Pair) -> list[tuple[Callable[[], object], Callable[[], object]]]:
     """RNEA, CRBA and ABA of one random state, as (featherdyn, Pinocchio) call pairs."""
     import pinocchio as pin
 
@@ -356,7 +362,7 @@ def run(args: argparse.Namespace) -> int:
          "|---|---|---:|---:|---:|---:|---:|")
     pairs = []
     for name, floating in robots:
-        pair = _Pair(name, floating)
+        pair = _Pair.from_library(name, floating)
         pairs.append(pair)
         label = f"{name}{' (floating)' if floating else ''} nv={pair.model.nv}"
         for alg, t_fd, t_out, t_pin, ratio, ratio_out in _single_rows(pair, args.repeats):
