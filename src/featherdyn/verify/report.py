@@ -10,7 +10,9 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
-__all__ = ["CheckResult", "VerifyReport", "compare"]
+from ..testing import tolerance
+
+__all__ = ["CheckResult", "VerifyReport", "compare", "ROUNDOFF", "roundoff_note"]
 
 
 @dataclass(frozen=True, slots=True)
@@ -31,6 +33,9 @@ class CheckResult:
         note: what the comparison shows on a failure (the likely cause).
         sample_errors: the relative error of each sample (the distribution the
             HTML report plots).
+        criterion: how the comparison was judged when not by ``max_rel <= tol``
+            alone (forward dynamics: by its backward error and the conditioning
+            of ``M``, :func:`featherdyn.verify.dynamics.forward_dynamics_result`).
     """
 
     group: str
@@ -42,6 +47,19 @@ class CheckResult:
     passed: bool
     note: str = ""
     sample_errors: tuple[float, ...] = ()
+    criterion: str = ""
+
+
+#: relative errors up to this are float64 round-off: the comparison tolerance of float64 results
+#: (:data:`featherdyn.tolerances.COMPARISON`). A failure below it means the tolerance asked for is finer
+#: than double precision can resolve, not that a quantity is wrong.
+ROUNDOFF = tolerance(np.float64)[0]
+
+
+def roundoff_note(max_rel: float, tol: float) -> str:
+    """The note of a failure that is only round-off."""
+    return (f"differs only by round-off ({max_rel:.1e}, float64 results agree to {ROUNDOFF:.0e}): the tolerance "
+            f"{tol:.0e} is below what double precision can resolve")
 
 
 def compare(
@@ -52,6 +70,8 @@ def compare(
     ::
 
         max_rel = max over samples of  max|a − b| / max(max|b|, 1)
+
+    A failure within float64 round-off (:data:`ROUNDOFF`) is noted as such instead of ``note``.
     """
     a = np.asarray(actual, dtype=np.float64)
     b = np.asarray(expected, dtype=np.float64)
@@ -69,8 +89,12 @@ def compare(
     rel_per = abs_per / scale
     worst = int(np.argmax(rel_per)) if n else 0
     max_rel = float(rel_per.max(initial=0.0))
+    if max_rel <= tol:
+        note = ""
+    elif max_rel <= ROUNDOFF:
+        note = roundoff_note(max_rel, tol)
     return CheckResult(group, quantity, float(abs_per.max(initial=0.0)), max_rel, worst, tol, max_rel <= tol,
-                       "" if max_rel <= tol else note, tuple(float(e) for e in rel_per))
+                       note, tuple(float(e) for e in rel_per))
 
 
 @dataclass
@@ -138,6 +162,13 @@ class VerifyReport:
             lines.append(f"link inertias: {'all physical' if not bad else f'{len(bad)} not physical'}")
             lines += [f"  {b['body']}: {b['reason']}" for b in bad]
             lines += [f"  singular: {s}" for s in d.get("singular_subtrees", [])]
+        rules: dict[str, list[str]] = {}  # a rule stated once, then each row's figures ("<rule>; <figures>")
+        for r in self.results:
+            if r.criterion:
+                rule, _, figures = r.criterion.partition("; ")
+                rules.setdefault(rule, []).append(f"  {r.quantity}: {figures}" if figures else f"  {r.quantity}")
+        for rule, rows in rules.items():
+            lines += ["", f"{rule[0].upper()}{rule[1:]}:", *rows]
         lines.append("")
         lines.append(
             f"{len(self.results)} checks: {len(self.results) - n_fail} passed, {n_fail} failed"

@@ -76,7 +76,7 @@ from ...joints import RevoluteJoint
 from ...model import Model
 from .._pinocchio import PinModel, require_pinocchio
 from ..bridge import JointMap, pinocchio_model_from
-from ..report import CheckResult
+from ..report import ROUNDOFF, CheckResult
 from ..resolve import resolve_robot
 from .diagnosis import explain, largest_discrepancy
 from .readings import Checker, Hypothesis, Layout
@@ -212,6 +212,11 @@ def check_values(values: Mapping[str, ArrayLike] | str | os.PathLike[str], robot
         report.results = [ch.result(Hypothesis(), q) for q in ch.quantities()]
         if report.passed:
             report.summary = f"all {len(report.results)} comparisons agree within {tol:g}"
+            return report
+        worst = max(r.max_rel for r in report.results)
+        if worst <= ROUNDOFF:  # no suspect can explain what is only round-off
+            report.summary = (f"the values agree to round-off (largest relative error {worst:.1e}); the tolerance "
+                              f"{tol:g} is below what double precision can resolve (about {ROUNDOFF:g})")
             return report
 
     for h in diagnose(ch, forced):
