@@ -27,6 +27,8 @@ from collections.abc import Callable, Sequence
 
 import numpy as np
 
+from ._cli_args import check_writable, positive_int
+from .errors import FeatherdynError, MissingDependencyError
 from .model import Model
 from .verify._pinocchio import PinModel
 
@@ -107,16 +109,15 @@ class _Pair:
         self.rng = np.random.default_rng(seed)
 
     @classmethod
-    def from_library(cls, name: str, floating: bool) -> _Pair:
-        """A robot of the library, read from the same URDF by both libraries."""
+    def from_urdf(cls, name: str, path: str, floating: bool) -> _Pair:
+        """A robot read from the same URDF by both libraries."""
         import pinocchio as pin
 
-        from .robots import load_robot, robot_path
+        from .urdf import load_urdf
 
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            model = load_robot(name, floating_base=floating)
-            path = str(robot_path(name))
+            model = load_urdf(path, floating_base=floating)
             pin_model = (pin.buildModelFromUrdf(path, pin.JointModelFreeFlyer()) if floating
                          else pin.buildModelFromUrdf(path))
         return cls(name, model, pin_model)
@@ -314,11 +315,12 @@ def _fmt_ratio(x: float, target: float, lower_is_better: bool = True) -> str:
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
     """The options of ``featherdyn bench`` (shared by :func:`build_parser` and the CLI)."""
-    p.add_argument("robot", nargs="?", default=None,
-                   help="one robot of the library (default: panda, solo12 (floating), talos_full_v2 (floating))")
+    p.add_argument("robot", nargs="?", default=None, metavar="ROBOT|URDF",
+                   help="one robot of the library or a URDF file (default: panda, solo12 (floating), "
+                        "talos_full_v2 (floating))")
     p.add_argument("--floating-base", action="store_true", help="with ROBOT: put it on a free-flyer joint")
-    p.add_argument("--repeats", type=int, default=15, help="interleaved repetitions per figure (default 15)")
-    p.add_argument("--batch", type=int, default=10_000, help="states per batched call (default 10000)")
+    p.add_argument("--repeats", type=positive_int, default=15, help="interleaved repetitions per figure (default 15)")
+    p.add_argument("--batch", type=positive_int, default=10_000, help="states per batched call (default 10000)")
     p.add_argument("--chains", default=",".join(map(str, CHAIN_LENGTHS)),
                    help="chain lengths of the scaling table, comma-separated ('' to skip)")
     p.add_argument("--no-compile-times", action="store_true", help="skip the compile/load time section")
@@ -332,13 +334,62 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def bench_main(argv: Sequence[str] | None = None) -> int:
-    """Run the benchmark (command-line arguments ``argv``) and print a Markdown report; returns 0."""
-    return run(build_parser().parse_args(argv))
+    """Run the benchmark (command-line arguments ``argv``) and print a Markdown report.
+
+    Returns:
+        0, or 2 after a one-line message when the run cannot start (Pinocchio or
+        Numba missing, an unknown robot, an output that cannot be written).
+    """
+    try:
+        return run(build_parser().parse_args(argv))
+    except FeatherdynError as exc:
+        print(f"featherdyn bench: error: {' '.join(str(exc).split())}", file=sys.stderr)
+        return 2
 
 
-def run(args: argparse.Namespace) -> int:
-    """Run the benchmark for parsed arguments (see :func:`add_arguments`); returns 0."""
-    robots = [(args.robot, args.floating_base)] if args.robot else ROBOTS
+def _prepare(args: argparse.Namespace) -> tuple[list[tuple[str, str, bool]], list[int]]:
+    """Check everything the run needs before any work: ``([(name, urdf, floating)], chain lengths)``.
+
+    Raises:
+        MissingDependencyError: Pinocchio or Numba is not installed.
+        ModelError: an unknown robot, a missing file or a directory.
+        FeatherdynError: bad chain lengths, an output that cannot be written.
+    """
+    from .engine import available
+    from .verify._pinocchio import require_pinocchio
+    from .verify.resolve import resolve_robot
+
+    require_pinocchio()
+    if not available():
+        raise MissingDependencyError("featherdyn bench times the compiled engine, which needs Numba: "
+                                     "`pip install numba`")
+    check_writable(args.output, "--output")
+    try:
+        chains = [int(x) for x in args.chains.split(",") if x.strip()]
+    except ValueError:
+        raise FeatherdynError(f"--chains: expected comma-separated positive integers, got {args.chains!r}") from None
+    if any(n < 1 for n in chains):
+        raise FeatherdynError(f"--chains: expected comma-separated positive integers, got {args.chains!r}")
+    if args.robot:
+        name, path = resolve_robot(args.robot)
+        return [(name, str(path), args.floating_base)], chains
+    return [(name, str(resolve_robot(name)[1]), floating) for name, floating in ROBOTS], chains
+
+
+def run(args: argparse.Namespace, on_ready: Callable[[], None] | None = None) -> int:
+    """Run the benchmark for parsed arguments (see :func:`add_arguments`); returns 0.
+
+    Args:
+        args: the parsed arguments.
+        on_ready: called once the arguments are checked, before any work (the command line
+            announces a first compilation there).
+
+    Raises:
+        FeatherdynError: the run cannot start (see :func:`_prepare`); raised before anything is printed.
+    """
+    robots, chains = _prepare(args)
+    if on_ready is not None:
+        on_ready()
     lines = ["# featherdyn compiled engine vs Pinocchio", ""] + _versions() + [
         f"- method: interleaved repetitions, medians of {args.repeats}; ratio = featherdyn time / Pinocchio "
         "time (< 1: featherdyn faster); both read the same URDF",
@@ -361,8 +412,8 @@ def run(args: argparse.Namespace) -> int:
          "| robot | algorithm | fd µs | fd (out=) µs | Pinocchio µs | ratio | ratio (out=) |",
          "|---|---|---:|---:|---:|---:|---:|")
     pairs = []
-    for name, floating in robots:
-        pair = _Pair.from_library(name, floating)
+    for name, path, floating in robots:
+        pair = _Pair.from_urdf(name, path, floating)
         pairs.append(pair)
         label = f"{name}{' (floating)' if floating else ''} nv={pair.model.nv}"
         for alg, t_fd, t_out, t_pin, ratio, ratio_out in _single_rows(pair, args.repeats):
@@ -389,7 +440,6 @@ def run(args: argparse.Namespace) -> int:
             emit(f"| {pair.name} | {alg} | {t_fresh * 1e3:.2f} | {t_out * 1e3:.2f} | {t_one * 1e3:.2f} | "
                  f"{t_pin * 1e3:.2f} | {_fmt_ratio(t_pin / t_fresh, TARGETS['batch'], lower_is_better=False)} | "
                  f"{_fmt_ratio(t_pin / t_out, TARGETS['batch'], lower_is_better=False)} | {t_pin / t_one:.1f} |")
-    chains = [int(x) for x in args.chains.split(",") if x.strip()]
     if chains:
         emit("", "## Scaling over revolute chains (single calls, `fd.compile` methods; URDF axes cycling z, y, x)",
              "", f"Target: RNEA ratio ≤ {TARGETS['chain512']} at 512 links.", "",
@@ -405,8 +455,11 @@ def run(args: argparse.Namespace) -> int:
         emit("", "## Compile and load times (fresh processes, kernels already in Numba's disk cache)", "",
              *_compile_times())
     if args.output:
-        with open(args.output, "w", encoding="utf-8") as f:
-            f.write("\n".join(lines) + "\n")
+        try:
+            with open(args.output, "w", encoding="utf-8") as f:
+                f.write("\n".join(lines) + "\n")
+        except OSError as exc:
+            raise FeatherdynError(f"cannot write --output {args.output}: {exc.strerror}") from None
     return 0
 
 

@@ -523,7 +523,7 @@ def test_bad_arguments(tmp_path: Any) -> None:
 
 
 def test_a_tolerance_below_round_off_is_named_as_such() -> None:
-    model, pm, _ = robot("panda", False)
+    _, pm, _ = robot("panda", False)
     report = check_values(pin_values(pm), "panda", convention="pinocchio", tol=1e-18)
     assert not report.passed and report.diagnosis == []
     assert "round-off" in report.summary and "suspect" not in report.summary, report.summary

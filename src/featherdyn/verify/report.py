@@ -167,8 +167,8 @@ class VerifyReport:
             if r.criterion:
                 rule, _, figures = r.criterion.partition("; ")
                 rules.setdefault(rule, []).append(f"  {r.quantity}: {figures}" if figures else f"  {r.quantity}")
-        for rule, rows in rules.items():
-            lines += ["", f"{rule[0].upper()}{rule[1:]}:", *rows]
+        for rule, judged in rules.items():
+            lines += ["", f"{rule[0].upper()}{rule[1:]}:", *judged]
         lines.append("")
         lines.append(
             f"{len(self.results)} checks: {len(self.results) - n_fail} passed, {n_fail} failed"
