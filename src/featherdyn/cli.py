@@ -167,6 +167,16 @@ def _announce_first_use() -> None:
         _say("compiling kernels (first use on this machine, ~1 min; later runs start at once)…")
 
 
+#: a URDF file above this size takes a second or more to load: say so first.
+_LARGE_URDF_BYTES = 2_000_000
+
+
+def _announce_large(path: Path) -> None:
+    size = path.stat().st_size
+    if size > _LARGE_URDF_BYTES:
+        _say(f"loading {path} ({size / 1e6:.1f} MB)…")
+
+
 def _progress(enabled: bool) -> Callable[[str], None]:
     def show(msg: str) -> None:
         if enabled:
@@ -219,7 +229,8 @@ def _cmd_verify(args: argparse.Namespace) -> int:
             for r in rep.failures:
                 print(f"FAIL {rep.meta.get('robot')}: {r.quantity}: {r.note}")
     else:
-        verify.resolve_robot(args.robot)  # a bad name or path is refused before anything is printed
+        _name, path = verify.resolve_robot(args.robot)  # a bad name or path is refused before anything is printed
+        _announce_large(path)
         _announce_first_use()
         report = verify.run(args.robot, floating_base=args.floating_base, samples=args.samples, seed=args.seed,
                             tol=args.tol, strict=args.strict, progress=_progress(tty))
@@ -266,6 +277,7 @@ def _cmd_info(args: argparse.Namespace) -> int:
     from .verify import resolve_robot
 
     _name, path = resolve_robot(args.robot)
+    _announce_large(path)
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         model = load_urdf(path, floating_base=args.floating_base)

@@ -169,3 +169,15 @@ def test_the_likely_cause_is_the_one_that_explains_the_numbers(monkeypatch: pyte
     for quantity in ("rnea vs pin.rnea", "crba vs pin.crba"):
         assert "gravity" not in notes[quantity] and "triangle" not in notes[quantity], notes[quantity]
         assert "largest difference" in notes[quantity]
+
+
+def test_the_algebra_checks_name_a_cause_only_when_it_reproduces_the_numbers(monkeypatch: pytest.MonkeyPatch) -> None:
+    from featherdyn.verify import algebra
+
+    orig = algebra.rot.quat_to_matrix
+    monkeypatch.setattr(algebra.rot, "quat_to_matrix", lambda q, *a, **k: orig(np.asarray(q)[..., [1, 2, 3, 0]], *a, **k))
+    failed = {r.quantity: r.note for r in algebra.algebra_checks(samples=4) if not r.passed}
+    assert "(w, x, y, z)" in failed["quat_to_matrix vs Quaternion.toRotationMatrix"]
+    monkeypatch.setattr(algebra.rot, "quat_to_matrix", orig)
+    failed = {r.quantity: r.note for r in algebra.algebra_checks(samples=4, tol=1e-18) if not r.passed}
+    assert failed and all("round-off" in note for note in failed.values()), failed

@@ -22,17 +22,11 @@ from ..errors import SingularMassMatrixError
 from ..model import Model, massless_subtrees
 from ._pinocchio import PinModel, PinValue, require_pinocchio
 from .bridge import SWAP6, JointMap, from_pin6, from_pin6_rows
-from .report import ROUNDOFF, CheckResult, compare, roundoff_note
+from .report import ROUNDOFF, Cause, CheckResult, compare, likely_cause, roundoff_note
 
-__all__ = ["RobotPair", "dynamics_checks", "model_diagnostics", "ModelDiagnostics", "forward_dynamics_result",
-           "likely_cause", "Cause"]
+__all__ = ["RobotPair", "dynamics_checks", "model_diagnostics", "ModelDiagnostics", "forward_dynamics_result"]
 
 _REFS = (("LOCAL", fd.LOCAL), ("WORLD", fd.WORLD), ("LOCAL_WORLD_ALIGNED", fd.LOCAL_WORLD_ALIGNED))
-
-#: a possible cause of a mismatch: its description, and what the oracle's values `(N, ...)` would be
-#: had featherdyn made that mistake. It is named only when featherdyn's values match those.
-Cause = tuple[str, Callable[[np.ndarray], np.ndarray]]
-
 
 #: how forward dynamics is judged (:func:`forward_dynamics_result`), as the reports state it.
 FORWARD_DYNAMICS_RULE = ("forward dynamics is judged by its backward error max_i |M q̈ + h − τ|_i / (|M||q̈| + |h| + "
@@ -42,29 +36,6 @@ FORWARD_DYNAMICS_RULE = ("forward dynamics is judged by its backward error max_i
 
 def _second(fn: Callable[[int, PinValue], np.ndarray], second: PinValue, s: int) -> np.ndarray:
     return fn(s, second)
-
-
-def likely_cause(ours: np.ndarray, ref: np.ndarray, causes: Sequence[Cause], tol: float) -> str:
-    """The cause that explains a mismatch of ``ours`` against ``ref`` `(N, ...)`, or where the difference is largest.
-
-    A cause is named only when featherdyn's values agree, within ``max(tol, ROUNDOFF)``, with
-    the oracle's values as that mistake would have made them.
-    """
-    for text, mistaken in causes:
-        try:
-            alt = mistaken(ref)
-        except (ValueError, RuntimeError, IndexError):  # the alternative cannot be computed for this robot
-            continue
-        if compare("", "", ours, alt, max(tol, ROUNDOFF)).passed:
-            return text
-    n = ours.shape[0] if ours.ndim else 1
-    a, b = ours.reshape(n, -1), ref.reshape(n, -1)
-    rel = np.abs(a - b) / np.maximum(np.abs(b).max(axis=1, initial=0.0), 1.0)[:, None]
-    k, flat = (int(i) for i in np.unravel_index(int(np.argmax(rel)), rel.shape))
-    index = tuple(int(i) for i in np.unravel_index(flat, ours.shape[1:])) if ours.ndim > 1 else ()
-    where = f"state {k}" + (f", index {index[0] if len(index) == 1 else index}" if index else "")
-    return (f"no usual cause explains it; largest difference at {where}: featherdyn {a[k, flat]:.6g}, "
-            f"oracle {b[k, flat]:.6g}")
 
 
 def forward_dynamics_result(group: str, quantity: str, model: Model, q: np.ndarray, v: np.ndarray, tau: np.ndarray,
@@ -398,18 +369,26 @@ def identity_checks(model: Model, q: np.ndarray, v: np.ndarray, a: np.ndarray, t
                     C: np.ndarray, tol: float, singular: bool) -> list[CheckResult]:
     """Laws that need no oracle: symmetry and definiteness of M, RNEA = M a + h, ABA∘RNEA = id, Ṁ − 2C skew."""
     out: list[CheckResult] = []
+
+    def _identity(quantity: str, lhs: ArrayLike, rhs: ArrayLike, tol: float) -> CheckResult:
+        r = compare("identity", quantity, lhs, rhs, tol)
+        if r.passed or r.note:
+            return r
+        return replace(r, note=likely_cause(np.asarray(lhs, dtype=np.float64), np.asarray(rhs, dtype=np.float64),
+                                            (), tol))
+
     h = fd.nonlinear_effects(model, q, v)
     g = fd.generalized_gravity(model, q)
-    out.append(compare("identity", "M = Mᵀ", M, np.swapaxes(M, -1, -2), tol))
+    out.append(_identity("M = Mᵀ", M, np.swapaxes(M, -1, -2), tol))
     if not singular and model.nv:
         eig = np.linalg.eigvalsh(M)[..., 0]
         out.append(CheckResult("identity", "M positive definite (min eigenvalue > 0)", 0.0, 0.0,
                                int(np.argmin(eig)), tol, bool(np.all(eig > 0)),
                                "" if np.all(eig > 0) else f"min eigenvalue {float(eig.min()):.3g}"))
-    out.append(compare("identity", "RNEA(q, v, a) = M a + h", fd.rnea(model, q, v, a),
+    out.append(_identity("RNEA(q, v, a) = M a + h", fd.rnea(model, q, v, a),
                        (M @ a[..., None])[..., 0] + h, tol))
-    out.append(compare("identity", "h − g = C v", h - g, (C @ v[..., None])[..., 0], tol))
-    out.append(compare("identity", "T = ½ vᵀ M v", fd.kinetic_energy(model, q, v),
+    out.append(_identity("h − g = C v", h - g, (C @ v[..., None])[..., 0], tol))
+    out.append(_identity("T = ½ vᵀ M v", fd.kinetic_energy(model, q, v),
                        0.5 * np.einsum("...i,...ij,...j->...", v, M, v), tol))
     if not singular:
         tau_a = fd.rnea(model, q, v, a)
@@ -419,7 +398,7 @@ def identity_checks(model: Model, q: np.ndarray, v: np.ndarray, a: np.ndarray, t
     eps = 1e-6
     Mdot = (fd.crba(model, integrate(model, q, eps * v)) - fd.crba(model, integrate(model, q, -eps * v))) / (2 * eps)
     N = Mdot - 2 * C
-    out.append(compare("identity", "Ṁ − 2C skew-symmetric (finite difference)", N + np.swapaxes(N, -1, -2),
+    out.append(_identity("Ṁ − 2C skew-symmetric (finite difference)", N + np.swapaxes(N, -1, -2),
                        np.zeros_like(N), 1e-5))
     return out
 

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import platform
+from collections.abc import Callable, Sequence
 from dataclasses import asdict, dataclass, field
 from typing import Any
 
@@ -12,7 +13,7 @@ from numpy.typing import ArrayLike
 
 from ..testing import tolerance
 
-__all__ = ["CheckResult", "VerifyReport", "compare", "ROUNDOFF", "roundoff_note"]
+__all__ = ["CheckResult", "VerifyReport", "compare", "ROUNDOFF", "roundoff_note", "Cause", "likely_cause"]
 
 
 @dataclass(frozen=True, slots=True)
@@ -95,6 +96,35 @@ def compare(
         note = roundoff_note(max_rel, tol)
     return CheckResult(group, quantity, float(abs_per.max(initial=0.0)), max_rel, worst, tol, max_rel <= tol,
                        note, tuple(float(e) for e in rel_per))
+
+
+#: a possible cause of a mismatch: its description, and what the oracle's values `(N, ...)` would be
+#: had featherdyn made that mistake. It is named only when featherdyn's values match those.
+Cause = tuple[str, Callable[[np.ndarray], np.ndarray]]
+
+
+
+def likely_cause(ours: np.ndarray, ref: np.ndarray, causes: Sequence[Cause], tol: float) -> str:
+    """The cause that explains a mismatch of ``ours`` against ``ref`` `(N, ...)`, or where the difference is largest.
+
+    A cause is named only when featherdyn's values agree, within ``max(tol, ROUNDOFF)``, with
+    the oracle's values as that mistake would have made them.
+    """
+    for text, mistaken in causes:
+        try:
+            alt = mistaken(ref)
+        except (ValueError, RuntimeError, IndexError):  # the alternative cannot be computed for this robot
+            continue
+        if compare("", "", ours, alt, max(tol, ROUNDOFF)).passed:
+            return text
+    n = ours.shape[0] if ours.ndim else 1
+    a, b = ours.reshape(n, -1), ref.reshape(n, -1)
+    rel = np.abs(a - b) / np.maximum(np.abs(b).max(axis=1, initial=0.0), 1.0)[:, None]
+    k, flat = (int(i) for i in np.unravel_index(int(np.argmax(rel)), rel.shape))
+    index = tuple(int(i) for i in np.unravel_index(flat, ours.shape[1:])) if ours.ndim > 1 else ()
+    where = f"state {k}" + (f", index {index[0] if len(index) == 1 else index}" if index else "")
+    return (f"no usual cause explains it; largest difference at {where}: featherdyn {a[k, flat]:.6g}, "
+            f"expected {b[k, flat]:.6g}")
 
 
 @dataclass
