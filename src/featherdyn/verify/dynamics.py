@@ -22,7 +22,17 @@ from ..errors import SingularMassMatrixError
 from ..model import Model, massless_subtrees
 from ._pinocchio import PinModel, PinValue, require_pinocchio
 from .bridge import SWAP6, JointMap, from_pin6, from_pin6_rows
-from .report import ROUNDOFF, Cause, CheckResult, compare, likely_cause, roundoff_note
+from .report import (
+    ROUNDOFF,
+    Cause,
+    CheckResult,
+    Diagnostics,
+    InvalidInertia,
+    LinkInfo,
+    compare,
+    likely_cause,
+    roundoff_note,
+)
 
 __all__ = ["RobotPair", "dynamics_checks", "model_diagnostics", "ModelDiagnostics", "forward_dynamics_result"]
 
@@ -411,16 +421,14 @@ class ModelDiagnostics:
     singular_subtrees: list[str] = field(default_factory=list)
     mass_matrix_condition: float = float("nan")
     total_mass: float = 0.0
-    links: list[dict[str, object]] = field(default_factory=list)
+    links: list[LinkInfo] = field(default_factory=list)
 
-    def to_dict(self) -> dict[str, object]:
-        return {
-            "links": self.links,
-            "invalid_inertias": [{"body": b, "reason": r} for b, r in self.invalid_inertias],
-            "singular_subtrees": self.singular_subtrees,
-            "mass_matrix_condition": self.mass_matrix_condition,
-            "total_mass": self.total_mass,
-        }
+    def to_dict(self) -> Diagnostics:
+        """The diagnostics as :attr:`VerifyReport.diagnostics <featherdyn.verify.VerifyReport>` holds them."""
+        return Diagnostics(links=self.links,
+                           invalid_inertias=[InvalidInertia(body=b, reason=r) for b, r in self.invalid_inertias],
+                           singular_subtrees=self.singular_subtrees, mass_matrix_condition=self.mass_matrix_condition,
+                           total_mass=self.total_mass)
 
 
 def equivalent_ellipsoid(mass: float, moments: np.ndarray) -> list[float] | None:

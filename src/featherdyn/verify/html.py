@@ -6,7 +6,7 @@ import html
 import math
 from collections.abc import Sequence
 
-from .report import VerifyReport
+from .report import LinkInfo, VerifyReport
 
 __all__ = ["reports_to_html"]
 
@@ -53,7 +53,7 @@ def _error_chart(report: VerifyReport) -> str:
     return "".join(parts)
 
 
-def _ellipse(link: dict) -> str:
+def _ellipse(link: LinkInfo) -> str:
     """A glyph of the link's equivalent uniform ellipsoid (its two largest semi-axes), or a red cross if none exists."""
     axes = link.get("ellipsoid_semi_axes")
     if not axes:

@@ -6,14 +6,14 @@ import json
 import platform
 from collections.abc import Callable, Sequence
 from dataclasses import asdict, dataclass, field
-from typing import Any
+from typing import TypedDict
 
 import numpy as np
 from numpy.typing import ArrayLike
 
 from ..testing import tolerance
 
-__all__ = ["CheckResult", "VerifyReport", "compare", "ROUNDOFF", "roundoff_note", "Cause", "likely_cause"]
+__all__ = ["CheckResult", "VerifyReport", "RunMeta", "Diagnostics", "LinkInfo", "InvalidInertia", "compare", "ROUNDOFF", "roundoff_note", "Cause", "likely_cause"]
 
 
 @dataclass(frozen=True, slots=True)
@@ -127,14 +127,65 @@ def likely_cause(ours: np.ndarray, ref: np.ndarray, causes: Sequence[Cause], tol
             f"expected {b[k, flat]:.6g}")
 
 
+class LinkInfo(TypedDict):
+    """One body in :attr:`VerifyReport.diagnostics` (``links``)."""
+
+    body: str
+    mass: float
+    principal_moments: list[float]
+    ellipsoid_semi_axes: list[float] | None
+    valid: bool
+    reason: str
+
+
+class InvalidInertia(TypedDict):
+    """A body whose inertia is not physical, and why."""
+
+    body: str
+    reason: str
+
+
+class Diagnostics(TypedDict, total=False):
+    """What :attr:`VerifyReport.diagnostics` holds (:func:`featherdyn.verify.dynamics.model_diagnostics`)."""
+
+    links: list[LinkInfo]
+    invalid_inertias: list[InvalidInertia]
+    singular_subtrees: list[str]
+    mass_matrix_condition: float
+    total_mass: float
+
+
+class RunMeta(TypedDict, total=False):
+    """What :attr:`VerifyReport.meta` holds: versions, machine, robot and settings of the run."""
+
+    python: str
+    numpy: str
+    machine: str
+    system: str
+    featherdyn: str
+    pinocchio: str
+    robot: str
+    urdf: str
+    floating_base: bool
+    samples: int
+    seed: int
+    tol: float
+    nq: int
+    nv: int
+    nbodies: int
+    load_warnings: list[str]
+    seconds: float
+    error: str
+
+
 @dataclass
 class VerifyReport:
     """Everything a verification run found; ``passed`` is true when every check passed."""
 
     title: str
     results: list[CheckResult] = field(default_factory=list)
-    meta: dict[str, Any] = field(default_factory=dict)
-    diagnostics: dict[str, Any] = field(default_factory=dict)
+    meta: RunMeta = field(default_factory=lambda: RunMeta())
+    diagnostics: Diagnostics = field(default_factory=lambda: Diagnostics())
 
     @property
     def passed(self) -> bool:
@@ -144,8 +195,8 @@ class VerifyReport:
     def failures(self) -> list[CheckResult]:
         return [r for r in self.results if not r.passed]
 
-    def to_dict(self) -> dict[str, Any]:
-        """A JSON-ready dictionary of the whole report."""
+    def to_dict(self) -> dict[str, object]:
+        """A dictionary of the whole report (:meth:`to_json` writes infinities as strings)."""
         return {
             "title": self.title,
             "passed": self.passed,
@@ -160,14 +211,19 @@ class VerifyReport:
                 return o.item()
             raise TypeError(type(o).__name__)
 
-        d = self.to_dict()
-        cond = d["diagnostics"].get("mass_matrix_condition")
-        if isinstance(cond, float) and not np.isfinite(cond):
-            d["diagnostics"]["mass_matrix_condition"] = str(cond)
-        for r in d["results"]:  # JSON has no inf
+        diagnostics: dict[str, object] = dict(self.diagnostics)
+        cond = self.diagnostics.get("mass_matrix_condition")
+        if isinstance(cond, float) and not np.isfinite(cond):  # JSON has no inf / nan
+            diagnostics["mass_matrix_condition"] = str(cond)
+        results: list[dict[str, object]] = []
+        for r in self.results:
+            row: dict[str, object] = asdict(r)
             for k in ("max_abs", "max_rel"):
-                if not np.isfinite(r[k]):
-                    r[k] = str(r[k])
+                value = getattr(r, k)
+                if not np.isfinite(value):
+                    row[k] = str(value)
+            results.append(row)
+        d = dict(self.to_dict(), diagnostics=diagnostics, results=results)
         return json.dumps(d, indent=indent, default=default, ensure_ascii=False)
 
     def to_table(self) -> str:
@@ -207,14 +263,10 @@ class VerifyReport:
         return "\n".join(lines)
 
 
-def machine_meta() -> dict[str, Any]:
+def machine_meta() -> RunMeta:
     """Versions and machine, recorded in every report."""
-    meta: dict[str, Any] = {
-        "python": platform.python_version(),
-        "numpy": np.__version__,
-        "machine": platform.machine(),
-        "system": platform.system(),
-    }
+    meta = RunMeta(python=platform.python_version(), numpy=np.__version__, machine=platform.machine(),
+                   system=platform.system())
     try:
         from .. import __version__
 
