@@ -131,3 +131,11 @@ def test_all_passes_and_shows_progress(tmp_path: Path) -> None:
     assert res.returncode == 0, res.stdout[-3000:] + res.stderr[-3000:]
     assert "[1/" in res.stderr and "robots" in res.stderr.splitlines()[0]
     assert "FAIL" not in res.stdout
+
+
+def test_a_tolerance_below_round_off_is_named_not_blamed_on_a_convention() -> None:
+    res = run("verify", "panda", "--samples", "2", "--tol", "1e-18")
+    assert res.returncode == 1, res.stdout + res.stderr
+    summary = res.stdout.strip().splitlines()[-1]
+    assert "round-off" in summary
+    assert "gravity" not in summary and "triangle" not in summary, summary

@@ -255,11 +255,16 @@ class VerifyReport:
                 rules.setdefault(rule, []).append(f"  {r.quantity}: {figures}" if figures else f"  {r.quantity}")
         for rule, judged in rules.items():
             lines += ["", f"{rule[0].upper()}{rule[1:]}:", *judged]
-        lines.append("")
-        lines.append(
-            f"{len(self.results)} checks: {len(self.results) - n_fail} passed, {n_fail} failed"
-            + ("" if not n_fail else "  — " + "; ".join(f"{r.quantity}: {r.note}" for r in self.failures if r.note))
-        )
+        roundoff = [r for r in self.failures if r.max_rel <= ROUNDOFF]
+        others = [r for r in self.failures if r.max_rel > ROUNDOFF]
+        summary = f"{len(self.results)} checks: {len(self.results) - n_fail} passed, {n_fail} failed"
+        if roundoff:
+            summary += (f"; {'all' if not others else len(roundoff)} only by round-off (largest "
+                        f"{max(r.max_rel for r in roundoff):.1e}): the tolerance {min(r.tol for r in roundoff):.0e} "
+                        f"is below what double precision can resolve (float64 results agree to {ROUNDOFF:.0e})")
+        if others:
+            summary += "  — " + "; ".join(f"{r.quantity}: {r.note}" for r in others if r.note)
+        lines += ["", summary]
         return "\n".join(lines)
 
 
