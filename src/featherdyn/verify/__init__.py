@@ -16,6 +16,7 @@ import time
 import warnings
 from collections.abc import Callable
 
+from ..tolerances import VERIFY_ALGEBRA, VERIFY_DYNAMICS
 from .check import check_values
 from .report import CheckResult, VerifyReport, compare, machine_meta
 from .resolve import resolve_robot
@@ -23,10 +24,10 @@ from .resolve import resolve_robot
 __all__ = ["run", "resolve_robot", "check_values", "CheckResult", "VerifyReport", "compare", "ALGEBRA_TOL",
            "DYNAMICS_TOL"]
 
-ALGEBRA_TOL = 1e-12
+ALGEBRA_TOL = VERIFY_ALGEBRA
 """Relative tolerance of the spatial-algebra comparisons (both libraries are exact to round-off)."""
 
-DYNAMICS_TOL = 1e-9
+DYNAMICS_TOL = VERIFY_DYNAMICS
 """Relative tolerance of the robot comparisons (the dynamics issue's standard)."""
 
 

@@ -74,6 +74,7 @@ from numpy.typing import ArrayLike
 from ...errors import FeatherdynError, ModelError
 from ...joints import RevoluteJoint
 from ...model import Model
+from ...tolerances import CHECK_VALUES
 from .._pinocchio import PinModel, require_pinocchio
 from ..bridge import JointMap, pinocchio_model_from
 from ..report import ROUNDOFF, CheckResult
@@ -95,7 +96,7 @@ __all__ = [
 ]
 
 #: Default relative tolerance: loose enough for values saved as float32 or rounded in a log.
-DEFAULT_TOL = 1e-6
+DEFAULT_TOL = CHECK_VALUES  # (featherdyn.tolerances)
 
 CONVENTIONS = ("featherdyn", "pinocchio")
 
