@@ -25,7 +25,6 @@ from __future__ import annotations
 
 import argparse
 import json
-import re
 import sys
 import warnings
 from collections.abc import Callable, Sequence
@@ -132,33 +131,10 @@ def _say(msg: str) -> None:
 
 
 def _kernel_cache_is_cold() -> bool:
-    """Whether the compiled engine's first call on this machine will compile its kernels (~1 min).
+    """Whether the compiled engine's first call on this machine will compile its kernels (~1 min)."""
+    from .engine import kernel_cache_is_cold
 
-    Numba keeps compiled kernels in index files (``*.nbi``) next to the engine's
-    sources (``__pycache__``) or under ``NUMBA_CACHE_DIR``; a source newer than its
-    index is compiled again. Without Numba nothing is compiled (the reference
-    backend is used).
-    """
-    import importlib.util
-    import os
-
-    if importlib.util.find_spec("numba") is None:
-        return False
-    spec = importlib.util.find_spec(".engine", __package__)
-    if spec is None or not spec.submodule_search_locations:
-        return False
-    engine_dir = Path(next(iter(spec.submodule_search_locations)))
-    custom = os.environ.get("NUMBA_CACHE_DIR")
-    cache = Path(custom) if custom else engine_dir
-    for source in engine_dir.rglob("*.py"):
-        text = source.read_text(encoding="utf-8", errors="replace")
-        if not (re.search(r"^(from|import) numba\b", text, re.MULTILINE) and "cache" in text):
-            continue  # no disk-cached kernels in this file
-        folder = cache if custom else source.parent / "__pycache__"
-        index = list(folder.rglob(f"{source.stem}.*.nbi")) if folder.is_dir() else []
-        if not index or max(p.stat().st_mtime for p in index) < source.stat().st_mtime:
-            return True
-    return False
+    return kernel_cache_is_cold()
 
 
 def _announce_first_use() -> None:
