@@ -42,6 +42,8 @@ __all__ = [
 
 #: the default backend: ``None`` (compiled for float64) or ``"reference"``
 _DEFAULT: list[str | None] = ["reference" if os.environ.get("FEATHERDYN_BACKEND") == "reference" else None]
+#: ``_DEFAULT[0] is None``, kept as a plain global: the fast path reads it on every call
+_FAST_ON = _DEFAULT[0] is None
 _BACKENDS = (None, "reference", "compiled")
 
 #: status of a checked kernel that computed its result (ABA: :data:`ABA_OK`; a joint index ``>= 0`` is singular)
@@ -64,7 +66,9 @@ def set_default_backend(backend: str | None) -> None:
     """
     if backend not in _BACKENDS:
         raise BackendError(f"backend: expected None, 'reference' or 'compiled', got {backend!r}")
+    global _FAST_ON
     _DEFAULT[0] = None if backend == "compiled" else backend
+    _FAST_ON = _DEFAULT[0] is None
 
 
 def default_backend() -> str | None:
@@ -110,7 +114,7 @@ def fast_path(model: Any, backend: str | None) -> Any:
     given, ``model`` is not a :class:`~featherdyn.Model`, or the engine is not
     available. Made on first use and kept on the model.
     """
-    if backend is None and _DEFAULT[0] is None:
+    if backend is None and _FAST_ON:
         try:
             return model._fast
         except AttributeError:
