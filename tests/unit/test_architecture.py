@@ -39,6 +39,7 @@ LAYER_OF: dict[str, str] = {
     "model": "model",
     "results": "model",
     "urdf": "model",
+    "_urdf_xml": "model",
     "configuration": "model",
     "robots": "model",
     "algorithms": "algorithms",
