@@ -1,15 +1,15 @@
 """featherdyn: spatial vector algebra and rigid-body dynamics in Featherstone's notation.
 
 Public names are flat (``fd.SpatialMotion``, ``fd.PluckerTransform``, ...);
-see ``shared/DESIGN.md`` for the conventions: 6D motion vectors are
+see ``docs/architecture.md`` for the layers and the conventions: 6D motion vectors are
 ``[ω; v]`` (angular first), forces ``[n; f]``, ``PluckerTransform(R, p)`` is
 the pose of frame A in frame B and maps A-coordinates to B-coordinates.
 """
 
 from __future__ import annotations
 
-from . import algorithms, errors, frames, joints, model, rotation, spatial_algebra
-from .algorithms import (
+from . import algorithms, api, errors, frames, joints, model, results, rotation, spatial_algebra, tolerances
+from .api import (
     LOCAL,
     LOCAL_WORLD_ALIGNED,
     WORLD,
@@ -22,6 +22,7 @@ from .algorithms import (
     centroidal_momentum_matrix,
     coriolis_matrix,
     crba,
+    default_backend,
     forward_kinematics,
     frame_acceleration,
     frame_classical_acceleration,
@@ -35,9 +36,10 @@ from .algorithms import (
     nonlinear_effects,
     potential_energy,
     rnea,
+    set_default_backend,
 )
-from .engine._fast import default_backend, set_default_backend
 from .errors import (
+    BackendError,
     DTypeError,
     FeatherdynError,
     FrameMismatchError,
@@ -92,7 +94,7 @@ _LAZY = {
     "robots": None,
     "configuration": None,
     "verify": None,
-    "compile": "engine",
+    "compile": "api",
     "engine": None,
 }
 
@@ -113,12 +115,16 @@ def __dir__() -> list[str]:
 
 __all__ = [
     "algorithms",
+    "api",
+    "results",
+    "tolerances",
     "errors",
     "frames",
     "joints",
     "model",
     "rotation",
     "spatial_algebra",
+    "BackendError",
     "DTypeError",
     "FeatherdynError",
     "FrameMismatchError",

@@ -8,10 +8,17 @@
                      [--tol T] [--json FILE]
     featherdyn info ROBOT|URDF [--floating-base]
     featherdyn list
-    featherdyn bench [ROBOT] [--floating-base] [--repeats N] [--batch N] [--chains 8,16,...] [--output FILE]
+    featherdyn bench [ROBOT|URDF] [--floating-base] [--repeats N] [--batch N] [--chains 8,16,...] [--output FILE]
+    featherdyn --version
 
 Exit codes: 0 everything agrees, 1 a mismatch, 2 a usage or model error
-(with a one-line message, never a traceback).
+(with a one-line message, never a traceback). Arguments, input files and
+output folders are checked before any work; progress and first-use notices
+(the engine compiling its kernels the first time, ``--all``) go to stderr,
+reports to stdout.
+
+This module is the top of the tools layer: it imports :mod:`featherdyn.verify`
+and :mod:`featherdyn.bench`, which never import it (``docs/architecture.md``).
 """
 
 from __future__ import annotations
@@ -20,12 +27,13 @@ import argparse
 import json
 import sys
 import warnings
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from pathlib import Path
-from typing import Any
 
+import numpy as np
+
+from ._cli_args import check_writable, positive_float, positive_int
 from .errors import FeatherdynError
-from .verify.check import add_check_subcommand, cmd_check
 
 __all__ = ["main", "build_parser"]
 
@@ -39,38 +47,21 @@ class _Parser(argparse.ArgumentParser):
         raise SystemExit(EXIT_USAGE)
 
 
-def _positive_int(text: str) -> int:
-    try:
-        val = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a positive integer, got {text!r}") from None
-    if val < 1:
-        raise argparse.ArgumentTypeError(f"expected a positive integer, got {val}")
-    return val
-
-
-def _positive_float(text: str) -> float:
-    try:
-        val = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a positive number, got {text!r}") from None
-    if not (val > 0 and val < float("inf")):
-        raise argparse.ArgumentTypeError(f"expected a positive finite number, got {text!r}")
-    return val
-
-
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser of the ``featherdyn`` command."""
     parser = _Parser(prog="featherdyn",
                      description="Spatial vector algebra and rigid-body dynamics, verified against Pinocchio.")
+    from . import __version__
+
+    parser.add_argument("--version", action="version", version=f"featherdyn {__version__}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
     v = sub.add_parser("verify", help="compare featherdyn with Pinocchio on a robot and check oracle-free identities")
     v.add_argument("robot", nargs="?", default=None, metavar="ROBOT|URDF",
                    help="a robot-library name (see `featherdyn list`) or a URDF file; default: the default robot")
     v.add_argument("--floating-base", action="store_true", help="put the root link on a free-flyer joint")
-    v.add_argument("--samples", type=_positive_int, default=10, help="random states per check (default 10)")
+    v.add_argument("--samples", type=positive_int, default=10, help="random states per check (default 10)")
     v.add_argument("--seed", type=int, default=0, help="random seed (default 0; same seed, same report)")
-    v.add_argument("--tol", type=_positive_float, default=None, help="relative tolerance (default 1e-9)")
+    v.add_argument("--tol", type=positive_float, default=None, help="relative tolerance (default 1e-9)")
     v.add_argument("--json", type=Path, default=None, metavar="FILE", help="write the full report as JSON")
     v.add_argument("--report", type=Path, default=None, metavar="FILE.html",
                    help="write an HTML report with the table and plots (opens offline)")
@@ -80,14 +71,89 @@ def build_parser() -> argparse.ArgumentParser:
     i.add_argument("robot", metavar="ROBOT|URDF")
     i.add_argument("--floating-base", action="store_true")
     sub.add_parser("list", help="the names of the robot library")
-    add_check_subcommand(sub)
-    from .engine.bench import add_arguments as add_bench_arguments
+    _add_check(sub)
+    from .bench import add_arguments as add_bench_arguments
 
     add_bench_arguments(sub.add_parser("bench", help="time the compiled engine against Pinocchio (ratios)"))
     return parser
 
 
-def _progress(enabled: bool) -> Any:
+def _add_check(sub: argparse._SubParsersAction[_Parser]) -> None:
+    """``featherdyn check VALUES.npz --robot ROBOT`` (:func:`featherdyn.verify.check.check_values`)."""
+    from .verify.check import CONVENTIONS, DEFAULT_TOL
+
+    p = sub.add_parser(
+        "check", help="check your own numbers (an .npz of q, v, a, tau, M, ddq) against featherdyn and "
+                      "diagnose a mismatch",
+        description="Check the values in VALUES.npz (keys q, v, a and any of tau, M, ddq with tau; one state or a "
+                    "batch along a leading axis) against featherdyn. On a mismatch, try the usual suspects (6D "
+                    "order, world-frame base velocity, quaternion order, classical acceleration, gravity, "
+                    "continuous joints, joint order, triangular M) and say which one explains the numbers. "
+                    "Exit codes: 0 all agree, 1 a mismatch, 2 a usage or model error.")
+    p.add_argument("values", metavar="VALUES.npz", help="an .npz archive of named arrays (numpy.savez)")
+    p.add_argument("--robot", required=True, metavar="ROBOT|URDF",
+                   help="a robot-library name (see `featherdyn list`) or a URDF file")
+    p.add_argument("--floating-base", action="store_true", help="put the root link on a free-flyer joint")
+    p.add_argument("--convention", choices=CONVENTIONS, default="featherdyn",
+                   help="the layout of the values (default featherdyn; pinocchio: continuous joints as cos/sin, "
+                        "Pinocchio's joint order, free-flyer [v; ω] LOCAL)")
+    p.add_argument("--tol", type=positive_float, default=DEFAULT_TOL,
+                   help=f"relative tolerance |a − b| / max(|b|, 1) (default {DEFAULT_TOL:g})")
+    p.add_argument("--json", type=Path, default=None, metavar="FILE", help="write the full report as JSON")
+
+
+def _cmd_check(args: argparse.Namespace) -> int:
+    from .verify.check import check_values
+
+    check_writable(args.json, "--json")
+    if _kernel_cache_is_cold():  # refuse bad input before announcing a minute of compilation
+        from .verify.check.values import load_npz
+        from .verify.resolve import resolve_robot
+
+        load_npz(args.values)
+        resolve_robot(args.robot)
+        _announce_first_use()
+    try:
+        report = check_values(args.values, args.robot, floating_base=args.floating_base,
+                              convention=args.convention, tol=args.tol)
+    except TypeError as exc:  # a value of the wrong type inside the archive
+        raise FeatherdynError(str(exc)) from None
+    print(report.to_text())
+    if args.json is not None:
+        _write(args.json, report.to_json() + "\n")
+        print(f"JSON report written to {args.json}")
+    return EXIT_OK if report.passed else EXIT_MISMATCH
+
+
+def _say(msg: str) -> None:
+    """A line on stderr about what is happening (never on stdout, which holds the report)."""
+    print(f"featherdyn: {msg}", file=sys.stderr, flush=True)
+
+
+def _kernel_cache_is_cold() -> bool:
+    """Whether the compiled engine's first call on this machine will compile its kernels (~1 min)."""
+    from .engine import kernel_cache_is_cold
+
+    return kernel_cache_is_cold()
+
+
+def _announce_first_use() -> None:
+    """Say so on stderr when the next minute goes into compiling the engine (first use on this machine)."""
+    if _kernel_cache_is_cold():
+        _say("compiling kernels (first use on this machine, ~1 min; later runs start at once)…")
+
+
+#: a URDF file above this size takes a second or more to load: say so first.
+_LARGE_URDF_BYTES = 2_000_000
+
+
+def _announce_large(path: Path) -> None:
+    size = path.stat().st_size
+    if size > _LARGE_URDF_BYTES:
+        _say(f"loading {path} ({size / 1e6:.1f} MB)…")
+
+
+def _progress(enabled: bool) -> Callable[[str], None]:
     def show(msg: str) -> None:
         if enabled:
             print(f"  … {msg}", file=sys.stderr, flush=True)
@@ -103,16 +169,22 @@ def _write(path: Path, text: str) -> None:
 
 def _cmd_verify(args: argparse.Namespace) -> int:
     from . import verify
+    from .verify._pinocchio import require_pinocchio
     from .verify.html import reports_to_html
 
     if args.all and args.robot:
         raise FeatherdynError("give either a ROBOT or --all, not both")
+    check_writable(args.json, "--json")
+    check_writable(args.report, "--report")
+    require_pinocchio()
     tty = sys.stderr.isatty()
     reports = []
     if args.all:
         from .robots import list_robots
 
         names = list_robots()
+        _say(f"verifying {len(names)} robots of the library, one line per robot (about a second each)…")
+        _announce_first_use()
         for k, name in enumerate(names, 1):
             print(f"[{k}/{len(names)}] {name}", file=sys.stderr, flush=True)
             try:
@@ -133,6 +205,9 @@ def _cmd_verify(args: argparse.Namespace) -> int:
             for r in rep.failures:
                 print(f"FAIL {rep.meta.get('robot')}: {r.quantity}: {r.note}")
     else:
+        _name, path = verify.resolve_robot(args.robot)  # a bad name or path is refused before anything is printed
+        _announce_large(path)
+        _announce_first_use()
         report = verify.run(args.robot, floating_base=args.floating_base, samples=args.samples, seed=args.seed,
                             tol=args.tol, strict=args.strict, progress=_progress(tty))
         reports.append(report)
@@ -156,14 +231,29 @@ def _cmd_list(args: argparse.Namespace) -> int:
     return EXIT_OK
 
 
-def _cmd_info(args: argparse.Namespace) -> int:
-    import numpy as np
+def _limits(lower: np.ndarray, upper: np.ndarray, velocity: np.ndarray, effort: np.ndarray) -> str:
+    """A joint's limits as ``info`` prints them (``"q [-2.9, 2.9], |v| ≤ 2.2, |τ| ≤ 87; "``), or ``""`` if it has none."""
+    def fmt(x: np.ndarray) -> str:
+        vals = [f"{float(e):.6g}" for e in x]
+        return vals[0] if len(vals) == 1 else "(" + ", ".join(vals) + ")"
 
+    parts = []
+    if np.any(np.isfinite(lower)) or np.any(np.isfinite(upper)):
+        parts.append(f"q [{fmt(lower)}, {fmt(upper)}]")
+    if np.any(np.isfinite(velocity)):
+        parts.append(f"|v| ≤ {fmt(velocity)}")
+    if np.any(np.isfinite(effort)):
+        parts.append(f"|τ| ≤ {fmt(effort)}")
+    return "limits " + ", ".join(parts) + "; " if parts else ""
+
+
+def _cmd_info(args: argparse.Namespace) -> int:
     from .errors import InertiaError
     from .urdf import load_urdf
     from .verify import resolve_robot
 
     _name, path = resolve_robot(args.robot)
+    _announce_large(path)
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         model = load_urdf(path, floating_base=args.floating_base)
@@ -182,8 +272,12 @@ def _cmd_info(args: argparse.Namespace) -> int:
             valid = "inertia ok"
         except InertiaError as exc:
             valid = f"INERTIA NOT PHYSICAL: {str(exc).split(': ', 1)[-1]}"
+        q_range = slice(model.idx_q[i], model.idx_q[i] + model.nqs[i])
+        v_range = slice(model.idx_v[i], model.idx_v[i] + model.nvs[i])
+        limits = _limits(model.lower[q_range], model.upper[q_range], model.velocity_limit[v_range],
+                         model.effort_limit[v_range])
         print(f"  {'  ' * depth[i]}{model.body_names[i]}  [{joint.kind} {model.joint_names[i]!r}{ax}; "
-              f"q[{model.idx_q[i]}:{model.idx_q[i] + model.nqs[i]}] v[{model.idx_v[i]}:{model.idx_v[i] + model.nvs[i]}]; "
+              f"q[{q_range.start}:{q_range.stop}] v[{v_range.start}:{v_range.stop}]; {limits}"
               f"m={float(model.inertias.mass[i]):.4g} kg; {valid}]")
     print(f"frames ({len(model.frames)}):")
     for f in model.frames:
@@ -195,9 +289,9 @@ def _cmd_info(args: argparse.Namespace) -> int:
 
 
 def _cmd_bench(args: argparse.Namespace) -> int:
-    from .engine.bench import run
+    from .bench import run
 
-    return run(args)
+    return run(args, on_ready=_announce_first_use)
 
 
 def main(argv: Sequence[str] | None = None) -> int:
@@ -207,11 +301,11 @@ def main(argv: Sequence[str] | None = None) -> int:
     if args.command is None:
         parser.print_help()
         return EXIT_USAGE
-    commands = {"verify": _cmd_verify, "list": _cmd_list, "info": _cmd_info, "check": cmd_check, "bench": _cmd_bench}
+    commands = {"verify": _cmd_verify, "list": _cmd_list, "info": _cmd_info, "check": _cmd_check, "bench": _cmd_bench}
     try:
         return commands[args.command](args)
     except (FeatherdynError, ValueError) as exc:
-        print(f"featherdyn: error: {exc}", file=sys.stderr)
+        print(f"featherdyn: error: {' '.join(str(exc).split())}", file=sys.stderr)
         return EXIT_USAGE
     except KeyboardInterrupt:  # pragma: no cover
         return EXIT_USAGE

@@ -24,7 +24,7 @@ Batch axes lead and broadcast; float32 stays float32.
 
 Source: Pinocchio ``algorithm/joint-configuration.hpp`` and its Lie groups;
 Solà, Deray & Atchuthan (2018), "A micro Lie theory for state estimation in
-robotics"; DESIGN.md conventions.
+robotics"; docs/architecture.md ("Conventions").
 """
 
 from __future__ import annotations
@@ -32,11 +32,13 @@ from __future__ import annotations
 from typing import Any
 
 import numpy as np
+from numpy.typing import ArrayLike
 
-from ._validation import as_array, default_tol, result_dtype
+from ._validation import as_array, result_dtype
 from .errors import QuaternionNormError, ShapeError
 from .joints import FreeFlyerJoint, SphericalJoint
 from .model import Model
+from .tolerances import QUATERNION_NORM
 
 __all__ = [
     "neutral",
@@ -49,8 +51,6 @@ __all__ = [
 ]
 
 # the same thresholds as featherdyn.rotation and featherdyn.joints
-_QUAT_NORM_TOL_FLOAT64 = 1e-6
-_QUAT_NORM_TOL_FLOAT32 = 1e-4
 
 
 # --------------------------------------------------------------------------
@@ -88,7 +88,7 @@ def _check_quaternions(model: Model, q: np.ndarray, name: str) -> None:
     """Raise :class:`QuaternionNormError` naming the joint unless each quaternion of ``q`` is unit."""
     if q.dtype.kind == "O":
         return
-    tol = default_tol(q.dtype, _QUAT_NORM_TOL_FLOAT64, _QUAT_NORM_TOL_FLOAT32)
+    tol = QUATERNION_NORM.of(q.dtype)
     for i, sl in _quat_slices(model):
         quat = q[..., sl]
         norm = np.sqrt(np.sum(quat * quat, axis=-1))
@@ -143,7 +143,7 @@ def neutral(model: Model) -> np.ndarray:
     return q
 
 
-def random_configuration(model: Model, rng: Any = None, size: Any = None) -> np.ndarray:
+def random_configuration(model: Model, rng: np.random.Generator | int | None = None, size: int | tuple[int, ...] | None = None) -> np.ndarray:
     """Random configurations within the position limits.
 
     Each coordinate is uniform between ``model.lower`` and ``model.upper``
@@ -169,7 +169,7 @@ def random_configuration(model: Model, rng: Any = None, size: Any = None) -> np.
     except (TypeError, ValueError) as exc:
         raise TypeError(f"rng: expected a numpy Generator, an int seed or None, got {rng!r} ({exc})") from None
     try:
-        shape = () if size is None else ((int(size),) if np.ndim(size) == 0 else tuple(int(s) for s in size))
+        shape = () if size is None else ((int(size),) if isinstance(size, (int, np.integer)) else tuple(int(s) for s in size))
     except (TypeError, ValueError):
         raise ShapeError(f"size: expected None, an int or a tuple of ints, got {size!r}") from None
     if any(s < 0 for s in shape):
@@ -181,7 +181,7 @@ def random_configuration(model: Model, rng: Any = None, size: Any = None) -> np.
     return q
 
 
-def integrate(model: Model, q: Any, v: Any) -> np.ndarray:
+def integrate(model: Model, q: ArrayLike, v: ArrayLike) -> np.ndarray:
     """The configuration reached from ``q`` moving with velocity ``v`` for unit time.
 
     Joint by joint, on each joint's Lie group (velocities in the moving
@@ -213,7 +213,7 @@ def integrate(model: Model, q: Any, v: Any) -> np.ndarray:
     return out
 
 
-def difference(model: Model, q0: Any, q1: Any) -> np.ndarray:
+def difference(model: Model, q0: ArrayLike, q1: ArrayLike) -> np.ndarray:
     """The velocity that takes ``q0`` to ``q1`` in unit time: the inverse of :func:`integrate`.
 
     ::
@@ -248,7 +248,7 @@ def difference(model: Model, q0: Any, q1: Any) -> np.ndarray:
     return out
 
 
-def interpolate(model: Model, q0: Any, q1: Any, t: Any) -> np.ndarray:
+def interpolate(model: Model, q0: ArrayLike, q1: ArrayLike, t: ArrayLike) -> np.ndarray:
     """The configuration a fraction ``t`` of the way from ``q0`` to ``q1`` (geodesic per joint).
 
     ::
@@ -273,7 +273,7 @@ def interpolate(model: Model, q0: Any, q1: Any, t: Any) -> np.ndarray:
     return integrate(model, q0, tt[..., None] * dv)
 
 
-def normalize(model: Model, q: Any) -> np.ndarray:
+def normalize(model: Model, q: ArrayLike) -> np.ndarray:
     """The nearest valid configuration: every quaternion scaled to unit norm, the rest unchanged.
 
     ::
@@ -305,7 +305,7 @@ def normalize(model: Model, q: Any) -> np.ndarray:
     return out
 
 
-def is_normalized(model: Model, q: Any, tol: float = 1e-10) -> np.ndarray | bool:
+def is_normalized(model: Model, q: ArrayLike, tol: float = 1e-10) -> np.ndarray | bool:
     """Whether every quaternion of ``q`` has unit norm within ``tol``.
 
     ::

@@ -27,6 +27,7 @@ __all__ = [
     "PhysicalityWarning",
     "MissingDependencyError",
     "SingularMassMatrixError",
+    "BackendError",
 ]
 
 
@@ -111,3 +112,24 @@ class SingularMassMatrixError(FeatherdynError, ValueError):
     Raised by ABA instead of returning NaN; the message names the joint whose
     articulated inertia vanished (typically a moving subtree without mass).
     """
+
+    @classmethod
+    def for_joint(cls, joint: str, body: str, pivot: float | None = None,
+                  batch_index: tuple[int, ...] | None = None) -> SingularMassMatrixError:
+        """The error for joint ``joint`` (moving body ``body``), the one message every backend raises.
+
+        ``pivot`` is the smallest eigenvalue of the joint's articulated inertia
+        ``D = Sᵀ IA S`` when it is known; ``batch_index`` the state of a batch.
+        The rule that decides it is :data:`featherdyn.tolerances.SINGULAR_PIVOT_RTOL`.
+        """
+        value = "singular" if pivot is None else f"{pivot:.3g}"
+        where = f" (batch index {batch_index})" if batch_index else ""
+        return cls(
+            f"joint {joint!r} (body {body!r}): the articulated inertia of its subtree along the joint axis is "
+            f"{value} — the subtree has no mass or inertia that this joint can move, so the mass matrix is "
+            f"singular and q̈ is not unique{where}"
+        )
+
+
+class BackendError(FeatherdynError, ValueError):
+    """An unknown or unavailable ``backend=`` was requested."""

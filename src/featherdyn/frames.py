@@ -16,11 +16,23 @@ target B) re-tags the expressed-in frame from A to B.
 
 from __future__ import annotations
 
+import enum
 from collections.abc import Hashable
 
-from .errors import FrameMismatchError
+from .errors import FrameMismatchError, ShapeError
 
-__all__ = ["FrameMismatchError", "Frame", "check_same_frame", "merge_frames", "chain_bodies"]
+__all__ = [
+    "FrameMismatchError",
+    "Frame",
+    "check_same_frame",
+    "merge_frames",
+    "chain_bodies",
+    "ReferenceFrame",
+    "LOCAL",
+    "WORLD",
+    "LOCAL_WORLD_ALIGNED",
+    "as_reference_frame",
+]
 
 Frame = Hashable | None
 
@@ -68,3 +80,45 @@ def chain_bodies(
             f"{body_b!r} relative to {rel_b!r}: relative motions add as v_A/B + v_B/C = v_A/C"
         )
     return None, None
+
+
+class ReferenceFrame(enum.Enum):
+    """Where frame velocities, accelerations and Jacobians are expressed (Pinocchio's meanings).
+
+    * ``LOCAL``: in the frame itself, reference point its origin.
+    * ``WORLD``: in world axes, reference point the world origin (spatial
+      velocity in Featherstone's sense).
+    * ``LOCAL_WORLD_ALIGNED``: reference point the frame origin, world axes
+      (the linear part is the frame origin's velocity in world coordinates).
+
+    :attr:`code` is the integer the compiled engine uses for each (the only
+    place those integers are defined).
+    """
+
+    LOCAL = "local"
+    WORLD = "world"
+    LOCAL_WORLD_ALIGNED = "local_world_aligned"
+
+    @property
+    def code(self) -> int:
+        """``0`` LOCAL, ``1`` WORLD, ``2`` LOCAL_WORLD_ALIGNED (the compiled engine's codes)."""
+        return _REFERENCE_CODES[self]
+
+
+_REFERENCE_CODES = {ReferenceFrame.LOCAL: 0, ReferenceFrame.WORLD: 1, ReferenceFrame.LOCAL_WORLD_ALIGNED: 2}
+
+LOCAL = ReferenceFrame.LOCAL
+WORLD = ReferenceFrame.WORLD
+LOCAL_WORLD_ALIGNED = ReferenceFrame.LOCAL_WORLD_ALIGNED
+
+
+def as_reference_frame(reference: object) -> ReferenceFrame:
+    """``reference`` as a :class:`ReferenceFrame` (the enum or its name, any case); :class:`ShapeError` otherwise."""
+    if isinstance(reference, ReferenceFrame):
+        return reference
+    if isinstance(reference, str):
+        try:
+            return ReferenceFrame(reference.lower())
+        except ValueError:
+            pass
+    raise ShapeError(f"reference: expected fd.LOCAL, fd.WORLD or fd.LOCAL_WORLD_ALIGNED, got {reference!r}")

@@ -22,7 +22,7 @@ free-flyer      7    6   [x y z, qx qy qz qw] (pose in the parent)     [ω; v] i
 planar          3    3   [x, y, θ] in the plane normal to ``normal``   [ω, v_x, v_y] child frame
 =============  ===  ===  ============================================  ==========================
 
-Source: RBDA (2008) §4.4 and table 4.1; chapter §8.3; DESIGN.md conventions.
+Source: RBDA (2008) §4.4 and table 4.1; chapter §8.3; docs/architecture.md ("Conventions").
 """
 
 from __future__ import annotations
@@ -32,11 +32,13 @@ from dataclasses import dataclass, field
 from typing import Any, ClassVar
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from . import rotation as rot
-from ._validation import as_array, default_tol
+from ._validation import as_array
 from .errors import ModelError, PhysicalityWarning, QuaternionNormError
 from .spatial_algebra import PluckerTransform, SpatialMotion
+from .tolerances import QUATERNION_NORM, SMALL_ANGLE, UNIT_AXIS
 
 __all__ = [
     "Joint",
@@ -48,14 +50,8 @@ __all__ = [
     "unit_axis",
 ]
 
-_UNIT_TOL = 1e-6
-# A quaternion in q may be off unit norm by this much before integrate/difference refuse it
-# (URDF and user input carry ~7 digits; the same thresholds as featherdyn.rotation).
-_QUAT_NORM_TOL_FLOAT64 = 1e-6
-_QUAT_NORM_TOL_FLOAT32 = 1e-4
 
-
-def unit_axis(axis: Any, name: str = "axis", *, warn: bool = True, stacklevel: int = 3) -> np.ndarray:
+def unit_axis(axis: ArrayLike, name: str = "axis", *, warn: bool = True, stacklevel: int = 3) -> np.ndarray:
     """Normalise a joint axis `(3,)`; zero length raises, non-unit length warns.
 
     Real URDFs have axes like ``0 0 -1`` (kept: the sign is meaningful) and
@@ -76,7 +72,7 @@ def unit_axis(axis: Any, name: str = "axis", *, warn: bool = True, stacklevel: i
     n = float(np.linalg.norm(a))
     if n < 1e-12:
         raise ModelError(f"{name}: zero-length joint axis {a.tolist()}")
-    if warn and abs(n - 1.0) > _UNIT_TOL:
+    if warn and abs(n - 1.0) > UNIT_AXIS:
         warnings.warn(
             f"{name}: axis {a.tolist()} has length {n:.6g}; normalised", PhysicalityWarning, stacklevel=stacklevel
         )
@@ -95,7 +91,7 @@ def _frozen(a: np.ndarray) -> np.ndarray:
     return a
 
 
-def _q(q: Any, nq: int, name: str = "q") -> np.ndarray:
+def _q(q: ArrayLike, nq: int, name: str = "q") -> np.ndarray:
     return as_array(q, name, (nq,))
 
 
@@ -157,7 +153,7 @@ def _check_unit_quat(quat: np.ndarray, name: str) -> None:
     """Raise :class:`QuaternionNormError` naming ``name`` unless every `(..., 4)` quaternion is unit."""
     if quat.dtype.kind == "O":
         return
-    tol = default_tol(quat.dtype, _QUAT_NORM_TOL_FLOAT64, _QUAT_NORM_TOL_FLOAT32)
+    tol = QUATERNION_NORM.of(quat.dtype)
     norm = np.sqrt(np.sum(quat * quat, axis=-1))
     bad = np.abs(norm - 1) > tol
     if np.any(bad):
@@ -175,7 +171,7 @@ def _quat_exp(omega: np.ndarray) -> np.ndarray:
         exp(ω) = (sin(θ/2) ω/θ, cos(θ/2)),   θ = |ω|
     """
     theta = np.sqrt(np.sum(omega * omega, axis=-1))
-    small = theta < default_tol(omega.dtype, 1e-2, 1e-1)
+    small = theta < SMALL_ANGLE.of(omega.dtype)
     t = np.where(small, np.ones_like(theta), theta)
     t2 = theta * theta
     half_sinc = np.where(small, 0.5 - t2 / 48 * (1 - t2 / 80), np.sin(t / 2) / t)  # sin(θ/2)/θ
@@ -215,7 +211,7 @@ class Joint:
         """`(6, nv)` motion subspace in successor coordinates (constant)."""
         raise NotImplementedError
 
-    def pose(self, q: Any) -> PluckerTransform:
+    def pose(self, q: ArrayLike) -> PluckerTransform:
         """The pose of the successor frame in the joint frame for ``q`` `(..., nq)`."""
         raise NotImplementedError
 
@@ -223,7 +219,7 @@ class Joint:
         """`(nq,)` the neutral configuration (zero angle, identity quaternion)."""
         return np.zeros(self.nq)
 
-    def integrate(self, q: Any, v: Any) -> np.ndarray:
+    def integrate(self, q: ArrayLike, v: ArrayLike) -> np.ndarray:
         """`(..., nq)`: the configuration reached from ``q`` moving with ``v`` `(..., nv)` for unit time.
 
         Batch axes of ``q`` and ``v`` broadcast. For the vector-space joints::
@@ -232,12 +228,12 @@ class Joint:
         """
         return np.asarray(_q(q, self.nq) + as_array(v, "v", (self.nv,)))
 
-    def difference(self, q0: Any, q1: Any) -> np.ndarray:
+    def difference(self, q0: ArrayLike, q1: ArrayLike) -> np.ndarray:
         """`(..., nv)`: the velocity ``v`` with ``integrate(q0, v) = q1``."""
         return np.asarray(_q(q1, self.nq, "q1") - _q(q0, self.nq, "q0"))
 
     def random(
-        self, rng: Any = None, lower: Any = None, upper: Any = None, size: Any = None
+        self, rng: np.random.Generator | int | None = None, lower: ArrayLike | None = None, upper: ArrayLike | None = None, size: int | tuple[int, ...] | None = None
     ) -> np.ndarray:
         """Random configurations `(*size, nq)` uniform within ``[lower, upper]`` `(nq,)`.
 
@@ -247,16 +243,16 @@ class Joint:
         lo, hi = _box(*_limits(lower, upper, self.nq), -np.pi, np.pi)
         return _uniform(np.random.default_rng(rng), lo, hi, _batch(size))
 
-    def normalize(self, q: Any) -> np.ndarray:
+    def normalize(self, q: ArrayLike) -> np.ndarray:
         """`(..., nq)` the nearest valid configuration (unit quaternions); identity for vector joints."""
         return np.array(_q(q, self.nq))
 
-    def is_normalized(self, q: Any, tol: float = 1e-10) -> Any:
+    def is_normalized(self, q: ArrayLike, tol: float = 1e-10) -> Any:
         """`(...)` bool: whether ``q`` is a valid configuration (``| |quat| − 1 | <= tol``)."""
         qq = _q(q, self.nq)
         return np.ones(qq.shape[:-1], dtype=bool)
 
-    def motion(self, qd: Any) -> SpatialMotion:
+    def motion(self, qd: ArrayLike) -> SpatialMotion:
         """Joint velocity ``v_J = S q̇`` `(..., 6)` in successor coordinates."""
         qd = as_array(qd, "qd", (self.nv,))
         return SpatialMotion.from_vector(qd @ self.S.T.astype(qd.dtype))
@@ -289,7 +285,7 @@ class RevoluteJoint(Joint):
     def S(self) -> np.ndarray:
         return _frozen(np.concatenate([self.axis, np.zeros(3)])[:, None])
 
-    def pose(self, q: Any) -> PluckerTransform:
+    def pose(self, q: ArrayLike) -> PluckerTransform:
         qq = _q(q, 1)
         if qq.dtype.kind == "O":  # SymPy: symbolic cos/sin
             R = rot.axis_angle_to_matrix(_like(self.axis, qq), qq[..., 0])
@@ -327,14 +323,14 @@ class PrismaticJoint(Joint):
     def S(self) -> np.ndarray:
         return _frozen(np.concatenate([np.zeros(3), self.axis])[:, None])
 
-    def pose(self, q: Any) -> PluckerTransform:
+    def pose(self, q: ArrayLike) -> PluckerTransform:
         qq = _q(q, 1)
         p = qq[..., 0:1] * _like(self.axis, qq)
         eye = np.broadcast_to(np.eye(3), qq.shape[:-1] + (3, 3)).astype(p.dtype)
         return PluckerTransform(eye, p, validate=False)
 
     def random(
-        self, rng: Any = None, lower: Any = None, upper: Any = None, size: Any = None
+        self, rng: np.random.Generator | int | None = None, lower: ArrayLike | None = None, upper: ArrayLike | None = None, size: int | tuple[int, ...] | None = None
     ) -> np.ndarray:
         lo, hi = _box(*_limits(lower, upper, 1), -1.0, 1.0)
         return _uniform(np.random.default_rng(rng), lo, hi, _batch(size))
@@ -365,7 +361,7 @@ class SphericalJoint(Joint):
     def S(self) -> np.ndarray:
         return _frozen(np.vstack([np.eye(3), np.zeros((3, 3))]))
 
-    def pose(self, q: Any) -> PluckerTransform:
+    def pose(self, q: ArrayLike) -> PluckerTransform:
         qq = _q(q, 4)
         _check_unit_quat(qq, "q")
         R = rot.quat_to_matrix(qq, check_norm=False)
@@ -374,14 +370,14 @@ class SphericalJoint(Joint):
     def neutral(self) -> np.ndarray:
         return np.array([0.0, 0.0, 0.0, 1.0])
 
-    def integrate(self, q: Any, v: Any) -> np.ndarray:
+    def integrate(self, q: ArrayLike, v: ArrayLike) -> np.ndarray:
         qq = _q(q, 4)
         w = as_array(v, "v", (3,))
         _check_unit_quat(qq, "q")
         dtype = np.result_type(qq, w)
         return _quat_mul_normalized(qq.astype(dtype), _quat_exp(w.astype(dtype))).astype(dtype)
 
-    def difference(self, q0: Any, q1: Any) -> np.ndarray:
+    def difference(self, q0: ArrayLike, q1: ArrayLike) -> np.ndarray:
         a0, a1 = _q(q0, 4, "q0"), _q(q1, 4, "q1")
         _check_unit_quat(a0, "q0")
         _check_unit_quat(a1, "q1")
@@ -390,14 +386,14 @@ class SphericalJoint(Joint):
         return rot.so3_log(np.swapaxes(R0, -1, -2) @ R1)
 
     def random(
-        self, rng: Any = None, lower: Any = None, upper: Any = None, size: Any = None
+        self, rng: np.random.Generator | int | None = None, lower: ArrayLike | None = None, upper: ArrayLike | None = None, size: int | tuple[int, ...] | None = None
     ) -> np.ndarray:
         return _uniform_quat(np.random.default_rng(rng), _batch(size))
 
-    def normalize(self, q: Any) -> np.ndarray:
+    def normalize(self, q: ArrayLike) -> np.ndarray:
         return rot.quat_normalize(_q(q, 4))
 
-    def is_normalized(self, q: Any, tol: float = 1e-10) -> Any:
+    def is_normalized(self, q: ArrayLike, tol: float = 1e-10) -> Any:
         qq = _q(q, 4)
         return np.abs(np.linalg.norm(qq, axis=-1) - 1) <= tol
 
@@ -427,7 +423,7 @@ class FreeFlyerJoint(Joint):
     def S(self) -> np.ndarray:
         return _frozen(np.eye(6))
 
-    def pose(self, q: Any) -> PluckerTransform:
+    def pose(self, q: ArrayLike) -> PluckerTransform:
         return self._pose(_q(q, 7), "q")
 
     @staticmethod
@@ -438,7 +434,7 @@ class FreeFlyerJoint(Joint):
     def neutral(self) -> np.ndarray:
         return np.array([0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0])
 
-    def integrate(self, q: Any, v: Any) -> np.ndarray:
+    def integrate(self, q: ArrayLike, v: ArrayLike) -> np.ndarray:
         qq = _q(q, 7)
         vv = as_array(v, "v", (6,))
         _check_unit_quat(qq[..., 3:], "q[3:7]")
@@ -454,13 +450,13 @@ class FreeFlyerJoint(Joint):
         p, quat1 = np.broadcast_to(p, batch + (3,)), np.broadcast_to(quat1, batch + (4,))
         return np.concatenate([p, quat1], axis=-1).astype(dtype)
 
-    def difference(self, q0: Any, q1: Any) -> np.ndarray:
+    def difference(self, q0: ArrayLike, q1: ArrayLike) -> np.ndarray:
         T0 = self._pose(_q(q0, 7, "q0"), "q0")
         T1 = self._pose(_q(q1, 7, "q1"), "q1")
         return rot.se3_log(T0.inverse() @ T1).vector
 
     def random(
-        self, rng: Any = None, lower: Any = None, upper: Any = None, size: Any = None
+        self, rng: np.random.Generator | int | None = None, lower: ArrayLike | None = None, upper: ArrayLike | None = None, size: int | tuple[int, ...] | None = None
     ) -> np.ndarray:
         gen = np.random.default_rng(rng)
         shape = _batch(size)
@@ -468,12 +464,12 @@ class FreeFlyerJoint(Joint):
         pos = _uniform(gen, *_box(lo[:3], hi[:3], -1.0, 1.0), shape)
         return np.concatenate([pos, _uniform_quat(gen, shape)], axis=-1)
 
-    def normalize(self, q: Any) -> np.ndarray:
+    def normalize(self, q: ArrayLike) -> np.ndarray:
         qq = np.array(_q(q, 7))
         qq[..., 3:] = rot.quat_normalize(qq[..., 3:])
         return qq
 
-    def is_normalized(self, q: Any, tol: float = 1e-10) -> Any:
+    def is_normalized(self, q: ArrayLike, tol: float = 1e-10) -> Any:
         qq = _q(q, 7)
         return np.abs(np.linalg.norm(qq[..., 3:], axis=-1) - 1) <= tol
 
@@ -528,14 +524,14 @@ class PlanarJoint(Joint):
         S[3:, 2] = B[:, 1]
         return _frozen(S)
 
-    def pose(self, q: Any) -> PluckerTransform:
+    def pose(self, q: ArrayLike) -> PluckerTransform:
         qq = _q(q, 3)
         B = _like(self.basis, qq)
         R = rot.axis_angle_to_matrix(_like(self.normal, qq), qq[..., 2])
         p = qq[..., 0:1] * B[:, 0] + qq[..., 1:2] * B[:, 1]
         return PluckerTransform(R, p, validate=False)
 
-    def integrate(self, q: Any, v: Any) -> np.ndarray:
+    def integrate(self, q: ArrayLike, v: ArrayLike) -> np.ndarray:
         # SE(2) exponential of the body velocity, composed on the right
         qq = _q(q, 3)
         vv = as_array(v, "v", (3,))
@@ -550,7 +546,7 @@ class PlanarJoint(Joint):
         out = np.stack(np.broadcast_arrays(qq[..., 0] + c * dx - s * dy, qq[..., 1] + s * dx + c * dy, th + w), axis=-1)
         return out.astype(np.result_type(qq, vv))
 
-    def difference(self, q0: Any, q1: Any) -> np.ndarray:
+    def difference(self, q0: ArrayLike, q1: ArrayLike) -> np.ndarray:
         a0, a1 = _q(q0, 3, "q0"), _q(q1, 3, "q1")
         dth = np.arctan2(np.sin(a1[..., 2] - a0[..., 2]), np.cos(a1[..., 2] - a0[..., 2]))
         c, s = np.cos(a0[..., 2]), np.sin(a0[..., 2])
@@ -565,7 +561,7 @@ class PlanarJoint(Joint):
         return np.stack(np.broadcast_arrays(dth, vx, vy), axis=-1).astype(np.result_type(a0, a1))
 
     def random(
-        self, rng: Any = None, lower: Any = None, upper: Any = None, size: Any = None
+        self, rng: np.random.Generator | int | None = None, lower: ArrayLike | None = None, upper: ArrayLike | None = None, size: int | tuple[int, ...] | None = None
     ) -> np.ndarray:
         lo, hi = _box(*_limits(lower, upper, 3), [-1.0, -1.0, -np.pi], [1.0, 1.0, np.pi])
         return _uniform(np.random.default_rng(rng), lo, hi, _batch(size))

@@ -26,9 +26,10 @@ from dataclasses import dataclass, field, fields
 from typing import Any
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ._validation import as_array
-from .errors import InertiaError, ModelError, PhysicalityWarning
+from .errors import InertiaError, ModelError, PhysicalityWarning, ShapeError
 from .joints import FreeFlyerJoint, Joint
 from .spatial_algebra import PluckerTransform, SpatialInertia
 
@@ -173,6 +174,23 @@ class Model:
         """Alias of :attr:`joint_placements` (Featherstone's ``Xtree``, as poses)."""
         return self.joint_placements
 
+    def resolve_frame(self, frame: str | int) -> int:
+        """A frame index from a name (:meth:`frame_id`) or an index; :class:`ModelError` when unknown.
+
+        Raises:
+            ModelError: an unknown name or an index outside ``0 … len(frames) − 1``.
+            ShapeError: ``frame`` is neither a string nor an integer.
+        """
+        if isinstance(frame, str):
+            return self.frame_id(frame)
+        if isinstance(frame, (int, np.integer)) and not isinstance(frame, bool):
+            if not 0 <= int(frame) < len(self.frames):
+                if not self.frames:
+                    raise ModelError(f"frame: index {frame}, but model {self.name!r} has no frames")
+                raise ModelError(f"frame: index {frame} out of range 0..{len(self.frames) - 1}")
+            return int(frame)
+        raise ShapeError(f"frame: expected a frame name or index, got {type(frame).__name__}")
+
     def frame_id(self, name: str, kind: str | None = None) -> int:
         """Index of the frame called ``name`` in :attr:`frames`; :class:`ModelError` if unknown.
 
@@ -300,10 +318,10 @@ class ModelBuilder:
         placement: PluckerTransform | None = None,
         inertia: SpatialInertia | None = None,
         joint_name: str | None = None,
-        lower: Any = None,
-        upper: Any = None,
-        velocity_limit: Any = None,
-        effort_limit: Any = None,
+        lower: ArrayLike | None = None,
+        upper: ArrayLike | None = None,
+        velocity_limit: ArrayLike | None = None,
+        effort_limit: ArrayLike | None = None,
     ) -> int:
         """Add a body hanging from ``parent`` (``-1`` = world) through ``joint``; returns its index.
 

@@ -1,6 +1,6 @@
 """Rotations: quaternions, roll-pitch-yaw, axis-angle and the exponential maps.
 
-Conventions (fixed, see ``DESIGN.md``):
+Conventions (fixed, see ``docs/architecture.md``):
 
 * quaternions are stored **(x, y, z, w)** — the order of Pinocchio's, Eigen's
   and ROS's ``coeffs()`` — never (w, x, y, z);
@@ -22,9 +22,11 @@ from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
+from numpy.typing import ArrayLike
 
-from ._validation import as_array, check_rotation, default_tol, result_dtype
+from ._validation import as_array, check_rotation, result_dtype
 from .errors import DTypeError, QuaternionNormError, RotationError, SpatialTypeError
+from .tolerances import QUATERNION_NORM, SMALL_ANGLE
 
 if TYPE_CHECKING:
     from .spatial_algebra import PluckerTransform, SpatialMotion
@@ -48,11 +50,7 @@ __all__ = [
 # Below these angles the closed forms divide ~0 by ~0; a Taylor series to θ⁴
 # is used instead. Its truncation error (~θ⁶/5040) is below the dtype's
 # rounding there, and above them the closed forms lose at most a few digits.
-_SMALL_ANGLE_FLOAT64 = 1e-2
-_SMALL_ANGLE_FLOAT32 = 1e-1
 
-_QUAT_NORM_TOL_FLOAT64 = 1e-6
-_QUAT_NORM_TOL_FLOAT32 = 1e-4
 
 
 # --------------------------------------------------------------------------
@@ -87,7 +85,7 @@ _sqrt = _elementwise("sqrt", np.sqrt)
 
 
 def _small_angle(dtype: np.dtype) -> float:
-    return default_tol(dtype, _SMALL_ANGLE_FLOAT64, _SMALL_ANGLE_FLOAT32)
+    return SMALL_ANGLE.of(dtype)
 
 
 def _require_numeric(arr: np.ndarray, name: str, function: str) -> None:
@@ -154,7 +152,7 @@ def _quat_norm(q: np.ndarray) -> np.ndarray:
 # --------------------------------------------------------------------------
 
 
-def quat_to_matrix(quat: Any, *, check_norm: bool = True) -> np.ndarray:
+def quat_to_matrix(quat: ArrayLike, *, check_norm: bool = True) -> np.ndarray:
     """Rotation matrix of a unit quaternion in (x, y, z, w) order.
 
     With ``q = (v, w)``, ``v = (x, y, z)``::
@@ -183,7 +181,7 @@ def quat_to_matrix(quat: Any, *, check_norm: bool = True) -> np.ndarray:
         two: Any = 2
     else:
         norm = _quat_norm(q)
-        tol = default_tol(q.dtype, _QUAT_NORM_TOL_FLOAT64, _QUAT_NORM_TOL_FLOAT32)
+        tol = QUATERNION_NORM.of(q.dtype)
         bad = (np.abs(norm - 1) > tol) if check_norm else (norm == 0)
         if np.any(bad):
             raise _quat_norm_error("quat", norm, bad, tol)
@@ -198,7 +196,7 @@ def quat_to_matrix(quat: Any, *, check_norm: bool = True) -> np.ndarray:
     )
 
 
-def matrix_to_quat(rotation: Any) -> np.ndarray:
+def matrix_to_quat(rotation: ArrayLike) -> np.ndarray:
     """Unit quaternion (x, y, z, w) of a rotation matrix, with ``w >= 0``.
 
     Shepperd's method: the symmetric matrix ``K = 4 q qᵀ`` is read off ``R``
@@ -249,7 +247,7 @@ def matrix_to_quat(rotation: Any) -> np.ndarray:
     return np.asarray(np.where(q[..., 3:4] < 0, -q, q))
 
 
-def quat_multiply(q1: Any, q2: Any) -> np.ndarray:
+def quat_multiply(q1: ArrayLike, q2: ArrayLike) -> np.ndarray:
     """Hamilton product ``q1 ⊗ q2`` of quaternions in (x, y, z, w) order.
 
     With ``q = (v, w)``::
@@ -283,7 +281,7 @@ def quat_multiply(q1: Any, q2: Any) -> np.ndarray:
     )
 
 
-def quat_conjugate(quat: Any) -> np.ndarray:
+def quat_conjugate(quat: ArrayLike) -> np.ndarray:
     """Conjugate of a quaternion in (x, y, z, w) order (the inverse of a unit one).
 
     ::
@@ -302,7 +300,7 @@ def quat_conjugate(quat: Any) -> np.ndarray:
     return np.concatenate([-q[..., :3], q[..., 3:]], axis=-1)
 
 
-def quat_normalize(quat: Any) -> np.ndarray:
+def quat_normalize(quat: ArrayLike) -> np.ndarray:
     """Scale a quaternion to unit norm.
 
     ::
@@ -339,7 +337,7 @@ def quat_normalize(quat: Any) -> np.ndarray:
 # --------------------------------------------------------------------------
 
 
-def rpy_to_matrix(rpy: Any) -> np.ndarray:
+def rpy_to_matrix(rpy: ArrayLike) -> np.ndarray:
     """Rotation matrix of URDF roll-pitch-yaw angles.
 
     Roll about the fixed X axis, then pitch about fixed Y, then yaw about
@@ -372,7 +370,7 @@ def rpy_to_matrix(rpy: Any) -> np.ndarray:
     )
 
 
-def matrix_to_rpy(rotation: Any) -> np.ndarray:
+def matrix_to_rpy(rotation: ArrayLike) -> np.ndarray:
     """URDF roll-pitch-yaw angles of a rotation matrix, pitch in ``[−π/2, π/2]``.
 
     Yaw is read first, then roll from the matrix with the yaw taken out, which
@@ -419,7 +417,7 @@ def matrix_to_rpy(rotation: Any) -> np.ndarray:
 # --------------------------------------------------------------------------
 
 
-def so3_exp(omega: Any) -> np.ndarray:
+def so3_exp(omega: ArrayLike) -> np.ndarray:
     """Exponential map of so(3): the rotation by ``|ω|`` about ``ω`` (Rodrigues).
 
     ::
@@ -471,7 +469,7 @@ def _rodrigues_coefficients(theta: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return np.asarray(A), np.asarray(half_sinc * half_sinc / 2)
 
 
-def so3_log(rotation: Any) -> np.ndarray:
+def so3_log(rotation: ArrayLike) -> np.ndarray:
     """Logarithm of SO(3): the rotation vector ``ω = θ k`` with ``θ`` in ``[0, π]``.
 
     The angle comes from both the trace and the skew part, which is accurate
@@ -535,7 +533,7 @@ def _so3_log(R: np.ndarray) -> np.ndarray:
     return omega.reshape((*batch, 3))
 
 
-def axis_angle_to_matrix(axis: Any, angle: Any) -> np.ndarray:
+def axis_angle_to_matrix(axis: ArrayLike, angle: ArrayLike) -> np.ndarray:
     """Rotation matrix of a rotation by ``angle`` about ``axis`` (normalised here).
 
     ::
@@ -584,7 +582,7 @@ def axis_angle_to_matrix(axis: Any, angle: Any) -> np.ndarray:
     return np.asarray(eye + s * K + one_minus_c * (K @ K))
 
 
-def matrix_to_axis_angle(rotation: Any) -> tuple[np.ndarray, np.ndarray]:
+def matrix_to_axis_angle(rotation: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
     """Unit axis and angle in ``[0, π]`` of a rotation matrix.
 
     ::
@@ -632,7 +630,7 @@ def _se3_coefficients(theta: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return B, np.asarray(C)
 
 
-def se3_exp(twist: Any) -> PluckerTransform:
+def se3_exp(twist: ArrayLike | SpatialMotion) -> PluckerTransform:
     """Exponential map of se(3): the transform reached by following ``twist`` for unit time.
 
     With the twist ``[ω; v]`` (Featherstone order, angular first)::

@@ -21,17 +21,12 @@ from typing import Any
 
 import numpy as np
 
+from .tolerances import COMPARISON
+
 __all__ = ["TOLERANCES", "tolerance", "comparison_dtype", "max_error", "assert_close"]
 
-#: ``(rtol, atol)`` by dtype name. float64 results of the spatial algebra and
-#: of the recursive algorithms agree with Pinocchio to ~1e-13 on unit-scale
-#: data; 1e-10 leaves room for long chains. float32 carries ~7 digits; 1e-4
-#: leaves room for a few dozen operations on unit-scale values.
-TOLERANCES: dict[str, tuple[float, float]] = {
-    "float64": (1e-10, 1e-10),
-    "float32": (1e-4, 1e-4),
-    "float16": (1e-2, 1e-2),
-}
+#: ``(rtol, atol)`` by dtype name (defined in :mod:`featherdyn.tolerances`).
+TOLERANCES = COMPARISON
 
 
 def tolerance(dtype: Any = np.float64) -> tuple[float, float]:

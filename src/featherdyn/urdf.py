@@ -2,8 +2,35 @@
 
 The parser is hostile-input safe: XML goes through ``defusedxml`` with DTDs,
 entity declarations and external references forbidden, XInclude elements are
-rejected, nesting depth is bounded, and mesh files are never opened. The tree
-is built without recursion, so a chain of thousands of links loads.
+rejected, nesting depth and attribute length are bounded, numbers are parsed in
+linear time, and mesh files are never opened. The tree is built without
+recursion, so a chain of thousands of links loads. Messages quote at most
+:data:`QUOTE_LENGTH` characters of an offending value.
+
+Magnitudes are bounded so that finite input gives finite dynamics. The
+algorithms form products such as ``m·|c|²`` (the rotational inertia of a body
+about its joint), ``X* I X⁻¹`` along a chain, and ``|p|·|f|`` (the moment of a
+force); with
+
+* every length (``<origin xyz>`` of joints and inertials) and every position
+  limit at most :data:`MAX_LENGTH` ``= 1e60`` (m or rad) per component, and
+* every mass and inertia entry at most :data:`MAX_MASS` ``=``
+  :data:`MAX_INERTIA` ``= 1e100`` (kg, kg·m²),
+
+a body's inertia about its joint is below ``3e220`` kg·m² and a chain of
+``n`` bodies has composite inertias below ``3n³·1e220``; for ``n ≤ 10⁴``
+links and velocities, accelerations and torques up to ``1e10`` the products
+RNEA, CRBA and ABA form stay below about ``1e270``, short of the float64
+overflow at ``1.8e308``. At the other end ABA divides by articulated
+inertias, which it calls singular below
+:data:`featherdyn.tolerances.SINGULAR_PIVOT_RTOL` times the largest inertia
+entry; a link's ``<inertial>`` must therefore be all zero (massless) or reach
+:data:`MIN_INERTIAL` ``= 1e-100`` in its mass or some inertia entry, so that
+``q̈`` stays below about ``1e124`` (a subnormal mass gave NaN). Values outside these
+limits are refused with a :class:`~featherdyn.URDFError`; real robots are
+more than 50 orders of magnitude inside them. Angles (``rpy``) and axis
+directions may be any finite number; single tiny inertia entries (round-off
+such as ``ixz="2.4e-35"``) are fine.
 
 The tree (RBDA (2008) §4.1; chapter §8.3 and §18):
 
@@ -11,7 +38,8 @@ The tree (RBDA (2008) §4.1; chapter §8.3 and §18):
 * a fixed base hangs the root link on the world (body ``-1``): its inertia,
   and that of links fixed to it, is dropped as Pinocchio does;
   ``floating_base=True`` makes the root link body 0 on a
-  :class:`~featherdyn.FreeFlyerJoint` named ``"root_joint"`` (Pinocchio's name);
+  :class:`~featherdyn.FreeFlyerJoint` named ``"root_joint"`` (Pinocchio's name;
+  ``"root_joint_1"``, ... if the URDF has a joint or link of that name);
 * fixed joints are merged: the child's inertia is moved into the nearest moving
   ancestor's body frame (parallel-axis theorem, ``X* I X⁻¹``) and the link and
   the joint stay as frames;
@@ -39,7 +67,6 @@ Differences from Pinocchio's URDF parser, on purpose:
 
 from __future__ import annotations
 
-import codecs
 import math
 import os
 import re
@@ -47,174 +74,40 @@ import warnings
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
-from xml.etree.ElementTree import TreeBuilder
 
 import numpy as np
-from defusedxml import DefusedXmlException
-from defusedxml.ElementTree import DefusedXMLParser, ParseError
 
-from .errors import ModelError, PhysicalityWarning, URDFError
+from ._urdf_xml import (
+    _local,
+    _parse_xml,
+    _quote,
+    _read_source,
+    _shorten,
+    _shorten_quoted,
+)
+from .errors import FeatherdynError, PhysicalityWarning, URDFError
 from .joints import FreeFlyerJoint, Joint, PlanarJoint, PrismaticJoint, RevoluteJoint
 from .model import Mimic, Model, ModelBuilder
 from .rotation import rpy_to_matrix
 from .spatial_algebra import PluckerTransform, SpatialInertia
+from .tolerances import UNIT_AXIS, URDF_INERTIA_RTOL
 
 __all__ = ["load_urdf"]
 
-#: Deepest element nesting accepted (real URDFs nest about 5 deep).
-MAX_DEPTH = 1000
-#: Relative tolerance of the inertia checks: URDF files print about 6 significant digits.
-INERTIA_RTOL = 1e-6
-#: A joint axis whose length is off 1 by more than this is normalised with a warning.
-AXIS_TOL = 1e-6
+#: Largest length accepted, in metres per component: origins, centres of mass, prismatic limits (module doc).
+MAX_LENGTH = 1e60
+#: Largest mass accepted, in kg (module doc).
+MAX_MASS = 1e100
+#: Largest magnitude of an inertia tensor entry accepted, in kg·m² (module doc).
+MAX_INERTIA = 1e100
+#: Smallest scale of a non-zero ``<inertial>`` accepted: its mass or some inertia entry must reach it (module doc).
+MIN_INERTIAL = 1e-100
 
-_XINCLUDE_NAMESPACES = ("http://www.w3.org/2001/XInclude", "http://www.w3.org/2003/XInclude")
-_NUMBER = re.compile(r"[+-]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?")
-_DECLARED_ENCODING = re.compile(rb"""^<\?xml[^>]*?encoding\s*=\s*["']([A-Za-z0-9._-]+)["']""")
+# a digit run matches one way only (the fraction needs its dot), so a failed match backtracks in linear time
+_NUMBER = re.compile(r"[+-]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)(?:[eE][+-]?[0-9]+)?")
 _JOINT_TYPES = ("revolute", "continuous", "prismatic", "fixed", "floating", "planar")
 _INERTIA_KEYS = ("ixx", "ixy", "ixz", "iyy", "iyz", "izz")
 
-
-# ---------------------------------------------------------------------------
-# reading and decoding
-# ---------------------------------------------------------------------------
-
-
-def _read_source(path_or_xml: Any) -> tuple[str, str, str | None]:
-    """``(text, label for messages, path or None)`` of a path, an XML string or XML bytes."""
-    if isinstance(path_or_xml, (bytes, bytearray, memoryview)):
-        return _decode(bytes(path_or_xml), "<bytes>"), "<bytes>", None
-    if isinstance(path_or_xml, str) and path_or_xml.lstrip("\ufeff \t\r\n").startswith("<"):
-        return path_or_xml.lstrip("\ufeff"), "<string>", None
-    if not isinstance(path_or_xml, (str, os.PathLike)):
-        raise URDFError(
-            f"load_urdf: expected a path, an XML string or bytes, got {type(path_or_xml).__name__}"
-        )
-    path = Path(path_or_xml)
-    label = str(path)
-    try:
-        data = path.read_bytes()
-    except (OSError, ValueError) as exc:
-        reason = exc.strerror if isinstance(exc, OSError) and exc.strerror else str(exc)
-        raise URDFError(f"{label}: cannot read the URDF file: {reason}") from None
-    return _decode(data, label), label, label
-
-
-def _decode(data: bytes, label: str) -> str:
-    """Decode XML bytes: a BOM wins, then UTF-16 sniffing, then the declared encoding, then UTF-8."""
-    boms = (
-        (codecs.BOM_UTF32_LE, "utf-32"),
-        (codecs.BOM_UTF32_BE, "utf-32"),
-        (codecs.BOM_UTF8, "utf-8-sig"),
-        (codecs.BOM_UTF16_LE, "utf-16"),
-        (codecs.BOM_UTF16_BE, "utf-16"),
-    )
-    encoding = "utf-8"
-    for bom, enc in boms:
-        if data.startswith(bom):
-            encoding = enc
-            break
-    else:
-        if data.startswith(b"<\x00?\x00") or data.startswith(b"<\x00r\x00"):
-            encoding = "utf-16-le"
-        elif data.startswith(b"\x00<\x00?") or data.startswith(b"\x00<\x00r"):
-            encoding = "utf-16-be"
-        else:
-            declared = _DECLARED_ENCODING.match(data.lstrip())
-            if declared:
-                name = declared.group(1).decode("ascii")
-                try:
-                    info = codecs.lookup(name)
-                except LookupError:
-                    raise URDFError(f"{label}: unknown encoding {name!r} in the XML declaration") from None
-                if info.name.startswith("utf-16") or info.name.startswith("utf-32"):
-                    # declared UTF-16 but no BOM and ASCII-readable: the declaration is wrong
-                    raise URDFError(f"{label}: the XML declaration says {name!r} but the bytes are not UTF-16/32")
-                encoding = info.name
-    try:
-        return data.decode(encoding)
-    except LookupError:  # a declared bytes-to-bytes codec such as "zlib" or "base64"
-        raise URDFError(f"{label}: the XML declaration names {encoding!r}, which is not a text encoding") from None
-    except UnicodeDecodeError as exc:
-        line = data[: exc.start].count(b"\n") + 1
-        raise URDFError(
-            f"{label}: line {line}: bytes are not valid {encoding} (byte {data[exc.start:exc.start + 1]!r} "
-            f"at offset {exc.start}); save the file as UTF-8"
-        ) from None
-
-
-# ---------------------------------------------------------------------------
-# XML
-# ---------------------------------------------------------------------------
-
-
-class _Builder:
-    """ElementTree parser target that bounds nesting, rejects XInclude and records line numbers."""
-
-    def __init__(self, label: str) -> None:
-        self._tb = TreeBuilder()
-        self._label = label
-        self._depth = 0
-        self.expat: Any = None
-        self.lines: dict[Any, int] = {}
-
-    def line(self) -> int:
-        return int(self.expat.CurrentLineNumber) if self.expat is not None else 0
-
-    def start(self, tag: str, attrib: dict[str, str]) -> Any:
-        self._depth += 1
-        if self._depth > MAX_DEPTH:
-            raise URDFError(f"{self._label}: line {self.line()}: elements nested deeper than {MAX_DEPTH} levels")
-        if tag.startswith("{") and tag[1:].split("}", 1)[0] in _XINCLUDE_NAMESPACES:
-            raise URDFError(f"{self._label}: line {self.line()}: XInclude ({tag}) is not allowed in a URDF")
-        elem = self._tb.start(tag, attrib)
-        if self._depth <= 4:
-            self.lines[elem] = self.line()
-        return elem
-
-    def end(self, tag: str) -> Any:
-        self._depth -= 1
-        return self._tb.end(tag)
-
-    def data(self, data: str) -> None:
-        self._tb.data(data)
-
-    def close(self) -> Any:
-        return self._tb.close()
-
-
-def _parse_xml(text: str, label: str) -> tuple[Any, dict[Any, int]]:
-    """The root element and the line number of each element up to depth 4."""
-    builder = _Builder(label)
-    parser = DefusedXMLParser(target=builder, forbid_dtd=True, forbid_entities=True, forbid_external=True)
-    builder.expat = parser.parser
-    try:
-        parser.feed(text)
-        root = parser.close()
-    except URDFError:
-        raise
-    except ParseError as exc:
-        line = exc.position[0] if getattr(exc, "position", None) else builder.line()
-        raise URDFError(f"{label}: line {line}: malformed XML: {exc}") from None
-    except DefusedXmlException as exc:
-        kind = type(exc).__name__.replace("Forbidden", "")
-        raise URDFError(
-            f"{label}: line {builder.line()}: {kind} declarations are not allowed in a URDF (refused for safety: {exc})"
-        ) from None
-    except RecursionError:
-        raise URDFError(f"{label}: XML nested too deeply") from None
-    except (ValueError, MemoryError) as exc:  # e.g. NUL characters in a str
-        raise URDFError(f"{label}: cannot parse the XML: {exc}") from None
-    return root, builder.lines
-
-
-def _local(tag: Any, ns: str) -> str:
-    """The element's name with the root's namespace removed (other namespaces kept: ``{x}link`` is not a link)."""
-    if not isinstance(tag, str):  # comments, processing instructions
-        return ""
-    if ns and tag.startswith(ns):
-        return tag[len(ns):]
-    return tag
 
 
 # ---------------------------------------------------------------------------
@@ -253,6 +146,7 @@ class _Joint:
     velocity: float
     effort: float
     mimic: tuple[str, float, float, int] | None  # (joint, multiplier, offset, line)
+    limit_missing: tuple[str, ...]  # required <limit> attributes that are absent ("effort", "velocity")
 
 
 class _Doc:
@@ -287,30 +181,49 @@ class _Doc:
                 return c
         return None
 
-    def floats(self, elem: Any, attr: str, count: int, what: str, default: list[float] | None = None) -> list[float]:
-        """The attribute as ``count`` finite decimals; ``default`` if absent (``None``: required)."""
+    def floats(
+        self,
+        elem: Any,
+        attr: str,
+        count: int,
+        what: str,
+        default: list[float] | None = None,
+        bound: tuple[float, str] | None = None,
+    ) -> list[float]:
+        """The attribute as ``count`` finite decimals; ``default`` if absent (``None``: required).
+
+        ``bound = (largest, name)`` refuses a magnitude above ``largest`` (the
+        module constant ``name``). Parsing is linear in the attribute's length.
+        """
+        tag = _shorten(_local(elem.tag, self.ns))
         text = elem.get(attr)
         if text is None:
             if default is None:
-                raise self.error(elem, what, f"<{_local(elem.tag, self.ns)}> needs the attribute {attr!r}")
+                raise self.error(elem, what, f"<{tag}> needs the attribute {attr!r}")
             return default
+        quoted = f"<{tag}> {attr}={_quote(text)}"
         parts = text.split()
         if len(parts) != count:
-            raise self.error(
-                elem, what, f"{attr}={text!r}: expected {count} number{'s' if count > 1 else ''}, got {len(parts)}"
-            )
+            raise self.error(elem, what, f"{quoted}: expected {count} number{'s' if count > 1 else ''}, got {len(parts)}")
         out = []
         for s in parts:
             if not _NUMBER.fullmatch(s):
-                raise self.error(elem, what, f"{attr}={text!r}: {s!r} is not a decimal number")
+                raise self.error(elem, what, f"{quoted}: {_quote(s)} is not a decimal number")
             x = float(s)
             if not math.isfinite(x):
-                raise self.error(elem, what, f"{attr}={text!r}: {s!r} is out of range (not finite)")
+                raise self.error(elem, what, f"{quoted}: {_quote(s)} is out of range (not finite)")
+            if bound is not None and abs(x) > bound[0]:
+                raise self.error(
+                    elem, what, f"{quoted}: expected a magnitude of at most {bound[0]:g} ({bound[1]}: larger values "
+                    f"overflow the dynamics), got {x:g}"
+                )
             out.append(x)
         return out
 
-    def number(self, elem: Any, attr: str, what: str, default: float | None = None) -> float:
-        return self.floats(elem, attr, 1, what, None if default is None else [default])[0]
+    def number(
+        self, elem: Any, attr: str, what: str, default: float | None = None, bound: tuple[float, str] | None = None
+    ) -> float:
+        return self.floats(elem, attr, 1, what, None if default is None else [default], bound)[0]
 
     def name(self, elem: Any, kind: str) -> str:
         name = elem.get("name")
@@ -319,16 +232,17 @@ class _Doc:
         return name
 
     def origin(self, elem: Any, what: str) -> tuple[list[float], list[float]]:
-        """``(xyz, rpy)`` of the element's ``<origin>`` (zeros if absent)."""
+        """``(xyz, rpy)`` of the element's ``<origin>`` (zeros if absent); ``|xyz|`` at most :data:`MAX_LENGTH`."""
         o = self.child(elem, "origin")
         if o is None:
             return [0.0, 0.0, 0.0], [0.0, 0.0, 0.0]
-        return self.floats(o, "xyz", 3, what, [0.0, 0.0, 0.0]), self.floats(o, "rpy", 3, what, [0.0, 0.0, 0.0])
+        xyz = self.floats(o, "xyz", 3, what, [0.0, 0.0, 0.0], (MAX_LENGTH, "MAX_LENGTH"))
+        return xyz, self.floats(o, "rpy", 3, what, [0.0, 0.0, 0.0])
 
 
 def _parse_link(doc: _Doc, elem: Any) -> _Link:
     name = doc.name(elem, "link")
-    what = f"<link name={name!r}>"
+    what = f"<link name={_quote(name)}>"
     inertial = doc.child(elem, "inertial")
     out = None
     if inertial is not None:
@@ -338,11 +252,21 @@ def _parse_link(doc: _Doc, elem: Any) -> _Link:
         inertia_el = doc.child(inertial, "inertia")
         if inertia_el is None:
             raise doc.error(inertial, what, "<inertial> needs an <inertia ixx=... izz=...> element")
-        mass = doc.number(mass_el, "value", what)
+        mass = doc.number(mass_el, "value", what, bound=(MAX_MASS, "MAX_MASS"))
         if mass < 0:
-            raise doc.error(mass_el, what, f"negative mass {mass:g}")
-        ixx, ixy, ixz, iyy, iyz, izz = (doc.number(inertia_el, k, what) for k in _INERTIA_KEYS)
+            raise doc.error(mass_el, what, f"<mass> value={_quote(mass_el.get('value'))}: expected a mass >= 0, got a "
+                            f"negative mass {mass:g}")
+        ixx, ixy, ixz, iyy, iyz, izz = (
+            doc.number(inertia_el, k, what, bound=(MAX_INERTIA, "MAX_INERTIA")) for k in _INERTIA_KEYS
+        )
         xyz, rpy = doc.origin(inertial, what)
+        largest_entry = max(abs(ixx), abs(ixy), abs(ixz), abs(iyy), abs(iyz), abs(izz))
+        if 0 < max(mass, largest_entry) < MIN_INERTIAL:
+            raise doc.error(
+                inertial, what, f"<inertial>: expected 0 (a massless link) or a mass or inertia entry of at least "
+                f"{MIN_INERTIAL:g} (MIN_INERTIAL: forward dynamics divides by it), got mass {mass:g} and inertia "
+                f"entries of at most {largest_entry:g}"
+            )
         out = _Inertial(mass, xyz, rpy, [[ixx, ixy, ixz], [ixy, iyy, iyz], [ixz, iyz, izz]], inertia_el)
     return _Link(name, doc.lines.get(elem, 0), out)
 
@@ -361,11 +285,11 @@ def _link_inertias(doc: _Doc, links: list[_Link]) -> dict[str, SpatialInertia]:
     # eigenvalues are rotation invariant: check the tensor as written
     ev = np.linalg.eigvalsh(tensor)
     scale = np.abs(ev).max(axis=-1)
-    tol = INERTIA_RTOL * scale
+    tol = URDF_INERTIA_RTOL * scale
     bad_psd = (ev[:, 0] < -tol) & (scale > 0)
     bad_tri = (ev[:, 0] + ev[:, 1] < ev[:, 2] - tol) & (scale > 0)
     for k in np.flatnonzero((scale > 0) & ((mass == 0) | bad_psd | bad_tri)):
-        what = f"<link name={having[k].name!r}>"
+        what = f"<link name={_quote(having[k].name)}>"
         moments = ", ".join(f"{e:.6g}" for e in ev[k])
         if mass[k] == 0:
             doc.warn(ins[k].elem, what, f"zero mass but non-zero rotational inertia (principal moments {moments})")
@@ -380,12 +304,12 @@ def _link_inertias(doc: _Doc, links: list[_Link]) -> dict[str, SpatialInertia]:
 
 def _parse_joint(doc: _Doc, elem: Any) -> _Joint:
     name = doc.name(elem, "joint")
-    what = f"<joint name={name!r}>"
+    what = f"<joint name={_quote(name)}>"
     jtype = elem.get("type")
     if jtype is None:
         raise doc.error(elem, what, "missing 'type' attribute (one of " + ", ".join(_JOINT_TYPES) + ")")
     if jtype not in _JOINT_TYPES:
-        raise doc.error(elem, what, f"unknown joint type {jtype!r}; expected one of " + ", ".join(_JOINT_TYPES))
+        raise doc.error(elem, what, f"unknown joint type {_quote(jtype)}; expected one of " + ", ".join(_JOINT_TYPES))
     ends = []
     for end in ("parent", "child"):
         e = doc.child(elem, end)
@@ -402,23 +326,36 @@ def _parse_joint(doc: _Doc, elem: Any) -> _Joint:
         axis_el = doc.child(elem, "axis")
         if axis_el is not None:
             axis = np.array(doc.floats(axis_el, "xyz", 3, what, [1.0, 0.0, 0.0]))
-            n = float(np.linalg.norm(axis))
-            if n < 1e-12:
-                raise doc.error(axis_el, what, f"zero-length joint axis {axis.tolist()}")
-            if abs(n - 1.0) > AXIS_TOL:
-                doc.warn(axis_el, what, f"axis {axis.tolist()} has length {n:.6g}; normalised")
-            axis = axis / n
+            # the length as largest component × length of the scaled axis: |axis|² overflows from 1.3e154 on
+            largest = float(np.abs(axis).max())
+            scaled = axis / largest if largest > 0 else axis
+            n_scaled = float(np.linalg.norm(scaled))
+            length = largest * n_scaled  # may be inf (only in the message below)
+            if length < 1e-12:
+                raise doc.error(
+                    axis_el, what, f"<axis> xyz={axis.tolist()}: expected a direction, got a zero-length joint axis"
+                    + (f" (length {length:.3g})" if length > 0 else "")
+                )
+            if abs(length - 1.0) > UNIT_AXIS:
+                shown = f"{length:.6g}" if math.isfinite(length) else f"{n_scaled:.6g} × {largest:.6g}"
+                doc.warn(axis_el, what, f"axis {axis.tolist()} has length {shown}; normalised")
+            axis = scaled / n_scaled
 
     lower, upper, velocity, effort = -math.inf, math.inf, math.inf, math.inf
     limit = doc.child(elem, "limit")
+    limit_missing: tuple[str, ...] = ()
     if jtype in ("revolute", "prismatic") and limit is None:
         raise doc.error(elem, what, f"a {jtype} joint needs a <limit lower=... upper=... effort=... velocity=...> element")
     if limit is not None and jtype in ("revolute", "prismatic", "continuous"):
         if jtype != "continuous":
-            lower = doc.number(limit, "lower", what, 0.0)  # URDF defaults; lower > upper: ModelBuilder warns
-            upper = doc.number(limit, "upper", what, 0.0)
+            # URDF defaults; lower > upper: ModelBuilder warns. Bounded so that upper − lower stays finite
+            # (random configurations draw from it)
+            bound = (MAX_LENGTH, "MAX_LENGTH")
+            lower = doc.number(limit, "lower", what, 0.0, bound)
+            upper = doc.number(limit, "upper", what, 0.0, bound)
         velocity = doc.number(limit, "velocity", what, math.inf)
         effort = doc.number(limit, "effort", what, math.inf)
+        limit_missing = tuple(a for a in ("effort", "velocity") if limit.get(a) is None)
 
     mimic = None
     mimic_el = doc.child(elem, "mimic")
@@ -434,7 +371,10 @@ def _parse_joint(doc: _Doc, elem: Any) -> _Joint:
             doc.number(mimic_el, "offset", what, 0.0),
             doc.lines.get(mimic_el, 0),
         )
-    return _Joint(name, jtype, doc.lines.get(elem, 0), ends[0], ends[1], xyz, rpy, axis, lower, upper, velocity, effort, mimic)
+    return _Joint(
+        name, jtype, doc.lines.get(elem, 0), ends[0], ends[1], xyz, rpy, axis, lower, upper, velocity, effort, mimic,
+        limit_missing,
+    )
 
 
 # ---------------------------------------------------------------------------
@@ -449,17 +389,19 @@ def _link_order(doc: _Doc, links: dict[str, _Link], joints: list[_Joint]) -> tup
     for j in joints:
         for end, link in (("parent", j.parent), ("child", j.child)):
             if link not in links:
-                raise URDFError(f"{doc.label}: line {j.line}: <joint name={j.name!r}>: unknown {end} link {link!r}")
+                raise URDFError(
+                    f"{doc.label}: line {j.line}: <joint name={_quote(j.name)}>: unknown {end} link {_quote(link)}"
+                )
         if j.parent == j.child:
             raise URDFError(
-                f"{doc.label}: line {j.line}: <joint name={j.name!r}>: parent and child are the same link "
-                f"{j.child!r} (a cycle)"
+                f"{doc.label}: line {j.line}: <joint name={_quote(j.name)}>: parent and child are the same link "
+                f"{_quote(j.child)} (a cycle)"
             )
         if j.child in parent_joint:
             other = parent_joint[j.child]
             raise URDFError(
-                f"{doc.label}: line {j.line}: <joint name={j.name!r}>: link {j.child!r} has two parents "
-                f"(joints {other.name!r} and {j.name!r}); a URDF must be a tree"
+                f"{doc.label}: line {j.line}: <joint name={_quote(j.name)}>: link {_quote(j.child)} has two parents "
+                f"(joints {_quote(other.name)} and {_quote(j.name)}); a URDF must be a tree"
             )
         parent_joint[j.child] = j
         children[j.parent].append(j)
@@ -468,7 +410,7 @@ def _link_order(doc: _Doc, links: dict[str, _Link], joints: list[_Joint]) -> tup
     if not roots:
         raise URDFError(f"{doc.label}: the joints form a cycle: every link has a parent joint, so there is no root link")
     if len(roots) > 1:
-        shown = ", ".join(repr(r) for r in roots[:10]) + (", ..." if len(roots) > 10 else "")
+        shown = ", ".join(_quote(r) for r in roots[:10]) + (", ..." if len(roots) > 10 else "")
         raise URDFError(
             f"{doc.label}: more than one root link ({len(roots)}: {shown}): the links are not all connected; "
             "every link but the root must be the child of exactly one joint"
@@ -492,14 +434,14 @@ def _link_order(doc: _Doc, links: dict[str, _Link], joints: list[_Joint]) -> tup
         raise URDFError(
             f"{doc.label}: the joints form a cycle through links "
             + _arrows([*reversed(loop), loop[-1]])
-            + f" (joint {parent_joint[loop[0]].name!r}); a URDF must be a tree"
+            + f" (joint {_quote(parent_joint[loop[0]].name)}); a URDF must be a tree"
         )
     return root, order
 
 
 def _arrows(names: list[str], most: int = 8) -> str:
     """``'a' -> 'b' -> 'a'``, shortened in the middle for long loops."""
-    shown = [repr(x) for x in names]
+    shown = [_quote(x) for x in names]
     if len(shown) > most:
         shown = [*shown[: most // 2], f"... ({len(names) - most} more)", *shown[-(most // 2):]]
     return " -> ".join(shown)
@@ -512,14 +454,14 @@ def _check_mimics(doc: _Doc, joints: dict[str, _Joint]) -> list[Mimic]:
         if j.mimic is None:
             continue
         target, mult, offset, line = j.mimic
-        what = f"<joint name={j.name!r}>"
+        what = f"<joint name={_quote(j.name)}>"
         if target not in joints:
-            doc.warn(None, what, f"<mimic> of unknown joint {target!r}; ignored", line)
+            doc.warn(None, what, f"<mimic> of unknown joint {_quote(target)}; ignored", line)
             continue
         if j.type == "fixed":  # a reduced model froze the mimicking joint: nothing to record
             continue
         if joints[target].type == "fixed":
-            doc.warn(None, what, f"<mimic> of the fixed joint {target!r}; ignored", line)
+            doc.warn(None, what, f"<mimic> of the fixed joint {_quote(target)}; ignored", line)
             continue
         follows[j.name] = target
         out.append(Mimic(j.name, target, mult, offset))
@@ -534,7 +476,7 @@ def _check_mimics(doc: _Doc, joints: dict[str, _Joint]) -> list[Mimic]:
         if nxt is not None and nxt in path:
             loop = list(path)[path[nxt]:]
             raise URDFError(
-                f"{doc.label}: line {joints[loop[0]].line}: <joint name={loop[0]!r}>: mimic cycle "
+                f"{doc.label}: line {joints[loop[0]].line}: <joint name={_quote(loop[0])}>: mimic cycle "
                 + _arrows([*loop, loop[0]])
             )
         done.update(path)
@@ -551,89 +493,44 @@ def _make_joint(j: _Joint) -> Joint:
     return FreeFlyerJoint()  # floating
 
 
-def load_urdf(path_or_xml: str | os.PathLike[str] | bytes, floating_base: bool = False, strict: bool = False) -> Model:
-    """Load a URDF robot description.
+def _check_limits_given(doc: _Doc, joints: list[_Joint]) -> None:
+    """One warning (an error with ``strict=True``) listing the joints whose ``<limit>`` lacks effort or velocity."""
+    lacking = [j for j in joints if j.limit_missing]
+    if not lacking:
+        return
+    most = 10
+    shown = ", ".join(f"{_quote(j.name)} (line {j.line}: no {' or '.join(j.limit_missing)})" for j in lacking[:most])
+    more = f" and {len(lacking) - most} more" if len(lacking) > most else ""
+    doc.warn(
+        None, "",
+        f"<limit> needs both 'effort' and 'velocity' (the URDF specification requires them); {len(lacking)} "
+        f"joint{'s' if len(lacking) > 1 else ''} without: {shown}{more}; the missing limits are recorded as "
+        "unbounded (inf)",
+    )
 
-    Args:
-        path_or_xml: a file path (``str`` or :class:`os.PathLike`), an XML
-            string (a ``str`` whose first character after whitespace and BOM
-            is ``<``) or the file's bytes (UTF-8, UTF-8 or UTF-16/32 with BOM,
-            or the encoding its XML declaration names).
-        floating_base: if ``True`` the root link is body 0 on a free-flyer
-            joint named ``"root_joint"``; otherwise it is fixed to the world
-            and its inertia dropped (Pinocchio's behaviour).
-        strict: turn every :class:`~featherdyn.PhysicalityWarning` (below)
-            into a :class:`~featherdyn.URDFError`.
 
-    Returns:
-        The :class:`~featherdyn.Model`, named after ``<robot name=...>`` (the
-        file stem, or ``"robot"``, if the attribute is missing), with
-        ``source`` the path (``None`` for a string).
+def _free_flyer_name(joints: dict[str, _Joint], links: dict[str, _Link]) -> str:
+    """``"root_joint"`` (Pinocchio's name), or ``"root_joint_1"``, ``"root_joint_2"``, ... if the URDF uses it."""
+    name, k = "root_joint", 0
+    while name in joints or name in links:
+        k += 1
+        name = f"root_joint_{k}"
+    return name
 
-    Raises:
-        URDFError: naming the file (``<string>`` / ``<bytes>``), the line, the
-            element and the link or joint: malformed XML; DTDs, entities,
-            external references or XInclude (never expanded or read); nesting
-            deeper than :data:`MAX_DEPTH`; undecodable bytes; a root element
-            other than ``<robot>``; no links; a missing, empty or duplicate link
-            or joint name; an unknown joint type; a joint without
-            ``<parent>``/``<child>``, or naming an unknown link; a link with two
-            parents, a cycle, more than one root; a revolute or prismatic joint
-            without ``<limit>``; a number that is not a finite decimal or a
-            wrong count of them; a negative mass; ``<inertial>`` without
-            ``<mass>`` or ``<inertia>``; a zero-length axis; a joint mimicking
-            itself or a mimic cycle.
 
-    Warns:
-        PhysicalityWarning: a link inertia that is indefinite or violates the
-            triangle inequality beyond the relative tolerance
-            :data:`INERTIA_RTOL`; zero mass with non-zero inertia; a non-unit
-            axis (normalised); lower > upper limits; a mimic of an unknown or
-            fixed joint (ignored); a moving joint whose subtree has no mass (a
-            singular mass matrix). Real robot files have all of these.
-
-    Elements other than ``<link>`` and ``<joint>`` (``<transmission>``,
-    ``<gazebo>``, ``<material>``, ...) are ignored; ``<mimic>`` is recorded
-    (:class:`~featherdyn.Mimic`), not enforced; velocity and effort limits are
-    recorded (``inf`` where absent); position limits of continuous, planar and
-    floating joints are unbounded.
-    """
-    text, label, path = _read_source(path_or_xml)
-    root_el, lines = _parse_xml(text, label)
-    tag = root_el.tag if isinstance(root_el.tag, str) else ""
-    ns = tag[: tag.index("}") + 1] if tag.startswith("{") else ""
-    if _local(tag, ns) != "robot":
-        raise URDFError(f"{label}: line {lines.get(root_el, 1)}: expected the root element <robot>, got <{tag}>")
-    doc = _Doc(label, lines, ns, strict)
-
-    links: dict[str, _Link] = {}
-    joints: dict[str, _Joint] = {}
-    for elem in root_el:
-        kind = _local(elem.tag, ns)
-        if kind == "link":
-            link = _parse_link(doc, elem)
-            if link.name in links:
-                raise doc.error(elem, f"<link name={link.name!r}>", f"duplicate link name (first defined on line {links[link.name].line})")
-            links[link.name] = link
-        elif kind == "joint":
-            joint = _parse_joint(doc, elem)
-            if joint.name in joints:
-                raise doc.error(elem, f"<joint name={joint.name!r}>", f"duplicate joint name (first defined on line {joints[joint.name].line})")
-            joints[joint.name] = joint
-    if not links:
-        xacro = any(isinstance(e.tag, str) and "xacro" in e.tag for e in root_el)
-        hint = " (an unexpanded xacro file? run xacro first)" if xacro else ""
-        raise URDFError(f"{label}: <robot> has no <link> elements{hint}")
-
-    root, order = _link_order(doc, links, list(joints.values()))
-    mimics = _check_mimics(doc, joints)
-
-    if floating_base and "root_joint" in joints:
-        raise URDFError(
-            f"{label}: line {joints['root_joint'].line}: <joint name='root_joint'>: the name is taken by the "
-            "free-flyer joint that floating_base=True adds (Pinocchio's name); rename the joint"
-        )
-    inertia_of = _link_inertias(doc, list(links.values()))
+def _build(
+    doc: _Doc,
+    root_el: Any,
+    path: str | None,
+    root: str,
+    order: list[tuple[str, _Joint]],
+    inertia_of: dict[str, SpatialInertia],
+    mimics: list[Mimic],
+    floating_base: bool,
+    joints: dict[str, _Joint],
+    links: dict[str, _Link],
+) -> tuple[Model, list[warnings.WarningMessage]]:
+    """The model of the checked tree, and the warnings of the model builder's own checks (to re-emit)."""
 
     # joint frames in the frame of the parent link's body, all joints at once
     R_joint = np.asarray(rpy_to_matrix(np.array([j.rpy for _, j in order]).reshape(-1, 3)), dtype=np.float64)
@@ -653,8 +550,9 @@ def load_urdf(path_or_xml: str | os.PathLike[str] | bytes, floating_base: bool =
     body_of: dict[str, int] = {}  # the body each link belongs to (-1: the world)
     identity = PluckerTransform.identity()
     if floating_base:
-        b.add_body(root, -1, FreeFlyerJoint(), inertia=inertia_of.get(root), joint_name="root_joint")
-        b.add_frame("root_joint", 0, identity, "joint")
+        flyer = _free_flyer_name(joints, links)
+        b.add_body(root, -1, FreeFlyerJoint(), inertia=inertia_of.get(root), joint_name=flyer)
+        b.add_frame(flyer, 0, identity, "joint")
         b.add_frame(root, 0, identity, "body")
         body_of[root] = 0
     else:
@@ -694,16 +592,120 @@ def load_urdf(path_or_xml: str | os.PathLike[str] | bytes, floating_base: bool =
     for m in mimics:
         b.add_mimic(m)
 
-    # the builder checks the whole model (massless subtrees, lower > upper limits): name the file in its messages
+    # the builder checks the whole model (massless subtrees, lower > upper limits): the caller names the file
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always", PhysicalityWarning)
-        try:
-            model = b.build(strict=strict)
-        except ModelError as exc:
-            raise URDFError(f"{label}: {exc}") from None
+        model = b.build(strict=doc.strict)
+    return model, list(caught)
+
+
+def load_urdf(path_or_xml: str | os.PathLike[str] | bytes, floating_base: bool = False, strict: bool = False) -> Model:
+    """Load a URDF robot description.
+
+    Args:
+        path_or_xml: a file path (``str`` or :class:`os.PathLike`), an XML
+            string (a ``str`` whose first character after whitespace and BOM
+            is ``<``) or the file's bytes (UTF-8, UTF-8 or UTF-16/32 with BOM,
+            or the encoding its XML declaration names).
+        floating_base: if ``True`` the root link is body 0 on a free-flyer
+            joint named ``"root_joint"`` (Pinocchio's name; ``"root_joint_1"``,
+            ``"root_joint_2"``, ... if the URDF has a joint or link of that
+            name); otherwise it is fixed to the world and its inertia dropped
+            (Pinocchio's behaviour).
+        strict: turn every :class:`~featherdyn.PhysicalityWarning` (below)
+            into a :class:`~featherdyn.URDFError`.
+
+    Returns:
+        The :class:`~featherdyn.Model`, named after ``<robot name=...>`` (the
+        file stem, or ``"robot"``, if the attribute is missing), with
+        ``source`` the path (``None`` for a string).
+
+    Raises:
+        URDFError: naming the file (``<string>`` / ``<bytes>``), the line, the
+            element and the link or joint, and the attribute: malformed XML;
+            DTDs, entities, external references or XInclude (never expanded or
+            read); nesting deeper than :data:`MAX_DEPTH`; an attribute longer
+            than :data:`MAX_ATTRIBUTE_LENGTH` characters; undecodable bytes; a
+            root element other than ``<robot>``; no links; a missing, empty or
+            duplicate link or joint name; an unknown joint type; a joint without
+            ``<parent>``/``<child>``, or naming an unknown link; a link with two
+            parents, a cycle, more than one root; a revolute or prismatic joint
+            without ``<limit>``; a number that is not a finite decimal or a
+            wrong count of them; a length, position limit, mass or inertia entry
+            beyond :data:`MAX_LENGTH`, :data:`MAX_MASS` or :data:`MAX_INERTIA`,
+            or an ``<inertial>`` below :data:`MIN_INERTIAL` but not zero
+            (module doc); a negative mass; ``<inertial>`` without ``<mass>`` or
+            ``<inertia>``; a zero-length axis; a joint mimicking itself or a
+            mimic cycle. Every failure of the loader is a ``URDFError`` (a
+            :class:`~featherdyn.ModelError`, a ``ValueError``).
+
+    Warns:
+        PhysicalityWarning: a link inertia that is indefinite or violates the
+            triangle inequality beyond the relative tolerance
+            :data:`featherdyn.tolerances.URDF_INERTIA_RTOL`; zero mass with non-zero inertia; a non-unit
+            axis (normalised); lower > upper limits; a ``<limit>`` without the
+            ``effort`` or ``velocity`` the URDF specification requires (one
+            warning per file, listing the joints); a mimic of an unknown or
+            fixed joint (ignored); a moving joint whose subtree has no mass (a
+            singular mass matrix). Real robot files have all of these.
+
+    Whitespace before the ``<?xml ...?>`` declaration is accepted (as
+    Pinocchio, MuJoCo and PyBullet do), in files, strings and bytes.
+
+    Elements other than ``<link>`` and ``<joint>`` (``<transmission>``,
+    ``<gazebo>``, ``<material>``, ...) are ignored; ``<mimic>`` is recorded
+    (:class:`~featherdyn.Mimic`), not enforced; velocity and effort limits are
+    recorded (``inf`` where absent); position limits of continuous, planar and
+    floating joints are unbounded.
+    """
+    text, label, path = _read_source(path_or_xml)
+    root_el, lines = _parse_xml(text, label)
+    tag = root_el.tag if isinstance(root_el.tag, str) else ""
+    ns = tag[: tag.index("}") + 1] if tag.startswith("{") else ""
+    if _local(tag, ns) != "robot":
+        raise URDFError(
+            f"{label}: line {lines.get(root_el, 1)}: expected the root element <robot>, got <{_shorten(tag)}>"
+        )
+    doc = _Doc(label, lines, ns, strict)
+
+    links: dict[str, _Link] = {}
+    joints: dict[str, _Joint] = {}
+    for elem in root_el:
+        kind = _local(elem.tag, ns)
+        if kind == "link":
+            link = _parse_link(doc, elem)
+            if link.name in links:
+                raise doc.error(
+                    elem, f"<link name={_quote(link.name)}>",
+                    f"duplicate link name (first defined on line {links[link.name].line})",
+                )
+            links[link.name] = link
+        elif kind == "joint":
+            joint = _parse_joint(doc, elem)
+            if joint.name in joints:
+                raise doc.error(
+                    elem, f"<joint name={_quote(joint.name)}>",
+                    f"duplicate joint name (first defined on line {joints[joint.name].line})",
+                )
+            joints[joint.name] = joint
+    if not links:
+        xacro = any(isinstance(e.tag, str) and "xacro" in e.tag for e in root_el)
+        hint = " (an unexpanded xacro file? run xacro first)" if xacro else ""
+        raise URDFError(f"{label}: <robot> has no <link> elements{hint}")
+
+    _check_limits_given(doc, list(joints.values()))
+    root, order = _link_order(doc, links, list(joints.values()))
+    mimics = _check_mimics(doc, joints)
+    try:
+        inertia_of = _link_inertias(doc, list(links.values()))
+        model, caught = _build(doc, root_el, path, root, order, inertia_of, mimics, floating_base, joints, links)
+    except URDFError:
+        raise
+    except FeatherdynError as exc:  # a check of the spatial types or the model builder: name the file
+        raise URDFError(f"{label}: {_shorten_quoted(str(exc))}") from None
     for w in caught:
         if issubclass(w.category, PhysicalityWarning):
-            warnings.warn(f"{label}: {w.message}", PhysicalityWarning, stacklevel=2)
+            warnings.warn(f"{label}: {_shorten_quoted(str(w.message))}", PhysicalityWarning, stacklevel=2)
         else:
             warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
     return model

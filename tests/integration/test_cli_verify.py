@@ -115,3 +115,27 @@ def test_a_mismatch_exits_1(tmp_path: Path) -> None:
     res = run("verify", "two_link_arm", "--samples", "2", "--tol", "1e-300")
     assert res.returncode == 1, res.stdout + res.stderr
     assert "FAIL" in res.stdout
+
+
+def test_a_one_dof_urdf(tmp_path: Path) -> None:
+    from test_cli_first_use import ONE_DOF
+
+    (tmp_path / "one.urdf").write_text(ONE_DOF, encoding="utf-8")
+    res = run("verify", str(tmp_path / "one.urdf"), "--samples", "2")
+    assert res.returncode == 0, res.stdout + res.stderr
+    assert "Traceback" not in res.stderr
+
+
+def test_all_passes_and_shows_progress(tmp_path: Path) -> None:
+    res = run("verify", "--all", "--json", str(tmp_path / "all.json"))
+    assert res.returncode == 0, res.stdout[-3000:] + res.stderr[-3000:]
+    assert "[1/" in res.stderr and "robots" in res.stderr.splitlines()[0]
+    assert "FAIL" not in res.stdout
+
+
+def test_a_tolerance_below_round_off_is_named_not_blamed_on_a_convention() -> None:
+    res = run("verify", "panda", "--samples", "2", "--tol", "1e-18")
+    assert res.returncode == 1, res.stdout + res.stderr
+    summary = res.stdout.strip().splitlines()[-1]
+    assert "round-off" in summary
+    assert "gravity" not in summary and "triangle" not in summary, summary

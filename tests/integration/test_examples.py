@@ -36,3 +36,23 @@ def test_example_runs(script: Path) -> None:
         f"{script.name} exited with {proc.returncode}\n--- stdout (tail) ---\n{proc.stdout[-3000:]}"
         f"\n--- stderr (tail) ---\n{proc.stderr[-3000:]}"
     )
+
+
+def test_speed_claims_label_the_backend_they_measure() -> None:
+    # the reference (NumPy) recursion is hundreds of times slower than the compiled engine: a line labelled
+    # NumPy that shows the compiled engine's time (as it did) is caught by the ratio
+    pytest.importorskip("pinocchio")
+    pytest.importorskip("numba")
+    env = dict(os.environ, PYTHONIOENCODING="utf-8")
+    proc = subprocess.run([sys.executable, str(EXAMPLES / "23_speed_claims.py")], cwd=EXAMPLES, capture_output=True,
+                          text=True, timeout=TIMEOUT_S, env=env, check=False)
+    assert proc.returncode == 0, proc.stdout[-3000:] + proc.stderr[-3000:]
+
+    def micros(label: str) -> float:
+        line = next((ln for ln in proc.stdout.splitlines() if label in ln), None)
+        assert line is not None, f"no line with {label!r} in\n{proc.stdout}"
+        return float(line.split(":", 1)[1].split("µs")[0])
+
+    t_numpy = micros("backend='reference', NumPy")
+    t_compiled = micros("compiled engine, Numba")
+    assert t_numpy > 20 * t_compiled, (t_numpy, t_compiled)

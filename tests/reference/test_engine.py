@@ -31,7 +31,7 @@ import pytest
 from _models import TREES, random_state, tree
 
 import featherdyn as fd
-from featherdyn.algorithms._common import BackendError
+from featherdyn.errors import BackendError
 
 RTOL = 1e-12  # relative to the largest entry of the reference result
 
@@ -272,7 +272,7 @@ def test_dtype_routing() -> None:
 
 
 def test_backend_selection(monkeypatch: pytest.MonkeyPatch) -> None:
-    from featherdyn.algorithms._common import select_backend
+    from featherdyn.api._backend import select_backend
     from featherdyn.engine import _dispatch, _fast
 
     f64, f32, obj = np.dtype(np.float64), np.dtype(np.float32), np.dtype(object)
@@ -315,7 +315,7 @@ def test_backend_environment_variable() -> None:
     import subprocess
     import sys
 
-    code = ("import featherdyn as fd; from featherdyn.algorithms._common import select_backend; import numpy as np; "
+    code = ("import featherdyn as fd; from featherdyn.api._backend import select_backend; import numpy as np; "
             "print(fd.default_backend(), select_backend(None, np.dtype(np.float64)))")
     env = {**os.environ, "FEATHERDYN_BACKEND": "reference"}
     out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True)

@@ -520,3 +520,12 @@ def test_bad_arguments(tmp_path: Any) -> None:
         check_values(_vals(), "panda", tol=0.0)
     with pytest.raises(fd.ModelError):
         check_values(_vals(), "no_such_robot_anywhere")
+
+
+def test_a_tolerance_below_round_off_is_named_as_such() -> None:
+    _, pm, _ = robot("panda", False)
+    report = check_values(pin_values(pm), "panda", convention="pinocchio", tol=1e-18)
+    assert not report.passed and report.diagnosis == []
+    assert "round-off" in report.summary and "suspect" not in report.summary, report.summary
+    assert all("round-off" in r.note for r in report.results if not r.passed)
+    assert "gravity" not in report.to_text() and "triangle" not in report.to_text()

@@ -12,6 +12,7 @@ import builtins
 import codecs
 import io
 import math
+import re
 import time
 import warnings
 from pathlib import Path
@@ -280,7 +281,7 @@ STRUCTURE = {
     "prismatic-without-limit": (robot(link("a"), link("b"), joint("j", "a", "b", "prismatic", body='<axis xyz="0 0 1"/>')),
                                 r"<joint name='j'>: a prismatic joint needs a <limit"),
     "negative-mass": (robot(link("a", '<inertial><mass value="-1"/><inertia ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" izz="1"/></inertial>')),
-                      r"<link name='a'>: negative mass -1"),
+                      r"<link name='a'>: <mass> value='-1': expected a mass >= 0, got a negative mass -1$"),
     "inertial-without-mass": (robot(link("a", '<inertial><inertia ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" izz="1"/></inertial>')),
                               r"<link name='a'>: <inertial> needs a <mass"),
     "inertial-without-inertia": (robot(link("a", '<inertial><mass value="1"/></inertial>')),
@@ -290,7 +291,7 @@ STRUCTURE = {
     "mass-without-value": (robot(link("a", '<inertial><mass/><inertia ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" izz="1"/></inertial>')),
                            r"<link name='a'>: <mass> needs the attribute 'value'"),
     "zero-axis": (robot(link("a"), link("b"), joint("j", "a", "b", body='<axis xyz="0 0 0"/>' + LIMIT)),
-                  r"<joint name='j'>: zero-length joint axis"),
+                  r"<joint name='j'>: <axis> xyz=\[0.0, 0.0, 0.0\]: expected a direction, got a zero-length joint axis$"),
     "self-mimic": (arm(j2=LIMIT + '<mimic joint="j2"/>'), r"<joint name='j2'>: the joint mimics itself"),
     "mimic-cycle": (arm(j1=LIMIT + '<mimic joint="j2"/>', j2=LIMIT + '<mimic joint="j1"/>'),
                     r"<joint name='j1'>: mimic cycle 'j1' -> 'j2' -> 'j1'"),
@@ -306,11 +307,21 @@ def test_structural_errors(xml: str, match: str) -> None:
     assert isinstance(info.value, ModelError) and isinstance(info.value, ValueError)
 
 
-def test_floating_base_clashes_with_a_joint_named_root_joint() -> None:
+def test_free_flyer_name_never_clashes_with_the_urdf(pin, no_warnings) -> None:
+    """A URDF joint called root_joint loads with floating_base=True: the free flyer takes the next free name."""
     xml = robot(link("a"), link("b"), joint("root_joint", "a", "b"))
     assert fd.load_urdf(xml).joint_names == ("root_joint",)
-    with pytest.raises(URDFError, match=r"<string>: .*'root_joint'"):
-        fd.load_urdf(xml, floating_base=True)
+    m = fd.load_urdf(xml, floating_base=True)
+    assert m.joint_names == ("root_joint_1", "root_joint") and m.floating_base
+    assert (m.frames[0].name, m.frames[0].kind) == ("root_joint_1", "joint")
+    assert m.frames[m.frame_id("root_joint", "joint")].body == 1
+    # a link of the next name is skipped too, so every frame name stays unambiguous
+    xml = robot(link("a"), link("root_joint_1"), joint("root_joint", "a", "root_joint_1"))
+    assert fd.load_urdf(xml, floating_base=True).joint_names == ("root_joint_2", "root_joint")
+    # the verification bridge maps joints by name: the renamed free flyer mirrors into Pinocchio
+    from featherdyn.verify.bridge import pinocchio_model_from
+
+    assert list(pinocchio_model_from(m).names)[1:] == ["root_joint_1", "root_joint"]
 
 
 BAD_NUMBERS = ["1 2", "1 2 3 4", "", "   ", "nan 0 0", "NaN 0 0", "inf 0 0", "-inf 0 0", "1e999 0 0", "0x10 0 0",
@@ -320,7 +331,7 @@ BAD_NUMBERS = ["1 2", "1 2 3 4", "", "   ", "nan 0 0", "NaN 0 0", "inf 0 0", "-i
 @pytest.mark.parametrize("value", BAD_NUMBERS, ids=[repr(v) for v in BAD_NUMBERS])
 def test_bad_numbers(value: str) -> None:
     xml = robot(link("a"), link("b"), joint("j", "a", "b", body=f'<origin xyz="{value}"/>' + LIMIT))
-    with pytest.raises(URDFError, match=r"<string>: line 4: <joint name='j'>: xyz=") as info:
+    with pytest.raises(URDFError, match=r"<string>: line 4: <joint name='j'>: <origin> xyz=") as info:
         fd.load_urdf(xml)
     assert any(w in str(info.value) for w in ("expected 3 numbers", "is not a decimal number", "not finite"))
 
@@ -329,14 +340,14 @@ def test_bad_numbers(value: str) -> None:
     ("where", "xml", "match"),
     [
         ("mass", robot(link("a", '<inertial><mass value="nan"/><inertia ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" izz="1"/></inertial>')),
-         r"<link name='a'>: value='nan'"),
+         r"<link name='a'>: <mass> value='nan'"),
         ("inertia", robot(link("a", '<inertial><mass value="1"/><inertia ixx="1e999" ixy="0" ixz="0" iyy="1" iyz="0" izz="1"/></inertial>')),
-         r"<link name='a'>: ixx='1e999': .*not finite"),
+         r"<link name='a'>: <inertia> ixx='1e999': .*not finite"),
         ("rpy", robot(link("a", '<inertial><origin rpy="0 0"/><mass value="1"/><inertia ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" izz="1"/></inertial>')),
-         r"<link name='a'>: rpy='0 0': expected 3 numbers, got 2"),
-        ("limit", arm(j1='<limit lower="abc" upper="1" effort="1" velocity="1"/>'), r"<joint name='j1'>: lower='abc'"),
-        ("axis", arm(j1='<axis xyz="0 0 inf"/>' + LIMIT), r"<joint name='j1'>: xyz='0 0 inf'"),
-        ("mimic", arm(j2=LIMIT + '<mimic joint="j1" multiplier="x"/>'), r"<joint name='j2'>: multiplier='x'"),
+         r"<link name='a'>: <origin> rpy='0 0': expected 3 numbers, got 2"),
+        ("limit", arm(j1='<limit lower="abc" upper="1" effort="1" velocity="1"/>'), r"<joint name='j1'>: <limit> lower='abc'"),
+        ("axis", arm(j1='<axis xyz="0 0 inf"/>' + LIMIT), r"<joint name='j1'>: <axis> xyz='0 0 inf'"),
+        ("mimic", arm(j2=LIMIT + '<mimic joint="j1" multiplier="x"/>'), r"<joint name='j2'>: <mimic> multiplier='x'"),
     ],
 )
 def test_bad_numbers_everywhere(where: str, xml: str, match: str) -> None:
@@ -491,8 +502,14 @@ def test_joint_types_axes_and_limits() -> None:
         joint("default_axis", "s", "d", "revolute", '<limit effort="1" velocity="1"/>'),
         joint("neg", "d", "x", "revolute", '<axis xyz="-1 0 0"/><limit lower="-2" upper="2" effort="1" velocity="1"/>'),
     )
-    with pytest.warns(PhysicalityWarning, match=r"<joint name='slide'>: axis \[0.0, -3.0, 4.0\] has length 5"):
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
         m = fd.load_urdf(xml)
+    assert [str(w.message) for w in caught] == [
+        "<string>: line 12: <joint name='slide'>: axis [0.0, -3.0, 4.0] has length 5; normalised",
+        "<string>: <limit> needs both 'effort' and 'velocity' (the URDF specification requires them); 1 joint "
+        "without: 'slide' (line 12: no velocity); the missing limits are recorded as unbounded (inf)",
+    ]
     kinds = [type(j).__name__ for j in m.joints]
     assert kinds == ["PlanarJoint", "FreeFlyerJoint", "RevoluteJoint", "PrismaticJoint", "RevoluteJoint", "RevoluteJoint"]
     assert m.nqs == (3, 7, 1, 1, 1, 1) and m.nvs == (3, 6, 1, 1, 1, 1)
@@ -533,3 +550,278 @@ def test_namespaced_robot_and_foreign_elements(no_warnings) -> None:
            + link("a") + link("b") + joint("j", "a", "b") + '<x:link name="not_a_link"/></robot>')
     m = fd.load_urdf(xml)
     assert m.body_names == ("b",) and "not_a_link" not in {f.name for f in m.frames}
+
+
+# ---------------------------------------------------------------------------
+# hostile values: length, time, message size, error types, magnitudes
+# ---------------------------------------------------------------------------
+
+
+def _with_mass(value: str) -> str:
+    return robot(link("a"), link("b", f'<inertial><mass value="{value}"/><inertia ixx="1" ixy="0" ixz="0" iyy="1" '
+                                      'iyz="0" izz="1"/></inertial>'), joint("j", "a", "b"))
+
+
+def test_numbers_are_parsed_in_linear_time() -> None:
+    """A digit run that fails to match must not backtrack quadratically (it took 1.8 s at 12 000 digits)."""
+    xml = _with_mass("1" * 9_999 + "x")  # just within MAX_ATTRIBUTE_LENGTH
+    start = time.monotonic()
+    for _ in range(5):
+        with pytest.raises(URDFError, match=r"is not a decimal number"):
+            fd.load_urdf(xml)
+    assert time.monotonic() - start < 1.0  # linear: about 1 ms each; quadratic: > 1 s each
+
+
+@pytest.mark.parametrize("size", [10_001, 5_000_000])
+def test_attribute_length_is_bounded(size: int) -> None:
+    start = time.monotonic()
+    with pytest.raises(URDFError) as info:
+        fd.load_urdf(_with_mass("1" * size))
+    assert time.monotonic() - start < 5  # hang guard
+    msg = str(info.value)
+    assert msg.startswith("<string>: line 3: <mass>: value='1111")
+    assert msg.endswith(f"... ({size} characters): expected at most 10000 characters (MAX_ATTRIBUTE_LENGTH), got {size}")
+    # any attribute, also of an element the loader ignores, and the element's name is said
+    with pytest.raises(URDFError, match=r"line 2: <gazebo name='g'>: plugin='xxx.*got 20000$"):
+        fd.load_urdf(robot('<gazebo name="g" plugin="' + "x" * 20_000 + '"/>', link("a")))
+
+
+LONG = "n" * 5000
+
+LONG_VALUES = {
+    "bad-number": (_with_mass("1" * 5000 + "x"), URDFError),
+    "too-many-numbers": (arm(j1='<origin xyz="' + "1 " * 3000 + '"/>' + LIMIT), URDFError),
+    "duplicate-link": (robot(link(LONG), link(LONG)), URDFError),
+    "unknown-parent": (robot(link("a"), link("b"), joint("j", LONG, "b")), URDFError),
+    "unknown-type": (robot(link("a"), link("b"), joint("j", "a", "b", LONG)), URDFError),
+    "two-roots": (robot(link(LONG), link(LONG + "x")), URDFError),
+    "mimic-cycle": (robot(link("a"), link("b"), link("c"), joint(LONG, "a", "b", body=LIMIT + '<mimic joint="k"/>'),
+                          joint("k", "b", "c", body=LIMIT + f'<mimic joint="{LONG}"/>')), URDFError),
+    "wrong-root": (f"<{LONG}/>", URDFError),
+    "unknown-encoding": (f'<?xml version="1.0" encoding="{LONG}"?><robot/>'.encode(), URDFError),
+    "builder-warning": (robot(link("a"), link(LONG, ""), joint(LONG, "a", LONG)), PhysicalityWarning),
+    "builder-limits": (robot(link("a"), link(LONG), joint(LONG, "a", LONG, body='<limit lower="1" upper="0" '
+                                                                                 'effort="1" velocity="1"/>')),
+                       PhysicalityWarning),
+}
+
+
+@pytest.mark.parametrize(("xml", "kind"), list(LONG_VALUES.values()), ids=list(LONG_VALUES))
+def test_messages_quote_at_most_100_characters(xml, kind) -> None:
+    """A long offending value is quoted by its first 100 characters and its length (it was quoted whole)."""
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        try:
+            fd.load_urdf(xml)
+        except URDFError as exc:
+            messages = [str(exc)]
+        else:
+            messages = [str(w.message) for w in caught if issubclass(w.category, kind)]
+    assert messages
+    for msg in messages:
+        assert len(msg) < 600, msg[:300]
+        assert re.search(r"\.\.\. \(\d{4,} characters\)", msg), msg
+
+
+@pytest.mark.parametrize(
+    ("inertia", "what"),
+    [
+        ('ixx="1e308" ixy="0" ixz="0" iyy="1e308" iyz="0" izz="1e308"', "ixx='1e308'"),
+        ('ixx="1" ixy="-1e101" ixz="0" iyy="1" iyz="0" izz="1"', "ixy='-1e101'"),
+    ],
+)
+def test_a_huge_inertia_is_a_urdf_error_naming_file_element_and_attribute(tmp_path: Path, inertia: str, what: str) -> None:
+    """It was a ModelError 'body 'b': inertia must hold finite floating-point numbers', without the file."""
+    f = tmp_path / "big.urdf"
+    f.write_text(robot(link("a"), link("b", f'<inertial><mass value="1"/><inertia {inertia}/></inertial>'), joint("j", "a", "b")))
+    with pytest.raises(URDFError) as info:
+        load_quietly(f)
+    assert re.match(rf"{re.escape(str(f))}: line 3: <link name='b'>: <inertia> {what}: expected a magnitude of at "
+                    r"most 1e\+100 \(MAX_INERTIA", str(info.value)), str(info.value)
+
+
+@pytest.mark.parametrize(
+    ("axis", "expected", "length"),
+    [("1e155 0 0", [1, 0, 0], "1e+155"), ("0 -1.5e308 1.5e308", [0, -0.5**0.5, 0.5**0.5], "1.41421 × 1.5e+308"),
+     ("3e-7 4e-7 0", [0.6, 0.8, 0], "5e-07")],
+)
+def test_a_huge_or_tiny_axis_is_a_direction(axis: str, expected: list[float], length: str) -> None:
+    """|axis|² overflows from 1.3e154: the axis was reported as 'zero-length' (a ModelError)."""
+    with pytest.warns(PhysicalityWarning, match=rf"<joint name='j1'>: axis .* has length {re.escape(length)}; normalised"):
+        m = fd.load_urdf(arm(j1=f'<axis xyz="{axis}"/>' + LIMIT))
+    assert np.allclose(m.joints[0].axis, expected, rtol=0, atol=1e-15)
+
+
+def test_a_subnormal_axis_is_refused_as_too_short() -> None:
+    with pytest.raises(URDFError, match=r"<joint name='j1'>: <axis> xyz=\[1e-320, 0.0, 0.0\]: expected a direction, "
+                                        r"got a zero-length joint axis \(length 1e-320\)"):
+        fd.load_urdf(arm(j1='<axis xyz="1e-320 0 0"/>' + LIMIT))
+
+
+def _inertial_at(com: str, mass: str = "1", moment: str = "1") -> str:
+    return (f'<inertial><origin xyz="{com}"/><mass value="{mass}"/><inertia ixx="{moment}" ixy="0" ixz="0" '
+            f'iyy="{moment}" iyz="0" izz="{moment}"/></inertial>')
+
+
+MAGNITUDES = {
+    "mass-1e308": (_with_mass("1e308"), r"<link name='b'>: <mass> value='1e308': expected a magnitude of at most "
+                                        r"1e\+100 \(MAX_MASS: larger values overflow the dynamics\), got 1e\+308"),
+    "mass-above-limit": (_with_mass("1.0000001e100"), r"<mass> value='1.0000001e100': .*MAX_MASS"),
+    "joint-origin-1e154": (arm(j2='<origin xyz="0 1e154 0"/>' + LIMIT),
+                           r"<joint name='j2'>: <origin> xyz='0 1e154 0': expected a magnitude of at most 1e\+60 "
+                           r"\(MAX_LENGTH"),
+    "com-above-limit": (robot(link("a"), link("b", _inertial_at("0 0 -2e60")), joint("j", "a", "b")),
+                        r"line 3: <link name='b'>: <origin> xyz='0 0 -2e60': .*MAX_LENGTH"),
+    "prismatic-limit": (arm(j1='<limit lower="-1e308" upper="1e308" effort="1" velocity="1"/>'),
+                        r"<joint name='j1'>: <limit> lower='-1e308': .*MAX_LENGTH"),
+}
+
+
+@pytest.mark.parametrize(("xml", "match"), list(MAGNITUDES.values()), ids=list(MAGNITUDES))
+def test_magnitudes_that_overflow_the_dynamics_are_refused(xml: str, match: str) -> None:
+    """These loaded without a word and gave NaN in the dynamics (or in random configurations)."""
+    with pytest.raises(URDFError, match=match):
+        load_quietly(xml)
+
+
+def _chain_at_the_limits(n: int, types: tuple[str, ...]) -> str:
+    """n links, every joint origin, centre of mass, mass and inertia entry at the loader's limits."""
+    from featherdyn.urdf import MAX_INERTIA, MAX_LENGTH, MAX_MASS
+
+    L, M, J = f"{MAX_LENGTH:.17g}", f"{MAX_MASS:.17g}", f"{MAX_INERTIA:.17g}"
+    inertial = (f'<inertial><origin xyz="{L} -{L} {L}" rpy="0.3 -1 2"/><mass value="{M}"/>'
+                f'<inertia ixx="{J}" ixy="0" ixz="0" iyy="{J}" iyz="0" izz="{J}"/></inertial>')
+    parts = [link(f"l{i}", inertial) for i in range(n)]
+    for i in range(1, n):
+        jtype = types[i % len(types)]
+        body = f'<origin xyz="-{L} {L} {L}" rpy="{i} 0.5 -0.25"/><axis xyz="{i % 3} 1 -1"/>'
+        if jtype in ("revolute", "prismatic"):
+            body += f'<limit lower="-{L}" upper="{L}" effort="1" velocity="1"/>'
+        parts.append(joint(f"j{i}", f"l{i - 1}", f"l{i}", jtype, body))
+    return robot(*parts)
+
+
+ROTARY = ("revolute", "continuous")
+ALL_TYPES = ("revolute", "prismatic", "continuous", "floating", "planar")
+
+
+@pytest.mark.parametrize("backend", ["reference", "compiled"])
+@pytest.mark.parametrize("types", [ROTARY, ALL_TYPES], ids=["rotary", "all-types"])
+@pytest.mark.parametrize("floating_base", [False, True], ids=["fixed", "floating"])
+@pytest.mark.parametrize("scale", [1.0, 1e10], ids=["state1", "state1e10"])
+def test_dynamics_at_the_limits_stay_finite(types: tuple[str, ...], floating_base: bool, scale: float,
+                                            backend: str) -> None:
+    """The documented limits keep RNEA, CRBA and ABA finite (module doc of featherdyn.urdf).
+
+    ABA's singularity test is relative to the largest inertia entry (``m·|c|²``, 1e220 here): a joint
+    whose articulated inertia is a bare mass (prismatic, free flyer: 1e100) then counts as singular, a
+    featherdyn error rather than a number. Rotary chains must give numbers.
+    """
+    m = load_quietly(_chain_at_the_limits(12, types), floating_base=floating_base)
+    rng = np.random.default_rng(16)
+    for _ in range(3):
+        q = fd.random_configuration(m, rng)
+        v, a, tau = (scale * rng.standard_normal(m.nv) for _ in range(3))
+        results = {"rnea": fd.rnea(m, q, v, a, backend=backend), "crba": fd.crba(m, q, backend=backend)}
+        try:
+            results["aba"] = fd.aba(m, q, v, tau, backend=backend)
+        except fd.errors.SingularMassMatrixError:
+            assert types != ROTARY or floating_base, "ABA called a rotary chain at the limits singular"
+        for name, value in results.items():
+            assert np.all(np.isfinite(value)), f"{name} ({backend}): not finite at the limits (floating_base={floating_base})"
+
+
+# ---------------------------------------------------------------------------
+# required <limit> attributes, real-file leniency
+# ---------------------------------------------------------------------------
+
+
+def test_limit_without_effort_or_velocity_warns_once_listing_the_joints() -> None:
+    n = 15
+    parts = [link(f"l{i}") for i in range(n + 1)]
+    parts += [joint(f"j{i}", f"l{i - 1}", f"l{i}", body='<limit lower="-1" upper="1" velocity="1"/>') for i in range(1, n + 1)]
+    parts[-1] = joint(f"j{n}", f"l{n - 1}", f"l{n}", "continuous", "<limit/>")
+    xml = robot(*parts)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        m = fd.load_urdf(xml)
+    assert len(caught) == 1 and caught[0].category is PhysicalityWarning
+    msg = str(caught[0].message)
+    assert msg.startswith("<string>: <limit> needs both 'effort' and 'velocity' (the URDF specification requires them); "
+                          f"{n} joints without: 'j1' (line {n + 3}: no effort), 'j2' ")
+    assert msg.endswith("'j10' (line 27: no effort) and 5 more; the missing limits are recorded as unbounded (inf)")
+    assert np.all(np.isinf(m.effort_limit)) and m.velocity_limit[0] == 1
+    with pytest.raises(URDFError, match=r"<string>: <limit> needs both 'effort' and 'velocity'.*\(strict=True\)$"):
+        fd.load_urdf(xml, strict=True)
+    # a continuous joint's <limit> is checked as well; fixed, floating and planar joints ignore <limit>
+    with pytest.warns(PhysicalityWarning, match=r"1 joint without: 'j2' \(line 6: no effort or velocity\)"):
+        fd.load_urdf(arm(j2='<limit lower="-1" upper="1"/>'))
+    fd.load_urdf(robot(link("a"), link("b"), joint("f", "a", "b", "fixed", "<limit/>")), strict=True)
+
+
+def test_library_robots_give_every_limit(no_warnings) -> None:
+    """No bundled or example-robot-data robot lacks effort or velocity: the new warning stays quiet for them."""
+    from featherdyn.robots import robot_path
+
+    for name in fd.list_robots():
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always", PhysicalityWarning)
+            fd.load_urdf(robot_path(name))
+        assert not [w for w in caught if "'effort' and 'velocity'" in str(w.message)], name
+
+
+DECLARATION = '<?xml version="1.0" encoding="utf-8"?>'
+
+
+@pytest.mark.parametrize("lead", ["\n", "  \n\t ", "\r\n\r\n"])
+def test_whitespace_before_the_xml_declaration_is_accepted(tmp_path: Path, lead: str, no_warnings) -> None:
+    """Pinocchio, MuJoCo and PyBullet load such files; expat refused them ('XML declaration not at start')."""
+    xml = lead + DECLARATION + "\n" + arm()
+    f = tmp_path / "lead.urdf"
+    f.write_bytes(xml.encode())
+    sources = [xml, "\ufeff" + xml, xml.encode(), codecs.BOM_UTF8 + xml.encode(), f,
+               xml.replace('encoding="utf-8"', 'encoding="UTF-16"').encode("utf-16"),
+               xml.replace('encoding="utf-8"', 'encoding="UTF-16"').encode("utf-16-le")]
+    for source in sources:
+        assert fd.load_urdf(source).body_names == ("l1", "l2")
+
+
+def test_line_numbers_survive_whitespace_before_the_declaration() -> None:
+    xml = "\n\n\n" + DECLARATION + "\n" + robot(link("a"), link("a"))
+    with pytest.raises(URDFError, match=r"<string>: line 7: <link name='a'>: duplicate link name \(first defined on line 6\)"):
+        fd.load_urdf(xml)
+
+
+@pytest.mark.parametrize("tiny", ["1e-310", "5e-324", "1e-101"])
+def test_a_vanishing_inertial_is_refused(tiny: str) -> None:
+    """A chain of subnormal masses loaded without a word and ABA returned NaN."""
+    inertial = (f'<inertial><mass value="{tiny}"/><inertia ixx="{tiny}" ixy="0" ixz="0" iyy="{tiny}" iyz="0" '
+                f'izz="{tiny}"/></inertial>')
+    with pytest.raises(URDFError, match=rf"<string>: line 2: <link name='base'>: <inertial>: expected 0 \(a massless "
+                                        rf"link\) or a mass or inertia entry of at least 1e-100 \(MIN_INERTIAL.*got mass "
+                                        rf"{float(tiny):g}"):
+        fd.load_urdf(arm().replace(INERTIAL, inertial))
+
+
+def test_tiny_entries_beside_a_real_scale_are_fine(no_warnings) -> None:
+    """Round-off off-diagonals such as iCub's ixz=2.4e-35 (and subnormal ones) stay accepted, as does a bare 1e-100 kg."""
+    inertial = ('<inertial><mass value="0.5"/><inertia ixx="1e-3" ixy="5e-324" ixz="2.4e-35" iyy="1e-3" iyz="0" '
+                'izz="1e-3"/></inertial>')
+    fd.load_urdf(robot(link("a"), link("b", inertial), link("c"), joint("j", "a", "b"), joint("k", "b", "c")), strict=True)
+    point = '<inertial><mass value="1e-100"/><inertia ixx="0" ixy="0" ixz="0" iyy="0" iyz="0" izz="0"/></inertial>'
+    fd.load_urdf(robot(link("a"), link("b", point), joint("j", "a", "b", "prismatic")), strict=True)
+
+
+@pytest.mark.parametrize("backend", ["reference", "compiled"])
+@pytest.mark.parametrize("floating_base", [False, True], ids=["fixed", "floating"])
+def test_dynamics_at_the_smallest_inertial_stay_finite(floating_base: bool, backend: str) -> None:
+    """Every link at MIN_INERTIAL, torques up to 1e10: ABA gives numbers (or says the matrix is singular)."""
+    inertial = '<inertial><mass value="1e-100"/><inertia ixx="1e-100" ixy="0" ixz="0" iyy="1e-100" iyz="0" izz="1e-100"/></inertial>'
+    m = fd.load_urdf(arm().replace(INERTIAL, inertial), floating_base=floating_base)
+    rng = np.random.default_rng(16)
+    for scale in (1.0, 1e10):
+        q = fd.random_configuration(m, rng)
+        v, a, tau = (scale * rng.standard_normal(m.nv) for _ in range(3))
+        for value in (fd.rnea(m, q, v, a, backend=backend), fd.crba(m, q, backend=backend),
+                      fd.aba(m, q, v, tau, backend=backend)):
+            assert np.all(np.isfinite(value))

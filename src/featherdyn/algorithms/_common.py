@@ -1,158 +1,31 @@
-"""Shared pieces of the reference algorithms (private): input checks, per-model data, reference frames.
+"""Shared pieces of the reference algorithms (private): the model's constant data in the book's symbols.
 
-Every algorithm starts with :func:`check_state`, which validates ``q``, ``v``,
-``a``/``τ`` against the model (trailing length, finiteness, unit quaternions)
-and finds the common batch shape and dtype, and then uses :class:`TreeData`,
-the model's constant data (joint placements, inertias, motion subspaces,
-gravity) cast to that dtype.
+The reference algorithms receive arrays the public layer (:mod:`featherdyn.api`)
+has already checked — trailing lengths, finiteness, unit quaternions — and
+compute in the dtype those arrays promote to (float64, float32 or SymPy
+objects). :class:`TreeData` is the model's constant data (joint placements,
+inertias, motion subspaces, gravity) cast to that dtype.
 """
 
 from __future__ import annotations
 
-import enum
-from dataclasses import dataclass
-from typing import Any
-
 import numpy as np
 
-from .._validation import as_array, result_dtype
-from ..engine import _fast
-from ..errors import FeatherdynError, QuaternionNormError, ShapeError
-from ..joints import FreeFlyerJoint, SphericalJoint
+from .._validation import result_dtype
 from ..model import Model
 from ..spatial_algebra import PluckerTransform, SpatialInertia, SpatialMotion
 
-__all__ = ["ReferenceFrame", "LOCAL", "WORLD", "LOCAL_WORLD_ALIGNED", "check_state", "TreeData", "select_backend"]
-
-QUAT_TOL = 1e-6
+__all__ = ["TreeData", "batch_dtype", "stack_motions", "stack_transforms", "expand", "expand_inertia", "zeros"]
 
 
-class ReferenceFrame(enum.Enum):
-    """Where frame velocities, accelerations and Jacobians are expressed (Pinocchio's meanings).
-
-    * ``LOCAL``: in the frame itself, reference point its origin.
-    * ``WORLD``: in world axes, reference point the world origin (spatial
-      velocity in Featherstone's sense).
-    * ``LOCAL_WORLD_ALIGNED``: reference point the frame origin, world axes
-      (the linear part is the frame origin's velocity in world coordinates).
-    """
-
-    LOCAL = "local"
-    WORLD = "world"
-    LOCAL_WORLD_ALIGNED = "local_world_aligned"
-
-
-LOCAL = ReferenceFrame.LOCAL
-WORLD = ReferenceFrame.WORLD
-LOCAL_WORLD_ALIGNED = ReferenceFrame.LOCAL_WORLD_ALIGNED
-
-
-class BackendError(FeatherdynError, ValueError):
-    """An unknown or unavailable ``backend=`` was requested."""
-
-
-def select_backend(backend: str | None, dtype: np.dtype) -> str:
-    """Resolve ``backend=`` to ``"reference"`` or ``"compiled"``.
-
-    ``None`` picks the compiled engine (:mod:`featherdyn.engine`) for float64
-    input when Numba is installed, and the reference otherwise (float32, SymPy
-    object arrays); :func:`featherdyn.set_default_backend` changes that default
-    (``$FEATHERDYN_BACKEND=reference`` when featherdyn is imported makes the
-    reference the default). ``"compiled"`` forces the engine: input is converted to float64
-    (an error if it cannot be) and the result cast back to float32 for
-    float32 input.
-    """
-    if backend is None:
-        if dtype == np.float64 and _fast.ON and _engine_available():
-            return "compiled"
-        return "reference"
-    if backend == "reference":
-        return "reference"
-    if backend == "compiled":
-        if not _engine_available():
-            raise BackendError("backend='compiled' needs Numba (pip install numba); use backend='reference'")
-        return "compiled"
-    raise BackendError(f"backend: expected None, 'reference' or 'compiled', got {backend!r}")
-
-
-def _engine_available() -> bool:
-    from ..engine import available
-
-    return available()
-
-
-def as_reference_frame(reference: Any) -> ReferenceFrame:
-    if isinstance(reference, ReferenceFrame):
-        return reference
-    if isinstance(reference, str):
-        try:
-            return ReferenceFrame(reference.lower())
-        except ValueError:
-            pass
-    raise ShapeError(f"reference: expected fd.LOCAL, fd.WORLD or fd.LOCAL_WORLD_ALIGNED, got {reference!r}")
-
-
-@dataclass(frozen=True)
-class State:
-    """Validated inputs: arrays with a common batch shape and dtype."""
-
-    batch: tuple[int, ...]
-    dtype: np.dtype
-    q: np.ndarray
-    arrays: dict[str, np.ndarray]
-
-
-def check_state(model: Model, q: Any, check_finite: bool = True, **vectors: Any) -> State:
-    """Validate ``q`` `(..., nq)` and every named vector `(..., nv)` (``None`` entries are skipped).
-
-    Raises :class:`ShapeError` naming the argument and the expected trailing
-    dimension, :class:`NonFiniteError`, or :class:`QuaternionNormError` naming
-    the joint whose quaternion is off unit norm by more than 1e-6.
-    """
-    if not isinstance(model, Model):
-        raise ShapeError(f"model: expected a featherdyn Model, got {type(model).__name__}")
-    qq = _vec(q, "q", model.nq, "nq", check_finite)
-    arrays = {}
-    for name, val in vectors.items():
-        if val is not None:
-            arrays[name] = _vec(val, name, model.nv, "nv", check_finite)
-    all_arrays = [qq, *arrays.values()]
-    batches = {a.shape[:-1] for a in all_arrays}
-    try:
-        batch = batches.pop() if len(batches) == 1 else np.broadcast_shapes(*(a.shape[:-1] for a in all_arrays))
-    except ValueError:
-        shapes = ", ".join(f"{n}: {a.shape}" for n, a in [("q", qq), *arrays.items()])
-        raise ShapeError(f"batch shapes do not broadcast ({shapes})") from None
-    dtype = result_dtype(*all_arrays)
-    if dtype.kind != "O":
-        _check_quaternions(model, qq)
-    return State(batch, dtype, qq, arrays)
-
-
-def _vec(x: Any, name: str, n: int, what: str, check_finite: bool) -> np.ndarray:
-    arr = as_array(x, name, check_finite=check_finite)
-    if arr.ndim == 0 or arr.shape[-1] != n:
-        raise ShapeError(f"{name}: expected trailing dimension {what}={n}, got shape {tuple(arr.shape)}")
-    return arr
-
-
-def _check_quaternions(model: Model, q: np.ndarray) -> None:
-    for i, joint in enumerate(model.joints):
-        if isinstance(joint, SphericalJoint):
-            quat = q[..., model.idx_q[i] : model.idx_q[i] + 4]
-        elif isinstance(joint, FreeFlyerJoint):
-            quat = q[..., model.idx_q[i] + 3 : model.idx_q[i] + 7]
-        else:
-            continue
-        tol = 1e-3 if q.dtype == np.float32 else QUAT_TOL
-        err = np.abs(np.sqrt(np.sum(quat * quat, axis=-1)) - 1)
-        if np.any(err > tol):
-            worst = float(np.max(err))
-            raise QuaternionNormError(
-                f"q: the quaternion of joint {model.joint_names[i]!r} (q[{model.idx_q[i]}:{model.idx_q[i] + joint.nq}]) "
-                f"is off unit norm by {worst:.3g} > {tol:g}; featherdyn quaternions are (x, y, z, w) — "
-                "normalise with fd.normalize(model, q)"
-            )
+def batch_dtype(*vectors: np.ndarray | None, f_ext: np.ndarray | None = None) -> tuple[tuple[int, ...], np.dtype]:
+    """The common batch shape and computation dtype of ``vectors`` `(..., n)` and ``f_ext`` `(..., nb, 6)`."""
+    given = [a for a in vectors if a is not None]
+    shapes = [a.shape[:-1] for a in given]
+    if f_ext is not None:
+        given.append(f_ext)
+        shapes.append(f_ext.shape[:-2])
+    return np.broadcast_shapes(*shapes), result_dtype(*given)
 
 
 class TreeData:
@@ -160,7 +33,9 @@ class TreeData:
 
     Attributes:
         parents: ``λ(i)``.
-        Xtree: joint placements (poses of joint frames in parent bodies), one per body.
+        joint_placement: ``ᵖM_J``, the pose of joint ``i``'s frame in its parent body (maps
+            joint-frame to parent coordinates; Pinocchio's ``jointPlacements``). RBDA's ``Xtree``
+            is its inverse ``ᴶX_p``; the passes use ``X_up[i] = pose_in_parent(q, i).inverse()``.
         I: body inertias, one :class:`SpatialInertia` per body (body frame).
         S: motion subspaces `(6, nv_i)`.
         a0: the base acceleration ``−g`` as a spatial motion (the RNEA gravity trick).
@@ -176,7 +51,7 @@ class TreeData:
             return np.asarray(a).astype(dtype)
 
         pl, inertias = model.joint_placements, model.inertias
-        self.Xtree = [PluckerTransform._wrap(cast(pl.rotation[i]), cast(pl.translation[i]), None, None)
+        self.joint_placement = [PluckerTransform._wrap(cast(pl.rotation[i]), cast(pl.translation[i]), None, None)
                       for i in range(self.nb)]
         self.I = [SpatialInertia._wrap(cast(inertias.mass[i]), cast(inertias.com[i]), cast(inertias.inertia_com[i]),
                                        None) for i in range(self.nb)]
@@ -193,10 +68,10 @@ class TreeData:
         return v[..., m.idx_v[i] : m.idx_v[i] + m.nvs[i]]
 
     def pose_in_parent(self, q: np.ndarray, i: int) -> PluckerTransform:
-        """``ᵖM_i(q)``: the pose of body ``i`` in its parent = ``Xtree[i] @ joint.pose(q_i)``."""
+        """``ᵖM_i(q)``: the pose of body ``i`` in its parent = ``joint_placement[i] @ M_J(q_i)``."""
         XJ = self.model.joints[i].pose(self.q_i(q, i))
         XJ = PluckerTransform._wrap(XJ.rotation.astype(self.dtype), XJ.translation.astype(self.dtype), None, None)
-        return self.Xtree[i] @ XJ
+        return self.joint_placement[i] @ XJ
 
     def vJ(self, qd: np.ndarray, i: int) -> SpatialMotion:
         """Joint velocity (or any joint-space rate) ``S_i q̇_i`` as a motion in body ``i``."""

@@ -17,17 +17,13 @@ from typing import Any
 
 import numpy as np
 
-from .._validation import result_dtype
-from ..engine import _fast
 from ..errors import SingularMassMatrixError
 from ..model import Model
 from ..spatial_algebra import PluckerTransform, SpatialMotion, cross_force, cross_motion
-from ._common import TreeData, check_state, select_backend, zeros
-from .rnea import _batch_with_f_ext, _f_ext
+from ..tolerances import SINGULAR_PIVOT_RTOL
+from ._common import TreeData, batch_dtype, zeros
 
 __all__ = ["aba"]
-
-_SINGULAR_RTOL = 1e-14
 
 
 def _mT(x: np.ndarray) -> np.ndarray:
@@ -47,54 +43,31 @@ def _inv_small(D: np.ndarray, model: Model, i: int, scale: Any) -> np.ndarray:
             out[n] = np.array(sympy.Matrix(block).inv(), dtype=object)
         return out.reshape(D.shape)
     eig_min = np.linalg.eigvalsh((D + _mT(D)) / 2)[..., 0]
-    if np.any(eig_min <= _SINGULAR_RTOL * scale):
-        raise SingularMassMatrixError(
-            f"joint {model.joint_names[i]!r} (body {model.body_names[i]!r}): the articulated inertia of its subtree "
-            f"along the joint axis is {float(np.min(eig_min)):.3g} — the subtree has no mass or inertia that this "
-            "joint can move, so the mass matrix is singular and q̈ is not unique"
-        )
+    if np.any(eig_min <= SINGULAR_PIVOT_RTOL * scale):
+        raise SingularMassMatrixError.for_joint(model.joint_names[i], model.body_names[i], float(np.min(eig_min)))
     return np.linalg.inv(D)
 
 
-def aba(model: Model, q: Any, v: Any, tau: Any, f_ext: Any = None, *, gravity: bool = True,
-        backend: str | None = None) -> np.ndarray:
-    """Joint accelerations ``q̈`` `(..., nv)` produced by joint forces ``τ`` in state ``(q, v)``.
+def aba(model: Model, q: np.ndarray, qd: np.ndarray, tau: np.ndarray, f_ext: np.ndarray | None = None,
+        gravity: bool = True) -> np.ndarray:
+    """Joint accelerations ``q̈`` `(..., nv)` by ABA, on checked arrays (public entry: :func:`featherdyn.aba`).
 
     Args:
         model: the tree.
-        q: `(..., nq)`; v, tau: `(..., nv)`.
+        q: `(..., nq)`; qd, tau: `(..., nv)` — ``q̇``, ``τ``.
         f_ext: optional `(..., nb, 6)` body-frame external forces ``[n; f]``.
-        gravity: set ``False`` to leave gravity out.
+        gravity: ``False`` leaves gravity out.
 
     ::
 
         q̈ = M(q)⁻¹ (τ − C(q, q̇) q̇ − g(q) + Σ_i J_iᵀ f_i^ext)
 
     Raises:
-        SingularMassMatrixError: naming the joint, when ``M(q)`` is singular.
+        SingularMassMatrixError: naming the joint, when ``M(q)`` is singular
+            (:data:`featherdyn.tolerances.SINGULAR_PIVOT_RTOL`).
     """
-    fast = _fast.path(model, backend)
-    # one float64 state: the checked kernel validates and computes (see engine/_fast.py)
-    if fast is not None and f_ext is None:
-        qdd_ = _fast._EMPTY(fast.nv)
-        try:
-            bad = fast.aba(fast.MD, q, v, tau, gravity, qdd_)
-        except (TypeError, ValueError):  # Numba refuses the argument types
-            bad = -2
-        if bad == -1:
-            return qdd_
-        if bad >= 0:
-            raise SingularMassMatrixError(fast.singular[bad])
-    fx = _f_ext(model, f_ext)
-    st = check_state(model, q, v=v, tau=tau)
-    dtype = st.dtype if fx is None else result_dtype(np.empty(0, st.dtype), fx)
-    batch = _batch_with_f_ext(st.batch, fx)
-    if select_backend(backend, dtype) == "compiled":
-        from ..engine import _dispatch
-
-        return _dispatch.aba(model, st.q, st.arrays["v"], st.arrays["tau"], fx, gravity, dtype)
+    batch, dtype = batch_dtype(q, qd, tau, f_ext=f_ext)
     td = TreeData(model, dtype)
-    qd, tau_ = st.arrays["v"], st.arrays["tau"]
     a0 = td.a0 if gravity else SpatialMotion._wrap(np.zeros(6, dtype=td.dtype), None)
 
     nb = td.nb
@@ -106,7 +79,7 @@ def aba(model: Model, q: Any, v: Any, tau: Any, f_ext: Any = None, *, gravity: b
     pA: list[np.ndarray] = []
     for i in range(nb):
         lam = td.parents[i]
-        X_up.append(td.pose_in_parent(st.q, i).inverse())
+        X_up.append(td.pose_in_parent(q, i).inverse())
         Xm.append(X_up[i].matrix())
         vJ = td.vJ(qd, i)
         v_i = vJ if lam == -1 else X_up[i].apply(vel[lam]) + vJ
@@ -114,11 +87,11 @@ def aba(model: Model, q: Any, v: Any, tau: Any, f_ext: Any = None, *, gravity: b
         c.append(cross_motion(v_i, vJ).vector)
         IA.append(np.broadcast_to(td.I[i].matrix(), batch + (6, 6)).copy())
         p = cross_force(v_i, td.I[i] @ v_i).vector
-        if fx is not None:
-            p = p - fx[..., i, :]
+        if f_ext is not None:
+            p = p - f_ext[..., i, :]
         pA.append(np.broadcast_to(p, batch + (6,)).copy())
 
-    scale = max((float(np.max(np.abs(m))) for m in IA), default=1.0) if td.dtype.kind != "O" else 1.0
+    scale = max((float(np.max(np.abs(m), initial=0.0)) for m in IA), default=1.0) if td.dtype.kind != "O" else 1.0
     U: list[np.ndarray] = [np.empty(0)] * nb
     Dinv: list[np.ndarray] = [np.empty(0)] * nb
     u: list[np.ndarray] = [np.empty(0)] * nb
@@ -128,7 +101,7 @@ def aba(model: Model, q: Any, v: Any, tau: Any, f_ext: Any = None, *, gravity: b
         U[i] = IA[i] @ S                                   # (..., 6, k)
         D = _mT(S) @ U[i]                                  # (..., k, k)
         sv = slice(model.idx_v[i], model.idx_v[i] + model.nvs[i])
-        u[i] = tau_[..., sv] - pA[i] @ S                   # (..., k)
+        u[i] = tau[..., sv] - pA[i] @ S                   # (..., k)
         Dinv[i] = _inv_small(D, model, i, scale)
         if lam != -1:
             Ia = IA[i] - U[i] @ Dinv[i] @ _mT(U[i])

@@ -13,16 +13,15 @@ linear first.
 
 from __future__ import annotations
 
-from typing import Any
-
 import numpy as np
 
 from ..model import Model
+from ..results import Kinematics
 from ..spatial_algebra import SpatialForce, SpatialMotion, _cross3
-from ._common import TreeData, check_state, expand_inertia
+from ._common import TreeData, expand_inertia
 from .energy import center_of_mass
 from .jacobians import _world_columns
-from .kinematics import _body_at, forward_kinematics
+from .kinematics import _body_at
 
 __all__ = ["centroidal_momentum_matrix", "centroidal_momentum"]
 
@@ -32,9 +31,11 @@ def _shift_to_com(h: np.ndarray, c: np.ndarray) -> np.ndarray:
     return np.concatenate([h[..., :3] - _cross3(c, h[..., 3:]), h[..., 3:]], axis=-1)
 
 
-def centroidal_momentum_matrix(model: Model, q: Any, *, backend: str | None = None) -> np.ndarray:
-    """``A_G(q)`` `(..., 6, nv)` with ``h_G = A_G q̇`` (rows ``[k_G; p]``, world axes, about the CoM)."""
-    kin = forward_kinematics(model, q, backend=backend)
+def centroidal_momentum_matrix(model: Model, kin: Kinematics) -> np.ndarray:
+    """``A_G(q)`` `(..., 6, nv)` with ``h_G = A_G q̇`` (rows ``[k_G; p]``, world axes, about the CoM).
+
+    ``kin`` holds the placements at ``q`` (velocities are not used).
+    """
     batch = kin.placements.shape[:-1]
     td = TreeData(model, kin.placements.dtype)
     IC = [_body_at(kin.placements, i).apply(td.I[i]) for i in range(model.nbodies)]
@@ -46,17 +47,17 @@ def centroidal_momentum_matrix(model: Model, q: Any, *, backend: str | None = No
     for k in range(model.nbodies):
         sk = slice(model.idx_v[k], model.idx_v[k] + model.nvs[k])
         A[..., sk, :] = (expand_inertia(IC[k]) @ SpatialMotion._wrap(cols[..., sk, :], None)).vector
-    c = center_of_mass(model, q, backend=backend)
+    c = center_of_mass(model, Kinematics(model, kin.placements, None, None, kin.parent_placements))
+    assert isinstance(c, np.ndarray)
     return np.swapaxes(_shift_to_com(A, c[..., None, :]), -1, -2)
 
 
-def centroidal_momentum(model: Model, q: Any, v: Any, *, backend: str | None = None) -> SpatialForce:
+def centroidal_momentum(model: Model, kin: Kinematics, qd: np.ndarray) -> SpatialForce:
     """The centroidal momentum ``h_G = [k_G; p]`` `(..., 6)` as a :class:`SpatialForce`.
 
     ::
 
         h_G = A_G(q) q̇     (p = m ċ)
     """
-    st = check_state(model, q, v=v)
-    A = centroidal_momentum_matrix(model, st.q, backend=backend)
-    return SpatialForce._wrap((A @ st.arrays["v"][..., None])[..., 0], None)
+    A = centroidal_momentum_matrix(model, kin)
+    return SpatialForce._wrap((A @ qd[..., None])[..., 0], None)

@@ -13,15 +13,14 @@ Christoffel-consistent factorisation that Pinocchio's
 
 from __future__ import annotations
 
-from typing import Any
-
 import numpy as np
 
 from ..model import Model
+from ..results import Kinematics
 from ..spatial_algebra import _crm_apply, _skew, crf, crm
-from ._common import TreeData, check_state, zeros
+from ._common import TreeData, zeros
 from .jacobians import _mask_support, _world_columns
-from .kinematics import _body_at, _motion_at, forward_kinematics
+from .kinematics import _body_at, _motion_at
 
 __all__ = ["coriolis_matrix"]
 
@@ -33,10 +32,11 @@ def _bar(h: np.ndarray) -> np.ndarray:
     return np.concatenate([np.concatenate([n, f], axis=-1), np.concatenate([f, zero], axis=-1)], axis=-2)
 
 
-def coriolis_matrix(model: Model, q: Any, v: Any, *, backend: str | None = None) -> np.ndarray:
-    """``C(q, q̇)`` `(..., nv, nv)`: ``C q̇ = RNEA(q, q̇, 0) − g(q)`` and ``Ṁ − 2C`` is skew-symmetric."""
-    st = check_state(model, q, v=v)
-    kin = forward_kinematics(model, st.q, st.arrays["v"], backend=backend)
+def coriolis_matrix(model: Model, kin: Kinematics) -> np.ndarray:
+    """``C(q, q̇)`` `(..., nv, nv)` from the placements and body velocities of ``kin``.
+
+    ``C q̇ = RNEA(q, q̇, 0) − g(q)`` and ``Ṁ − 2C`` is skew-symmetric.
+    """
     assert kin.velocities is not None
     batch, dtype = kin.placements.shape[:-1], kin.placements.dtype
     td = TreeData(model, dtype)

@@ -12,14 +12,11 @@ upper triangle only; its Python binding returns it full).
 
 from __future__ import annotations
 
-from typing import Any
-
 import numpy as np
 
-from ..engine import _fast
 from ..model import Model
 from ..spatial_algebra import PluckerTransform, SpatialInertia, SpatialMotion
-from ._common import TreeData, check_state, expand, expand_inertia, select_backend, zeros
+from ._common import TreeData, batch_dtype, expand, expand_inertia, zeros
 
 __all__ = ["crba", "composite_inertias"]
 
@@ -35,34 +32,21 @@ def composite_inertias(td: TreeData, q: np.ndarray) -> tuple[list[PluckerTransfo
     return X_up, IC
 
 
-def crba(model: Model, q: Any, *, backend: str | None = None) -> np.ndarray:
-    """The joint-space mass matrix ``M(q)`` `(..., nv, nv)`, full and symmetric.
+def crba(model: Model, q: np.ndarray) -> np.ndarray:
+    """The joint-space mass matrix ``M(q)`` `(..., nv, nv)`, full and symmetric, on a checked ``q`` `(..., nq)`.
 
-    ::
+    Public entry: :func:`featherdyn.crba`. ::
 
         T = ½ q̇ᵀ M(q) q̇,    M_ij = S_iᵀ ⁱX_j^* I^C_j S_j   (j in the subtree of i)
     """
-    fast = _fast.path(model, backend)
-    # one float64 configuration: the checked kernel validates and computes (see engine/_fast.py)
-    if fast is not None:
-        M = _fast._EMPTY(fast.shape_M)
-        try:
-            if fast.crba(fast.MD, q, M) == 0:
-                return M
-        except (TypeError, ValueError):  # Numba refuses the argument types
-            pass
-    st = check_state(model, q)
-    if select_backend(backend, st.dtype) == "compiled":
-        from ..engine import _dispatch
-
-        return _dispatch.crba(model, st.q, st.dtype)
-    td = TreeData(model, st.dtype)
-    X_up, IC = composite_inertias(td, st.q)
-    M = zeros(st.batch, (model.nv, model.nv), td.dtype)
+    batch, dtype = batch_dtype(q)
+    td = TreeData(model, dtype)
+    X_up, IC = composite_inertias(td, q)
+    M = zeros(batch, (model.nv, model.nv), td.dtype)
     for i in range(td.nb):
         si = slice(model.idx_v[i], model.idx_v[i] + model.nvs[i])
         # the columns of F = I^C_i S_i, as a batch of forces (..., nv_i, 6)
-        F = expand_inertia(IC[i]) @ _columns(td.S[i], st.batch)
+        F = expand_inertia(IC[i]) @ _columns(td.S[i], batch)
         M[..., si, si] = F.vector @ td.S[i]
         j = i
         while td.parents[j] != -1:

@@ -9,41 +9,32 @@
 
 from __future__ import annotations
 
-from typing import Any, NamedTuple
-
 import numpy as np
 
 from ..errors import ModelError
 from ..model import Model
+from ..results import CenterOfMass, Kinematics
 from ..spatial_algebra import _cross3
-from ._common import TreeData
-from .kinematics import _body_at, _motion_at, forward_kinematics
+from ._common import TreeData, zeros
+from .kinematics import _body_at, _motion_at
 
-__all__ = ["kinetic_energy", "potential_energy", "center_of_mass", "CenterOfMass"]
-
-
-class CenterOfMass(NamedTuple):
-    """Position `(..., 3)` and velocity `(..., 3)` of the centre of mass, in world coordinates."""
-
-    position: np.ndarray
-    velocity: np.ndarray
+__all__ = ["kinetic_energy", "potential_energy", "center_of_mass"]
 
 
-def kinetic_energy(model: Model, q: Any, v: Any, *, backend: str | None = None) -> Any:
-    """Kinetic energy `(...)`::
+def kinetic_energy(model: Model, kin: Kinematics) -> np.ndarray:
+    """Kinetic energy `(...)` from the body velocities of ``kin``::
 
         T = Σ_i ½ v_iᵀ I_i v_i = ½ q̇ᵀ M(q) q̇
     """
-    kin = forward_kinematics(model, q, v, backend=backend)
     assert kin.velocities is not None
     td = TreeData(model, kin.placements.dtype)
-    T = 0
+    T = zeros(kin.placements.shape[:-1], (), td.dtype)
     for i in range(model.nbodies):
         T = T + td.I[i].kinetic_energy(_motion_at(kin.velocities, i))
-    return T if model.nbodies else np.zeros(kin.placements.shape[:-1], kin.placements.dtype)
+    return T
 
 
-def _world_coms(model: Model, kin: Any, td: TreeData) -> list[np.ndarray]:
+def _world_coms(model: Model, kin: Kinematics, td: TreeData) -> list[np.ndarray]:
     out = []
     for i in range(model.nbodies):
         oM = _body_at(kin.placements, i)
@@ -51,12 +42,11 @@ def _world_coms(model: Model, kin: Any, td: TreeData) -> list[np.ndarray]:
     return out
 
 
-def potential_energy(model: Model, q: Any, *, backend: str | None = None) -> Any:
+def potential_energy(model: Model, kin: Kinematics) -> np.ndarray:
     """Gravitational potential energy `(...)` (zero at the world origin)::
 
         U = −Σ_i m_i gᵀ ⁰c_i
     """
-    kin = forward_kinematics(model, q, backend=backend)
     td = TreeData(model, kin.placements.dtype)
     g = model.gravity.astype(td.dtype)
     U = np.zeros(kin.placements.shape[:-1], dtype=td.dtype)
@@ -65,11 +55,11 @@ def potential_energy(model: Model, q: Any, *, backend: str | None = None) -> Any
     return U
 
 
-def center_of_mass(model: Model, q: Any, v: Any = None, *, backend: str | None = None) -> Any:
-    """The centre of mass of the whole tree in world coordinates.
+def center_of_mass(model: Model, kin: Kinematics) -> np.ndarray | CenterOfMass:
+    """The centre of mass of the whole tree in world coordinates, from the placements of ``kin``.
 
     Returns:
-        ``c`` `(..., 3)` without ``v``; with ``v`` a :class:`CenterOfMass`
+        ``c`` `(..., 3)` when ``kin`` has no velocities; else a :class:`CenterOfMass`
         ``(position, velocity)``::
 
             c = Σ m_i ⁰c_i / m,    ċ = Σ m_i ⁰R_i (v_i + ω_i × c_i) / m
@@ -77,7 +67,6 @@ def center_of_mass(model: Model, q: Any, v: Any = None, *, backend: str | None =
     Raises:
         ModelError: the tree has no mass (the centre of mass is undefined).
     """
-    kin = forward_kinematics(model, q, v, backend=backend)
     td = TreeData(model, kin.placements.dtype)
     batch = kin.placements.shape[:-1]
     m = model.total_mass

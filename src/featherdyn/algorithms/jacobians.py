@@ -16,26 +16,14 @@ rotated back to world axes. With ``v_f = J q̇`` the frame velocity::
 
 from __future__ import annotations
 
-from typing import Any
-
 import numpy as np
 
-from ..engine import _fast
+from ..frames import ReferenceFrame
 from ..model import Model
+from ..results import Kinematics
 from ..spatial_algebra import PluckerTransform, SpatialMotion, _crm_apply
-from ._common import (
-    LOCAL,
-    LOCAL_WORLD_ALIGNED,
-    WORLD,
-    ReferenceFrame,
-    TreeData,
-    as_reference_frame,
-    check_state,
-    expand,
-    select_backend,
-    zeros,
-)
-from .kinematics import _body_at, _frame_pose, _motion_at, forward_kinematics, resolve_frame
+from ._common import TreeData, expand, zeros
+from .kinematics import _body_at, _motion_at, frame_pose
 
 __all__ = ["joint_jacobians", "frame_jacobian", "frame_jacobian_time_variation", "support"]
 
@@ -59,14 +47,13 @@ def _world_columns(model: Model, td: TreeData, oM: PluckerTransform, batch: tupl
     return cols
 
 
-def joint_jacobians(model: Model, q: Any, *, backend: str | None = None) -> np.ndarray:
+def joint_jacobians(model: Model, kin: Kinematics) -> np.ndarray:
     """All joint columns in the world frame, `(..., 6, nv)` (Pinocchio's ``computeJointJacobians`` → ``data.J``).
 
     ::
 
         J[:, k] = ⁰X_k S_k      (the Jacobian of body b keeps the columns of its support)
     """
-    kin = forward_kinematics(model, q, backend=backend)
     batch, dtype = kin.placements.shape[:-1], kin.placements.dtype
     td = TreeData(model, dtype)
     return np.swapaxes(_world_columns(model, td, kin.placements, batch), -1, -2)
@@ -91,43 +78,20 @@ def _to_reference(cols_world: np.ndarray, oMf: PluckerTransform, ref: ReferenceF
     return np.concatenate([(R @ local[..., :3, None])[..., 0], (R @ local[..., 3:, None])[..., 0]], axis=-1)
 
 
-def frame_jacobian(model: Model, q: Any, frame: Any, reference: Any = LOCAL, *,
-                   backend: str | None = None) -> np.ndarray:
-    """The geometric Jacobian of a frame, `(..., 6, nv)`, rows ``[ω; v]`` (``getFrameJacobian``).
+def frame_jacobian(model: Model, kin: Kinematics, fid: int, ref: ReferenceFrame) -> np.ndarray:
+    """The geometric Jacobian of frame ``fid``, `(..., 6, nv)`, rows ``[ω; v]`` (``getFrameJacobian``).
 
-    ``frame_velocity(model, q, v, frame, reference) = J @ v``.
+    ``frame_velocity(model, q, v, frame, reference) = J @ v``; ``kin`` holds the placements.
     """
-    fast = _fast.path(model, backend)
-    # one float64 configuration: the checked kernel validates and computes (see engine/_fast.py)
-    if fast is not None:
-        # identity tests: an Enum's __hash__ runs in Python, a dict lookup would cost more
-        ref_code = (0 if reference is LOCAL else 1 if reference is WORLD
-                    else 2 if reference is LOCAL_WORLD_ALIGNED else -1)
-        fid_ = fast.frames.get(frame, -1) if frame.__class__ is str else frame
-        if ref_code >= 0 and fid_.__class__ is int:
-            J_ = _fast._EMPTY(fast.shape_J)
-            try:
-                if fast.frame_jacobian(fast.MD, q, fid_, ref_code, J_) == 0:
-                    return J_
-            except (TypeError, ValueError):  # Numba refuses the argument types
-                pass
-    fid = resolve_frame(model, frame)
-    ref = as_reference_frame(reference)
-    st = check_state(model, q)
-    if select_backend(backend, st.dtype) == "compiled":
-        from ..engine import _dispatch
-
-        return _dispatch.frame_jacobian(model, st.q, fid, ref, st.dtype)
-    kin = forward_kinematics(model, q, backend=backend)
     batch, dtype = kin.placements.shape[:-1], kin.placements.dtype
     td = TreeData(model, dtype)
     body = model.frames[fid].body
     cols = _mask_support(_world_columns(model, td, kin.placements, batch), model, body)
-    return np.swapaxes(_to_reference(cols, _frame_pose(model, kin, fid), ref), -1, -2)
+    return np.swapaxes(_to_reference(cols, frame_pose(model, kin, fid), ref), -1, -2)
 
 
-def frame_jacobian_time_variation(model: Model, q: Any, v: Any, frame: Any, reference: Any = LOCAL, *,
-                                  backend: str | None = None) -> np.ndarray:
+def frame_jacobian_time_variation(model: Model, kin: Kinematics, qd: np.ndarray, fid: int,
+                                  ref: ReferenceFrame) -> np.ndarray:
     """``J̇ = dJ/dt`` of :func:`frame_jacobian` along ``q̇ = v``, `(..., 6, nv)` (``getFrameJacobianTimeVariation``).
 
     ::
@@ -138,10 +102,6 @@ def frame_jacobian_time_variation(model: Model, q: Any, v: Any, frame: Any, refe
 
     and the classical acceleration identity ``a_classical = J q̈ + J̇ q̇`` in LOCAL_WORLD_ALIGNED.
     """
-    fid = resolve_frame(model, frame)
-    ref = as_reference_frame(reference)
-    st = check_state(model, q, v=v)
-    kin = forward_kinematics(model, st.q, st.arrays["v"], backend=backend)
     assert kin.velocities is not None
     batch, dtype = kin.placements.shape[:-1], kin.placements.dtype
     td = TreeData(model, dtype)
@@ -154,9 +114,9 @@ def frame_jacobian_time_variation(model: Model, q: Any, v: Any, frame: Any, refe
         dcols[..., sk, :] = _crm_apply(v_world[..., None, :], cols[..., sk, :])
     if ref is ReferenceFrame.WORLD:
         return np.swapaxes(dcols, -1, -2)
-    oMf = _frame_pose(model, kin, fid)
+    oMf = frame_pose(model, kin, fid)
     J_local = _to_reference(cols, oMf, ReferenceFrame.LOCAL)
-    v_local = (J_local * st.arrays["v"][..., :, None]).sum(axis=-2)  # ᶠv = J q̇
+    v_local = (J_local * qd[..., :, None]).sum(axis=-2)  # ᶠv = J q̇
     dJ_local = _to_reference(dcols, oMf, ReferenceFrame.LOCAL) - _crm_apply(v_local[..., None, :], J_local)
     if ref is ReferenceFrame.LOCAL:
         return np.swapaxes(dJ_local, -1, -2)

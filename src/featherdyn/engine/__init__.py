@@ -1,4 +1,4 @@
-"""The compiled engine: Numba kernels over flat per-model arrays (DESIGN.md, "Two implementations").
+"""The compiled engine: Numba kernels over flat per-model arrays (docs/architecture.md, "Two implementations").
 
 The reference algorithms (:mod:`featherdyn.algorithms`) read like the book;
 this package computes the same quantities fast:
@@ -40,7 +40,7 @@ from typing import TYPE_CHECKING, Any
 if TYPE_CHECKING:
     from .compiled import CompiledModel
 
-__all__ = ["available", "compile_model", "compile", "CompiledModel"]
+__all__ = ["available", "compile_model", "compile", "CompiledModel", "kernel_cache_is_cold"]
 
 _AVAILABLE: bool | None = None
 
@@ -51,6 +51,33 @@ def available() -> bool:
     if _AVAILABLE is None:
         _AVAILABLE = importlib.util.find_spec("numba") is not None
     return _AVAILABLE
+
+
+#: the modules whose kernels Numba caches on disk (the others hold only helpers inlined into these)
+_CACHED_MODULES = ("_cores", "_entries", "_lanes")
+
+
+def kernel_cache_is_cold() -> bool:
+    """Whether the first compiled call on this machine will compile the kernels (about a minute).
+
+    Numba keeps compiled kernels in index files (``*.nbi``) in the engine's
+    ``__pycache__`` or under ``$NUMBA_CACHE_DIR``; a source newer than its
+    index is compiled again. ``False`` without Numba (nothing is compiled).
+    """
+    import os
+    from pathlib import Path
+
+    if not available():
+        return False
+    here = Path(__file__).resolve().parent
+    custom = os.environ.get("NUMBA_CACHE_DIR")
+    for stem in _CACHED_MODULES:
+        source = here / f"{stem}.py"
+        folder = Path(custom) if custom else here / "__pycache__"
+        index = list(folder.rglob(f"{stem}.*.nbi")) if folder.is_dir() else []
+        if not index or max(p.stat().st_mtime for p in index) < source.stat().st_mtime:
+            return True
+    return False
 
 
 def compile_model(model: Any, *, warmup: bool = True) -> CompiledModel:

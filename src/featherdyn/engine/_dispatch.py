@@ -16,24 +16,21 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import SingularMassMatrixError
+from ..errors import BackendError, SingularMassMatrixError
+from ..frames import ReferenceFrame
 from ..model import Model
+from ..results import Kinematics
 from ..spatial_algebra import PluckerTransform, SpatialMotion
 from . import _kernels as _k
 from . import _lanes as _ln
 from . import _layout as _lay
-from ._layout import LOCAL_CODE, LWA_CODE, WORLD_CODE, ModelArrays, model_arrays, workspace_size
+from ._layout import ModelArrays, model_arrays, workspace_size
 
-__all__ = ["arrays_of", "rnea", "crba", "aba", "forward_kinematics", "placements", "frame_jacobian",
-           "REFERENCE_CODES"]
+__all__ = ["arrays_of", "rnea", "crba", "aba", "forward_kinematics", "placements", "frame_jacobian"]
 
 _F64 = np.dtype(np.float64)
 _CACHE: dict[int, tuple[Model, ModelArrays]] = {}
 _CACHE_SIZE = 64
-
-#: ReferenceFrame value → kernel code
-REFERENCE_CODES = {"local": LOCAL_CODE, "world": WORLD_CODE, "local_world_aligned": LWA_CODE}
-
 
 def arrays_of(model: Model) -> ModelArrays:
     """The flat arrays of ``model``, computed once per model object (a small LRU keyed by identity)."""
@@ -53,8 +50,6 @@ def as_f64(x: np.ndarray, name: str) -> np.ndarray:
         try:
             x = x.astype(np.float64)
         except (TypeError, ValueError) as exc:
-            from ..algorithms._common import BackendError
-
             raise BackendError(
                 f"backend='compiled': {name} cannot be converted to float64 ({exc}); "
                 "symbolic input needs backend='reference'"
@@ -147,17 +142,12 @@ def crba(model: Model, q: np.ndarray, dtype: np.dtype, out: np.ndarray | None = 
 
 def singular_messages(model: Model) -> tuple[str, ...]:
     """The :class:`~featherdyn.errors.SingularMassMatrixError` message for each joint."""
-    return tuple(
-        f"joint {model.joint_names[i]!r} (body {model.body_names[i]!r}): the articulated inertia of its subtree "
-        "along the joint axis is singular — the subtree has no mass or inertia that this joint can move, so the "
-        "mass matrix is singular and q̈ is not unique"
-        for i in range(model.nbodies)
-    )
+    return tuple(str(SingularMassMatrixError.for_joint(model.joint_names[i], model.body_names[i]))
+                 for i in range(model.nbodies))
 
 
 def _singular(model: Model, joint: int, state: tuple[int, ...] | None) -> SingularMassMatrixError:
-    where = f" (batch index {state})" if state else ""
-    return SingularMassMatrixError(singular_messages(model)[joint] + where)
+    return SingularMassMatrixError.for_joint(model.joint_names[joint], model.body_names[joint], batch_index=state)
 
 
 def aba(model: Model, q: np.ndarray, v: np.ndarray, tau: np.ndarray, fext: np.ndarray | None, gravity: bool,
@@ -221,9 +211,7 @@ def placements(model: Model, q: np.ndarray) -> np.ndarray:
 
 def forward_kinematics(model: Model, q: np.ndarray, v: np.ndarray | None, a: np.ndarray | None,
                        dtype: np.dtype) -> Any:
-    """The :class:`~featherdyn.algorithms.kinematics.Kinematics` of ``(q, v, a)`` (``a`` needs ``v``)."""
-    from ..algorithms.kinematics import Kinematics
-
+    """The :class:`~featherdyn.results.Kinematics` of ``(q, v, a)`` (``a`` needs ``v``)."""
     oM, pM, vel, acc = _fk_arrays(model, q, v, a, True)
 
     def transforms(H: np.ndarray) -> PluckerTransform:
@@ -238,10 +226,10 @@ def forward_kinematics(model: Model, q: np.ndarray, v: np.ndarray | None, a: np.
     )
 
 
-def frame_jacobian(model: Model, q: np.ndarray, frame: int, reference: Any, dtype: np.dtype) -> np.ndarray:
+def frame_jacobian(model: Model, q: np.ndarray, frame: int, reference: ReferenceFrame | int, dtype: np.dtype) -> np.ndarray:
     """The Jacobian `(..., 6, nv)` of frame index ``frame`` in ``reference`` (a ReferenceFrame or a code 0–2)."""
     md = arrays_of(model)
-    ref = reference if isinstance(reference, int) else REFERENCE_CODES[reference.value]
+    ref = reference if isinstance(reference, int) else reference.code
     body = int(md.FB[frame])
     batch = q.shape[:-1]
     if batch == ():

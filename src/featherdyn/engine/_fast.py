@@ -1,4 +1,4 @@
-"""The one-state fast path of the public functions (private).
+"""The one-state fast path of the public functions (private): a model's packed arrays bound to the checked kernels.
 
 ``fd.rnea(model, q, v, a)`` with float64 C-contiguous 1-D arrays is the call a
 control loop makes; it must cost about what ``pin.rnea`` costs, a couple of
@@ -21,20 +21,13 @@ dispatch.
 
 from __future__ import annotations
 
-import os
 from typing import Any
 
 import numpy as np
 
 from ..model import Model
 
-__all__ = ["FastPath", "attach", "path", "set_default_backend", "default_backend"]
-
-#: the default backend (see :func:`set_default_backend`); ``$FEATHERDYN_BACKEND=reference`` at import
-_STATE: dict[str, Any] = {"backend": "reference" if os.environ.get("FEATHERDYN_BACKEND") == "reference" else None}
-#: whether the public functions may take the fast path (the default backend is not "reference")
-ON = _STATE["backend"] is None
-
+__all__ = ["FastPath", "attach"]
 
 class FastPath:
     """A model's packed arrays and the checked kernels, bound for the public one-state calls."""
@@ -51,6 +44,7 @@ class FastPath:
         "model",
         "nle",
         "nv",
+        "refusals",
         "rnea",
         "shape_H",
         "shape_J",
@@ -60,11 +54,16 @@ class FastPath:
     )
 
     def __init__(self, model: Model) -> None:
+        from numba.core.errors import NumbaError
+
         from . import _dispatch
         from . import _kernels as _k
         from ._layout import with_workspace
 
         _k.lock_checked()
+        #: what a checked kernel raises for arguments it cannot take (Numba's dispatch: an untypeable,
+        #: unsupported — e.g. a masked array — or out-of-range argument); the caller takes its general path
+        self.refusals = (TypeError, ValueError, OverflowError, NumbaError)
         self.MD = with_workspace(_dispatch.arrays_of(model).packed, model.nbodies, model.nv)
         self.nv = model.nv
         self.shape_M = (model.nv, model.nv)
@@ -103,42 +102,6 @@ def attach(model: Any) -> FastPath | None:
             fast = None
     object.__setattr__(model, "_fast", fast)
     return fast
-
-
-def path(model: Any, backend: str | None) -> FastPath | None:
-    """The fast path a public function takes for ``model`` and ``backend=``, or ``None`` (its general path).
-
-    ``None`` also when the default backend is the reference, ``model`` is not a
-    :class:`~featherdyn.Model`, or the engine is not available.
-    """
-    if backend is None and ON:
-        try:
-            return model._fast
-        except AttributeError:
-            return attach(model)
-    return None
-
-
-def set_default_backend(backend: str | None) -> None:
-    """Make ``backend`` the default of every algorithm called with ``backend=None``.
-
-    ``None`` (the default): the compiled engine for float64 input when Numba
-    is installed, the reference otherwise; ``"reference"``: always the
-    reference; ``"compiled"``: as ``None``. The environment variable
-    ``FEATHERDYN_BACKEND`` sets the initial value when featherdyn is imported.
-    """
-    if backend not in (None, "reference", "compiled"):
-        from ..algorithms._common import BackendError
-
-        raise BackendError(f"backend: expected None, 'reference' or 'compiled', got {backend!r}")
-    global ON
-    _STATE["backend"] = None if backend == "compiled" else backend
-    ON = _STATE["backend"] is None
-
-
-def default_backend() -> str | None:
-    """The default set by :func:`set_default_backend` (``None``: the compiled engine for float64 input)."""
-    return _STATE["backend"]
 
 
 _EMPTY = np.empty

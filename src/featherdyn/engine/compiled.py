@@ -37,8 +37,8 @@ from typing import Any
 
 import numpy as np
 
-from ..algorithms._common import LOCAL, LOCAL_WORLD_ALIGNED, WORLD
 from ..errors import ShapeError, SingularMassMatrixError
+from ..frames import LOCAL, LOCAL_WORLD_ALIGNED, WORLD, as_reference_frame
 from ..model import Model
 from . import _dispatch
 from ._layout import LOCAL_CODE, LWA_CODE, WORLD_CODE, with_workspace
@@ -84,11 +84,9 @@ def _slow_call(model: Model, where: str, call: Any, inputs: dict[str, Any], out:
 
 def _reference_code(reference: Any) -> int:
     """0, 1, 2 for LOCAL, WORLD, LOCAL_WORLD_ALIGNED (enum members, their names, or the codes themselves)."""
-    from ..algorithms._common import as_reference_frame
-
     if isinstance(reference, (int, np.integer)) and not isinstance(reference, bool) and 0 <= reference <= 2:
         return int(reference)
-    return _dispatch.REFERENCE_CODES[as_reference_frame(reference).value]
+    return as_reference_frame(reference).code
 
 
 class CompiledModel:
@@ -216,9 +214,7 @@ class CompiledModel:
             try:
                 k_jac(MD, q, frames[frame] if frame.__class__ is str else frame, ref, out)
             except (TypeError, ValueError, KeyError):
-                from ..algorithms.kinematics import resolve_frame
-
-                fid = resolve_frame(model, frame)
+                fid = model.resolve_frame(frame)
                 _slow_call(model, "frame_jacobian", lambda q_, J: k_jac(MD, q_, fid, ref, J), {"q": q}, out)
             return out
 
@@ -260,13 +256,15 @@ class CompiledModel:
 
     def frame_jacobian_batch(self, q: Any, frame: Any, reference: Any = LOCAL) -> np.ndarray:
         """Jacobians `(..., 6, nv)` of ``frame`` for a batch of configurations, on all cores."""
-        from ..algorithms.kinematics import resolve_frame
-
-        return _dispatch.frame_jacobian(self.model, np.asarray(q), resolve_frame(self.model, frame),
+        return _dispatch.frame_jacobian(self.model, np.asarray(q), self.model.resolve_frame(frame),
                                         _reference_code(reference), _F64)
 
     def warmup(self) -> None:
-        """Call every single-state method once (loads or compiles the kernels)."""
+        """Call every single-state method once (loads or compiles the kernels), in O(nb) memory.
+
+        The kernels are generic, so the mass matrix — the one output of size
+        ``nv²`` — is warmed up on a one-joint model when this model is large.
+        """
         from ..configuration import neutral
 
         q = np.ascontiguousarray(neutral(self.model), dtype=np.float64)
@@ -276,7 +274,10 @@ class CompiledModel:
         self.rnea(q, z, z, f_ext=np.zeros((self.nb, 6)))
         self.nle(q, z)
         self.gravity(q)
-        self.crba(q)
+        if self.nv <= _WARMUP_CRBA_MAX_NV:
+            self.crba(q)
+        else:
+            _one_joint_model().crba(np.zeros(1))
         try:
             self.aba(q, z, z)
         except SingularMassMatrixError:
@@ -285,6 +286,22 @@ class CompiledModel:
 
     def __repr__(self) -> str:
         return f"CompiledModel({self.model!r}, compiled in {self.compile_seconds:.2f} s)"
+
+
+#: above this many velocities, warm-up does not build this model's (nv, nv) mass matrix
+_WARMUP_CRBA_MAX_NV = 256
+
+
+def _one_joint_model() -> CompiledModel:
+    """A compiled one-revolute-joint model: warms up the generic kernels at no memory cost."""
+    from ..joints import RevoluteJoint
+    from ..model import ModelBuilder
+    from ..spatial_algebra import SpatialInertia
+
+    b = ModelBuilder("warmup")
+    b.add_body("link", parent=-1, joint=RevoluteJoint(np.array([0.0, 0.0, 1.0])),
+               inertia=SpatialInertia(1.0, [0.1, 0.0, 0.0], np.eye(3) * 0.01))
+    return CompiledModel(b.build())
 
 
 def compile_model(model: Model, *, warmup: bool = True) -> CompiledModel:

@@ -15,37 +15,20 @@ import os
 import time
 import warnings
 from collections.abc import Callable
-from pathlib import Path
 
+from ..tolerances import VERIFY_ALGEBRA, VERIFY_DYNAMICS
 from .check import check_values
 from .report import CheckResult, VerifyReport, compare, machine_meta
+from .resolve import resolve_robot
 
 __all__ = ["run", "resolve_robot", "check_values", "CheckResult", "VerifyReport", "compare", "ALGEBRA_TOL",
            "DYNAMICS_TOL"]
 
-ALGEBRA_TOL = 1e-12
+ALGEBRA_TOL = VERIFY_ALGEBRA
 """Relative tolerance of the spatial-algebra comparisons (both libraries are exact to round-off)."""
 
-DYNAMICS_TOL = 1e-9
+DYNAMICS_TOL = VERIFY_DYNAMICS
 """Relative tolerance of the robot comparisons (the dynamics issue's standard)."""
-
-
-def resolve_robot(robot: str | os.PathLike[str] | None) -> tuple[str, Path]:
-    """``(name, urdf_path)`` of a robot-library name, a URDF path, or ``None`` (the default robot)."""
-    from ..robots import BUNDLED_DEFAULT_ROBOT, DEFAULT_ROBOT, _erd_files, robot_path
-
-    if robot is None:
-        name = DEFAULT_ROBOT if _erd_files() else BUNDLED_DEFAULT_ROBOT
-        return name, robot_path(name)
-    text = os.fspath(robot)
-    path = Path(text)
-    if text.lower().endswith((".urdf", ".xml")) or (os.sep in text and path.exists()) or path.is_file():
-        if not path.is_file():
-            from ..errors import ModelError
-
-            raise ModelError(f"URDF file {text!r} not found")
-        return path.stem, path
-    return text, robot_path(text)
 
 
 def run(robot: str | os.PathLike[str] | None = None, *, floating_base: bool = False, samples: int = 10,

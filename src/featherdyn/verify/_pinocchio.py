@@ -7,8 +7,19 @@ it is imported only when a check runs.
 from __future__ import annotations
 
 from types import ModuleType
+from typing import Any, TypeAlias
 
 from ..errors import MissingDependencyError
+
+__all__ = ["PinModel", "PinValue", "require_pinocchio", "pinocchio_version"]
+
+# Pinocchio ships no type information: to a type checker its objects are ``Any``; these names say which.
+
+#: a ``pinocchio.Model``.
+PinModel: TypeAlias = Any
+
+#: a Pinocchio value: ``SE3``, ``Motion``, ``Force``, ``Inertia``, or a ``ReferenceFrame`` constant.
+PinValue: TypeAlias = Any
 
 
 def require_pinocchio() -> ModuleType:
@@ -24,6 +35,7 @@ def require_pinocchio() -> ModuleType:
 
 
 def pinocchio_version() -> str:
+    """Pinocchio's version, or ``"not installed"``."""
     try:
         return str(require_pinocchio().__version__)
     except MissingDependencyError:

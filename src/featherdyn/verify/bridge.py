@@ -18,7 +18,6 @@ planar        [x, y, θ] / [ω, vx, vy]     [x, y, cos θ, sin θ] / [vx, vy, ω
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any
 
 import numpy as np
 
@@ -26,7 +25,7 @@ from .. import conventions
 from ..errors import ModelError
 from ..joints import FreeFlyerJoint, PlanarJoint, PrismaticJoint, RevoluteJoint, SphericalJoint
 from ..model import Model
-from ._pinocchio import require_pinocchio
+from ._pinocchio import PinModel, require_pinocchio
 
 __all__ = ["pinocchio_model_from", "JointMap", "SWAP6", "to_pin6", "from_pin6", "from_pin6_rows"]
 
@@ -42,11 +41,18 @@ from_pin6 = to_pin6
 
 
 def from_pin6_rows(m: np.ndarray) -> np.ndarray:
-    """Swap the halves of the 6 rows of a `(..., 6, n)` matrix (a Jacobian or momentum matrix)."""
-    return np.asarray(m)[..., SWAP6, :]
+    """Swap the halves of the 6 rows of a `(..., 6, n)` matrix (a Jacobian or momentum matrix).
+
+    Pinocchio returns the `(6, 1)` matrices of a one-DoF model flattened to `(6,)`; such an
+    array is read as the one column it is.
+    """
+    arr = np.asarray(m)
+    if arr.ndim == 1:
+        arr = arr.reshape(arr.shape[0], 1)
+    return arr[..., SWAP6, :]
 
 
-def pinocchio_model_from(model: Model, *, check_order: bool = True) -> Any:
+def pinocchio_model_from(model: Model, *, check_order: bool = True) -> PinModel:
     """A Pinocchio model mirroring ``model`` body by body (same names, placements, inertias, gravity).
 
     Joint types: revolute → ``JointModelRevoluteUnaligned``, prismatic →
@@ -113,7 +119,7 @@ class JointMap:
             universe) must be exactly featherdyn's joints, by name.
     """
 
-    def __init__(self, model: Model, pin_model: Any) -> None:
+    def __init__(self, model: Model, pin_model: PinModel) -> None:
         self.model = model
         self.pin_model = pin_model
         pin_names = list(pin_model.names)[1:]
@@ -190,8 +196,11 @@ class JointMap:
         return np.asarray(v_pin)[..., self.v_perm]
 
     def matrix_from_pin(self, m_pin: np.ndarray) -> np.ndarray:
-        """A joint-space `(..., nv, nv)` matrix from Pinocchio's ordering."""
-        return np.asarray(m_pin)[..., self.v_perm, :][..., :, self.v_perm]
+        """A joint-space `(..., nv, nv)` matrix from Pinocchio's ordering (a `(1,)` or scalar one of nv=1 too)."""
+        arr = np.asarray(m_pin)
+        if arr.ndim < 2:
+            arr = arr.reshape(self.model.nv, self.model.nv)
+        return arr[..., self.v_perm, :][..., :, self.v_perm]
 
     def columns_from_pin(self, m_pin: np.ndarray) -> np.ndarray:
         """A `(..., k, nv)` matrix (Jacobian-like) with columns from Pinocchio's ordering."""

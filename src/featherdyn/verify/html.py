@@ -6,7 +6,7 @@ import html
 import math
 from collections.abc import Sequence
 
-from .report import VerifyReport
+from .report import LinkInfo, VerifyReport
 
 __all__ = ["reports_to_html"]
 
@@ -53,7 +53,7 @@ def _error_chart(report: VerifyReport) -> str:
     return "".join(parts)
 
 
-def _ellipse(link: dict) -> str:
+def _ellipse(link: LinkInfo) -> str:
     """A glyph of the link's equivalent uniform ellipsoid (its two largest semi-axes), or a red cross if none exists."""
     axes = link.get("ellipsoid_semi_axes")
     if not axes:
@@ -106,7 +106,8 @@ def _one(report: VerifyReport) -> str:
         rows.append(
             f"<tr><td>{html.escape(r.group)}</td><td>{html.escape(r.quantity)}</td><td>{r.max_abs:.2e}</td>"
             f"<td>{r.max_rel:.2e}</td><td>{r.worst_sample}</td><td>{r.tol:.0e}</td>"
-            f'<td class="{cls}">{"pass" if r.passed else "FAIL"}</td><td class="note">{html.escape(r.note)}</td></tr>'
+            f'<td class="{cls}">{"pass" if r.passed else "FAIL"}</td><td class="note">{html.escape(r.note)}'
+            + (f"<br>{html.escape(r.criterion)}" if r.criterion else "") + "</td></tr>"
         )
     meta = "".join(f"<tr><th>{html.escape(str(k))}</th><td>{html.escape(str(v))}</td></tr>"
                    for k, v in report.meta.items() if k != "load_warnings")
@@ -115,7 +116,7 @@ def _one(report: VerifyReport) -> str:
         f"<h2>{html.escape(report.title)}</h2><p class='summary'>{status}</p>"
         f"<h3>Relative error per quantity (log scale; bar = worst state, dots = every state, red line = tolerance)</h3>{_error_chart(report)}"
         "<h3>Results</h3><table><tr><th>group</th><th>quantity</th><th>max abs</th><th>max rel</th>"
-        f"<th>worst state</th><th>tol</th><th>result</th><th>likely cause</th></tr>{''.join(rows)}</table>"
+        f"<th>worst state</th><th>tol</th><th>result</th><th>likely cause; how judged</th></tr>{''.join(rows)}</table>"
         f"<h3>Link inertias</h3>{_inertia_chart(report)}"
         + (f"<h3>Warnings while loading</h3><ul>{warns}</ul>" if warns else "")
         + f"<h3>Run</h3><table>{meta}</table>"

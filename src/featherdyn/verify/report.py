@@ -4,12 +4,16 @@ from __future__ import annotations
 
 import json
 import platform
+from collections.abc import Callable, Sequence
 from dataclasses import asdict, dataclass, field
-from typing import Any
+from typing import TypedDict
 
 import numpy as np
+from numpy.typing import ArrayLike
 
-__all__ = ["CheckResult", "VerifyReport", "compare"]
+from ..testing import tolerance
+
+__all__ = ["CheckResult", "VerifyReport", "RunMeta", "Diagnostics", "LinkInfo", "InvalidInertia", "compare", "ROUNDOFF", "roundoff_note", "Cause", "likely_cause"]
 
 
 @dataclass(frozen=True, slots=True)
@@ -30,6 +34,9 @@ class CheckResult:
         note: what the comparison shows on a failure (the likely cause).
         sample_errors: the relative error of each sample (the distribution the
             HTML report plots).
+        criterion: how the comparison was judged when not by ``max_rel <= tol``
+            alone (forward dynamics: by its backward error and the conditioning
+            of ``M``, :func:`featherdyn.verify.dynamics.forward_dynamics_result`).
     """
 
     group: str
@@ -41,16 +48,31 @@ class CheckResult:
     passed: bool
     note: str = ""
     sample_errors: tuple[float, ...] = ()
+    criterion: str = ""
+
+
+#: relative errors up to this are float64 round-off: the comparison tolerance of float64 results
+#: (:data:`featherdyn.tolerances.COMPARISON`). A failure below it means the tolerance asked for is finer
+#: than double precision can resolve, not that a quantity is wrong.
+ROUNDOFF = tolerance(np.float64)[0]
+
+
+def roundoff_note(max_rel: float, tol: float) -> str:
+    """The note of a failure that is only round-off."""
+    return (f"differs only by round-off ({max_rel:.1e}, float64 results agree to {ROUNDOFF:.0e}): the tolerance "
+            f"{tol:.0e} is below what double precision can resolve")
 
 
 def compare(
-    group: str, quantity: str, actual: Any, expected: Any, tol: float, note: str = ""
+    group: str, quantity: str, actual: ArrayLike, expected: ArrayLike, tol: float, note: str = ""
 ) -> CheckResult:
     """Compare stacked samples ``actual`` and ``expected`` (leading axis = sample).
 
     ::
 
         max_rel = max over samples of  max|a − b| / max(max|b|, 1)
+
+    A failure within float64 round-off (:data:`ROUNDOFF`) is noted as such instead of ``note``.
     """
     a = np.asarray(actual, dtype=np.float64)
     b = np.asarray(expected, dtype=np.float64)
@@ -68,8 +90,92 @@ def compare(
     rel_per = abs_per / scale
     worst = int(np.argmax(rel_per)) if n else 0
     max_rel = float(rel_per.max(initial=0.0))
+    if max_rel <= tol:
+        note = ""
+    elif max_rel <= ROUNDOFF:
+        note = roundoff_note(max_rel, tol)
     return CheckResult(group, quantity, float(abs_per.max(initial=0.0)), max_rel, worst, tol, max_rel <= tol,
-                       "" if max_rel <= tol else note, tuple(float(e) for e in rel_per))
+                       note, tuple(float(e) for e in rel_per))
+
+
+#: a possible cause of a mismatch: its description, and what the oracle's values `(N, ...)` would be
+#: had featherdyn made that mistake. It is named only when featherdyn's values match those.
+Cause = tuple[str, Callable[[np.ndarray], np.ndarray]]
+
+
+
+def likely_cause(ours: np.ndarray, ref: np.ndarray, causes: Sequence[Cause], tol: float) -> str:
+    """The cause that explains a mismatch of ``ours`` against ``ref`` `(N, ...)`, or where the difference is largest.
+
+    A cause is named only when featherdyn's values agree, within ``max(tol, ROUNDOFF)``, with
+    the oracle's values as that mistake would have made them.
+    """
+    for text, mistaken in causes:
+        try:
+            alt = mistaken(ref)
+        except (ValueError, RuntimeError, IndexError):  # the alternative cannot be computed for this robot
+            continue
+        if compare("", "", ours, alt, max(tol, ROUNDOFF)).passed:
+            return text
+    n = ours.shape[0] if ours.ndim else 1
+    a, b = ours.reshape(n, -1), ref.reshape(n, -1)
+    rel = np.abs(a - b) / np.maximum(np.abs(b).max(axis=1, initial=0.0), 1.0)[:, None]
+    k, flat = (int(i) for i in np.unravel_index(int(np.argmax(rel)), rel.shape))
+    index = tuple(int(i) for i in np.unravel_index(flat, ours.shape[1:])) if ours.ndim > 1 else ()
+    where = f"state {k}" + (f", index {index[0] if len(index) == 1 else index}" if index else "")
+    return (f"no usual cause explains it; largest difference at {where}: featherdyn {a[k, flat]:.6g}, "
+            f"expected {b[k, flat]:.6g}")
+
+
+class LinkInfo(TypedDict):
+    """One body in :attr:`VerifyReport.diagnostics` (``links``)."""
+
+    body: str
+    mass: float
+    principal_moments: list[float]
+    ellipsoid_semi_axes: list[float] | None
+    valid: bool
+    reason: str
+
+
+class InvalidInertia(TypedDict):
+    """A body whose inertia is not physical, and why."""
+
+    body: str
+    reason: str
+
+
+class Diagnostics(TypedDict, total=False):
+    """What :attr:`VerifyReport.diagnostics` holds (:func:`featherdyn.verify.dynamics.model_diagnostics`)."""
+
+    links: list[LinkInfo]
+    invalid_inertias: list[InvalidInertia]
+    singular_subtrees: list[str]
+    mass_matrix_condition: float
+    total_mass: float
+
+
+class RunMeta(TypedDict, total=False):
+    """What :attr:`VerifyReport.meta` holds: versions, machine, robot and settings of the run."""
+
+    python: str
+    numpy: str
+    machine: str
+    system: str
+    featherdyn: str
+    pinocchio: str
+    robot: str
+    urdf: str
+    floating_base: bool
+    samples: int
+    seed: int
+    tol: float
+    nq: int
+    nv: int
+    nbodies: int
+    load_warnings: list[str]
+    seconds: float
+    error: str
 
 
 @dataclass
@@ -78,8 +184,8 @@ class VerifyReport:
 
     title: str
     results: list[CheckResult] = field(default_factory=list)
-    meta: dict[str, Any] = field(default_factory=dict)
-    diagnostics: dict[str, Any] = field(default_factory=dict)
+    meta: RunMeta = field(default_factory=lambda: RunMeta())
+    diagnostics: Diagnostics = field(default_factory=lambda: Diagnostics())
 
     @property
     def passed(self) -> bool:
@@ -89,8 +195,8 @@ class VerifyReport:
     def failures(self) -> list[CheckResult]:
         return [r for r in self.results if not r.passed]
 
-    def to_dict(self) -> dict[str, Any]:
-        """A JSON-ready dictionary of the whole report."""
+    def to_dict(self) -> dict[str, object]:
+        """A dictionary of the whole report (:meth:`to_json` writes infinities as strings)."""
         return {
             "title": self.title,
             "passed": self.passed,
@@ -100,19 +206,24 @@ class VerifyReport:
         }
 
     def to_json(self, indent: int = 2) -> str:
-        def default(o: Any) -> Any:
+        def default(o: object) -> object:
             if isinstance(o, (np.floating, np.integer, np.bool_)):
                 return o.item()
             raise TypeError(type(o).__name__)
 
-        d = self.to_dict()
-        cond = d["diagnostics"].get("mass_matrix_condition")
-        if isinstance(cond, float) and not np.isfinite(cond):
-            d["diagnostics"]["mass_matrix_condition"] = str(cond)
-        for r in d["results"]:  # JSON has no inf
+        diagnostics: dict[str, object] = dict(self.diagnostics)
+        cond = self.diagnostics.get("mass_matrix_condition")
+        if isinstance(cond, float) and not np.isfinite(cond):  # JSON has no inf / nan
+            diagnostics["mass_matrix_condition"] = str(cond)
+        results: list[dict[str, object]] = []
+        for r in self.results:
+            row: dict[str, object] = asdict(r)
             for k in ("max_abs", "max_rel"):
-                if not np.isfinite(r[k]):
-                    r[k] = str(r[k])
+                value = getattr(r, k)
+                if not np.isfinite(value):
+                    row[k] = str(value)
+            results.append(row)
+        d = dict(self.to_dict(), diagnostics=diagnostics, results=results)
         return json.dumps(d, indent=indent, default=default, ensure_ascii=False)
 
     def to_table(self) -> str:
@@ -137,22 +248,30 @@ class VerifyReport:
             lines.append(f"link inertias: {'all physical' if not bad else f'{len(bad)} not physical'}")
             lines += [f"  {b['body']}: {b['reason']}" for b in bad]
             lines += [f"  singular: {s}" for s in d.get("singular_subtrees", [])]
-        lines.append("")
-        lines.append(
-            f"{len(self.results)} checks: {len(self.results) - n_fail} passed, {n_fail} failed"
-            + ("" if not n_fail else "  — " + "; ".join(f"{r.quantity}: {r.note}" for r in self.failures if r.note))
-        )
+        rules: dict[str, list[str]] = {}  # a rule stated once, then each row's figures ("<rule>; <figures>")
+        for r in self.results:
+            if r.criterion:
+                rule, _, figures = r.criterion.partition("; ")
+                rules.setdefault(rule, []).append(f"  {r.quantity}: {figures}" if figures else f"  {r.quantity}")
+        for rule, judged in rules.items():
+            lines += ["", f"{rule[0].upper()}{rule[1:]}:", *judged]
+        roundoff = [r for r in self.failures if r.max_rel <= ROUNDOFF]
+        others = [r for r in self.failures if r.max_rel > ROUNDOFF]
+        summary = f"{len(self.results)} checks: {len(self.results) - n_fail} passed, {n_fail} failed"
+        if roundoff:
+            summary += (f"; {'all' if not others else len(roundoff)} only by round-off (largest "
+                        f"{max(r.max_rel for r in roundoff):.1e}): the tolerance {min(r.tol for r in roundoff):.0e} "
+                        f"is below what double precision can resolve (float64 results agree to {ROUNDOFF:.0e})")
+        if others:
+            summary += "  — " + "; ".join(f"{r.quantity}: {r.note}" for r in others if r.note)
+        lines += ["", summary]
         return "\n".join(lines)
 
 
-def machine_meta() -> dict[str, Any]:
+def machine_meta() -> RunMeta:
     """Versions and machine, recorded in every report."""
-    meta: dict[str, Any] = {
-        "python": platform.python_version(),
-        "numpy": np.__version__,
-        "machine": platform.machine(),
-        "system": platform.system(),
-    }
+    meta = RunMeta(python=platform.python_version(), numpy=np.__version__, machine=platform.machine(),
+                   system=platform.system())
     try:
         from .. import __version__
 

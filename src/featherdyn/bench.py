@@ -24,9 +24,13 @@ import sys
 import time
 import warnings
 from collections.abc import Callable, Sequence
-from typing import Any
 
 import numpy as np
+
+from ._cli_args import check_writable, positive_int
+from .errors import FeatherdynError, MissingDependencyError
+from .model import Model
+from .verify._pinocchio import PinModel
 
 __all__ = ["bench_main", "build_parser", "add_arguments", "run", "chain_urdf"]
 
@@ -37,7 +41,7 @@ JACOBIAN_FRAMES = {"panda": "panda_hand", "solo12": "HR_FOOT", "talos_full_v2": 
 TARGETS = {"single": 1.0, "batch": 6.0, "chain512": 0.5}
 
 
-def _median_ratio(fd_call: Callable[[], Any], pin_call: Callable[[], Any], repeats: int,
+def _median_ratio(fd_call: Callable[[], object], pin_call: Callable[[], object], repeats: int,
                   budget: float = 2e-3) -> tuple[float, float]:
     """Median seconds per call of both, interleaved; each sample runs about ``budget`` seconds."""
     def pair(n: int) -> tuple[float, float]:
@@ -94,29 +98,32 @@ def _versions() -> list[str]:
 class _Pair:
     """A robot loaded by both libraries, with converted random states."""
 
-    def __init__(self, name: str, floating: bool, model: Any = None, pin_model: Any = None, seed: int = 0) -> None:
-        import pinocchio as pin
+    def __init__(self, name: str, model: Model, pin_model: PinModel, seed: int = 0) -> None:
+        from .engine import compile_model
+        from .verify.bridge import JointMap
 
-        from ..robots import load_robot, robot_path
-        from ..verify.bridge import JointMap
-        from .compiled import compile_model
-
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")
-            if model is None:
-                model = load_robot(name, floating_base=floating)
-                path = str(robot_path(name))
-                pin_model = (pin.buildModelFromUrdf(path, pin.JointModelFreeFlyer()) if floating
-                             else pin.buildModelFromUrdf(path))
         self.name, self.model, self.pm = name, model, pin_model
         self.pd = pin_model.createData()
         self.jm = JointMap(model, pin_model)
         self.cm = compile_model(model)
-        rng = np.random.default_rng(seed)
-        self.rng = rng
+        self.rng = np.random.default_rng(seed)
+
+    @classmethod
+    def from_urdf(cls, name: str, path: str, floating: bool) -> _Pair:
+        """A robot read from the same URDF by both libraries."""
+        import pinocchio as pin
+
+        from .urdf import load_urdf
+
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            model = load_urdf(path, floating_base=floating)
+            pin_model = (pin.buildModelFromUrdf(path, pin.JointModelFreeFlyer()) if floating
+                         else pin.buildModelFromUrdf(path))
+        return cls(name, model, pin_model)
 
     def states(self, n: int) -> tuple[np.ndarray, ...]:
-        from ..configuration import random_configuration
+        from .configuration import random_configuration
 
         m = self.model
         q = np.asarray(random_configuration(m, self.rng, size=n), dtype=np.float64).reshape(n, m.nq)
@@ -143,7 +150,7 @@ def _single_rows(pair: _Pair, repeats: int) -> list[tuple[str, float, float, flo
         frame = pair.model.frames[-1].name
     fid, fid_pin = pair.model.frame_id(frame), pm.getFrameId(frame)
     tau, M, H, J = np.empty(nv), np.empty((nv, nv)), np.empty((nb, 4, 4)), np.empty((6, nv))
-    cases: list[tuple[str, Callable[[], Any], Callable[[], Any], Callable[[], Any]]] = [
+    cases: list[tuple[str, Callable[[], object], Callable[[], object], Callable[[], object]]] = [
         ("RNEA", lambda: cm.rnea(q, v, a), lambda: cm.rnea(q, v, a, out=tau), lambda: pin.rnea(pm, pd, qp, vp, ap)),
         ("CRBA", lambda: cm.crba(q), lambda: cm.crba(q, out=M), lambda: pin.crba(pm, pd, qp)),
         ("ABA", lambda: cm.aba(q, v, a), lambda: cm.aba(q, v, a, out=tau), lambda: pin.aba(pm, pd, qp, vp, ap)),
@@ -249,13 +256,13 @@ def chain_urdf(n: int) -> str:
 def _chain_rows(lengths: Sequence[int], repeats: int) -> list[tuple[float, ...]]:
     import pinocchio as pin
 
-    from ..urdf import load_urdf
+    from .urdf import load_urdf
 
     rows: list[tuple[float, ...]] = []
     for n in lengths:
         xml = chain_urdf(n)
         model = load_urdf(xml)
-        pair = _Pair(f"chain{n}", False, model, pin.buildModelFromXML(xml))
+        pair = _Pair(f"chain{n}", model, pin.buildModelFromXML(xml))
         r: list[float] = []
         for f_fd, f_pin in _dynamics_calls(pair):
             t_fd, t_pin = _median_ratio(f_fd, f_pin, repeats)
@@ -264,7 +271,7 @@ def _chain_rows(lengths: Sequence[int], repeats: int) -> list[tuple[float, ...]]
     return rows
 
 
-def _dynamics_calls(pair: _Pair) -> list[tuple[Callable[[], Any], Callable[[], Any]]]:
+def _dynamics_calls(pair: _Pair) -> list[tuple[Callable[[], object], Callable[[], object]]]:
     """RNEA, CRBA and ABA of one random state, as (featherdyn, Pinocchio) call pairs."""
     import pinocchio as pin
 
@@ -308,11 +315,12 @@ def _fmt_ratio(x: float, target: float, lower_is_better: bool = True) -> str:
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
     """The options of ``featherdyn bench`` (shared by :func:`build_parser` and the CLI)."""
-    p.add_argument("robot", nargs="?", default=None,
-                   help="one robot of the library (default: panda, solo12 (floating), talos_full_v2 (floating))")
+    p.add_argument("robot", nargs="?", default=None, metavar="ROBOT|URDF",
+                   help="one robot of the library or a URDF file (default: panda, solo12 (floating), "
+                        "talos_full_v2 (floating))")
     p.add_argument("--floating-base", action="store_true", help="with ROBOT: put it on a free-flyer joint")
-    p.add_argument("--repeats", type=int, default=15, help="interleaved repetitions per figure (default 15)")
-    p.add_argument("--batch", type=int, default=10_000, help="states per batched call (default 10000)")
+    p.add_argument("--repeats", type=positive_int, default=15, help="interleaved repetitions per figure (default 15)")
+    p.add_argument("--batch", type=positive_int, default=10_000, help="states per batched call (default 10000)")
     p.add_argument("--chains", default=",".join(map(str, CHAIN_LENGTHS)),
                    help="chain lengths of the scaling table, comma-separated ('' to skip)")
     p.add_argument("--no-compile-times", action="store_true", help="skip the compile/load time section")
@@ -326,13 +334,62 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def bench_main(argv: Sequence[str] | None = None) -> int:
-    """Run the benchmark (command-line arguments ``argv``) and print a Markdown report; returns 0."""
-    return run(build_parser().parse_args(argv))
+    """Run the benchmark (command-line arguments ``argv``) and print a Markdown report.
+
+    Returns:
+        0, or 2 after a one-line message when the run cannot start (Pinocchio or
+        Numba missing, an unknown robot, an output that cannot be written).
+    """
+    try:
+        return run(build_parser().parse_args(argv))
+    except FeatherdynError as exc:
+        print(f"featherdyn bench: error: {' '.join(str(exc).split())}", file=sys.stderr)
+        return 2
 
 
-def run(args: argparse.Namespace) -> int:
-    """Run the benchmark for parsed arguments (see :func:`add_arguments`); returns 0."""
-    robots = [(args.robot, args.floating_base)] if args.robot else ROBOTS
+def _prepare(args: argparse.Namespace) -> tuple[list[tuple[str, str, bool]], list[int]]:
+    """Check everything the run needs before any work: ``([(name, urdf, floating)], chain lengths)``.
+
+    Raises:
+        MissingDependencyError: Pinocchio or Numba is not installed.
+        ModelError: an unknown robot, a missing file or a directory.
+        FeatherdynError: bad chain lengths, an output that cannot be written.
+    """
+    from .engine import available
+    from .verify._pinocchio import require_pinocchio
+    from .verify.resolve import resolve_robot
+
+    require_pinocchio()
+    if not available():
+        raise MissingDependencyError("featherdyn bench times the compiled engine, which needs Numba: "
+                                     "`pip install numba`")
+    check_writable(args.output, "--output")
+    try:
+        chains = [int(x) for x in args.chains.split(",") if x.strip()]
+    except ValueError:
+        raise FeatherdynError(f"--chains: expected comma-separated positive integers, got {args.chains!r}") from None
+    if any(n < 1 for n in chains):
+        raise FeatherdynError(f"--chains: expected comma-separated positive integers, got {args.chains!r}")
+    if args.robot:
+        name, path = resolve_robot(args.robot)
+        return [(name, str(path), args.floating_base)], chains
+    return [(name, str(resolve_robot(name)[1]), floating) for name, floating in ROBOTS], chains
+
+
+def run(args: argparse.Namespace, on_ready: Callable[[], None] | None = None) -> int:
+    """Run the benchmark for parsed arguments (see :func:`add_arguments`); returns 0.
+
+    Args:
+        args: the parsed arguments.
+        on_ready: called once the arguments are checked, before any work (the command line
+            announces a first compilation there).
+
+    Raises:
+        FeatherdynError: the run cannot start (see :func:`_prepare`); raised before anything is printed.
+    """
+    robots, chains = _prepare(args)
+    if on_ready is not None:
+        on_ready()
     lines = ["# featherdyn compiled engine vs Pinocchio", ""] + _versions() + [
         f"- method: interleaved repetitions, medians of {args.repeats}; ratio = featherdyn time / Pinocchio "
         "time (< 1: featherdyn faster); both read the same URDF",
@@ -355,8 +412,8 @@ def run(args: argparse.Namespace) -> int:
          "| robot | algorithm | fd µs | fd (out=) µs | Pinocchio µs | ratio | ratio (out=) |",
          "|---|---|---:|---:|---:|---:|---:|")
     pairs = []
-    for name, floating in robots:
-        pair = _Pair(name, floating)
+    for name, path, floating in robots:
+        pair = _Pair.from_urdf(name, path, floating)
         pairs.append(pair)
         label = f"{name}{' (floating)' if floating else ''} nv={pair.model.nv}"
         for alg, t_fd, t_out, t_pin, ratio, ratio_out in _single_rows(pair, args.repeats):
@@ -383,7 +440,6 @@ def run(args: argparse.Namespace) -> int:
             emit(f"| {pair.name} | {alg} | {t_fresh * 1e3:.2f} | {t_out * 1e3:.2f} | {t_one * 1e3:.2f} | "
                  f"{t_pin * 1e3:.2f} | {_fmt_ratio(t_pin / t_fresh, TARGETS['batch'], lower_is_better=False)} | "
                  f"{_fmt_ratio(t_pin / t_out, TARGETS['batch'], lower_is_better=False)} | {t_pin / t_one:.1f} |")
-    chains = [int(x) for x in args.chains.split(",") if x.strip()]
     if chains:
         emit("", "## Scaling over revolute chains (single calls, `fd.compile` methods; URDF axes cycling z, y, x)",
              "", f"Target: RNEA ratio ≤ {TARGETS['chain512']} at 512 links.", "",
@@ -399,8 +455,11 @@ def run(args: argparse.Namespace) -> int:
         emit("", "## Compile and load times (fresh processes, kernels already in Numba's disk cache)", "",
              *_compile_times())
     if args.output:
-        with open(args.output, "w", encoding="utf-8") as f:
-            f.write("\n".join(lines) + "\n")
+        try:
+            with open(args.output, "w", encoding="utf-8") as f:
+                f.write("\n".join(lines) + "\n")
+        except OSError as exc:
+            raise FeatherdynError(f"cannot write --output {args.output}: {exc.strerror}") from None
     return 0
 
 

@@ -1,0 +1,231 @@
+"""Reading a URDF document safely (private to :mod:`featherdyn.urdf`): bytes, encodings, the XML parser, messages.
+
+The source is read as bytes and decoded (BOMs, UTF-16 with or without BOM, a
+declared encoding); whitespace before the XML declaration is moved after it;
+the parser is defusedxml's with DTDs, entities and XInclude refused, element
+nesting bounded by :data:`MAX_DEPTH` and every attribute by
+:data:`MAX_ATTRIBUTE_LENGTH` (checked while parsing); messages quote at most
+:data:`QUOTE_LENGTH` characters of any value taken from the document.
+"""
+
+from __future__ import annotations
+
+import codecs
+import os
+import re
+from pathlib import Path
+from typing import Any
+from xml.etree.ElementTree import TreeBuilder
+
+from defusedxml import DefusedXmlException
+from defusedxml.ElementTree import DefusedXMLParser, ParseError
+
+from .errors import URDFError
+
+#: Deepest element nesting accepted (real URDFs nest about 5 deep).
+MAX_DEPTH = 1000
+#: Longest attribute value accepted, in characters (a real URDF's longest is a mesh path of about 100).
+MAX_ATTRIBUTE_LENGTH = 10_000
+#: Characters of an offending value quoted in a message; the rest is elided and its length given.
+QUOTE_LENGTH = 100
+_XINCLUDE_NAMESPACES = ("http://www.w3.org/2001/XInclude", "http://www.w3.org/2003/XInclude")
+# an XML declaration after leading whitespace (expat refuses it there; Pinocchio and MuJoCo accept the file)
+_LATE_DECLARATION = re.compile(r"([ \t\r\n]+)(<\?xml[ \t\r\n][^>]*>)")
+# UTF-16 without a BOM, recognised by "<?" or "<r" after optional whitespace
+_UTF16_LE = re.compile(rb"(?:[ \t\r\n]\x00)*<\x00[?r]\x00")
+_UTF16_BE = re.compile(rb"(?:\x00[ \t\r\n])*\x00<\x00[?r]")
+# a quoted name in a message of the model builder, long enough to be shortened
+_LONG_QUOTED = re.compile(f"'[^'\n]{{{QUOTE_LENGTH + 1},}}'|\"[^\"\n]{{{QUOTE_LENGTH + 1},}}\"")
+_DECLARED_ENCODING = re.compile(rb"""^<\?xml[^>]*?encoding\s*=\s*["']([A-Za-z0-9._-]+)["']""")
+
+# ---------------------------------------------------------------------------
+# messages
+# ---------------------------------------------------------------------------
+
+
+def _quote(value: str) -> str:
+    """``repr(value)``; of a long value only the first :data:`QUOTE_LENGTH` characters, and its length."""
+    if len(value) <= QUOTE_LENGTH:
+        return repr(value)
+    return f"{value[:QUOTE_LENGTH]!r}... ({len(value)} characters)"
+
+
+def _shorten(text: str) -> str:
+    """``text``, cut after :data:`QUOTE_LENGTH` characters with its length said (for texts quoting the document)."""
+    if len(text) <= QUOTE_LENGTH:
+        return text
+    return f"{text[:QUOTE_LENGTH]}... ({len(text)} characters)"
+
+
+def _shorten_quoted(message: str) -> str:
+    """A message of the model builder with each long quoted name shortened as :func:`_quote` would."""
+    return _LONG_QUOTED.sub(lambda m: f"{m.group()[: QUOTE_LENGTH + 1]}{m.group()[0]}... ({len(m.group()) - 2} characters)", message)
+
+
+# ---------------------------------------------------------------------------
+# reading and decoding
+# ---------------------------------------------------------------------------
+
+
+def _read_source(path_or_xml: Any) -> tuple[str, str, str | None]:
+    """``(text, label for messages, path or None)`` of a path, an XML string or XML bytes."""
+    if isinstance(path_or_xml, (bytes, bytearray, memoryview)):
+        return _decode(bytes(path_or_xml), "<bytes>"), "<bytes>", None
+    if isinstance(path_or_xml, str) and path_or_xml.lstrip("\ufeff \t\r\n").startswith("<"):
+        return path_or_xml.lstrip("\ufeff"), "<string>", None
+    if not isinstance(path_or_xml, (str, os.PathLike)):
+        raise URDFError(
+            f"load_urdf: expected a path, an XML string or bytes, got {type(path_or_xml).__name__}"
+        )
+    path = Path(path_or_xml)
+    label = str(path)
+    try:
+        data = path.read_bytes()
+    except (OSError, ValueError) as exc:
+        reason = exc.strerror if isinstance(exc, OSError) and exc.strerror else str(exc)
+        raise URDFError(f"{label}: cannot read the URDF file: {reason}") from None
+    return _decode(data, label), label, label
+
+
+def _decode(data: bytes, label: str) -> str:
+    """Decode XML bytes: a BOM wins, then UTF-16 sniffing, then the declared encoding, then UTF-8."""
+    boms = (
+        (codecs.BOM_UTF32_LE, "utf-32"),
+        (codecs.BOM_UTF32_BE, "utf-32"),
+        (codecs.BOM_UTF8, "utf-8-sig"),
+        (codecs.BOM_UTF16_LE, "utf-16"),
+        (codecs.BOM_UTF16_BE, "utf-16"),
+    )
+    encoding = "utf-8"
+    for bom, enc in boms:
+        if data.startswith(bom):
+            encoding = enc
+            break
+    else:
+        if _UTF16_LE.match(data):
+            encoding = "utf-16-le"
+        elif _UTF16_BE.match(data):
+            encoding = "utf-16-be"
+        else:
+            declared = _DECLARED_ENCODING.match(data.lstrip())
+            if declared:
+                name = declared.group(1).decode("ascii")
+                try:
+                    info = codecs.lookup(name)
+                except LookupError:
+                    raise URDFError(f"{label}: unknown encoding {_quote(name)} in the XML declaration") from None
+                if info.name.startswith("utf-16") or info.name.startswith("utf-32"):
+                    # declared UTF-16 but no BOM and ASCII-readable: the declaration is wrong
+                    raise URDFError(
+                        f"{label}: the XML declaration says {_quote(name)} but the bytes are not UTF-16/32"
+                    )
+                encoding = info.name
+    try:
+        return data.decode(encoding)
+    except LookupError:  # a declared bytes-to-bytes codec such as "zlib" or "base64"
+        raise URDFError(
+            f"{label}: the XML declaration names {_quote(encoding)}, which is not a text encoding"
+        ) from None
+    except UnicodeDecodeError as exc:
+        line = data[: exc.start].count(b"\n") + 1
+        raise URDFError(
+            f"{label}: line {line}: bytes are not valid {encoding} (byte {data[exc.start:exc.start + 1]!r} "
+            f"at offset {exc.start}); save the file as UTF-8"
+        ) from None
+
+
+# ---------------------------------------------------------------------------
+# XML
+# ---------------------------------------------------------------------------
+
+
+class _Builder:
+    """ElementTree parser target that bounds nesting, rejects XInclude and records line numbers."""
+
+    def __init__(self, label: str) -> None:
+        self._tb = TreeBuilder()
+        self._label = label
+        self._depth = 0
+        self.expat: Any = None
+        self.lines: dict[Any, int] = {}
+
+    def line(self) -> int:
+        return int(self.expat.CurrentLineNumber) if self.expat is not None else 0
+
+    def start(self, tag: str, attrib: dict[str, str]) -> Any:
+        self._depth += 1
+        if self._depth > MAX_DEPTH:
+            raise URDFError(f"{self._label}: line {self.line()}: elements nested deeper than {MAX_DEPTH} levels")
+        if tag.startswith("{") and tag[1:].split("}", 1)[0] in _XINCLUDE_NAMESPACES:
+            raise URDFError(f"{self._label}: line {self.line()}: XInclude ({_shorten(tag)}) is not allowed in a URDF")
+        for key, value in attrib.items():
+            if len(value) > MAX_ATTRIBUTE_LENGTH:
+                raise URDFError(
+                    f"{self._label}: line {self.line()}: <{_shorten(tag)}{_name_attribute(attrib)}>: "
+                    f"{_shorten(key)}={_quote(value)}: expected at most {MAX_ATTRIBUTE_LENGTH} characters "
+                    f"(MAX_ATTRIBUTE_LENGTH), got {len(value)}"
+                )
+        elem = self._tb.start(tag, attrib)
+        if self._depth <= 4:
+            self.lines[elem] = self.line()
+        return elem
+
+    def end(self, tag: str) -> Any:
+        self._depth -= 1
+        return self._tb.end(tag)
+
+    def data(self, data: str) -> None:
+        self._tb.data(data)
+
+    def close(self) -> Any:
+        return self._tb.close()
+
+
+def _name_attribute(attrib: dict[str, str]) -> str:
+    """`` name='...'`` for an element's message, or ``""``."""
+    name = attrib.get("name")
+    return f" name={_quote(name)}" if name is not None and len(name) <= MAX_ATTRIBUTE_LENGTH else ""
+
+
+def _declaration_first(text: str) -> str:
+    """Move whitespace that precedes the XML declaration to just after it (line numbers stay right below it)."""
+    late = _LATE_DECLARATION.match(text)
+    if late is None:
+        return text
+    return late.group(2) + late.group(1) + text[late.end():]
+
+
+def _parse_xml(text: str, label: str) -> tuple[Any, dict[Any, int]]:
+    """The root element and the line number of each element up to depth 4."""
+    text = _declaration_first(text)
+    builder = _Builder(label)
+    parser = DefusedXMLParser(target=builder, forbid_dtd=True, forbid_entities=True, forbid_external=True)
+    builder.expat = parser.parser
+    try:
+        parser.feed(text)
+        root = parser.close()
+    except URDFError:
+        raise
+    except ParseError as exc:
+        line = exc.position[0] if getattr(exc, "position", None) else builder.line()
+        raise URDFError(f"{label}: line {line}: malformed XML: {_shorten(str(exc))}") from None
+    except DefusedXmlException as exc:
+        kind = type(exc).__name__.replace("Forbidden", "")
+        raise URDFError(
+            f"{label}: line {builder.line()}: {kind} declarations are not allowed in a URDF "
+            f"(refused for safety: {_shorten(str(exc))})"
+        ) from None
+    except RecursionError:
+        raise URDFError(f"{label}: XML nested too deeply") from None
+    except (ValueError, MemoryError) as exc:  # e.g. NUL characters in a str
+        raise URDFError(f"{label}: cannot parse the XML: {_shorten(str(exc))}") from None
+    return root, builder.lines
+
+
+def _local(tag: Any, ns: str) -> str:
+    """The element's name with the root's namespace removed (other namespaces kept: ``{x}link`` is not a link)."""
+    if not isinstance(tag, str):  # comments, processing instructions
+        return ""
+    if ns and tag.startswith(ns):
+        return tag[len(ns):]
+    return tag

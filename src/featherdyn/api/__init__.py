@@ -1,0 +1,75 @@
+"""The public entry points: input checks, backend choice, the compiled fast path, result types.
+
+``fd.rnea`` & co. are defined here and re-exported flat by :mod:`featherdyn`.
+Each checks its input (:mod:`._checks`), chooses between the reference
+algorithms (:mod:`featherdyn.algorithms`, written like the book) and the
+compiled engine (:mod:`featherdyn.engine`) (:mod:`._backend`), and calls one
+of them. Layers (``docs/architecture.md``): values → model →
+{algorithms, engine} → api → tools (verify, cli, benchmarks).
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+from ..frames import LOCAL, LOCAL_WORLD_ALIGNED, WORLD, ReferenceFrame
+from ..model import Model
+from ..results import CenterOfMass, Kinematics
+from ._backend import default_backend, set_default_backend
+from .dynamics import aba, coriolis_matrix, crba, generalized_gravity, nonlinear_effects, rnea
+from .energy import center_of_mass, centroidal_momentum, centroidal_momentum_matrix, kinetic_energy, potential_energy
+from .kinematics import (
+    forward_kinematics,
+    frame_acceleration,
+    frame_classical_acceleration,
+    frame_jacobian,
+    frame_jacobian_time_variation,
+    frame_placement,
+    frame_velocity,
+    joint_jacobians,
+)
+
+if TYPE_CHECKING:
+    from ..engine.compiled import CompiledModel
+
+__all__ = [
+    "LOCAL",
+    "LOCAL_WORLD_ALIGNED",
+    "WORLD",
+    "ReferenceFrame",
+    "CenterOfMass",
+    "Kinematics",
+    "aba",
+    "center_of_mass",
+    "centroidal_momentum",
+    "centroidal_momentum_matrix",
+    "compile",
+    "coriolis_matrix",
+    "crba",
+    "default_backend",
+    "forward_kinematics",
+    "frame_acceleration",
+    "frame_classical_acceleration",
+    "frame_jacobian",
+    "frame_jacobian_time_variation",
+    "frame_placement",
+    "frame_velocity",
+    "generalized_gravity",
+    "joint_jacobians",
+    "kinetic_energy",
+    "nonlinear_effects",
+    "potential_energy",
+    "rnea",
+    "set_default_backend",
+]
+
+
+def compile(model: Model, *, warmup: bool = True) -> CompiledModel:
+    """The compiled engine bound to ``model`` for control loops (``cm.rnea(q, v, a, out=tau)``, ``*_batch``).
+
+    See :func:`featherdyn.engine.compiled.compile_model`; no validation beyond
+    memory safety on the bound methods.
+    """
+    from ..engine import compile_model
+
+    return compile_model(model, warmup=warmup)

@@ -1,0 +1,126 @@
+"""Backend choice and the compiled fast path of the public functions (private).
+
+Every public function (``fd.rnea`` & co.) takes ``backend=None | "reference" |
+"compiled"``. The default — ``None`` — is decided here and only here:
+
+* :func:`select_backend` picks the compiled engine (:mod:`featherdyn.engine`)
+  for float64 input when it is available, the reference algorithms
+  (:mod:`featherdyn.algorithms`) otherwise (float32, SymPy object arrays);
+* :func:`fast_path` gives the engine's one-state fast path of a model (a
+  :class:`featherdyn.engine._fast.FastPath`) when a call may take it, and
+  the public function calls one of its *checked* kernels, which validate the
+  state inside the compiled code. A kernel that cannot take the argument
+  types raises one of ``fast.refusals``; each call site writes its ``try``
+  inline (a helper function would add a Python call, ~5 % of a small robot's RNEA). A kernel that refuses its arguments (other
+  types, batches, a bad state) sends the call down its general path, which
+  converts, validates and raises the reference's worded errors: the fast path
+  changes how long a call takes, never what it returns or raises.
+
+``$FEATHERDYN_BACKEND=reference`` when featherdyn is imported, or
+:func:`set_default_backend`, makes the reference the default.
+"""
+
+from __future__ import annotations
+
+import os
+from typing import Any
+
+import numpy as np
+
+from ..errors import BackendError
+from ..model import Model
+
+__all__ = [
+    "set_default_backend",
+    "default_backend",
+    "select_backend",
+    "fast_path",
+    "REFUSED",
+    "OK",
+    "ABA_OK",
+]
+
+#: the default backend: ``None`` (compiled for float64) or ``"reference"``
+_DEFAULT: list[str | None] = ["reference" if os.environ.get("FEATHERDYN_BACKEND") == "reference" else None]
+#: ``_DEFAULT[0] is None``, kept as a plain global: the fast path reads it on every call
+_FAST_ON = _DEFAULT[0] is None
+_BACKENDS = (None, "reference", "compiled")
+
+#: status of a checked kernel that computed its result (ABA: :data:`ABA_OK`; a joint index ``>= 0`` is singular)
+OK = 0
+ABA_OK = -1
+#: the status a call site records when the kernel refused its arguments
+REFUSED = -(1 << 30)
+
+
+def set_default_backend(backend: str | None) -> None:
+    """Make ``backend`` the default of every algorithm called with ``backend=None``.
+
+    ``None`` (the default): the compiled engine for float64 input when it is
+    available, the reference otherwise; ``"reference"``: always the reference;
+    ``"compiled"``: as ``None``. The environment variable
+    ``FEATHERDYN_BACKEND=reference`` sets the initial value when featherdyn is imported.
+
+    Raises:
+        BackendError: any other value.
+    """
+    if backend not in _BACKENDS:
+        raise BackendError(f"backend: expected None, 'reference' or 'compiled', got {backend!r}")
+    global _FAST_ON
+    _DEFAULT[0] = None if backend == "compiled" else backend
+    _FAST_ON = _DEFAULT[0] is None
+
+
+def default_backend() -> str | None:
+    """The default set by :func:`set_default_backend` (``None``: the compiled engine for float64 input)."""
+    return _DEFAULT[0]
+
+
+def _engine_available() -> bool:
+    from ..engine import available
+
+    return available()
+
+
+def select_backend(backend: str | None, dtype: np.dtype) -> str:
+    """Resolve ``backend=`` to ``"reference"`` or ``"compiled"`` for data of ``dtype``.
+
+    ``None`` picks the compiled engine for float64 input when it is available
+    and the default is not the reference; ``"compiled"`` forces the engine
+    (input is converted to float64 — an error if it cannot be — and the result
+    cast back to float32 for float32 input).
+
+    Raises:
+        BackendError: an unknown name, or ``"compiled"`` without the engine.
+    """
+    if backend is None:
+        if dtype == np.float64 and _DEFAULT[0] is None and _engine_available():
+            return "compiled"
+        return "reference"
+    if backend == "reference":
+        return "reference"
+    if backend == "compiled":
+        if not _engine_available():
+            raise BackendError("backend='compiled' needs the compiled engine (Numba: pip install numba); "
+                               "use backend='reference'")
+        return "compiled"
+    raise BackendError(f"backend: expected None, 'reference' or 'compiled', got {backend!r}")
+
+
+def fast_path(model: Any, backend: str | None) -> Any:
+    """The engine's one-state fast path for ``model`` (a ``FastPath``), or ``None`` (take the general path).
+
+    ``None`` also when the default backend is the reference, ``backend`` is
+    given, ``model`` is not a :class:`~featherdyn.Model`, or the engine is not
+    available. Made on first use and kept on the model.
+    """
+    if backend is None and _FAST_ON:
+        try:
+            return model._fast
+        except AttributeError:
+            if not isinstance(model, Model):
+                return None
+            from ..engine._fast import attach
+
+            return attach(model)
+    return None

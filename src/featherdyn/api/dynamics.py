@@ -1,0 +1,178 @@
+"""The public dynamics functions: RNEA, its special cases, CRBA, ABA and the Coriolis matrix.
+
+Each function checks its input (:mod:`._checks`), picks a backend
+(:mod:`._backend`) and calls the reference recursion in
+:mod:`featherdyn.algorithms` or the compiled engine; one float64 state first
+tries the engine's checked kernel (the fast path). The equations are in the
+docstrings; the recursions are in ``algorithms/rnea.py``, ``crba.py``,
+``aba.py`` and ``coriolis.py``.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from ..algorithms import aba as _aba
+from ..algorithms import coriolis as _coriolis
+from ..algorithms import crba as _crba
+from ..algorithms import rnea as _rnea
+from ..errors import SingularMassMatrixError
+from ..model import Model
+from ._backend import ABA_OK, OK, REFUSED, fast_path, select_backend
+from ._checks import State, batch_with_f_ext, check_f_ext, check_state, finite_result, quiet
+from .kinematics import kinematics_of
+
+__all__ = ["rnea", "nonlinear_effects", "generalized_gravity", "crba", "aba", "coriolis_matrix"]
+
+_EMPTY = np.empty
+
+
+def _inverse_dynamics(model: Model, st: State, v: np.ndarray, a: np.ndarray, fx: np.ndarray | None, gravity: bool,
+                      backend: str | None) -> np.ndarray:
+    """RNEA on a checked state, by the backend ``backend`` resolves to."""
+    dtype = batch_with_f_ext(st, fx)[1]
+    if select_backend(backend, dtype) == "compiled":
+        from ..engine import _dispatch
+
+        return finite_result(_dispatch.rnea(model, st.q, v, a, fx, gravity, dtype), "rnea")
+    return finite_result(quiet(_rnea.rnea, model, st.q, v, a, fx, gravity), "rnea")
+
+
+def rnea(model: Model, q: ArrayLike, v: ArrayLike, a: ArrayLike, f_ext: ArrayLike | None = None, *, gravity: bool = True,
+         backend: str | None = None) -> np.ndarray:
+    """Joint forces ``τ`` `(..., nv)` that produce accelerations ``a`` in state ``(q, v)`` (RNEA).
+
+    Args:
+        model: the tree (gravity from ``model.gravity``).
+        q: `(..., nq)`; v, a: `(..., nv)`.
+        f_ext: optional `(..., nb, 6)` external spatial forces ``[n; f]`` on each
+            body, in body coordinates (Pinocchio's ``fext`` in LOCAL frames).
+        gravity: set ``False`` to leave gravity out.
+        backend: ``None`` (compiled for float64), ``"reference"`` or ``"compiled"``.
+
+    ::
+
+        τ = M(q) q̈ + C(q, q̇) q̇ + g(q) − Σ_i J_iᵀ f_i^ext
+    """
+    fast = fast_path(model, backend)
+    if fast is not None and f_ext is None:
+        tau = _EMPTY(fast.nv)
+        try:
+            if fast.rnea(fast.MD, q, v, a, gravity, tau) == OK:
+                return tau
+        except fast.refusals:  # argument types the kernel cannot take: the general path
+            pass
+    fx = check_f_ext(model, f_ext)
+    st = check_state(model, q, v=v, a=a)
+    return _inverse_dynamics(model, st, st.arrays["v"], st.arrays["a"], fx, gravity, backend)
+
+
+def nonlinear_effects(model: Model, q: ArrayLike, v: ArrayLike, *, backend: str | None = None) -> np.ndarray:
+    """Coriolis, centrifugal and gravity forces `(..., nv)`::
+
+        h(q, q̇) = C(q, q̇) q̇ + g(q) = RNEA(q, q̇, 0)
+    """
+    fast = fast_path(model, backend)
+    if fast is not None:
+        h = _EMPTY(fast.nv)
+        try:
+            if fast.nle(fast.MD, q, v, h) == OK:
+                return h
+        except fast.refusals:  # argument types the kernel cannot take: the general path
+            pass
+    st = check_state(model, q, v=v)
+    qd = st.arrays["v"]
+    return _inverse_dynamics(model, st, qd, np.zeros(qd.shape, dtype=qd.dtype), None, True, backend)
+
+
+def generalized_gravity(model: Model, q: ArrayLike, *, backend: str | None = None) -> np.ndarray:
+    """Gravity forces `(..., nv)`::
+
+        g(q) = RNEA(q, 0, 0)
+    """
+    fast = fast_path(model, backend)
+    if fast is not None:
+        g = _EMPTY(fast.nv)
+        try:
+            if fast.gravity(fast.MD, q, g) == OK:
+                return g
+        except fast.refusals:  # argument types the kernel cannot take: the general path
+            pass
+    st = check_state(model, q)
+    zero = np.zeros(st.q.shape[:-1] + (model.nv,), dtype=st.dtype)
+    return _inverse_dynamics(model, st, zero, zero, None, True, backend)
+
+
+def crba(model: Model, q: ArrayLike, *, backend: str | None = None) -> np.ndarray:
+    """The joint-space mass matrix ``M(q)`` `(..., nv, nv)`, full and symmetric (CRBA).
+
+    ::
+
+        T = ½ q̇ᵀ M(q) q̇,    M_ij = S_iᵀ ⁱX_j^* I^C_j S_j   (j in the subtree of i)
+    """
+    fast = fast_path(model, backend)
+    if fast is not None:
+        M = _EMPTY(fast.shape_M)
+        try:
+            if fast.crba(fast.MD, q, M) == OK:
+                return M
+        except fast.refusals:  # argument types the kernel cannot take: the general path
+            pass
+    st = check_state(model, q)
+    if select_backend(backend, st.dtype) == "compiled":
+        from ..engine import _dispatch
+
+        return finite_result(_dispatch.crba(model, st.q, st.dtype), "crba")
+    return finite_result(quiet(_crba.crba, model, st.q), "crba")
+
+
+def aba(model: Model, q: ArrayLike, v: ArrayLike, tau: ArrayLike, f_ext: ArrayLike | None = None, *, gravity: bool = True,
+        backend: str | None = None) -> np.ndarray:
+    """Joint accelerations ``q̈`` `(..., nv)` produced by joint forces ``τ`` in state ``(q, v)`` (ABA).
+
+    Args:
+        model: the tree.
+        q: `(..., nq)`; v, tau: `(..., nv)`.
+        f_ext: optional `(..., nb, 6)` body-frame external forces ``[n; f]``.
+        gravity: set ``False`` to leave gravity out.
+        backend: ``None`` (compiled for float64), ``"reference"`` or ``"compiled"``.
+
+    ::
+
+        q̈ = M(q)⁻¹ (τ − C(q, q̇) q̇ − g(q) + Σ_i J_iᵀ f_i^ext)
+
+    Raises:
+        SingularMassMatrixError: naming the joint, when ``M(q)`` is singular.
+    """
+    fast = fast_path(model, backend)
+    if fast is not None and f_ext is None:
+        qdd = _EMPTY(fast.nv)
+        try:
+            status = fast.aba(fast.MD, q, v, tau, gravity, qdd)
+        except fast.refusals:  # argument types the kernel cannot take: the general path
+            status = REFUSED
+        if status == ABA_OK:
+            return qdd
+        if status >= 0:
+            raise SingularMassMatrixError(fast.singular[status])
+        # otherwise an invalid state or refused arguments: the general path words the error
+    fx = check_f_ext(model, f_ext)
+    st = check_state(model, q, v=v, tau=tau)
+    dtype = batch_with_f_ext(st, fx)[1]
+    if select_backend(backend, dtype) == "compiled":
+        from ..engine import _dispatch
+
+        return finite_result(_dispatch.aba(model, st.q, st.arrays["v"], st.arrays["tau"], fx, gravity, dtype), "aba")
+    return finite_result(quiet(_aba.aba, model, st.q, st.arrays["v"], st.arrays["tau"], fx, gravity), "aba")
+
+
+def coriolis_matrix(model: Model, q: ArrayLike, v: ArrayLike, *, backend: str | None = None) -> np.ndarray:
+    """``C(q, q̇)`` `(..., nv, nv)`: ``C q̇ = RNEA(q, q̇, 0) − g(q)`` and ``Ṁ − 2C`` is skew-symmetric.
+
+    The Christoffel-consistent factorisation (Pinocchio's ``computeCoriolisMatrix``);
+    see ``algorithms/coriolis.py``.
+    """
+    st = check_state(model, q, v=v)
+    return finite_result(quiet(_coriolis.coriolis_matrix, model, kinematics_of(model, st, st.arrays["v"], None, backend)),
+                         "coriolis_matrix")

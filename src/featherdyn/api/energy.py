@@ -1,0 +1,92 @@
+"""The public whole-body quantities: energies, centre of mass, centroidal momentum.
+
+Forward kinematics by the chosen backend (:func:`.kinematics.kinematics_of`),
+then the reference formulas of ``algorithms/energy.py`` and
+``algorithms/centroidal.py``.
+"""
+
+from __future__ import annotations
+
+from typing import overload
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from ..algorithms import centroidal as _centroidal
+from ..algorithms import energy as _energy
+from ..model import Model
+from ..results import CenterOfMass
+from ..spatial_algebra import SpatialForce
+from ._checks import check_state, finite_result, quiet
+from .kinematics import kinematics_of
+
+__all__ = ["kinetic_energy", "potential_energy", "center_of_mass", "centroidal_momentum_matrix",
+           "centroidal_momentum"]
+
+
+def kinetic_energy(model: Model, q: ArrayLike, v: ArrayLike, *, backend: str | None = None) -> np.ndarray:
+    """Kinetic energy `(...)`::
+
+        T = Σ_i ½ v_iᵀ I_i v_i = ½ q̇ᵀ M(q) q̇
+    """
+    st = check_state(model, q, v=v)
+    return finite_result(quiet(_energy.kinetic_energy, model, kinematics_of(model, st, st.arrays["v"], None, backend)),
+                         "kinetic_energy")
+
+
+def potential_energy(model: Model, q: ArrayLike, *, backend: str | None = None) -> np.ndarray:
+    """Gravitational potential energy `(...)` (zero at the world origin)::
+
+        U = −Σ_i m_i gᵀ ⁰c_i
+    """
+    st = check_state(model, q)
+    return finite_result(quiet(_energy.potential_energy, model, kinematics_of(model, st, None, None, backend)),
+                         "potential_energy")
+
+
+@overload
+def center_of_mass(model: Model, q: ArrayLike, v: None = None, *, backend: str | None = None) -> np.ndarray: ...
+@overload
+def center_of_mass(model: Model, q: ArrayLike, v: ArrayLike, *, backend: str | None = None) -> CenterOfMass: ...
+def center_of_mass(model: Model, q: ArrayLike, v: ArrayLike | None = None, *, backend: str | None = None) -> np.ndarray | CenterOfMass:
+    """The centre of mass of the whole tree in world coordinates.
+
+    Returns:
+        ``c`` `(..., 3)` without ``v``; with ``v`` a :class:`~featherdyn.CenterOfMass`
+        ``(position, velocity)``::
+
+            c = Σ m_i ⁰c_i / m,    ċ = Σ m_i ⁰R_i (v_i + ω_i × c_i) / m
+
+    Raises:
+        ModelError: the tree has no mass (the centre of mass is undefined).
+    """
+    st = check_state(model, q, optional=("v",), v=v)
+    com = quiet(_energy.center_of_mass, model, kinematics_of(model, st, st.arrays.get("v"), None, backend))
+    for part in (com if isinstance(com, CenterOfMass) else (com,)):
+        finite_result(part, "center_of_mass")
+    return com
+
+
+def centroidal_momentum_matrix(model: Model, q: ArrayLike, *, backend: str | None = None) -> np.ndarray:
+    """``A_G(q)`` `(..., 6, nv)` with ``h_G = A_G q̇`` (rows ``[k_G; p]``, world axes, about the CoM; ``ccrba``).
+
+    ::
+
+        A_O[:, k] = ⁰I^C_k ⁰X_k S_k,    A_G = [[1, −c×], [0, 1]] A_O
+    """
+    st = check_state(model, q)
+    return finite_result(quiet(_centroidal.centroidal_momentum_matrix, model, kinematics_of(model, st, None, None, backend)),
+                         "centroidal_momentum_matrix")
+
+
+def centroidal_momentum(model: Model, q: ArrayLike, v: ArrayLike, *, backend: str | None = None) -> SpatialForce:
+    """The centroidal momentum ``h_G = [k_G; p]`` `(..., 6)` as a :class:`SpatialForce`.
+
+    ::
+
+        h_G = A_G(q) q̇     (p = m ċ)
+    """
+    st = check_state(model, q, v=v)
+    h = quiet(_centroidal.centroidal_momentum, model, kinematics_of(model, st, None, None, backend), st.arrays["v"])
+    finite_result(h.vector, "centroidal_momentum")
+    return h

@@ -1,0 +1,242 @@
+"""The public kinematics functions: forward kinematics, frame quantities and Jacobians.
+
+Each function checks its input, computes the forward kinematics by the chosen
+backend (:func:`kinematics_of`) and hands the result to the reference
+post-processing in ``algorithms/kinematics.py`` and ``algorithms/jacobians.py``;
+one float64 state first tries the engine's checked kernel.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from ..algorithms import jacobians as _jac
+from ..algorithms import kinematics as _kin
+from ..errors import ShapeError
+from ..frames import LOCAL, LOCAL_WORLD_ALIGNED, WORLD, ReferenceFrame, as_reference_frame
+from ..model import Model
+from ..results import Kinematics
+from ..spatial_algebra import PluckerTransform, SpatialMotion
+from ._backend import OK, fast_path, select_backend
+from ._checks import State, check_state, finite_result, quiet
+
+__all__ = [
+    "kinematics_of",
+    "forward_kinematics",
+    "frame_placement",
+    "frame_velocity",
+    "frame_acceleration",
+    "frame_classical_acceleration",
+    "joint_jacobians",
+    "frame_jacobian",
+    "frame_jacobian_time_variation",
+]
+
+_EMPTY = np.empty
+#: "not wanted" for the optional vectors of the checked FK kernel
+_NO_VECTOR = np.empty(0)
+_NO_BODIES = np.empty((0, 6))
+
+
+def kinematics_of(model: Model, st: State, v: np.ndarray | None, a: np.ndarray | None,
+                  backend: str | None) -> Kinematics:
+    """Forward kinematics of a checked state (``v``, ``a`` from it or ``None``) by the backend ``backend`` picks."""
+    if select_backend(backend, st.dtype) == "compiled":
+        from ..engine import _dispatch
+
+        kin = _dispatch.forward_kinematics(model, st.q, v, a, st.dtype)
+    else:
+        kin = quiet(_kin.forward_kinematics, model, st.q, v, a)
+    finite_result(kin.placements.translation, "forward kinematics: placements")
+    for what, m in (("velocities", kin.velocities), ("accelerations", kin.accelerations)):
+        if m is not None:
+            finite_result(m.vector, f"forward kinematics: {what}")
+    return kin
+
+
+def _fast_kinematics(fast: Any, q: ArrayLike, v: ArrayLike | None, a: ArrayLike | None) -> Kinematics | None:
+    """:func:`forward_kinematics` of one float64 state by the checked kernel, or ``None`` (general path)."""
+    H = _EMPTY(fast.shape_H)
+    vel = _EMPTY(fast.shape_V) if v is not None else _NO_BODIES
+    acc = _EMPTY(fast.shape_V) if a is not None else _NO_BODIES
+    try:
+        status = fast.fk(fast.MD, q, _NO_VECTOR if v is None else v, _NO_VECTOR if a is None else a, H, vel, acc)
+    except fast.refusals:  # argument types the kernel cannot take: the general path
+        return None
+    if status != OK:
+        return None
+    return Kinematics(
+        model=fast.model,
+        placements=PluckerTransform._wrap(H[0, :, :3, :3], H[0, :, :3, 3], None, None),
+        velocities=SpatialMotion._wrap(vel, None) if v is not None else None,
+        accelerations=SpatialMotion._wrap(acc, None) if a is not None else None,
+        parent_placements=PluckerTransform._wrap(H[1, :, :3, :3], H[1, :, :3, 3], None, None),
+    )
+
+
+def forward_kinematics(model: Model, q: ArrayLike, v: ArrayLike | None = None, a: ArrayLike | None = None, *, backend: str | None = None) -> Kinematics:
+    """World placements, body velocities and spatial accelerations of every body.
+
+    Args:
+        model: the tree.
+        q: `(..., nq)` configuration.
+        v: `(..., nv)` joint velocity (optional).
+        a: `(..., nv)` joint acceleration (optional; needs ``v``).
+        backend: ``None`` (compiled for float64), ``"reference"`` or ``"compiled"``.
+
+    Returns:
+        :class:`~featherdyn.results.Kinematics`, gravity *not* included in the accelerations::
+
+            ᵖM_i = ᵖM_J · M_J(q_i),   ⁰M_i = ⁰M_λ(i) · ᵖM_i
+            v_i = X_up[i] v_λ(i) + S_i q̇_i,   a_i = X_up[i] a_λ(i) + S_i q̈_i + v_i × S_i q̇_i
+    """
+    fast = fast_path(model, backend)
+    if fast is not None and (v is not None or a is None) and fast.fk is not None:
+        kin = _fast_kinematics(fast, q, v, a)
+        if kin is not None:
+            return kin
+    if a is not None and v is None:
+        raise ShapeError("a: joint accelerations need joint velocities v as well")
+    st = check_state(model, q, optional=("v", "a"), v=v, a=a)
+    return kinematics_of(model, st, st.arrays.get("v"), st.arrays.get("a"), backend)
+
+
+def frame_placement(model: Model, q: ArrayLike, frame: str | int, *, backend: str | None = None) -> PluckerTransform:
+    """The world placement ``⁰M_f`` of a frame (name or index), batch shape `(...)`::
+
+        ⁰M_f = ⁰M_body(f) · placement_f
+    """
+    fast = fast_path(model, backend)
+    if fast is not None:
+        fid_ = fast.frames.get(frame, -1) if frame.__class__ is str else frame
+        if fid_.__class__ is int:
+            pose = _EMPTY(12)
+            try:
+                if fast.frame_placement(fast.MD, q, fid_, pose) == OK:
+                    return PluckerTransform._wrap(pose[:9].reshape(3, 3), pose[9:], None, None)
+            except fast.refusals:  # argument types the kernel cannot take: the general path
+                pass
+    fid = _frame(model, frame)
+    st = check_state(model, q)
+    oMf = quiet(_kin.frame_pose, model, kinematics_of(model, st, None, None, backend), fid)
+    finite_result(oMf.translation, "frame_placement")
+    return oMf
+
+
+def frame_velocity(model: Model, q: ArrayLike, v: ArrayLike, frame: str | int, reference: ReferenceFrame | str = LOCAL, *,
+                   backend: str | None = None) -> SpatialMotion:
+    """The spatial velocity of a frame `(..., 6)` in ``reference`` (Pinocchio's ``getFrameVelocity``).
+
+    ::
+
+        LOCAL:  ᶠv = ᶠX_b v_b      WORLD: ⁰X_f ᶠv      LOCAL_WORLD_ALIGNED: [R ω; R v]
+    """
+    fid, ref = _frame(model, frame), as_reference_frame(reference)
+    st = check_state(model, q, v=v)
+    vel = quiet(_kin.frame_velocity, model, kinematics_of(model, st, st.arrays["v"], None, backend), fid, ref)
+    finite_result(vel.vector, "frame_velocity")
+    return vel
+
+
+def frame_acceleration(model: Model, q: ArrayLike, v: ArrayLike, a: ArrayLike, frame: str | int, reference: ReferenceFrame | str = LOCAL, *,
+                       backend: str | None = None) -> SpatialMotion:
+    """The *spatial* acceleration of a frame `(..., 6)` in ``reference`` (``getFrameAcceleration``).
+
+    The time derivative of the spatial velocity, without gravity; re-expressed
+    exactly like :func:`frame_velocity`. Its linear part is **not** the
+    acceleration of the frame origin: see :func:`frame_classical_acceleration`.
+    """
+    fid, ref = _frame(model, frame), as_reference_frame(reference)
+    st = check_state(model, q, v=v, a=a)
+    kin = kinematics_of(model, st, st.arrays["v"], st.arrays["a"], backend)
+    acc = quiet(_kin.frame_acceleration, model, kin, fid, ref)
+    finite_result(acc.vector, "frame_acceleration")
+    return acc
+
+
+def frame_classical_acceleration(model: Model, q: ArrayLike, v: ArrayLike, a: ArrayLike, frame: str | int, reference: ReferenceFrame | str = LOCAL, *,
+                                 backend: str | None = None) -> SpatialMotion:
+    """The classical acceleration of a frame `(..., 6)` (``getFrameClassicalAcceleration``).
+
+    Angular part ``ω̇``; linear part the classical acceleration, chapter §7.2::
+
+        a_classical = a_spatial + [0; ω × v]      (ω, v of the frame, in the same reference)
+
+    In ``LOCAL`` and ``LOCAL_WORLD_ALIGNED`` the linear part is the acceleration
+    of the frame origin (in frame or world axes). In ``WORLD`` it is that of the
+    body point passing through the world origin (Pinocchio's convention).
+    """
+    fid, ref = _frame(model, frame), as_reference_frame(reference)
+    st = check_state(model, q, v=v, a=a)
+    kin = kinematics_of(model, st, st.arrays["v"], st.arrays["a"], backend)
+    acc = quiet(_kin.frame_classical_acceleration, model, kin, fid, ref)
+    finite_result(acc.vector, "frame_classical_acceleration")
+    return acc
+
+
+def joint_jacobians(model: Model, q: ArrayLike, *, backend: str | None = None) -> np.ndarray:
+    """All joint columns in the world frame, `(..., 6, nv)` (Pinocchio's ``computeJointJacobians`` → ``data.J``).
+
+    ::
+
+        J[:, k] = ⁰X_k S_k      (the Jacobian of body b keeps the columns of its support)
+    """
+    st = check_state(model, q)
+    return finite_result(quiet(_jac.joint_jacobians, model, kinematics_of(model, st, None, None, backend)), "joint_jacobians")
+
+
+def frame_jacobian(model: Model, q: ArrayLike, frame: str | int, reference: ReferenceFrame | str = LOCAL, *,
+                   backend: str | None = None) -> np.ndarray:
+    """The geometric Jacobian of a frame, `(..., 6, nv)`, rows ``[ω; v]`` (``getFrameJacobian``).
+
+    ::
+
+        frame_velocity(model, q, v, frame, reference) = J v
+    """
+    fast = fast_path(model, backend)
+    if fast is not None:
+        # identity tests: an Enum's __hash__ runs in Python, a dict lookup would cost more
+        ref_code = (0 if reference is LOCAL else 1 if reference is WORLD
+                    else 2 if reference is LOCAL_WORLD_ALIGNED else -1)
+        fid_ = fast.frames.get(frame, -1) if frame.__class__ is str else frame
+        if ref_code >= 0 and fid_.__class__ is int:
+            J_ = _EMPTY(fast.shape_J)
+            try:
+                if fast.frame_jacobian(fast.MD, q, fid_, ref_code, J_) == OK:
+                    return J_
+            except fast.refusals:  # argument types the kernel cannot take: the general path
+                pass
+    fid, ref = _frame(model, frame), as_reference_frame(reference)
+    st = check_state(model, q)
+    if select_backend(backend, st.dtype) == "compiled":
+        from ..engine import _dispatch
+
+        return finite_result(_dispatch.frame_jacobian(model, st.q, fid, ref, st.dtype), "frame_jacobian")
+    return finite_result(quiet(_jac.frame_jacobian, model, quiet(_kin.forward_kinematics, model, st.q), fid, ref), "frame_jacobian")
+
+
+def frame_jacobian_time_variation(model: Model, q: ArrayLike, v: ArrayLike, frame: str | int, reference: ReferenceFrame | str = LOCAL, *,
+                                  backend: str | None = None) -> np.ndarray:
+    """``J̇ = dJ/dt`` of :func:`frame_jacobian` along ``q̇ = v``, `(..., 6, nv)` (``getFrameJacobianTimeVariation``).
+
+    ::
+
+        WORLD:   ⁰J̇[:, k] = ⁰v_k × ⁰J[:, k]
+        LOCAL:   ᶠJ̇ = ᶠX_0 ⁰J̇ − ᶠv × ᶠJ
+        LWA:     J̇ = blkdiag([ω]×, [ω]×) J_LWA + blkdiag(R, R) ᶠJ̇      (ω, R of the frame in the world)
+
+    and the classical acceleration identity ``a_classical = J q̈ + J̇ q̇`` in LOCAL_WORLD_ALIGNED.
+    """
+    fid, ref = _frame(model, frame), as_reference_frame(reference)
+    st = check_state(model, q, v=v)
+    kin = kinematics_of(model, st, st.arrays["v"], None, backend)
+    return finite_result(quiet(_jac.frame_jacobian_time_variation, model, kin, st.arrays["v"], fid, ref),
+                         "frame_jacobian_time_variation")
+
+
+def _frame(model: Model, frame: str | int) -> int:
+    """The frame index (:meth:`Model.resolve_frame`); a non-model is left to :func:`check_state` to word."""
+    return model.resolve_frame(frame) if isinstance(model, Model) else -1

@@ -1,0 +1,191 @@
+"""Converters between featherdyn's conventions and other libraries' (Pinocchio, Lynch–Park, Drake, ROS, MuJoCo).
+
+featherdyn's conventions are fixed (docs/conventions.md): a motion is ``[ω; v_O]``
+and a force ``[n_O; f]`` (angular first, Featherstone); ``PluckerTransform(R, p)``
+is the pose of frame A in frame B and maps A- to B-coordinates; the free-flyer
+``q`` is ``[x y z, qx qy qz qw]`` and its ``v`` is ``[ω; v]``, the base's spatial
+velocity in base coordinates. Everything else converts here, at the boundary,
+with a named pair of plain functions ``x_to_y`` / ``y_to_x`` (or
+``to_y`` / ``from_y``) that undo each other. Array converters broadcast over
+leading batch axes and keep float32 as float32; converters to another library's
+*objects* (``pin.Motion``, ``pin.SE3``, ...) take one value at a time.
+
+One module per library, every name also here (``featherdyn.conventions.NAME``):
+:mod:`.pinocchio`, :mod:`.modern_robotics`, :mod:`.drake` (with the classical
+acceleration), :mod:`.ros`, :mod:`.mujoco` (with the quaternion order).
+The 6D swap used for Pinocchio and for flattened ROS messages is the
+permutation ``P = [[0, 1], [1, 0]]`` (3×3 blocks), its own inverse::
+
+    x_pin = P x,   M_pin = P M P,   J_pin = P J
+
+=====================================  =====================================  ==========================================================
+featherdyn → other                     other → featherdyn                     what changes
+=====================================  =====================================  ==========================================================
+**Pinocchio** (linear first)
+``motion_to_pinocchio``                ``motion_from_pinocchio``              ``[ω; v]`` ↔ ``[v; ω]`` (raw ``(..., 6)``)
+``force_to_pinocchio``                 ``force_from_pinocchio``               ``[n; f]`` ↔ ``[f; n]`` (raw ``(..., 6)``)
+``matrix6_to_pinocchio``               ``matrix6_from_pinocchio``             ``P M P`` for any 6×6 map (X, X*, crm, inertia)
+``jacobian_to_pinocchio``              ``jacobian_from_pinocchio``            rows ``P J`` (and free-flyer columns)
+``freeflyer_v_to_pinocchio``           ``freeflyer_v_from_pinocchio``         ``[ω; v]`` ↔ ``[v; ω]`` (both base frame = LOCAL)
+``to_pinocchio_motion``                ``from_pinocchio_motion``              ``SpatialMotion`` ↔ ``pin.Motion(linear, angular)``
+``to_pinocchio_force``                 ``from_pinocchio_force``               ``SpatialForce`` ↔ ``pin.Force(linear, angular)``
+``to_pinocchio_inertia``               ``from_pinocchio_inertia``             ``SpatialInertia`` ↔ ``pin.Inertia(mass, lever, inertia)``
+``transform_to_pinocchio_se3``         ``transform_from_pinocchio_se3``       ``PluckerTransform`` ↔ ``pin.SE3`` (same semantics)
+(free-flyer ``q``)                     (free-flyer ``q``)                     none: both ``[x y z, qx qy qz qw]``
+``continuous_q_to_pinocchio``          ``continuous_q_from_pinocchio``        ``θ`` ↔ ``(cos θ, sin θ)``
+``planar_q_to_pinocchio``              ``planar_q_from_pinocchio``            ``[x, y, θ]`` ↔ ``[x, y, cos θ, sin θ]``
+``planar_v_to_pinocchio``              ``planar_v_from_pinocchio``            ``[ω, v_x, v_y]`` ↔ ``[v_x, v_y, ω]``
+**Lynch–Park / Modern Robotics**
+``twist_to_mr``                        ``twist_from_mr``                      none: both ``[ω; v]``
+``wrench_to_mr``                       ``wrench_from_mr``                     none: both ``[m; f]``
+``body_twist_to_spatial_twist``        ``spatial_twist_to_body_twist``        ``V_s = [Ad_T] V_b``
+``adjoint_matrix``                     —                                      ``[Ad_T] = X.matrix()``
+``ad_matrix``                          —                                      ``[ad_V] = crm(V)``
+``wrench_transform_matrix``            —                                      ``[Ad_T]⁻ᵀ = X.dual_matrix()``
+**Drake** (monogram names)
+``spatial_to_classical_acceleration``  ``classical_to_spatial_acceleration``  linear part ``± ω × v_O``
+``drake_shift_velocity``               (shift by ``−p``)                      ``v_Bq = v_Bo + ω × p``
+``drake_shift_force``                  (shift by ``−p``)                      ``τ_Bq = τ_Bo − p × f``
+``drake_shift_acceleration``           (shift by ``−p``)                      ``a_Bq = a_Bo + α × p + ω × (ω × p)``
+``drake_reexpress``                    (with ``R_AEᵀ``)                       both halves rotated
+**ROS** (``geometry_msgs``)
+``motion_to_ros_twist``                ``motion_from_ros_twist``              ``{"linear", "angular"}`` mapping
+``force_to_ros_wrench``                ``force_from_ros_wrench``              ``{"force", "torque"}`` mapping
+``twist_array_to_ros``                 ``twist_array_from_ros``               flattened ``[v; ω]``
+``wrench_array_to_ros``                ``wrench_array_from_ros``              flattened ``[f; τ]``
+**MuJoCo** (free joint)
+``freeflyer_q_to_mujoco``              ``freeflyer_q_from_mujoco``            quaternion ``(x, y, z, w)`` ↔ ``(w, x, y, z)``
+``freeflyer_v_to_mujoco``              ``freeflyer_v_from_mujoco``            ``[ω_b; v_b]`` ↔ ``[R v_b; ω_b]``
+**Quaternion order**
+``quat_xyzw_to_wxyz``                  ``quat_wxyz_to_xyzw``                  component order only
+=====================================  =====================================  ==========================================================
+
+Sources: Featherstone, *Rigid Body Dynamics Algorithms* (2008) ch. 2;
+chapter §2–§3 and §7.2; Lynch & Park, *Modern Robotics* (2017) ch. 3 and 8;
+the Pinocchio, Drake, ROS ``geometry_msgs`` and MuJoCo documentation.
+"""
+
+from __future__ import annotations
+
+from ..errors import MissingDependencyError
+from .drake import (
+    classical_to_spatial_acceleration,
+    drake_reexpress,
+    drake_shift_acceleration,
+    drake_shift_force,
+    drake_shift_velocity,
+    spatial_to_classical_acceleration,
+)
+from .modern_robotics import (
+    ad_matrix,
+    adjoint_matrix,
+    body_twist_to_spatial_twist,
+    spatial_twist_to_body_twist,
+    twist_from_mr,
+    twist_to_mr,
+    wrench_from_mr,
+    wrench_to_mr,
+    wrench_transform_matrix,
+)
+from .mujoco import (
+    freeflyer_q_from_mujoco,
+    freeflyer_q_to_mujoco,
+    freeflyer_v_from_mujoco,
+    freeflyer_v_to_mujoco,
+    quat_wxyz_to_xyzw,
+    quat_xyzw_to_wxyz,
+)
+from .pinocchio import (
+    continuous_q_from_pinocchio,
+    continuous_q_to_pinocchio,
+    force_from_pinocchio,
+    force_to_pinocchio,
+    freeflyer_v_from_pinocchio,
+    freeflyer_v_to_pinocchio,
+    from_pinocchio_force,
+    from_pinocchio_inertia,
+    from_pinocchio_motion,
+    jacobian_from_pinocchio,
+    jacobian_to_pinocchio,
+    matrix6_from_pinocchio,
+    matrix6_to_pinocchio,
+    motion_from_pinocchio,
+    motion_to_pinocchio,
+    planar_q_from_pinocchio,
+    planar_q_to_pinocchio,
+    planar_v_from_pinocchio,
+    planar_v_to_pinocchio,
+    to_pinocchio_force,
+    to_pinocchio_inertia,
+    to_pinocchio_motion,
+    transform_from_pinocchio_se3,
+    transform_to_pinocchio_se3,
+)
+from .ros import (
+    force_from_ros_wrench,
+    force_to_ros_wrench,
+    motion_from_ros_twist,
+    motion_to_ros_twist,
+    twist_array_from_ros,
+    twist_array_to_ros,
+    wrench_array_from_ros,
+    wrench_array_to_ros,
+)
+
+__all__ = [
+    "MissingDependencyError",
+    "ad_matrix",
+    "adjoint_matrix",
+    "body_twist_to_spatial_twist",
+    "classical_to_spatial_acceleration",
+    "continuous_q_from_pinocchio",
+    "continuous_q_to_pinocchio",
+    "drake_reexpress",
+    "drake_shift_acceleration",
+    "drake_shift_force",
+    "drake_shift_velocity",
+    "force_from_pinocchio",
+    "force_from_ros_wrench",
+    "force_to_pinocchio",
+    "force_to_ros_wrench",
+    "freeflyer_q_from_mujoco",
+    "freeflyer_q_to_mujoco",
+    "freeflyer_v_from_mujoco",
+    "freeflyer_v_from_pinocchio",
+    "freeflyer_v_to_mujoco",
+    "freeflyer_v_to_pinocchio",
+    "from_pinocchio_force",
+    "from_pinocchio_inertia",
+    "from_pinocchio_motion",
+    "jacobian_from_pinocchio",
+    "jacobian_to_pinocchio",
+    "matrix6_from_pinocchio",
+    "matrix6_to_pinocchio",
+    "motion_from_pinocchio",
+    "motion_from_ros_twist",
+    "motion_to_pinocchio",
+    "motion_to_ros_twist",
+    "planar_q_from_pinocchio",
+    "planar_q_to_pinocchio",
+    "planar_v_from_pinocchio",
+    "planar_v_to_pinocchio",
+    "quat_wxyz_to_xyzw",
+    "quat_xyzw_to_wxyz",
+    "spatial_to_classical_acceleration",
+    "spatial_twist_to_body_twist",
+    "to_pinocchio_force",
+    "to_pinocchio_inertia",
+    "to_pinocchio_motion",
+    "transform_from_pinocchio_se3",
+    "transform_to_pinocchio_se3",
+    "twist_array_from_ros",
+    "twist_array_to_ros",
+    "twist_from_mr",
+    "twist_to_mr",
+    "wrench_array_from_ros",
+    "wrench_array_to_ros",
+    "wrench_from_mr",
+    "wrench_to_mr",
+    "wrench_transform_matrix",
+]
+

@@ -1,0 +1,152 @@
+"""Reading the user's values: an ``.npz`` archive or a mapping of arrays, validated key by key."""
+
+from __future__ import annotations
+
+import os
+import zipfile
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from ...errors import DTypeError, FeatherdynError, NonFiniteError, ShapeError
+
+__all__ = ["ValuesError", "KEYS", "VECTOR_KEYS", "Given", "load_npz", "validate"]
+
+KEYS = ("q", "v", "a", "tau", "M", "ddq")
+VECTOR_KEYS = ("v", "a", "tau", "ddq")
+
+
+class ValuesError(FeatherdynError, ValueError):
+    """The values to check are unusable: no such file, not an ``.npz`` archive, or keys missing."""
+
+
+def load_npz(path: str | os.PathLike[str]) -> dict[str, np.ndarray]:
+    label = os.fspath(path)
+    p = Path(label)
+    if not p.exists():
+        raise ValuesError(f"{label}: file not found")
+    if p.is_dir():
+        raise ValuesError(f"{label}: is a directory, expected an .npz file")
+    try:
+        loaded = np.load(p, allow_pickle=False)
+    except PermissionError as exc:
+        raise ValuesError(f"{label}: cannot read ({exc.strerror})") from None
+    except (ValueError, OSError, EOFError, zipfile.BadZipFile):
+        raise ValuesError(f"{label}: not an .npz archive of named arrays (save one with numpy.savez(file, q=..., "
+                          "v=..., a=..., tau=...))") from None
+    if not isinstance(loaded, np.lib.npyio.NpzFile):
+        raise ValuesError(f"{label}: holds a single .npy array, expected an .npz archive of named arrays "
+                          "(numpy.savez(file, q=..., v=..., a=..., tau=...))")
+    out = {}
+    with loaded:
+        for key in loaded.files:
+            try:
+                out[key] = loaded[key]
+            except ValueError:
+                raise ValuesError(f"{label}: array {key!r} holds Python objects, expected numbers") from None
+            except (OSError, EOFError, zipfile.BadZipFile):
+                raise ValuesError(f"{label}: array {key!r} is corrupt") from None
+    return out
+
+
+@dataclass(frozen=True)
+class Given:
+    """The validated user arrays, float64, each with a leading batch axis of length ``n``."""
+
+    arrays: dict[str, np.ndarray]
+    n: int
+    batched: bool
+    ignored: tuple[str, ...]
+    dtypes: dict[str, str] = field(default_factory=dict)  # as given, before the cast to float64
+
+
+def _numeric(key: str, x: object) -> np.ndarray:
+    try:
+        arr = np.asarray(x)
+    except Exception as exc:  # ragged lists and the like
+        raise ShapeError(f"{key}: not an array of numbers ({exc})") from None
+    if arr.dtype.kind not in "biuf":
+        raise DTypeError(f"{key}: expected real numbers, got dtype {arr.dtype}")
+    return arr.astype(np.float64)
+
+
+def validate(values: Mapping[str, ArrayLike], nq_allowed: dict[int, str], nv: int, other_base: tuple[int, int, str]
+              ) -> Given:
+    """Check keys, shapes, batch sizes and finiteness; raise a one-line error naming the key and expected shape."""
+    present = [k for k in KEYS if k in values]
+    ignored = tuple(sorted(str(k) for k in values if k not in KEYS))
+    have = f" (given: {', '.join(sorted(map(str, values))) or 'nothing'})"
+    need = "expected q, v, a and any of tau, M, ddq (with tau)"
+
+    def missing(key: str, why: str) -> ValuesError:
+        return ValuesError(f"missing key {key!r}: {why}{have}")
+
+    if "q" not in values:
+        raise missing("q", "the configuration is always needed")
+    if not any(k in values for k in ("tau", "M", "ddq")):
+        raise ValuesError(f"nothing to check: {need}{have}")
+    if "ddq" in values and "tau" not in values:
+        raise missing("tau", "ddq is checked against the joint forces tau that produced it")
+    if ("tau" in values or "ddq" in values) and "v" not in values:
+        raise missing("v", "tau and ddq need the joint velocities")
+    if "tau" in values and "a" not in values and "ddq" not in values:
+        raise missing("a", "tau is compared with fd.rnea(q, v, a)")
+
+    nq_text = " or ".join(f"{n} ({why})" if why else str(n) for n, why in nq_allowed.items())
+    nq_main = next(iter(nq_allowed))
+    o_nq, o_nv, o_flag = other_base
+    arrays: dict[str, np.ndarray] = {}
+    shapes: dict[str, tuple[int, ...]] = {}
+    batch: dict[str, int | None] = {}
+    dtypes: dict[str, str] = {}
+    for key in present:
+        dtypes[key] = str(np.asarray(values[key]).dtype)
+        arr = _numeric(key, values[key])
+        expected: tuple[int, ...]
+        if key == "q":
+            expected, unit = (nq_main,), f"nq={nq_text}"
+            ok = arr.ndim in (1, 2) and arr.shape[-1] in nq_allowed
+            hint = f" — {o_nq} is nq {o_flag}" if arr.ndim in (1, 2) and arr.shape[-1] == o_nq else ""
+        elif key == "M":
+            expected, unit = (nv, nv), f"nv={nv}"
+            ok = arr.ndim in (2, 3) and arr.shape[-2:] == (nv, nv)
+            hint = f" — {o_nv} is nv {o_flag}" if arr.ndim in (2, 3) and arr.shape[-1] == o_nv else ""
+        else:
+            expected, unit = (nv,), f"nv={nv}"
+            ok = arr.ndim in (1, 2) and arr.shape[-1] == nv
+            hint = f" — {o_nv} is nv {o_flag}" if arr.ndim in (1, 2) and arr.shape[-1] == o_nv else ""
+        if not ok:
+            dims = ", ".join(map(str, expected))
+            one = f"({dims},)" if len(expected) == 1 else f"({dims})"
+            raise ShapeError(f"{key}: expected shape {one} for one state or (N, {dims}) for a batch "
+                             f"({unit}), got {tuple(arr.shape)}{hint}")
+        is_batch = arr.ndim == len(expected) + 1
+        if is_batch and arr.shape[0] == 0:
+            raise ShapeError(f"{key}: empty batch (shape {tuple(arr.shape)})")
+        bad = ~np.isfinite(arr)
+        if bad.any():
+            idx = tuple(int(i) for i in np.argwhere(bad)[0])
+            where = f"at state {idx[0]}, index {idx[1:] if len(idx) > 2 else idx[1]}" if is_batch else \
+                f"at index {idx if len(idx) > 1 else idx[0]}"
+            raise NonFiniteError(f"{key}: non-finite value {arr[idx]} {where}")
+        batch[key] = arr.shape[0] if is_batch else None
+        shapes[key] = tuple(arr.shape)
+        arrays[key] = arr if is_batch else arr[None]
+    sizes = set(batch.values())
+    if len(sizes) > 1:
+        if None in sizes:
+            one = next(k for k, b in batch.items() if b is None)
+            many = next(k for k, b in batch.items() if b is not None)
+            raise ShapeError(f"{one} is one state (shape {shapes[one]}) but {many} is a batch of {batch[many]} "
+                             f"(shape {shapes[many]}): give every array the same leading batch axis")
+        a, b = sorted(sizes, key=lambda s: -1 if s is None else s)[:2]
+        ka = next(k for k, s in batch.items() if s == a)
+        kb = next(k for k, s in batch.items() if s == b)
+        raise ShapeError(f"batch sizes differ: {ka} has {a} states, {kb} has {b} (the batch is the leading axis "
+                         "of every array)")
+    n = next(iter(sizes))
+    return Given(arrays, 1 if n is None else int(n), n is not None, ignored, dtypes)
+
