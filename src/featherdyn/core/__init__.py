@@ -32,6 +32,7 @@ import numpy as np
 
 from .._validation import as_array
 from ..errors import DTypeError, ShapeError
+from ..frames import LOCAL, ReferenceFrame, as_reference_frame
 from ..model import Model
 from . import _errors
 from ._model_view import CoreHandle, model_view
@@ -63,15 +64,12 @@ __all__ = [
     "frame_jacobian_batch",
     "set_num_threads",
     "get_num_threads",
-    "REFERENCE_CODES",
 ]
 
 _F64 = np.dtype(np.float64)
 _empty = np.empty
-#: reference frame → the kernel's code
-REFERENCE_CODES = {"local": 0, "world": 1, "local_world_aligned": 2}
-# the values of fd.LOCAL & co. (an Enum of these strings) → code, for the one-state fast path
-_REF_VALUES: dict[Any, int] = dict(REFERENCE_CODES)
+# fd.LOCAL & co. by identity → their ReferenceFrame.code (an Enum's hash runs in Python: too slow for the fast path)
+_CODE_OF = {id(r): r.code for r in ReferenceFrame}
 
 
 def available() -> bool:
@@ -117,12 +115,10 @@ def _out(out: Any, shape: tuple[int, ...]) -> np.ndarray:
 
 
 def _reference_code(reference: Any) -> int:
+    """The kernel's code of ``fd.LOCAL`` & co. (or their names), or the code itself (0, 1, 2)."""
     if isinstance(reference, (int, np.integer)) and not isinstance(reference, bool) and 0 <= reference <= 2:
         return int(reference)
-    value = getattr(reference, "value", reference)  # fd.LOCAL & co. are an Enum of these strings
-    if isinstance(value, str) and value.lower() in REFERENCE_CODES:
-        return REFERENCE_CODES[value.lower()]
-    raise ShapeError(f"reference: expected fd.LOCAL, fd.WORLD or fd.LOCAL_WORLD_ALIGNED, got {reference!r}")
+    return as_reference_frame(reference).code
 
 
 # ---------------------------------------------------------------------------
@@ -484,7 +480,7 @@ def frame_placement(model: Model, q: Any, frame: Any, out: Any = None) -> np.nda
     except (AttributeError, TypeError):
         pass
     h = _view(model)
-    fid = _errors.frame_index(model, frame)
+    fid = model.resolve_frame(frame)
     q_ = _f64(q, "q")
     if q_.ndim != 1:
         return frame_placement_batch(model, q_, fid, out)
@@ -498,7 +494,7 @@ def frame_placement(model: Model, q: Any, frame: Any, out: Any = None) -> np.nda
 def frame_placement_batch(model: Model, q: Any, frame: Any, out: Any = None) -> np.ndarray:
     """:func:`frame_placement` over batch axes `(..., 4, 4)`, on the core's threads."""
     h = _view(model)
-    fid = _errors.frame_index(model, frame)
+    fid = model.resolve_frame(frame)
     q_ = _f64(q, "q")
     batch = _batch_shape(model, [(q_, 1)], q, [], None)
     H = _out(out, batch + (4, 4))
@@ -507,18 +503,18 @@ def frame_placement_batch(model: Model, q: Any, frame: Any, out: Any = None) -> 
     return H
 
 
-def frame_jacobian(model: Model, q: Any, frame: Any, reference: Any = 0, out: Any = None) -> np.ndarray:
+def frame_jacobian(model: Model, q: Any, frame: Any, reference: Any = LOCAL, out: Any = None) -> np.ndarray:
     """The geometric Jacobian `(..., 6, nv)` of a frame (name or index), rows ``[ω; v]``.
 
-    ``reference``: ``0`` / ``fd.LOCAL``, ``1`` / ``fd.WORLD``, ``2`` / ``fd.LOCAL_WORLD_ALIGNED``
-    (Pinocchio's meanings), so that ``frame_velocity(reference) = J q̇``::
+    ``reference``: ``fd.LOCAL``, ``fd.WORLD``, ``fd.LOCAL_WORLD_ALIGNED`` (Pinocchio's meanings;
+    or their names, or their codes ``ReferenceFrame.code``), so that ``frame_velocity(reference) = J q̇``::
 
         ⁰J[:, k] = ⁰X_k S_k  (k on the path root → body(f)),   LOCAL: ᶠX_0 ⁰J,   LWA: [ω; v − p_f × ω]
     """
     try:
         h = model._core
         fid = h.frames.get(frame, frame) if frame.__class__ is str else frame
-        ref = reference if reference.__class__ is int else _REF_VALUES.get(getattr(reference, "value", None), -1)
+        ref = reference if reference.__class__ is int else _CODE_OF.get(id(reference), -1)
         if fid.__class__ is int and 0 <= ref <= 2:
             J = _empty((6, h.nv)) if out is None else out
             if _core.frame_jacobian(h.cm, q, fid, ref, J) == 0:
@@ -526,7 +522,7 @@ def frame_jacobian(model: Model, q: Any, frame: Any, reference: Any = 0, out: An
     except (AttributeError, TypeError):
         pass
     h = _view(model)
-    fid = _errors.frame_index(model, frame)
+    fid = model.resolve_frame(frame)
     ref = _reference_code(reference)
     q_ = _f64(q, "q")
     if q_.ndim != 1:
@@ -538,10 +534,10 @@ def frame_jacobian(model: Model, q: Any, frame: Any, reference: Any = 0, out: An
     return J
 
 
-def frame_jacobian_batch(model: Model, q: Any, frame: Any, reference: Any = 0, out: Any = None) -> np.ndarray:
+def frame_jacobian_batch(model: Model, q: Any, frame: Any, reference: Any = LOCAL, out: Any = None) -> np.ndarray:
     """:func:`frame_jacobian` over batch axes `(..., 6, nv)`, on the core's threads."""
     h = _view(model)
-    fid = _errors.frame_index(model, frame)
+    fid = model.resolve_frame(frame)
     ref = _reference_code(reference)
     q_ = _f64(q, "q")
     batch = _batch_shape(model, [(q_, 1)], q, [], None)

@@ -6,40 +6,34 @@ status (``cpp/checks.hpp``)::
     status = code | arg << 3 | index << 8
 
 On a non-zero status the wrapper calls :func:`raise_for`, which re-checks the
-original arguments in the reference's order with the reference's words
-(``featherdyn/_validation.py``, ``algorithms/_common.py``, ``algorithms/rnea.py``,
-``algorithms/aba.py``) — the error path may be slow, the message must be the
-same — and raises. A status the re-check does not explain (it should not
-happen) still raises, worded from the status itself.
+original arguments in the order and words of the public functions' checks
+(``api/_checks.py``: ``check_f_ext``, then ``check_state``; the core sits below
+the api layer and cannot import them, so :func:`validate` repeats them until
+the api calls the core itself) — the error path may be slow, the message must
+be the same — and raises. A status the re-check does not explain (it should
+not happen) still raises, worded from the status itself.
 """
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 from typing import Any, NoReturn
 
 import numpy as np
 
-from .._validation import as_array
-from ..errors import (
-    FeatherdynError,
-    ModelError,
-    NonFiniteError,
-    QuaternionNormError,
-    ShapeError,
-    SingularMassMatrixError,
-)
+from .._validation import as_array, numeric_value
+from ..errors import FeatherdynError, NonFiniteError, QuaternionNormError, ShapeError, SingularMassMatrixError
 from ..joints import FreeFlyerJoint, SphericalJoint
 from ..model import Model
+from ..tolerances import QUATERNION_NORM
 
 __all__ = ["OK", "LENGTH", "NONFINITE", "QUATERNION", "SINGULAR", "ARG_NAMES", "decode", "validate",
-           "raise_for", "singular_error", "frame_index", "QUAT_TOL"]
+           "raise_for", "singular_error"]
 
 OK, LENGTH, NONFINITE, QUATERNION, SINGULAR = range(5)
 #: the ``arg`` field of a status
 ARG_NAMES = ("q", "v", "a", "f_ext", "out", "frame")
-#: a quaternion in q may be off unit norm by this much (float64; the reference's QUAT_TOL)
-QUAT_TOL = 1e-6
 
 
 def decode(status: int) -> tuple[int, int, int]:
@@ -48,6 +42,8 @@ def decode(status: int) -> tuple[int, int, int]:
 
 
 def _vec(x: Any, name: str, n: int, what: str) -> np.ndarray:
+    if x is None:
+        raise ShapeError(f"{name}: expected an array of shape (..., {what}={n}), got None")
     arr = as_array(x, name)
     if arr.ndim == 0 or arr.shape[-1] != n:
         raise ShapeError(f"{name}: expected trailing dimension {what}={n}, got shape {tuple(arr.shape)}")
@@ -68,14 +64,13 @@ def validate(model: Model, q: Any, vectors: Sequence[tuple[str, Any]] = (), f_ex
     """Raise what the reference raises for these arguments (``f_ext``, then ``q``, the vectors, quaternions)."""
     fx = None if f_ext is None else _f_ext(model, f_ext)
     qq = _vec(q, "q", model.nq, "nq")
-    arrays = [("q", qq)] + [(name, _vec(x, name, model.nv, "nv")) for name, x in vectors if x is not None]
+    arrays = [("q", qq)] + [(name, _vec(x, name, model.nv, "nv")) for name, x in vectors]
     try:
         batch = np.broadcast_shapes(*(a.shape[:-1] for _, a in arrays))
     except ValueError:
         shapes = ", ".join(f"{n}: {a.shape}" for n, a in arrays)
         raise ShapeError(f"batch shapes do not broadcast ({shapes})") from None
-    if qq.dtype.kind != "O":
-        _check_quaternions(model, qq)
+    _check_quaternions(model, qq if qq.dtype.kind != "O" else _numeric_part(qq))
     if fx is not None:
         try:
             np.broadcast_shapes(batch, fx.shape[:-2])
@@ -86,7 +81,13 @@ def validate(model: Model, q: Any, vectors: Sequence[tuple[str, Any]] = (), f_ex
             ) from None
 
 
+def _numeric_part(q: np.ndarray) -> np.ndarray:
+    """An object array's entries as floats, NaN where an entry is symbolic (unchecked)."""
+    return np.vectorize(lambda x: math.nan if (v := numeric_value(x)) is None else v, otypes=[np.float64])(q)
+
+
 def _check_quaternions(model: Model, q: np.ndarray) -> None:
+    tol = QUATERNION_NORM.of(q.dtype)
     for i, joint in enumerate(model.joints):
         if isinstance(joint, SphericalJoint):
             quat = q[..., model.idx_q[i] : model.idx_q[i] + 4]
@@ -94,8 +95,9 @@ def _check_quaternions(model: Model, q: np.ndarray) -> None:
             quat = q[..., model.idx_q[i] + 3 : model.idx_q[i] + 7]
         else:
             continue
-        tol = 1e-3 if q.dtype == np.float32 else QUAT_TOL
-        err = np.abs(np.sqrt(np.sum(quat * quat, axis=-1)) - 1)
+        with np.errstate(over="ignore", invalid="ignore"):  # a huge entry: inf norm, refused below
+            err = np.abs(np.sqrt(np.sum(quat * quat, axis=-1)) - 1)
+        err = err[~np.isnan(err)]  # a symbolic quaternion (object arrays) is not checked
         if np.any(err > tol):
             worst = float(np.max(err))
             raise QuaternionNormError(
@@ -105,26 +107,9 @@ def _check_quaternions(model: Model, q: np.ndarray) -> None:
             )
 
 
-def frame_index(model: Model, frame: Any) -> int:
-    """A frame index from a name or an index, with the reference's errors (``resolve_frame``)."""
-    if isinstance(frame, str):
-        return model.frame_id(frame)
-    if isinstance(frame, (int, np.integer)) and not isinstance(frame, bool):
-        if not 0 <= int(frame) < len(model.frames):
-            if not model.frames:
-                raise ModelError(f"frame: index {frame}, but model {model.name!r} has no frames")
-            raise ModelError(f"frame: index {frame} out of range 0..{len(model.frames) - 1}")
-        return int(frame)
-    raise ShapeError(f"frame: expected a frame name or index, got {type(frame).__name__}")
-
-
 def singular_error(model: Model, joint: int, eig_min: float) -> SingularMassMatrixError:
     """The reference ABA's error for ``joint`` whose ``D`` has smallest eigenvalue ``eig_min``."""
-    return SingularMassMatrixError(
-        f"joint {model.joint_names[joint]!r} (body {model.body_names[joint]!r}): the articulated inertia of its "
-        f"subtree along the joint axis is {eig_min:.3g} — the subtree has no mass or inertia that this joint can "
-        "move, so the mass matrix is singular and q̈ is not unique"
-    )
+    return SingularMassMatrixError.for_joint(model.joint_names[joint], model.body_names[joint], eig_min)
 
 
 def eig_min(D36: np.ndarray, k: int) -> float:

@@ -11,8 +11,10 @@ and copied into a ``featherdyn.core._core.Model``, whose C++ side is the
   ``[e1 e2 n]`` `(nb, 9)` (row-major), and for revolute and planar joints ``Xtree_R [a]×`` and
   ``Xtree_R [a]×²`` `(nb, 9)` each (so the joint rotation needs no matrix product);
 
-per model gravity `(3,)` and the ABA singularity tolerance ``1e-14 ×`` the largest entry of
-any body's spatial inertia matrix (the reference's rule, ``algorithms/aba.py``); per frame
+per model gravity `(3,)`, the ABA singularity tolerance
+``tolerances.SINGULAR_PIVOT_RTOL ×`` the largest entry of any body's spatial inertia matrix
+(the reference's rule, ``algorithms/aba.py``) and the float64 unit-quaternion tolerance
+``tolerances.QUATERNION_NORM``; per frame
 its body (int32, ``-1`` = world) and placement (rotation `(nf, 9)`, then translation `(nf, 3)`).
 """
 
@@ -24,15 +26,14 @@ import numpy as np
 
 from ..joints import FreeFlyerJoint, Joint, PlanarJoint, PrismaticJoint, RevoluteJoint, SphericalJoint
 from ..model import Model
+from ..tolerances import QUATERNION_NORM, SINGULAR_PIVOT_RTOL
 
-__all__ = ["JOINT_TYPES", "SINGULAR_RTOL", "CoreHandle", "model_view"]
+__all__ = ["JOINT_TYPES", "CoreHandle", "model_view"]
 
 #: joint type codes (``cpp/model_view.hpp``: ``JointType``)
 JOINT_TYPES: dict[type[Joint], int] = {
     RevoluteJoint: 0, PrismaticJoint: 1, SphericalJoint: 2, FreeFlyerJoint: 3, PlanarJoint: 4,
 }
-#: ABA: a pivot of a joint's articulated inertia at or below this times the largest inertia entry is singular
-SINGULAR_RTOL = 1e-14
 
 
 def _build(model: Model, core: Any) -> Any:
@@ -83,8 +84,8 @@ def _build(model: Model, core: Any) -> Any:
         np.array([np.asarray(f.placement.translation, dtype=np.float64) for f in frames]).reshape(-1),
     ]) if frames else np.zeros(0)
     return core.Model(nb, model.nq, model.nv, ints, np.ascontiguousarray(reals),
-                      np.ascontiguousarray(model.gravity, dtype=np.float64), SINGULAR_RTOL * scale, frame_body,
-                      np.ascontiguousarray(frame_reals))
+                      np.ascontiguousarray(model.gravity, dtype=np.float64), SINGULAR_PIVOT_RTOL * scale,
+                      QUATERNION_NORM.of(np.float64), frame_body, np.ascontiguousarray(frame_reals))
 
 
 class CoreHandle:

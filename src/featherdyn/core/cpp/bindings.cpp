@@ -405,13 +405,13 @@ RowStatus frame_jacobian_n(const ModelData& md, const In& q, int frame, int ref,
 }
 
 ModelData* make_model(int nb, int nq, int nv, const Ints& body_ints, const In& body_reals, const In& gravity,
-                      double singular_tol, const Ints& frame_body, const In& frame_reals) {
+                      double singular_tol, double quat_tol, const Ints& frame_body, const In& frame_reals) {
   const int nf = static_cast<int>(frame_body.size());
   const size_t n = nb < 0 ? 0 : static_cast<size_t>(nb);
   if (nb < 0 || body_ints.size() != 5 * n || body_reals.size() != BODY_REALS * n || gravity.size() != 3 ||
       frame_reals.size() != 12 * static_cast<size_t>(nf))
     throw nb::value_error("featherdyn.core: inconsistent model arrays");
-  return new ModelData(nb, nq, nv, nf, body_ints.data(), body_reals.data(), gravity.data(), singular_tol,
+  return new ModelData(nb, nq, nv, nf, body_ints.data(), body_reals.data(), gravity.data(), singular_tol, quat_tol,
                        frame_body.data(), frame_reals.data());
 }
 
@@ -426,7 +426,8 @@ NB_MODULE(_core, m) {
 
   nb::class_<ModelData>(m, "Model")
       .def(nb::new_(&make_model), nb::arg("nb"), nb::arg("nq"), nb::arg("nv"), nb::arg("body_ints"),
-           nb::arg("body_reals"), nb::arg("gravity"), nb::arg("singular_tol"), nb::arg("frame_body"),
+           nb::arg("body_reals"), nb::arg("gravity"), nb::arg("singular_tol"), nb::arg("quat_tol"),
+           nb::arg("frame_body"),
            nb::arg("frame_reals"))
       .def_prop_ro("nb", [](const ModelData& d) { return d.view.nb; })
       .def_prop_ro("nq", [](const ModelData& d) { return d.view.nq; })

@@ -23,9 +23,6 @@ inline std::int64_t make_status(std::int64_t code, std::int64_t arg, std::int64_
   return code | (arg << 3) | ((index < 0 ? 0 : index) << 8);
 }
 
-// A quaternion in q may be off unit norm by this much (the reference's QUAT_TOL for float64).
-constexpr double QUAT_TOL = 1e-6;
-
 // The index of the first non-finite x[k], or −1.
 inline std::int64_t first_nonfinite(const double* x, std::int64_t n) {
   for (std::int64_t k = 0; k < n; ++k)
@@ -33,7 +30,8 @@ inline std::int64_t first_nonfinite(const double* x, std::int64_t n) {
   return -1;
 }
 
-// The first body whose joint quaternion (spherical q_i, free-flyer q_i[3:7]) is off unit norm, or −1.
+// The first body whose joint quaternion (spherical q_i, free-flyer q_i[3:7]) is off unit norm by more
+// than mv.quat_tol (featherdyn.tolerances.QUATERNION_NORM for float64), or −1.
 inline int first_bad_quaternion(const ModelView& mv, const double* q) {
   for (int i = 0; i < mv.nb; ++i) {
     const double* quat;
@@ -44,7 +42,7 @@ inline int first_bad_quaternion(const ModelView& mv, const double* q) {
     else
       continue;
     const double norm = std::sqrt(quat[0] * quat[0] + quat[1] * quat[1] + quat[2] * quat[2] + quat[3] * quat[3]);
-    if (!(std::fabs(norm - 1.0) <= QUAT_TOL)) return i;
+    if (!(std::fabs(norm - 1.0) <= mv.quat_tol)) return i;
   }
   return -1;
 }

@@ -31,7 +31,8 @@ struct ModelView {
   const double* RK2 = nullptr;           // (nb, 9) row-major
   // per model
   const double* gravity = nullptr;       // (3,) in world coordinates
-  double singular_tol = 0.0;             // ABA: a pivot ≤ this is singular (1e-14 × largest inertia entry)
+  double singular_tol = 0.0;  // ABA: a pivot ≤ this is singular (SINGULAR_PIVOT_RTOL × the largest inertia entry)
+  double quat_tol = 0.0;      // a quaternion in q may be off unit norm by this much (QUATERNION_NORM)
   // per frame k
   const std::int32_t* frame_body = nullptr;  // (nf,) −1 = the world
   const double* frame_R = nullptr;           // (nf, 9) placement in the body
@@ -48,7 +49,8 @@ struct ModelData {
   ModelView view;
 
   ModelData(int nb, int nq, int nv, int nf, const std::int32_t* body_ints, const double* body_reals,
-            const double* gravity3, double singular_tol, const std::int32_t* frame_body, const double* frame_reals)
+            const double* gravity3, double singular_tol, double quat_tol, const std::int32_t* frame_body,
+            const double* frame_reals)
       : ints(5 * static_cast<size_t>(nb) + nf),
         reals(static_cast<size_t>(nb) * BODY_REALS + 3 + static_cast<size_t>(nf) * 12) {
     for (size_t k = 0; k < 5 * static_cast<size_t>(nb); ++k) ints[k] = body_ints[k];
@@ -82,6 +84,7 @@ struct ModelData {
     m.RK2 = R + 43 * nb;
     m.gravity = R + nbr;
     m.singular_tol = singular_tol;
+    m.quat_tol = quat_tol;
     m.frame_R = R + nbr + 3;
     m.frame_p = R + nbr + 3 + 9 * static_cast<size_t>(nf);
   }
