@@ -38,6 +38,7 @@ LAYER_OF: dict[str, str] = {
     "joints": "model",
     "model": "model",
     "results": "model",
+    "_state_checks": "model",
     "urdf": "model",
     "_urdf_xml": "model",
     "configuration": "model",

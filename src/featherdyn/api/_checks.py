@@ -1,132 +1,21 @@
-"""Input checks of the public functions (private).
+"""Checks of the public functions (private): the state checks, and results that must stay finite.
 
-Every public function checks its state here before either implementation
-sees it: ``q`` `(..., nq)` and each vector `(..., nv)` by trailing length,
-finiteness (:mod:`featherdyn._validation`), unit quaternions of spherical and
-free-flyer joints (:data:`featherdyn.tolerances.QUATERNION_NORM`), a common
-batch shape, and ``f_ext`` `(..., nb, 6)`.
+The state checks themselves (:func:`check_state`, :func:`check_f_ext`) live in
+the model layer (``featherdyn/_state_checks.py``) so that the compiled core can
+raise the same words; this module adds what only the public layer does.
 """
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable
-from dataclasses import dataclass
 from typing import Any, TypeVar
 
 import numpy as np
 
-from .._validation import as_array, numeric_value, result_dtype
-from ..errors import NonFiniteError, QuaternionNormError, ShapeError
-from ..joints import FreeFlyerJoint, SphericalJoint
-from ..model import Model
-from ..tolerances import QUATERNION_NORM
+from .._state_checks import State, batch_with_f_ext, check_f_ext, check_state
+from ..errors import NonFiniteError
 
 __all__ = ["State", "check_state", "check_f_ext", "batch_with_f_ext", "finite_result", "quiet"]
-
-
-@dataclass(frozen=True)
-class State:
-    """Validated inputs: arrays with a common batch shape and dtype."""
-
-    batch: tuple[int, ...]
-    dtype: np.dtype
-    q: np.ndarray
-    arrays: dict[str, np.ndarray]
-
-
-def check_state(model: Model, q: Any, check_finite: bool = True, optional: tuple[str, ...] = (),
-                **vectors: Any) -> State:
-    """Validate ``q`` `(..., nq)` and every named vector `(..., nv)`.
-
-    A vector named in ``optional`` may be ``None`` (it is then left out of
-    :attr:`State.arrays`); ``None`` for ``q`` or any other vector is a
-    :class:`ShapeError` naming the argument.
-
-    Raises :class:`ShapeError` naming the argument and the expected trailing
-    dimension, :class:`NonFiniteError`, or :class:`QuaternionNormError` naming
-    the joint whose quaternion is off unit norm by more than
-    :data:`featherdyn.tolerances.QUATERNION_NORM`.
-    """
-    if not isinstance(model, Model):
-        raise ShapeError(f"model: expected a featherdyn Model, got {type(model).__name__}")
-    qq = _vec(q, "q", model.nq, "nq", check_finite)
-    arrays = {}
-    for name, val in vectors.items():
-        if val is not None or name not in optional:
-            arrays[name] = _vec(val, name, model.nv, "nv", check_finite)
-    all_arrays = [qq, *arrays.values()]
-    batches = {a.shape[:-1] for a in all_arrays}
-    try:
-        batch = batches.pop() if len(batches) == 1 else np.broadcast_shapes(*(a.shape[:-1] for a in all_arrays))
-    except ValueError:
-        shapes = ", ".join(f"{n}: {a.shape}" for n, a in [("q", qq), *arrays.items()])
-        raise ShapeError(f"batch shapes do not broadcast ({shapes})") from None
-    dtype = result_dtype(*all_arrays)
-    _check_quaternions(model, qq if qq.dtype.kind != "O" else _numeric_part(qq))
-    return State(batch, dtype, qq, arrays)
-
-
-def _numeric_part(q: np.ndarray) -> np.ndarray:
-    """An object array's entries as floats, NaN where an entry is symbolic (unchecked)."""
-    return np.vectorize(lambda x: math.nan if (v := numeric_value(x)) is None else v, otypes=[np.float64])(q)
-
-
-def _vec(x: Any, name: str, n: int, what: str, check_finite: bool) -> np.ndarray:
-    if x is None:
-        raise ShapeError(f"{name}: expected an array of shape (..., {what}={n}), got None")
-    arr = as_array(x, name, check_finite=check_finite)
-    if arr.ndim == 0 or arr.shape[-1] != n:
-        raise ShapeError(f"{name}: expected trailing dimension {what}={n}, got shape {tuple(arr.shape)}")
-    return arr
-
-
-def _check_quaternions(model: Model, q: np.ndarray) -> None:
-    tol = QUATERNION_NORM.of(q.dtype)
-    for i, joint in enumerate(model.joints):
-        if isinstance(joint, SphericalJoint):
-            quat = q[..., model.idx_q[i] : model.idx_q[i] + 4]
-        elif isinstance(joint, FreeFlyerJoint):
-            quat = q[..., model.idx_q[i] + 3 : model.idx_q[i] + 7]
-        else:
-            continue
-        with np.errstate(over="ignore", invalid="ignore"):  # a huge entry: inf norm, refused below
-            err = np.abs(np.sqrt(np.sum(quat * quat, axis=-1)) - 1)
-        err = err[~np.isnan(err)]  # a symbolic quaternion (object arrays) is not checked
-        if np.any(err > tol):
-            worst = float(np.max(err))
-            raise QuaternionNormError(
-                f"q: the quaternion of joint {model.joint_names[i]!r} (q[{model.idx_q[i]}:{model.idx_q[i] + joint.nq}]) "
-                f"is off unit norm by {worst:.3g} > {tol:g}; featherdyn quaternions are (x, y, z, w) — "
-                "normalise with fd.normalize(model, q)"
-            )
-
-
-def check_f_ext(model: Model, f_ext: Any) -> np.ndarray | None:
-    """``f_ext`` as an array `(..., nb, 6)` of body-frame spatial forces ``[n; f]`` (``None`` stays ``None``)."""
-    if f_ext is None:
-        return None
-    arr = as_array(f_ext, "f_ext")
-    if arr.ndim < 2 or arr.shape[-2:] != (model.nbodies, 6):
-        raise ShapeError(
-            f"f_ext: expected shape (..., nb={model.nbodies}, 6) of body-frame spatial forces [n; f], "
-            f"got shape {tuple(arr.shape)}"
-        )
-    return arr
-
-
-def batch_with_f_ext(st: State, fx: np.ndarray | None) -> tuple[tuple[int, ...], np.dtype]:
-    """The batch shape and dtype of the state together with ``f_ext`` `(..., nb, 6)`."""
-    if fx is None:
-        return st.batch, st.dtype
-    try:
-        batch = np.broadcast_shapes(st.batch, fx.shape[:-2])
-    except ValueError:
-        raise ShapeError(
-            f"f_ext: batch shape {tuple(fx.shape[:-2])} (shape {tuple(fx.shape)}) does not broadcast with "
-            f"the batch shape {tuple(st.batch)} of the state"
-        ) from None
-    return batch, result_dtype(np.empty(0, st.dtype), fx)
 
 
 def finite_result(result: np.ndarray, what: str) -> np.ndarray:
