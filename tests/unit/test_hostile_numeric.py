@@ -124,6 +124,14 @@ def test_masked_entries_are_refused_and_unmasked_arrays_work(panda: fd.Model) ->
         fd.rnea(panda, masked, V, V)
     clear = np.ma.masked_array(Q, mask=False)
     np.testing.assert_array_equal(fd.rnea(panda, clear, V, V), fd.rnea(panda, Q, V, V))
+    # one state: the compiled core takes only exact ndarrays, so a masked entry is never read as data
+    one = np.ma.masked_array(Q[0], mask=np.zeros(panda.nq, dtype=bool))
+    one.mask[3] = True
+    for call in (lambda x: fd.rnea(panda, x, V[0], V[0]), lambda x: fd.crba(panda, x),
+                 lambda x: fd.aba(panda, x, V[0], V[0]), lambda x: fd.frame_jacobian(panda, x, 0),
+                 lambda x: fd.generalized_gravity(panda, x), lambda x: fd.frame_placement(panda, x, 0)):
+        with pytest.raises(DTypeError, match="q: masked entries"):
+            call(one)
 
 
 @pytest.mark.parametrize("name", ["v", "a"])

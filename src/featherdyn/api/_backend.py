@@ -35,6 +35,8 @@ __all__ = [
     "default_backend",
     "select_backend",
     "fast_path",
+    "core_path",
+    "CORE",
     "REFUSED",
     "OK",
     "ABA_OK",
@@ -105,6 +107,45 @@ def select_backend(backend: str | None, dtype: np.dtype) -> str:
                                "use backend='reference'")
         return "compiled"
     raise BackendError(f"backend: expected None, 'reference' or 'compiled', got {backend!r}")
+
+
+def _load_core() -> Any:
+    from ..core import _core
+
+    return _core
+
+
+#: the compiled core's extension module (``featherdyn.core._core``), or ``None`` when it is not built
+CORE: Any = _load_core()
+
+
+def core_path(model: Any, backend: str | None) -> Any:
+    """The compiled core's handle of ``model`` (``model._core``) when a one-state call may take it, else ``None``.
+
+    The one-state calls of ``fd.rnea``, ``fd.nonlinear_effects``,
+    ``fd.generalized_gravity``, ``fd.crba``, ``fd.aba``, ``fd.frame_jacobian``
+    and ``fd.frame_placement`` hand their arguments to the core's binding as
+    they are; it takes only native-endian, aligned, C-contiguous float64 arrays
+    of the exact lengths (exact ``numpy.ndarray``, so a masked array is never
+    read through its mask) and raises ``TypeError`` for anything else, or
+    returns a non-zero status for a bad state or a result that overflowed.
+    Either way the call goes on with its general path, which converts, checks
+    and words the error.
+    """
+    if backend is None and _FAST_ON:
+        try:
+            return model._core
+        except AttributeError:
+            if CORE is None or not isinstance(model, Model):
+                return None
+            from ..core import _view
+
+            try:
+                return _view(model)
+            except (TypeError, ValueError):  # symbolic (SymPy) model parameters: the core needs numbers
+                object.__setattr__(model, "_core", None)
+                return None
+    return None
 
 
 def fast_path(model: Any, backend: str | None) -> Any:

@@ -17,9 +17,8 @@ from ..algorithms import aba as _aba
 from ..algorithms import coriolis as _coriolis
 from ..algorithms import crba as _crba
 from ..algorithms import rnea as _rnea
-from ..errors import SingularMassMatrixError
 from ..model import Model
-from ._backend import ABA_OK, OK, REFUSED, fast_path, select_backend
+from ._backend import CORE, OK, core_path, select_backend
 from ._checks import State, batch_with_f_ext, check_f_ext, check_state, finite_result, quiet
 from .kinematics import kinematics_of
 
@@ -55,13 +54,13 @@ def rnea(model: Model, q: ArrayLike, v: ArrayLike, a: ArrayLike, f_ext: ArrayLik
 
         τ = M(q) q̈ + C(q, q̇) q̇ + g(q) − Σ_i J_iᵀ f_i^ext
     """
-    fast = fast_path(model, backend)
-    if fast is not None and f_ext is None:
-        tau = _EMPTY(fast.nv)
+    core = core_path(model, backend)
+    if core is not None:
+        tau = _EMPTY(core.nv)
         try:
-            if fast.rnea(fast.MD, q, v, a, gravity, tau) == OK:
+            if CORE.rnea(core.cm, q, v, a, f_ext, gravity, tau) == OK:
                 return tau
-        except fast.refusals:  # argument types the kernel cannot take: the general path
+        except TypeError:  # arguments the binding does not take as they are: the general path converts
             pass
     fx = check_f_ext(model, f_ext)
     st = check_state(model, q, v=v, a=a)
@@ -73,13 +72,13 @@ def nonlinear_effects(model: Model, q: ArrayLike, v: ArrayLike, *, backend: str 
 
         h(q, q̇) = C(q, q̇) q̇ + g(q) = RNEA(q, q̇, 0)
     """
-    fast = fast_path(model, backend)
-    if fast is not None:
-        h = _EMPTY(fast.nv)
+    core = core_path(model, backend)
+    if core is not None:
+        h = _EMPTY(core.nv)
         try:
-            if fast.nle(fast.MD, q, v, h) == OK:
+            if CORE.nle(core.cm, q, v, h) == OK:
                 return h
-        except fast.refusals:  # argument types the kernel cannot take: the general path
+        except TypeError:  # arguments the binding does not take as they are: the general path converts
             pass
     st = check_state(model, q, v=v)
     qd = st.arrays["v"]
@@ -91,13 +90,13 @@ def generalized_gravity(model: Model, q: ArrayLike, *, backend: str | None = Non
 
         g(q) = RNEA(q, 0, 0)
     """
-    fast = fast_path(model, backend)
-    if fast is not None:
-        g = _EMPTY(fast.nv)
+    core = core_path(model, backend)
+    if core is not None:
+        g = _EMPTY(core.nv)
         try:
-            if fast.gravity(fast.MD, q, g) == OK:
+            if CORE.gravity(core.cm, q, g) == OK:
                 return g
-        except fast.refusals:  # argument types the kernel cannot take: the general path
+        except TypeError:  # arguments the binding does not take as they are: the general path converts
             pass
     st = check_state(model, q)
     zero = np.zeros(st.q.shape[:-1] + (model.nv,), dtype=st.dtype)
@@ -111,13 +110,13 @@ def crba(model: Model, q: ArrayLike, *, backend: str | None = None) -> np.ndarra
 
         T = ½ q̇ᵀ M(q) q̇,    M_ij = S_iᵀ ⁱX_j^* I^C_j S_j   (j in the subtree of i)
     """
-    fast = fast_path(model, backend)
-    if fast is not None:
-        M = _EMPTY(fast.shape_M)
+    core = core_path(model, backend)
+    if core is not None:
+        M = _EMPTY((core.nv, core.nv))
         try:
-            if fast.crba(fast.MD, q, M) == OK:
+            if CORE.crba(core.cm, q, M) == OK:
                 return M
-        except fast.refusals:  # argument types the kernel cannot take: the general path
+        except TypeError:  # arguments the binding does not take as they are: the general path converts
             pass
     st = check_state(model, q)
     if select_backend(backend, st.dtype) == "compiled":
@@ -145,18 +144,14 @@ def aba(model: Model, q: ArrayLike, v: ArrayLike, tau: ArrayLike, f_ext: ArrayLi
     Raises:
         SingularMassMatrixError: naming the joint, when ``M(q)`` is singular.
     """
-    fast = fast_path(model, backend)
-    if fast is not None and f_ext is None:
-        qdd = _EMPTY(fast.nv)
+    core = core_path(model, backend)
+    if core is not None:
+        qdd = _EMPTY(core.nv)
         try:
-            status = fast.aba(fast.MD, q, v, tau, gravity, qdd)
-        except fast.refusals:  # argument types the kernel cannot take: the general path
-            status = REFUSED
-        if status == ABA_OK:
-            return qdd
-        if status >= 0:
-            raise SingularMassMatrixError(fast.singular[status])
-        # otherwise an invalid state or refused arguments: the general path words the error
+            if CORE.aba(core.cm, q, v, tau, f_ext, gravity, qdd, None) == OK:
+                return qdd
+        except TypeError:  # arguments the binding does not take as they are: the general path converts
+            pass
     fx = check_f_ext(model, f_ext)
     st = check_state(model, q, v=v, tau=tau)
     dtype = batch_with_f_ext(st, fx)[1]

@@ -20,7 +20,7 @@ from ..frames import LOCAL, LOCAL_WORLD_ALIGNED, WORLD, ReferenceFrame, as_refer
 from ..model import Model
 from ..results import Kinematics
 from ..spatial_algebra import PluckerTransform, SpatialMotion
-from ._backend import OK, fast_path, select_backend
+from ._backend import CORE, OK, core_path, fast_path, select_backend
 from ._checks import State, check_state, finite_result, quiet
 
 __all__ = [
@@ -109,16 +109,15 @@ def frame_placement(model: Model, q: ArrayLike, frame: str | int, *, backend: st
 
         ⁰M_f = ⁰M_body(f) · placement_f
     """
-    fast = fast_path(model, backend)
-    if fast is not None:
-        fid_ = fast.frames.get(frame, -1) if frame.__class__ is str else frame
-        if fid_.__class__ is int:
-            pose = _EMPTY(12)
-            try:
-                if fast.frame_placement(fast.MD, q, fid_, pose) == OK:
-                    return PluckerTransform._wrap(pose[:9].reshape(3, 3), pose[9:], None, None)
-            except fast.refusals:  # argument types the kernel cannot take: the general path
-                pass
+    core = core_path(model, backend)
+    if core is not None:
+        fid_ = core.frames.get(frame, -1) if frame.__class__ is str else frame
+        H = _EMPTY((4, 4))
+        try:
+            if CORE.frame_placement(core.cm, q, fid_, H) == OK:
+                return PluckerTransform._wrap(H[:3, :3], H[:3, 3], None, None)
+        except TypeError:  # arguments the binding does not take as they are: the general path converts
+            pass
     fid = _frame(model, frame)
     st = check_state(model, q)
     oMf = quiet(_kin.frame_pose, model, kinematics_of(model, st, None, None, backend), fid)
@@ -196,18 +195,18 @@ def frame_jacobian(model: Model, q: ArrayLike, frame: str | int, reference: Refe
 
         frame_velocity(model, q, v, frame, reference) = J v
     """
-    fast = fast_path(model, backend)
-    if fast is not None:
+    core = core_path(model, backend)
+    if core is not None:
         # identity tests: an Enum's __hash__ runs in Python, a dict lookup would cost more
         ref_code = (0 if reference is LOCAL else 1 if reference is WORLD
                     else 2 if reference is LOCAL_WORLD_ALIGNED else -1)
-        fid_ = fast.frames.get(frame, -1) if frame.__class__ is str else frame
-        if ref_code >= 0 and fid_.__class__ is int:
-            J_ = _EMPTY(fast.shape_J)
+        fid_ = core.frames.get(frame, -1) if frame.__class__ is str else frame
+        if ref_code >= 0:
+            J_ = _EMPTY((6, core.nv))
             try:
-                if fast.frame_jacobian(fast.MD, q, fid_, ref_code, J_) == OK:
+                if CORE.frame_jacobian(core.cm, q, fid_, ref_code, J_) == OK:
                     return J_
-            except fast.refusals:  # argument types the kernel cannot take: the general path
+            except TypeError:  # arguments the binding does not take as they are: the general path converts
                 pass
     fid, ref = _frame(model, frame), as_reference_frame(reference)
     st = check_state(model, q)

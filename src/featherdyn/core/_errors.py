@@ -63,6 +63,11 @@ def raise_for(status: int, model: Model, q: Any, vectors: Sequence[tuple[str, An
     if code == LENGTH:
         raise ShapeError(f"{name}: wrong length {index} for model {model.name!r} (nq={model.nq}, nv={model.nv}, "
                          f"nb={model.nbodies})")
+    if code == NONFINITE and name == "out":
+        raise NonFiniteError(
+            f"the result overflowed (a non-finite value at flat index {index}) although every input is finite: "
+            "the state or the model holds magnitudes whose products exceed float64's range (about 1.8e308)"
+        )
     if code == NONFINITE:
         raise NonFiniteError(f"{name}: expected finite numbers, got a non-finite value at flat index {index}")
     if code == QUATERNION:

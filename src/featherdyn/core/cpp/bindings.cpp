@@ -143,6 +143,13 @@ RowStatus for_rows(std::int64_t items, const F& body, std::int64_t group = 1) {
 // one state
 // ---------------------------------------------------------------------------
 
+// A result that finite input overflowed (products beyond float64's range): NONFINITE on the output,
+// so the caller words it instead of returning inf or NaN.
+inline std::int64_t finite_result(const double* x, std::int64_t n) {
+  const std::int64_t k = first_nonfinite(x, n);
+  return k < 0 ? OK : make_status(NONFINITE, ARG_OUT, k);
+}
+
 std::int64_t rnea1(const ModelData& md, const F64In& q, const F64In& v, const F64In& a, const F64In& f_ext,
                    bool gravity, const F64Out& tau) {
   const ModelView& mv = md.view;
@@ -154,7 +161,7 @@ std::int64_t rnea1(const ModelData& md, const F64In& q, const F64In& v, const F6
   const double* fx = f_ext.is_valid() ? f_ext.data() : nullptr;
   FD_TRY(check_state(mv, q.data(), v.data(), a.data(), fx));
   rnea(mv, q.data(), v.data(), a.data(), fx, gravity, tau.data());
-  return OK;
+  return finite_result(tau.data(), mv.nv);
 }
 
 std::int64_t nle1(const ModelData& md, const F64In& q, const F64In& v, const F64Out& h) {
@@ -164,7 +171,7 @@ std::int64_t nle1(const ModelData& md, const F64In& q, const F64In& v, const F64
   FD_TRY(exact_shape(h, {size_t(mv.nv)}));
   FD_TRY(check_state(mv, q.data(), v.data(), nullptr, nullptr));
   rnea<double>(mv, q.data(), v.data(), nullptr, nullptr, true, h.data());
-  return OK;
+  return finite_result(h.data(), mv.nv);
 }
 
 std::int64_t gravity1(const ModelData& md, const F64In& q, const F64Out& g) {
@@ -173,7 +180,7 @@ std::int64_t gravity1(const ModelData& md, const F64In& q, const F64Out& g) {
   FD_TRY(exact_shape(g, {size_t(mv.nv)}));
   FD_TRY(check_state(mv, q.data(), nullptr, nullptr, nullptr));
   rnea<double>(mv, q.data(), nullptr, nullptr, nullptr, true, g.data());
-  return OK;
+  return finite_result(g.data(), mv.nv);
 }
 
 std::int64_t crba1(const ModelData& md, const F64In& q, const F64Out& M) {
@@ -182,7 +189,7 @@ std::int64_t crba1(const ModelData& md, const F64In& q, const F64Out& M) {
   FD_TRY(exact_shape(M, {size_t(mv.nv), size_t(mv.nv)}));
   FD_TRY(check_state(mv, q.data(), nullptr, nullptr, nullptr));
   crba(mv, q.data(), M.data());
-  return OK;
+  return finite_result(M.data(), std::int64_t(mv.nv) * mv.nv);
 }
 
 // D_singular (36,) receives the singular joint's D_i (row stride 6) when the status is SINGULAR.
@@ -199,7 +206,7 @@ std::int64_t aba1(const ModelData& md, const F64In& q, const F64In& v, const F64
   FD_TRY(check_state(mv, q.data(), v.data(), tau.data(), fx));
   const int bad = aba(mv, q.data(), v.data(), tau.data(), fx, gravity, qdd.data(),
                       D_singular.is_valid() ? D_singular.data() : nullptr);
-  return bad < 0 ? OK : make_status(SINGULAR, ARG_Q, bad);
+  return bad < 0 ? finite_result(qdd.data(), mv.nv) : make_status(SINGULAR, ARG_Q, bad);
 }
 
 // H (nb, 4, 4); vel, acc (nb, 6) when v (and a) are given.
@@ -227,7 +234,7 @@ std::int64_t frame_placement1(const ModelData& md, const F64In& q, int frame, co
   FD_TRY(exact_shape(pose, {4, 4}));
   FD_TRY(check_state(mv, q.data(), nullptr, nullptr, nullptr));
   frame_placement(mv, q.data(), frame, pose.data());
-  return OK;
+  return finite_result(pose.data(), 16);
 }
 
 std::int64_t frame_jacobian1(const ModelData& md, const F64In& q, int frame, int ref, const F64Out& J) {
@@ -238,7 +245,7 @@ std::int64_t frame_jacobian1(const ModelData& md, const F64In& q, int frame, int
   FD_TRY(exact_shape(J, {6, size_t(mv.nv)}));
   FD_TRY(check_state(mv, q.data(), nullptr, nullptr, nullptr));
   frame_jacobian(mv, q.data(), frame, ref, J.data());
-  return OK;
+  return finite_result(J.data(), 6 * std::int64_t(mv.nv));
 }
 
 // RNEA on complex input (complex-step checks); no finiteness or quaternion checks.
