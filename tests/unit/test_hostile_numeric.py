@@ -129,7 +129,8 @@ def test_masked_entries_are_refused_and_unmasked_arrays_work(panda: fd.Model) ->
     one.mask[3] = True
     for call in (lambda x: fd.rnea(panda, x, V[0], V[0]), lambda x: fd.crba(panda, x),
                  lambda x: fd.aba(panda, x, V[0], V[0]), lambda x: fd.frame_jacobian(panda, x, 0),
-                 lambda x: fd.generalized_gravity(panda, x), lambda x: fd.frame_placement(panda, x, 0)):
+                 lambda x: fd.generalized_gravity(panda, x), lambda x: fd.frame_placement(panda, x, 0),
+                 lambda x: fd.forward_kinematics(panda, x), lambda x: fd.nonlinear_effects(panda, x, V[0])):
         with pytest.raises(DTypeError, match="q: masked entries"):
             call(one)
 

@@ -18,13 +18,14 @@ from ..algorithms import coriolis as _coriolis
 from ..algorithms import crba as _crba
 from ..algorithms import rnea as _rnea
 from ..model import Model
-from ._backend import CORE, OK, core_path, select_backend
+from ._backend import CORE, OK, core_path, fast_path, select_backend
 from ._checks import State, batch_with_f_ext, check_f_ext, check_state, finite_result, quiet
 from .kinematics import kinematics_of
 
 __all__ = ["rnea", "nonlinear_effects", "generalized_gravity", "crba", "aba", "coriolis_matrix"]
 
 _EMPTY = np.empty
+_NDARRAY = np.ndarray
 
 
 def _inverse_dynamics(model: Model, st: State, v: np.ndarray, a: np.ndarray, fx: np.ndarray | None, gravity: bool,
@@ -110,13 +111,15 @@ def crba(model: Model, q: ArrayLike, *, backend: str | None = None) -> np.ndarra
 
         T = ½ q̇ᵀ M(q) q̇,    M_ij = S_iᵀ ⁱX_j^* I^C_j S_j   (j in the subtree of i)
     """
-    core = core_path(model, backend)
-    if core is not None:
-        M = _EMPTY((core.nv, core.nv))
+    # the Numba engine's checked kernel: the C++ core's CRBA is still slower on large trees
+    # (talos_full_v2: 0.97 of Pinocchio against 0.61-0.75; benchmarks/results-core-2026-11-23.md)
+    fast = fast_path(model, backend)
+    if fast is not None and q.__class__ is _NDARRAY:  # Numba reads an ndarray subclass (a masked array) as plain
+        M = _EMPTY(fast.shape_M)
         try:
-            if CORE.crba(core.cm, q, M) == OK:
+            if fast.crba(fast.MD, q, M) == OK:
                 return M
-        except TypeError:  # arguments the binding does not take as they are: the general path converts
+        except fast.refusals:  # argument types the kernel cannot take: the general path
             pass
     st = check_state(model, q)
     if select_backend(backend, st.dtype) == "compiled":

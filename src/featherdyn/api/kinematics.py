@@ -36,6 +36,7 @@ __all__ = [
 ]
 
 _EMPTY = np.empty
+_NDARRAY = np.ndarray
 #: "not wanted" for the optional vectors of the checked FK kernel
 _NO_VECTOR = np.empty(0)
 _NO_BODIES = np.empty((0, 6))
@@ -94,7 +95,10 @@ def forward_kinematics(model: Model, q: ArrayLike, v: ArrayLike | None = None, a
             v_i = X_up[i] v_λ(i) + S_i q̇_i,   a_i = X_up[i] a_λ(i) + S_i q̈_i + v_i × S_i q̇_i
     """
     fast = fast_path(model, backend)
-    if fast is not None and (v is not None or a is None) and fast.fk is not None:
+    if (fast is not None and (v is not None or a is None) and fast.fk is not None
+            # Numba reads an ndarray subclass (a masked array) as a plain array: those take the general path
+            and q.__class__ is _NDARRAY and (v is None or v.__class__ is _NDARRAY)
+            and (a is None or a.__class__ is _NDARRAY)):
         kin = _fast_kinematics(fast, q, v, a)
         if kin is not None:
             return kin
