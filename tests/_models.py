@@ -229,3 +229,24 @@ def random_state(model: Model, seed: int, size: tuple[int, ...] = ()) -> State:
         tau=rng.normal(size=size + (model.nv,)) * 5,
         f_ext=rng.normal(size=size + (model.nbodies, 6)),
     )
+
+
+@functools.cache
+def library_robot(name: str, floating: bool) -> Model | None:
+    """A robot of the library (example-robot-data), fixed or floating, or ``None`` if it does not load."""
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        try:
+            return fd.load_robot(name, floating_base=floating)
+        except fd.FeatherdynError:
+            return None
+
+
+def library_robot_names() -> list[str]:
+    """The names of the library's robots (empty without example-robot-data)."""
+    try:
+        return list(fd.list_robots())
+    except fd.FeatherdynError:  # pragma: no cover - example-robot-data missing
+        return []

@@ -2,14 +2,13 @@
 
 from __future__ import annotations
 
-import functools
 import re
-import warnings
 
 import numpy as np
 import pytest
 
 import featherdyn as fd
+from tests._models import library_robot, library_robot_names
 
 #: core == reference to this, relative to the largest entry of the reference result
 RTOL = 1e-12
@@ -45,22 +44,8 @@ def assert_aba(actual: np.ndarray, expected: np.ndarray, M: np.ndarray, what: st
     assert err <= RTOL * scale, f"{what}: max |M (q̈ − q̈_ref)| = {err:.3g} > {RTOL:g} × |M| |q̈_ref| = {scale:.3g}"
 
 
-@functools.cache
-def robot(name: str, floating: bool) -> fd.Model | None:
-    """A library robot, or ``None`` if it does not load."""
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        try:
-            return fd.load_robot(name, floating_base=floating)
-        except fd.FeatherdynError:
-            return None
-
-
-def robots() -> list[str]:
-    try:
-        return list(fd.list_robots())
-    except fd.FeatherdynError:  # pragma: no cover - example-robot-data missing
-        return []
+robot = library_robot
+robots = library_robot_names
 
 
 def state(model: fd.Model, seed: int, size: tuple[int, ...] = ()) -> tuple[np.ndarray, ...]:

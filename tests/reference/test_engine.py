@@ -18,7 +18,6 @@ cost no compilation; speed is measured in ``benchmarks/``, never here.
 
 from __future__ import annotations
 
-import functools
 import os
 import subprocess
 import sys
@@ -32,6 +31,7 @@ from _models import TREES, random_state, tree
 
 import featherdyn as fd
 from featherdyn.errors import BackendError
+from tests._models import library_robot, library_robot_names
 
 RTOL = 1e-12  # relative to the largest entry of the reference result
 
@@ -65,21 +65,8 @@ def assert_rel(actual: np.ndarray, expected: np.ndarray, what: str, rtol: float 
         pytest.fail(f"{what}: max |engine − reference| = {err:.3g} > {rtol:g} × {scale:.3g} at index {idx}")
 
 
-@functools.cache
-def _robot(name: str, floating: bool) -> fd.Model | None:
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        try:
-            return fd.load_robot(name, floating_base=floating)
-        except fd.FeatherdynError:
-            return None
-
-
-def _robots() -> list[str]:
-    try:
-        return list(fd.list_robots())
-    except fd.FeatherdynError:  # pragma: no cover - example-robot-data missing
-        return []
+_robot = library_robot
+_robots = library_robot_names
 
 
 def _state(model: fd.Model, seed: int, size: tuple[int, ...] = ()) -> tuple[np.ndarray, ...]:
@@ -273,7 +260,7 @@ def test_dtype_routing() -> None:
 
 def test_backend_selection(monkeypatch: pytest.MonkeyPatch) -> None:
     from featherdyn.api._backend import select_backend
-    from featherdyn.engine import _dispatch, _fast
+    from featherdyn.engine import _dispatch
 
     f64, f32, obj = np.dtype(np.float64), np.dtype(np.float32), np.dtype(object)
     assert select_backend(None, f64) == "compiled"
