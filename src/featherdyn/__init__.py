@@ -31,12 +31,14 @@ from .api import (
     frame_placement,
     frame_velocity,
     generalized_gravity,
+    get_num_threads,
     joint_jacobians,
     kinetic_energy,
     nonlinear_effects,
     potential_energy,
     rnea,
     set_default_backend,
+    set_num_threads,
 )
 from .errors import (
     BackendError,
@@ -191,6 +193,8 @@ __all__ = [
     "rnea",
     "set_default_backend",
     "default_backend",
+    "set_num_threads",
+    "get_num_threads",
     "__version__",
     *_LAZY,
 ]

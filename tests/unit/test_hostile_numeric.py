@@ -209,3 +209,31 @@ def test_every_error_above_is_a_featherdyn_error() -> None:
     """The hierarchy the tests rely on: each error a caller catches is a FeatherdynError."""
     for cls in (DTypeError, NonFiniteError, ShapeError, ModelError, QuaternionNormError):
         assert issubclass(cls, FeatherdynError)
+
+
+# ---------------------------------------------------------------------------------------------
+# fd.set_num_threads: the batched calls' threads, checked argument
+# ---------------------------------------------------------------------------------------------
+
+
+def test_set_num_threads_sets_the_batched_calls_threads(panda: fd.Model) -> None:
+    import numba
+
+    rng = np.random.default_rng(3)
+    Q = fd.random_configuration(panda, rng, size=40)
+    V = rng.normal(size=(40, panda.nv))
+    expected = fd.rnea(panda, Q, V, V)
+    try:
+        fd.set_num_threads(1)
+        assert fd.get_num_threads() == 1 and numba.get_num_threads() == 1
+        np.testing.assert_array_equal(fd.rnea(panda, Q, V, V), expected)  # the lanes do not depend on threads
+    finally:
+        fd.set_num_threads(0)
+    assert fd.get_num_threads() >= 1
+    assert numba.get_num_threads() == numba.config.NUMBA_NUM_THREADS
+
+
+@pytest.mark.parametrize("bad", [1.5, "2", None, True, np.float64(2.0)])
+def test_set_num_threads_refuses_non_integers(bad: object) -> None:
+    with pytest.raises(DTypeError, match="n: expected an integer"):
+        fd.set_num_threads(bad)  # type: ignore[arg-type]

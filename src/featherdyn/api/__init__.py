@@ -15,7 +15,7 @@ from typing import TYPE_CHECKING
 from ..frames import LOCAL, LOCAL_WORLD_ALIGNED, WORLD, ReferenceFrame
 from ..model import Model
 from ..results import CenterOfMass, Kinematics
-from ._backend import default_backend, set_default_backend
+from ._backend import default_backend, get_num_threads, set_default_backend, set_num_threads
 from .dynamics import aba, coriolis_matrix, crba, generalized_gravity, nonlinear_effects, rnea
 from .energy import center_of_mass, centroidal_momentum, centroidal_momentum_matrix, kinetic_energy, potential_energy
 from .kinematics import (
@@ -61,6 +61,8 @@ __all__ = [
     "potential_energy",
     "rnea",
     "set_default_backend",
+    "set_num_threads",
+    "get_num_threads",
 ]
 
 

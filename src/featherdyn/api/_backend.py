@@ -37,6 +37,8 @@ __all__ = [
     "fast_path",
     "core_path",
     "CORE",
+    "set_num_threads",
+    "get_num_threads",
     "REFUSED",
     "OK",
     "ABA_OK",
@@ -165,3 +167,36 @@ def fast_path(model: Any, backend: str | None) -> Any:
 
             return attach(model)
     return None
+
+
+def set_num_threads(n: int) -> None:
+    """Threads of the batched calls: the compiled core's pool and the Numba engine's, the calling thread included.
+
+    ``n <= 0`` restores the default, every core available to the process.
+    Numba cannot use more threads than it started with (``NUMBA_NUM_THREADS``);
+    its count is capped there.
+
+    Raises:
+        DTypeError: ``n`` is not an integer.
+    """
+    from ..errors import DTypeError
+
+    if isinstance(n, bool) or not isinstance(n, (int, np.integer)):
+        raise DTypeError(f"n: expected an integer number of threads, got {type(n).__name__} {n!r}")
+    n = int(n)
+    if CORE is not None:
+        CORE.set_num_threads(n)
+    if _engine_available():
+        import numba
+
+        limit = int(numba.config.NUMBA_NUM_THREADS)  # type: ignore[attr-defined]
+        numba.set_num_threads(limit if n <= 0 else min(n, limit))
+
+
+def get_num_threads() -> int:
+    """The number of threads the batched calls use (the compiled core's pool; see :func:`set_num_threads`)."""
+    if CORE is not None:
+        return int(CORE.get_num_threads())
+    import os
+
+    return len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
