@@ -27,6 +27,7 @@ from typing import Any
 
 import numpy as np
 
+from ..core import _core
 from ..errors import BackendError
 from ..model import Model
 
@@ -39,22 +40,15 @@ __all__ = [
     "CORE",
     "set_num_threads",
     "get_num_threads",
-    "REFUSED",
     "OK",
-    "ABA_OK",
 ]
 
-#: the default backend: ``None`` (compiled for float64) or ``"reference"``
-_DEFAULT: list[str | None] = ["reference" if os.environ.get("FEATHERDYN_BACKEND") == "reference" else None]
-#: ``_DEFAULT[0] is None``, kept as a plain global: the fast path reads it on every call
-_FAST_ON = _DEFAULT[0] is None
+#: the default backend: ``None`` (compiled for float64) or ``"reference"``; a plain global, read on every call
+_DEFAULT: str | None = "reference" if os.environ.get("FEATHERDYN_BACKEND") == "reference" else None
 _BACKENDS = (None, "reference", "compiled")
 
-#: status of a checked kernel that computed its result (ABA: :data:`ABA_OK`; a joint index ``>= 0`` is singular)
+#: the status of a checked kernel (Numba) or of the core's binding that computed its result
 OK = 0
-ABA_OK = -1
-#: the status a call site records when the kernel refused its arguments
-REFUSED = -(1 << 30)
 
 
 def set_default_backend(backend: str | None) -> None:
@@ -70,14 +64,13 @@ def set_default_backend(backend: str | None) -> None:
     """
     if backend not in _BACKENDS:
         raise BackendError(f"backend: expected None, 'reference' or 'compiled', got {backend!r}")
-    global _FAST_ON
-    _DEFAULT[0] = None if backend == "compiled" else backend
-    _FAST_ON = _DEFAULT[0] is None
+    global _DEFAULT
+    _DEFAULT = None if backend == "compiled" else backend
 
 
 def default_backend() -> str | None:
     """The default set by :func:`set_default_backend` (``None``: the compiled engine for float64 input)."""
-    return _DEFAULT[0]
+    return _DEFAULT
 
 
 def _engine_available() -> bool:
@@ -98,7 +91,7 @@ def select_backend(backend: str | None, dtype: np.dtype) -> str:
         BackendError: an unknown name, or ``"compiled"`` without the engine.
     """
     if backend is None:
-        if dtype == np.float64 and _DEFAULT[0] is None and _engine_available():
+        if dtype == np.float64 and _DEFAULT is None and _engine_available():
             return "compiled"
         return "reference"
     if backend == "reference":
@@ -111,22 +104,16 @@ def select_backend(backend: str | None, dtype: np.dtype) -> str:
     raise BackendError(f"backend: expected None, 'reference' or 'compiled', got {backend!r}")
 
 
-def _load_core() -> Any:
-    from ..core import _core
-
-    return _core
-
-
 #: the compiled core's extension module (``featherdyn.core._core``), or ``None`` when it is not built
-CORE: Any = _load_core()
+CORE: Any = _core
 
 
 def core_path(model: Any, backend: str | None) -> Any:
     """The compiled core's handle of ``model`` (``model._core``) when a one-state call may take it, else ``None``.
 
     The one-state calls of ``fd.rnea``, ``fd.nonlinear_effects``,
-    ``fd.generalized_gravity``, ``fd.crba``, ``fd.aba``, ``fd.frame_jacobian``
-    and ``fd.frame_placement`` hand their arguments to the core's binding as
+    ``fd.generalized_gravity``, ``fd.aba``, ``fd.frame_jacobian`` and
+    ``fd.frame_placement`` hand their arguments to the core's binding as
     they are; it takes only native-endian, aligned, C-contiguous float64 arrays
     of the exact lengths (exact ``numpy.ndarray``, so a masked array is never
     read through its mask) and raises ``TypeError`` for anything else, or
@@ -134,7 +121,7 @@ def core_path(model: Any, backend: str | None) -> Any:
     Either way the call goes on with its general path, which converts, checks
     and words the error.
     """
-    if backend is None and _FAST_ON:
+    if backend is None and _DEFAULT is None:
         try:
             return model._core
         except AttributeError:
@@ -157,7 +144,7 @@ def fast_path(model: Any, backend: str | None) -> Any:
     given, ``model`` is not a :class:`~featherdyn.Model`, or the engine is not
     available. Made on first use and kept on the model.
     """
-    if backend is None and _FAST_ON:
+    if backend is None and _DEFAULT is None:
         try:
             return model._fast
         except AttributeError:

@@ -10,11 +10,15 @@ one-state result; plus the gathering and scattering of a block's inputs and outp
 from __future__ import annotations
 
 import math
-from typing import Any
 
 import numpy as np
 from numba import njit
 
+# ---------------------------------------------------------------------------
+# helpers: the scalar helpers of _kernels over lane rows, operation by operation
+# ---------------------------------------------------------------------------
+# the one-state kernels' compile options (no fastmath, no FMA contraction; helpers inlined at the IR level)
+from ._flat_spatial import _IJIT
 from ._lane_vector import LANES, _ld, _line_offset, _st, _v
 from ._layout import (
     AX,
@@ -35,15 +39,6 @@ from ._layout import (
     XP,
     XR,
 )
-
-# ---------------------------------------------------------------------------
-# helpers: the scalar helpers of _kernels over lane rows, operation by operation
-# ---------------------------------------------------------------------------
-
-# no fastmath, no FMA contraction (see _kernels); helpers are inlined at the Numba IR level
-_JIT: dict[str, Any] = {"cache": True, "nogil": True, "error_model": "numpy", "_nrt": False}
-_IJIT: dict[str, Any] = {**_JIT, "inline": "always"}
-_PJIT: dict[str, Any] = {"cache": True, "nogil": True, "error_model": "numpy", "parallel": True}
 
 
 @njit(**_IJIT)

@@ -50,11 +50,9 @@ from __future__ import annotations
 import numpy as np
 from numba import njit, prange
 
+from ._flat_spatial import _IJIT, _JIT, _PJIT
 from ._kernels import _chunks
 from ._lane_helpers import (
-    _IJIT,
-    _JIT,
-    _PJIT,
     _aligned_empty,
     _compose,
     _cross_force_add,
