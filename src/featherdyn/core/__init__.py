@@ -51,6 +51,7 @@ __all__ = [
     "crba",
     "aba",
     "fk",
+    "kinematics",
     "frame_placement",
     "frame_jacobian",
     "rnea_complex",
@@ -429,7 +430,7 @@ def fk(model: Model, q: Any, v: Any = None, a: Any = None, out: Any = None) -> A
         try:
             h = model._core
             H = _empty((h.nb, 4, 4)) if out is None else out
-            if _core.fk(h.cm, q, None, None, H, None, None) == 0:
+            if _core.fk(h.cm, q, None, None, H, None, None, None) == 0:
                 return H
         except (AttributeError, TypeError):
             pass
@@ -446,12 +447,50 @@ def fk(model: Model, q: Any, v: Any = None, a: Any = None, out: Any = None) -> A
     H = _out(out, (h.nb, 4, 4))
     vel = None if v is None else np.empty((h.nb, 6))
     acc = None if a is None else np.empty((h.nb, 6))
-    s = _core.fk(h.cm, q_, v_, a_, H, vel, acc)
+    s = _core.fk(h.cm, q_, v_, a_, H, None, vel, acc)
     if s:
         _errors.raise_for(s, model, q, [("v", v), ("a", a)])
     if v is None:
         return H
     return (H, vel) if a is None else (H, vel, acc)
+
+
+def kinematics(model: Model, q: Any, v: Any = None,
+               a: Any = None) -> tuple[np.ndarray, np.ndarray, np.ndarray | None, np.ndarray | None]:
+    """Every body's world placement, placement in its parent, velocity and acceleration, any batch shape.
+
+    Returns ``(⁰M, ᵖM, vel, acc)``: `(..., nb, 4, 4)` twice, then `(..., nb, 6)` body-frame
+    velocities (``None`` without ``v``) and spatial accelerations without gravity (``None``
+    without ``a``; ``a`` needs ``v``)::
+
+        ᵖM_i = Xtree_i · M_J(q_i),   ⁰M_i = ⁰M_λ(i) · ᵖM_i
+        v_i = X_up[i] v_λ(i) + S_i q̇_i,   a_i = X_up[i] a_λ(i) + S_i q̈_i + v_i × S_i q̇_i
+    """
+    h = _view(model)
+    if a is not None and v is None:
+        raise ShapeError("a: joint accelerations need joint velocities v as well")
+    q_ = _f64(q, "q")
+    v_ = None if v is None else _f64(v, "v")
+    a_ = None if a is None else _f64(a, "a")
+    vectors = [(name, x) for name, x in (("v", v), ("a", a)) if x is not None]
+    parts = [(x, 1) for x in (q_, v_, a_) if x is not None]
+    batch = _batch_shape(model, parts, q, vectors, None)
+    nb = h.nb
+    H, Hp = np.empty(batch + (nb, 4, 4)), np.empty(batch + (nb, 4, 4))
+    vel = None if v_ is None else np.empty(batch + (nb, 6))
+    acc = None if a_ is None else np.empty(batch + (nb, 6))
+    if batch == ():
+        s = _core.fk(h.cm, q_, v_, a_, H, Hp, vel, acc)
+        if s:
+            _errors.raise_for(s, model, q, vectors)
+        return H, Hp, vel, acc
+    N = math.prod(batch)
+    st = _core.kinematics_batch(
+        h.cm, _rows(q_, batch, (h.nq,)), _rows(v_, batch, (h.nv,)), _rows(a_, batch, (h.nv,)),
+        H.reshape(N, 16 * nb), Hp.reshape(N, 16 * nb), None if vel is None else vel.reshape(N, 6 * nb),
+        None if acc is None else acc.reshape(N, 6 * nb))
+    _check_batch(st, model, q, vectors)
+    return H, Hp, vel, acc
 
 
 def fk_batch(model: Model, q: Any, out: Any = None) -> np.ndarray:

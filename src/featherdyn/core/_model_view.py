@@ -15,7 +15,8 @@ per model gravity `(3,)`, the ABA singularity tolerance
 ``tolerances.SINGULAR_PIVOT_RTOL ×`` the largest entry of any body's spatial inertia matrix
 (the reference's rule, ``algorithms/aba.py``) and the float64 unit-quaternion tolerance
 ``tolerances.QUATERNION_NORM``; per frame
-its body (int32, ``-1`` = world) and placement (rotation `(nf, 9)`, then translation `(nf, 3)`).
+its body (int32, ``-1`` = world) and placement (rotation `(nf, 9)`, then translation `(nf, 3)`);
+per degree of freedom the armature ``model.armature`` `(nv,)` (zero when the model has none).
 """
 
 from __future__ import annotations
@@ -83,9 +84,11 @@ def _build(model: Model, core: Any) -> Any:
         np.array([np.asarray(f.placement.rotation, dtype=np.float64).reshape(9) for f in frames]).reshape(-1),
         np.array([np.asarray(f.placement.translation, dtype=np.float64) for f in frames]).reshape(-1),
     ]) if frames else np.zeros(0)
+    armature = getattr(model, "armature", None)
+    armature = np.zeros(model.nv) if armature is None else np.array(armature, dtype=np.float64).reshape(model.nv)
     return core.Model(nb, model.nq, model.nv, ints, np.ascontiguousarray(reals),
                       np.ascontiguousarray(model.gravity, dtype=np.float64), SINGULAR_PIVOT_RTOL * scale,
-                      QUATERNION_NORM.of(np.float64), frame_body, np.ascontiguousarray(frame_reals))
+                      QUATERNION_NORM.of(np.float64), frame_body, np.ascontiguousarray(frame_reals), armature)
 
 
 class CoreHandle:

@@ -3,7 +3,7 @@
 //
 //   pass 1 (i = 0 … nb−1):  v_i = X_up[i] v_λ(i) + S_i q̇_i,   c_i = v_i × S_i q̇_i
 //                           I^A_i = I_i,   p^A_i = v_i ×* I_i v_i − f_i^ext
-//   pass 2 (i = nb−1 … 0):  U_i = I^A_i S_i,   D_i = S_iᵀ U_i,   u_i = τ_i − S_iᵀ p^A_i
+//   pass 2 (i = nb−1 … 0):  U_i = I^A_i S_i,   D_i = S_iᵀ U_i + diag(armature_i),   u_i = τ_i − S_iᵀ p^A_i
 //                           I^a = I^A_i − U_i D_i⁻¹ U_iᵀ,   p^a = p^A_i + I^a c_i + U_i D_i⁻¹ u_i
 //                           I^A_λ(i) += X_up[i]ᵀ I^a X_up[i],   p^A_λ(i) += X_up[i]ᵀ p^a
 //   pass 3 (i = 0 … nb−1):  a' = X_up[i] a_λ(i) + c_i
@@ -135,6 +135,8 @@ int aba(const ModelView& mv, const S* q, const S* qd, const S* tau, const S* f_e
       St_times(mv, i, U[col], Sr_U);
       for (int r = 0; r < k; ++r) D[6 * r + col] = Sr_U[r];
     }
+    if (mv.armature)  // D_i = S_iᵀ IA_i S_i + diag(armature_i)
+      for (int r = 0; r < k; ++r) D[7 * r] += S(mv.armature[mv.idx_v[i] + r]);
     St_times(mv, i, pA[i], u);
     for (int r = 0; r < k; ++r) u[r] = tau[mv.idx_v[i] + r] - u[r];
     if (!spd_inverse(D, k, Dinv, mv.singular_tol)) {

@@ -209,22 +209,24 @@ std::int64_t aba1(const ModelData& md, const F64In& q, const F64In& v, const F64
   return bad < 0 ? finite_result(qdd.data(), mv.nv) : make_status(SINGULAR, ARG_Q, bad);
 }
 
-// H (nb, 4, 4); vel, acc (nb, 6) when v (and a) are given.
+// H (nb, 4, 4); Hp (nb, 4, 4) when given; vel, acc (nb, 6) when v (and a) are given.
 std::int64_t fk1(const ModelData& md, const F64In& q, const F64In& v, const F64In& a, const F64Out& H,
-                 const F64Out& vel, const F64Out& acc) {
+                 const F64Out& Hp, const F64Out& vel, const F64Out& acc) {
   const ModelView& mv = md.view;
   FD_TRY(vec(q, mv.nq, ARG_Q));
   if (v.is_valid()) FD_TRY(vec(v, mv.nv, ARG_V));
   if (a.is_valid()) FD_TRY(vec(a, mv.nv, ARG_A));
   if (a.is_valid() && !v.is_valid()) return make_status(LENGTH, ARG_V, -1);
   FD_TRY(exact_shape(H, {size_t(mv.nb), 4, 4}));
+  if (Hp.is_valid()) FD_TRY(exact_shape(Hp, {size_t(mv.nb), 4, 4}));
   if (v.is_valid()) FD_TRY(exact_shape(vel, {size_t(mv.nb), 6}));
   if (a.is_valid()) FD_TRY(exact_shape(acc, {size_t(mv.nb), 6}));
   const double* vp = v.is_valid() ? v.data() : nullptr;
   const double* ap = a.is_valid() ? a.data() : nullptr;
   FD_TRY(check_state(mv, q.data(), vp, ap, nullptr));
-  forward_kinematics(mv, q.data(), vp, ap, H.data(), vp ? vel.data() : nullptr, ap ? acc.data() : nullptr);
-  return OK;
+  forward_kinematics(mv, q.data(), vp, ap, H.data(), vp ? vel.data() : nullptr, ap ? acc.data() : nullptr,
+                     Hp.is_valid() ? Hp.data() : nullptr);
+  return finite_result(H.data(), 16 * std::int64_t(mv.nb));
 }
 
 std::int64_t frame_placement1(const ModelData& md, const F64In& q, int frame, const F64Out& pose) {
@@ -379,6 +381,40 @@ RowStatus fk_n(const ModelData& md, const In& q, Out H) {
       group_kernels().fk, {&mv, Q, {}, {}, {}, true, out, n});
 }
 
+// Placements H, parent placements Hp (N, nb, 4, 4), velocities VEL and accelerations ACC (N, nb, 6)
+// when V (and A) are given: row by row with the double instantiation, on the pool.
+RowStatus kinematics_n(const ModelData& md, const In& q, const In& v, const In& a, Out H, Out Hp, Out vel,
+                       Out acc) {
+  const ModelView& mv = md.view;
+  std::int64_t N = 0, N2 = 0;
+  Rows Q, V, A;
+  const std::int64_t n = 16 * static_cast<std::int64_t>(mv.nb), m = 6 * static_cast<std::int64_t>(mv.nb);
+  FD_TRY_ROWS(out_rows(H, n, N));
+  FD_TRY_ROWS(out_rows(Hp, n, N2));
+  if (N2 != N) return {-1, make_status(LENGTH, ARG_OUT, N2)};
+  FD_TRY_ROWS(rows(q, N, mv.nq, ARG_Q, Q));
+  FD_TRY_ROWS(rows(v, N, mv.nv, ARG_V, V));
+  FD_TRY_ROWS(rows(a, N, mv.nv, ARG_A, A));
+  if (a.is_valid() && !v.is_valid()) return {-1, make_status(LENGTH, ARG_V, -1)};
+  if (v.is_valid()) {
+    FD_TRY_ROWS(out_rows(vel, m, N2));
+    if (N2 != N) return {-1, make_status(LENGTH, ARG_OUT, N2)};
+  }
+  if (a.is_valid()) {
+    FD_TRY_ROWS(out_rows(acc, m, N2));
+    if (N2 != N) return {-1, make_status(LENGTH, ARG_OUT, N2)};
+  }
+  double *oH = H.data(), *oHp = Hp.data();
+  double* oV = v.is_valid() ? vel.data() : nullptr;
+  double* oA = a.is_valid() ? acc.data() : nullptr;
+  return for_rows(N, [&](std::int64_t r) -> std::int64_t {
+    FD_TRY(check_state(mv, Q.row(r), V.row(r), A.row(r), nullptr));
+    forward_kinematics(mv, Q.row(r), V.row(r), A.row(r), oH + r * n, oV ? oV + r * m : nullptr,
+                       oA ? oA + r * m : nullptr, oHp + r * n);
+    return finite_result(oH + r * n, n);
+  });
+}
+
 RowStatus frame_placement_n(const ModelData& md, const In& q, int frame, Out pose) {
   const ModelView& mv = md.view;
   std::int64_t N = 0;
@@ -412,14 +448,15 @@ RowStatus frame_jacobian_n(const ModelData& md, const In& q, int frame, int ref,
 }
 
 ModelData* make_model(int nb, int nq, int nv, const Ints& body_ints, const In& body_reals, const In& gravity,
-                      double singular_tol, double quat_tol, const Ints& frame_body, const In& frame_reals) {
+                      double singular_tol, double quat_tol, const Ints& frame_body, const In& frame_reals,
+                      const In& armature) {
   const int nf = static_cast<int>(frame_body.size());
   const size_t n = nb < 0 ? 0 : static_cast<size_t>(nb);
   if (nb < 0 || body_ints.size() != 5 * n || body_reals.size() != BODY_REALS * n || gravity.size() != 3 ||
-      frame_reals.size() != 12 * static_cast<size_t>(nf))
+      frame_reals.size() != 12 * static_cast<size_t>(nf) || nv < 0 || armature.size() != static_cast<size_t>(nv))
     throw nb::value_error("featherdyn.core: inconsistent model arrays");
   return new ModelData(nb, nq, nv, nf, body_ints.data(), body_reals.data(), gravity.data(), singular_tol, quat_tol,
-                       frame_body.data(), frame_reals.data());
+                       frame_body.data(), frame_reals.data(), armature.data());
 }
 
 }  // namespace
@@ -434,8 +471,7 @@ NB_MODULE(_core, m) {
   nb::class_<ModelData>(m, "Model")
       .def(nb::new_(&make_model), nb::arg("nb"), nb::arg("nq"), nb::arg("nv"), nb::arg("body_ints"),
            nb::arg("body_reals"), nb::arg("gravity"), nb::arg("singular_tol"), nb::arg("quat_tol"),
-           nb::arg("frame_body"),
-           nb::arg("frame_reals"))
+           nb::arg("frame_body"), nb::arg("frame_reals"), nb::arg("armature"))
       .def_prop_ro("nb", [](const ModelData& d) { return d.view.nb; })
       .def_prop_ro("nq", [](const ModelData& d) { return d.view.nq; })
       .def_prop_ro("nv", [](const ModelData& d) { return d.view.nv; })
@@ -451,7 +487,7 @@ NB_MODULE(_core, m) {
   m.def("crba", &crba1, nb::arg("model"), A("q"), A("out"));
   m.def("aba", &aba1, nb::arg("model"), A("q"), A("v"), A("tau"), O("f_ext"), nb::arg("gravity"), A("out"),
         O("D_singular"));
-  m.def("fk", &fk1, nb::arg("model"), A("q"), O("v"), O("a"), A("H"), O("vel"), O("acc"));
+  m.def("fk", &fk1, nb::arg("model"), A("q"), O("v"), O("a"), A("H"), O("Hp"), O("vel"), O("acc"));
   m.def("frame_placement", &frame_placement1, nb::arg("model"), A("q"), nb::arg("frame"), A("out"));
   m.def("frame_jacobian", &frame_jacobian1, nb::arg("model"), A("q"), nb::arg("frame"), nb::arg("reference"),
         A("out"));
@@ -462,6 +498,8 @@ NB_MODULE(_core, m) {
   m.def("crba_batch", &crba_n, nb::arg("model"), A("q"), A("out"));
   m.def("aba_batch", &aba_n, nb::arg("model"), A("q"), A("v"), A("tau"), O("f_ext"), nb::arg("gravity"), A("out"));
   m.def("fk_batch", &fk_n, nb::arg("model"), A("q"), A("out"));
+  m.def("kinematics_batch", &kinematics_n, nb::arg("model"), A("q"), O("v"), O("a"), A("H"), A("Hp"), O("vel"),
+        O("acc"));
   m.def("frame_placement_batch", &frame_placement_n, nb::arg("model"), A("q"), nb::arg("frame"), A("out"));
   m.def("frame_jacobian_batch", &frame_jacobian_n, nb::arg("model"), A("q"), nb::arg("frame"),
         nb::arg("reference"), A("out"));

@@ -4,6 +4,7 @@
 //     I^C_i = I_i + Σ_{children j} X_up[j]ᵀ I^C_j X_up[j]      (i = nb−1 … 0)
 //     F = I^C_i S_i,   M_ii = S_iᵀ F
 //     j = i;  while λ(j) ≠ −1:  F = X_up[j]ᵀ F;  j = λ(j);  M_ji = S_jᵀ F;  M_ij = M_jiᵀ
+//     M += diag(armature)                                   (reflected rotor inertia)
 #pragma once
 
 #include "rnea.hpp"
@@ -44,6 +45,7 @@ void crba(const ModelView& mv, const S* q, S* M) {
     for (int c = 0; c < ki; ++c) {  // M_ii = S_iᵀ I^C_i S_i: the upper triangle, mirrored
       St_times(mv, i, F[c], col);
       for (int r = 0; r <= c; ++r) M[(iv + r) * nv + iv + c] = M[(iv + c) * nv + iv + r] = col[r];
+      if (mv.armature) M[(iv + c) * nv + iv + c] += S(mv.armature[iv + c]);
     }
     int j = i;
     while (mv.parent[j] != -1) {

@@ -10,8 +10,9 @@
 
 namespace fdcore {
 
-// World placements ⁰M_i as homogeneous matrices H (nb, 4, 4); body velocities vel and
-// accelerations acc (nb, 6) in body coordinates when qd (and qdd) are given (else nullptr).
+// World placements ⁰M_i as homogeneous matrices H (nb, 4, 4); placements in the parent body
+// ᵖM_i (nb, 4, 4) when Hp is given; body velocities vel and accelerations acc (nb, 6) in body
+// coordinates when qd (and qdd) are given (else nullptr).
 template <class S>
 struct FkWork {
   std::vector<Mat3<S>> oR;
@@ -22,8 +23,22 @@ struct FkWork {
   }
 };
 
+// [[R, p], [0, 1]] row-major into H (16,)
 template <class S>
-void forward_kinematics(const ModelView& mv, const S* q, const S* qd, const S* qdd, S* H, S* vel, S* acc) {
+inline void write_homogeneous(const Mat3<S>& R, const Vec3<S>& p, S* H) {
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) H[4 * r + c] = R(r, c);
+  }
+  H[3] = p.x;
+  H[7] = p.y;
+  H[11] = p.z;
+  H[12] = H[13] = H[14] = S(0.0);
+  H[15] = S(1.0);
+}
+
+template <class S>
+void forward_kinematics(const ModelView& mv, const S* q, const S* qd, const S* qdd, S* H, S* vel, S* acc,
+                        S* Hp = nullptr) {
   const int nb = mv.nb;
   FkWork<S>& w = thread_workspace<FkWork<S>>(nb);
   Mat3<S>* oR = w.oR.data();
@@ -42,15 +57,8 @@ void forward_kinematics(const ModelView& mv, const S* q, const S* qd, const S* q
       oR[i] = oR[lam] * R;
       op[i] = op[lam] + oR[lam] * p;
     }
-    S* Hi = H + 16 * i;
-    for (int r = 0; r < 3; ++r) {
-      for (int c = 0; c < 3; ++c) Hi[4 * r + c] = oR[i](r, c);
-    }
-    Hi[3] = op[i].x;
-    Hi[7] = op[i].y;
-    Hi[11] = op[i].z;
-    Hi[12] = Hi[13] = Hi[14] = S(0.0);
-    Hi[15] = S(1.0);
+    write_homogeneous(oR[i], op[i], H + 16 * i);
+    if (Hp) write_homogeneous(R, p, Hp + 16 * i);
     if (qd == nullptr) continue;
     const Xform<S> X_up{R.transpose(), p};
     const Motion<S> vJ = S_times(mv, i, qd);

@@ -37,6 +37,8 @@ struct ModelView {
   const std::int32_t* frame_body = nullptr;  // (nf,) −1 = the world
   const double* frame_R = nullptr;           // (nf, 9) placement in the body
   const double* frame_p = nullptr;           // (nf, 3)
+  // per degree of freedom
+  const double* armature = nullptr;  // (nv,) reflected rotor inertia added to M's diagonal; nullptr when all zero
 };
 
 // Reals per body in ModelData::reals.
@@ -45,20 +47,27 @@ constexpr size_t BODY_REALS = 52;
 // The storage behind a ModelView (owned by the Python object featherdyn.core._core.Model).
 struct ModelData {
   std::vector<std::int32_t> ints;  // parent, jtype, idx_q, idx_v, nv_i (nb each), frame_body (nf)
-  std::vector<double> reals;       // Xtree_R, Xtree_p, mass, h, Ibar, axis, basis, RK, RK2, gravity, frame_R, frame_p
+  std::vector<double> reals;       // Xtree_R, Xtree_p, mass, h, Ibar, axis, basis, RK, RK2, gravity, frame_R, frame_p,
+                                   // armature
   ModelView view;
 
   ModelData(int nb, int nq, int nv, int nf, const std::int32_t* body_ints, const double* body_reals,
             const double* gravity3, double singular_tol, double quat_tol, const std::int32_t* frame_body,
-            const double* frame_reals)
+            const double* frame_reals, const double* armature)
       : ints(5 * static_cast<size_t>(nb) + nf),
-        reals(static_cast<size_t>(nb) * BODY_REALS + 3 + static_cast<size_t>(nf) * 12) {
+        reals(static_cast<size_t>(nb) * BODY_REALS + 3 + static_cast<size_t>(nf) * 12 + static_cast<size_t>(nv)) {
     for (size_t k = 0; k < 5 * static_cast<size_t>(nb); ++k) ints[k] = body_ints[k];
     for (int k = 0; k < nf; ++k) ints[5 * static_cast<size_t>(nb) + k] = frame_body[k];
     const size_t nbr = static_cast<size_t>(nb) * BODY_REALS;
     for (size_t k = 0; k < nbr; ++k) reals[k] = body_reals[k];
     for (int k = 0; k < 3; ++k) reals[nbr + k] = gravity3[k];
     for (size_t k = 0; k < static_cast<size_t>(nf) * 12; ++k) reals[nbr + 3 + k] = frame_reals[k];
+    const size_t arm = nbr + 3 + static_cast<size_t>(nf) * 12;
+    bool any_armature = false;
+    for (int k = 0; k < nv; ++k) {
+      reals[arm + k] = armature[k];
+      any_armature = any_armature || armature[k] != 0.0;
+    }
     ModelView& m = view;
     m.nb = nb;
     m.nq = nq;
@@ -87,6 +96,7 @@ struct ModelData {
     m.quat_tol = quat_tol;
     m.frame_R = R + nbr + 3;
     m.frame_p = R + nbr + 3 + 9 * static_cast<size_t>(nf);
+    m.armature = any_armature ? R + arm : nullptr;
   }
 };
 

@@ -5,6 +5,7 @@
 //     a_i = X_up[i] a_λ(i) + S_i q̈_i + v_i × S_i q̇_i
 //     f_i = I_i a_i + v_i ×* I_i v_i − f_i^ext
 //     τ_i = S_iᵀ f_i,        f_λ(i) += X_up[i]ᵀ f_i      (i = nb−1 … 0)
+//     τ += armature ∘ q̈                                   (reflected rotor inertia)
 #pragma once
 
 #include "joints.hpp"
@@ -73,6 +74,8 @@ void rnea(const ModelView& mv, const S* q, const S* qd, const S* qdd, const S* f
     St_times(mv, i, f[i], tau + mv.idx_v[i]);
     if (lam != -1) f[lam] += X_up[i].apply_transpose(f[i]);
   }
+  if (mv.armature && qdd)
+    for (int k = 0; k < mv.nv; ++k) tau[k] += S(mv.armature[k]) * qdd[k];
 }
 
 }  // namespace fdcore
