@@ -89,26 +89,26 @@ check("finite differences ≈ analytic ∂τ/∂q", finite_differences(), dtau_d
 check("∂τ/∂a = M", dtau_da, pin.crba(model, data, q), 1e-10)
 
 # %% 3. featherdyn's two backends on the same robot, for scale
-section("3. featherdyn: the reference backend (pure NumPy) and the compiled engine (Numba)")
+section("3. featherdyn: the reference backend (pure NumPy) and the compiled core (C++)")
 fmodel = fd.load_robot("panda")
 fq = np.concatenate([q, [0.0, 0.0]])
 fv, fa = np.concatenate([v, [0.0, 0.0]]), np.concatenate([a, [0.0, 0.0]])
-# backend="reference" forces the NumPy recursion: the default is the compiled engine whenever Numba is installed
+# backend="reference" forces the NumPy recursion: the default is the compiled core (built at install)
 t_ref = best_of(lambda: fd.rnea(fmodel, fq, fv, fa, backend="reference"), 20)
 print(f"  fd.rnea (9 DoF, backend='reference', NumPy):                {t_ref * 1e6:8.1f} µs  = "
       f"{t_ref / t_rnea:6.1f}× pin.rnea")
-if fd.engine.available() and fd.default_backend() is None:
-    # backend=None (the default) is the compiled engine's fast path; backend="compiled" would take the
-    # general path (full input checks in Python, then the same kernel)
-    fd.rnea(fmodel, fq, fv, fa)  # the first call loads (or compiles) the kernels
+if fd.core.available() and fd.default_backend() is None:
+    # backend=None (the default) hands one float64 state straight to the core; backend="compiled" would
+    # take the general path (full input checks in Python, then the same kernel)
+    fd.rnea(fmodel, fq, fv, fa)  # the first call copies the model's arrays into the core
     t_compiled = best_of(lambda: fd.rnea(fmodel, fq, fv, fa), 20000)
-    print(f"  fd.rnea (9 DoF, default backend = compiled engine, Numba): {t_compiled * 1e6:8.2f} µs  = "
+    print(f"  fd.rnea (9 DoF, default backend = compiled core, C++):     {t_compiled * 1e6:8.2f} µs  = "
           f"{t_compiled / t_rnea:6.1f}× pin.rnea")
     check("both backends give the same τ", fd.rnea(fmodel, fq, fv, fa),
           fd.rnea(fmodel, fq, fv, fa, backend="reference"), 1e-10)
 else:
-    print("  the default backend is the reference here (Numba missing or FEATHERDYN_BACKEND=reference): "
-          "the compiled engine is not measured")
+    print("  the default backend is the reference here (core not built or FEATHERDYN_BACKEND=reference): "
+          "the compiled core is not measured")
 
 # %% 4. RBDL
 section("4. RBDL (appendix G.2: 'Pinocchio is 3–10× faster than RBDL')")

@@ -97,7 +97,6 @@ _LAZY = {
     "configuration": None,
     "verify": None,
     "compile": "api",
-    "engine": None,
 }
 
 

@@ -1,4 +1,4 @@
-"""``featherdyn bench [ROBOT]``: the compiled engine against Pinocchio, in the same process.
+"""``featherdyn bench [ROBOT]``: the compiled core against Pinocchio, in the same process.
 
 Every figure is a ratio ``featherdyn time / Pinocchio time`` (below 1: featherdyn
 is faster) or a throughput ratio, from interleaved repetitions (featherdyn,
@@ -72,7 +72,6 @@ def _median_ratio(fd_call: Callable[[], object], pin_call: Callable[[], object],
 
 
 def _versions() -> list[str]:
-    import numba
     import pinocchio
 
     import featherdyn
@@ -88,18 +87,26 @@ def _versions() -> list[str]:
         pass
     return [
         f"- date: {datetime.datetime.now().isoformat(timespec='seconds')}",
-        f"- featherdyn {featherdyn.__version__}, numba {numba.__version__}, numpy {np.__version__}, "
+        f"- featherdyn {featherdyn.__version__}, numpy {np.__version__}, "
         f"pinocchio {pinocchio.__version__}, Python {platform.python_version()}",
         f"- machine: {platform.system()} {platform.machine()}, {cpu}, {os.cpu_count()} logical cores, "
-        f"Numba threads {numba.get_num_threads()} (layer {numba.threading_layer()})",
+        f"core threads {featherdyn.get_num_threads()}, batched kernels {_simd()}",
     ]
+
+
+def _simd() -> str:
+    """The batched kernels' instruction set and lanes, e.g. ``avx2 × 4``."""
+    from .core import _core
+
+    isa, width = _core.simd()
+    return f"{isa} × {width}"
 
 
 class _Pair:
     """A robot loaded by both libraries, with converted random states."""
 
     def __init__(self, name: str, model: Model, pin_model: PinModel, seed: int = 0) -> None:
-        from .engine import compile_model
+        from .core.compiled import compile_model
         from .verify.bridge import JointMap
 
         self.name, self.model, self.pm = name, model, pin_model
@@ -205,8 +212,9 @@ def _batch_rows(pair: _Pair, n: int, repeats: int) -> list[tuple[str, float, flo
     touch (page faults, taken by the threads at once) can cost more than the
     computation; writing into a reused ``out=`` array measures the kernels.
     """
-    import numba
     import pinocchio as pin
+
+    from .api import get_num_threads, set_num_threads
 
     cm, pm, pd = pair.cm, pair.pm, pair.pd
     nv = pair.model.nv
@@ -220,16 +228,16 @@ def _batch_rows(pair: _Pair, n: int, repeats: int) -> list[tuple[str, float, flo
         ("ABA", lambda: cm.aba_batch(Q, V, A), lambda: cm.aba_batch(Q, V, A, out=QDD),
          lambda: [pin.aba(pm, pd, Qp[i], Vp[i], Ap[i]) for i in range(n)]),
     ]
-    threads = numba.get_num_threads()
+    threads = get_num_threads()
     rows = []
     for label, f_fresh, f_out, f_pin in cases:
         t_fresh, t_pin = _median_ratio(f_fresh, f_pin, repeats, budget=0.0)
         t_out, t_pin2 = _median_ratio(f_out, f_pin, repeats, budget=0.0)
-        numba.set_num_threads(1)
+        set_num_threads(1)
         try:
             t_one, _ = _median_ratio(f_out, lambda: None, repeats, budget=0.0)
         finally:
-            numba.set_num_threads(threads)
+            set_num_threads(threads)
         rows.append((label, t_fresh, t_out, t_one, (t_pin + t_pin2) / 2))
     return rows
 
@@ -283,7 +291,7 @@ def _dynamics_calls(pair: _Pair) -> list[tuple[Callable[[], object], Callable[[]
 
 
 def _compile_times() -> list[str]:
-    """First use of the engine in fresh processes: import + kernel load, and fd.compile of a new model."""
+    """First use in fresh processes: import, fd.compile of panda, the first fd.rnea, fd.compile of a new model."""
     code = (
         "import time, warnings; warnings.simplefilter('ignore'); t0 = time.perf_counter();"
         "import numpy as np, featherdyn as fd; t1 = time.perf_counter();"
@@ -300,11 +308,10 @@ def _compile_times() -> list[str]:
         return [f"- (could not measure: {res.stderr.strip().splitlines()[-1] if res.stderr else '?'})"]
     t_import, t_compile, t_public, t_new = (float(x) for x in res.stdout.split())
     return [
-        f"- `import featherdyn`: {t_import:.2f} s (Numba is not imported, nothing is compiled)",
-        f"- first `fd.compile(panda)` in a fresh process (import Numba, load the cached kernels): {t_compile:.2f} s",
-        f"- first `fd.rnea` after it (loads the generic cores): {t_public:.2f} s",
-        f"- `fd.compile` of a model never seen before: {t_new:.3f} s (the kernels are generic: nothing is "
-        "compiled per model)",
+        f"- `import featherdyn`: {t_import:.2f} s (the core is compiled at install: nothing is compiled here)",
+        f"- first `fd.compile(panda)` in a fresh process (copies the model's arrays into the core): {t_compile:.3f} s",
+        f"- first `fd.rnea` after it: {t_public:.4f} s",
+        f"- `fd.compile` of a model never seen before: {t_new:.3f} s",
     ]
 
 
@@ -338,7 +345,7 @@ def bench_main(argv: Sequence[str] | None = None) -> int:
 
     Returns:
         0, or 2 after a one-line message when the run cannot start (Pinocchio or
-        Numba missing, an unknown robot, an output that cannot be written).
+        the core not built, an unknown robot, an output that cannot be written).
     """
     try:
         return run(build_parser().parse_args(argv))
@@ -351,18 +358,18 @@ def _prepare(args: argparse.Namespace) -> tuple[list[tuple[str, str, bool]], lis
     """Check everything the run needs before any work: ``([(name, urdf, floating)], chain lengths)``.
 
     Raises:
-        MissingDependencyError: Pinocchio or Numba is not installed.
+        MissingDependencyError: Pinocchio is not installed, or the core is not built.
         ModelError: an unknown robot, a missing file or a directory.
         FeatherdynError: bad chain lengths, an output that cannot be written.
     """
-    from .engine import available
+    from .core import available
     from .verify._pinocchio import require_pinocchio
     from .verify.resolve import resolve_robot
 
     require_pinocchio()
     if not available():
-        raise MissingDependencyError("featherdyn bench times the compiled engine, which needs Numba: "
-                                     "`pip install numba`")
+        raise MissingDependencyError("featherdyn bench times the compiled core, which is not built: "
+                                     "reinstall featherdyn with pip")
     check_writable(args.output, "--output")
     try:
         chains = [int(x) for x in args.chains.split(",") if x.strip()]
@@ -390,7 +397,7 @@ def run(args: argparse.Namespace, on_ready: Callable[[], None] | None = None) ->
     robots, chains = _prepare(args)
     if on_ready is not None:
         on_ready()
-    lines = ["# featherdyn compiled engine vs Pinocchio", ""] + _versions() + [
+    lines = ["# featherdyn compiled core vs Pinocchio", ""] + _versions() + [
         f"- method: interleaved repetitions, medians of {args.repeats}; ratio = featherdyn time / Pinocchio "
         "time (< 1: featherdyn faster); both read the same URDF",
         "",
@@ -428,7 +435,7 @@ def run(args: argparse.Namespace, on_ready: Callable[[], None] | None = None) ->
     for pair in pairs:
         for label, t_fd, t_pin in _public_rows(pair, args.repeats):
             emit(f"| {pair.name} | {label} | {t_fd:.2f} | {t_pin:.2f} | {_fmt_ratio(t_fd / t_pin, 1.0)} |")
-    emit("", f"## Batched throughput (N = {args.batch} states; `cm.rnea_batch` & co. on all Numba threads "
+    emit("", f"## Batched throughput (N = {args.batch} states; `cm.rnea_batch` & co. on all the core's threads "
          "against a Python loop over Pinocchio)", "",
          f"Target: throughput ratio ≥ {TARGETS['batch']:.0f}. *fresh*: the call allocates its output; *out=*: "
          "it writes into a reused array (no first-touch page faults). The Pinocchio loop indexes "
@@ -452,7 +459,7 @@ def run(args: argparse.Namespace, on_ready: Callable[[], None] | None = None) ->
                 rnea_ratio = _fmt_ratio(r_fd / r_pin, TARGETS["chain512"])
             emit(f"| {n} | {r_fd:.2f} | {r_pin:.2f} | {rnea_ratio} | {c_fd / c_pin:.2f} | {a_fd / a_pin:.2f} |")
     if not args.no_compile_times:
-        emit("", "## Compile and load times (fresh processes, kernels already in Numba's disk cache)", "",
+        emit("", "## First use (fresh processes)", "",
              *_compile_times())
     if args.output:
         try:

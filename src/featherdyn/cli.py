@@ -13,9 +13,8 @@
 
 Exit codes: 0 everything agrees, 1 a mismatch, 2 a usage or model error
 (with a one-line message, never a traceback). Arguments, input files and
-output folders are checked before any work; progress and first-use notices
-(the engine compiling its kernels the first time, ``--all``) go to stderr,
-reports to stdout.
+output folders are checked before any work; progress notices (a large URDF,
+``--all``) go to stderr, reports to stdout.
 
 This module is the top of the tools layer: it imports :mod:`featherdyn.verify`
 and :mod:`featherdyn.bench`, which never import it (``docs/architecture.md``).
@@ -74,7 +73,7 @@ def build_parser() -> argparse.ArgumentParser:
     _add_check(sub)
     from .bench import add_arguments as add_bench_arguments
 
-    add_bench_arguments(sub.add_parser("bench", help="time the compiled engine against Pinocchio (ratios)"))
+    add_bench_arguments(sub.add_parser("bench", help="time the compiled core against Pinocchio (ratios)"))
     return parser
 
 
@@ -106,13 +105,6 @@ def _cmd_check(args: argparse.Namespace) -> int:
     from .verify.check import check_values
 
     check_writable(args.json, "--json")
-    if _kernel_cache_is_cold():  # refuse bad input before announcing a minute of compilation
-        from .verify.check.values import load_npz
-        from .verify.resolve import resolve_robot
-
-        load_npz(args.values)
-        resolve_robot(args.robot)
-        _announce_first_use()
     try:
         report = check_values(args.values, args.robot, floating_base=args.floating_base,
                               convention=args.convention, tol=args.tol)
@@ -128,19 +120,6 @@ def _cmd_check(args: argparse.Namespace) -> int:
 def _say(msg: str) -> None:
     """A line on stderr about what is happening (never on stdout, which holds the report)."""
     print(f"featherdyn: {msg}", file=sys.stderr, flush=True)
-
-
-def _kernel_cache_is_cold() -> bool:
-    """Whether the compiled engine's first call on this machine will compile its kernels (~1 min)."""
-    from .engine import kernel_cache_is_cold
-
-    return kernel_cache_is_cold()
-
-
-def _announce_first_use() -> None:
-    """Say so on stderr when the next minute goes into compiling the engine (first use on this machine)."""
-    if _kernel_cache_is_cold():
-        _say("compiling kernels (first use on this machine, ~1 min; later runs start at once)…")
 
 
 #: a URDF file above this size takes a second or more to load: say so first.
@@ -184,7 +163,6 @@ def _cmd_verify(args: argparse.Namespace) -> int:
 
         names = list_robots()
         _say(f"verifying {len(names)} robots of the library, one line per robot (about a second each)…")
-        _announce_first_use()
         for k, name in enumerate(names, 1):
             print(f"[{k}/{len(names)}] {name}", file=sys.stderr, flush=True)
             try:
@@ -207,7 +185,6 @@ def _cmd_verify(args: argparse.Namespace) -> int:
     else:
         _name, path = verify.resolve_robot(args.robot)  # a bad name or path is refused before anything is printed
         _announce_large(path)
-        _announce_first_use()
         report = verify.run(args.robot, floating_base=args.floating_base, samples=args.samples, seed=args.seed,
                             tol=args.tol, strict=args.strict, progress=_progress(tty))
         reports.append(report)
@@ -291,7 +268,7 @@ def _cmd_info(args: argparse.Namespace) -> int:
 def _cmd_bench(args: argparse.Namespace) -> int:
     from .bench import run
 
-    return run(args, on_ready=_announce_first_use)
+    return run(args)
 
 
 def main(argv: Sequence[str] | None = None) -> int:

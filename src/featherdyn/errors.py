@@ -42,6 +42,12 @@ class ShapeError(FeatherdynError, ValueError):
 class NonFiniteError(FeatherdynError, ValueError):
     """An argument contains NaN or infinity where finite numbers are required."""
 
+    @classmethod
+    def overflowed(cls, what: str, where: str) -> NonFiniteError:
+        """The error of a computation ``what`` whose finite input gave a non-finite result (``where``: which value)."""
+        return cls(f"{what}: the result overflowed ({where}) although every input is finite: the state or the "
+                   "model holds magnitudes whose products exceed float64's range (about 1.8e308)")
+
 
 class DTypeError(FeatherdynError, TypeError):
     """An array argument has a dtype featherdyn cannot compute with (complex, strings, ...)."""

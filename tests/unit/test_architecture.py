@@ -4,8 +4,8 @@ The import graph of ``src/featherdyn`` is built from the source (every
 ``import`` statement, lazy imports inside functions included) and checked:
 
 * every module belongs to a layer, and imports only modules of its own layer
-  or of layers below it: values → model → {algorithms, engine} → api → tools;
-* the reference algorithms and the compiled engine never import each other;
+  or of layers below it: values → model → {algorithms, core} → api → tools;
+* the reference algorithms and the compiled core never import each other;
 * there is no cycle between packages (and none between top-level modules).
 """
 
@@ -19,7 +19,7 @@ import pytest
 SRC = Path(__file__).resolve().parents[2] / "src" / "featherdyn"
 
 #: the layers, lowest first; a module may import its own layer and every layer before it
-LAYERS: dict[str, int] = {"values": 0, "model": 1, "algorithms": 2, "engine": 2, "api": 3, "tools": 4}
+LAYERS: dict[str, int] = {"values": 0, "model": 1, "algorithms": 2, "core": 2, "api": 3, "tools": 4}
 
 #: the layer of each top-level module or package of featherdyn (private pieces go with their public module)
 LAYER_OF: dict[str, str] = {
@@ -44,8 +44,7 @@ LAYER_OF: dict[str, str] = {
     "configuration": "model",
     "robots": "model",
     "algorithms": "algorithms",
-    "engine": "engine",
-    "core": "engine",
+    "core": "core",
     "api": "api",
     "symbolic": "tools",
     "_symbolic_reduce": "tools",
@@ -100,7 +99,7 @@ def _graph() -> dict[str, set[str]]:
 
 
 def _top(module: str) -> str:
-    """``featherdyn.engine._kernels`` → ``engine``; ``featherdyn`` → ``""`` (the flat facade)."""
+    """``featherdyn.core._errors`` → ``core``; ``featherdyn`` → ``""`` (the flat facade)."""
     parts = module.split(".")
     return parts[1] if len(parts) > 1 else ""
 
@@ -192,7 +191,7 @@ def _nested(a: str, b: str) -> bool:
 
 
 def test_no_cycle_between_subpackages() -> None:
-    """Sibling packages (``featherdyn.api`` and ``featherdyn.engine``, ...) never import each other both ways."""
+    """Sibling packages (``featherdyn.api`` and ``featherdyn.core``, ...) never import each other both ways."""
     graph: dict[str, set[str]] = {}
     for module, imported in _graph().items():
         pkg = _package_of(module)
@@ -210,8 +209,8 @@ def test_no_cycle_between_modules() -> None:
     assert not cycles, f"import cycles between modules: {cycles}"
 
 
-@pytest.mark.parametrize(("module", "forbidden"), [("algorithms", "engine"), ("engine", "algorithms")])
-def test_reference_and_engine_are_separate(module: str, forbidden: str) -> None:
+@pytest.mark.parametrize(("module", "forbidden"), [("algorithms", "core"), ("core", "algorithms")])
+def test_reference_and_core_are_separate(module: str, forbidden: str) -> None:
     offenders = sorted(m for m, imported in _graph().items() if _top(m) == module
                        and any(_top(t) == forbidden for t in imported))
     assert not offenders, f"{module} must not import {forbidden}: {offenders}"
@@ -220,8 +219,8 @@ def test_reference_and_engine_are_separate(module: str, forbidden: str) -> None:
 def test_the_checker_sees_lazy_imports(tmp_path: Path) -> None:
     """The graph includes imports inside functions (the test would be blind to lazy cycles otherwise)."""
     graph = _graph()
-    # the public fd.compile imports the engine lazily inside the function body
-    assert "featherdyn.engine" in graph["featherdyn.api"]
+    # the public fd.compile imports the core's CompiledModel lazily inside the function body
+    assert "featherdyn.core.compiled" in graph["featherdyn.api"]
 
 
 def test_no_source_cites_documents_outside_the_repository() -> None:

@@ -1,11 +1,11 @@
-"""The public entry points: input checks, backend choice, the compiled fast path, result types.
+"""The public entry points: input checks, backend choice, the compiled core's one-state path, result types.
 
 ``fd.rnea`` & co. are defined here and re-exported flat by :mod:`featherdyn`.
 Each checks its input (:mod:`._checks`), chooses between the reference
 algorithms (:mod:`featherdyn.algorithms`, written like the book) and the
-compiled engine (:mod:`featherdyn.engine`) (:mod:`._backend`), and calls one
+compiled core (:mod:`featherdyn.core`, C++) (:mod:`._backend`), and calls one
 of them. Layers (``docs/architecture.md``): values → model →
-{algorithms, engine} → api → tools (verify, cli, benchmarks).
+{algorithms, core} → api → tools (verify, cli, benchmarks).
 """
 
 from __future__ import annotations
@@ -30,7 +30,7 @@ from .kinematics import (
 )
 
 if TYPE_CHECKING:
-    from ..engine.compiled import CompiledModel
+    from ..core.compiled import CompiledModel
 
 __all__ = [
     "LOCAL",
@@ -67,11 +67,11 @@ __all__ = [
 
 
 def compile(model: Model, *, warmup: bool = True) -> CompiledModel:
-    """The compiled engine bound to ``model`` for control loops (``cm.rnea(q, v, a, out=tau)``, ``*_batch``).
+    """The compiled core bound to ``model`` for control loops (``cm.rnea(q, v, a, out=tau)``, ``*_batch``).
 
-    See :func:`featherdyn.engine.compiled.compile_model`; no validation beyond
-    memory safety on the bound methods.
+    See :func:`featherdyn.core.compiled.compile_model`; the bound methods check
+    their input as ``fd.rnea`` & co. do.
     """
-    from ..engine import compile_model
+    from ..core.compiled import compile_model
 
     return compile_model(model, warmup=warmup)

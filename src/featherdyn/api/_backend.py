@@ -1,20 +1,20 @@
-"""Backend choice and the compiled fast path of the public functions (private).
+"""Backend choice and the compiled core's one-state path of the public functions (private).
 
 Every public function (``fd.rnea`` & co.) takes ``backend=None | "reference" |
 "compiled"``. The default — ``None`` — is decided here and only here:
 
-* :func:`select_backend` picks the compiled engine (:mod:`featherdyn.engine`)
-  for float64 input when it is available, the reference algorithms
-  (:mod:`featherdyn.algorithms`) otherwise (float32, SymPy object arrays);
-* :func:`fast_path` gives the engine's one-state fast path of a model (a
-  :class:`featherdyn.engine._fast.FastPath`) when a call may take it, and
-  the public function calls one of its *checked* kernels, which validate the
-  state inside the compiled code. A kernel that cannot take the argument
-  types raises one of ``fast.refusals``; each call site writes its ``try``
-  inline (a helper function would add a Python call, ~5 % of a small robot's RNEA). A kernel that refuses its arguments (other
-  types, batches, a bad state) sends the call down its general path, which
-  converts, validates and raises the reference's worded errors: the fast path
-  changes how long a call takes, never what it returns or raises.
+* :func:`select_backend` picks the compiled core (:mod:`featherdyn.core`,
+  C++ built at install) for float64 input when it is built, the reference
+  algorithms (:mod:`featherdyn.algorithms`) otherwise (float32, SymPy object arrays);
+* :func:`core_path` gives the core's handle of a model when a one-state call
+  may hand its arguments to the binding as they are. The binding refuses
+  (``TypeError``) anything but native-endian, aligned, C-contiguous float64
+  arrays of the exact shapes and returns a non-zero status for a bad state;
+  either way the call goes down its general path, which converts, validates
+  and raises the reference's worded errors: the one-state path changes how
+  long a call takes, never what it returns or raises. Each call site writes
+  its ``try`` inline (a helper function would add a Python call, ~5 % of a
+  small robot's RNEA).
 
 ``$FEATHERDYN_BACKEND=reference`` when featherdyn is imported, or
 :func:`set_default_backend`, makes the reference the default.
@@ -35,7 +35,6 @@ __all__ = [
     "set_default_backend",
     "default_backend",
     "select_backend",
-    "fast_path",
     "core_path",
     "CORE",
     "set_num_threads",
@@ -47,15 +46,18 @@ __all__ = [
 _DEFAULT: str | None = "reference" if os.environ.get("FEATHERDYN_BACKEND") == "reference" else None
 _BACKENDS = (None, "reference", "compiled")
 
-#: the status of a checked kernel (Numba) or of the core's binding that computed its result
+#: the compiled core's extension module (``featherdyn.core._core``), or ``None`` when it is not built
+CORE: Any = _core
+
+#: the status of the core's binding that computed its result
 OK = 0
 
 
 def set_default_backend(backend: str | None) -> None:
     """Make ``backend`` the default of every algorithm called with ``backend=None``.
 
-    ``None`` (the default): the compiled engine for float64 input when it is
-    available, the reference otherwise; ``"reference"``: always the reference;
+    ``None`` (the default): the compiled core for float64 input when it is
+    built, the reference otherwise; ``"reference"``: always the reference;
     ``"compiled"``: as ``None``. The environment variable
     ``FEATHERDYN_BACKEND=reference`` sets the initial value when featherdyn is imported.
 
@@ -69,43 +71,37 @@ def set_default_backend(backend: str | None) -> None:
 
 
 def default_backend() -> str | None:
-    """The default set by :func:`set_default_backend` (``None``: the compiled engine for float64 input)."""
+    """The default set by :func:`set_default_backend` (``None``: the compiled core for float64 input)."""
     return _DEFAULT
-
-
-def _engine_available() -> bool:
-    from ..engine import available
-
-    return available()
 
 
 def select_backend(backend: str | None, dtype: np.dtype) -> str:
     """Resolve ``backend=`` to ``"reference"`` or ``"compiled"`` for data of ``dtype``.
 
-    ``None`` picks the compiled engine for float64 input when it is available
-    and the default is not the reference; ``"compiled"`` forces the engine
-    (input is converted to float64 — an error if it cannot be — and the result
-    cast back to float32 for float32 input).
+    ``None`` picks the compiled core for float64 input when it is built and
+    the default is not the reference; ``"compiled"`` forces the core (input is
+    converted to float64 — a :class:`BackendError` if it cannot be, as for
+    symbolic input — and the result cast back to float32 for float32 input).
 
     Raises:
-        BackendError: an unknown name, or ``"compiled"`` without the engine.
+        BackendError: an unknown name, ``"compiled"`` without the core, or
+            ``"compiled"`` for data that has no float64 value.
     """
     if backend is None:
-        if dtype == np.float64 and _DEFAULT is None and _engine_available():
+        if dtype == np.float64 and _DEFAULT is None and CORE is not None:
             return "compiled"
         return "reference"
     if backend == "reference":
         return "reference"
     if backend == "compiled":
-        if not _engine_available():
-            raise BackendError("backend='compiled' needs the compiled engine (Numba: pip install numba); "
-                               "use backend='reference'")
+        if CORE is None:
+            raise BackendError("backend='compiled' needs the compiled core (featherdyn.core._core, built when "
+                               "featherdyn is installed with pip); use backend='reference'")
+        if dtype.kind not in "fiub":
+            raise BackendError(f"backend='compiled' computes in float64 and cannot take {dtype} data "
+                               "(symbolic input needs backend='reference')")
         return "compiled"
     raise BackendError(f"backend: expected None, 'reference' or 'compiled', got {backend!r}")
-
-
-#: the compiled core's extension module (``featherdyn.core._core``), or ``None`` when it is not built
-CORE: Any = _core
 
 
 def core_path(model: Any, backend: str | None) -> Any:
@@ -137,31 +133,10 @@ def core_path(model: Any, backend: str | None) -> Any:
     return None
 
 
-def fast_path(model: Any, backend: str | None) -> Any:
-    """The engine's one-state fast path for ``model`` (a ``FastPath``), or ``None`` (take the general path).
-
-    ``None`` also when the default backend is the reference, ``backend`` is
-    given, ``model`` is not a :class:`~featherdyn.Model`, or the engine is not
-    available. Made on first use and kept on the model.
-    """
-    if backend is None and _DEFAULT is None:
-        try:
-            return model._fast
-        except AttributeError:
-            if not isinstance(model, Model):
-                return None
-            from ..engine._fast import attach
-
-            return attach(model)
-    return None
-
-
 def set_num_threads(n: int) -> None:
-    """Threads of the batched calls: the compiled core's pool and the Numba engine's, the calling thread included.
+    """Threads of the batched calls: the compiled core's pool, the calling thread included.
 
     ``n <= 0`` restores the default, every core available to the process.
-    Numba cannot use more threads than it started with (``NUMBA_NUM_THREADS``);
-    its count is capped there.
 
     Raises:
         DTypeError: ``n`` is not an integer.
@@ -173,11 +148,6 @@ def set_num_threads(n: int) -> None:
     n = int(n)
     if CORE is not None:
         CORE.set_num_threads(n)
-    if _engine_available():
-        import numba
-
-        limit = int(numba.config.NUMBA_NUM_THREADS)  # type: ignore[attr-defined]
-        numba.set_num_threads(limit if n <= 0 else min(n, limit))
 
 
 def get_num_threads() -> int:

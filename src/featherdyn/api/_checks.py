@@ -27,10 +27,7 @@ def finite_result(result: np.ndarray, what: str) -> np.ndarray:
     """
     if result.dtype.kind == "f" and not np.isfinite(result).all():
         bad = tuple(int(i) for i in np.argwhere(~np.isfinite(result))[0])
-        raise NonFiniteError(
-            f"{what}: the result overflowed ({result[bad]!r} at index {bad}) although every input is finite: "
-            f"the state or the model holds magnitudes whose products exceed float64's range (about 1.8e308)"
-        )
+        raise NonFiniteError.overflowed(what, f"{result[bad]!r} at index {bad}")
     return result
 
 

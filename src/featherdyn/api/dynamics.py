@@ -2,8 +2,8 @@
 
 Each function checks its input (:mod:`._checks`), picks a backend
 (:mod:`._backend`) and calls the reference recursion in
-:mod:`featherdyn.algorithms` or the compiled engine; one float64 state first
-tries the engine's checked kernel (the fast path). The equations are in the
+:mod:`featherdyn.algorithms` or the compiled core (:mod:`featherdyn.core`); one
+float64 state first hands its arguments to the core's binding as they are. The equations are in the
 docstrings; the recursions are in ``algorithms/rnea.py``, ``crba.py``,
 ``aba.py`` and ``coriolis.py``.
 """
@@ -13,19 +13,25 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike
 
+from .. import core as _compiled
 from ..algorithms import aba as _aba
 from ..algorithms import coriolis as _coriolis
 from ..algorithms import crba as _crba
 from ..algorithms import rnea as _rnea
 from ..model import Model
-from ._backend import CORE, OK, core_path, fast_path, select_backend
+from ._backend import CORE, OK, core_path, select_backend
 from ._checks import State, batch_with_f_ext, check_f_ext, check_state, finite_result, quiet
 from .kinematics import kinematics_of
 
 __all__ = ["rnea", "nonlinear_effects", "generalized_gravity", "crba", "aba", "coriolis_matrix"]
 
 _EMPTY = np.empty
-_NDARRAY = np.ndarray
+_F64 = np.dtype(np.float64)
+
+
+def _as(x: np.ndarray, dtype: np.dtype) -> np.ndarray:
+    """The core's float64 result in the input's dtype (float32 stays float32 when the core is forced)."""
+    return x if dtype == _F64 else x.astype(dtype)
 
 
 def _inverse_dynamics(model: Model, st: State, v: np.ndarray, a: np.ndarray, fx: np.ndarray | None, gravity: bool,
@@ -33,9 +39,7 @@ def _inverse_dynamics(model: Model, st: State, v: np.ndarray, a: np.ndarray, fx:
     """RNEA on a checked state, by the backend ``backend`` resolves to."""
     dtype = batch_with_f_ext(st, fx)[1]
     if select_backend(backend, dtype) == "compiled":
-        from ..engine import _dispatch
-
-        return finite_result(_dispatch.rnea(model, st.q, v, a, fx, gravity, dtype), "rnea")
+        return finite_result(_as(_compiled.rnea(model, st.q, v, a, fx, gravity), dtype), "rnea")
     return finite_result(quiet(_rnea.rnea, model, st.q, v, a, fx, gravity), "rnea")
 
 
@@ -111,21 +115,17 @@ def crba(model: Model, q: ArrayLike, *, backend: str | None = None) -> np.ndarra
 
         T = ½ q̇ᵀ M(q) q̇,    M_ij = S_iᵀ ⁱX_j^* I^C_j S_j   (j in the subtree of i)
     """
-    # the Numba engine's checked kernel: the C++ core's CRBA is still slower on large trees
-    # (talos_full_v2: 0.97 of Pinocchio against 0.61-0.75; benchmarks/results-core-2026-11-23.md)
-    fast = fast_path(model, backend)
-    if fast is not None and q.__class__ is _NDARRAY:  # Numba reads an ndarray subclass (a masked array) as plain
-        M = _EMPTY(fast.shape_M)
+    core = core_path(model, backend)
+    if core is not None:
+        M = _EMPTY((core.nv, core.nv))
         try:
-            if fast.crba(fast.MD, q, M) == OK:
+            if CORE.crba(core.cm, q, M) == OK:
                 return M
-        except fast.refusals:  # argument types the kernel cannot take: the general path
+        except TypeError:  # arguments the binding does not take as they are: the general path converts
             pass
     st = check_state(model, q)
     if select_backend(backend, st.dtype) == "compiled":
-        from ..engine import _dispatch
-
-        return finite_result(_dispatch.crba(model, st.q, st.dtype), "crba")
+        return finite_result(_as(_compiled.crba(model, st.q), st.dtype), "crba")
     return finite_result(quiet(_crba.crba, model, st.q), "crba")
 
 
@@ -159,9 +159,8 @@ def aba(model: Model, q: ArrayLike, v: ArrayLike, tau: ArrayLike, f_ext: ArrayLi
     st = check_state(model, q, v=v, tau=tau)
     dtype = batch_with_f_ext(st, fx)[1]
     if select_backend(backend, dtype) == "compiled":
-        from ..engine import _dispatch
-
-        return finite_result(_dispatch.aba(model, st.q, st.arrays["v"], st.arrays["tau"], fx, gravity, dtype), "aba")
+        qdd = _compiled.aba(model, st.q, st.arrays["v"], st.arrays["tau"], fx, gravity)
+        return finite_result(_as(qdd, dtype), "aba")
     return finite_result(quiet(_aba.aba, model, st.q, st.arrays["v"], st.arrays["tau"], fx, gravity), "aba")
 
 

@@ -3,16 +3,15 @@
 Each function checks its input, computes the forward kinematics by the chosen
 backend (:func:`kinematics_of`) and hands the result to the reference
 post-processing in ``algorithms/kinematics.py`` and ``algorithms/jacobians.py``;
-one float64 state first tries the engine's checked kernel.
+one float64 state first hands its arguments to the compiled core's binding as they are.
 """
 
 from __future__ import annotations
 
-from typing import Any
-
 import numpy as np
 from numpy.typing import ArrayLike
 
+from .. import core as _compiled
 from ..algorithms import jacobians as _jac
 from ..algorithms import kinematics as _kin
 from ..errors import ShapeError
@@ -20,7 +19,7 @@ from ..frames import LOCAL, LOCAL_WORLD_ALIGNED, WORLD, ReferenceFrame, as_refer
 from ..model import Model
 from ..results import Kinematics
 from ..spatial_algebra import PluckerTransform, SpatialMotion
-from ._backend import CORE, OK, core_path, fast_path, select_backend
+from ._backend import CORE, OK, core_path, select_backend
 from ._checks import State, check_state, finite_result, quiet
 
 __all__ = [
@@ -36,19 +35,29 @@ __all__ = [
 ]
 
 _EMPTY = np.empty
-_NDARRAY = np.ndarray
-#: "not wanted" for the optional vectors of the checked FK kernel
-_NO_VECTOR = np.empty(0)
-_NO_BODIES = np.empty((0, 6))
+_F64 = np.dtype(np.float64)
+
+
+def _kinematics(model: Model, H: np.ndarray, Hp: np.ndarray, vel: np.ndarray | None, acc: np.ndarray | None,
+                dtype: np.dtype) -> Kinematics:
+    """The :class:`Kinematics` of the core's arrays (homogeneous placements, body-frame motions) in ``dtype``."""
+    def cast(x: np.ndarray) -> np.ndarray:
+        return x if dtype == _F64 else x.astype(dtype)
+
+    return Kinematics(
+        model=model,
+        placements=PluckerTransform._wrap(cast(H[..., :3, :3]), cast(H[..., :3, 3]), None, None),
+        velocities=SpatialMotion._wrap(cast(vel), None) if vel is not None else None,
+        accelerations=SpatialMotion._wrap(cast(acc), None) if acc is not None else None,
+        parent_placements=PluckerTransform._wrap(cast(Hp[..., :3, :3]), cast(Hp[..., :3, 3]), None, None),
+    )
 
 
 def kinematics_of(model: Model, st: State, v: np.ndarray | None, a: np.ndarray | None,
                   backend: str | None) -> Kinematics:
     """Forward kinematics of a checked state (``v``, ``a`` from it or ``None``) by the backend ``backend`` picks."""
     if select_backend(backend, st.dtype) == "compiled":
-        from ..engine import _dispatch
-
-        kin = _dispatch.forward_kinematics(model, st.q, v, a, st.dtype)
+        kin = _kinematics(model, *_compiled.kinematics(model, st.q, v, a), st.dtype)
     else:
         kin = quiet(_kin.forward_kinematics, model, st.q, v, a)
     finite_result(kin.placements.translation, "forward kinematics: placements")
@@ -56,26 +65,6 @@ def kinematics_of(model: Model, st: State, v: np.ndarray | None, a: np.ndarray |
         if m is not None:
             finite_result(m.vector, f"forward kinematics: {what}")
     return kin
-
-
-def _fast_kinematics(fast: Any, q: ArrayLike, v: ArrayLike | None, a: ArrayLike | None) -> Kinematics | None:
-    """:func:`forward_kinematics` of one float64 state by the checked kernel, or ``None`` (general path)."""
-    H = _EMPTY(fast.shape_H)
-    vel = _EMPTY(fast.shape_V) if v is not None else _NO_BODIES
-    acc = _EMPTY(fast.shape_V) if a is not None else _NO_BODIES
-    try:
-        status = fast.fk(fast.MD, q, _NO_VECTOR if v is None else v, _NO_VECTOR if a is None else a, H, vel, acc)
-    except fast.refusals:  # argument types the kernel cannot take: the general path
-        return None
-    if status != OK:
-        return None
-    return Kinematics(
-        model=fast.model,
-        placements=PluckerTransform._wrap(H[0, :, :3, :3], H[0, :, :3, 3], None, None),
-        velocities=SpatialMotion._wrap(vel, None) if v is not None else None,
-        accelerations=SpatialMotion._wrap(acc, None) if a is not None else None,
-        parent_placements=PluckerTransform._wrap(H[1, :, :3, :3], H[1, :, :3, 3], None, None),
-    )
 
 
 def forward_kinematics(model: Model, q: ArrayLike, v: ArrayLike | None = None, a: ArrayLike | None = None, *, backend: str | None = None) -> Kinematics:
@@ -94,14 +83,17 @@ def forward_kinematics(model: Model, q: ArrayLike, v: ArrayLike | None = None, a
             ᵖM_i = ᵖM_J · M_J(q_i),   ⁰M_i = ⁰M_λ(i) · ᵖM_i
             v_i = X_up[i] v_λ(i) + S_i q̇_i,   a_i = X_up[i] a_λ(i) + S_i q̈_i + v_i × S_i q̇_i
     """
-    fast = fast_path(model, backend)
-    if (fast is not None and (v is not None or a is None) and fast.fk is not None
-            # Numba reads an ndarray subclass (a masked array) as a plain array: those take the general path
-            and q.__class__ is _NDARRAY and (v is None or v.__class__ is _NDARRAY)
-            and (a is None or a.__class__ is _NDARRAY)):
-        kin = _fast_kinematics(fast, q, v, a)
-        if kin is not None:
-            return kin
+    core = core_path(model, backend)
+    if core is not None and (v is not None or a is None):
+        shape = (core.nb, 4, 4)
+        H, Hp = _EMPTY(shape), _EMPTY(shape)
+        vel = None if v is None else _EMPTY((core.nb, 6))
+        acc = None if a is None else _EMPTY((core.nb, 6))
+        try:
+            if CORE.fk(core.cm, q, v, a, H, Hp, vel, acc) == OK:
+                return _kinematics(model, H, Hp, vel, acc, _F64)
+        except TypeError:  # arguments the binding does not take as they are: the general path converts
+            pass
     if a is not None and v is None:
         raise ShapeError("a: joint accelerations need joint velocities v as well")
     st = check_state(model, q, optional=("v", "a"), v=v, a=a)
@@ -215,9 +207,8 @@ def frame_jacobian(model: Model, q: ArrayLike, frame: str | int, reference: Refe
     fid, ref = _frame(model, frame), as_reference_frame(reference)
     st = check_state(model, q)
     if select_backend(backend, st.dtype) == "compiled":
-        from ..engine import _dispatch
-
-        return finite_result(_dispatch.frame_jacobian(model, st.q, fid, ref, st.dtype), "frame_jacobian")
+        J = _compiled.frame_jacobian(model, st.q, fid, ref.code)
+        return finite_result(J if st.dtype == _F64 else J.astype(st.dtype), "frame_jacobian")
     return finite_result(quiet(_jac.frame_jacobian, model, quiet(_kin.forward_kinematics, model, st.q), fid, ref), "frame_jacobian")
 
 

@@ -153,10 +153,10 @@ def _rows(x: np.ndarray | None, batch: tuple[int, ...], tail: tuple[int, ...]) -
 
 
 def _check_batch(status: tuple[int, int], model: Model, q: Any, vectors: list[tuple[str, Any]],
-                 f_ext: Any = None) -> None:
+                 f_ext: Any = None, what: str = "featherdyn.core") -> None:
     _, s = status
     if s:
-        _errors.raise_for(s, model, q, vectors, f_ext)
+        _errors.raise_for(s, model, q, vectors, f_ext, what=what)
 
 
 # ---------------------------------------------------------------------------
@@ -190,7 +190,7 @@ def rnea(model: Model, q: Any, v: Any, a: Any, f_ext: Any = None, gravity: bool 
         tau = _out(out, (h.nv,))
         s = _core.rnea(h.cm, q_, v_, a_, fx, bool(gravity), tau)
         if s:
-            _errors.raise_for(s, model, q, [("v", v), ("a", a)], f_ext)
+            _errors.raise_for(s, model, q, [("v", v), ("a", a)], f_ext, what="rnea")
         return tau
     return rnea_batch(model, q_, v_, a_, fx, gravity, out)
 
@@ -208,7 +208,7 @@ def rnea_batch(model: Model, q: Any, v: Any, a: Any, f_ext: Any = None, gravity:
     result = _out(out, batch + (h.nv,))
     st = _core.rnea_batch(h.cm, _rows(q_, batch, (h.nq,)), _rows(v_, batch, (h.nv,)), _rows(a_, batch, (h.nv,)),
                           _rows(fx, batch, (h.nb, 6)), bool(gravity), result.reshape(N, h.nv))
-    _check_batch(st, model, q, vectors, f_ext)
+    _check_batch(st, model, q, vectors, f_ext, what="rnea")
     return result
 
 
@@ -230,7 +230,7 @@ def nle(model: Model, q: Any, v: Any, out: Any = None) -> np.ndarray:
         res = _out(out, (h.nv,))
         s = _core.nle(h.cm, q_, v_, res)
         if s:
-            _errors.raise_for(s, model, q, [("v", v)])
+            _errors.raise_for(s, model, q, [("v", v)], what="rnea")
         return res
     return nle_batch(model, q_, v_, out)
 
@@ -258,7 +258,7 @@ def gravity(model: Model, q: Any, out: Any = None) -> np.ndarray:
         g = _out(out, (h.nv,))
         s = _core.gravity(h.cm, q_, g)
         if s:
-            _errors.raise_for(s, model, q)
+            _errors.raise_for(s, model, q, what="rnea")
         return g
     return gravity_batch(model, q_, out)
 
@@ -314,7 +314,7 @@ def crba(model: Model, q: Any, out: Any = None) -> np.ndarray:
         M = _out(out, (h.nv, h.nv))
         s = _core.crba(h.cm, q_, M)
         if s:
-            _errors.raise_for(s, model, q)
+            _errors.raise_for(s, model, q, what="crba")
         return M
     return crba_batch(model, q_, out)
 
@@ -326,7 +326,7 @@ def crba_batch(model: Model, q: Any, out: Any = None) -> np.ndarray:
     batch = _batch_shape(model, [(q_, 1)], q, [], None)
     result = _out(out, batch + (h.nv, h.nv))
     st = _core.crba_batch(h.cm, _rows(q_, batch, (h.nq,)), result.reshape(math.prod(batch), h.nv * h.nv))
-    _check_batch(st, model, q, [])
+    _check_batch(st, model, q, [], what="crba")
     return result
 
 
@@ -362,7 +362,7 @@ def aba(model: Model, q: Any, v: Any, tau: Any, f_ext: Any = None, gravity: bool
                 _errors.validate(model, q, [("v", v), ("tau", tau)], f_ext)
                 joint = _errors.decode(s)[2]
                 raise _errors.singular_error(model, joint, _errors.eig_min(D, model.nvs[joint]))
-            _errors.raise_for(s, model, q, [("v", v), ("tau", tau)], f_ext, _ABA_ARGS)
+            _errors.raise_for(s, model, q, [("v", v), ("tau", tau)], f_ext, _ABA_ARGS, what="aba")
         return qdd
     return aba_batch(model, q_, v_, t_, fx, gravity, out)
 
@@ -387,7 +387,7 @@ def aba_batch(model: Model, q: Any, v: Any, tau: Any, f_ext: Any = None, gravity
     if s:
         _errors.validate(model, q, vectors, f_ext)
         if _errors.decode(s)[0] != _errors.SINGULAR:
-            _errors.raise_for(s, model, q, vectors, f_ext, _ABA_ARGS)
+            _errors.raise_for(s, model, q, vectors, f_ext, _ABA_ARGS, what="aba")
         _raise_singular_batch(model, h.cm, Q, V, T, FX, bool(gravity), math.prod(batch))
     return result
 
@@ -449,7 +449,7 @@ def fk(model: Model, q: Any, v: Any = None, a: Any = None, out: Any = None) -> A
     acc = None if a is None else np.empty((h.nb, 6))
     s = _core.fk(h.cm, q_, v_, a_, H, None, vel, acc)
     if s:
-        _errors.raise_for(s, model, q, [("v", v), ("a", a)])
+        _errors.raise_for(s, model, q, [("v", v), ("a", a)], what="forward kinematics")
     if v is None:
         return H
     return (H, vel) if a is None else (H, vel, acc)
@@ -482,14 +482,14 @@ def kinematics(model: Model, q: Any, v: Any = None,
     if batch == ():
         s = _core.fk(h.cm, q_, v_, a_, H, Hp, vel, acc)
         if s:
-            _errors.raise_for(s, model, q, vectors)
+            _errors.raise_for(s, model, q, vectors, what="forward kinematics")
         return H, Hp, vel, acc
     N = math.prod(batch)
     st = _core.kinematics_batch(
         h.cm, _rows(q_, batch, (h.nq,)), _rows(v_, batch, (h.nv,)), _rows(a_, batch, (h.nv,)),
         H.reshape(N, 16 * nb), Hp.reshape(N, 16 * nb), None if vel is None else vel.reshape(N, 6 * nb),
         None if acc is None else acc.reshape(N, 6 * nb))
-    _check_batch(st, model, q, vectors)
+    _check_batch(st, model, q, vectors, what="forward kinematics")
     return H, Hp, vel, acc
 
 
@@ -500,7 +500,7 @@ def fk_batch(model: Model, q: Any, out: Any = None) -> np.ndarray:
     batch = _batch_shape(model, [(q_, 1)], q, [], None)
     result = _out(out, batch + (h.nb, 4, 4))
     st = _core.fk_batch(h.cm, _rows(q_, batch, (h.nq,)), result.reshape(math.prod(batch), 16 * h.nb))
-    _check_batch(st, model, q, [])
+    _check_batch(st, model, q, [], what="forward kinematics")
     return result
 
 
@@ -526,7 +526,7 @@ def frame_placement(model: Model, q: Any, frame: Any, out: Any = None) -> np.nda
     H = _out(out, (4, 4))
     s = _core.frame_placement(h.cm, q_, fid, H)
     if s:
-        _errors.raise_for(s, model, q)
+        _errors.raise_for(s, model, q, what="frame_placement")
     return H
 
 
@@ -538,7 +538,7 @@ def frame_placement_batch(model: Model, q: Any, frame: Any, out: Any = None) -> 
     batch = _batch_shape(model, [(q_, 1)], q, [], None)
     H = _out(out, batch + (4, 4))
     st = _core.frame_placement_batch(h.cm, _rows(q_, batch, (h.nq,)), fid, H.reshape(math.prod(batch), 16))
-    _check_batch(st, model, q, [])
+    _check_batch(st, model, q, [], what="frame_placement")
     return H
 
 
@@ -569,7 +569,7 @@ def frame_jacobian(model: Model, q: Any, frame: Any, reference: Any = LOCAL, out
     J = _out(out, (6, h.nv))
     s = _core.frame_jacobian(h.cm, q_, fid, ref, J)
     if s:
-        _errors.raise_for(s, model, q)
+        _errors.raise_for(s, model, q, what="frame_jacobian")
     return J
 
 
@@ -582,7 +582,7 @@ def frame_jacobian_batch(model: Model, q: Any, frame: Any, reference: Any = LOCA
     batch = _batch_shape(model, [(q_, 1)], q, [], None)
     J = _out(out, batch + (6, h.nv))
     st = _core.frame_jacobian_batch(h.cm, _rows(q_, batch, (h.nq,)), fid, ref, J.reshape(math.prod(batch), 6 * h.nv))
-    _check_batch(st, model, q, [])
+    _check_batch(st, model, q, [], what="frame_jacobian")
     return J
 
 

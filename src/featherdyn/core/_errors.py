@@ -55,8 +55,11 @@ def eig_min(D36: np.ndarray, k: int) -> float:
 
 
 def raise_for(status: int, model: Model, q: Any, vectors: Sequence[tuple[str, Any]] = (), f_ext: Any = None,
-              arg_names: Sequence[str] = ARG_NAMES) -> NoReturn:
-    """Raise the reference's exception for a failed core call (see the module docstring)."""
+              arg_names: Sequence[str] = ARG_NAMES, what: str = "featherdyn.core") -> NoReturn:
+    """Raise the reference's exception for a failed core call (see the module docstring).
+
+    ``what`` names the computation in the overflow message (as the public functions do).
+    """
     validate(model, q, vectors, f_ext)
     code, arg, index = decode(status)
     name = arg_names[arg] if arg < len(arg_names) else f"argument {arg}"
@@ -64,10 +67,7 @@ def raise_for(status: int, model: Model, q: Any, vectors: Sequence[tuple[str, An
         raise ShapeError(f"{name}: wrong length {index} for model {model.name!r} (nq={model.nq}, nv={model.nv}, "
                          f"nb={model.nbodies})")
     if code == NONFINITE and name == "out":
-        raise NonFiniteError(
-            f"the result overflowed (a non-finite value at flat index {index}) although every input is finite: "
-            "the state or the model holds magnitudes whose products exceed float64's range (about 1.8e308)"
-        )
+        raise NonFiniteError.overflowed(what, f"a non-finite value at flat index {index}")
     if code == NONFINITE:
         raise NonFiniteError(f"{name}: expected finite numbers, got a non-finite value at flat index {index}")
     if code == QUATERNION:

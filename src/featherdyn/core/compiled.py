@@ -1,0 +1,220 @@
+"""``fd.compile(model)``: the compiled core bound to one model, with the cheapest calls for control loops.
+
+::
+
+    cm = fd.compile(model)            # the model's arrays copied into the core once (nothing is compiled)
+    tau = cm.rnea(q, v, a)            # (nv,)      inverse dynamics, with gravity
+    M = cm.crba(q)                    # (nv, nv)   mass matrix
+    ddq = cm.aba(q, v, tau)           # (nv,)      forward dynamics
+    oMi = cm.fk(q)                    # (nb, 4, 4) world placements of the bodies
+    J = cm.frame_jacobian(q, "tool", fd.LOCAL)   # (6, nv)
+    cm.rnea(q, v, a, out=tau)         # writes into tau: no allocation at all
+    TAU = cm.rnea_batch(Q, V, A)      # (N, nv), on the core's threads
+
+The single-state methods hand their arguments to the core's binding as they
+are: native-endian, aligned, C-contiguous float64 arrays of the exact shapes
+go straight in; anything else (lists, float32, strided, big-endian, masked
+arrays) takes the general path of :mod:`featherdyn.core`, which converts it.
+The core checks every state it computes on — lengths, finiteness, unit
+quaternions — and a bad one raises the same featherdyn exception, with the
+same message, as ``fd.rnea`` & co.
+
+The core's scratch memory is per thread, so one :class:`CompiledModel` may be
+used by several threads at once; the batched methods run on the core's pool
+(``fd.set_num_threads``) with the GIL released.
+"""
+
+from __future__ import annotations
+
+import time
+from typing import Any
+
+import numpy as np
+
+from ..errors import ModelError
+from ..frames import LOCAL, LOCAL_WORLD_ALIGNED, WORLD
+from ..model import Model
+from . import _lib, _view, aba_batch, crba_batch, fk_batch, frame_jacobian_batch, rnea_batch
+from . import aba as _aba
+from . import crba as _crba
+from . import fk as _fk
+from . import frame_jacobian as _frame_jacobian
+from . import gravity as _gravity
+from . import nle as _nle
+from . import rnea as _rnea
+
+__all__ = ["CompiledModel", "compile_model"]
+
+
+class CompiledModel:
+    """A model bound to the compiled core (see the module docstring).
+
+    Attributes:
+        model: the :class:`~featherdyn.Model`.
+        nq, nv, nb: sizes.
+        compile_seconds: how long :func:`compile_model` took (copying the model's arrays; nothing is compiled).
+    """
+
+    def __init__(self, model: Model, compile_seconds: float = 0.0) -> None:
+        core = _lib()
+        handle = _view(model)
+        self.model = model
+        self.nq, self.nv, self.nb = model.nq, model.nv, model.nbodies
+        self.compile_seconds = compile_seconds
+        cm, nv, nb = handle.cm, self.nv, self.nb
+        empty = np.empty
+        shape_M, shape_H, shape_J = (nv, nv), (nb, 4, 4), (6, nv)  # built once, not per call
+        frames = handle.frames
+        k_rnea, k_nle, k_gravity, k_crba, k_aba, k_fk, k_jac = (
+            core.rnea, core.nle, core.gravity, core.crba, core.aba, core.fk, core.frame_jacobian)
+        codes = {id(LOCAL): 0, id(WORLD): 1, id(LOCAL_WORLD_ALIGNED): 2}
+
+        # The methods are closures stored on the instance: no bound-method object, few lookups.
+        # The binding returns 0, or raises TypeError / returns a status for anything it does not take
+        # as it is: the general path (featherdyn.core's wrappers) converts or words the error.
+
+        def rnea(q: Any, v: Any, a: Any, f_ext: Any = None, out: Any = None) -> np.ndarray:
+            """``τ = RNEA(q, v, a)`` `(nv,)` with gravity, optional body-frame ``f_ext`` `(nb, 6)`."""
+            tau = empty(nv) if out is None else out
+            try:
+                if k_rnea(cm, q, v, a, f_ext, True, tau) == 0:
+                    return tau
+            except TypeError:
+                pass
+            return _rnea(model, q, v, a, f_ext, True, _one_state_out(out, (nv,)))
+
+        def nle(q: Any, v: Any, out: Any = None) -> np.ndarray:
+            """``h(q, v) = RNEA(q, v, 0)`` `(nv,)`."""
+            h = empty(nv) if out is None else out
+            try:
+                if k_nle(cm, q, v, h) == 0:
+                    return h
+            except TypeError:
+                pass
+            return _nle(model, q, v, _one_state_out(out, (nv,)))
+
+        def gravity(q: Any, out: Any = None) -> np.ndarray:
+            """``g(q) = RNEA(q, 0, 0)`` `(nv,)`."""
+            g = empty(nv) if out is None else out
+            try:
+                if k_gravity(cm, q, g) == 0:
+                    return g
+            except TypeError:
+                pass
+            return _gravity(model, q, _one_state_out(out, (nv,)))
+
+        def crba(q: Any, out: Any = None) -> np.ndarray:
+            """The mass matrix ``M(q)`` `(nv, nv)`, full and symmetric."""
+            M = empty(shape_M) if out is None else out
+            try:
+                if k_crba(cm, q, M) == 0:
+                    return M
+            except TypeError:
+                pass
+            return _crba(model, q, _one_state_out(out, shape_M))
+
+        def aba(q: Any, v: Any, tau: Any, f_ext: Any = None, out: Any = None) -> np.ndarray:
+            """``q̈ = ABA(q, v, τ)`` `(nv,)`; ``SingularMassMatrixError`` naming the joint."""
+            qdd = empty(nv) if out is None else out
+            try:
+                if k_aba(cm, q, v, tau, f_ext, True, qdd, None) == 0:
+                    return qdd
+            except TypeError:
+                pass
+            return _aba(model, q, v, tau, f_ext, True, _one_state_out(out, (nv,)))
+
+        def fk(q: Any, out: Any = None) -> np.ndarray:
+            """World placements of the bodies, homogeneous `(nb, 4, 4)`."""
+            H = empty(shape_H) if out is None else out
+            try:
+                if k_fk(cm, q, None, None, H, None, None, None) == 0:
+                    return H
+            except TypeError:
+                pass
+            return _fk(model, q, out=_one_state_out(out, shape_H))
+
+        def frame_jacobian(q: Any, frame: Any, reference: Any = LOCAL, out: Any = None) -> np.ndarray:
+            """The Jacobian `(6, nv)` of ``frame`` (name or index) in ``reference`` (``fd.LOCAL``, ...)."""
+            fid = frames.get(frame, -1) if frame.__class__ is str else frame
+            ref = codes.get(id(reference), -1)
+            J = empty(shape_J) if out is None else out
+            if ref >= 0:
+                try:
+                    if k_jac(cm, q, fid, ref, J) == 0:
+                        return J
+                except TypeError:
+                    pass
+            return _frame_jacobian(model, q, frame, reference, _one_state_out(out, shape_J))
+
+        self.rnea = rnea
+        self.nle = nle
+        self.gravity = gravity
+        self.crba = crba
+        self.aba = aba
+        self.fk = fk
+        self.frame_jacobian = frame_jacobian
+
+    # batched forms: any batch shape (leading axes broadcast), on the core's threads
+
+    def rnea_batch(self, q: Any, v: Any, a: Any, f_ext: Any = None, gravity: bool = True,
+                   out: Any = None) -> np.ndarray:
+        """``τ`` `(..., nv)` for batches of states (leading axes broadcast), on the core's threads.
+
+        ``out``: a float64 C-contiguous `(..., nv)` array to write into (reusing one avoids
+        the page faults of a large fresh array).
+        """
+        return rnea_batch(self.model, q, v, a, f_ext, gravity, out)
+
+    def crba_batch(self, q: Any, out: Any = None) -> np.ndarray:
+        """``M`` `(..., nv, nv)` for a batch of configurations (``out`` as in :meth:`rnea_batch`)."""
+        return crba_batch(self.model, q, out)
+
+    def aba_batch(self, q: Any, v: Any, tau: Any, f_ext: Any = None, gravity: bool = True,
+                  out: Any = None) -> np.ndarray:
+        """``q̈`` `(..., nv)` for batches of states (``out`` as in :meth:`rnea_batch`)."""
+        return aba_batch(self.model, q, v, tau, f_ext, gravity, out)
+
+    def fk_batch(self, q: Any, out: Any = None) -> np.ndarray:
+        """World placements `(..., nb, 4, 4)` for a batch of configurations."""
+        return fk_batch(self.model, q, out)
+
+    def frame_jacobian_batch(self, q: Any, frame: Any, reference: Any = LOCAL, out: Any = None) -> np.ndarray:
+        """Jacobians `(..., 6, nv)` of ``frame`` for a batch of configurations."""
+        return frame_jacobian_batch(self.model, q, frame, reference, out)
+
+    def warmup(self) -> None:
+        """Kept for compatibility: the core is compiled at install, so there is nothing to warm up."""
+
+    def __repr__(self) -> str:
+        return f"CompiledModel({self.model!r})"
+
+
+def _one_state_out(out: Any, shape: tuple[int, ...]) -> Any:
+    """``out`` for the general path of a single-state method: ``None``, or an array of exactly ``shape``.
+
+    (The general path takes batches too; a single-state method refuses to write a batch into ``out``.)
+    """
+    if out is not None and getattr(out, "shape", None) != shape:
+        from ..errors import ShapeError
+
+        raise ShapeError(f"out: expected shape {shape}, got {getattr(out, 'shape', type(out).__name__)}")
+    return out
+
+
+def compile_model(model: Model, *, warmup: bool = True) -> CompiledModel:
+    """The compiled core bound to ``model`` (see :class:`CompiledModel`).
+
+    Nothing is compiled (the core is built at install): the model's flat arrays
+    are copied into the core once, and kept on the model for the public
+    functions too. ``warmup`` is accepted for compatibility and does nothing.
+
+    Raises:
+        ModelError: ``model`` is not a featherdyn Model.
+    """
+    if not isinstance(model, Model):
+        raise ModelError(f"compile: expected a featherdyn Model, got {type(model).__name__}")
+    del warmup
+    t0 = time.perf_counter()
+    cm = CompiledModel(model)
+    cm.compile_seconds = time.perf_counter() - t0
+    return cm
