@@ -3,7 +3,7 @@
 On every robot of the library, fixed and floating base, one state and a batch,
 and on the random trees of ``tests/_models.py`` (every joint type: revolute about
 any axis, prismatic, spherical, free-flyer, planar): FK (placements, velocities,
-accelerations), RNEA (with f_ext, without gravity), NLE, gravity, CRBA, ABA,
+accelerations, parent placements), RNEA (with f_ext, without gravity), NLE, gravity, CRBA, ABA,
 frame placements and frame Jacobians in the three reference frames. Also a
 floating base 10⁶ m from the origin (CRBA in body coordinates stays exact).
 """
@@ -48,6 +48,14 @@ def check_all(model: fd.Model, q: np.ndarray, v: np.ndarray, a: np.ndarray, tau:
         _, vel, acc = core.fk(model, q, v, a)
         assert_rel(vel, kin.velocities.vector, f"{label}: fk velocities")
         assert_rel(acc, kin.accelerations.vector, f"{label}: fk accelerations")
+    H, Hp, vel, acc = core.kinematics(model, q, v, a)
+    assert_rel(H[..., :3, 3], kin.placements.translation, f"{label}: kinematics translation")
+    assert_rel(Hp[..., :3, :3], kin.parent_placements.rotation, f"{label}: kinematics parent rotation")
+    assert_rel(Hp[..., :3, 3], kin.parent_placements.translation, f"{label}: kinematics parent translation")
+    assert np.all(Hp[..., 3, :] == [0.0, 0.0, 0.0, 1.0]), f"{label}: parent placements' last row"
+    assert_rel(vel, kin.velocities.vector, f"{label}: kinematics velocities")
+    assert_rel(acc, kin.accelerations.vector, f"{label}: kinematics accelerations")
+    assert core.kinematics(model, q)[2] is None and core.kinematics(model, q, v)[3] is None
     for fid in frames_of(model):
         H = core.frame_placement(model, q, fid)
         R, p = H[..., :3, :3], H[..., :3, 3]

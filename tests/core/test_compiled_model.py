@@ -1,0 +1,131 @@
+"""``fd.compile(model)``: the core bound to one model — same numbers and same errors as the public functions.
+
+The single-state methods hand their arguments to the binding as they are and
+take the core's general path for anything else; the batched methods are the
+core's batched calls. Compared against ``fd.rnea`` & co. (which the core tests
+compare with the reference), bit for bit.
+"""
+
+from __future__ import annotations
+
+import threading
+
+import numpy as np
+import pytest
+from _core_helpers import robot
+
+import featherdyn as fd
+from featherdyn.errors import NonFiniteError, QuaternionNormError, ShapeError, SingularMassMatrixError
+
+
+@pytest.fixture(scope="module")
+def solo() -> fd.Model:
+    model = robot("solo12", True)
+    assert model is not None
+    return model
+
+
+def _state(model: fd.Model, seed: int, size: int | None = None) -> tuple[np.ndarray, ...]:
+    rng = np.random.default_rng(seed)
+    shape = () if size is None else (size,)
+    q = fd.random_configuration(model, rng, size=size)
+    return q, rng.normal(size=shape + (model.nv,)), rng.normal(size=shape + (model.nv,))
+
+
+def test_single_state_methods_equal_the_public_functions(solo: fd.Model) -> None:
+    cm = fd.compile(solo)
+    q, v, a = _state(solo, 1)
+    f = np.random.default_rng(2).normal(size=(solo.nbodies, 6))
+    tau = fd.rnea(solo, q, v, a)
+    assert np.array_equal(cm.rnea(q, v, a), tau)
+    assert np.array_equal(cm.rnea(q, v, a, f_ext=f), fd.rnea(solo, q, v, a, f))
+    assert np.array_equal(cm.nle(q, v), fd.nonlinear_effects(solo, q, v))
+    assert np.array_equal(cm.gravity(q), fd.generalized_gravity(solo, q))
+    assert np.array_equal(cm.crba(q), fd.crba(solo, q))
+    assert np.array_equal(cm.aba(q, v, tau), fd.aba(solo, q, v, tau))
+    assert np.array_equal(cm.fk(q)[:, :3, 3], fd.forward_kinematics(solo, q).placements.translation)
+    for ref in (fd.LOCAL, fd.WORLD, fd.LOCAL_WORLD_ALIGNED):
+        assert np.array_equal(cm.frame_jacobian(q, "HR_FOOT", ref), fd.frame_jacobian(solo, q, "HR_FOOT", ref))
+
+
+def test_out_is_written_and_converted_inputs_agree(solo: fd.Model) -> None:
+    cm = fd.compile(solo)
+    q, v, a = _state(solo, 3)
+    out = np.empty(solo.nv)
+    assert cm.rnea(q, v, a, out=out) is out
+    assert np.array_equal(out, fd.rnea(solo, q, v, a))
+    M = np.empty((solo.nv, solo.nv))
+    assert cm.crba(q, out=M) is M
+    # lists, float32 and strided arrays take the general path and give the converted state's numbers
+    assert np.array_equal(cm.rnea(list(q), list(v), list(a)), fd.rnea(solo, q, v, a))
+    strided = np.repeat(q, 2)[::2]
+    assert np.array_equal(cm.crba(strided), fd.crba(solo, q))
+    q32 = q.astype(np.float32)
+    assert np.array_equal(cm.gravity(q32), fd.generalized_gravity(solo, q32.astype(np.float64)))
+    with pytest.raises(ShapeError, match="out: expected shape"):
+        cm.rnea(q, v, a, out=np.empty(solo.nv + 1))
+
+
+def test_bad_input_raises_what_the_public_functions_raise(solo: fd.Model) -> None:
+    cm = fd.compile(solo)
+    q, v, a = _state(solo, 4)
+    cases = [
+        ((q[:-1], v, a), ShapeError),
+        ((q, np.full(solo.nv, np.nan), a), NonFiniteError),
+        ((np.concatenate([q[:3], 2 * q[3:7], q[7:]]), v, a), QuaternionNormError),
+    ]
+    for args, error in cases:
+        with pytest.raises(error) as mine:
+            cm.rnea(*args)
+        with pytest.raises(error) as public:
+            fd.rnea(solo, *args)
+        assert str(mine.value) == str(public.value)
+
+
+def test_singular_aba_names_the_joint() -> None:
+    b = fd.ModelBuilder("massless")
+    b.add_body("link", parent=-1, joint=fd.RevoluteJoint([0, 0, 1]), joint_name="j",
+               inertia=fd.SpatialInertia(0.0, [0, 0, 0], np.zeros((3, 3))))
+    with pytest.warns(fd.PhysicalityWarning):
+        model = b.build()
+    with pytest.raises(SingularMassMatrixError, match="'j'"):
+        fd.compile(model).aba(np.zeros(1), np.zeros(1), np.zeros(1))
+
+
+def test_batched_methods_equal_the_public_batches(solo: fd.Model) -> None:
+    cm = fd.compile(solo)
+    Q, V, A = _state(solo, 5, size=9)
+    TAU = cm.rnea_batch(Q, V, A)
+    assert np.array_equal(TAU, fd.rnea(solo, Q, V, A))
+    assert np.array_equal(cm.crba_batch(Q), fd.crba(solo, Q))
+    assert np.array_equal(cm.aba_batch(Q, V, TAU), fd.aba(solo, Q, V, TAU))
+    assert np.array_equal(cm.fk_batch(Q)[..., :3, 3], fd.forward_kinematics(solo, Q).placements.translation)
+    assert np.array_equal(cm.frame_jacobian_batch(Q, "HR_FOOT", fd.WORLD),
+                          fd.frame_jacobian(solo, Q, "HR_FOOT", fd.WORLD))
+
+
+def test_one_compiled_model_shared_by_threads(solo: fd.Model) -> None:
+    """The core's scratch is per thread: one CompiledModel serves several threads at once."""
+    cm = fd.compile(solo)
+    states = [_state(solo, 10 + k) for k in range(6)]
+    expected = [fd.crba(solo, q) for q, _, _ in states]
+    errors: list[str] = []
+
+    def work(k: int) -> None:
+        q = states[k][0]
+        for _ in range(200):
+            if not np.array_equal(cm.crba(q), expected[k]):
+                errors.append(f"thread {k}")
+                return
+
+    threads = [threading.Thread(target=work, args=(k,)) for k in range(len(states))]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    assert not errors, errors
+
+
+def test_compile_refuses_what_is_not_a_model() -> None:
+    with pytest.raises(fd.errors.ModelError, match="expected a featherdyn Model"):
+        fd.compile("panda")  # type: ignore[arg-type]
