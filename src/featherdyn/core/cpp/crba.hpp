@@ -1,10 +1,16 @@
 // The joint-space mass matrix by the Composite Rigid Body Algorithm (chapter §5.3; RBDA
-// table 6.2; reference: featherdyn/algorithms/crba.py), in body coordinates:
+// table 6.2; reference: featherdyn/algorithms/crba.py), with every quantity of a tree expressed
+// in its root body's coordinates (r): the body frame of the tree's first body, which moves with
+// the robot, so M stays exact however far the robot is from the world origin:
 //
-//     I^C_i = I_i + Σ_{children j} X_up[j]ᵀ I^C_j X_up[j]      (i = nb−1 … 0)
-//     F = I^C_i S_i,   M_ii = S_iᵀ F
-//     j = i;  while λ(j) ≠ −1:  F = X_up[j]ᵀ F;  j = λ(j);  M_ji = S_jᵀ F;  M_ij = M_jiᵀ
-//     M += diag(armature)                                   (reflected rotor inertia)
+//     ʳX_i = ʳX_λ(i) · ᵖX_i (pose of body i in the root body),   ʳS_i = ʳX_i S_i
+//     I^C_i = ʳX_i* I_i ʳX_i⁻¹ + Σ_{children j} I^C_j                     (i = nb−1 … 0)
+//     F = I^C_i ʳS_i,   M_ii = ʳS_iᵀ F,   M_ji = ʳS_jᵀ F   (j = λ(i), λ(λ(i)), … ),   M_ij = M_jiᵀ
+//     M += diag(armature)                                                     (reflected rotor inertia)
+//
+// The same sums as the body-coordinate recursion (M_ij = S_iᵀ ⁱX_j* I^C_j S_j is invariant under a
+// change of coordinates), but an ancestor costs one 6-vector dot product per column instead of a
+// spatial transform of F.
 #pragma once
 
 #include "rnea.hpp"
@@ -13,10 +19,12 @@ namespace fdcore {
 
 template <class S>
 struct CrbaWork {
-  std::vector<Xform<S>> X_up;
+  std::vector<Mat3<S>> R;         // ʳR_i: body i's axes in its root body
+  std::vector<Vec3<S>> p;         // ʳp_i: body i's origin in its root body
   std::vector<RigidInertia<S>> IC;
+  std::vector<Motion<S>> Sr;      // ʳS_i, column c of body i at idx_v[i] + c
   void resize(size_t nb) {
-    if (X_up.size() < nb) X_up.resize(nb), IC.resize(nb);
+    if (R.size() < nb) R.resize(nb), p.resize(nb), IC.resize(nb), Sr.resize(6 * nb);
   }
 };
 
@@ -25,36 +33,51 @@ template <class S>
 void crba(const ModelView& mv, const S* q, S* M) {
   const int nb = mv.nb, nv = mv.nv;
   CrbaWork<S>& w = thread_workspace<CrbaWork<S>>(nb);
-  Xform<S>* X_up = w.X_up.data();
+  Mat3<S>* R = w.R.data();
+  Vec3<S>* p = w.p.data();
   RigidInertia<S>* IC = w.IC.data();
+  Motion<S>* Sr = w.Sr.data();
   for (int i = 0; i < nb; ++i) {
-    X_up[i] = joint_X_up(mv, i, q);
-    IC[i] = body_inertia<S>(mv, i);
+    const int lam = mv.parent[i], iv = mv.idx_v[i];
+    const RigidInertia<S> I = body_inertia<S>(mv, i);
+    if (lam == -1) {  // a root body: its own coordinates
+      IC[i] = I;
+      for (int c = 0; c < mv.nv_i[i]; ++c) Sr[iv + c] = S_col<S>(mv, i, c);
+      continue;
+    }
+    Mat3<S> Rp;
+    Vec3<S> pp;
+    pose_in_parent(mv, i, q, Rp, pp);
+    if (mv.parent[lam] == -1) {  // the parent is the root: ʳX_λ = 1
+      R[i] = Rp;
+      p[i] = pp;
+    } else {
+      R[i] = R[lam] * Rp;
+      p[i] = p[lam] + R[lam] * pp;
+    }
+    IC[i] = transform_to_parent(Xform<S>{R[i].transpose(), p[i]}, I);
+    for (int c = 0; c < mv.nv_i[i]; ++c) {
+      const Motion<S> s = S_col<S>(mv, i, c);
+      const Vec3<S> wr = R[i] * s.w;
+      Sr[iv + c] = {wr, R[i] * s.v + cross(p[i], wr)};
+    }
   }
   for (int i = nb - 1; i >= 0; --i) {
     const int lam = mv.parent[i];
-    if (lam != -1) IC[lam] = IC[lam] + transform_to_parent(X_up[i], IC[i]);
+    if (lam != -1) IC[lam] = IC[lam] + IC[i];
   }
   for (int k = 0; k < nv * nv; ++k) M[k] = S(0.0);
 
-  Force<S> F[6];
-  S col[6];
   for (int i = 0; i < nb; ++i) {
     const int iv = mv.idx_v[i], ki = mv.nv_i[i];
-    for (int c = 0; c < ki; ++c) F[c] = IC[i] * S_col<S>(mv, i, c);
-    for (int c = 0; c < ki; ++c) {  // M_ii = S_iᵀ I^C_i S_i: the upper triangle, mirrored
-      St_times(mv, i, F[c], col);
-      for (int r = 0; r <= c; ++r) M[(iv + r) * nv + iv + c] = M[(iv + c) * nv + iv + r] = col[r];
+    for (int c = 0; c < ki; ++c) {
+      const Force<S> F = IC[i] * Sr[iv + c];
+      for (int r = 0; r <= c; ++r)  // M_ii: the upper triangle, mirrored
+        M[(iv + r) * nv + iv + c] = M[(iv + c) * nv + iv + r] = dot(Sr[iv + r], F);
       if (mv.armature) M[(iv + c) * nv + iv + c] += S(mv.armature[iv + c]);
-    }
-    int j = i;
-    while (mv.parent[j] != -1) {
-      for (int c = 0; c < ki; ++c) F[c] = X_up[j].apply_transpose(F[c]);
-      j = mv.parent[j];
-      const int jv = mv.idx_v[j], kj = mv.nv_i[j];
-      for (int c = 0; c < ki; ++c) {
-        St_times(mv, j, F[c], col);
-        for (int r = 0; r < kj; ++r) M[(jv + r) * nv + iv + c] = M[(iv + c) * nv + jv + r] = col[r];
+      for (int j = mv.parent[i]; j != -1; j = mv.parent[j]) {
+        const int jv = mv.idx_v[j];
+        for (int r = 0; r < mv.nv_i[j]; ++r) M[(jv + r) * nv + iv + c] = M[(iv + c) * nv + jv + r] = dot(Sr[jv + r], F);
       }
     }
   }
