@@ -13,6 +13,7 @@
 #include <cmath>
 
 #include "model_view.hpp"
+#include "trig.hpp"
 #include "spatial.hpp"
 
 namespace fdcore {
@@ -31,9 +32,9 @@ inline Mat3<S> load9(const double* p) {
 // Xtree_R · Rodrigues(a, θ) = Xtree_R + sin θ · Xtree_R [a]× + (1 − cos θ) · Xtree_R [a]×²  (revolute, planar)
 template <class S>
 inline Mat3<S> rotate_about_axis(const ModelView& mv, int i, const Mat3<S>& Rt, const S& theta) {
-  using std::cos;
-  using std::sin;
-  const S s = sin(theta), c1 = S(1.0) - cos(theta);
+  S s, c;
+  sin_cos(theta, s, c);  // trig.hpp: the same operations for double and Pack
+  const S c1 = S(1.0) - c;
   const double* K = mv.RK + 9 * i;
   const double* K2 = mv.RK2 + 9 * i;
   Mat3<S> R;
