@@ -89,6 +89,11 @@ class FrameMismatchError(FeatherdynError, ValueError):
 class ModelError(FeatherdynError, ValueError):
     """A model description is inconsistent (parent order, names, inertias, ...)."""
 
+    @classmethod
+    def no_mass(cls, model_name: str) -> ModelError:
+        """The error of a quantity defined by the tree's mass (centre of mass, centroidal momentum) on a massless tree."""
+        return cls(f"model {model_name!r} has no mass: its centre of mass is undefined")
+
 
 class URDFError(ModelError):
     """A URDF document is malformed, hostile or describes an impossible tree.

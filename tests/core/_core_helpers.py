@@ -15,13 +15,17 @@ RTOL = 1e-12
 REFS = (fd.LOCAL, fd.WORLD, fd.LOCAL_WORLD_ALIGNED)
 
 
-def assert_rel(actual: np.ndarray, expected: np.ndarray, what: str, rtol: float = RTOL) -> None:
-    """``max |actual − expected| <= rtol × max |expected|``; the failure names the quantity and the worst index."""
+def assert_rel(actual: np.ndarray, expected: np.ndarray, what: str, rtol: float = RTOL, floor: float = 0.0) -> None:
+    """``max |actual − expected| <= rtol × max(max |expected|, floor)``; the failure names the quantity and the worst index.
+
+    ``floor``: the magnitude of the terms a quantity is a sum of, when it can cancel to round-off (J̇ of a
+    free-flyer's own frame is zero up to products of velocities and Jacobian entries).
+    """
     actual, expected = np.asarray(actual), np.asarray(expected)
     assert actual.shape == expected.shape, f"{what}: shape {actual.shape} != {expected.shape}"
     if not expected.size:
         return
-    scale = max(float(np.max(np.abs(expected))), 1e-300)
+    scale = max(float(np.max(np.abs(expected))), floor, 1e-300)
     diff = np.abs(actual - expected)
     err = float(np.max(diff))
     if not err <= rtol * scale:

@@ -4,7 +4,9 @@ On every robot of the library, fixed and floating base, one state and a batch,
 and on the random trees of ``tests/_models.py`` (every joint type: revolute about
 any axis, prismatic, spherical, free-flyer, planar): FK (placements, velocities,
 accelerations, parent placements), RNEA (with f_ext, without gravity), NLE, gravity, CRBA, ABA,
-frame placements and frame Jacobians in the three reference frames. Also a
+frame placements, frame Jacobians and their time variation in the three
+reference frames, joint Jacobians, kinetic and potential energy, the centre of
+mass and its velocity, the centroidal momentum and its matrix. Also a
 floating base 10⁶ m from the origin (CRBA in body coordinates stays exact).
 """
 
@@ -56,6 +58,26 @@ def check_all(model: fd.Model, q: np.ndarray, v: np.ndarray, a: np.ndarray, tau:
     assert_rel(vel, kin.velocities.vector, f"{label}: kinematics velocities")
     assert_rel(acc, kin.accelerations.vector, f"{label}: kinematics accelerations")
     assert core.kinematics(model, q)[2] is None and core.kinematics(model, q, v)[3] is None
+    assert_rel(core.kinetic_energy(model, q, v), fd.kinetic_energy(model, q, v, backend=ref), f"{label}: kinetic")
+    assert_rel(core.potential_energy(model, q), fd.potential_energy(model, q, backend=ref), f"{label}: potential")
+    assert_rel(core.joint_jacobians(model, q), fd.joint_jacobians(model, q, backend=ref), f"{label}: joint_jacobians")
+    if model.total_mass > 0:
+        c, cd = core.center_of_mass(model, q, v)
+        com = fd.center_of_mass(model, q, v, backend=ref)
+        assert_rel(c, com.position, f"{label}: center_of_mass")
+        assert_rel(cd, com.velocity, f"{label}: center_of_mass velocity")
+        assert_rel(core.center_of_mass(model, q), com.position, f"{label}: center_of_mass without v")
+        assert_rel(core.centroidal_momentum_matrix(model, q), fd.centroidal_momentum_matrix(model, q, backend=ref),
+                   f"{label}: centroidal_momentum_matrix")
+        assert_rel(core.centroidal_momentum(model, q, v), fd.centroidal_momentum(model, q, v, backend=ref).vector,
+                   f"{label}: centroidal_momentum")
+    for fid in frames_of(model):
+        for reference in REFS:
+            J = fd.frame_jacobian(model, q, fid, reference, backend=ref)
+            assert_rel(core.frame_jacobian_time_variation(model, q, v, fid, reference),
+                       fd.frame_jacobian_time_variation(model, q, v, fid, reference, backend=ref),
+                       f"{label}: frame_jacobian_time_variation({model.frames[fid].name!r}, {reference.name})",
+                       floor=float(np.abs(J).max(initial=0.0) * np.abs(v).max(initial=0.0)))
     for fid in frames_of(model):
         H = core.frame_placement(model, q, fid)
         R, p = H[..., :3, :3], H[..., :3, 3]
@@ -131,3 +153,17 @@ def test_complex_step_gives_the_derivative() -> None:
         eps = 1e-6
         d_fd = (core.rnea(model, st.q + eps * dq, st.v, st.a) - core.rnea(model, st.q - eps * dq, st.v, st.a)) / (2 * eps)
         assert_rel(d_complex, d_fd, f"∂τ/∂q_{k}", rtol=1e-7)
+
+
+def test_massless_tree_has_no_centre_of_mass() -> None:
+    """The core raises the reference's error, word for word."""
+    b = fd.ModelBuilder("massless")
+    b.add_body("link", parent=-1, joint=fd.RevoluteJoint([0, 0, 1]), inertia=fd.SpatialInertia(0.0, [0, 0, 0], np.zeros((3, 3))))
+    with pytest.warns(fd.PhysicalityWarning):
+        model = b.build()
+    for call in (lambda: core.center_of_mass(model, np.zeros(1)), lambda: core.centroidal_momentum_matrix(model, np.zeros(1))):
+        with pytest.raises(fd.errors.ModelError) as mine:
+            call()
+        with pytest.raises(fd.errors.ModelError) as ref:
+            fd.center_of_mass(model, np.zeros(1), backend="reference")
+        assert str(mine.value) == str(ref.value)

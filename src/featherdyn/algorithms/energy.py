@@ -71,7 +71,7 @@ def center_of_mass(model: Model, kin: Kinematics) -> np.ndarray | CenterOfMass:
     batch = kin.placements.shape[:-1]
     m = model.total_mass
     if not m > 0:
-        raise ModelError(f"model {model.name!r} has no mass: its centre of mass is undefined")
+        raise ModelError.no_mass(model.name)
     pos = np.zeros(batch + (3,), dtype=td.dtype)
     for i, c in enumerate(_world_coms(model, kin, td)):
         pos = pos + td.I[i].mass * c

@@ -15,7 +15,15 @@ import numpy as np
 from .._state_checks import State, batch_with_f_ext, check_f_ext, check_state
 from ..errors import NonFiniteError
 
-__all__ = ["State", "check_state", "check_f_ext", "batch_with_f_ext", "finite_result", "quiet"]
+__all__ = ["State", "check_state", "check_f_ext", "batch_with_f_ext", "as_dtype", "finite_result", "quiet"]
+
+
+_F64 = np.dtype(np.float64)
+
+
+def as_dtype(x: np.ndarray, dtype: np.dtype) -> np.ndarray:
+    """The compiled core's float64 result in the input's dtype (float32 stays float32 when the core is forced)."""
+    return x if dtype == _F64 else x.astype(dtype)
 
 
 def finite_result(result: np.ndarray, what: str) -> np.ndarray:

@@ -20,26 +20,18 @@ from ..algorithms import crba as _crba
 from ..algorithms import rnea as _rnea
 from ..model import Model
 from ._backend import CORE, OK, core_path, select_backend
-from ._checks import State, batch_with_f_ext, check_f_ext, check_state, finite_result, quiet
+from ._checks import State, as_dtype, batch_with_f_ext, check_f_ext, check_state, finite_result, quiet
 from .kinematics import kinematics_of
 
 __all__ = ["rnea", "nonlinear_effects", "generalized_gravity", "crba", "aba", "coriolis_matrix"]
 
 _EMPTY = np.empty
-_F64 = np.dtype(np.float64)
-
-
-def _as(x: np.ndarray, dtype: np.dtype) -> np.ndarray:
-    """The core's float64 result in the input's dtype (float32 stays float32 when the core is forced)."""
-    return x if dtype == _F64 else x.astype(dtype)
-
-
 def _inverse_dynamics(model: Model, st: State, v: np.ndarray, a: np.ndarray, fx: np.ndarray | None, gravity: bool,
                       backend: str | None) -> np.ndarray:
     """RNEA on a checked state, by the backend ``backend`` resolves to."""
     dtype = batch_with_f_ext(st, fx)[1]
     if select_backend(backend, dtype) == "compiled":
-        return finite_result(_as(_compiled.rnea(model, st.q, v, a, fx, gravity), dtype), "rnea")
+        return finite_result(as_dtype(_compiled.rnea(model, st.q, v, a, fx, gravity), dtype), "rnea")
     return finite_result(quiet(_rnea.rnea, model, st.q, v, a, fx, gravity), "rnea")
 
 
@@ -125,7 +117,7 @@ def crba(model: Model, q: ArrayLike, *, backend: str | None = None) -> np.ndarra
             pass
     st = check_state(model, q)
     if select_backend(backend, st.dtype) == "compiled":
-        return finite_result(_as(_compiled.crba(model, st.q), st.dtype), "crba")
+        return finite_result(as_dtype(_compiled.crba(model, st.q), st.dtype), "crba")
     return finite_result(quiet(_crba.crba, model, st.q), "crba")
 
 
@@ -160,7 +152,7 @@ def aba(model: Model, q: ArrayLike, v: ArrayLike, tau: ArrayLike, f_ext: ArrayLi
     dtype = batch_with_f_ext(st, fx)[1]
     if select_backend(backend, dtype) == "compiled":
         qdd = _compiled.aba(model, st.q, st.arrays["v"], st.arrays["tau"], fx, gravity)
-        return finite_result(_as(qdd, dtype), "aba")
+        return finite_result(as_dtype(qdd, dtype), "aba")
     return finite_result(quiet(_aba.aba, model, st.q, st.arrays["v"], st.arrays["tau"], fx, gravity), "aba")
 
 

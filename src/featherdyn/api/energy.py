@@ -1,7 +1,8 @@
 """The public whole-body quantities: energies, centre of mass, centroidal momentum.
 
-Forward kinematics by the chosen backend (:func:`.kinematics.kinematics_of`),
-then the reference formulas of ``algorithms/energy.py`` and
+Float64 input: the compiled core's kernels (``core/cpp/energy.hpp``,
+``centroidal.hpp``); otherwise (or ``backend="reference"``) the forward
+kinematics and the reference formulas of ``algorithms/energy.py`` and
 ``algorithms/centroidal.py``.
 """
 
@@ -12,12 +13,14 @@ from typing import overload
 import numpy as np
 from numpy.typing import ArrayLike
 
+from .. import core as _compiled
 from ..algorithms import centroidal as _centroidal
 from ..algorithms import energy as _energy
 from ..model import Model
 from ..results import CenterOfMass
 from ..spatial_algebra import SpatialForce
-from ._checks import check_state, finite_result, quiet
+from ._backend import select_backend
+from ._checks import as_dtype, check_state, finite_result, quiet
 from .kinematics import kinematics_of
 
 __all__ = ["kinetic_energy", "potential_energy", "center_of_mass", "centroidal_momentum_matrix",
@@ -30,6 +33,8 @@ def kinetic_energy(model: Model, q: ArrayLike, v: ArrayLike, *, backend: str | N
         T = Σ_i ½ v_iᵀ I_i v_i = ½ q̇ᵀ M(q) q̇
     """
     st = check_state(model, q, v=v)
+    if select_backend(backend, st.dtype) == "compiled":
+        return as_dtype(_compiled.kinetic_energy(model, st.q, st.arrays["v"]), st.dtype)
     return finite_result(quiet(_energy.kinetic_energy, model, kinematics_of(model, st, st.arrays["v"], None, backend)),
                          "kinetic_energy")
 
@@ -40,6 +45,8 @@ def potential_energy(model: Model, q: ArrayLike, *, backend: str | None = None) 
         U = −Σ_i m_i gᵀ ⁰c_i
     """
     st = check_state(model, q)
+    if select_backend(backend, st.dtype) == "compiled":
+        return as_dtype(_compiled.potential_energy(model, st.q), st.dtype)
     return finite_result(quiet(_energy.potential_energy, model, kinematics_of(model, st, None, None, backend)),
                          "potential_energy")
 
@@ -61,6 +68,12 @@ def center_of_mass(model: Model, q: ArrayLike, v: ArrayLike | None = None, *, ba
         ModelError: the tree has no mass (the centre of mass is undefined).
     """
     st = check_state(model, q, optional=("v",), v=v)
+    if select_backend(backend, st.dtype) == "compiled":
+        qd = st.arrays.get("v")
+        if qd is None:
+            return as_dtype(_compiled.center_of_mass(model, st.q), st.dtype)  # type: ignore[arg-type]
+        c, cd = _compiled.center_of_mass(model, st.q, qd)
+        return CenterOfMass(as_dtype(c, st.dtype), as_dtype(cd, st.dtype))
     com = quiet(_energy.center_of_mass, model, kinematics_of(model, st, st.arrays.get("v"), None, backend))
     for part in (com if isinstance(com, CenterOfMass) else (com,)):
         finite_result(part, "center_of_mass")
@@ -75,6 +88,8 @@ def centroidal_momentum_matrix(model: Model, q: ArrayLike, *, backend: str | Non
         A_O[:, k] = ⁰I^C_k ⁰X_k S_k,    A_G = [[1, −c×], [0, 1]] A_O
     """
     st = check_state(model, q)
+    if select_backend(backend, st.dtype) == "compiled":
+        return as_dtype(_compiled.centroidal_momentum_matrix(model, st.q), st.dtype)
     return finite_result(quiet(_centroidal.centroidal_momentum_matrix, model, kinematics_of(model, st, None, None, backend)),
                          "centroidal_momentum_matrix")
 
@@ -87,6 +102,8 @@ def centroidal_momentum(model: Model, q: ArrayLike, v: ArrayLike, *, backend: st
         h_G = A_G(q) q̇     (p = m ċ)
     """
     st = check_state(model, q, v=v)
+    if select_backend(backend, st.dtype) == "compiled":
+        return SpatialForce._wrap(as_dtype(_compiled.centroidal_momentum(model, st.q, st.arrays["v"]), st.dtype), None)
     h = quiet(_centroidal.centroidal_momentum, model, kinematics_of(model, st, None, None, backend), st.arrays["v"])
     finite_result(h.vector, "centroidal_momentum")
     return h

@@ -20,7 +20,7 @@ from ..model import Model
 from ..results import Kinematics
 from ..spatial_algebra import PluckerTransform, SpatialMotion
 from ._backend import CORE, OK, core_path, select_backend
-from ._checks import State, check_state, finite_result, quiet
+from ._checks import State, as_dtype, check_state, finite_result, quiet
 
 __all__ = [
     "kinematics_of",
@@ -180,6 +180,8 @@ def joint_jacobians(model: Model, q: ArrayLike, *, backend: str | None = None) -
         J[:, k] = ⁰X_k S_k      (the Jacobian of body b keeps the columns of its support)
     """
     st = check_state(model, q)
+    if select_backend(backend, st.dtype) == "compiled":
+        return as_dtype(_compiled.joint_jacobians(model, st.q), st.dtype)
     return finite_result(quiet(_jac.joint_jacobians, model, kinematics_of(model, st, None, None, backend)), "joint_jacobians")
 
 
@@ -207,8 +209,7 @@ def frame_jacobian(model: Model, q: ArrayLike, frame: str | int, reference: Refe
     fid, ref = _frame(model, frame), as_reference_frame(reference)
     st = check_state(model, q)
     if select_backend(backend, st.dtype) == "compiled":
-        J = _compiled.frame_jacobian(model, st.q, fid, ref.code)
-        return finite_result(J if st.dtype == _F64 else J.astype(st.dtype), "frame_jacobian")
+        return as_dtype(_compiled.frame_jacobian(model, st.q, fid, ref.code), st.dtype)
     return finite_result(quiet(_jac.frame_jacobian, model, quiet(_kin.forward_kinematics, model, st.q), fid, ref), "frame_jacobian")
 
 
@@ -226,6 +227,9 @@ def frame_jacobian_time_variation(model: Model, q: ArrayLike, v: ArrayLike, fram
     """
     fid, ref = _frame(model, frame), as_reference_frame(reference)
     st = check_state(model, q, v=v)
+    if select_backend(backend, st.dtype) == "compiled":
+        dJ = _compiled.frame_jacobian_time_variation(model, st.q, st.arrays["v"], fid, ref.code)
+        return as_dtype(dJ, st.dtype)
     kin = kinematics_of(model, st, st.arrays["v"], None, backend)
     return finite_result(quiet(_jac.frame_jacobian_time_variation, model, kin, st.arrays["v"], fid, ref),
                          "frame_jacobian_time_variation")

@@ -31,7 +31,7 @@ from typing import Any
 import numpy as np
 
 from .._validation import as_array
-from ..errors import DTypeError, ShapeError
+from ..errors import DTypeError, ModelError, ShapeError
 from ..frames import LOCAL, ReferenceFrame, as_reference_frame
 from ..model import Model
 from . import _errors
@@ -63,6 +63,13 @@ __all__ = [
     "fk_batch",
     "frame_placement_batch",
     "frame_jacobian_batch",
+    "kinetic_energy",
+    "potential_energy",
+    "center_of_mass",
+    "centroidal_momentum_matrix",
+    "centroidal_momentum",
+    "joint_jacobians",
+    "frame_jacobian_time_variation",
     "set_num_threads",
     "get_num_threads",
 ]
@@ -584,6 +591,122 @@ def frame_jacobian_batch(model: Model, q: Any, frame: Any, reference: Any = LOCA
     st = _core.frame_jacobian_batch(h.cm, _rows(q_, batch, (h.nq,)), fid, ref, J.reshape(math.prod(batch), 6 * h.nv))
     _check_batch(st, model, q, [], what="frame_jacobian")
     return J
+
+
+# ---------------------------------------------------------------------------
+# whole-body quantities and Jacobians (one state or a batch: rows on the core's threads)
+# ---------------------------------------------------------------------------
+
+
+def _state_rows(model: Model, q: Any, v: Any, what: str) -> tuple[CoreHandle, tuple[int, ...], np.ndarray,
+                                                                       np.ndarray | None, list[tuple[str, Any]]]:
+    """``(handle, batch shape, Q rows, V rows or None, vectors)`` of ``q`` `(..., nq)` and ``v`` `(..., nv)`."""
+    h = _view(model)
+    q_ = _f64(q, "q")
+    v_ = None if v is None else _f64(v, "v")
+    vectors = [] if v is None else [("v", v)]
+    batch = _batch_shape(model, [(q_, 1)] + ([] if v_ is None else [(v_, 1)]), q, vectors, None)
+    Q = _rows(q_, batch, (h.nq,))
+    V = _rows(v_, batch, (h.nv,))
+    assert Q is not None
+    return h, batch, Q, V, vectors
+
+
+def _mass(model: Model) -> float:
+    """The tree's total mass; the reference's error when it has none (the centre of mass is undefined)."""
+    mass = float(model.total_mass)
+    if not mass > 0.0:
+        raise ModelError.no_mass(model.name)
+    return mass
+
+
+def kinetic_energy(model: Model, q: Any, v: Any) -> np.ndarray:
+    """Kinetic energy `(...)`::
+
+        T = Σ_i ½ v_iᵀ I_i v_i = ½ q̇ᵀ M(q) q̇
+    """
+    h, batch, Q, V, vectors = _state_rows(model, q, v, "kinetic_energy")
+    out = np.empty(batch)
+    _check_batch(_core.energy_batch(h.cm, Q, V, 0, out.reshape(math.prod(batch), 1)), model, q, vectors, what="kinetic_energy")
+    return out
+
+
+def potential_energy(model: Model, q: Any) -> np.ndarray:
+    """Gravitational potential energy `(...)`, zero at the world origin::
+
+        U = −Σ_i m_i gᵀ ⁰c_i
+    """
+    h, batch, Q, _, vectors = _state_rows(model, q, None, "potential_energy")
+    out = np.empty(batch)
+    _check_batch(_core.energy_batch(h.cm, Q, None, 1, out.reshape(math.prod(batch), 1)), model, q, vectors,
+                 what="potential_energy")
+    return out
+
+
+def center_of_mass(model: Model, q: Any, v: Any = None) -> np.ndarray | tuple[np.ndarray, np.ndarray]:
+    """The centre of mass `(..., 3)` in world coordinates, and with ``v`` its velocity `(..., 3)`::
+
+        c = Σ m_i ⁰c_i / m,    ċ = Σ ⁰R_i (m_i v_i + ω_i × h_i) / m
+    """
+    h, batch, Q, V, vectors = _state_rows(model, q, v, "center_of_mass")
+    mass = _mass(model)
+    c = np.empty(batch + (3,))
+    cd = None if v is None else np.empty(batch + (3,))
+    st = _core.com_batch(h.cm, Q, V, mass, c.reshape(math.prod(batch), 3), None if cd is None else cd.reshape(math.prod(batch), 3))
+    _check_batch(st, model, q, vectors, what="center_of_mass")
+    return c if cd is None else (c, cd)
+
+
+def centroidal_momentum_matrix(model: Model, q: Any) -> np.ndarray:
+    """``A_G(q)`` `(..., 6, nv)`, ``h_G = A_G q̇`` (rows ``[k_G; p]``, world axes, about the centre of mass)::
+
+        A_G[:, k] = ᴳI^C_k ᴳX_k S_k      (G: world axes at the centre of mass)
+    """
+    h, batch, Q, _, vectors = _state_rows(model, q, None, "centroidal_momentum_matrix")
+    mass = _mass(model)
+    A = np.empty(batch + (6, h.nv))
+    st = _core.centroidal_batch(h.cm, Q, None, mass, A.reshape(math.prod(batch), 6 * h.nv), None)
+    _check_batch(st, model, q, vectors, what="centroidal_momentum_matrix")
+    return A
+
+
+def centroidal_momentum(model: Model, q: Any, v: Any) -> np.ndarray:
+    """The centroidal momentum ``h_G = [k_G; p] = A_G(q) q̇`` `(..., 6)`."""
+    h, batch, Q, V, vectors = _state_rows(model, q, v, "centroidal_momentum")
+    mass = _mass(model)
+    N = math.prod(batch)
+    A = np.empty((N, 6 * h.nv))
+    hg = np.empty(batch + (6,))
+    st = _core.centroidal_batch(h.cm, Q, V, mass, A, hg.reshape(math.prod(batch), 6))
+    _check_batch(st, model, q, vectors, what="centroidal_momentum")
+    return hg
+
+
+def joint_jacobians(model: Model, q: Any) -> np.ndarray:
+    """Every joint's columns in world coordinates, `(..., 6, nv)` (Pinocchio's ``data.J``)::
+
+        J[:, k] = ⁰X_k S_k
+    """
+    h, batch, Q, _, vectors = _state_rows(model, q, None, "joint_jacobians")
+    J = np.empty(batch + (6, h.nv))
+    _check_batch(_core.joint_jacobians_batch(h.cm, Q, J.reshape(math.prod(batch), 6 * h.nv)), model, q, vectors,
+                 what="joint_jacobians")
+    return J
+
+
+def frame_jacobian_time_variation(model: Model, q: Any, v: Any, frame: Any, reference: Any = LOCAL) -> np.ndarray:
+    """``J̇`` `(..., 6, nv)` of :func:`frame_jacobian` along ``q̇ = v``::
+
+        WORLD: ⁰J̇[:, k] = ⁰v_k × ⁰J[:, k],   LOCAL: ᶠJ̇ = ᶠX_0 ⁰J̇ − ᶠv × ᶠJ,
+        LWA: J̇ = crm([ω_f; 0]) J_LWA + blkdiag(R_f, R_f) ᶠJ̇
+    """
+    fid = model.resolve_frame(frame)
+    ref = _reference_code(reference)
+    h, batch, Q, V, vectors = _state_rows(model, q, v, "frame_jacobian_time_variation")
+    dJ = np.empty(batch + (6, h.nv))
+    st = _core.frame_jacobian_dot_batch(h.cm, Q, V, fid, ref, dJ.reshape(math.prod(batch), 6 * h.nv))
+    _check_batch(st, model, q, vectors, what="frame_jacobian_time_variation")
+    return dJ
 
 
 # ---------------------------------------------------------------------------

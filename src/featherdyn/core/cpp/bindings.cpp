@@ -24,9 +24,12 @@
 
 #include "aba.hpp"
 #include "buffer.hpp"
+#include "centroidal.hpp"
 #include "checks.hpp"
 #include "crba.hpp"
+#include "energy.hpp"
 #include "frames.hpp"
+#include "jacobians.hpp"
 #include "kinematics.hpp"
 #include "model_view.hpp"
 #include "pack.hpp"
@@ -447,6 +450,112 @@ RowStatus frame_jacobian_n(const ModelData& md, const In& q, int frame, int ref,
   });
 }
 
+// ---------------------------------------------------------------------------
+// whole-body quantities and Jacobians: rows of a batch (one state = one row), on the pool
+// ---------------------------------------------------------------------------
+
+// Kinetic (kind 0, needs V) or potential (kind 1) energy of every row into out (N,).
+RowStatus energy_n(const ModelData& md, const In& q, const In& v, int kind, Out out) {
+  const ModelView& mv = md.view;
+  std::int64_t N = 0;
+  Rows Q, V;
+  FD_TRY_ROWS(out_rows(out, 1, N));
+  FD_TRY_ROWS(rows(q, N, mv.nq, ARG_Q, Q));
+  FD_TRY_ROWS(rows(v, N, mv.nv, ARG_V, V));
+  if (kind == 0 && !v.is_valid()) return {-1, make_status(LENGTH, ARG_V, -1)};
+  double* o = out.data();
+  return for_rows(N, [&](std::int64_t r) -> std::int64_t {
+    FD_TRY(check_state(mv, Q.row(r), kind == 0 ? V.row(r) : nullptr, nullptr, nullptr));
+    o[r] = kind == 0 ? kinetic_energy(mv, Q.row(r), V.row(r)) : potential_energy(mv, Q.row(r));
+    return finite_result(o + r, 1);
+  });
+}
+
+// Centre of mass c (N, 3) and, with V, its velocity cd (N, 3); mass > 0 (the caller checks).
+RowStatus com_n(const ModelData& md, const In& q, const In& v, double mass, Out c, Out cd) {
+  const ModelView& mv = md.view;
+  std::int64_t N = 0, N2 = 0;
+  Rows Q, V;
+  FD_TRY_ROWS(out_rows(c, 3, N));
+  FD_TRY_ROWS(rows(q, N, mv.nq, ARG_Q, Q));
+  FD_TRY_ROWS(rows(v, N, mv.nv, ARG_V, V));
+  if (v.is_valid()) {
+    FD_TRY_ROWS(out_rows(cd, 3, N2));
+    if (N2 != N) return {-1, make_status(LENGTH, ARG_OUT, N2)};
+  }
+  double* C = c.data();
+  double* CD = v.is_valid() ? cd.data() : nullptr;
+  return for_rows(N, [&](std::int64_t r) -> std::int64_t {
+    FD_TRY(check_state(mv, Q.row(r), V.row(r), nullptr, nullptr));
+    center_of_mass(mv, Q.row(r), V.row(r), mass, C + 3 * r, CD ? CD + 3 * r : nullptr);
+    FD_TRY(finite_result(C + 3 * r, 3));
+    return CD ? finite_result(CD + 3 * r, 3) : OK;
+  });
+}
+
+// Centroidal momentum matrix A (N, 6 nv) and, with V, the momentum h (N, 6).
+RowStatus centroidal_n(const ModelData& md, const In& q, const In& v, double mass, Out A, Out h) {
+  const ModelView& mv = md.view;
+  std::int64_t N = 0, N2 = 0;
+  Rows Q, V;
+  const std::int64_t n = 6 * static_cast<std::int64_t>(mv.nv);
+  FD_TRY_ROWS(out_rows(A, n, N));
+  FD_TRY_ROWS(rows(q, N, mv.nq, ARG_Q, Q));
+  FD_TRY_ROWS(rows(v, N, mv.nv, ARG_V, V));
+  if (v.is_valid()) {
+    FD_TRY_ROWS(out_rows(h, 6, N2));
+    if (N2 != N) return {-1, make_status(LENGTH, ARG_OUT, N2)};
+  }
+  double* Ao = A.data();
+  double* H = v.is_valid() ? h.data() : nullptr;
+  return for_rows(N, [&](std::int64_t r) -> std::int64_t {
+    FD_TRY(check_state(mv, Q.row(r), V.row(r), nullptr, nullptr));
+    if (H) {
+      centroidal_momentum(mv, Q.row(r), V.row(r), mass, Ao + r * n, H + 6 * r);
+      FD_TRY(finite_result(H + 6 * r, 6));
+    } else {
+      centroidal_momentum_matrix(mv, Q.row(r), mass, Ao + r * n);
+    }
+    return finite_result(Ao + r * n, n);
+  });
+}
+
+// Every joint's world columns J (N, 6 nv).
+RowStatus joint_jacobians_n(const ModelData& md, const In& q, Out J) {
+  const ModelView& mv = md.view;
+  std::int64_t N = 0;
+  Rows Q;
+  const std::int64_t n = 6 * static_cast<std::int64_t>(mv.nv);
+  FD_TRY_ROWS(out_rows(J, n, N));
+  FD_TRY_ROWS(rows(q, N, mv.nq, ARG_Q, Q));
+  double* o = J.data();
+  return for_rows(N, [&](std::int64_t r) -> std::int64_t {
+    FD_TRY(check_state(mv, Q.row(r), nullptr, nullptr, nullptr));
+    joint_jacobians(mv, Q.row(r), o + r * n);
+    return finite_result(o + r * n, n);
+  });
+}
+
+// J̇ of a frame (N, 6 nv) in the reference `ref` along V.
+RowStatus frame_jacobian_dot_n(const ModelData& md, const In& q, const In& v, int frame, int ref, Out dJ) {
+  const ModelView& mv = md.view;
+  std::int64_t N = 0;
+  Rows Q, V;
+  const std::int64_t n = 6 * static_cast<std::int64_t>(mv.nv);
+  FD_TRY_ROWS(out_rows(dJ, n, N));
+  FD_TRY_ROWS(rows(q, N, mv.nq, ARG_Q, Q));
+  require_present(v);
+  FD_TRY_ROWS(rows(v, N, mv.nv, ARG_V, V));
+  if (frame < 0 || frame >= mv.nf) return {-1, make_status(LENGTH, ARG_FRAME, frame < 0 ? 0 : frame)};
+  if (ref < LOCAL || ref > LOCAL_WORLD_ALIGNED) throw nb::value_error("reference code must be 0, 1 or 2");
+  double* o = dJ.data();
+  return for_rows(N, [&](std::int64_t r) -> std::int64_t {
+    FD_TRY(check_state(mv, Q.row(r), V.row(r), nullptr, nullptr));
+    frame_jacobian_time_variation(mv, Q.row(r), V.row(r), frame, ref, o + r * n);
+    return finite_result(o + r * n, n);
+  });
+}
+
 // The core's sin and cos (trig.hpp) of every x, by the one-state path or by Packs (tests: accuracy
 // against the C library, and lanes bit-identical to one state).
 void sin_cos_n(const In& x, Out s, Out c, bool packs) {
@@ -526,6 +635,12 @@ NB_MODULE(_core, m) {
   m.def("frame_jacobian_batch", &frame_jacobian_n, nb::arg("model"), A("q"), nb::arg("frame"),
         nb::arg("reference"), A("out"));
 
+  m.def("energy_batch", &energy_n, nb::arg("model"), A("q"), O("v"), nb::arg("kind"), A("out"));
+  m.def("com_batch", &com_n, nb::arg("model"), A("q"), O("v"), nb::arg("mass"), A("c"), O("cd"));
+  m.def("centroidal_batch", &centroidal_n, nb::arg("model"), A("q"), O("v"), nb::arg("mass"), A("A"), O("h"));
+  m.def("joint_jacobians_batch", &joint_jacobians_n, nb::arg("model"), A("q"), A("out"));
+  m.def("frame_jacobian_dot_batch", &frame_jacobian_dot_n, nb::arg("model"), A("q"), A("v"), nb::arg("frame"),
+        nb::arg("reference"), A("out"));
   m.def("sin_cos", &sin_cos_n, A("x"), A("s"), A("c"), nb::arg("packs"));
   m.def("set_num_threads", [](int n) { GlobalPool::instance().set_num_threads(n); }, nb::arg("n"));
   m.def("get_num_threads", [] { return GlobalPool::instance().num_threads(); });
