@@ -7,6 +7,7 @@
 #pragma once
 
 #include <cmath>
+#include <cstddef>
 
 namespace fdcore {
 
@@ -44,6 +45,16 @@ inline Pack operator-(const Pack& a, const Pack& b) { return Pack::raw(a.v - b.v
 inline Pack operator*(const Pack& a, const Pack& b) { return Pack::raw(a.v * b.v); }
 inline Pack operator/(const Pack& a, const Pack& b) { return Pack::raw(a.v / b.v); }
 inline Pack operator-(const Pack& a) { return Pack::raw(-a.v); }
+
+// {x[0][k], x[1][k], …}: element k of each lane's row, built in a register (one wide store after,
+// instead of one narrow store per lane that the next wide load could not forward).
+inline Pack load_lanes(const double* const* x, size_t k) {
+#if defined(__AVX2__)
+  return Pack::raw(Pack::V{x[0][k], x[1][k], x[2][k], x[3][k]});
+#else
+  return Pack::raw(Pack::V{x[0][k], x[1][k]});
+#endif
+}
 
 #define FD_PACK_LANEWISE(fn)                              \
   inline Pack fn(const Pack& a) {                         \

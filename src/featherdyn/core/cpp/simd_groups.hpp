@@ -21,10 +21,9 @@ struct Lanes {
   Pack* gather(const fdgroup::Rows& X, std::int64_t r0, size_t n, size_t offset) {
     if (!X.p) return nullptr;
     Pack* out = buf.data() + offset;
-    for (int lane = 0; lane < PACK_WIDTH; ++lane) {
-      const double* x = X.row(r0 + lane);
-      for (size_t k = 0; k < n; ++k) out[k].set(lane, x[k]);
-    }
+    const double* rows[PACK_WIDTH];
+    for (int lane = 0; lane < PACK_WIDTH; ++lane) rows[lane] = X.row(r0 + lane);
+    for (size_t k = 0; k < n; ++k) out[k] = load_lanes(rows, k);
     return out;
   }
   Pack* space(size_t offset) { return buf.data() + offset; }
