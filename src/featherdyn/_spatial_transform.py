@@ -20,7 +20,7 @@ from numpy.typing import ArrayLike, DTypeLike
 from ._spatial_inertia import SpatialInertia, _bcast_inertia
 from ._spatial_ops import _batch_index, _bcast, _bcast_rp, _cross3, _fmt, _kind, _matvec, _mT, _skew, _tags, _unskew
 from ._spatial_vectors import SpatialForce, SpatialMotion, _SpatialValue
-from ._validation import as_array, check_rotation, readonly, result_dtype
+from ._validation import as_array, check_rotation, result_dtype
 from .errors import ShapeError, SpatialTypeError
 from .frames import Frame, check_same_frame
 from .tolerances import SPATIAL_STRUCTURE
@@ -301,11 +301,19 @@ def _apply_type_error(what: str, x: object) -> SpatialTypeError:
     )
 
 
+#: the slots' own setters: a frozen dataclass refuses ``obj.x = …``, and ``object.__setattr__`` costs
+#: a type lookup per field (building the results of the compiled one-state calls is on the hot path)
+_SET_ROTATION, _SET_TRANSLATION, _SET_SOURCE, _SET_TARGET = (
+    PluckerTransform.__dict__[name].__set__ for name in ("rotation", "translation", "source", "target"))
+
+
 def _init_x(obj: object, rot: np.ndarray, p: np.ndarray, source: Frame, target: Frame) -> None:
-    object.__setattr__(obj, "rotation", readonly(rot))
-    object.__setattr__(obj, "translation", readonly(p))
-    object.__setattr__(obj, "source", source)
-    object.__setattr__(obj, "target", target)
+    rot.setflags(write=False)  # (readonly() inlined)
+    p.setflags(write=False)
+    _SET_ROTATION(obj, rot)
+    _SET_TRANSLATION(obj, p)
+    _SET_SOURCE(obj, source)
+    _SET_TARGET(obj, target)
 
 
 def rotx(theta: ArrayLike) -> PluckerTransform:

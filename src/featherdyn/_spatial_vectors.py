@@ -17,6 +17,8 @@ Sources: RBDA (2008) §2.2–§2.9; chapter §2, §4 and §13.
 
 from __future__ import annotations
 
+import dataclasses
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any, ClassVar, NamedTuple, NoReturn, overload
 
@@ -38,7 +40,7 @@ from ._spatial_ops import (
     _sum_last,
     _tags,
 )
-from ._validation import as_array, readonly, result_dtype
+from ._validation import as_array, result_dtype
 from .errors import DTypeError, NonFiniteError, ShapeError, SpatialTypeError
 from .frames import Frame, chain_bodies, check_same_frame, merge_frames
 
@@ -505,11 +507,21 @@ class SpatialForce(_SpatialValue):
         return f"SpatialForce(angular={_fmt(self.angular)}, linear={_fmt(self.linear)}{_tags(self)})"
 
 
+#: per class, the slots' own setters (a frozen dataclass refuses ``obj.x = …``; ``object.__setattr__``
+#: costs a type lookup per field, and building results is on the compiled one-state calls' hot path)
+_SETTERS: dict[type, dict[str, Callable[[object, object], None]]] = {}
+
+
 def _init(obj: object, vec: np.ndarray, frame: Frame, **tags: Frame) -> None:
-    object.__setattr__(obj, "vector", readonly(vec))
-    object.__setattr__(obj, "frame", frame)
+    cls = type(obj)
+    setters = _SETTERS.get(cls)
+    if setters is None:
+        setters = _SETTERS[cls] = {f.name: getattr(cls, f.name).__set__ for f in dataclasses.fields(cls)}  # type: ignore[arg-type]
+    vec.setflags(write=False)  # (readonly() inlined)
+    setters["vector"](obj, vec)
+    setters["frame"](obj, frame)
     for k, val in tags.items():
-        object.__setattr__(obj, k, val)
+        setters[k](obj, val)
 
 
 # --------------------------------------------------------------------------

@@ -36,6 +36,7 @@ __all__ = [
 
 _EMPTY = np.empty
 _F64 = np.dtype(np.float64)
+_SHAPE_R = (3, 3)
 
 
 def _kinematics(model: Model, H: np.ndarray, Hp: np.ndarray, vel: np.ndarray | None, acc: np.ndarray | None,
@@ -108,10 +109,10 @@ def frame_placement(model: Model, q: ArrayLike, frame: str | int, *, backend: st
     core = core_path(model, backend)
     if core is not None:
         fid_ = core.frames.get(frame, -1) if frame.__class__ is str else frame
-        H = _EMPTY((4, 4))
+        R, p = _EMPTY(_SHAPE_R), _EMPTY(3)
         try:
-            if CORE.frame_placement(core.cm, q, fid_, H) == OK:
-                return PluckerTransform._wrap(H[:3, :3], H[:3, 3], None, None)
+            if CORE.frame_pose(core.cm, q, fid_, R, p) == OK:
+                return PluckerTransform._wrap(R, p, None, None)
         except TypeError:  # arguments the binding does not take as they are: the general path converts
             pass
     fid = _frame(model, frame)

@@ -242,6 +242,24 @@ std::int64_t frame_placement1(const ModelData& md, const F64In& q, int frame, co
   return finite_result(pose.data(), 16);
 }
 
+// ⁰M_f as its rotation R (3, 3) and translation p (3,): the arrays of a PluckerTransform.
+std::int64_t frame_pose1(const ModelData& md, const F64In& q, int frame, const F64Out& R, const F64Out& p) {
+  const ModelView& mv = md.view;
+  FD_TRY(vec(q, mv.nq, ARG_Q));
+  if (frame < 0 || frame >= mv.nf) return make_status(LENGTH, ARG_FRAME, frame < 0 ? 0 : frame);
+  FD_TRY(exact_shape(R, {3, 3}));
+  FD_TRY(exact_shape(p, {3}));
+  FD_TRY(check_state(mv, q.data(), nullptr, nullptr, nullptr));
+  Mat3<double> Rf;
+  Vec3<double> pf;
+  frame_pose(mv, q.data(), frame, Rf, pf);
+  double* r = R.data();
+  for (int k = 0; k < 9; ++k) r[k] = Rf.m[k];
+  p.data()[0] = pf.x, p.data()[1] = pf.y, p.data()[2] = pf.z;
+  FD_TRY(finite_result(r, 9));
+  return finite_result(p.data(), 3);
+}
+
 std::int64_t frame_jacobian1(const ModelData& md, const F64In& q, int frame, int ref, const F64Out& J) {
   const ModelView& mv = md.view;
   FD_TRY(vec(q, mv.nq, ARG_Q));
@@ -620,6 +638,7 @@ NB_MODULE(_core, m) {
         O("D_singular"));
   m.def("fk", &fk1, nb::arg("model"), A("q"), O("v"), O("a"), A("H"), O("Hp"), O("vel"), O("acc"));
   m.def("frame_placement", &frame_placement1, nb::arg("model"), A("q"), nb::arg("frame"), A("out"));
+  m.def("frame_pose", &frame_pose1, nb::arg("model"), A("q"), nb::arg("frame"), A("R"), A("p"));
   m.def("frame_jacobian", &frame_jacobian1, nb::arg("model"), A("q"), nb::arg("frame"), nb::arg("reference"),
         A("out"));
   m.def("rnea_complex", &rnea_complex1, nb::arg("model"), A("q"), A("v"), A("a"), O("f_ext"), nb::arg("gravity"),

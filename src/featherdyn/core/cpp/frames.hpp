@@ -45,18 +45,26 @@ inline int support_placements(const ModelView& mv, int body, const S* q, Support
   return n;
 }
 
-// ⁰M_f as a homogeneous matrix H (4, 4), row-major.
+// ⁰M_f = (R, p): its rotation R (3, 3) row-major and translation p (3,).
 template <class S>
-void frame_placement(const ModelView& mv, const S* q, int frame, S* H) {
+void frame_pose(const ModelView& mv, const S* q, int frame, Mat3<S>& R, Vec3<S>& p) {
   SupportWork<S>& w = thread_workspace<SupportWork<S>>(mv.nb);
   const int body = mv.frame_body[frame];
-  Mat3<S> R = load9<S>(mv.frame_R + 9 * frame);
-  Vec3<S> p = load3<S>(mv.frame_p + 3 * frame);
+  R = load9<S>(mv.frame_R + 9 * frame);
+  p = load3<S>(mv.frame_p + 3 * frame);
   const int n = support_placements(mv, body, q, w);
   if (n > 0) {
     p = w.op[n - 1] + w.oR[n - 1] * p;
     R = w.oR[n - 1] * R;
   }
+}
+
+// ⁰M_f as a homogeneous matrix H (4, 4), row-major.
+template <class S>
+void frame_placement(const ModelView& mv, const S* q, int frame, S* H) {
+  Mat3<S> R;
+  Vec3<S> p;
+  frame_pose(mv, q, frame, R, p);
   for (int r = 0; r < 3; ++r) {
     for (int c = 0; c < 3; ++c) H[4 * r + c] = R(r, c);
   }
