@@ -437,7 +437,7 @@ def fk(model: Model, q: Any, v: Any = None, a: Any = None, out: Any = None) -> A
         try:
             h = model._core
             H = _empty((h.nb, 4, 4)) if out is None else out
-            if _core.fk(h.cm, q, None, None, H, None, None, None) == 0:
+            if _core.placements(h.cm, q, H) == 0:
                 return H
         except (AttributeError, TypeError):
             pass

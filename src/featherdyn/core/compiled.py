@@ -66,7 +66,7 @@ class CompiledModel:
         shape_M, shape_H, shape_J = (nv, nv), (nb, 4, 4), (6, nv)  # built once, not per call
         frames = handle.frames
         k_rnea, k_nle, k_gravity, k_crba, k_aba, k_fk, k_jac = (
-            core.rnea, core.nle, core.gravity, core.crba, core.aba, core.fk, core.frame_jacobian)
+            core.rnea, core.nle, core.gravity, core.crba, core.aba, core.placements, core.frame_jacobian)
         codes = {id(LOCAL): 0, id(WORLD): 1, id(LOCAL_WORLD_ALIGNED): 2}
 
         # The methods are closures stored on the instance: no bound-method object, few lookups.
@@ -127,7 +127,7 @@ class CompiledModel:
             """World placements of the bodies, homogeneous `(nb, 4, 4)`."""
             H = empty(shape_H) if out is None else out
             try:
-                if k_fk(cm, q, None, None, H, None, None, None) == 0:
+                if k_fk(cm, q, H) == 0:
                     return H
             except TypeError:
                 pass

@@ -385,6 +385,16 @@ RowStatus aba_n(const ModelData& md, const In& q, const In& v, const In& tau, co
       group_kernels().aba, {&mv, Q, V, T, FX, gravity, out, mv.nv});
 }
 
+// H (nb, 4, 4) only: the placements of fd.compile's fk (fewer arguments to parse than fk1).
+std::int64_t placements1(const ModelData& md, const F64In& q, const F64Out& H) {
+  const ModelView& mv = md.view;
+  FD_TRY(vec(q, mv.nq, ARG_Q));
+  FD_TRY(exact_shape(H, {size_t(mv.nb), 4, 4}));
+  FD_TRY(check_state(mv, q.data(), nullptr, nullptr, nullptr));
+  forward_kinematics<double>(mv, q.data(), nullptr, nullptr, H.data(), nullptr, nullptr);
+  return finite_result(H.data(), 16 * std::int64_t(mv.nb));
+}
+
 RowStatus fk_n(const ModelData& md, const In& q, Out H) {
   const ModelView& mv = md.view;
   std::int64_t N = 0;
@@ -638,6 +648,7 @@ NB_MODULE(_core, m) {
         O("D_singular"));
   m.def("fk", &fk1, nb::arg("model"), A("q"), O("v"), O("a"), A("H"), O("Hp"), O("vel"), O("acc"));
   m.def("frame_placement", &frame_placement1, nb::arg("model"), A("q"), nb::arg("frame"), A("out"));
+  m.def("placements", &placements1, nb::arg("model"), A("q"), A("H"));
   m.def("frame_pose", &frame_pose1, nb::arg("model"), A("q"), nb::arg("frame"), A("R"), A("p"));
   m.def("frame_jacobian", &frame_jacobian1, nb::arg("model"), A("q"), nb::arg("frame"), nb::arg("reference"),
         A("out"));
