@@ -41,7 +41,8 @@ namespace nb = nanobind;
 using namespace fdcore;
 
 #if defined(FEATHERDYN_HAVE_AVX2)
-fdgroup::GroupKernels featherdyn_avx2_group_kernels();  // simd_avx2.cpp
+fdgroup::GroupKernels featherdyn_avx2_group_kernels();    // simd_avx2.cpp
+fdgroup::GroupKernels featherdyn_avx512_group_kernels();  // simd_avx512.cpp
 #endif
 
 using In = nb::ndarray<const double, nb::c_contig, nb::device::cpu>;
@@ -289,14 +290,17 @@ std::int64_t rnea_complex1(const ModelData& md, const InC& q, const InC& v, cons
 // batches: row r of each input (or its only row), row r of the output
 // ---------------------------------------------------------------------------
 
-// The batched group kernels for this CPU: AVX2 (4 lanes) when it has it, else the x86-64
-// baseline (2 lanes); FEATHERDYN_SIMD=baseline forces the baseline (to measure both ways).
+// The batched group kernels for this CPU: AVX-512 (8 lanes) or AVX2 (4 lanes) when it has them,
+// else the x86-64 baseline (2 lanes); FEATHERDYN_SIMD=baseline|avx2|avx512 asks for one (to measure
+// each way; a set the CPU lacks is not taken).
 const fdgroup::GroupKernels& group_kernels() {
   static const fdgroup::GroupKernels kernels = [] {
 #if defined(FEATHERDYN_HAVE_AVX2)
     const char* env = std::getenv("FEATHERDYN_SIMD");
-    const bool baseline = env != nullptr && std::strcmp(env, "baseline") == 0;
-    if (!baseline && __builtin_cpu_supports("avx2")) return featherdyn_avx2_group_kernels();
+    const std::string want = env != nullptr ? env : "";
+    const bool avx512 = __builtin_cpu_supports("avx512f"), avx2 = __builtin_cpu_supports("avx2");
+    if (want != "baseline" && want != "avx2" && avx512) return featherdyn_avx512_group_kernels();
+    if (want != "baseline" && avx2) return featherdyn_avx2_group_kernels();
 #endif
     return fdcore::group_kernels("baseline");
   }();

@@ -12,10 +12,13 @@
 namespace fdcore {
 
 // The lanes: one vector register. Two doubles on the x86-64 baseline (SSE2), four where the
-// translation unit is compiled for AVX2 (simd_avx2.cpp, chosen at import when the CPU has it).
+// translation unit is compiled for AVX2 (simd_avx2.cpp), eight for AVX-512 (simd_avx512.cpp);
+// bindings.cpp picks the widest the CPU has at import.
 // (Four doubles on SSE2 — two registers — measured slower than two: 1.3× vs 0.65× the
 // one-state kernel's time per state on panda.)
-#if defined(__AVX2__)
+#if defined(__AVX512F__)
+constexpr int PACK_WIDTH = 8;
+#elif defined(__AVX2__)
 constexpr int PACK_WIDTH = 4;
 #else
 constexpr int PACK_WIDTH = 2;
@@ -49,7 +52,9 @@ inline Pack operator-(const Pack& a) { return Pack::raw(-a.v); }
 // {x[0][k], x[1][k], …}: element k of each lane's row, built in a register (one wide store after,
 // instead of one narrow store per lane that the next wide load could not forward).
 inline Pack load_lanes(const double* const* x, size_t k) {
-#if defined(__AVX2__)
+#if defined(__AVX512F__)
+  return Pack::raw(Pack::V{x[0][k], x[1][k], x[2][k], x[3][k], x[4][k], x[5][k], x[6][k], x[7][k]});
+#elif defined(__AVX2__)
   return Pack::raw(Pack::V{x[0][k], x[1][k], x[2][k], x[3][k]});
 #else
   return Pack::raw(Pack::V{x[0][k], x[1][k]});
