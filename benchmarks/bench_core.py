@@ -13,7 +13,13 @@ Sections:
   (the core's calls include the Python wrapper's checks and the model lookup);
 * batched, N states on T threads: ``core.rnea_batch`` / ``core.aba_batch`` against
   ``pin.rneaInParallel`` / ``pin.abaInParallel`` with the same thread count, and
-  ``core.crba_batch`` against a Python loop over ``pin.crba``.
+  ``core.crba_batch`` against a Python loop over ``pin.crba``;
+* panda's batched RNEA as a fraction of the machine's double-precision arithmetic
+  peak: its exact operation count (the RNEA template instantiated for a counting
+  scalar, ``_core.flops``) over the time per state, against
+  threads × clock × lanes of the batched kernels × 2 (one add and one multiply per
+  cycle and lane: the kernels are built without fused multiply-adds; a CPU with
+  two FMA pipes has twice that peak for code that fuses).
 """
 
 from __future__ import annotations
@@ -33,7 +39,7 @@ import numpy as np
 import featherdyn as fd
 from featherdyn import core
 
-ROBOTS = [("panda", False, "panda_hand"), ("solo12", True, "HR_FOOT")]
+ROBOTS = [("panda", False, "panda_hand"), ("solo12", True, "HR_FOOT"), ("talos_full_v2", True, "gripper_left_base_link")]
 
 
 def median_pair(a: Callable[[], Any], b: Callable[[], Any], repeats: int, budget: float) -> tuple[float, float]:
@@ -142,6 +148,45 @@ def batch_rows(p: Pair, n: int, threads: int, repeats: int, budget: float) -> li
     return rows
 
 
+def _clock_ghz() -> float:
+    """The CPU clock from /proc/cpuinfo (the first ``cpu MHz`` line), in GHz; 0 when unknown."""
+    try:
+        with open("/proc/cpuinfo", encoding="utf-8") as f:
+            for line in f:
+                if line.startswith("cpu MHz"):
+                    return float(line.split(":")[1]) / 1000.0
+    except OSError:
+        pass
+    return 0.0
+
+
+def peak_fraction(name: str, n: int, threads: int) -> str:
+    """One line: the batched RNEA's operations per second against the machine's arithmetic peak."""
+    from featherdyn.core import _core
+
+    model = fd.load_robot(name)
+    rng = np.random.default_rng(0)
+    Q = fd.random_configuration(model, rng, size=n)
+    V, A = rng.normal(size=(n, model.nv)), rng.normal(size=(n, model.nv))
+    tau = np.empty((n, model.nv))
+    flops = int(_core.flops(core._view(model).cm, 0, Q[0], V[0], A[0]))
+    core.set_num_threads(threads)
+    core.rnea_batch(model, Q, V, A, out=tau)
+    times = []
+    for _ in range(15):
+        t0 = time.perf_counter()
+        core.rnea_batch(model, Q, V, A, out=tau)
+        times.append(time.perf_counter() - t0)
+    per_state = statistics.median(times) / n
+    isa, lanes = _core.simd()
+    ghz = _clock_ghz()
+    peak = threads * ghz * 1e9 * lanes * 2
+    achieved = flops / per_state
+    share = f"{achieved / peak:.0%} of {peak / 1e9:.0f} GFLOP/s" if peak else "peak unknown (no clock)"
+    return (f"{name} RNEA batched: {flops} floating-point operations per state, {per_state * 1e9:.0f} ns per state on "
+            f"{threads} threads ({isa}, {lanes} lanes, {ghz:.2f} GHz): {achieved / 1e9:.1f} GFLOP/s = {share}\n")
+
+
 def main(argv: list[str]) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="fewer, shorter samples (a smoke run)")
@@ -155,6 +200,9 @@ def main(argv: list[str]) -> int:
           f"{platform.python_version()}; {os.cpu_count()} logical cores; core threads {core.get_num_threads()}")
     print("ratio = core / Pinocchio (median of interleaved samples; < 1: the core is faster)\n")
     for name, floating, frame in ROBOTS:
+        if name == "panda":
+            print(peak_fraction(name, args.batch, args.threads))
+
         p = Pair(name, floating)
         print(f"## {name} ({'floating' if floating else 'fixed'}; nq={p.model.nq}, nv={p.model.nv})")
         print(f"{'call':40s} {'core µs':>9s} {'pin µs':>9s} {'ratio':>7s}")

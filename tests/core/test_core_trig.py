@@ -50,3 +50,30 @@ def test_a_wide_lane_sends_its_pack_to_the_one_state_rule() -> None:
     x = np.array([0.3, 1e200, -2.0, 7.0, 0.1, -0.2, 1e6, 3.0])
     assert np.array_equal(_sin_cos(x, packs=True)[0], _sin_cos(x, packs=False)[0])
     assert np.array_equal(_sin_cos(x, packs=True)[1], _sin_cos(x, packs=False)[1])
+
+
+def test_operation_counts_grow_by_one_body_at_a_time() -> None:
+    """``_core.flops``: the RNEA / CRBA / ABA templates on a counting scalar. Adding one identical revolute
+    link to a chain adds the same number of operations each time to RNEA and ABA (O(n)); CRBA's
+    increments grow by a constant (O(n²): one more ancestor per new link)."""
+    import featherdyn as fd
+
+    def chain(n: int) -> fd.Model:
+        b = fd.ModelBuilder(f"chain{n}")
+        for i in range(n):
+            b.add_body(f"l{i}", parent=i - 1, joint=fd.RevoluteJoint([0.0, 1.0, 0.0]),
+                       placement=fd.PluckerTransform(np.eye(3), [0.0, 0.0, 0.3]),
+                       inertia=fd.SpatialInertia(1.0, [0.0, 0.0, 0.15], np.eye(3) * 0.01))
+        return b.build()
+
+    counts = []
+    for n in (3, 4, 5, 6):
+        m = chain(n)
+        q = v = a = np.full(n, 0.3)
+        cm = fd.core._view(m).cm
+        counts.append([_core.flops(cm, kind, q, v, a) for kind in (0, 1, 2)])
+    c = np.array(counts)
+    assert (c > 0).all()
+    steps = np.diff(c, axis=0)
+    assert len(set(steps[:, 0])) == 1 and len(set(steps[:, 2])) == 1, steps  # RNEA, ABA: linear
+    assert len(set(np.diff(steps[:, 1]))) == 1 and np.diff(steps[:, 1])[0] > 0, steps  # CRBA: quadratic

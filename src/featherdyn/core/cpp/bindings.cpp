@@ -26,6 +26,7 @@
 #include "buffer.hpp"
 #include "centroidal.hpp"
 #include "checks.hpp"
+#include "counted.hpp"
 #include "crba.hpp"
 #include "energy.hpp"
 #include "frames.hpp"
@@ -588,6 +589,30 @@ RowStatus frame_jacobian_dot_n(const ModelData& md, const In& q, const In& v, in
   });
 }
 
+// The floating-point operations (+, −, ×, ÷, √) one call of a kernel does for this model and state:
+// the kernel template instantiated for Counted. kind: 0 RNEA, 1 CRBA, 2 ABA (b = q̇, c = q̈ or τ).
+std::int64_t flops1(const ModelData& md, int kind, const In& q, const In& v, const In& b) {
+  const ModelView& mv = md.view;
+  require_present(q);
+  require_present(v);
+  require_present(b);
+  if (q.size() != size_t(mv.nq) || v.size() != size_t(mv.nv) || b.size() != size_t(mv.nv))
+    throw nb::value_error("flops: q, v and the third vector must have lengths nq, nv, nv");
+  std::vector<Counted> Q(q.data(), q.data() + mv.nq), V(v.data(), v.data() + mv.nv), B(b.data(), b.data() + mv.nv);
+  std::vector<Counted> out(static_cast<size_t>(mv.nv) * mv.nv);
+  Counted::ops() = 0;
+  if (kind == 0) {
+    rnea(mv, Q.data(), V.data(), B.data(), static_cast<const Counted*>(nullptr), true, out.data());
+  } else if (kind == 1) {
+    crba(mv, Q.data(), out.data());
+  } else if (kind == 2) {
+    aba(mv, Q.data(), V.data(), B.data(), static_cast<const Counted*>(nullptr), true, out.data());
+  } else {
+    throw nb::value_error("flops: kind must be 0 (RNEA), 1 (CRBA) or 2 (ABA)");
+  }
+  return Counted::ops();
+}
+
 // The core's sin and cos (trig.hpp) of every x, by the one-state path or by Packs (tests: accuracy
 // against the C library, and lanes bit-identical to one state).
 void sin_cos_n(const In& x, Out s, Out c, bool packs) {
@@ -675,6 +700,8 @@ NB_MODULE(_core, m) {
   m.def("joint_jacobians_batch", &joint_jacobians_n, nb::arg("model"), A("q"), A("out"));
   m.def("frame_jacobian_dot_batch", &frame_jacobian_dot_n, nb::arg("model"), A("q"), A("v"), nb::arg("frame"),
         nb::arg("reference"), A("out"));
+  m.def("flops", &flops1, nb::arg("model"), nb::arg("kind"), A("q"), A("v"), A("b"),
+        "floating-point operations of one RNEA (0), CRBA (1) or ABA (2) call for this state");
   m.def("sin_cos", &sin_cos_n, A("x"), A("s"), A("c"), nb::arg("packs"));
   m.def("set_num_threads", [](int n) { GlobalPool::instance().set_num_threads(n); }, nb::arg("n"));
   m.def("get_num_threads", [] { return GlobalPool::instance().num_threads(); });
