@@ -70,6 +70,9 @@ __all__ = [
     "centroidal_momentum",
     "joint_jacobians",
     "frame_jacobian_time_variation",
+    "rnea_derivatives",
+    "aba_derivatives",
+    "mass_matrix_inverse",
     "set_num_threads",
     "get_num_threads",
 ]
@@ -707,6 +710,95 @@ def frame_jacobian_time_variation(model: Model, q: Any, v: Any, frame: Any, refe
     st = _core.frame_jacobian_dot_batch(h.cm, Q, V, fid, ref, dJ.reshape(math.prod(batch), 6 * h.nv))
     _check_batch(st, model, q, vectors, what="frame_jacobian_time_variation")
     return dJ
+
+
+# ---------------------------------------------------------------------------
+# derivatives (cpp/derivatives.hpp: forward-mode differentiation of the RNEA template)
+# ---------------------------------------------------------------------------
+
+
+def _dynamics_rows(model: Model, q: Any, v: Any, x: Any, f_ext: Any, xname: str
+                   ) -> tuple[CoreHandle, tuple[int, ...], list[Any], list[tuple[str, Any]]]:
+    """``(handle, batch shape, [Q, V, X, FX] rows, vectors)`` of a state ``(q, v, x)`` and ``f_ext``."""
+    h = _view(model)
+    q_, v_, x_ = _f64(q, "q"), _f64(v, "v"), _f64(x, xname)
+    fx = None if f_ext is None else _f64(f_ext, "f_ext")
+    vectors = [("v", v), (xname, x)]
+    parts = [(q_, 1), (v_, 1), (x_, 1)] + ([] if fx is None else [(fx, 2)])
+    batch = _batch_shape(model, parts, q, vectors, f_ext)
+    rows = [_rows(q_, batch, (h.nq,)), _rows(v_, batch, (h.nv,)), _rows(x_, batch, (h.nv,)),
+            _rows(fx, batch, (h.nb, 6))]
+    return h, batch, rows, vectors
+
+
+def _raise_derivative_status(st: tuple[int, int], model: Model, q: Any, vectors: list[tuple[str, Any]], f_ext: Any,
+                             rows: list[Any], gravity: bool, what: str) -> None:
+    """The reference's error for a failed row; a singular mass matrix words it as ``fd.aba`` does."""
+    row, s = st
+    if not s:
+        return
+    if _errors.decode(s)[0] == _errors.SINGULAR:
+        _errors.validate(model, q, vectors, f_ext)
+
+        def pick(x: Any) -> Any:
+            return None if x is None else x[0 if x.shape[0] == 1 else row]
+
+        fx = pick(rows[3])
+        aba(model, pick(rows[0]), np.zeros(model.nv), np.zeros(model.nv),
+            None if fx is None else fx.reshape(model.nbodies, 6), gravity)  # raises the reference's error
+    _errors.raise_for(s, model, q, vectors, f_ext, _ABA_ARGS if what == "aba_derivatives" else ARG_NAMES, what=what)
+
+
+ARG_NAMES = _errors.ARG_NAMES
+
+
+def rnea_derivatives(model: Model, q: Any, v: Any, a: Any, f_ext: Any = None,
+                     gravity: bool = True) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """``(∂τ/∂q, ∂τ/∂q̇, ∂τ/∂q̈ = M)``, each `(..., nv, nv)`, of ``τ = RNEA(q, q̇, q̈)``.
+
+    ∂/∂q along the tangent of ``fd.integrate`` (``q ⊕ δ``, δ in ``v``'s layout); exact to round-off
+    (forward-mode differentiation of the RNEA template)::
+
+        ∂τ/∂q[:, j] = d/dε RNEA(q ⊕ ε e_j, q̇, q̈) |_{ε=0},   ∂τ/∂q̇[:, j] = d/dε RNEA(q, q̇ + ε e_j, q̈)
+    """
+    h, batch, (Q, V, A, FX), vectors = _dynamics_rows(model, q, v, a, f_ext, "a")
+    N, nv = math.prod(batch), h.nv
+    dq, dv = np.empty(batch + (nv, nv)), np.empty(batch + (nv, nv))
+    st = _core.rnea_derivatives_batch(h.cm, Q, V, A, FX, bool(gravity), dq.reshape(N, nv * nv),
+                                      dv.reshape(N, nv * nv))
+    _raise_derivative_status(st, model, q, vectors, f_ext, [Q, V, A, FX], bool(gravity), "rnea_derivatives")
+    return dq, dv, crba(model, q)
+
+
+def mass_matrix_inverse(model: Model, q: Any) -> np.ndarray:
+    """``M(q)⁻¹`` `(..., nv, nv)` from the articulated-body recursion on unit joint forces (M is never inverted)::
+
+        M⁻¹ e_j = ABA(q, 0, e_j) without gravity
+    """
+    h = _view(model)
+    q_ = _f64(q, "q")
+    batch = _batch_shape(model, [(q_, 1)], q, [], None)
+    Q = _rows(q_, batch, (h.nq,))
+    out = np.empty(batch + (h.nv, h.nv))
+    st = _core.minverse_batch(h.cm, Q, out.reshape(math.prod(batch), h.nv * h.nv))
+    _raise_derivative_status(st, model, q, [], None, [Q, None, None, None], False, "mass_matrix_inverse")
+    return out
+
+
+def aba_derivatives(model: Model, q: Any, v: Any, tau: Any, f_ext: Any = None,
+                    gravity: bool = True) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """``(∂q̈/∂q, ∂q̈/∂q̇, ∂q̈/∂τ = M⁻¹)``, each `(..., nv, nv)`, of ``q̈ = ABA(q, q̇, τ)``::
+
+        ∂q̈/∂q = −M⁻¹ ∂τ/∂q,   ∂q̈/∂q̇ = −M⁻¹ ∂τ/∂q̇   (∂τ of RNEA at q̈ = ABA(q, q̇, τ))
+    """
+    h, batch, (Q, V, T, FX), vectors = _dynamics_rows(model, q, v, tau, f_ext, "tau")
+    N, nv = math.prod(batch), h.nv
+    qdd = np.empty(batch + (nv,))
+    dq, dv, Minv = (np.empty(batch + (nv, nv)) for _ in range(3))
+    st = _core.aba_derivatives_batch(h.cm, Q, V, T, FX, bool(gravity), qdd.reshape(N, nv),
+                                     dq.reshape(N, nv * nv), dv.reshape(N, nv * nv), Minv.reshape(N, nv * nv))
+    _raise_derivative_status(st, model, q, vectors, f_ext, [Q, V, T, FX], bool(gravity), "aba_derivatives")
+    return dq, dv, Minv
 
 
 # ---------------------------------------------------------------------------

@@ -28,6 +28,7 @@
 #include "checks.hpp"
 #include "counted.hpp"
 #include "crba.hpp"
+#include "derivatives.hpp"
 #include "energy.hpp"
 #include "frames.hpp"
 #include "jacobians.hpp"
@@ -613,6 +614,82 @@ std::int64_t flops1(const ModelData& md, int kind, const In& q, const In& v, con
   return Counted::ops();
 }
 
+// ---------------------------------------------------------------------------
+// derivatives (derivatives.hpp): rows of a batch, on the pool
+// ---------------------------------------------------------------------------
+
+// ∂τ/∂q, ∂τ/∂q̇ (N, nv²) for rows of (q, q̇, q̈, f_ext).
+RowStatus rnea_derivatives_n(const ModelData& md, const In& q, const In& v, const In& a, const In& f_ext,
+                             bool gravity, Out dq, Out dv) {
+  const ModelView& mv = md.view;
+  std::int64_t N = 0, N2 = 0;
+  Rows Q, V, A, FX;
+  const std::int64_t n2 = static_cast<std::int64_t>(mv.nv) * mv.nv;
+  FD_TRY_ROWS(out_rows(dq, n2, N));
+  FD_TRY_ROWS(out_rows(dv, n2, N2));
+  if (N2 != N) return {-1, make_status(LENGTH, ARG_OUT, N2)};
+  FD_TRY_ROWS(rows(q, N, mv.nq, ARG_Q, Q));
+  require_present(v);
+  require_present(a);
+  FD_TRY_ROWS(rows(v, N, mv.nv, ARG_V, V));
+  FD_TRY_ROWS(rows(a, N, mv.nv, ARG_A, A));
+  FD_TRY_ROWS(rows(f_ext, N, 6 * static_cast<size_t>(mv.nb), ARG_FEXT, FX));
+  double *DQ = dq.data(), *DV = dv.data();
+  return for_rows(N, [&](std::int64_t r) -> std::int64_t {
+    FD_TRY(check_state(mv, Q.row(r), V.row(r), A.row(r), FX.row(r)));
+    rnea_derivatives(mv, Q.row(r), V.row(r), A.row(r), FX.row(r), gravity, DQ + r * n2, DV + r * n2);
+    FD_TRY(finite_result(DQ + r * n2, n2));
+    return finite_result(DV + r * n2, n2);
+  });
+}
+
+// M⁻¹ (N, nv²) for rows of q.
+RowStatus minverse_n(const ModelData& md, const In& q, Out Minv) {
+  const ModelView& mv = md.view;
+  std::int64_t N = 0;
+  Rows Q;
+  const std::int64_t n2 = static_cast<std::int64_t>(mv.nv) * mv.nv;
+  FD_TRY_ROWS(out_rows(Minv, n2, N));
+  FD_TRY_ROWS(rows(q, N, mv.nq, ARG_Q, Q));
+  double* out = Minv.data();
+  return for_rows(N, [&](std::int64_t r) -> std::int64_t {
+    FD_TRY(check_state(mv, Q.row(r), nullptr, nullptr, nullptr));
+    const int bad = mass_matrix_inverse(mv, Q.row(r), out + r * n2);
+    if (bad >= 0) return make_status(SINGULAR, ARG_Q, bad);
+    return finite_result(out + r * n2, n2);
+  });
+}
+
+// q̈ (N, nv), ∂q̈/∂q, ∂q̈/∂q̇, M⁻¹ (N, nv²) for rows of (q, q̇, τ, f_ext).
+RowStatus aba_derivatives_n(const ModelData& md, const In& q, const In& v, const In& tau, const In& f_ext,
+                            bool gravity, Out qdd, Out dq, Out dv, Out Minv) {
+  const ModelView& mv = md.view;
+  std::int64_t N = 0, N2 = 0;
+  Rows Q, V, T, FX;
+  const std::int64_t n2 = static_cast<std::int64_t>(mv.nv) * mv.nv;
+  FD_TRY_ROWS(out_rows(qdd, mv.nv, N));
+  for (const Out* o : {&dq, &dv, &Minv}) {
+    FD_TRY_ROWS(out_rows(*o, n2, N2));
+    if (N2 != N) return {-1, make_status(LENGTH, ARG_OUT, N2)};
+  }
+  FD_TRY_ROWS(rows(q, N, mv.nq, ARG_Q, Q));
+  require_present(v);
+  require_present(tau);
+  FD_TRY_ROWS(rows(v, N, mv.nv, ARG_V, V));
+  FD_TRY_ROWS(rows(tau, N, mv.nv, ARG_A, T));
+  FD_TRY_ROWS(rows(f_ext, N, 6 * static_cast<size_t>(mv.nb), ARG_FEXT, FX));
+  double *QDD = qdd.data(), *DQ = dq.data(), *DV = dv.data(), *MI = Minv.data();
+  return for_rows(N, [&](std::int64_t r) -> std::int64_t {
+    FD_TRY(check_state(mv, Q.row(r), V.row(r), T.row(r), FX.row(r)));
+    std::vector<double> scratch(2 * static_cast<size_t>(n2));
+    const int bad = aba_derivatives(mv, Q.row(r), V.row(r), T.row(r), FX.row(r), gravity, QDD + r * mv.nv,
+                                    DQ + r * n2, DV + r * n2, MI + r * n2, scratch.data());
+    if (bad >= 0) return make_status(SINGULAR, ARG_Q, bad);
+    FD_TRY(finite_result(DQ + r * n2, n2));
+    return finite_result(DV + r * n2, n2);
+  });
+}
+
 // The core's sin and cos (trig.hpp) of every x, by the one-state path or by Packs (tests: accuracy
 // against the C library, and lanes bit-identical to one state).
 void sin_cos_n(const In& x, Out s, Out c, bool packs) {
@@ -700,6 +777,11 @@ NB_MODULE(_core, m) {
   m.def("joint_jacobians_batch", &joint_jacobians_n, nb::arg("model"), A("q"), A("out"));
   m.def("frame_jacobian_dot_batch", &frame_jacobian_dot_n, nb::arg("model"), A("q"), A("v"), nb::arg("frame"),
         nb::arg("reference"), A("out"));
+  m.def("rnea_derivatives_batch", &rnea_derivatives_n, nb::arg("model"), A("q"), A("v"), A("a"), O("f_ext"),
+        nb::arg("gravity"), A("dtau_dq"), A("dtau_dv"));
+  m.def("minverse_batch", &minverse_n, nb::arg("model"), A("q"), A("out"));
+  m.def("aba_derivatives_batch", &aba_derivatives_n, nb::arg("model"), A("q"), A("v"), A("tau"), O("f_ext"),
+        nb::arg("gravity"), A("qdd"), A("dqdd_dq"), A("dqdd_dv"), A("Minv"));
   m.def("flops", &flops1, nb::arg("model"), nb::arg("kind"), A("q"), A("v"), A("b"),
         "floating-point operations of one RNEA (0), CRBA (1) or ABA (2) call for this state");
   m.def("sin_cos", &sin_cos_n, A("x"), A("s"), A("c"), nb::arg("packs"));

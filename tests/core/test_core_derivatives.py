@@ -1,0 +1,121 @@
+"""The core's derivatives (``cpp/derivatives.hpp``) against Pinocchio 4.1, central differences and identities.
+
+* ∂τ/∂q, ∂τ/∂q̇ (forward-mode differentiation of the RNEA template) against
+  ``computeRNEADerivatives``; ∂q̈/∂q, ∂q̈/∂q̇, M⁻¹ against ``computeABADerivatives``
+  (free-flyer columns mapped to Pinocchio's ``[v; ω]`` layout; both take q's
+  derivative along the body-frame tangent);
+* on the random trees — every joint type, planar included — against central
+  differences along ``fd.integrate`` (∂/∂q) and along q̇;
+* M⁻¹ M = 1; ∂q̈/∂q = −M⁻¹ ∂τ/∂q at q̈ = ABA(q, q̇, τ); a batch equals its rows bit for bit.
+"""
+
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+import pytest
+from _core_helpers import assert_rel, robot
+from _models import TREES, random_state, tree
+
+import featherdyn as fd
+from featherdyn import core
+
+pin = pytest.importorskip("pinocchio")
+
+
+@pytest.mark.parametrize(("name", "floating"), [("panda", False), ("solo12", True), ("talos_full_v2", True),
+                                                ("ur5_robot", False), ("anymal-kinova", True)])
+def test_against_pinocchio(name: str, floating: bool) -> None:
+    from featherdyn.robots import robot_path
+    from featherdyn.verify.bridge import JointMap
+
+    model = robot(name, floating)
+    assert model is not None
+    path = str(robot_path(name))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        pm = pin.buildModelFromUrdf(path, pin.JointModelFreeFlyer()) if floating else pin.buildModelFromUrdf(path)
+    pd = pm.createData()
+    jm = JointMap(model, pm)
+    rng = np.random.default_rng(4)
+    q = fd.random_configuration(model, rng)
+    v, a = rng.normal(size=model.nv), rng.normal(size=model.nv)
+    f = rng.normal(size=(model.nbodies, 6))
+    dq, dv, M = core.rnea_derivatives(model, q, v, a)
+    pin.computeRNEADerivatives(pm, pd, jm.q_to_pin(q), jm.v_to_pin(v), jm.v_to_pin(a))
+    assert_rel(dq, jm.matrix_from_pin(pd.dtau_dq.copy()), f"{name}: dtau_dq")
+    assert_rel(dv, jm.matrix_from_pin(pd.dtau_dv.copy()), f"{name}: dtau_dv")
+    assert_rel(M, fd.crba(model, q), f"{name}: dtau_da = M")
+    tau = fd.rnea(model, q, v, a)
+    ddq_dq, ddq_dv, Minv = core.aba_derivatives(model, q, v, tau)
+    pin.computeABADerivatives(pm, pd, jm.q_to_pin(q), jm.v_to_pin(v), jm.v_to_pin(tau))
+    scale = float(np.linalg.cond(M))  # ABA's derivatives carry M⁻¹: relative error up to cond(M) × round-off
+    assert_rel(ddq_dq, jm.matrix_from_pin(pd.ddq_dq.copy()), f"{name}: ddq_dq", rtol=1e-14 * scale)
+    assert_rel(ddq_dv, jm.matrix_from_pin(pd.ddq_dv.copy()), f"{name}: ddq_dv", rtol=1e-14 * scale)
+    Mi = pd.Minv.copy()
+    assert_rel(Minv, jm.matrix_from_pin(np.triu(Mi) + np.triu(Mi, 1).T), f"{name}: Minv", rtol=1e-14 * scale)
+    # with external forces (body frames, Pinocchio's LOCAL fext)
+    dq_f, _, _ = core.rnea_derivatives(model, q, v, a, f_ext=f)
+    fd_dq = _central(lambda x: fd.rnea(model, x, v, a, f_ext=f), model, q)
+    assert_rel(dq_f, fd_dq, f"{name}: dtau_dq with f_ext vs central differences", rtol=1e-6)
+
+
+def _central(fun, model: fd.Model, q: np.ndarray, eps: float = 1e-6) -> np.ndarray:  # type: ignore[no-untyped-def]
+    cols = [(fun(fd.integrate(model, q, eps * e)) - fun(fd.integrate(model, q, -eps * e))) / (2 * eps)
+            for e in np.eye(model.nv)]
+    return np.stack(cols, axis=-1)
+
+
+@pytest.mark.parametrize("spec", TREES, ids=lambda s: s.name)
+def test_against_central_differences_on_every_joint_type(spec) -> None:  # type: ignore[no-untyped-def]
+    model = tree(spec.name)
+    st = random_state(model, 21)
+    dq, dv, _ = core.rnea_derivatives(model, st.q, st.v, st.a, f_ext=st.f_ext)
+    assert_rel(dq, _central(lambda x: fd.rnea(model, x, st.v, st.a, st.f_ext), model, st.q), f"{spec.name}: dtau_dq",
+               rtol=1e-6)
+    dv_fd = np.stack([(fd.rnea(model, st.q, st.v + 1e-6 * e, st.a, st.f_ext)
+                       - fd.rnea(model, st.q, st.v - 1e-6 * e, st.a, st.f_ext)) / 2e-6 for e in np.eye(model.nv)], -1)
+    assert_rel(dv, dv_fd, f"{spec.name}: dtau_dv", rtol=1e-6)
+    M = fd.crba(model, st.q)
+    Minv = core.mass_matrix_inverse(model, st.q)
+    assert_rel(Minv @ M, np.eye(model.nv), f"{spec.name}: Minv M", rtol=1e-10)
+    assert np.array_equal(Minv, Minv.T)
+    tau = fd.rnea(model, st.q, st.v, st.a)
+    ddq_dq, ddq_dv, _ = core.aba_derivatives(model, st.q, st.v, tau)
+    assert_rel(ddq_dq, -Minv @ core.rnea_derivatives(model, st.q, st.v, fd.aba(model, st.q, st.v, tau))[0],
+               f"{spec.name}: ddq_dq = -Minv dtau_dq", rtol=1e-12)
+    ddq_fd = _central(lambda x: fd.aba(model, x, st.v, tau), model, st.q)
+    assert_rel(ddq_dq, ddq_fd, f"{spec.name}: ddq_dq vs central differences", rtol=1e-5)
+
+
+def test_a_batch_equals_its_rows() -> None:
+    model = tree("free_branch")
+    st = random_state(model, 22, (5,))
+    dq, dv, M = core.rnea_derivatives(model, st.q, st.v, st.a)
+    for k in range(5):
+        one = core.rnea_derivatives(model, st.q[k], st.v[k], st.a[k])
+        assert np.array_equal(dq[k], one[0]) and np.array_equal(dv[k], one[1]) and np.array_equal(M[k], one[2])
+    Minv = core.mass_matrix_inverse(model, st.q)
+    assert all(np.array_equal(Minv[k], core.mass_matrix_inverse(model, st.q[k])) for k in range(5))
+
+
+def test_bad_input_and_singular_mass_matrix() -> None:
+    model = tree("free_chain")
+    st = random_state(model, 23)
+    with pytest.raises(fd.errors.ShapeError, match="^v"):
+        core.rnea_derivatives(model, st.q, st.v[:-1], st.a)
+    bad = st.q.copy()
+    bad[3:7] *= 2
+    with pytest.raises(fd.errors.QuaternionNormError):
+        core.aba_derivatives(model, bad, st.v, st.a)
+    b = fd.ModelBuilder("massless")
+    b.add_body("link", parent=-1, joint=fd.RevoluteJoint([0, 0, 1]), joint_name="j",
+               inertia=fd.SpatialInertia(0.0, [0, 0, 0], np.zeros((3, 3))))
+    with pytest.warns(fd.PhysicalityWarning):
+        massless = b.build()
+    with pytest.raises(fd.errors.SingularMassMatrixError, match="'j'") as info:
+        core.mass_matrix_inverse(massless, np.zeros(1))
+    with pytest.raises(fd.errors.SingularMassMatrixError) as ref:
+        fd.aba(massless, np.zeros(1), np.zeros(1), np.zeros(1), backend="reference")
+    assert str(info.value) == str(ref.value)
