@@ -637,7 +637,7 @@ RowStatus rnea_derivatives_n(const ModelData& md, const In& q, const In& v, cons
   double *DQ = dq.data(), *DV = dv.data();
   return for_rows(N, [&](std::int64_t r) -> std::int64_t {
     FD_TRY(check_state(mv, Q.row(r), V.row(r), A.row(r), FX.row(r)));
-    rnea_derivatives(mv, Q.row(r), V.row(r), A.row(r), FX.row(r), gravity, DQ + r * n2, DV + r * n2);
+    group_kernels().rnea_derivatives(mv, Q.row(r), V.row(r), A.row(r), FX.row(r), gravity, DQ + r * n2, DV + r * n2);
     FD_TRY(finite_result(DQ + r * n2, n2));
     return finite_result(DV + r * n2, n2);
   });
@@ -654,7 +654,7 @@ RowStatus minverse_n(const ModelData& md, const In& q, Out Minv) {
   double* out = Minv.data();
   return for_rows(N, [&](std::int64_t r) -> std::int64_t {
     FD_TRY(check_state(mv, Q.row(r), nullptr, nullptr, nullptr));
-    const int bad = mass_matrix_inverse(mv, Q.row(r), out + r * n2);
+    const int bad = group_kernels().minverse(mv, Q.row(r), out + r * n2);
     if (bad >= 0) return make_status(SINGULAR, ARG_Q, bad);
     return finite_result(out + r * n2, n2);
   });
@@ -682,8 +682,10 @@ RowStatus aba_derivatives_n(const ModelData& md, const In& q, const In& v, const
   return for_rows(N, [&](std::int64_t r) -> std::int64_t {
     FD_TRY(check_state(mv, Q.row(r), V.row(r), T.row(r), FX.row(r)));
     std::vector<double> scratch(2 * static_cast<size_t>(n2));
+    const fdgroup::GroupKernels& k = group_kernels();
     const int bad = aba_derivatives(mv, Q.row(r), V.row(r), T.row(r), FX.row(r), gravity, QDD + r * mv.nv,
-                                    DQ + r * n2, DV + r * n2, MI + r * n2, scratch.data());
+                                    DQ + r * n2, DV + r * n2, MI + r * n2, scratch.data(), k.rnea_derivatives,
+                                    k.minverse);
     if (bad >= 0) return make_status(SINGULAR, ARG_Q, bad);
     FD_TRY(finite_result(DQ + r * n2, n2));
     return finite_result(DV + r * n2, n2);

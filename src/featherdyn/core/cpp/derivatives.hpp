@@ -192,19 +192,21 @@ inline int mass_matrix_inverse(const ModelView& mv, const double* q, double* Min
   return -1;
 }
 
-// q̈ = ABA(q, q̇, τ) and ∂q̈/∂q, ∂q̈/∂q̇, ∂q̈/∂τ = M⁻¹ (nv, nv) each; `scratch` holds 2 nv² doubles.
+// q̈ = ABA(q, q̇, τ) and ∂q̈/∂q, ∂q̈/∂q̇, ∂q̈/∂τ = M⁻¹ (nv, nv) each; `scratch` holds 2 nv² doubles;
+// rnea_derivs and minverse: the two kernels above as compiled for the CPU's instruction set.
 // Returns −1, or the joint whose articulated inertia is singular.
-inline int aba_derivatives(const ModelView& mv, const double* q, const double* qd, const double* tau,
-                           const double* f_ext, bool gravity, double* qdd, double* dq, double* dv, double* Minv,
-                           double* scratch) {
+template <class RneaDerivs, class Minverse>
+int aba_derivatives(const ModelView& mv, const double* q, const double* qd, const double* tau, const double* f_ext,
+                    bool gravity, double* qdd, double* dq, double* dv, double* Minv, double* scratch,
+                    RneaDerivs rnea_derivs, Minverse minverse) {
   const int nv = mv.nv;
   const int bad = aba(mv, q, qd, tau, f_ext, gravity, qdd);
   if (bad >= 0) return bad;
-  const int bad_inv = mass_matrix_inverse(mv, q, Minv);
+  const int bad_inv = minverse(mv, q, Minv);
   if (bad_inv >= 0) return bad_inv;
   double* tq = scratch;
   double* tv = scratch + static_cast<size_t>(nv) * nv;
-  rnea_derivatives(mv, q, qd, qdd, f_ext, gravity, tq, tv);
+  rnea_derivs(mv, q, qd, qdd, f_ext, gravity, tq, tv);
   for (int r = 0; r < nv; ++r) {
     for (int c = 0; c < nv; ++c) {
       double sq = 0.0, sv = 0.0;

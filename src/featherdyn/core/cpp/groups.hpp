@@ -26,10 +26,17 @@ struct GroupArgs {
 // One group of `width` rows from row r0: 0, or non-zero when some lane failed (ABA: singular).
 using GroupFn = std::int64_t (*)(const GroupArgs&, std::int64_t r0);
 
+// One-state kernels whose inner loops are wide (derivatives.hpp), compiled per instruction set too.
+using RneaDerivativesFn = void (*)(const fdcore::ModelView&, const double* q, const double* qd, const double* qdd,
+                                   const double* f_ext, bool gravity, double* dtau_dq, double* dtau_dv);
+using MinverseFn = int (*)(const fdcore::ModelView&, const double* q, double* Minv);
+
 struct GroupKernels {
   const char* isa;
   int width;
   GroupFn rnea, crba, aba, fk;
+  RneaDerivativesFn rnea_derivatives;
+  MinverseFn minverse;
 };
 
 }  // namespace fdgroup

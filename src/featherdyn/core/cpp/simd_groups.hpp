@@ -7,6 +7,7 @@
 
 #include "aba.hpp"
 #include "crba.hpp"
+#include "derivatives.hpp"
 #include "groups.hpp"
 #include "kinematics.hpp"
 #include "pack.hpp"
@@ -91,7 +92,7 @@ inline std::int64_t fk_group(const fdgroup::GroupArgs& g, std::int64_t r0) {
 }
 
 inline fdgroup::GroupKernels group_kernels(const char* isa) {
-  return {isa, PACK_WIDTH, &rnea_group, &crba_group, &aba_group, &fk_group};
+  return {isa, PACK_WIDTH, &rnea_group, &crba_group, &aba_group, &fk_group, &rnea_derivatives, &mass_matrix_inverse};
 }
 
 }  // namespace fdcore
