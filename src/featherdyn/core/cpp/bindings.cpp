@@ -99,6 +99,14 @@ std::int64_t out_rows(const Out& x, size_t n, std::int64_t& N) {
   return OK;
 }
 
+// A further output of the same batch: (N, n) rows, N as the first output's.
+std::int64_t same_rows(const Out& x, size_t n, std::int64_t N) {
+  std::int64_t rows_x = 0;
+  const std::int64_t s = out_rows(x, n, rows_x);
+  if (s != OK) return s;
+  return rows_x == N ? OK : make_status(LENGTH, ARG_OUT, rows_x);
+}
+
 // An output (or a one-state f_ext) of exactly this shape.
 template <class A>
 std::int64_t exact_shape(const A& x, std::initializer_list<size_t> shape, std::int64_t arg = ARG_OUT) {
@@ -423,24 +431,17 @@ RowStatus fk_n(const ModelData& md, const In& q, Out H) {
 RowStatus kinematics_n(const ModelData& md, const In& q, const In& v, const In& a, Out H, Out Hp, Out vel,
                        Out acc) {
   const ModelView& mv = md.view;
-  std::int64_t N = 0, N2 = 0;
+  std::int64_t N = 0;
   Rows Q, V, A;
   const std::int64_t n = 16 * static_cast<std::int64_t>(mv.nb), m = 6 * static_cast<std::int64_t>(mv.nb);
   FD_TRY_ROWS(out_rows(H, n, N));
-  FD_TRY_ROWS(out_rows(Hp, n, N2));
-  if (N2 != N) return {-1, make_status(LENGTH, ARG_OUT, N2)};
+  FD_TRY_ROWS(same_rows(Hp, n, N));
   FD_TRY_ROWS(rows(q, N, mv.nq, ARG_Q, Q));
   FD_TRY_ROWS(rows(v, N, mv.nv, ARG_V, V));
   FD_TRY_ROWS(rows(a, N, mv.nv, ARG_A, A));
   if (a.is_valid() && !v.is_valid()) return {-1, make_status(LENGTH, ARG_V, -1)};
-  if (v.is_valid()) {
-    FD_TRY_ROWS(out_rows(vel, m, N2));
-    if (N2 != N) return {-1, make_status(LENGTH, ARG_OUT, N2)};
-  }
-  if (a.is_valid()) {
-    FD_TRY_ROWS(out_rows(acc, m, N2));
-    if (N2 != N) return {-1, make_status(LENGTH, ARG_OUT, N2)};
-  }
+  if (v.is_valid()) FD_TRY_ROWS(same_rows(vel, m, N));
+  if (a.is_valid()) FD_TRY_ROWS(same_rows(acc, m, N));
   double *oH = H.data(), *oHp = Hp.data();
   double* oV = v.is_valid() ? vel.data() : nullptr;
   double* oA = a.is_valid() ? acc.data() : nullptr;
@@ -508,15 +509,12 @@ RowStatus energy_n(const ModelData& md, const In& q, const In& v, int kind, Out 
 // Centre of mass c (N, 3) and, with V, its velocity cd (N, 3); mass > 0 (the caller checks).
 RowStatus com_n(const ModelData& md, const In& q, const In& v, double mass, Out c, Out cd) {
   const ModelView& mv = md.view;
-  std::int64_t N = 0, N2 = 0;
+  std::int64_t N = 0;
   Rows Q, V;
   FD_TRY_ROWS(out_rows(c, 3, N));
   FD_TRY_ROWS(rows(q, N, mv.nq, ARG_Q, Q));
   FD_TRY_ROWS(rows(v, N, mv.nv, ARG_V, V));
-  if (v.is_valid()) {
-    FD_TRY_ROWS(out_rows(cd, 3, N2));
-    if (N2 != N) return {-1, make_status(LENGTH, ARG_OUT, N2)};
-  }
+  if (v.is_valid()) FD_TRY_ROWS(same_rows(cd, 3, N));
   double* C = c.data();
   double* CD = v.is_valid() ? cd.data() : nullptr;
   return for_rows(N, [&](std::int64_t r) -> std::int64_t {
@@ -530,16 +528,13 @@ RowStatus com_n(const ModelData& md, const In& q, const In& v, double mass, Out 
 // Centroidal momentum matrix A (N, 6 nv) and, with V, the momentum h (N, 6).
 RowStatus centroidal_n(const ModelData& md, const In& q, const In& v, double mass, Out A, Out h) {
   const ModelView& mv = md.view;
-  std::int64_t N = 0, N2 = 0;
+  std::int64_t N = 0;
   Rows Q, V;
   const std::int64_t n = 6 * static_cast<std::int64_t>(mv.nv);
   FD_TRY_ROWS(out_rows(A, n, N));
   FD_TRY_ROWS(rows(q, N, mv.nq, ARG_Q, Q));
   FD_TRY_ROWS(rows(v, N, mv.nv, ARG_V, V));
-  if (v.is_valid()) {
-    FD_TRY_ROWS(out_rows(h, 6, N2));
-    if (N2 != N) return {-1, make_status(LENGTH, ARG_OUT, N2)};
-  }
+  if (v.is_valid()) FD_TRY_ROWS(same_rows(h, 6, N));
   double* Ao = A.data();
   double* H = v.is_valid() ? h.data() : nullptr;
   return for_rows(N, [&](std::int64_t r) -> std::int64_t {
@@ -622,12 +617,11 @@ std::int64_t flops1(const ModelData& md, int kind, const In& q, const In& v, con
 RowStatus rnea_derivatives_n(const ModelData& md, const In& q, const In& v, const In& a, const In& f_ext,
                              bool gravity, Out dq, Out dv) {
   const ModelView& mv = md.view;
-  std::int64_t N = 0, N2 = 0;
+  std::int64_t N = 0;
   Rows Q, V, A, FX;
   const std::int64_t n2 = static_cast<std::int64_t>(mv.nv) * mv.nv;
   FD_TRY_ROWS(out_rows(dq, n2, N));
-  FD_TRY_ROWS(out_rows(dv, n2, N2));
-  if (N2 != N) return {-1, make_status(LENGTH, ARG_OUT, N2)};
+  FD_TRY_ROWS(same_rows(dv, n2, N));
   FD_TRY_ROWS(rows(q, N, mv.nq, ARG_Q, Q));
   require_present(v);
   require_present(a);
@@ -664,14 +658,11 @@ RowStatus minverse_n(const ModelData& md, const In& q, Out Minv) {
 RowStatus aba_derivatives_n(const ModelData& md, const In& q, const In& v, const In& tau, const In& f_ext,
                             bool gravity, Out qdd, Out dq, Out dv, Out Minv) {
   const ModelView& mv = md.view;
-  std::int64_t N = 0, N2 = 0;
+  std::int64_t N = 0;
   Rows Q, V, T, FX;
   const std::int64_t n2 = static_cast<std::int64_t>(mv.nv) * mv.nv;
   FD_TRY_ROWS(out_rows(qdd, mv.nv, N));
-  for (const Out* o : {&dq, &dv, &Minv}) {
-    FD_TRY_ROWS(out_rows(*o, n2, N2));
-    if (N2 != N) return {-1, make_status(LENGTH, ARG_OUT, N2)};
-  }
+  for (const Out* o : {&dq, &dv, &Minv}) FD_TRY_ROWS(same_rows(*o, n2, N));
   FD_TRY_ROWS(rows(q, N, mv.nq, ARG_Q, Q));
   require_present(v);
   require_present(tau);

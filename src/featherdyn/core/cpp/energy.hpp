@@ -7,38 +7,22 @@
 #pragma once
 
 #include "joints.hpp"
+#include "kinematics.hpp"
 #include "rnea.hpp"
 #include "scratch.hpp"
 
 namespace fdcore {
 
+// the forward kinematics' workspace (world placements oR, op and body velocities v)
 template <class S>
-struct EnergyWork {
-  std::vector<Mat3<S>> oR;
-  std::vector<Vec3<S>> op;
-  std::vector<Xform<S>> X_up;
-  std::vector<Motion<S>> v;
-  void resize(size_t nb) {
-    if (oR.size() < nb) oR.resize(nb), op.resize(nb), X_up.resize(nb), v.resize(nb);
-  }
-};
+using EnergyWork = FkWork<S>;
 
-// World placements of every body (⁰R_i, ⁰p_i) into w.oR, w.op.
+// World placements of every body (⁰R_i, ⁰p_i) into oR, op.
 template <class S>
 inline void world_placements(const ModelView& mv, const S* q, Mat3<S>* oR, Vec3<S>* op) {
-  for (int i = 0; i < mv.nb; ++i) {
-    const int lam = mv.parent[i];
-    Mat3<S> R;
-    Vec3<S> p;
-    pose_in_parent(mv, i, q, R, p);
-    if (lam == -1) {
-      oR[i] = R;
-      op[i] = p;
-    } else {
-      oR[i] = oR[lam] * R;
-      op[i] = op[lam] + oR[lam] * p;
-    }
-  }
+  Mat3<S> R;
+  Vec3<S> p;
+  for (int i = 0; i < mv.nb; ++i) place_body(mv, i, q, oR, op, R, p);
 }
 
 // T(q, q̇)
@@ -84,14 +68,7 @@ void center_of_mass(const ModelView& mv, const S* q, const S* qd, double mass, S
     const int lam = mv.parent[i];
     Mat3<S> R;
     Vec3<S> p;
-    pose_in_parent(mv, i, q, R, p);
-    if (lam == -1) {
-      oR[i] = R;
-      op[i] = p;
-    } else {
-      oR[i] = oR[lam] * R;
-      op[i] = op[lam] + oR[lam] * p;
-    }
+    place_body(mv, i, q, oR, op, R, p);
     const Vec3<S> h = load3<S>(mv.h + 3 * i);
     const S m(mv.mass[i]);
     sum += m * op[i] + oR[i] * h;

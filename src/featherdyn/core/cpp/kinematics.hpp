@@ -36,6 +36,20 @@ inline void write_homogeneous(const Mat3<S>& R, const Vec3<S>& p, S* H) {
   H[15] = S(1.0);
 }
 
+// Body i's pose (R, p) in its parent and its world placement oR[i], op[i] (its parent's already set).
+template <class S>
+inline void place_body(const ModelView& mv, int i, const S* q, Mat3<S>* oR, Vec3<S>* op, Mat3<S>& R, Vec3<S>& p) {
+  const int lam = mv.parent[i];
+  pose_in_parent(mv, i, q, R, p);
+  if (lam == -1) {
+    oR[i] = R;
+    op[i] = p;
+  } else {
+    oR[i] = oR[lam] * R;
+    op[i] = op[lam] + oR[lam] * p;
+  }
+}
+
 template <class S>
 void forward_kinematics(const ModelView& mv, const S* q, const S* qd, const S* qdd, S* H, S* vel, S* acc,
                         S* Hp = nullptr) {
@@ -49,14 +63,7 @@ void forward_kinematics(const ModelView& mv, const S* q, const S* qd, const S* q
     const int lam = mv.parent[i];
     Mat3<S> R;
     Vec3<S> p;
-    pose_in_parent(mv, i, q, R, p);
-    if (lam == -1) {
-      oR[i] = R;
-      op[i] = p;
-    } else {
-      oR[i] = oR[lam] * R;
-      op[i] = op[lam] + oR[lam] * p;
-    }
+    place_body(mv, i, q, oR, op, R, p);
     write_homogeneous(oR[i], op[i], H + 16 * i);
     if (Hp) write_homogeneous(R, p, Hp + 16 * i);
     if (qd == nullptr) continue;
