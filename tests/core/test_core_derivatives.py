@@ -119,3 +119,68 @@ def test_bad_input_and_singular_mass_matrix() -> None:
     with pytest.raises(fd.errors.SingularMassMatrixError) as ref:
         fd.aba(massless, np.zeros(1), np.zeros(1), np.zeros(1), backend="reference")
     assert str(info.value) == str(ref.value)
+
+
+@pytest.mark.parametrize(("name", "floating", "frame"), [("panda", False, "panda_hand"), ("solo12", True, "HR_FOOT")])
+def test_frame_motion_derivatives_against_pinocchio(name: str, floating: bool, frame: str) -> None:
+    """LOCAL and WORLD: Pinocchio's getFrame{Velocity,Acceleration}Derivatives to round-off. LOCAL_WORLD_ALIGNED:
+    ours is the derivative of ``fd.frame_velocity(…, LOCAL_WORLD_ALIGNED)`` itself, whose reference point (the
+    frame's origin) moves with q; Pinocchio keeps the point fixed, so its linear rows lack ``ω × J_v[:, j]``
+    (velocity) and ``ω̇ × J_v[:, j]`` (acceleration)."""
+    from featherdyn.robots import robot_path
+    from featherdyn.verify.bridge import JointMap
+
+    model = robot(name, floating)
+    assert model is not None
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        path = str(robot_path(name))
+        pm = pin.buildModelFromUrdf(path, pin.JointModelFreeFlyer()) if floating else pin.buildModelFromUrdf(path)
+    pd, jm = pm.createData(), JointMap(model, pm)
+    rng = np.random.default_rng(6)
+    q = fd.random_configuration(model, rng)
+    v, a = rng.normal(size=model.nv), rng.normal(size=model.nv)
+    pin.computeForwardKinematicsDerivatives(pm, pd, jm.q_to_pin(q), jm.v_to_pin(v), jm.v_to_pin(a))
+    fid = pm.getFrameId(frame)
+
+    def ours_layout(m_pin: np.ndarray) -> np.ndarray:  # rows [v; ω] → [ω; v], columns to featherdyn's joints
+        m_pin = np.asarray(m_pin).copy()
+        return jm.columns_from_pin(np.concatenate([m_pin[3:], m_pin[:3]], axis=0))
+
+    for ref, pin_ref in ((fd.LOCAL, pin.LOCAL), (fd.WORLD, pin.WORLD), (fd.LOCAL_WORLD_ALIGNED, pin.LOCAL_WORLD_ALIGNED)):
+        dv_dq, dv_dv = core.frame_velocity_derivatives(model, q, v, frame, ref)
+        da_dq, da_dv, da_da = core.frame_acceleration_derivatives(model, q, v, a, frame, ref)
+        pv = [ours_layout(x) for x in pin.getFrameVelocityDerivatives(pm, pd, fid, pin_ref)]
+        pa = [ours_layout(x) for x in pin.getFrameAccelerationDerivatives(pm, pd, fid, pin_ref)]
+        if ref is fd.LOCAL_WORLD_ALIGNED:
+            J = fd.frame_jacobian(model, q, frame, ref)
+            w = (J @ v)[:3]
+            wdot = fd.frame_acceleration(model, q, v, a, frame, ref).vector[:3]
+            pv[0][3:] += np.cross(w, J[3:].T).T
+            pa[1][3:] += np.cross(wdot, J[3:].T).T
+        label = f"{name} {ref.name}"
+        assert_rel(dv_dq, pv[0], f"{label}: dv_dq")
+        assert_rel(dv_dv, pv[1], f"{label}: dv_dv")
+        assert_rel(da_dq, pa[1], f"{label}: da_dq")
+        assert_rel(da_dv, pa[2], f"{label}: da_dv")
+        assert_rel(da_da, pa[3], f"{label}: da_da")
+        assert_rel(dv_dv, fd.frame_jacobian(model, q, frame, ref), f"{label}: dv_dv = J")
+        assert_rel(da_da, fd.frame_jacobian(model, q, frame, ref), f"{label}: da_da = J")
+
+
+@pytest.mark.parametrize("spec", TREES[2:5], ids=lambda s: s.name)
+def test_frame_motion_derivatives_against_central_differences(spec) -> None:  # type: ignore[no-untyped-def]
+    model = tree(spec.name)
+    st = random_state(model, 24)
+    frame = model.frames[-1].name
+    for ref in (fd.LOCAL, fd.WORLD, fd.LOCAL_WORLD_ALIGNED):
+        dv_dq, _ = core.frame_velocity_derivatives(model, st.q, st.v, frame, ref)
+        da_dq, da_dv, _ = core.frame_acceleration_derivatives(model, st.q, st.v, st.a, frame, ref)
+        assert_rel(dv_dq, _central(lambda x: fd.frame_velocity(model, x, st.v, frame, ref).vector, model, st.q),
+                   f"{spec.name} {ref.name}: dv_dq", rtol=1e-6)
+        assert_rel(da_dq, _central(lambda x: fd.frame_acceleration(model, x, st.v, st.a, frame, ref).vector, model,
+                                   st.q), f"{spec.name} {ref.name}: da_dq", rtol=1e-6)
+        dv = np.stack([(fd.frame_acceleration(model, st.q, st.v + 1e-6 * e, st.a, frame, ref).vector
+                        - fd.frame_acceleration(model, st.q, st.v - 1e-6 * e, st.a, frame, ref).vector) / 2e-6
+                       for e in np.eye(model.nv)], -1)
+        assert_rel(da_dv, dv, f"{spec.name} {ref.name}: da_dv", rtol=1e-6)

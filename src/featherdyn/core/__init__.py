@@ -73,6 +73,8 @@ __all__ = [
     "rnea_derivatives",
     "aba_derivatives",
     "mass_matrix_inverse",
+    "frame_velocity_derivatives",
+    "frame_acceleration_derivatives",
     "set_num_threads",
     "get_num_threads",
 ]
@@ -799,6 +801,45 @@ def aba_derivatives(model: Model, q: Any, v: Any, tau: Any, f_ext: Any = None,
                                      dq.reshape(N, nv * nv), dv.reshape(N, nv * nv), Minv.reshape(N, nv * nv))
     _raise_derivative_status(st, model, q, vectors, f_ext, [Q, V, T, FX], bool(gravity), "aba_derivatives")
     return dq, dv, Minv
+
+
+def frame_velocity_derivatives(model: Model, q: Any, v: Any, frame: Any,
+                               reference: Any = LOCAL) -> tuple[np.ndarray, np.ndarray]:
+    """``(∂v_f/∂q, ∂v_f/∂q̇)`` `(..., 6, nv)` of the frame's spatial velocity in ``reference`` (``fd.frame_velocity``).
+
+    ∂/∂q along the tangent of ``fd.integrate``; exact (forward-mode differentiation of the kernel)::
+
+        v_f = J(q) q̇   so   ∂v_f/∂q̇ = J,   ∂v_f/∂q[:, j] = d/dε v_f(q ⊕ ε e_j, q̇)
+    """
+    out = _frame_motion_derivatives(model, q, v, None, frame, reference)
+    return out[0], out[1]
+
+
+def frame_acceleration_derivatives(model: Model, q: Any, v: Any, a: Any, frame: Any,
+                                   reference: Any = LOCAL) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """``(∂a_f/∂q, ∂a_f/∂q̇, ∂a_f/∂q̈)`` `(..., 6, nv)` of the frame's spatial acceleration (``fd.frame_acceleration``)::
+
+        a_f = J q̈ + J̇ q̇   so   ∂a_f/∂q̈ = J
+    """
+    out = _frame_motion_derivatives(model, q, v, a, frame, reference)
+    return out[2], out[3], out[4]
+
+
+def _frame_motion_derivatives(model: Model, q: Any, v: Any, a: Any, frame: Any, reference: Any) -> list[np.ndarray]:
+    fid = model.resolve_frame(frame)
+    ref = _reference_code(reference)
+    h = _view(model)
+    q_, v_ = _f64(q, "q"), _f64(v, "v")
+    a_ = None if a is None else _f64(a, "a")
+    vectors = [("v", v)] + ([] if a is None else [("a", a)])
+    batch = _batch_shape(model, [(x, 1) for x in (q_, v_, a_) if x is not None], q, vectors, None)
+    N = math.prod(batch)
+    outs = [np.empty(batch + (6, h.nv)) for _ in range(2 if a is None else 5)]
+    flat = [x.reshape(N, 6 * h.nv) for x in outs] + [None] * (5 - len(outs))
+    st = _core.frame_motion_derivatives_batch(h.cm, _rows(q_, batch, (h.nq,)), _rows(v_, batch, (h.nv,)),
+                                              _rows(a_, batch, (h.nv,)), fid, ref, *flat)
+    _check_batch(st, model, q, vectors, what="frame_motion_derivatives")
+    return outs + [np.empty(0)] * (5 - len(outs)) if a is None else outs
 
 
 # ---------------------------------------------------------------------------

@@ -30,6 +30,7 @@
 #include "crba.hpp"
 #include "derivatives.hpp"
 #include "energy.hpp"
+#include "frame_derivatives.hpp"
 #include "frames.hpp"
 #include "jacobians.hpp"
 #include "kinematics.hpp"
@@ -683,6 +684,34 @@ RowStatus aba_derivatives_n(const ModelData& md, const In& q, const In& v, const
   });
 }
 
+// A frame's velocity derivatives (N, 6 nv) twice and, with A, its acceleration derivatives three times.
+RowStatus frame_motion_derivatives_n(const ModelData& md, const In& q, const In& v, const In& a, int frame, int ref,
+                                     Out dv_dq, Out dv_dv, Out da_dq, Out da_dv, Out da_da) {
+  const ModelView& mv = md.view;
+  std::int64_t N = 0;
+  Rows Q, V, A;
+  const std::int64_t n = 6 * static_cast<std::int64_t>(mv.nv);
+  FD_TRY_ROWS(out_rows(dv_dq, n, N));
+  FD_TRY_ROWS(same_rows(dv_dv, n, N));
+  if (a.is_valid())
+    for (const Out* o : {&da_dq, &da_dv, &da_da}) FD_TRY_ROWS(same_rows(*o, n, N));
+  FD_TRY_ROWS(rows(q, N, mv.nq, ARG_Q, Q));
+  require_present(v);
+  FD_TRY_ROWS(rows(v, N, mv.nv, ARG_V, V));
+  FD_TRY_ROWS(rows(a, N, mv.nv, ARG_A, A));
+  if (frame < 0 || frame >= mv.nf) return {-1, make_status(LENGTH, ARG_FRAME, frame < 0 ? 0 : frame)};
+  if (ref < LOCAL || ref > LOCAL_WORLD_ALIGNED) throw nb::value_error("reference code must be 0, 1 or 2");
+  const bool acc = a.is_valid();
+  return for_rows(N, [&](std::int64_t r) -> std::int64_t {
+    FD_TRY(check_state(mv, Q.row(r), V.row(r), A.row(r), nullptr));
+    frame_motion_derivatives(mv, Q.row(r), V.row(r), A.row(r), frame, ref, dv_dq.data() + r * n,
+                             dv_dv.data() + r * n, acc ? da_dq.data() + r * n : nullptr,
+                             acc ? da_dv.data() + r * n : nullptr, acc ? da_da.data() + r * n : nullptr);
+    FD_TRY(finite_result(dv_dq.data() + r * n, n));
+    return acc ? finite_result(da_dq.data() + r * n, n) : OK;
+  });
+}
+
 // The core's sin and cos (trig.hpp) of every x, by the one-state path or by Packs (tests: accuracy
 // against the C library, and lanes bit-identical to one state).
 void sin_cos_n(const In& x, Out s, Out c, bool packs) {
@@ -775,6 +804,8 @@ NB_MODULE(_core, m) {
   m.def("minverse_batch", &minverse_n, nb::arg("model"), A("q"), A("out"));
   m.def("aba_derivatives_batch", &aba_derivatives_n, nb::arg("model"), A("q"), A("v"), A("tau"), O("f_ext"),
         nb::arg("gravity"), A("qdd"), A("dqdd_dq"), A("dqdd_dv"), A("Minv"));
+  m.def("frame_motion_derivatives_batch", &frame_motion_derivatives_n, nb::arg("model"), A("q"), A("v"), O("a"),
+        nb::arg("frame"), nb::arg("reference"), A("dv_dq"), A("dv_dv"), O("da_dq"), O("da_dv"), O("da_da"));
   m.def("flops", &flops1, nb::arg("model"), nb::arg("kind"), A("q"), A("v"), A("b"),
         "floating-point operations of one RNEA (0), CRBA (1) or ABA (2) call for this state");
   m.def("sin_cos", &sin_cos_n, A("x"), A("s"), A("c"), nb::arg("packs"));
