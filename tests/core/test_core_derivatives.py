@@ -184,3 +184,36 @@ def test_frame_motion_derivatives_against_central_differences(spec) -> None:  # 
                         - fd.frame_acceleration(model, st.q, st.v - 1e-6 * e, st.a, frame, ref).vector) / 2e-6
                        for e in np.eye(model.nv)], -1)
         assert_rel(da_dv, dv, f"{spec.name} {ref.name}: da_dv", rtol=1e-6)
+
+
+@pytest.mark.parametrize(("name", "floating"), [("panda", False), ("solo12", True)])
+def test_regressor_against_pinocchio(name: str, floating: bool) -> None:
+    """Rows mapped to featherdyn's v, column blocks of ten to featherdyn's bodies by joint name."""
+    from featherdyn.robots import robot_path
+    from featherdyn.verify.bridge import JointMap
+
+    model = robot(name, floating)
+    assert model is not None
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        path = str(robot_path(name))
+        pm = pin.buildModelFromUrdf(path, pin.JointModelFreeFlyer()) if floating else pin.buildModelFromUrdf(path)
+    pd, jm = pm.createData(), JointMap(model, pm)
+    rng = np.random.default_rng(8)
+    q = fd.random_configuration(model, rng)
+    v, a = rng.normal(size=model.nv), rng.normal(size=model.nv)
+    Y = core.joint_torque_regressor(model, q, v, a)
+    Yp = pin.computeJointTorqueRegressor(pm, pd, jm.q_to_pin(q), jm.v_to_pin(v), jm.v_to_pin(a)).copy()
+    rows = np.stack([jm.v_from_pin(Yp[:, c]) for c in range(Yp.shape[1])], axis=1)
+    blocks = [rows[:, 10 * (pm.getJointId(n) - 1): 10 * pm.getJointId(n)] for n in model.joint_names]
+    assert_rel(Y, np.concatenate(blocks, axis=1), f"{name}: regressor")
+
+
+@pytest.mark.parametrize("spec", TREES, ids=lambda s: s.name)
+def test_regressor_times_parameters_is_rnea(spec) -> None:  # type: ignore[no-untyped-def]
+    model = tree(spec.name)
+    st = random_state(model, 25, (3,))
+    pi = np.concatenate([model.inertias[i].to_dynamic_parameters() for i in range(model.nbodies)])
+    Y = core.joint_torque_regressor(model, st.q, st.v, st.a)
+    assert Y.shape == (3, model.nv, 10 * model.nbodies)
+    assert_rel(Y @ pi, fd.rnea(model, st.q, st.v, st.a), f"{spec.name}: Y π = τ")

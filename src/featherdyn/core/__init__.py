@@ -75,6 +75,7 @@ __all__ = [
     "mass_matrix_inverse",
     "frame_velocity_derivatives",
     "frame_acceleration_derivatives",
+    "joint_torque_regressor",
     "set_num_threads",
     "get_num_threads",
 ]
@@ -801,6 +802,23 @@ def aba_derivatives(model: Model, q: Any, v: Any, tau: Any, f_ext: Any = None,
                                      dq.reshape(N, nv * nv), dv.reshape(N, nv * nv), Minv.reshape(N, nv * nv))
     _raise_derivative_status(st, model, q, vectors, f_ext, [Q, V, T, FX], bool(gravity), "aba_derivatives")
     return dq, dv, Minv
+
+
+def joint_torque_regressor(model: Model, q: Any, v: Any, a: Any) -> np.ndarray:
+    """``Y`` `(..., nv, 10 nb)` with ``τ = RNEA(q, q̇, q̈) = Y π``, π the bodies' dynamic parameters stacked::
+
+        π_i = [m, m c_x, m c_y, m c_z, I_xx, I_xy, I_yy, I_xz, I_yz, I_zz]   (I about body i's origin)
+    """
+    h = _view(model)
+    q_, v_, a_ = _f64(q, "q"), _f64(v, "v"), _f64(a, "a")
+    vectors = [("v", v), ("a", a)]
+    batch = _batch_shape(model, [(q_, 1), (v_, 1), (a_, 1)], q, vectors, None)
+    N, ncol = math.prod(batch), 10 * h.nb
+    Y = np.empty(batch + (h.nv, ncol))
+    st = _core.regressor_batch(h.cm, _rows(q_, batch, (h.nq,)), _rows(v_, batch, (h.nv,)),
+                               _rows(a_, batch, (h.nv,)), Y.reshape(N, h.nv * ncol))
+    _check_batch(st, model, q, vectors, what="joint_torque_regressor")
+    return Y
 
 
 def frame_velocity_derivatives(model: Model, q: Any, v: Any, frame: Any,

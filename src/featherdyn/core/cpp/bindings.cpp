@@ -36,6 +36,7 @@
 #include "kinematics.hpp"
 #include "model_view.hpp"
 #include "pack.hpp"
+#include "regressor.hpp"
 #include "rnea.hpp"
 #include "simd_groups.hpp"
 #include "thread_pool.hpp"
@@ -712,6 +713,26 @@ RowStatus frame_motion_derivatives_n(const ModelData& md, const In& q, const In&
   });
 }
 
+// The joint torque regressor Y (N, nv · 10 nb) for rows of (q, q̇, q̈).
+RowStatus regressor_n(const ModelData& md, const In& q, const In& v, const In& a, Out Y) {
+  const ModelView& mv = md.view;
+  std::int64_t N = 0;
+  Rows Q, V, A;
+  const std::int64_t n = static_cast<std::int64_t>(mv.nv) * 10 * mv.nb;
+  FD_TRY_ROWS(out_rows(Y, n, N));
+  FD_TRY_ROWS(rows(q, N, mv.nq, ARG_Q, Q));
+  require_present(v);
+  require_present(a);
+  FD_TRY_ROWS(rows(v, N, mv.nv, ARG_V, V));
+  FD_TRY_ROWS(rows(a, N, mv.nv, ARG_A, A));
+  double* out = Y.data();
+  return for_rows(N, [&](std::int64_t r) -> std::int64_t {
+    FD_TRY(check_state(mv, Q.row(r), V.row(r), A.row(r), nullptr));
+    joint_torque_regressor(mv, Q.row(r), V.row(r), A.row(r), out + r * n);
+    return finite_result(out + r * n, n);
+  });
+}
+
 // The core's sin and cos (trig.hpp) of every x, by the one-state path or by Packs (tests: accuracy
 // against the C library, and lanes bit-identical to one state).
 void sin_cos_n(const In& x, Out s, Out c, bool packs) {
@@ -806,6 +827,7 @@ NB_MODULE(_core, m) {
         nb::arg("gravity"), A("qdd"), A("dqdd_dq"), A("dqdd_dv"), A("Minv"));
   m.def("frame_motion_derivatives_batch", &frame_motion_derivatives_n, nb::arg("model"), A("q"), A("v"), O("a"),
         nb::arg("frame"), nb::arg("reference"), A("dv_dq"), A("dv_dv"), O("da_dq"), O("da_dv"), O("da_da"));
+  m.def("regressor_batch", &regressor_n, nb::arg("model"), A("q"), A("v"), A("a"), A("out"));
   m.def("flops", &flops1, nb::arg("model"), nb::arg("kind"), A("q"), A("v"), A("b"),
         "floating-point operations of one RNEA (0), CRBA (1) or ABA (2) call for this state");
   m.def("sin_cos", &sin_cos_n, A("x"), A("s"), A("c"), nb::arg("packs"));
