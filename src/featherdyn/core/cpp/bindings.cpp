@@ -639,6 +639,18 @@ RowStatus rnea_derivatives_n(const ModelData& md, const In& q, const In& v, cons
   });
 }
 
+// ∂τ/∂q, ∂τ/∂q̇ of one state by forward-mode differentiation (Dual numbers): the tests' independent check.
+std::int64_t rnea_derivatives_dual1(const ModelData& md, const In& q, const In& v, const In& a, Out dq, Out dv) {
+  const ModelView& mv = md.view;
+  const size_t n2 = static_cast<size_t>(mv.nv) * mv.nv;
+  if (q.size() != size_t(mv.nq) || v.size() != size_t(mv.nv) || a.size() != size_t(mv.nv) || dq.size() != n2 ||
+      dv.size() != n2)
+    return make_status(LENGTH, ARG_OUT, -1);
+  FD_TRY(check_state(mv, q.data(), v.data(), a.data(), nullptr));
+  rnea_derivatives_dual(mv, q.data(), v.data(), a.data(), nullptr, true, dq.data(), dv.data());
+  return OK;
+}
+
 // M⁻¹ (N, nv²) for rows of q.
 RowStatus minverse_n(const ModelData& md, const In& q, Out Minv) {
   const ModelView& mv = md.view;
@@ -822,6 +834,8 @@ NB_MODULE(_core, m) {
         nb::arg("reference"), A("out"));
   m.def("rnea_derivatives_batch", &rnea_derivatives_n, nb::arg("model"), A("q"), A("v"), A("a"), O("f_ext"),
         nb::arg("gravity"), A("dtau_dq"), A("dtau_dv"));
+  m.def("rnea_derivatives_dual", &rnea_derivatives_dual1, nb::arg("model"), A("q"), A("v"), A("a"), A("dtau_dq"),
+        A("dtau_dv"));
   m.def("minverse_batch", &minverse_n, nb::arg("model"), A("q"), A("out"));
   m.def("aba_derivatives_batch", &aba_derivatives_n, nb::arg("model"), A("q"), A("v"), A("tau"), O("f_ext"),
         nb::arg("gravity"), A("qdd"), A("dqdd_dq"), A("dqdd_dv"), A("Minv"));

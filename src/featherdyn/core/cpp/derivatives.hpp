@@ -1,23 +1,32 @@
-// Derivatives of inverse and forward dynamics (reference: featherdyn/algorithms/, Carpentier &
-// Mansard, RSS 2018) by forward-mode differentiation of the RNEA template: the kernel written once
-// (rnea.hpp) runs on Dual<K>, a value with K directional derivatives, so K columns of
+// Derivatives of inverse and forward dynamics (reference: featherdyn/algorithms/; Carpentier &
+// Mansard, RSS 2018), in body coordinates.
 //
-//     ∂τ/∂q  (along the tangent of fd.integrate: q ⊕ ε e_j, v's layout)   and   ∂τ/∂q̇
+// ∂τ/∂q and ∂τ/∂q̇: the tangent-linear RNEA. q's derivative is taken along the tangent of
+// fd.integrate, q ⊕ ε e_j, which moves body k (the joint of direction j, column c of S_k) by
+// ᵖM_k exp(ε S_c): so δX_up[k] = −S_c × X_up[k] and, for the bodies i of k's subtree,
 //
-// come out of one pass, exact to round-off (no step size). The tangent seeds are the derivatives of
-// q ⊕ ε e_j at ε = 0, joint by joint:
+//     δv_k = −S_c × (X_up[k] v_λ(k)),            δa_k = −S_c × (X_up[k] a_λ(k)) + δv_k × S_k q̇_k
+//     δv_i = X_up[i] δv_λ(i),                     δa_i = X_up[i] δa_λ(i) + δv_i × S_i q̇_i
+//     δf_i = I_i δa_i + δv_i ×* I_i v_i + v_i ×* I_i δv_i
+//     δτ_i = S_iᵀ δF_i,   δF_λ(i) += X_up[i]ᵀ δF_i,   at k: δF_λ(k) += X_up[k]ᵀ (δF_k + S_c ×* F_k)
+//
+// (F: the forces after RNEA's backward pass), then up the ancestors of k; a q̇ direction starts
+// from δv_k = S_c, δa_k = S_c × S_k q̇_k + v_k × S_c. Each direction costs its subtree and its
+// support, as the analytical algorithm does.
+//
+// Forward dynamics: q̈ = ABA(q, q̇, τ) solves RNEA(q, q̇, q̈) = τ, so
+//
+//     ∂q̈/∂q = −M⁻¹ ∂τ/∂q,   ∂q̈/∂q̇ = −M⁻¹ ∂τ/∂q̇   (at q̈ = ABA(q, q̇, τ)),   ∂q̈/∂τ = M⁻¹
+//
+// with M⁻¹'s columns from the ABA template on unit joint forces (no velocity, no gravity): M⁻¹ e_j,
+// several columns per pass through the SIMD Pack instantiation. Frame velocities and accelerations
+// (frame_derivatives.hpp) are differentiated by running their template on Dual numbers: a value and
+// K directional derivatives, whose tangent seeds are the derivatives of q ⊕ ε e_j at ε = 0:
 //
 //     revolute, prismatic:  δq = e_j
 //     spherical (ω in the child frame):           δquat = quat ⊗ (e_c / 2, 0)
 //     free-flyer ([ω; v] in the base frame):      δquat = quat ⊗ (e_c / 2, 0)  or  δp = R(quat) e_c
 //     planar ([ω, v_x, v_y] in the moving frame): δθ = 1  or  δ(x, y) = R(θ) e_c
-//
-// and ∂τ/∂q̈ = M (CRBA). Forward dynamics: q̈ = ABA(q, q̇, τ) solves RNEA(q, q̇, q̈) = τ, so
-//
-//     ∂q̈/∂q = −M⁻¹ ∂τ/∂q,   ∂q̈/∂q̇ = −M⁻¹ ∂τ/∂q̇   (at q̈ = ABA(q, q̇, τ)),   ∂q̈/∂τ = M⁻¹
-//
-// with M⁻¹'s columns from the ABA template on unit joint forces (no velocity, no gravity): M⁻¹ e_j,
-// several columns per pass through the SIMD Pack instantiation.
 #pragma once
 
 #include <algorithm>
@@ -142,8 +151,106 @@ struct DerivWork {
   void resize(size_t) {}
 };
 
-// ∂τ/∂q and ∂τ/∂q̇ (nv, nv) row-major: column j is the derivative along direction j.
-inline void rnea_derivatives(const ModelView& mv, const double* q, const double* qd, const double* qdd,
+template <class S>
+struct RneaDerivWork {
+  std::vector<Xform<S>> X_up;
+  std::vector<RigidInertia<S>> I;
+  std::vector<Motion<S>> v, a, vJ, dv, da;
+  std::vector<Force<S>> F, dF;
+  std::vector<char> in_subtree;
+  void resize(size_t nb) {
+    if (X_up.size() < nb)
+      X_up.resize(nb), I.resize(nb), v.resize(nb), a.resize(nb), vJ.resize(nb), dv.resize(nb), da.resize(nb),
+          F.resize(nb), dF.resize(nb), in_subtree.resize(nb);
+  }
+};
+
+// ∂τ/∂q and ∂τ/∂q̇ (nv, nv) row-major (column j: the derivative along direction j), by the tangent-linear
+// RNEA of the file comment.
+template <class S>
+void rnea_derivatives(const ModelView& mv, const S* q, const S* qd, const S* qdd, const S* f_ext, bool gravity,
+                      S* dtau_dq, S* dtau_dv) {
+  const int nb = mv.nb, nv = mv.nv;
+  RneaDerivWork<S>& w = thread_workspace<RneaDerivWork<S>>(nb);
+  const S z(0.0);
+  const Motion<S> zero{{z, z, z}, {z, z, z}};
+  const Motion<S> a0 = base_acceleration<S>(mv, gravity);
+  // the nominal RNEA, keeping X_up, v, a, S q̇ and the accumulated forces F
+  for (int i = 0; i < nb; ++i) {
+    const int lam = mv.parent[i];
+    w.X_up[i] = joint_X_up(mv, i, q);
+    w.I[i] = body_inertia<S>(mv, i);
+    w.vJ[i] = S_times(mv, i, qd);
+    w.v[i] = lam == -1 ? w.vJ[i] : w.X_up[i].apply(w.v[lam]) + w.vJ[i];
+    w.a[i] = w.X_up[i].apply(lam == -1 ? a0 : w.a[lam]) + S_times(mv, i, qdd) + cross_motion(w.v[i], w.vJ[i]);
+    w.F[i] = w.I[i] * w.a[i] + cross_force(w.v[i], w.I[i] * w.v[i]);
+    if (f_ext) {
+      const S* fx = f_ext + 6 * i;
+      w.F[i] = w.F[i] - Force<S>{{fx[0], fx[1], fx[2]}, {fx[3], fx[4], fx[5]}};
+    }
+  }
+  for (int i = nb - 1; i >= 0; --i)
+    if (mv.parent[i] != -1) w.F[mv.parent[i]] += w.X_up[i].apply_transpose(w.F[i]);
+  for (int k = 0; k < nv * nv; ++k) dtau_dq[k] = dtau_dv[k] = z;
+
+  S col[6];
+  for (int k = 0; k < nb; ++k) {
+    const int lam_k = mv.parent[k];
+    char* sub = w.in_subtree.data();
+    sub[k] = 1;
+    for (int i = k + 1; i < nb; ++i) sub[i] = mv.parent[i] >= k && sub[mv.parent[i]];
+    const Motion<S> xv = lam_k == -1 ? zero : w.X_up[k].apply(w.v[lam_k]);
+    const Motion<S> xa = w.X_up[k].apply(lam_k == -1 ? a0 : w.a[lam_k]);
+    for (int c = 0; c < mv.nv_i[k]; ++c) {
+      const Motion<S> Sc = S_col<S>(mv, k, c);
+      const int j = mv.idx_v[k] + c;
+      for (int wrt_v = 0; wrt_v < 2; ++wrt_v) {
+        S* out = wrt_v ? dtau_dv : dtau_dq;
+        // forward over the subtree of k
+        for (int i = k; i < nb; ++i) {
+          if (!sub[i]) continue;
+          if (i == k) {
+            if (wrt_v) {
+              w.dv[k] = Sc;
+              w.da[k] = cross_motion(Sc, w.vJ[k]) + cross_motion(w.v[k], Sc);
+            } else {
+              const Motion<S> u = cross_motion(Sc, xv);
+              w.dv[k] = Motion<S>{-u.w, -u.v};
+              const Motion<S> ua = cross_motion(Sc, xa);
+              w.da[k] = Motion<S>{-ua.w, -ua.v} + cross_motion(w.dv[k], w.vJ[k]);
+            }
+          } else {
+            const int lam = mv.parent[i];
+            w.dv[i] = w.X_up[i].apply(w.dv[lam]);
+            w.da[i] = w.X_up[i].apply(w.da[lam]) + cross_motion(w.dv[i], w.vJ[i]);
+          }
+          const RigidInertia<S>& I = w.I[i];
+          w.dF[i] = I * w.da[i] + cross_force(w.dv[i], I * w.v[i]) + cross_force(w.v[i], I * w.dv[i]);
+        }
+        // backward over the subtree, then up the ancestors of k
+        for (int i = nb - 1; i > k; --i) {
+          if (!sub[i]) continue;
+          St_times(mv, i, w.dF[i], col);
+          for (int r = 0; r < mv.nv_i[i]; ++r) out[(mv.idx_v[i] + r) * nv + j] = col[r];
+          w.dF[mv.parent[i]] += w.X_up[i].apply_transpose(w.dF[i]);
+        }
+        St_times(mv, k, w.dF[k], col);
+        for (int r = 0; r < mv.nv_i[k]; ++r) out[(mv.idx_v[k] + r) * nv + j] = col[r];
+        if (lam_k == -1) continue;
+        Force<S> G = w.X_up[k].apply_transpose(wrt_v ? w.dF[k] : w.dF[k] + cross_force(Sc, w.F[k]));
+        for (int i = lam_k; i != -1; i = mv.parent[i]) {
+          St_times(mv, i, G, col);
+          for (int r = 0; r < mv.nv_i[i]; ++r) out[(mv.idx_v[i] + r) * nv + j] = col[r];
+          if (mv.parent[i] != -1) G = w.X_up[i].apply_transpose(G);
+        }
+      }
+    }
+  }
+}
+
+// ∂τ/∂q and ∂τ/∂q̇ (nv, nv) row-major by forward-mode differentiation of the RNEA template on Dual
+// numbers: an independent check of the tangent-linear algorithm (tests), eight directions a pass.
+inline void rnea_derivatives_dual(const ModelView& mv, const double* q, const double* qd, const double* qdd,
                              const double* f_ext, bool gravity, double* dtau_dq, double* dtau_dv) {
   const int nq = mv.nq, nv = mv.nv, nf = 6 * mv.nb;
   DerivWork<DualK>& w = thread_workspace<DerivWork<DualK>>(mv.nb);

@@ -92,7 +92,7 @@ inline std::int64_t fk_group(const fdgroup::GroupArgs& g, std::int64_t r0) {
 }
 
 inline fdgroup::GroupKernels group_kernels(const char* isa) {
-  return {isa, PACK_WIDTH, &rnea_group, &crba_group, &aba_group, &fk_group, &rnea_derivatives, &mass_matrix_inverse};
+  return {isa, PACK_WIDTH, &rnea_group, &crba_group, &aba_group, &fk_group, &rnea_derivatives<double>, &mass_matrix_inverse};
 }
 
 }  // namespace fdcore
