@@ -76,6 +76,9 @@ __all__ = [
     "frame_velocity_derivatives",
     "frame_acceleration_derivatives",
     "joint_torque_regressor",
+    "mass_matrix_factor",
+    "mass_solve",
+    "delassus",
     "set_num_threads",
     "get_num_threads",
 ]
@@ -819,6 +822,66 @@ def joint_torque_regressor(model: Model, q: Any, v: Any, a: Any) -> np.ndarray:
                                _rows(a_, batch, (h.nv,)), Y.reshape(N, h.nv * ncol))
     _check_batch(st, model, q, vectors, what="joint_torque_regressor")
     return Y
+
+
+def _ltl_rows(model: Model, q: Any, extra: Any, name: str, tail: tuple[int, ...]
+              ) -> tuple[CoreHandle, tuple[int, ...], np.ndarray, np.ndarray | None]:
+    h = _view(model)
+    q_ = _f64(q, "q")
+    x_ = None if extra is None else _f64(extra, name)
+    parts = [(q_, 1)] + ([] if x_ is None else [(x_, len(tail))])
+    batch = _batch_shape(model, parts, q, [], None)
+    Q = _rows(q_, batch, (h.nq,))
+    assert Q is not None
+    return h, batch, Q, _rows(x_, batch, tail)
+
+
+def _raise_ltl(st: tuple[int, int], model: Model, q: Any, what: str) -> None:
+    """A factorisation's failure: the reference's words (``fd.aba``'s for a singular mass matrix)."""
+    if st[1] and _errors.decode(st[1])[0] == _errors.SINGULAR:
+        q_ = _f64(q, "q")
+        row = q_.reshape(-1, model.nq)[st[0] if q_.ndim > 1 else 0]
+        aba(model, row, np.zeros(model.nv), np.zeros(model.nv), None, False)  # raises the reference's error
+    _check_batch(st, model, q, [], what=what)
+
+
+def mass_matrix_factor(model: Model, q: Any) -> np.ndarray:
+    """``L`` `(..., nv, nv)` lower triangular with ``M(q) = Lᵀ L`` and the tree's sparsity (RBDA §6.5)::
+
+        L_kj ≠ 0 only for j = k or j an ancestor dof of k
+    """
+    h, batch, Q, _ = _ltl_rows(model, q, None, "", ())
+    L = np.empty(batch + (h.nv, h.nv))
+    _raise_ltl(_core.ltl_batch(h.cm, Q, L.reshape(math.prod(batch), h.nv * h.nv)), model, q, "mass_matrix_factor")
+    return L
+
+
+def mass_solve(model: Model, q: Any, b: Any) -> np.ndarray:
+    """``x = M(q)⁻¹ b`` `(..., nv)` for ``b`` `(..., nv)` through the tree-sparse factor (M is never inverted)::
+
+        Lᵀ y = b,   L x = y,   M = Lᵀ L
+    """
+    h, batch, Q, B = _ltl_rows(model, q, b, "b", (model.nv,))
+    x = np.empty(batch + (model.nv,))
+    st = _core.mass_solve_batch(h.cm, Q, B, 1, x.reshape(math.prod(batch), model.nv))
+    _raise_ltl(st, model, q, "mass_solve")
+    return x
+
+
+def delassus(model: Model, q: Any, J: Any) -> np.ndarray:
+    """``J M(q)⁻¹ Jᵀ`` `(..., m, m)` for ``J`` `(..., m, nv)`, without forming M⁻¹::
+
+        J M⁻¹ Jᵀ = (J L⁻¹)(J L⁻¹)ᵀ,   M = Lᵀ L
+    """
+    J_ = _f64(J, "J")
+    if J_.ndim < 2 or J_.shape[-1] != model.nv:
+        raise ShapeError(f"J: expected shape (..., m, {model.nv}), got {J_.shape}")
+    m = J_.shape[-2]
+    h, batch, Q, JR = _ltl_rows(model, q, J_, "J", (m, model.nv))
+    D = np.empty(batch + (m, m))
+    st = _core.delassus_batch(h.cm, Q, JR, m, D.reshape(math.prod(batch), m * m))
+    _raise_ltl(st, model, q, "delassus")
+    return D
 
 
 def frame_velocity_derivatives(model: Model, q: Any, v: Any, frame: Any,

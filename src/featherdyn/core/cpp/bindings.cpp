@@ -34,6 +34,7 @@
 #include "frames.hpp"
 #include "jacobians.hpp"
 #include "kinematics.hpp"
+#include "ltl.hpp"
 #include "model_view.hpp"
 #include "pack.hpp"
 #include "regressor.hpp"
@@ -130,6 +131,13 @@ std::int64_t exact_shape(const A& x, std::initializer_list<size_t> shape, std::i
     const std::int64_t s_ = (expr);                    \
     if (s_ != OK) return RowStatus{-1, s_};            \
   } while (0)
+
+// The body whose joint owns dof k.
+inline int dof_body(const ModelView& mv, int k) {
+  for (int i = 0; i < mv.nb; ++i)
+    if (mv.idx_v[i] <= k && k < mv.idx_v[i] + mv.nv_i[i]) return i;
+  return 0;
+}
 
 // Run body(item) → status over `items` items on the pool, GIL released; (first failing row, its
 // status). An item is `group` consecutive rows; a failing body adds (row − first row of the item) << 60.
@@ -745,6 +753,89 @@ RowStatus regressor_n(const ModelData& md, const In& q, const In& v, const In& a
   });
 }
 
+// ---------------------------------------------------------------------------
+// the tree-sparse LᵀL factorisation (ltl.hpp)
+// ---------------------------------------------------------------------------
+
+// L (N, nv²): M(q) = Lᵀ L, lower triangular (zeros above the diagonal).
+RowStatus ltl_n(const ModelData& md, const In& q, Out L) {
+  const ModelView& mv = md.view;
+  std::int64_t N = 0;
+  Rows Q;
+  const std::int64_t n2 = static_cast<std::int64_t>(mv.nv) * mv.nv;
+  FD_TRY_ROWS(out_rows(L, n2, N));
+  FD_TRY_ROWS(rows(q, N, mv.nq, ARG_Q, Q));
+  std::vector<int> lambda(mv.nv);
+  dof_parents(mv, lambda.data());
+  double* out = L.data();
+  return for_rows(N, [&](std::int64_t r) -> std::int64_t {
+    FD_TRY(check_state(mv, Q.row(r), nullptr, nullptr, nullptr));
+    double* Lr = out + r * n2;
+    crba(mv, Q.row(r), Lr);
+    const int bad = ltl_factor(mv, lambda.data(), Lr);
+    if (bad >= 0) return make_status(SINGULAR, ARG_Q, dof_body(mv, bad));
+    for (int i = 0; i < mv.nv; ++i)
+      for (int j = i + 1; j < mv.nv; ++j) Lr[i * mv.nv + j] = 0.0;
+    return finite_result(Lr, n2);
+  });
+}
+
+// x (N, nv·k) solving M(q) x = b for b (N or 1, nv·k): k right-hand sides, row-major (nv, k).
+RowStatus mass_solve_n(const ModelData& md, const In& q, const In& b, int k, Out x) {
+  const ModelView& mv = md.view;
+  std::int64_t N = 0;
+  Rows Q, B;
+  const std::int64_t nk = static_cast<std::int64_t>(mv.nv) * k;
+  if (k < 1) throw nb::value_error("mass_solve: k must be positive");
+  FD_TRY_ROWS(out_rows(x, nk, N));
+  FD_TRY_ROWS(rows(q, N, mv.nq, ARG_Q, Q));
+  FD_TRY_ROWS(rows(b, N, nk, ARG_A, B));
+  std::vector<int> lambda(mv.nv);
+  dof_parents(mv, lambda.data());
+  const int nv = mv.nv;
+  double* out = x.data();
+  return for_rows(N, [&](std::int64_t r) -> std::int64_t {
+    FD_TRY(check_state(mv, Q.row(r), nullptr, nullptr, nullptr));
+    std::vector<double> L(static_cast<size_t>(nv) * nv), col(nv);
+    crba(mv, Q.row(r), L.data());
+    const int bad = ltl_factor(mv, lambda.data(), L.data());
+    if (bad >= 0) return make_status(SINGULAR, ARG_Q, dof_body(mv, bad));
+    const double* Br = B.row(r);
+    double* Xr = out + r * nk;
+    for (int c = 0; c < k; ++c) {
+      for (int i = 0; i < nv; ++i) col[i] = Br[i * k + c];
+      ltl_solve_Lt(mv, lambda.data(), L.data(), col.data());
+      ltl_solve_L(mv, lambda.data(), L.data(), col.data());
+      for (int i = 0; i < nv; ++i) Xr[i * k + c] = col[i];
+    }
+    return finite_result(Xr, nk);
+  });
+}
+
+// D (N, m²) = J M(q)⁻¹ Jᵀ for J (N or 1, m·nv).
+RowStatus delassus_n(const ModelData& md, const In& q, const In& J, int m, Out D) {
+  const ModelView& mv = md.view;
+  std::int64_t N = 0;
+  Rows Q, JR;
+  if (m < 0) throw nb::value_error("delassus: m must be non-negative");
+  const int nv = mv.nv;
+  FD_TRY_ROWS(out_rows(D, static_cast<size_t>(m) * m, N));
+  FD_TRY_ROWS(rows(q, N, mv.nq, ARG_Q, Q));
+  FD_TRY_ROWS(rows(J, N, static_cast<size_t>(m) * nv, ARG_A, JR));
+  std::vector<int> lambda(nv);
+  dof_parents(mv, lambda.data());
+  double* out = D.data();
+  return for_rows(N, [&](std::int64_t r) -> std::int64_t {
+    FD_TRY(check_state(mv, Q.row(r), nullptr, nullptr, nullptr));
+    std::vector<double> L(static_cast<size_t>(nv) * nv), Y;
+    crba(mv, Q.row(r), L.data());
+    const int bad = ltl_factor(mv, lambda.data(), L.data());
+    if (bad >= 0) return make_status(SINGULAR, ARG_Q, dof_body(mv, bad));
+    delassus_from_factor(mv, lambda.data(), L.data(), JR.row(r), m, out + r * m * m, Y);
+    return finite_result(out + r * m * m, static_cast<std::int64_t>(m) * m);
+  });
+}
+
 // The core's sin and cos (trig.hpp) of every x, by the one-state path or by Packs (tests: accuracy
 // against the C library, and lanes bit-identical to one state).
 void sin_cos_n(const In& x, Out s, Out c, bool packs) {
@@ -842,6 +933,9 @@ NB_MODULE(_core, m) {
   m.def("frame_motion_derivatives_batch", &frame_motion_derivatives_n, nb::arg("model"), A("q"), A("v"), O("a"),
         nb::arg("frame"), nb::arg("reference"), A("dv_dq"), A("dv_dv"), O("da_dq"), O("da_dv"), O("da_da"));
   m.def("regressor_batch", &regressor_n, nb::arg("model"), A("q"), A("v"), A("a"), A("out"));
+  m.def("ltl_batch", &ltl_n, nb::arg("model"), A("q"), A("out"));
+  m.def("mass_solve_batch", &mass_solve_n, nb::arg("model"), A("q"), A("b"), nb::arg("k"), A("out"));
+  m.def("delassus_batch", &delassus_n, nb::arg("model"), A("q"), A("J"), nb::arg("m"), A("out"));
   m.def("flops", &flops1, nb::arg("model"), nb::arg("kind"), A("q"), A("v"), A("b"),
         "floating-point operations of one RNEA (0), CRBA (1) or ABA (2) call for this state");
   m.def("sin_cos", &sin_cos_n, A("x"), A("s"), A("c"), nb::arg("packs"));
