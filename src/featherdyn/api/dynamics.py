@@ -109,7 +109,7 @@ def crba(model: Model, q: ArrayLike, *, backend: str | None = None) -> np.ndarra
     """
     core = core_path(model, backend)
     if core is not None:
-        M = _EMPTY((core.nv, core.nv))
+        M = _EMPTY(core.shape_M)
         try:
             if CORE.crba(core.cm, q, M) == OK:
                 return M

@@ -201,7 +201,7 @@ def frame_jacobian(model: Model, q: ArrayLike, frame: str | int, reference: Refe
                     else 2 if reference is LOCAL_WORLD_ALIGNED else -1)
         fid_ = core.frames.get(frame, -1) if frame.__class__ is str else frame
         if ref_code >= 0:
-            J_ = _EMPTY((6, core.nv))
+            J_ = _EMPTY(core.shape_J)
             try:
                 if CORE.frame_jacobian(core.cm, q, fid_, ref_code, J_) == OK:
                     return J_

@@ -94,11 +94,13 @@ def _build(model: Model, core: Any) -> Any:
 class CoreHandle:
     """What the wrappers need of a model on every call: the core's ``Model`` and the sizes."""
 
-    __slots__ = ("cm", "frames", "nb", "nq", "nv")
+    __slots__ = ("cm", "frames", "nb", "nq", "nv", "shape_M", "shape_J")
 
     def __init__(self, model: Model, cm: Any) -> None:
         self.cm = cm
         self.nb, self.nq, self.nv = model.nbodies, model.nq, model.nv
+        #: result shapes, built once rather than per call
+        self.shape_M, self.shape_J = (model.nv, model.nv), (6, model.nv)
         #: frame name → index (the first frame of a name, as ``model.frame_id``)
         self.frames = model._frame_index
 
