@@ -37,19 +37,22 @@ constexpr double C1 = 4.16666666666666019037e-02, C2 = -1.38888888888741095749e-
                  C5 = 2.08757232129817482790e-09, C6 = -1.13596475577881948265e-11;
 
 // (sin r, cos r) for |r| ≤ π/4; cos as w + ((1 − w) − r²/2 + …) with w = 1 − r²/2 (keeps the last bit)
+// (the polynomials by Estrin's scheme: pairs of terms in parallel, then powers of z² — a shorter chain of
+// dependent operations than Horner's, on the one-state path where latency, not throughput, counts)
 template <class S>
 inline void kernel(const S& r, S& s, S& c) {
   const S z = r * r;
-  const S ps = S(S2) + z * (S(S3) + z * (S(S4) + z * (S(S5) + z * S(S6))));
+  const S z2 = z * z;
+  const S ps = (S(S2) + z * S(S3)) + z2 * ((S(S4) + z * S(S5)) + z2 * S(S6));
   s = r + r * z * (S(S1) + z * ps);
-  const S pc = z * (S(C1) + z * (S(C2) + z * (S(C3) + z * (S(C4) + z * (S(C5) + z * S(C6))))));
+  const S pc = z * ((S(C1) + z * S(C2)) + z2 * ((S(C3) + z * S(C4)) + z2 * (S(C5) + z * S(C6))));
   const S hz = S(0.5) * z;
   const S w = S(1.0) - hz;
   c = w + (((S(1.0) - w) - hz) + z * pc);
 }
 }  // namespace trig
 
-inline void sin_cos(double x, double& s, double& c) {
+__attribute__((always_inline)) inline void sin_cos(double x, double& s, double& c) {
   using namespace trig;
   if (!(std::fabs(x) <= REDUCE_MAX)) {
     s = std::sin(x);
