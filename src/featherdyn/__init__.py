@@ -42,6 +42,7 @@ from .api import (
 )
 from .errors import (
     BackendError,
+    ConstraintError,
     DTypeError,
     FeatherdynError,
     FrameMismatchError,
@@ -126,6 +127,7 @@ __all__ = [
     "rotation",
     "spatial_algebra",
     "BackendError",
+    "ConstraintError",
     "DTypeError",
     "FeatherdynError",
     "FrameMismatchError",

@@ -142,5 +142,10 @@ class SingularMassMatrixError(FeatherdynError, ValueError):
         )
 
 
+class ConstraintError(FeatherdynError, ValueError):
+    """Constraints that cannot be solved as given: dependent rows (a rank-deficient constraint Jacobian)
+    with ``mu = 0``, or proximal iterations that did not converge."""
+
+
 class BackendError(FeatherdynError, ValueError):
     """An unknown or unavailable ``backend=`` was requested."""

@@ -28,6 +28,7 @@ __all__ = [
     "UNIT_AXIS",
     "URDF_INERTIA_RTOL",
     "SINGULAR_PIVOT_RTOL",
+    "DELASSUS_PIVOT_RTOL",
     "COMPARISON",
     "VERIFY_ALGEBRA",
     "VERIFY_DYNAMICS",
@@ -82,6 +83,10 @@ URDF_INERTIA_RTOL = 1e-6
 #: inertia ``D_i = S_iᵀ IA_i S_i`` is ``<=`` this times the largest entry of any body's spatial inertia.
 #: The message is :meth:`featherdyn.errors.SingularMassMatrixError.for_joint`.
 SINGULAR_PIVOT_RTOL = 1e-14
+
+#: a Delassus matrix J M⁻¹ Jᵀ whose Cholesky pivot falls below this × its largest diagonal entry has
+#: dependent constraint rows (constrained dynamics with mu = 0 refuse it and suggest mu > 0)
+DELASSUS_PIVOT_RTOL = 1e-12
 
 #: ``(rtol, atol)`` by dtype name for comparing two computations of the same quantity
 #: (:func:`featherdyn.testing.assert_close`, the verification tool). float64 results agree with

@@ -79,6 +79,7 @@ __all__ = [
     "mass_matrix_factor",
     "mass_solve",
     "delassus",
+    "constrained_solve",
     "set_num_threads",
     "get_num_threads",
 ]
@@ -882,6 +883,59 @@ def delassus(model: Model, q: Any, J: Any) -> np.ndarray:
     st = _core.delassus_batch(h.cm, Q, JR, m, D.reshape(math.prod(batch), m * m))
     _raise_ltl(st, model, q, "delassus")
     return D
+
+
+def constrained_solve(model: Model, q: Any, v: Any, tau: Any, J: Any, c: Any, f_ext: Any = None, *, mu: float = 0.0,
+                      max_iter: int = 50, tol: float = 1e-12) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """``(q̈, λ, residual)`` of ``M q̈ + h = τ + Jᵀ λ`` and ``J q̈ = c`` for ``J`` `(..., m, nv)`, ``c`` `(..., m)`.
+
+    By the Schur complement on M's tree-sparse factor (M is never inverted)::
+
+        q̈_f = M⁻¹ (τ − h),   D = J M⁻¹ Jᵀ,   D λ = c − J q̈_f,   q̈ = q̈_f + M⁻¹ Jᵀ λ
+
+    ``mu > 0``: proximal iterations ``λ ← (D + μ1)⁻¹ (c − J q̈_f + μ λ)`` (Carpentier, Budhiraja & Mansard,
+    RSS 2021), which converge to the minimum-norm λ when rows are dependent. ``residual`` `(...)`:
+    ``max |J q̈ − c|``.
+
+    Raises:
+        ConstraintError: dependent rows with ``mu = 0`` (the message suggests ``mu``), or no convergence
+            in ``max_iter`` proximal iterations.
+    """
+    from ..errors import ConstraintError
+    from ..tolerances import DELASSUS_PIVOT_RTOL
+
+    J_ = _f64(J, "J")
+    if J_.ndim < 2 or J_.shape[-1] != model.nv:
+        raise ShapeError(f"J: expected shape (..., m, {model.nv}), got {J_.shape}")
+    m = J_.shape[-2]
+    h, batch, _, vectors = _dynamics_rows(model, q, v, tau, f_ext, "tau")
+    c_ = _f64(c, "c")
+    if c_.shape[-1:] != (m,):
+        raise ShapeError(f"c: expected shape (..., {m}) for J with {m} rows, got {c_.shape}")
+    try:
+        batch = np.broadcast_shapes(batch, J_.shape[:-2], c_.shape[:-1])
+    except ValueError:
+        raise ShapeError(f"J {J_.shape[:-2]}, c {c_.shape[:-1]} and the state {batch}: batch shapes that do not "
+                         "broadcast") from None
+    N, nv = math.prod(batch), h.nv
+    rows = [_rows(x, batch, tail) for x, tail in ((_f64(q, "q"), (h.nq,)), (_f64(v, "v"), (nv,)),
+                                                  (_f64(tau, "tau"), (nv,)))]
+    FXr = None if f_ext is None else _rows(_f64(f_ext, "f_ext"), batch, (h.nb, 6))
+    qdd, lam, info = np.empty(batch + (nv,)), np.empty(batch + (m,)), np.empty(batch + (2,))
+    st = _core.kkt_batch(h.cm, *rows, FXr, _rows(J_, batch, (m, nv)), _rows(c_, batch, (m,)), m, float(mu),
+                         int(max_iter), float(tol), DELASSUS_PIVOT_RTOL, qdd.reshape(N, nv), lam.reshape(N, m),
+                         info.reshape(N, 2))
+    if st[1]:
+        _raise_derivative_status(st, model, q, vectors, f_ext, [rows[0], rows[1], rows[2], FXr], True,
+                                 "constrained_solve")
+    its = info[..., 0]
+    if np.any(its == -1):
+        raise ConstraintError(f"the {m} constraint rows are dependent (J M⁻¹ Jᵀ is singular): their forces are not "
+                              "unique; pass mu > 0 (e.g. mu=1e-8) for the minimum-norm forces")
+    if np.any(its == -2):
+        raise ConstraintError(f"the proximal iterations did not converge in max_iter={max_iter} (tol={tol:g}): "
+                              "raise max_iter or mu")
+    return qdd, lam, info[..., 1]
 
 
 def frame_velocity_derivatives(model: Model, q: Any, v: Any, frame: Any,

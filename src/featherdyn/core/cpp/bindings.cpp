@@ -836,6 +836,45 @@ RowStatus delassus_n(const ModelData& md, const In& q, const In& J, int m, Out D
   });
 }
 
+// Constrained dynamics rows: q̈ (N, nv), λ (N, m), [iterations, residual] (N, 2) for M q̈ + h = τ + Jᵀλ,
+// J q̈ = c with J (N or 1, m·nv) and c (N or 1, m); h with gravity and f_ext (optional).
+RowStatus kkt_n(const ModelData& md, const In& q, const In& v, const In& tau, const In& f_ext, const In& J,
+                const In& c, int m, double mu, int max_iter, double tol, double singular_tol, Out qdd, Out lam,
+                Out info) {
+  const ModelView& mv = md.view;
+  std::int64_t N = 0;
+  Rows Q, V, T, FX, JR, CR;
+  const int nv = mv.nv;
+  if (m < 0) throw nb::value_error("kkt: m must be non-negative");
+  FD_TRY_ROWS(out_rows(qdd, nv, N));
+  FD_TRY_ROWS(same_rows(lam, m, N));
+  FD_TRY_ROWS(same_rows(info, 2, N));
+  FD_TRY_ROWS(rows(q, N, mv.nq, ARG_Q, Q));
+  require_present(v);
+  require_present(tau);
+  FD_TRY_ROWS(rows(v, N, nv, ARG_V, V));
+  FD_TRY_ROWS(rows(tau, N, nv, ARG_A, T));
+  FD_TRY_ROWS(rows(f_ext, N, 6 * static_cast<size_t>(mv.nb), ARG_FEXT, FX));
+  FD_TRY_ROWS(rows(J, N, static_cast<size_t>(m) * nv, ARG_OUT, JR));
+  FD_TRY_ROWS(rows(c, N, static_cast<size_t>(m), ARG_OUT, CR));
+  std::vector<int> lambda(nv);
+  dof_parents(mv, lambda.data());
+  return for_rows(N, [&](std::int64_t r) -> std::int64_t {
+    FD_TRY(check_state(mv, Q.row(r), V.row(r), T.row(r), FX.row(r)));
+    std::vector<double> L(static_cast<size_t>(nv) * nv), th(nv);
+    crba(mv, Q.row(r), L.data());
+    const int bad = ltl_factor(mv, lambda.data(), L.data());
+    if (bad >= 0) return make_status(SINGULAR, ARG_Q, dof_body(mv, bad));
+    rnea(mv, Q.row(r), V.row(r), static_cast<const double*>(nullptr), FX.row(r), true, th.data());
+    for (int k = 0; k < nv; ++k) th[k] = T.row(r)[k] - th[k];
+    const KktResult res = kkt_solve(mv, lambda.data(), L.data(), th.data(), JR.row(r), CR.row(r), m, mu, max_iter,
+                                    tol, singular_tol, qdd.data() + r * nv, lam.data() + r * m);
+    info.data()[2 * r] = res.iterations;
+    info.data()[2 * r + 1] = res.residual;
+    return OK;
+  });
+}
+
 // The core's sin and cos (trig.hpp) of every x, by the one-state path or by Packs (tests: accuracy
 // against the C library, and lanes bit-identical to one state).
 void sin_cos_n(const In& x, Out s, Out c, bool packs) {
@@ -936,6 +975,8 @@ NB_MODULE(_core, m) {
   m.def("ltl_batch", &ltl_n, nb::arg("model"), A("q"), A("out"));
   m.def("mass_solve_batch", &mass_solve_n, nb::arg("model"), A("q"), A("b"), nb::arg("k"), A("out"));
   m.def("delassus_batch", &delassus_n, nb::arg("model"), A("q"), A("J"), nb::arg("m"), A("out"));
+  m.def("kkt_batch", &kkt_n, nb::arg("model"), A("q"), A("v"), A("tau"), O("f_ext"), A("J"), A("c"), nb::arg("m"),
+        nb::arg("mu"), nb::arg("max_iter"), nb::arg("tol"), nb::arg("singular_tol"), A("qdd"), A("lam"), A("info"));
   m.def("flops", &flops1, nb::arg("model"), nb::arg("kind"), A("q"), A("v"), A("b"),
         "floating-point operations of one RNEA (0), CRBA (1) or ABA (2) call for this state");
   m.def("sin_cos", &sin_cos_n, A("x"), A("s"), A("c"), nb::arg("packs"));

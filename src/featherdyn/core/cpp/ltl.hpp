@@ -9,6 +9,7 @@
 // last dof of its parent body's joint (−1 at a root). Factorising costs Σ_k depth(k)², the solves Σ depth.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -80,6 +81,112 @@ void delassus_from_factor(const ModelView& mv, const int* lambda, const S* L, co
       for (int k = 0; k < nv; ++k) x = x + Y[r * nv + k] * Y[c * nv + k];
       D[r * m + c] = D[c * m + r] = x;
     }
+}
+
+}  // namespace fdcore
+
+namespace fdcore {
+
+// Dense Cholesky of a symmetric (m, m) A in place (lower triangle): false when a pivot is ≤ tol·max|A_ii|.
+inline bool dense_cholesky(double* A, int m, double tol) {
+  double scale = 0.0;
+  for (int i = 0; i < m; ++i) scale = std::max(scale, std::fabs(A[i * m + i]));
+  for (int j = 0; j < m; ++j) {
+    double d = A[j * m + j];
+    for (int k = 0; k < j; ++k) d -= A[j * m + k] * A[j * m + k];
+    if (!(d > tol * scale)) return false;
+    const double l = std::sqrt(d);
+    A[j * m + j] = l;
+    for (int i = j + 1; i < m; ++i) {
+      double x = A[i * m + j];
+      for (int k = 0; k < j; ++k) x -= A[i * m + k] * A[j * m + k];
+      A[i * m + j] = x / l;
+    }
+  }
+  return true;
+}
+
+// x ← A⁻¹ x for the Cholesky factor of dense_cholesky.
+inline void dense_cholesky_solve(const double* L, int m, double* x) {
+  for (int i = 0; i < m; ++i) {
+    for (int k = 0; k < i; ++k) x[i] -= L[i * m + k] * x[k];
+    x[i] /= L[i * m + i];
+  }
+  for (int i = m - 1; i >= 0; --i) {
+    for (int k = i + 1; k < m; ++k) x[i] -= L[k * m + i] * x[k];
+    x[i] /= L[i * m + i];
+  }
+}
+
+// The constrained dynamics of M q̈ + h = τ + Jᵀ λ, J q̈ = c (c: the constraint's right-hand side, e.g.
+// −γ − K_p e − K_d J q̇), by the Schur complement on the LᵀL factor (M is never inverted):
+//
+//     q̈_f = M⁻¹ (τ − h),   D = J M⁻¹ Jᵀ,   D λ = c − J q̈_f,   q̈ = q̈_f + M⁻¹ Jᵀ λ
+//
+// With mu > 0 the proximal iterations λ ← (D + μ 1)⁻¹ (c − J q̈_f + μ λ) (Carpentier, Budhiraja &
+// Mansard, RSS 2021) converge to the minimum-norm λ also when J is rank-deficient; with mu = 0 a
+// singular D is refused. L: the factor of M(q) (ltl_factor), tau_h = τ − h (nv,), J (m, nv), c (m,).
+// Iterations stop when ‖D λ − (c − J q̈_f)‖∞ ≤ tol · max(1, ‖c − J q̈_f‖∞). Returns the iterations done
+// (≥ 1), −1 for a singular D (mu = 0), or −2 when not converged.
+struct KktResult {
+  int iterations = 0;
+  double residual = 0.0;  // ‖J q̈ − c‖∞
+};
+
+inline KktResult kkt_solve(const ModelView& mv, const int* lambda_d, const double* L, const double* tau_h,
+                           const double* J, const double* c, int m, double mu, int max_iter, double tol,
+                           double singular_tol, double* qdd, double* lam) {
+  const int nv = mv.nv;
+  std::vector<double> qf(tau_h, tau_h + nv), Y, D(static_cast<size_t>(m) * m), rhs(m), x(m), col(nv);
+  ltl_solve_Lt(mv, lambda_d, L, qf.data());
+  ltl_solve_L(mv, lambda_d, L, qf.data());
+  delassus_from_factor(mv, lambda_d, L, J, m, D.data(), Y);
+  for (int r = 0; r < m; ++r) {
+    double jq = 0.0;
+    for (int k = 0; k < nv; ++k) jq += J[r * nv + k] * qf[k];
+    rhs[r] = c[r] - jq;
+  }
+  const std::vector<double> D0 = D;  // before the proximal shift and the factorisation
+  double rhs_size = 1.0;
+  for (int r = 0; r < m; ++r) rhs_size = std::max(rhs_size, std::fabs(rhs[r]));
+  for (int i = 0; i < m; ++i) D[i * m + i] += mu;
+  KktResult out;
+  if (!dense_cholesky(D.data(), m, mu > 0.0 ? 0.0 : singular_tol)) {
+    out.iterations = -1;
+    return out;
+  }
+  for (int r = 0; r < m; ++r) lam[r] = 0.0;
+  const int iters = mu > 0.0 ? std::max(1, max_iter) : 1;
+  for (int it = 1; it <= iters; ++it) {
+    for (int r = 0; r < m; ++r) x[r] = rhs[r] + mu * lam[r];
+    dense_cholesky_solve(D.data(), m, x.data());
+    for (int r = 0; r < m; ++r) lam[r] = x[r];
+    out.iterations = it;
+    if (mu <= 0.0) break;
+    double dual = 0.0;  // ‖D λ − (c − J q̈_f)‖∞: the constraint rows' residual at this λ
+    for (int r = 0; r < m; ++r) {
+      double y = -rhs[r];
+      for (int k = 0; k < m; ++k) y += D0[r * m + k] * lam[k];
+      dual = std::max(dual, std::fabs(y));
+    }
+    if (dual <= tol * rhs_size) break;
+    if (it == iters) out.iterations = -2;
+  }
+  // q̈ = q̈_f + M⁻¹ Jᵀ λ
+  for (int k = 0; k < nv; ++k) {
+    double s = 0.0;
+    for (int r = 0; r < m; ++r) s += J[r * nv + k] * lam[r];
+    col[k] = s;
+  }
+  ltl_solve_Lt(mv, lambda_d, L, col.data());
+  ltl_solve_L(mv, lambda_d, L, col.data());
+  for (int k = 0; k < nv; ++k) qdd[k] = qf[k] + col[k];
+  for (int r = 0; r < m; ++r) {
+    double jq = 0.0;
+    for (int k = 0; k < nv; ++k) jq += J[r * nv + k] * qdd[k];
+    out.residual = std::max(out.residual, std::fabs(jq - c[r]));
+  }
+  return out;
 }
 
 }  // namespace fdcore
