@@ -94,7 +94,7 @@ def _build(model: Model, core: Any) -> Any:
 class CoreHandle:
     """What the wrappers need of a model on every call: the core's ``Model`` and the sizes."""
 
-    __slots__ = ("cm", "frames", "nb", "nq", "nv", "shape_M", "shape_J")
+    __slots__ = ("cm", "frames", "nb", "nq", "nv", "shape_J", "shape_M")
 
     def __init__(self, model: Model, cm: Any) -> None:
         self.cm = cm
