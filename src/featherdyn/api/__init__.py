@@ -16,6 +16,15 @@ from ..frames import LOCAL, LOCAL_WORLD_ALIGNED, WORLD, ReferenceFrame
 from ..model import Model
 from ..results import CenterOfMass, Kinematics
 from ._backend import default_backend, get_num_threads, set_default_backend, set_num_threads
+from .derivatives import (
+    aba_derivatives,
+    dynamic_parameters,
+    frame_acceleration_derivatives,
+    frame_velocity_derivatives,
+    joint_torque_regressor,
+    mass_matrix_inverse,
+    rnea_derivatives,
+)
 from .dynamics import aba, coriolis_matrix, crba, generalized_gravity, nonlinear_effects, rnea
 from .energy import center_of_mass, centroidal_momentum, centroidal_momentum_matrix, kinetic_energy, potential_energy
 from .kinematics import (
@@ -40,6 +49,13 @@ __all__ = [
     "CenterOfMass",
     "Kinematics",
     "aba",
+    "aba_derivatives",
+    "dynamic_parameters",
+    "frame_acceleration_derivatives",
+    "frame_velocity_derivatives",
+    "joint_torque_regressor",
+    "mass_matrix_inverse",
+    "rnea_derivatives",
     "center_of_mass",
     "centroidal_momentum",
     "centroidal_momentum_matrix",

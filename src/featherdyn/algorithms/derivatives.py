@@ -1,0 +1,208 @@
+"""Derivatives of inverse and forward dynamics, the joint torque regressor (reference).
+
+∂τ/∂q and ∂τ/∂q̇ by the tangent-linear RNEA (the derivative of each line of
+``rnea.py``; Carpentier & Mansard, RSS 2018, written in body coordinates).
+A derivative with respect to q is taken along the tangent of
+``fd.integrate``: ``q ⊕ ε e_j`` moves body k — the body of direction j,
+column c of its motion subspace — by ``ᵖM_k exp(ε S_c)``, so that
+``δX_up[k] = −S_c × X_up[k]``. For the bodies i of k's subtree::
+
+    δv_k = −S_c × (X_up[k] v_λ(k)),            δa_k = −S_c × (X_up[k] a_λ(k)) + δv_k × S_k q̇_k
+    δv_i = X_up[i] δv_λ(i),                     δa_i = X_up[i] δa_λ(i) + δv_i × S_i q̇_i
+    δf_i = I_i δa_i + δv_i ×* I_i v_i + v_i ×* I_i δv_i
+    δτ_i = S_iᵀ δF_i,   δF_λ(i) += X_up[i]ᵀ δF_i,   at k: δF_λ(k) += X_up[k]ᵀ (δF_k + S_c ×* F_k)
+
+and up the ancestors of k (F: the forces after RNEA's backward pass). A q̇
+direction starts from ``δv_k = S_c``, ``δa_k = S_c × S_k q̇_k + v_k × S_c``.
+
+Forward dynamics: ``q̈ = ABA(q, q̇, τ)`` solves ``RNEA(q, q̇, q̈) = τ``, so
+``∂q̈/∂q = −M⁻¹ ∂τ/∂q``, ``∂q̈/∂q̇ = −M⁻¹ ∂τ/∂q̇``, ``∂q̈/∂τ = M⁻¹``, with
+M⁻¹ from the articulated-body recursion on unit joint forces (M is never
+inverted). The regressor: RNEA is linear in each body's ten parameters
+``π_i = [m, m c, I_xx, I_xy, I_yy, I_xz, I_yz, I_zz]`` (I about the body
+origin), ``τ = Y π``.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..model import Model
+from ..spatial_algebra import SpatialForce, SpatialMotion, cross_force, cross_motion
+from . import aba as _aba
+from ._common import TreeData, batch_dtype, zeros
+
+__all__ = ["rnea_derivatives", "mass_matrix_inverse", "aba_derivatives", "joint_torque_regressor",
+           "dynamic_parameters"]
+
+
+def _nominal(model: Model, td: TreeData, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray, f_ext: np.ndarray | None,
+             a0: SpatialMotion) -> tuple[list, list, list, list, list]:
+    """RNEA's passes, keeping ``X_up``, ``S q̇``, ``v``, ``a`` and the accumulated forces ``F``."""
+    X_up: list = []
+    vJs: list[SpatialMotion] = []
+    vel: list[SpatialMotion] = []
+    acc: list[SpatialMotion] = []
+    F: list[SpatialForce] = []
+    for i in range(td.nb):
+        lam = td.parents[i]
+        X_up.append(td.pose_in_parent(q, i).inverse())
+        vJ = td.vJ(qd, i)
+        v_i = vJ if lam == -1 else X_up[i].apply(vel[lam]) + vJ
+        a_i = X_up[i].apply(a0 if lam == -1 else acc[lam]) + td.vJ(qdd, i) + cross_motion(v_i, vJ)
+        f_i = td.I[i] @ a_i + cross_force(v_i, td.I[i] @ v_i)
+        if f_ext is not None:
+            f_i = f_i - SpatialForce._wrap(f_ext[..., i, :], None)
+        vJs.append(vJ)
+        vel.append(v_i)
+        acc.append(a_i)
+        F.append(f_i)
+    for i in range(td.nb - 1, -1, -1):
+        if td.parents[i] != -1:
+            F[td.parents[i]] = F[td.parents[i]] + X_up[i].apply_inverse(F[i])
+    return X_up, vJs, vel, acc, F
+
+
+def _subtree(model: Model, k: int) -> list[int]:
+    """Body k and its descendants, in increasing order."""
+    inside = {k}
+    for i in range(k + 1, model.nbodies):
+        if model.parents[i] in inside:
+            inside.add(i)
+    return sorted(inside)
+
+
+def rnea_derivatives(model: Model, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray, f_ext: np.ndarray | None = None,
+                     gravity: bool = True) -> tuple[np.ndarray, np.ndarray]:
+    """``(∂τ/∂q, ∂τ/∂q̇)`` `(..., nv, nv)` of ``τ = RNEA(q, q̇, q̈)`` on checked arrays (module docstring)."""
+    batch, dtype = batch_dtype(q, qd, qdd, f_ext=f_ext)
+    td = TreeData(model, dtype)
+    a0 = td.a0 if gravity else SpatialMotion._wrap(np.zeros(6, dtype=td.dtype), None)
+    X_up, vJ, vel, acc, F = _nominal(model, td, q, qd, qdd, f_ext, a0)
+    nv = model.nv
+    out = {False: zeros(batch, (nv, nv), td.dtype), True: zeros(batch, (nv, nv), td.dtype)}
+
+    def put(m: np.ndarray, i: int, j: int, f: SpatialForce) -> None:
+        m[..., model.idx_v[i]: model.idx_v[i] + model.nvs[i], j] = f.vector @ td.S[i]
+
+    for k in range(td.nb):
+        lam_k = td.parents[k]
+        sub = _subtree(model, k)
+        xv = None if lam_k == -1 else X_up[k].apply(vel[lam_k])
+        xa = X_up[k].apply(a0 if lam_k == -1 else acc[lam_k])
+        for c in range(model.nvs[k]):
+            Sc = SpatialMotion._wrap(np.broadcast_to(td.S[k][:, c], batch + (6,)).copy(), None)
+            j = model.idx_v[k] + c
+            for wrt_v in (False, True):
+                dv: dict[int, SpatialMotion] = {}
+                da: dict[int, SpatialMotion] = {}
+                dF: dict[int, SpatialForce] = {}
+                for i in sub:
+                    if i == k and wrt_v:
+                        dv[k] = Sc
+                        da[k] = cross_motion(Sc, vJ[k]) + cross_motion(vel[k], Sc)
+                    elif i == k:
+                        dv[k] = -cross_motion(Sc, xv) if xv is not None else Sc - Sc
+                        da[k] = -cross_motion(Sc, xa) + cross_motion(dv[k], vJ[k])
+                    else:
+                        lam = td.parents[i]
+                        dv[i] = X_up[i].apply(dv[lam])
+                        da[i] = X_up[i].apply(da[lam]) + cross_motion(dv[i], vJ[i])
+                    I = td.I[i]
+                    dF[i] = I @ da[i] + cross_force(dv[i], I @ vel[i]) + cross_force(vel[i], I @ dv[i])
+                for i in reversed(sub[1:]):
+                    put(out[wrt_v], i, j, dF[i])
+                    dF[td.parents[i]] = dF[td.parents[i]] + X_up[i].apply_inverse(dF[i])
+                put(out[wrt_v], k, j, dF[k])
+                if lam_k == -1:
+                    continue
+                G = X_up[k].apply_inverse(dF[k] if wrt_v else dF[k] + cross_force(Sc, F[k]))
+                i = lam_k
+                while i != -1:
+                    put(out[wrt_v], i, j, G)
+                    if td.parents[i] != -1:
+                        G = X_up[i].apply_inverse(G)
+                    i = td.parents[i]
+    return out[False], out[True]
+
+
+def mass_matrix_inverse(model: Model, q: np.ndarray) -> np.ndarray:
+    """``M(q)⁻¹`` `(..., nv, nv)`: the articulated-body recursion on unit joint forces, no velocity, no gravity::
+
+        M⁻¹ e_j = ABA(q, 0, e_j)
+    """
+    nv = model.nv
+    dtype = np.result_type(q.dtype, np.float64) if q.dtype.kind != "O" else q.dtype
+    eye = np.eye(nv, dtype=dtype) if dtype.kind != "O" else np.eye(nv).astype(object)
+    cols = _aba.aba(model, q[..., None, :], np.zeros_like(eye[:1]), eye, None, False)  # row j: M⁻¹ e_j
+    return np.swapaxes(cols, -1, -2)
+
+
+def aba_derivatives(model: Model, q: np.ndarray, qd: np.ndarray, tau: np.ndarray, f_ext: np.ndarray | None = None,
+                    gravity: bool = True) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """``(∂q̈/∂q, ∂q̈/∂q̇, M⁻¹)`` `(..., nv, nv)` of ``q̈ = ABA(q, q̇, τ)``::
+
+        ∂q̈/∂q = −M⁻¹ ∂τ/∂q,   ∂q̈/∂q̇ = −M⁻¹ ∂τ/∂q̇   (∂τ of RNEA at q̈ = ABA(q, q̇, τ))
+    """
+    qdd = _aba.aba(model, q, qd, tau, f_ext, gravity)
+    dq, dv = rnea_derivatives(model, q, qd, qdd, f_ext, gravity)
+    Minv = mass_matrix_inverse(model, q)
+    return -(Minv @ dq), -(Minv @ dv), Minv
+
+
+def dynamic_parameters(model: Model) -> np.ndarray:
+    """The bodies' dynamic parameters stacked, `(10 nb,)` (``SpatialInertia.to_dynamic_parameters`` order)."""
+    if model.nbodies == 0:
+        return np.zeros(0)
+    return np.concatenate([model.inertias[i].to_dynamic_parameters() for i in range(model.nbodies)])
+
+
+def _unit_parameter_force(k: int, a: np.ndarray, v: np.ndarray) -> np.ndarray:
+    """``I(e_k) a + v ×* I(e_k) v`` `(..., 6)` for the inertia whose parameters are the unit vector e_k.
+
+    In the ``(m, h = m c, I_O)`` form (``I_O`` about the body origin), which also holds the
+    massless first moments of e_1 … e_3::
+
+        I x = [I_O x_ω + h × x_v;  m x_v − h × x_ω],    v ×* p = [ω × p_n + v_lin × p_f;  ω × p_f]
+    """
+    m = 1.0 if k == 0 else 0.0
+    h = np.zeros(3)
+    Io = np.zeros((3, 3))
+    if 1 <= k <= 3:
+        h[k - 1] = 1.0
+    elif k >= 4:
+        r, c = [(0, 0), (0, 1), (1, 1), (0, 2), (1, 2), (2, 2)][k - 4]
+        Io[r, c] = Io[c, r] = 1.0
+
+    def times(x: np.ndarray) -> np.ndarray:
+        xw, xv = x[..., :3], x[..., 3:]
+        n = xw @ Io.T + np.cross(h, xv)
+        f = m * xv - np.cross(h, xw)
+        return np.concatenate([n, f], axis=-1)
+
+    p = times(v)
+    w, vl = v[..., :3], v[..., 3:]
+    vp = np.concatenate([np.cross(w, p[..., :3]) + np.cross(vl, p[..., 3:]), np.cross(w, p[..., 3:])], axis=-1)
+    return times(a) + vp
+
+
+def joint_torque_regressor(model: Model, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray) -> np.ndarray:
+    """``Y`` `(..., nv, 10 nb)` with ``RNEA(q, q̇, q̈) = Y π`` (gravity included), float64::
+
+        Y[joint j, 10 i + k] = S_jᵀ ʲX_i* (I(e_k) a_i + v_i ×* I(e_k) v_i)    (j supporting i)
+    """
+    batch, dtype = batch_dtype(q, qd, qdd)
+    td = TreeData(model, dtype)
+    X_up, _, vel, acc, _ = _nominal(model, td, q, qd, qdd, None, td.a0)
+    Y = zeros(batch, (model.nv, 10 * td.nb), td.dtype)
+    for i in range(td.nb):
+        for k in range(10):
+            f = SpatialForce._wrap(_unit_parameter_force(k, acc[i].vector, vel[i].vector), None)
+            j = i
+            while True:
+                Y[..., model.idx_v[j]: model.idx_v[j] + model.nvs[j], 10 * i + k] = f.vector @ td.S[j]
+                if td.parents[j] == -1:
+                    break
+                f = X_up[j].apply_inverse(f)
+                j = td.parents[j]
+    return Y
