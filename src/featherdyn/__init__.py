@@ -96,6 +96,8 @@ _LAZY = {
     "random_configuration": "configuration",
     "integrate": "configuration",
     "difference": "configuration",
+    "integrate_derivatives": "configuration",
+    "difference_derivatives": "configuration",
     "normalize": "configuration",
     "is_normalized": "configuration",
     "interpolate": "configuration",

@@ -41,6 +41,8 @@ from .model import Model
 from .tolerances import QUATERNION_NORM
 
 __all__ = [
+    "integrate_derivatives",
+    "difference_derivatives",
     "neutral",
     "random_configuration",
     "integrate",
@@ -246,6 +248,78 @@ def difference(model: Model, q0: ArrayLike, q1: ArrayLike) -> np.ndarray:
         sq, sv = _slices(model, i)
         out[..., sv] = joint.difference(a0[..., sq], a1[..., sq])
     return out
+
+
+def _joint_blocks(model: Model, kind: str, a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The two block-diagonal tangent maps of integrate (kind "integrate": a = q, b = v) or difference
+    (kind "difference": a = q0, b = q1), one block per joint."""
+    from . import _lie_jacobians as lie
+    from .joints import FreeFlyerJoint, PlanarJoint, SphericalJoint
+
+    a, b, batch = _broadcast_batch(a.astype(np.float64), b.astype(np.float64))
+    nv = model.nv
+    A = np.zeros(batch + (nv, nv))
+    B = np.zeros(batch + (nv, nv))
+    for i, joint in enumerate(model.joints):
+        sq, sv = _slices(model, i)
+        if kind == "integrate":
+            xi = b[..., sv]
+        else:
+            xi = joint.difference(a[..., sq], b[..., sq])
+        if isinstance(joint, FreeFlyerJoint):
+            Ad_inv, Jr = lie.se3_inverse_adjoint_of_exp(xi), lie.se3_right_jacobian(xi)
+        elif isinstance(joint, SphericalJoint):
+            Jr = lie.so3_right_jacobian(xi)  # Ad(exp(ω))⁻¹ = exp(ω)ᵀ: SE(3)'s rotation block with v = 0
+            Ad_inv = lie.se3_inverse_adjoint_of_exp(np.concatenate([xi, np.zeros_like(xi)], -1))[..., :3, :3]
+        elif isinstance(joint, PlanarJoint):
+            Ad_inv, Jr = lie.se2_inverse_adjoint_of_exp(xi), lie.se2_right_jacobian(xi)
+        else:  # revolute, prismatic: a vector space
+            n = model.nvs[i]
+            Ad_inv = Jr = np.broadcast_to(np.eye(n), batch + (n, n))
+        if kind == "integrate":
+            A[..., sv, sv], B[..., sv, sv] = Ad_inv, Jr
+        else:
+            Jr_inv = np.linalg.inv(Jr)
+            A[..., sv, sv], B[..., sv, sv] = -(Jr_inv @ Ad_inv), Jr_inv
+    return A, B
+
+
+def integrate_derivatives(model: Model, q: ArrayLike, v: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
+    """``(J_q, J_v)`` `(..., nv, nv)`: the tangent maps of ``q' = integrate(q, v)``, block-diagonal by joint.
+
+    With tangents in ``v``'s layout at ``q`` and at ``q'`` (Pinocchio's ``dIntegrate``, up to the
+    free-flyer's ``[v; ω]`` order)::
+
+        integrate(q ⊕ δ, v) = q' ⊕ J_q δ,    integrate(q, v + δ) = q' ⊕ J_v δ    (to first order)
+        J_q = Ad(exp(v))⁻¹,   J_v = Jr(v)   (the group's right Jacobian; identities for revolute, prismatic)
+
+    Raises:
+        ShapeError, NonFiniteError, QuaternionNormError.
+    """
+    model = _check_model(model)
+    qq = _vector(q, "q", "nq", model.nq)
+    vv = _vector(v, "v", "nv", model.nv)
+    _check_quaternions(model, qq, "q")
+    return _joint_blocks(model, "integrate", qq, vv)
+
+
+def difference_derivatives(model: Model, q0: ArrayLike, q1: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
+    """``(J_0, J_1)`` `(..., nv, nv)`: the tangent maps of ``v = difference(q0, q1)``, block-diagonal by joint.
+
+    ::
+
+        difference(q0 ⊕ δ, q1) = v + J_0 δ,    difference(q0, q1 ⊕ δ) = v + J_1 δ    (to first order)
+        J_1 = Jr(v)⁻¹,   J_0 = −Jr(v)⁻¹ Ad(exp(v))⁻¹   (Pinocchio's ``dDifference``, ARG0 and ARG1)
+
+    Raises:
+        ShapeError, NonFiniteError, QuaternionNormError.
+    """
+    model = _check_model(model)
+    a0 = _vector(q0, "q0", "nq", model.nq)
+    a1 = _vector(q1, "q1", "nq", model.nq)
+    _check_quaternions(model, a0, "q0")
+    _check_quaternions(model, a1, "q1")
+    return _joint_blocks(model, "difference", a0, a1)
 
 
 def interpolate(model: Model, q0: ArrayLike, q1: ArrayLike, t: ArrayLike) -> np.ndarray:

@@ -134,3 +134,41 @@ def test_frame_derivatives_public_equal_the_core() -> None:
         assert all(np.array_equal(x, y) for x, y in zip(pub, mine, strict=True))
         dv_dq, dv_dv = fd.frame_velocity_derivatives(model, st.q, st.v, frame, ref)
         assert _rel(dv_dv, fd.frame_jacobian(model, st.q, frame, ref)) < 1e-14
+
+
+def test_integrate_and_difference_derivatives_against_pinocchio() -> None:
+    model, pm, _, jm = _pin_pair("solo12", True)
+    rng = np.random.default_rng(16)
+    for scale in (1.0, 1e-3, 0.0):  # an ordinary step, a small one (the series branch), none
+        q = fd.random_configuration(model, rng)
+        v = scale * rng.normal(size=model.nv)
+        q1 = fd.integrate(model, q, v)
+        Jq, Jv = fd.integrate_derivatives(model, q, v)
+        J0, J1 = fd.difference_derivatives(model, q, q1)
+        qp, vp, q1p = jm.q_to_pin(q), jm.v_to_pin(v), jm.q_to_pin(q1)
+        for mine, arg, fun, b in ((Jq, pin.ARG0, pin.dIntegrate, vp), (Jv, pin.ARG1, pin.dIntegrate, vp),
+                                  (J0, pin.ARG0, pin.dDifference, q1p), (J1, pin.ARG1, pin.dDifference, q1p)):
+            # (difference first recovers v by a logarithm: round-off of order 1e-12 near the identity)
+            assert _rel(mine, jm.matrix_from_pin(fun(pm, qp, b, arg).copy())) < 1e-10, (scale, fun.__name__, arg)
+
+
+@pytest.mark.parametrize("spec", TREES, ids=lambda s: s.name)
+def test_integrate_and_difference_derivatives_against_central_differences(spec) -> None:  # type: ignore[no-untyped-def]
+    """Every joint type, spherical and planar included (Pinocchio's URDF robots have neither)."""
+    model = tree(spec.name)
+    st = random_state(model, 17)
+    eps = 1e-6
+    E = np.eye(model.nv)
+    q1 = fd.integrate(model, st.q, st.v)
+
+    def central(fun):  # type: ignore[no-untyped-def]
+        return np.stack([(fun(eps * e) - fun(-eps * e)) / (2 * eps) for e in E], axis=-1)
+
+    Jq, Jv = fd.integrate_derivatives(model, st.q, st.v)
+    J0, J1 = fd.difference_derivatives(model, st.q, q1)
+    assert _rel(Jq, central(lambda d: fd.difference(model, q1, fd.integrate(model, fd.integrate(model, st.q, d),
+                                                                              st.v)))) < 1e-7
+    assert _rel(Jv, central(lambda d: fd.difference(model, q1, fd.integrate(model, st.q, st.v + d)))) < 1e-7
+    assert _rel(J0, central(lambda d: fd.difference(model, fd.integrate(model, st.q, d), q1))) < 1e-7
+    assert _rel(J1, central(lambda d: fd.difference(model, st.q, fd.integrate(model, q1, d)))) < 1e-7
+    assert _rel(J1 @ Jv, np.eye(model.nv)) < 1e-12  # difference(q, integrate(q, v)) = v

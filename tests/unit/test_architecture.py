@@ -33,6 +33,7 @@ LAYER_OF: dict[str, str] = {
     "_spatial_inertia": "values",
     "_spatial_transform": "values",
     "rotation": "values",
+    "_lie_jacobians": "values",
     "conventions": "values",
     "testing": "values",
     "joints": "model",
