@@ -68,6 +68,13 @@ the Pinocchio, Drake, ROS ``geometry_msgs`` and MuJoCo documentation.
 from __future__ import annotations
 
 from ..errors import MissingDependencyError
+from .derivatives import (
+    derivatives_from_coordinates,
+    derivatives_from_pinocchio,
+    derivatives_to_coordinates,
+    derivatives_to_parent_tangent,
+    derivatives_to_pinocchio,
+)
 from .drake import (
     classical_to_spatial_acceleration,
     drake_reexpress,
@@ -140,6 +147,11 @@ __all__ = [
     "classical_to_spatial_acceleration",
     "continuous_q_from_pinocchio",
     "continuous_q_to_pinocchio",
+    "derivatives_from_coordinates",
+    "derivatives_from_pinocchio",
+    "derivatives_to_coordinates",
+    "derivatives_to_parent_tangent",
+    "derivatives_to_pinocchio",
     "drake_reexpress",
     "drake_shift_acceleration",
     "drake_shift_force",
