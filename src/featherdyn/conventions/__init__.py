@@ -58,6 +58,10 @@ featherdyn → other                     other → featherdyn                   
 ``freeflyer_v_to_mujoco``              ``freeflyer_v_from_mujoco``            ``[ω_b; v_b]`` ↔ ``[R v_b; ω_b]``
 **Quaternion order**
 ``quat_xyzw_to_wxyz``                  ``quat_wxyz_to_xyzw``                  component order only
+**Derivative matrices** (``fd.rnea_derivatives`` & co.; last axis: the tangent of ``fd.integrate``)
+``derivatives_to_pinocchio``           ``derivatives_from_pinocchio``         free-flyer tangent ``[ω; v]`` ↔ ``[v; ω]``
+``derivatives_to_parent_tangent``      —                                      ``D · Ad(T)⁻¹``: the tangent in the parent (world) frame
+``derivatives_to_coordinates``         ``derivatives_from_coordinates``       chain rule through ``q ⊕ δ`` (quaternion coordinates)
 =====================================  =====================================  ==========================================================
 
 Sources: Featherstone, *Rigid Body Dynamics Algorithms* (2008) ch. 2;
