@@ -68,7 +68,13 @@ def _swap_permutation(model: Any) -> np.ndarray:
 
 
 def derivatives_to_pinocchio(model: Any, D: ArrayLike, rows: str = "generalized") -> np.ndarray:
-    """``D`` `(..., k, nv)` in Pinocchio's layout (free-flyer tangent ``[v; ω]``); ``rows`` as the module says."""
+    """``D`` `(..., k, nv)` in Pinocchio's layout (free-flyer tangent ``[v; ω]``); ``rows`` as the module says::
+
+        D_pin = P_rows D Pᵀ,   P: each free-flyer's [ω; v] → [v; ω]   (rows: the same P, the 6D swap, or none)
+
+    Source: Pinocchio's ``computeRNEADerivatives`` / ``getFrameVelocityDerivatives`` layouts (its motion
+    vectors are linear-first).
+    """
     if rows not in _ROWS:
         raise ShapeError(f"rows: expected one of {_ROWS}, got {rows!r}")
     out = _matrix(D, model, model.nv)
@@ -86,7 +92,12 @@ def derivatives_to_pinocchio(model: Any, D: ArrayLike, rows: str = "generalized"
 
 
 def derivatives_from_pinocchio(model: Any, D: ArrayLike, rows: str = "generalized") -> np.ndarray:
-    """The inverse of :func:`derivatives_to_pinocchio` (the same swaps: each is its own inverse)."""
+    """The inverse of :func:`derivatives_to_pinocchio`, `(..., k, nv)` (each swap is its own inverse)::
+
+        D = P_rowsᵀ D_pin P
+
+    Source: as :func:`derivatives_to_pinocchio`.
+    """
     return derivatives_to_pinocchio(model, D, rows)
 
 
@@ -107,6 +118,9 @@ def derivatives_to_parent_tangent(model: Any, q: ArrayLike, D: ArrayLike) -> np.
     """``D`` `(..., k, nv)` with its tangent expressed in each joint's parent frame (module docstring)::
 
         D_p = D · blkdiag(Ad(T_i)⁻¹)    (free-flyer),   Rᵀ (spherical),   1 (other joints)
+
+    Source: the adjoint relation of left and right perturbations, exp(δ_p) T = T exp(Ad(T)⁻¹ δ_p)
+    (Solà, Deray & Atchuthan, "A micro Lie theory", 2018, §II-F).
     """
     qq = np.asarray(q, dtype=np.float64)
     out = _matrix(D, model, model.nv).copy()
@@ -149,14 +163,23 @@ def _tangent_to_coordinates(model: Any, q: np.ndarray) -> np.ndarray:
 
 
 def derivatives_from_coordinates(model: Any, q: ArrayLike, Dq: ArrayLike) -> np.ndarray:
-    """``D = Dq · Q(q)`` `(..., k, nv)`: a derivative with respect to plain coordinates `(..., k, nq)`
-    taken along featherdyn's tangent (chain rule through ``q ⊕ δ``)."""
+    """``D`` `(..., k, nv)` from a derivative ``Dq`` `(..., k, nq)` with respect to plain coordinates::
+
+        D = Dq · Q(q),   Q = d(q ⊕ δ)/dδ |_{δ=0}:  quat ⊗ (δω/2, 0),  R δv,  R(θ) (δv_x, δv_y)
+
+    Source: the chain rule through the exponential map of ``fd.integrate`` (quaternion kinematics
+    q̇ = ½ q ⊗ (ω, 0), body-frame angular velocity).
+    """
     qq = np.asarray(q, dtype=np.float64)
     return _matrix(Dq, model, model.nq, "Dq") @ _tangent_to_coordinates(model, qq)
 
 
 def derivatives_to_coordinates(model: Any, q: ArrayLike, D: ArrayLike) -> np.ndarray:
-    """``Dq = D · Q(q)⁺`` `(..., k, nq)`: the derivative with respect to plain coordinates whose chain rule
-    through the tangent gives ``D`` back (``Q⁺ Q = 1``; a quaternion's component along itself gets 0)."""
+    """``Dq`` `(..., k, nq)`: the derivative with respect to plain coordinates of ``D`` `(..., k, nv)`::
+
+        Dq = D · Q(q)⁺     (Q⁺ Q = 1: the chain rule gives D back; a quaternion's direction along itself gets 0)
+
+    Source: as :func:`derivatives_from_coordinates` (Q's Moore–Penrose pseudo-inverse).
+    """
     qq = np.asarray(q, dtype=np.float64)
     return _matrix(D, model, model.nv) @ np.linalg.pinv(_tangent_to_coordinates(model, qq))
