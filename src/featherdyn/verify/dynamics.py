@@ -314,6 +314,50 @@ def dynamics_checks(pair: RobotPair, samples: int = 10, seed: int = 0, tol: floa
     check("crba vs pin.crba", M, lambda s: jm.matrix_from_pin(pin.crba(pm, pd, qp[s])),
           [("featherdyn's M holds only the upper triangle of Pinocchio's", np.triu),
            ("featherdyn's M holds only the lower triangle of Pinocchio's", np.tril)])
+    note("derivatives")
+    dtau = fd.rnea_derivatives(model, q, v, a)
+
+    def pin_rnea_derivatives(s: int, which: str) -> np.ndarray:
+        pin.computeRNEADerivatives(pm, pd, qp[s], vp[s], ap[s])
+        return jm.matrix_from_pin(getattr(pd, which).copy())
+
+    transposed: Cause = ("featherdyn's matrix is Pinocchio's transposed", lambda ref: np.swapaxes(ref, -1, -2))
+    check("rnea_derivatives dtau_dq vs computeRNEADerivatives", dtau[0],
+          lambda s: pin_rnea_derivatives(s, "dtau_dq"), [transposed])
+    check("rnea_derivatives dtau_dv vs computeRNEADerivatives", dtau[1],
+          lambda s: pin_rnea_derivatives(s, "dtau_dv"), [transposed])
+
+    def pin_minverse(s: int) -> np.ndarray:
+        Mi = pin.computeMinverse(pm, pd, qp[s]).copy()
+        return jm.matrix_from_pin(np.triu(Mi) + np.triu(Mi, 1).T)
+
+    check("mass_matrix_inverse vs computeMinverse", fd.mass_matrix_inverse(model, q), pin_minverse)
+    try:
+        dddq = fd.aba_derivatives(model, q, v, tau)
+    except fd.SingularMassMatrixError:
+        pass
+    else:
+        def pin_aba_derivatives(s: int, which: str) -> np.ndarray:
+            pin.computeABADerivatives(pm, pd, qp[s], vp[s], taup[s])
+            return jm.matrix_from_pin(getattr(pd, which).copy())
+
+        missing_minv: Cause = ("featherdyn's value lacks the factor M⁻¹ (it is −∂τ/∂q, not ∂q̈/∂q)",
+                               lambda ref: -dtau_at_aba())
+        aba_dtau: list[np.ndarray] = []
+
+        def dtau_at_aba() -> np.ndarray:
+            if not aba_dtau:
+                aba_dtau.append(fd.rnea_derivatives(model, q, v, fd.aba(model, q, v, tau))[0])
+            return aba_dtau[0]
+
+        check("aba_derivatives ddq_dq vs computeABADerivatives", dddq[0],
+              lambda s: pin_aba_derivatives(s, "ddq_dq"), [missing_minv, transposed])
+        check("aba_derivatives ddq_dv vs computeABADerivatives", dddq[1],
+              lambda s: pin_aba_derivatives(s, "ddq_dv"), [transposed])
+    Jq, Jv = fd.integrate_derivatives(model, q, v)
+    check("integrate_derivatives vs dIntegrate (ARG0, ARG1)", np.concatenate([Jq, Jv], axis=-1),
+          lambda s: np.concatenate([jm.matrix_from_pin(pin.dIntegrate(pm, qp[s], vp[s], pin.ARG0).copy()),
+                                    jm.matrix_from_pin(pin.dIntegrate(pm, qp[s], vp[s], pin.ARG1).copy())], axis=-1))
     check("nonlinear_effects vs nonLinearEffects", fd.nonlinear_effects(model, q, v),
           lambda s: jm.v_from_pin(pin.nonLinearEffects(pm, pd, qp[s], vp[s])), gravity_causes)
     check("generalized_gravity vs computeGeneralizedGravity", fd.generalized_gravity(model, q),
