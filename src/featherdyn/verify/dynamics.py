@@ -17,7 +17,7 @@ from numpy.typing import ArrayLike
 
 import featherdyn as fd
 
-from ..configuration import integrate, random_configuration
+from ..configuration import integrate, integrate_derivatives, random_configuration
 from ..errors import SingularMassMatrixError
 from ..model import Model, massless_subtrees
 from ._pinocchio import PinModel, PinValue, require_pinocchio
@@ -334,27 +334,27 @@ def dynamics_checks(pair: RobotPair, samples: int = 10, seed: int = 0, tol: floa
     check("mass_matrix_inverse vs computeMinverse", fd.mass_matrix_inverse(model, q), pin_minverse)
     try:
         dddq = fd.aba_derivatives(model, q, v, tau)
-    except fd.SingularMassMatrixError:
+    except SingularMassMatrixError:
         pass
     else:
         def pin_aba_derivatives(s: int, which: str) -> np.ndarray:
             pin.computeABADerivatives(pm, pd, qp[s], vp[s], taup[s])
             return jm.matrix_from_pin(getattr(pd, which).copy())
 
-        missing_minv: Cause = ("featherdyn's value lacks the factor M⁻¹ (it is −∂τ/∂q, not ∂q̈/∂q)",
-                               lambda ref: -dtau_at_aba())
         aba_dtau: list[np.ndarray] = []
 
-        def dtau_at_aba() -> np.ndarray:
+        def dtau_at_aba(ref: np.ndarray) -> np.ndarray:
             if not aba_dtau:
-                aba_dtau.append(fd.rnea_derivatives(model, q, v, fd.aba(model, q, v, tau))[0])
+                aba_dtau.append(-fd.rnea_derivatives(model, q, v, fd.aba(model, q, v, tau))[0])
             return aba_dtau[0]
+
+        missing_minv: Cause = ("featherdyn's value lacks the factor M⁻¹ (it is −∂τ/∂q, not ∂q̈/∂q)", dtau_at_aba)
 
         check("aba_derivatives ddq_dq vs computeABADerivatives", dddq[0],
               lambda s: pin_aba_derivatives(s, "ddq_dq"), [missing_minv, transposed])
         check("aba_derivatives ddq_dv vs computeABADerivatives", dddq[1],
               lambda s: pin_aba_derivatives(s, "ddq_dv"), [transposed])
-    Jq, Jv = fd.integrate_derivatives(model, q, v)
+    Jq, Jv = integrate_derivatives(model, q, v)
     check("integrate_derivatives vs dIntegrate (ARG0, ARG1)", np.concatenate([Jq, Jv], axis=-1),
           lambda s: np.concatenate([jm.matrix_from_pin(pin.dIntegrate(pm, qp[s], vp[s], pin.ARG0).copy()),
                                     jm.matrix_from_pin(pin.dIntegrate(pm, qp[s], vp[s], pin.ARG1).copy())], axis=-1))

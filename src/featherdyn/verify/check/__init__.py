@@ -11,7 +11,13 @@ key      shape                  compared with
 ``tau``  `(nv,)` or `(N, nv)`   ``fd.rnea(q, v, a)`` (when ``a`` is given)
 ``M``    `(nv, nv)` or ...      ``fd.crba(q)``
 ``ddq``  `(nv,)` or `(N, nv)`   forward dynamics: ``tau`` vs ``fd.rnea(q, v, ddq)``
+``dtau_dq``, ``dtau_dv``  `(nv, nv)`  ``fd.rnea_derivatives(q, v, a)`` (``dtau_dq`` also `(nv, nq)`)
+``dddq_dq``, ``dddq_dv``  `(nv, nv)`  ``fd.aba_derivatives(q, v, tau)`` (``dddq_dq`` also `(nv, nq)`)
 =======  =====================  ==================================================
+
+Derivative matrices that disagree are read as described in :mod:`.derivatives`
+(transposed, a world-frame tangent, ``[v; ω]`` order, quaternion coordinates,
+a missing ``M⁻¹``).
 
 in the featherdyn convention (``docs/conventions.md``) or in Pinocchio's (``q`` with
 continuous joints as ``(cos θ, sin θ)``, joints in Pinocchio's order, the
@@ -79,6 +85,7 @@ from .._pinocchio import PinModel, require_pinocchio
 from ..bridge import JointMap, pinocchio_model_from
 from ..report import ROUNDOFF, CheckResult
 from ..resolve import resolve_robot
+from .derivatives import DERIVATIVE_SUSPECTS, derivative_checks
 from .diagnosis import explain, largest_discrepancy
 from .readings import Checker, Hypothesis, Layout
 from .report import CheckReport, Finding, one_line
@@ -211,6 +218,16 @@ def check_values(values: Mapping[str, ArrayLike] | str | os.PathLike[str], robot
                                       f"q has length {q_len}, the {convention} convention's nq is {nq_decl}")]
     else:
         report.results = [ch.result(Hypothesis(), q) for q in ch.quantities()]
+        derivative_results, derivative_findings = derivative_checks(ch, tol)
+        report.results += derivative_results
+        if all(r.passed for r in report.results[: len(report.results) - len(derivative_results)]) \
+                and not all(r.passed for r in derivative_results):
+            report.diagnosis = derivative_findings
+            report.summary = ("explained by " + " or ".join(f.suspect for f in derivative_findings)
+                              if derivative_findings else
+                              "no usual suspect explains the derivative matrices (tried: "
+                              + ", ".join(DERIVATIVE_SUSPECTS) + ")")
+            return report
         if report.passed:
             report.summary = f"all {len(report.results)} comparisons agree within {tol:g}"
             return report

@@ -13,10 +13,12 @@ from numpy.typing import ArrayLike
 
 from ...errors import DTypeError, FeatherdynError, NonFiniteError, ShapeError
 
-__all__ = ["ValuesError", "KEYS", "VECTOR_KEYS", "Given", "load_npz", "validate"]
+__all__ = ["ValuesError", "KEYS", "VECTOR_KEYS", "DERIVATIVE_KEYS", "Given", "load_npz", "validate"]
 
-KEYS = ("q", "v", "a", "tau", "M", "ddq")
+KEYS = ("q", "v", "a", "tau", "M", "ddq", "dtau_dq", "dtau_dv", "dddq_dq", "dddq_dv")
 VECTOR_KEYS = ("v", "a", "tau", "ddq")
+#: derivative matrices (nv, nv); the ∂/∂q ones may also be given with respect to q's coordinates (nv, nq)
+DERIVATIVE_KEYS = ("dtau_dq", "dtau_dv", "dddq_dq", "dddq_dv")
 
 
 class ValuesError(FeatherdynError, ValueError):
@@ -79,15 +81,20 @@ def validate(values: Mapping[str, ArrayLike], nq_allowed: dict[int, str], nv: in
     present = [k for k in KEYS if k in values]
     ignored = tuple(sorted(str(k) for k in values if k not in KEYS))
     have = f" (given: {', '.join(sorted(map(str, values))) or 'nothing'})"
-    need = "expected q, v, a and any of tau, M, ddq (with tau)"
+    need = "expected q, v, a and any of tau, M, ddq (with tau), dtau_dq, dtau_dv, dddq_dq, dddq_dv (with tau)"
 
     def missing(key: str, why: str) -> ValuesError:
         return ValuesError(f"missing key {key!r}: {why}{have}")
 
     if "q" not in values:
         raise missing("q", "the configuration is always needed")
-    if not any(k in values for k in ("tau", "M", "ddq")):
+    if not any(k in values for k in ("tau", "M", "ddq", *DERIVATIVE_KEYS)):
         raise ValuesError(f"nothing to check: {need}{have}")
+    for key in DERIVATIVE_KEYS:
+        if key in values:
+            for needed in ("v", "tau" if key.startswith("dddq") else "a"):
+                if needed not in values:
+                    raise missing(needed, f"{key} is compared at the state (q, v, {needed if needed != 'v' else '…'})")
     if "ddq" in values and "tau" not in values:
         raise missing("tau", "ddq is checked against the joint forces tau that produced it")
     if ("tau" in values or "ddq" in values) and "v" not in values:
@@ -110,9 +117,12 @@ def validate(values: Mapping[str, ArrayLike], nq_allowed: dict[int, str], nv: in
             expected, unit = (nq_main,), f"nq={nq_text}"
             ok = arr.ndim in (1, 2) and arr.shape[-1] in nq_allowed
             hint = f" — {o_nq} is nq {o_flag}" if arr.ndim in (1, 2) and arr.shape[-1] == o_nq else ""
-        elif key == "M":
+        elif key == "M" or key in DERIVATIVE_KEYS:
             expected, unit = (nv, nv), f"nv={nv}"
-            ok = arr.ndim in (2, 3) and arr.shape[-2:] == (nv, nv)
+            cols = (nv, nq_main) if key.endswith("_dq") else (nv,)  # ∂/∂q also w.r.t. q's coordinates
+            ok = arr.ndim in (2, 3) and arr.shape[-2] == nv and arr.shape[-1] in cols
+            if key.endswith("_dq") and nq_main != nv:
+                unit += f"; or (nv, nq={nq_main}) for a derivative with respect to q's coordinates"
             hint = f" — {o_nv} is nv {o_flag}" if arr.ndim in (2, 3) and arr.shape[-1] == o_nv else ""
         else:
             expected, unit = (nv,), f"nv={nv}"
