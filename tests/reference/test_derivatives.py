@@ -172,3 +172,35 @@ def test_integrate_and_difference_derivatives_against_central_differences(spec) 
     assert _rel(J0, central(lambda d: fd.difference(model, fd.integrate(model, st.q, d), q1))) < 1e-7
     assert _rel(J1, central(lambda d: fd.difference(model, st.q, fd.integrate(model, q1, d)))) < 1e-7
     assert _rel(J1 @ Jv, np.eye(model.nv)) < 1e-12  # difference(q, integrate(q, v)) = v
+
+
+@pytest.mark.parametrize("floating", [False, True], ids=["fixed", "floating"])
+def test_every_library_robot_against_pinocchio(floating: bool) -> None:
+    """The compiled derivatives (the default for float64) against Pinocchio on every robot of the library."""
+    from featherdyn.robots import robot_path
+    from featherdyn.verify.bridge import JointMap
+
+    checked = 0
+    for name in library_robot_names():
+        model = library_robot(name, floating)
+        if model is None or model.nv == 0:
+            continue
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            path = str(robot_path(name))
+            try:
+                pm = pin.buildModelFromUrdf(path, pin.JointModelFreeFlyer()) if floating else \
+                    pin.buildModelFromUrdf(path)
+                jm = JointMap(model, pm)
+            except (ValueError, RuntimeError, fd.FeatherdynError):
+                continue  # a model Pinocchio reads differently (test_models_vs_pinocchio covers the loaders)
+        pd = pm.createData()
+        rng = np.random.default_rng(18)
+        q = fd.random_configuration(model, rng)
+        v, a = rng.normal(size=model.nv), rng.normal(size=model.nv)
+        dq, dv, _ = fd.rnea_derivatives(model, q, v, a)
+        pin.computeRNEADerivatives(pm, pd, jm.q_to_pin(q), jm.v_to_pin(v), jm.v_to_pin(a))
+        assert _rel(dq, jm.matrix_from_pin(pd.dtau_dq.copy())) < 1e-11, name
+        assert _rel(dv, jm.matrix_from_pin(pd.dtau_dv.copy())) < 1e-11, name
+        checked += 1
+    assert checked >= 55, checked
