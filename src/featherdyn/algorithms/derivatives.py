@@ -27,13 +27,14 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..frames import ReferenceFrame
 from ..model import Model
 from ..spatial_algebra import SpatialForce, SpatialMotion, cross_force, cross_motion
 from . import aba as _aba
-from ._common import TreeData, batch_dtype, zeros
+from ._common import TreeData, batch_dtype, expand, zeros
 
 __all__ = ["rnea_derivatives", "mass_matrix_inverse", "aba_derivatives", "joint_torque_regressor",
-           "dynamic_parameters"]
+           "dynamic_parameters", "frame_motion_derivatives"]
 
 
 def _nominal(model: Model, td: TreeData, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray, f_ext: np.ndarray | None,
@@ -206,3 +207,106 @@ def joint_torque_regressor(model: Model, q: np.ndarray, qd: np.ndarray, qdd: np.
                 f = X_up[j].apply_inverse(f)
                 j = td.parents[j]
     return Y
+
+
+def _crm(s: np.ndarray, m: np.ndarray) -> np.ndarray:
+    """``s × m`` for 6D motions ``[ω; v]`` `(..., 6)` (the motion cross product, RBDA eq. 2.31)."""
+    ws, vs, wm, vm = s[..., :3], s[..., 3:], m[..., :3], m[..., 3:]
+    return np.concatenate([np.cross(ws, wm), np.cross(ws, vm) + np.cross(vs, wm)], axis=-1)
+
+
+def frame_motion_derivatives(model: Model, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray | None, fid: int,
+                             ref: ReferenceFrame) -> list[np.ndarray]:
+    """``[∂v_f/∂q, ∂v_f/∂q̇]`` and, with ``qdd``, ``[∂a_f/∂q, ∂a_f/∂q̇, ∂a_f/∂q̈]``, each `(..., 6, nv)`.
+
+    In world coordinates (``⁰S_k``: joint k's columns carried to the world, ``⁰v_k`` body k's velocity),
+    the frame's body b has ``⁰v_b = Σ ⁰S_i q̇_i`` and ``⁰a_b = Σ ⁰S_i q̈_i + ⁰v_i × ⁰S_i q̇_i`` over its
+    support; moving joint k along column s = ``⁰S_kc`` turns every ``⁰S_i`` below k by ``s ×``::
+
+        ∂⁰v_b/∂q_kc = s × (⁰v_b − ⁰v_λ(k))
+        ∂⁰a_b/∂q_kc = Σ_{i ⪰ k} s × ⁰S_i q̈_i + (δ⁰v_i × ⁰S_i + ⁰v_i × (s × ⁰S_i)) q̇_i,   δ⁰v_i = s × (⁰v_i − ⁰v_λ(k))
+        ∂⁰a_b/∂q̇_kc = Σ_{i ⪰ k} (s × ⁰S_i) q̇_i + ⁰v_k × s,       ∂⁰v_b/∂q̇ = ∂⁰a_b/∂q̈ = ⁰J
+
+    then LOCAL ``ᶠy = ᶠX_0 ⁰y`` (``δᶠy = ᶠX_0 δ⁰y − (ᶠX_0 s) × ᶠy``) and LOCAL_WORLD_ALIGNED
+    ``blkdiag(R_f, R_f) ᶠy`` (``+ [ᶠω_s]×`` on each half before rotating), as ``fd.frame_velocity``.
+    """
+    from .jacobians import _world_columns, support
+    from .kinematics import _body_at, _motion_at, forward_kinematics, frame_pose
+
+    batch, dtype = batch_dtype(q, qd, qdd)
+    td = TreeData(model, dtype)
+    kin = forward_kinematics(model, q, qd, None)
+    nv = model.nv
+    body = model.frames[fid].body
+    sup = support(model, body)
+    W = _world_columns(model, td, kin.placements, batch)  # (..., nv, 6)
+    assert kin.velocities is not None
+    v0 = {i: _body_at(kin.placements, i).apply(_motion_at(kin.velocities, i)).vector for i in sup}
+    zero6 = np.zeros(batch + (6,), dtype=dtype)
+    dofs = {i: range(model.idx_v[i], model.idx_v[i] + model.nvs[i]) for i in sup}
+    vb = v0[sup[-1]] if sup else zero6
+    ab = zero6.copy()
+    for i in sup:
+        for d in dofs[i]:
+            ab = ab + (W[..., d, :] * qdd[..., d, None] if qdd is not None else 0.0) + _crm(v0[i], W[..., d, :]) * qd[..., d, None]
+    dv_dq, dv_dv = zeros(batch, (6, nv), dtype), zeros(batch, (6, nv), dtype)
+    da_dq, da_dv, da_da = (zeros(batch, (6, nv), dtype) for _ in range(3))
+    for pos, k in enumerate(sup):
+        v_parent = v0[sup[pos - 1]] if pos > 0 else zero6
+        below = sup[pos:]
+        for j in dofs[k]:
+            s = W[..., j, :]
+            dv_dq[..., :, j] = _crm(s, vb - v_parent)
+            dv_dv[..., :, j] = s
+            da_da[..., :, j] = s
+            acc = zero6.copy()
+            accv = _crm(v0[k], s)
+            for i in below:
+                dvi = _crm(s, v0[i] - v_parent)
+                for d in dofs[i]:
+                    Si = W[..., d, :]
+                    if qdd is not None:
+                        acc = acc + _crm(s, Si) * qdd[..., d, None]
+                    acc = acc + (_crm(dvi, Si) + _crm(v0[i], _crm(s, Si))) * qd[..., d, None]
+                    accv = accv + _crm(s, Si) * qd[..., d, None]
+            da_dq[..., :, j] = acc
+            da_dv[..., :, j] = accv
+    if ref is not ReferenceFrame.WORLD:
+        oMf = frame_pose(model, kin, fid)
+
+        def local(x: np.ndarray) -> np.ndarray:  # ᶠX_0 applied to every column of x (..., 6, n)
+            cols = SpatialMotion._wrap(np.ascontiguousarray(np.swapaxes(x, -1, -2)), None)
+            return np.swapaxes(expand(oMf).apply_inverse(cols).vector, -1, -2).copy()
+
+        def local_vec(x: np.ndarray) -> np.ndarray:
+            return oMf.apply_inverse(SpatialMotion._wrap(x, None)).vector
+
+        vf, af = local_vec(vb), local_vec(ab)
+        sf = local(np.swapaxes(W, -1, -2))  # (..., 6, nv): ᶠX_0 s per column (columns off the support unused)
+        outs = []
+        for dq_w, y in ((dv_dq, vf), (da_dq, af)):
+            dm = local(dq_w)
+            for k in sup:
+                for j in dofs[k]:
+                    dm[..., :, j] = dm[..., :, j] - _crm(sf[..., :, j], y)
+            outs.append(dm)
+        dv_dq, da_dq = outs
+        dv_dv, da_dv, da_da = local(dv_dv), local(da_dv), local(da_da)
+        if ref is ReferenceFrame.LOCAL_WORLD_ALIGNED:
+            R = oMf.rotation[..., None, :, :]
+
+            def rotate(x: np.ndarray) -> np.ndarray:  # blkdiag(R, R) on the row axis
+                xt = np.swapaxes(x, -1, -2)
+                return np.swapaxes(np.concatenate([(R @ xt[..., :3, None])[..., 0], (R @ xt[..., 3:, None])[..., 0]],
+                                                  axis=-1), -1, -2)
+
+            for dm, y in ((dv_dq, vf), (da_dq, af)):
+                for k in sup:
+                    for j in dofs[k]:
+                        w = sf[..., :3, j]
+                        dm[..., :3, j] = dm[..., :3, j] + np.cross(w, y[..., :3])
+                        dm[..., 3:, j] = dm[..., 3:, j] + np.cross(w, y[..., 3:])
+            dv_dq, dv_dv, da_dq, da_dv, da_da = (rotate(x) for x in (dv_dq, dv_dv, da_dq, da_dv, da_da))
+    if qdd is None:
+        return [dv_dq, dv_dv]
+    return [dv_dq, dv_dv, da_dq, da_dv, da_da]

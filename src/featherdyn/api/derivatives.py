@@ -6,8 +6,7 @@ free-flyer's ``[ω; v]`` in its own frame, a spherical joint's ω in the child
 frame) — the tangent Pinocchio uses, up to its ``[v; ω]`` order. Float64
 input runs the compiled core (``core/cpp/derivatives.hpp``,
 ``frame_derivatives.hpp``, ``regressor.hpp``); other dtypes (and
-``backend="reference"``) run the reference in ``algorithms/derivatives.py``
-where there is one.
+``backend="reference"``) run the reference in ``algorithms/derivatives.py``.
 """
 
 from __future__ import annotations
@@ -17,7 +16,6 @@ from numpy.typing import ArrayLike
 
 from .. import core as _compiled
 from ..algorithms import derivatives as _ref
-from ..errors import BackendError
 from ..frames import LOCAL, ReferenceFrame, as_reference_frame
 from ..model import Model
 from ._backend import select_backend
@@ -84,12 +82,6 @@ def mass_matrix_inverse(model: Model, q: ArrayLike, *, backend: str | None = Non
     return finite_result(quiet(_ref.mass_matrix_inverse, model, st.q), "mass_matrix_inverse")
 
 
-def _core_only(what: str, backend: str | None, dtype: np.dtype) -> None:
-    if select_backend(backend, dtype) != "compiled":
-        raise BackendError(f"{what}: only the compiled core computes it (float64); it has no NumPy reference yet, "
-                           "so float32, SymPy input and backend='reference' are not available")
-
-
 def frame_velocity_derivatives(model: Model, q: ArrayLike, v: ArrayLike, frame: str | int,
                                reference: ReferenceFrame | str = LOCAL, *,
                                backend: str | None = None) -> tuple[np.ndarray, np.ndarray]:
@@ -103,9 +95,11 @@ def frame_velocity_derivatives(model: Model, q: ArrayLike, v: ArrayLike, frame: 
     """
     fid, ref = model.resolve_frame(frame), as_reference_frame(reference)
     st = check_state(model, q, v=v)
-    _core_only("frame_velocity_derivatives", backend, st.dtype)
-    return tuple(as_dtype(x, st.dtype)  # type: ignore[return-value]
-                 for x in _compiled.frame_velocity_derivatives(model, st.q, st.arrays["v"], fid, ref.code))
+    if select_backend(backend, st.dtype) == "compiled":
+        return tuple(as_dtype(x, st.dtype)  # type: ignore[return-value]
+                     for x in _compiled.frame_velocity_derivatives(model, st.q, st.arrays["v"], fid, ref.code))
+    out = quiet(_ref.frame_motion_derivatives, model, st.q, st.arrays["v"], None, fid, ref)
+    return tuple(finite_result(x, "frame_velocity_derivatives") for x in out)  # type: ignore[return-value]
 
 
 def frame_acceleration_derivatives(model: Model, q: ArrayLike, v: ArrayLike, a: ArrayLike, frame: str | int,
@@ -120,9 +114,11 @@ def frame_acceleration_derivatives(model: Model, q: ArrayLike, v: ArrayLike, a: 
     """
     fid, ref = model.resolve_frame(frame), as_reference_frame(reference)
     st = check_state(model, q, v=v, a=a)
-    _core_only("frame_acceleration_derivatives", backend, st.dtype)
-    out = _compiled.frame_acceleration_derivatives(model, st.q, st.arrays["v"], st.arrays["a"], fid, ref.code)
-    return tuple(as_dtype(x, st.dtype) for x in out)  # type: ignore[return-value]
+    if select_backend(backend, st.dtype) == "compiled":
+        out = _compiled.frame_acceleration_derivatives(model, st.q, st.arrays["v"], st.arrays["a"], fid, ref.code)
+        return tuple(as_dtype(x, st.dtype) for x in out)  # type: ignore[return-value]
+    ref_out = quiet(_ref.frame_motion_derivatives, model, st.q, st.arrays["v"], st.arrays["a"], fid, ref)[2:]
+    return tuple(finite_result(x, "frame_acceleration_derivatives") for x in ref_out)  # type: ignore[return-value]
 
 
 def joint_torque_regressor(model: Model, q: ArrayLike, v: ArrayLike, a: ArrayLike, *,
