@@ -208,5 +208,14 @@ def test_every_library_robot_against_pinocchio(floating: bool) -> None:
         pin.computeRNEADerivatives(pm, pd, jm.q_to_pin(q), jm.v_to_pin(v), jm.v_to_pin(a))
         assert _rel(dq, jm.matrix_from_pin(pd.dtau_dq.copy())) < 1e-11, name
         assert _rel(dv, jm.matrix_from_pin(pd.dtau_dv.copy())) < 1e-11, name
+        tau = fd.rnea(model, q, v, a)
+        try:
+            ddq_dq, ddq_dv, _ = fd.aba_derivatives(model, q, v, tau)
+        except fd.errors.SingularMassMatrixError:  # robots with massless moving links (Pinocchio's ABA divides by 0)
+            continue
+        pin.computeABADerivatives(pm, pd, jm.q_to_pin(q), jm.v_to_pin(v), jm.v_to_pin(tau))
+        cond = float(np.linalg.cond(fd.crba(model, q)))
+        assert _rel(ddq_dq, jm.matrix_from_pin(pd.ddq_dq.copy())) < 1e-13 * max(1.0, cond), name
+        assert _rel(ddq_dv, jm.matrix_from_pin(pd.ddq_dv.copy())) < 1e-13 * max(1.0, cond), name
         checked += 1
     assert checked >= 55, checked
