@@ -39,6 +39,7 @@ LAYER_OF: dict[str, str] = {
     "joints": "model",
     "model": "model",
     "results": "model",
+    "constraints": "model",
     "_state_checks": "model",
     "urdf": "model",
     "_urdf_xml": "model",

@@ -16,6 +16,18 @@ from ..frames import LOCAL, LOCAL_WORLD_ALIGNED, WORLD, ReferenceFrame
 from ..model import Model
 from ..results import CenterOfMass, Kinematics
 from ._backend import default_backend, get_num_threads, set_default_backend, set_num_threads
+from .constraints import (
+    ConstrainedDynamics,
+    ImpulseDynamics,
+    OperationalSpace,
+    constrained_dynamics,
+    constraint_drift,
+    constraint_jacobian,
+    delassus,
+    impulse_dynamics,
+    operational_space,
+    operational_space_inertia,
+)
 from .derivatives import (
     aba_derivatives,
     dynamic_parameters,
@@ -49,6 +61,16 @@ __all__ = [
     "CenterOfMass",
     "Kinematics",
     "aba",
+    "ConstrainedDynamics",
+    "ImpulseDynamics",
+    "OperationalSpace",
+    "constrained_dynamics",
+    "constraint_drift",
+    "constraint_jacobian",
+    "delassus",
+    "impulse_dynamics",
+    "operational_space",
+    "operational_space_inertia",
     "aba_derivatives",
     "dynamic_parameters",
     "frame_acceleration_derivatives",

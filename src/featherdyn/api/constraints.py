@@ -1,0 +1,311 @@
+"""Constrained dynamics, impulses and operational space (public; the constraints' definitions in ``featherdyn.constraints``).
+
+::
+
+    M q̈ + h = τ + Jᵀ λ,        J q̈ + γ = −K_p e − K_d J v
+
+The constraint rows J, the drift γ (``J̇ q̇``: the constrained quantity's
+acceleration at q̈ = 0) and the error e come from the frame functions
+(``fd.frame_jacobian``, ``fd.frame_acceleration``, ...); the linear algebra
+runs in the compiled core on M's tree-sparse LᵀL factor (``core/cpp/ltl.hpp``:
+the Schur complement ``J M⁻¹ Jᵀ``, never forming M⁻¹), with the proximal
+iterations of Carpentier, Budhiraja & Mansard (RSS 2021) for dependent rows
+when ``mu > 0``.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from .. import core as _compiled
+from ..constraints import Constraint, FrameContact, LoopConstraint, PointContact
+from ..errors import ModelError, ShapeError
+from ..frames import LOCAL, LOCAL_WORLD_ALIGNED, WORLD, ReferenceFrame, as_reference_frame
+from ..model import Model
+from ..rotation import se3_log
+from ._checks import check_state
+from .dynamics import generalized_gravity
+from .kinematics import (
+    frame_acceleration,
+    frame_classical_acceleration,
+    frame_jacobian,
+    frame_placement,
+    frame_velocity,
+)
+
+__all__ = ["ConstrainedDynamics", "ImpulseDynamics", "OperationalSpace", "constraint_jacobian", "constraint_drift",
+           "delassus", "constrained_dynamics", "impulse_dynamics", "operational_space_inertia", "operational_space"]
+
+
+def _constraints(constraints: Sequence[Constraint] | Constraint) -> list[Constraint]:
+    items = [constraints] if isinstance(constraints, (PointContact, FrameContact, LoopConstraint)) else \
+        list(constraints)
+    for c in items:
+        if not isinstance(c, (PointContact, FrameContact, LoopConstraint)):
+            raise ModelError(f"constraints: expected fd.PointContact, fd.FrameContact or fd.LoopConstraint, got "
+                             f"{type(c).__name__}")
+    if not items:
+        raise ModelError("constraints: expected at least one constraint")
+    return items
+
+
+def _rows(c: Constraint) -> np.ndarray:
+    if isinstance(c, PointContact):
+        return np.arange(3, 6)
+    if isinstance(c, FrameContact):
+        return np.arange(6)
+    return np.flatnonzero(np.array(c.axes))
+
+
+def _crm(s: np.ndarray, m: np.ndarray) -> np.ndarray:
+    ws, vs, wm, vm = s[..., :3], s[..., 3:], m[..., :3], m[..., 3:]
+    return np.concatenate([np.cross(ws, wm), np.cross(ws, vm) + np.cross(vs, wm)], axis=-1)
+
+
+def _motion_matrix(R: np.ndarray, p: np.ndarray) -> np.ndarray:
+    """The motion transform ``[[R, 0], [p×R, R]]`` `(..., 6, 6)` of a pose (R, p)."""
+    z = np.zeros(p.shape[:-1])
+    P = np.stack([np.stack([z, -p[..., 2], p[..., 1]], -1), np.stack([p[..., 2], z, -p[..., 0]], -1),
+                  np.stack([-p[..., 1], p[..., 0], z], -1)], -2)
+    out = np.zeros(R.shape[:-2] + (6, 6))
+    out[..., :3, :3] = R
+    out[..., 3:, 3:] = R
+    out[..., 3:, :3] = P @ R
+    return out
+
+
+def _one(model: Model, q: np.ndarray, v: np.ndarray | None, c: Constraint
+         ) -> tuple[np.ndarray, np.ndarray | None, np.ndarray | None]:
+    """``(J, γ, e)`` of one constraint, all rows (selected later): J `(..., 6, nv)`, γ and e `(..., 6)`."""
+    ref = c.reference
+    if isinstance(c, (PointContact, FrameContact)):
+        J = frame_jacobian(model, q, c.frame, ref)
+        if v is None:
+            return J, None, None
+        zero = np.zeros_like(v)
+        acc = frame_classical_acceleration if isinstance(c, PointContact) else frame_acceleration
+        return J, acc(model, q, v, zero, c.frame, ref).vector, np.zeros(J.shape[:-1])
+    Ja, Jb = frame_jacobian(model, q, c.frame_a, LOCAL), frame_jacobian(model, q, c.frame_b, LOCAL)
+    Ma, Mb = frame_placement(model, q, c.frame_a), frame_placement(model, q, c.frame_b)
+    aMb = Ma.inverse() @ Mb
+    X = _motion_matrix(aMb.rotation, aMb.translation)
+    J_rel = Ja - X @ Jb
+    if ref is WORLD:
+        B = _motion_matrix(Ma.rotation, Ma.translation)
+    elif ref is LOCAL_WORLD_ALIGNED:
+        B = _motion_matrix(Ma.rotation, np.zeros_like(Ma.translation))
+    else:
+        B = None
+    J = J_rel if B is None else B @ J_rel
+    if v is None:
+        return J, None, None
+    zero = np.zeros_like(v)
+    va = frame_velocity(model, q, v, c.frame_a, LOCAL).vector
+    Xvb = (X @ frame_velocity(model, q, v, c.frame_b, LOCAL).vector[..., None])[..., 0]
+    r = va - Xvb
+    aa = frame_acceleration(model, q, v, zero, c.frame_a, LOCAL).vector
+    ab = (X @ frame_acceleration(model, q, v, zero, c.frame_b, LOCAL).vector[..., None])[..., 0]
+    gamma = aa - ab + _crm(r, Xvb)  # d/dt (v_a − ᵃX_b v_b) at q̈ = 0, with d(ᵃX_b)/dt = −(r ×) ᵃX_b
+    e = se3_log(aMb).vector
+    if ref is WORLD:
+        gamma = gamma + _crm(va, r)  # d/dt (⁰X_a y) = ⁰X_a (ẏ + v_a × y)
+    elif ref is LOCAL_WORLD_ALIGNED:
+        w = va[..., :3]
+        gamma = gamma + np.concatenate([np.cross(w, r[..., :3]), np.cross(w, r[..., 3:])], axis=-1)
+    if B is not None:
+        gamma = (B @ gamma[..., None])[..., 0]
+        e = (B @ e[..., None])[..., 0]
+    return J, gamma, e
+
+
+def _stack(model: Model, q: np.ndarray, v: np.ndarray | None, items: list[Constraint]
+           ) -> tuple[np.ndarray, np.ndarray | None, np.ndarray | None]:
+    Js, gs, cs = [], [], []
+    for c in items:
+        J, gamma, e = _one(model, q, v, c)
+        rows = _rows(c)
+        Js.append(J[..., rows, :])
+        if gamma is not None and e is not None and v is not None:
+            kp, kd = c.baumgarte
+            gs.append(gamma[..., rows])
+            Jv = (J[..., rows, :] @ v[..., None])[..., 0]
+            cs.append(-gamma[..., rows] - kp * e[..., rows] - kd * Jv)
+    J = np.concatenate(Js, axis=-2)
+    if v is None:
+        return J, None, None
+    return J, np.concatenate(gs, axis=-1), np.concatenate(cs, axis=-1)
+
+
+def constraint_jacobian(model: Model, q: ArrayLike, constraints: Sequence[Constraint] | Constraint) -> np.ndarray:
+    """The constraints' rows stacked, ``J`` `(..., m, nv)` (point contact: 3 rows, frame contact: 6, loop: its axes)::
+
+        point: the linear rows of the frame Jacobian in ``reference``;  frame: the frame Jacobian;
+        loop: the chosen rows of J_a − ᵃX_b J_b (in a's frame, then ``reference``)
+    """
+    items = _constraints(constraints)
+    st = check_state(model, q)
+    return _stack(model, st.q, None, items)[0]
+
+
+def constraint_drift(model: Model, q: ArrayLike, v: ArrayLike, constraints: Sequence[Constraint] | Constraint
+                     ) -> np.ndarray:
+    """``γ = J̇ q̇`` `(..., m)`: the constrained quantities' acceleration at q̈ = 0::
+
+        point: the classical acceleration of the frame's origin;  frame: its spatial acceleration;
+        loop: d/dt (v_a − ᵃX_b v_b) at q̈ = 0 — all in ``reference``
+    """
+    items = _constraints(constraints)
+    st = check_state(model, q, v=v)
+    gamma = _stack(model, st.q, st.arrays["v"], items)[1]
+    assert gamma is not None
+    return gamma
+
+
+def delassus(model: Model, q: ArrayLike, constraints: Sequence[Constraint] | Constraint) -> np.ndarray:
+    """``J M⁻¹ Jᵀ`` `(..., m, m)` from M's tree-sparse factor, without forming M⁻¹."""
+    J = constraint_jacobian(model, q, constraints)
+    return _compiled.delassus(model, check_state(model, q).q, J)
+
+
+@dataclass(frozen=True)
+class ConstrainedDynamics:
+    """The result of :func:`constrained_dynamics`.
+
+    Attributes:
+        ddq: `(..., nv)`.
+        forces: one array per constraint: `(..., 3)` force, `(..., 6)` wrench ``[n; f]``, `(..., k)` for a loop.
+        lagrange: `(..., m)` all of them stacked.
+        residual: `(...)` ``max |J q̈ − c|`` with ``c = −γ − K_p e − K_d J v``.
+    """
+
+    ddq: np.ndarray
+    forces: list[np.ndarray]
+    lagrange: np.ndarray
+    residual: np.ndarray
+
+
+def _split(lam: np.ndarray, items: list[Constraint]) -> list[np.ndarray]:
+    out, pos = [], 0
+    for c in items:
+        out.append(lam[..., pos: pos + c.size])
+        pos += c.size
+    return out
+
+
+def constrained_dynamics(model: Model, q: ArrayLike, v: ArrayLike, tau: ArrayLike,
+                         constraints: Sequence[Constraint] | Constraint, *, f_ext: ArrayLike | None = None,
+                         mu: float = 0.0, max_iter: int = 50, tol: float = 1e-12) -> ConstrainedDynamics:
+    """Forward dynamics under constraints, float64 (the compiled core)::
+
+        M q̈ + h = τ + Jᵀ λ,     J q̈ + γ = −K_p e − K_d J v
+
+    Forces act on the robot, in each constraint's ``reference`` (a loop's: from body b on body a).
+    ``mu > 0``: proximal iterations, the minimum-norm forces when constraints are dependent.
+
+    Raises:
+        ConstraintError: dependent constraints with ``mu = 0`` (the message suggests ``mu``).
+    """
+    items = _constraints(constraints)
+    st = check_state(model, q, v=v, tau=tau)
+    qd = st.arrays["v"]
+    J, _, c = _stack(model, st.q, qd, items)
+    ddq, lam, res = _compiled.constrained_solve(model, st.q, qd, st.arrays["tau"], J, c, f_ext, mu=mu,
+                                                max_iter=max_iter, tol=tol)
+    return ConstrainedDynamics(ddq, _split(lam, items), lam, res)
+
+
+@dataclass(frozen=True)
+class ImpulseDynamics:
+    """The result of :func:`impulse_dynamics`: ``v_plus`` `(..., nv)`, ``impulses`` (one per constraint),
+    ``lagrange`` `(..., m)` stacked."""
+
+    v_plus: np.ndarray
+    impulses: list[np.ndarray]
+    lagrange: np.ndarray
+
+
+def impulse_dynamics(model: Model, q: ArrayLike, v: ArrayLike, constraints: Sequence[Constraint] | Constraint, *,
+                     restitution: float = 0.0, mu: float = 0.0) -> ImpulseDynamics:
+    """The velocity just after an impact with the constraints::
+
+        M (v⁺ − v⁻) = Jᵀ Λ,     J v⁺ = −e J v⁻      (e: the restitution coefficient, 0 ≤ e ≤ 1)
+    """
+    if not (0.0 <= float(restitution) <= 1.0):
+        raise ModelError(f"restitution: expected a number in [0, 1], got {restitution!r}")
+    items = _constraints(constraints)
+    st = check_state(model, q, v=v)
+    vm = st.arrays["v"]
+    J = _stack(model, st.q, None, items)[0]
+    c = -float(restitution) * (J @ vm[..., None])[..., 0]
+    # the same linear system as constrained_dynamics with q̈ := v⁺ and τ − h := M v⁻ (at zero velocity,
+    # h is the gravity g(q), which τ = M v⁻ + g(q) cancels)
+    from .dynamics import crba
+
+    rhs = (crba(model, st.q) @ vm[..., None])[..., 0] + generalized_gravity(model, st.q)
+    v_plus, lam, _ = _compiled.constrained_solve(model, st.q, np.zeros_like(vm), rhs, J, c, mu=mu)
+    return ImpulseDynamics(v_plus, _split(lam, items), lam)
+
+
+def _frames_jacobian(model: Model, q: np.ndarray, frames: Sequence[str | int] | str | int,
+                     reference: ReferenceFrame | str) -> np.ndarray:
+    names = [frames] if isinstance(frames, (str, int)) else list(frames)
+    if not names:
+        raise ShapeError("frames: expected at least one frame")
+    ref = as_reference_frame(reference)
+    return np.concatenate([frame_jacobian(model, q, f, ref) for f in names], axis=-2)
+
+
+def operational_space_inertia(model: Model, q: ArrayLike, frames: Sequence[str | int] | str | int,
+                              reference: ReferenceFrame | str = LOCAL_WORLD_ALIGNED, *, mu: float = 0.0) -> np.ndarray:
+    """``Λ = (J M⁻¹ Jᵀ + μ 1)⁻¹`` `(..., 6k, 6k)` for the stacked frame Jacobians (``[ω; v]`` blocks)::
+
+        J M⁻¹ Jᵀ from M's tree-sparse factor (M is never inverted); μ > 0 regularises a singular J
+    """
+    st = check_state(model, q)
+    J = _frames_jacobian(model, st.q, frames, reference)
+    D = _compiled.delassus(model, st.q, J) + float(mu) * np.eye(J.shape[-2])
+    return np.linalg.inv(D)
+
+
+@dataclass(frozen=True)
+class OperationalSpace:
+    """``Lambda`` Λ, ``Lambda_inv`` J M⁻¹ Jᵀ, ``J``, ``J_bar`` = M⁻¹ Jᵀ Λ (`(..., nv, 6k)`), ``mu`` = Λ (J M⁻¹ h − J̇ v),
+    ``p`` = J̄ᵀ g — task-space quantities of :func:`operational_space`."""
+
+    Lambda: np.ndarray
+    Lambda_inv: np.ndarray
+    J: np.ndarray
+    J_bar: np.ndarray
+    mu: np.ndarray
+    p: np.ndarray
+
+
+def operational_space(model: Model, q: ArrayLike, v: ArrayLike, frames: Sequence[str | int] | str | int,
+                      reference: ReferenceFrame | str = LOCAL_WORLD_ALIGNED) -> OperationalSpace:
+    """The operational-space quantities of the stacked frames (Khatib 1987)::
+
+        Λ = (J M⁻¹ Jᵀ)⁻¹,   J̄ = M⁻¹ Jᵀ Λ,   μ = Λ (J M⁻¹ h − J̇ v),   p = J̄ᵀ g
+    """
+    from .dynamics import nonlinear_effects
+    from .kinematics import frame_jacobian_time_variation
+
+    st = check_state(model, q, v=v)
+    qd = st.arrays["v"]
+    names = [frames] if isinstance(frames, (str, int)) else list(frames)
+    ref = as_reference_frame(reference)
+    J = _frames_jacobian(model, st.q, names, ref)
+    Lambda_inv = _compiled.delassus(model, st.q, J)
+    Lambda = np.linalg.inv(Lambda_inv)
+    MinvJt = np.stack([_compiled.mass_solve(model, st.q, J[..., r, :]) for r in range(J.shape[-2])], axis=-1)
+    J_bar = MinvJt @ Lambda
+    h = nonlinear_effects(model, st.q, qd)
+    Jdot_v = np.concatenate([(frame_jacobian_time_variation(model, st.q, qd, f, ref) @ qd[..., None])[..., 0]
+                             for f in names], axis=-1)
+    Minv_h = _compiled.mass_solve(model, st.q, h)
+    mu = (Lambda @ ((J @ Minv_h[..., None])[..., 0] - Jdot_v)[..., None])[..., 0]
+    p = (np.swapaxes(J_bar, -1, -2) @ generalized_gravity(model, st.q)[..., None])[..., 0]
+    return OperationalSpace(Lambda, Lambda_inv, J, J_bar, mu, p)
