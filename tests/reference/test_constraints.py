@@ -155,3 +155,62 @@ def test_bad_constraints_are_refused(solo: fd.Model) -> None:
         fd.constrained_dynamics(solo, q, v, tau, ["FL_FOOT"])  # type: ignore[list-item]
     with pytest.raises(fd.ModelError):
         fd.constraint_jacobian(solo, q, fd.PointContact("no such frame"))
+
+
+def _pin_setup(model: fd.Model):  # type: ignore[no-untyped-def]
+    import warnings
+
+    pin = pytest.importorskip("pinocchio")
+    from featherdyn.robots import robot_path
+    from featherdyn.verify.bridge import JointMap
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        pm = pin.buildModelFromUrdf(str(robot_path("solo12")), pin.JointModelFreeFlyer())
+    return pin, pm, pm.createData(), JointMap(model, pm)
+
+
+def _pin_contacts(pin, pm, frames: list[str], kind, ref):  # type: ignore[no-untyped-def]
+    cms, cds = pin.StdVec_RigidConstraintModel(), pin.StdVec_RigidConstraintData()
+    for f in frames:
+        fr = pm.frames[pm.getFrameId(f)]
+        cms.append(pin.RigidConstraintModel(kind, pm, fr.parentJoint, fr.placement, ref))
+    for c in cms:
+        cds.append(c.createData())
+    return cms, cds
+
+
+@pytest.mark.parametrize(("ref", "three_d"), [(fd.LOCAL, True), (fd.LOCAL_WORLD_ALIGNED, True), (fd.LOCAL, False)],
+                         ids=["3D-LOCAL", "3D-LWA", "6D-LOCAL"])
+def test_against_pinocchio_constraint_and_impulse_dynamics(solo: fd.Model, ref: fd.ReferenceFrame, three_d: bool) -> None:
+    """Pinocchio 4.1's constraintDynamics / impulseDynamics (its 6D forces are [f; n]: swapped to [n; f])."""
+    pin, pm, pd, jm = _pin_setup(solo)
+    pin_ref = pin.LOCAL if ref is fd.LOCAL else pin.LOCAL_WORLD_ALIGNED
+    frames = FEET if three_d else FEET[:1]
+    kind = pin.ContactType.CONTACT_3D if three_d else pin.ContactType.CONTACT_6D
+    cms, cds = _pin_contacts(pin, pm, frames, kind, pin_ref)
+    q, v, tau = _state(solo, 9)
+    pin.initConstraintDynamics(pm, pd, cms, cds)
+    ddq = jm.v_from_pin(pin.constraintDynamics(pm, pd, jm.q_to_pin(q), jm.v_to_pin(v), jm.v_to_pin(tau), cms, cds,
+                                               pin.ProximalSettings(1e-12, 0.0, 1)).copy())
+    lam = pd.lambda_c.copy() if three_d else np.concatenate([pd.lambda_c[3:6], pd.lambda_c[:3]])
+    cons = [fd.PointContact(f, ref) if three_d else fd.FrameContact(f, ref) for f in frames]
+    res = fd.constrained_dynamics(solo, q, v, tau, cons)
+    np.testing.assert_allclose(res.ddq, ddq, atol=1e-9 * max(1.0, np.abs(ddq).max()))
+    np.testing.assert_allclose(res.lagrange, lam, atol=1e-9 * max(1.0, np.abs(lam).max()))
+    vp = jm.v_from_pin(pin.impulseDynamics(pm, pd, jm.q_to_pin(q), jm.v_to_pin(v), cms, cds, 0.0,
+                                           pin.ProximalSettings(1e-12, 0.0, 1)).copy())
+    np.testing.assert_allclose(fd.impulse_dynamics(solo, q, v, cons).v_plus, vp, atol=1e-9 * max(1.0, np.abs(vp).max()))
+
+
+def test_batches_equal_their_rows(solo: fd.Model) -> None:
+    rng = np.random.default_rng(10)
+    Q = fd.random_configuration(solo, rng, size=3)
+    V, T = rng.normal(size=(3, solo.nv)), rng.normal(size=(3, solo.nv))
+    cons = [fd.PointContact("FL_FOOT", fd.LOCAL_WORLD_ALIGNED),
+            fd.LoopConstraint("HL_FOOT", "HR_FOOT", axes=(False,) * 3 + (True,) * 3)]
+    res = fd.constrained_dynamics(solo, Q, V, T, cons)
+    assert res.ddq.shape == (3, solo.nv) and [f.shape for f in res.forces] == [(3, 3), (3, 3)]
+    for k in range(3):
+        one = fd.constrained_dynamics(solo, Q[k], V[k], T[k], cons)
+        assert np.array_equal(res.ddq[k], one.ddq) and np.array_equal(res.lagrange[k], one.lagrange)
