@@ -216,3 +216,55 @@ def test_batches_equal_their_rows(solo: fd.Model) -> None:
         # (batched and single matrix products round differently: equal to round-off, not bit for bit)
         np.testing.assert_allclose(res.ddq[k], one.ddq, rtol=1e-12, atol=1e-12 * np.abs(one.ddq).max())
         np.testing.assert_allclose(res.lagrange[k], one.lagrange, rtol=1e-12, atol=1e-12 * np.abs(one.lagrange).max())
+
+
+def test_talos_double_support_and_delassus_against_pinocchio() -> None:
+    """Two 6D soles on talos_full_v2: constraintDynamics and computeDelassusMatrix (rows [f; n] per contact there)."""
+    import warnings
+
+    pin = pytest.importorskip("pinocchio")
+    from featherdyn.robots import robot_path
+    from featherdyn.verify.bridge import JointMap
+
+    model = library_robot("talos_full_v2", True)
+    assert model is not None
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        pm = pin.buildModelFromUrdf(str(robot_path("talos_full_v2")), pin.JointModelFreeFlyer())
+    pd, jm = pm.createData(), JointMap(model, pm)
+    soles = ["left_sole_link", "right_sole_link"]
+    cms, cds = _pin_contacts(pin, pm, soles, pin.ContactType.CONTACT_6D, pin.LOCAL)
+    q, v, tau = _state(model, 11)
+    pin.initConstraintDynamics(pm, pd, cms, cds)
+    ddq = jm.v_from_pin(pin.constraintDynamics(pm, pd, jm.q_to_pin(q), jm.v_to_pin(v), jm.v_to_pin(tau), cms, cds,
+                                               pin.ProximalSettings(1e-12, 0.0, 1)).copy())
+    cons = [fd.FrameContact(f, fd.LOCAL) for f in soles]
+    res = fd.constrained_dynamics(model, q, v, tau, cons)
+    np.testing.assert_allclose(res.ddq, ddq, atol=1e-10 * np.abs(ddq).max())
+    D = pin.computeDelassusMatrix(pm, pd, jm.q_to_pin(q), cms, cds, 0.0).copy()
+    swap = np.r_[3:6, 0:3, 9:12, 6:9]  # [f; n] → [n; f] per contact
+    ours = fd.delassus(model, q, cons)
+    np.testing.assert_allclose(ours, D[np.ix_(swap, swap)], atol=1e-12 * np.abs(ours).max())
+
+
+def test_gauss_principle_and_impacts_never_add_energy(solo: fd.Model) -> None:
+    """q̈ minimises (q̈ − q̈_free)ᵀ M (q̈ − q̈_free) among the accelerations that satisfy the constraints; an impact
+    with restitution e ∈ [0, 1] never increases the kinetic energy."""
+    q, v, tau = _state(solo, 12)
+    cons = [fd.PointContact(f, fd.LOCAL_WORLD_ALIGNED) for f in FEET[:3]]
+    res = fd.constrained_dynamics(solo, q, v, tau, cons)
+    M = fd.crba(solo, q)
+    free = fd.aba(solo, q, v, tau)
+    J = fd.constraint_jacobian(solo, q, cons)
+    null = np.linalg.svd(J)[2][J.shape[0]:].T  # directions that keep J q̈ unchanged
+    rng = np.random.default_rng(13)
+
+    def cost(x: np.ndarray) -> float:
+        return float((x - free) @ M @ (x - free))
+
+    best = cost(res.ddq)
+    assert all(cost(res.ddq + null @ rng.normal(size=null.shape[1]) * s) > best for s in (1e-3, 1e-1, 10.0))
+    T0 = 0.5 * v @ M @ v
+    for e in (0.0, 0.3, 1.0):
+        vp = fd.impulse_dynamics(solo, q, v, cons, restitution=e).v_plus
+        assert 0.5 * vp @ M @ vp <= T0 * (1 + 1e-12), e
