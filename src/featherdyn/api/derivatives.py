@@ -18,9 +18,12 @@ from .. import core as _compiled
 from ..algorithms import derivatives as _ref
 from ..frames import LOCAL, ReferenceFrame, as_reference_frame
 from ..model import Model
-from ._backend import select_backend
+from ._backend import CORE, core_path, select_backend
 from ._checks import as_dtype, batch_with_f_ext, check_f_ext, check_state, finite_result, quiet
 from .dynamics import crba
+
+_EMPTY = np.empty
+_NDARRAY = np.ndarray
 
 __all__ = ["rnea_derivatives", "aba_derivatives", "mass_matrix_inverse", "frame_velocity_derivatives",
            "frame_acceleration_derivatives", "joint_torque_regressor", "dynamic_parameters"]
@@ -37,6 +40,17 @@ def rnea_derivatives(model: Model, q: ArrayLike, v: ArrayLike, a: ArrayLike, f_e
 
         ∂τ/∂q[:, j] = d/dε RNEA(q ⊕ ε e_j, q̇, q̈) |_{ε=0},    ∂τ/∂q̈ = M(q)
     """
+    core = core_path(model, backend)
+    if core is not None and f_ext is None and q.__class__ is _NDARRAY and q.ndim == 1:
+        # one float64 state: the binding as is (it refuses anything else, and checks the state itself)
+        dq, dv, M = _EMPTY(core.shape_M), _EMPTY(core.shape_M), _EMPTY(core.shape_M)
+        try:
+            if (CORE.rnea_derivatives_batch(core.cm, q[None], v[None], a[None], None, True,  # type: ignore[call-overload,index]
+                                            dq.reshape(1, -1), dv.reshape(1, -1))[1] == 0
+                    and CORE.crba(core.cm, q, M) == 0):
+                return dq, dv, M
+        except (TypeError, AttributeError):
+            pass
     fx = check_f_ext(model, f_ext)
     st = check_state(model, q, v=v, a=a)
     dtype = batch_with_f_ext(st, fx)[1]
@@ -58,6 +72,15 @@ def aba_derivatives(model: Model, q: ArrayLike, v: ArrayLike, tau: ArrayLike, f_
     Raises:
         SingularMassMatrixError: naming the joint, when M(q) is singular.
     """
+    core = core_path(model, backend)
+    if core is not None and f_ext is None and q.__class__ is _NDARRAY and q.ndim == 1:
+        dq, dv, Minv, qdd = _EMPTY(core.shape_M), _EMPTY(core.shape_M), _EMPTY(core.shape_M), _EMPTY((1, core.nv))
+        try:
+            if CORE.aba_derivatives_batch(core.cm, q[None], v[None], tau[None], None, True, qdd,  # type: ignore[call-overload,index]
+                                          dq.reshape(1, -1), dv.reshape(1, -1), Minv.reshape(1, -1))[1] == 0:
+                return dq, dv, Minv
+        except (TypeError, AttributeError):
+            pass
     fx = check_f_ext(model, f_ext)
     st = check_state(model, q, v=v, tau=tau)
     dtype = batch_with_f_ext(st, fx)[1]

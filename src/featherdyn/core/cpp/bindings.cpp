@@ -692,13 +692,15 @@ RowStatus aba_derivatives_n(const ModelData& md, const In& q, const In& v, const
   FD_TRY_ROWS(rows(tau, N, mv.nv, ARG_A, T));
   FD_TRY_ROWS(rows(f_ext, N, 6 * static_cast<size_t>(mv.nb), ARG_FEXT, FX));
   double *QDD = qdd.data(), *DQ = dq.data(), *DV = dv.data(), *MI = Minv.data();
+  std::vector<int> lambda(mv.nv);
+  dof_parents(mv, lambda.data());
   return for_rows(N, [&](std::int64_t r) -> std::int64_t {
     FD_TRY(check_state(mv, Q.row(r), V.row(r), T.row(r), FX.row(r)));
-    std::vector<double> scratch(2 * static_cast<size_t>(n2));
-    const fdgroup::GroupKernels& k = group_kernels();
-    const int bad = aba_derivatives(mv, Q.row(r), V.row(r), T.row(r), FX.row(r), gravity, QDD + r * mv.nv,
-                                    DQ + r * n2, DV + r * n2, MI + r * n2, scratch.data(), k.rnea_derivatives,
-                                    k.minverse);
+    thread_local std::vector<double> scratch;
+    scratch.resize(3 * static_cast<size_t>(n2) + mv.nv);
+    const int bad = aba_derivatives(mv, lambda.data(), Q.row(r), V.row(r), T.row(r), FX.row(r), gravity,
+                                    QDD + r * mv.nv, DQ + r * n2, DV + r * n2, MI + r * n2, scratch.data(),
+                                    group_kernels().rnea_derivatives);
     if (bad >= 0) return make_status(SINGULAR, ARG_Q, bad);
     FD_TRY(finite_result(DQ + r * n2, n2));
     return finite_result(DV + r * n2, n2);

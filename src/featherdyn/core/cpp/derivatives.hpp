@@ -34,6 +34,7 @@
 
 #include "aba.hpp"
 #include "crba.hpp"
+#include "ltl.hpp"
 #include "pack.hpp"
 #include "rnea.hpp"
 #include "scratch.hpp"
@@ -165,6 +166,17 @@ struct RneaDerivWork {
   }
 };
 
+// A root joint's direction S_c whose seeds δv_k = 0 (no parent velocity) and δa_k = −S_c × (X_up a₀) vanish:
+// its column of ∂τ/∂q is zero (a root has no parent to receive S_c ×* F). Only exact zeros count.
+inline bool moves_nothing(const Motion<double>& Sc, const Motion<double>& xa) {
+  const Motion<double> u = cross_motion(Sc, xa);
+  return u.w.x == 0.0 && u.w.y == 0.0 && u.w.z == 0.0 && u.v.x == 0.0 && u.v.y == 0.0 && u.v.z == 0.0;
+}
+template <class S>
+inline bool moves_nothing(const Motion<S>&, const Motion<S>&) {
+  return false;
+}
+
 // ∂τ/∂q and ∂τ/∂q̇ (nv, nv) row-major (column j: the derivative along direction j), by the tangent-linear
 // RNEA of the file comment.
 template <class S>
@@ -206,6 +218,7 @@ void rnea_derivatives(const ModelView& mv, const S* q, const S* qd, const S* qdd
       const int j = mv.idx_v[k] + c;
       for (int wrt_v = 0; wrt_v < 2; ++wrt_v) {
         S* out = wrt_v ? dtau_dv : dtau_dq;
+        if (!wrt_v && lam_k == -1 && moves_nothing(Sc, xa)) continue;  // e.g. a root free-flyer's translations
         // forward over the subtree of k
         for (int i = k; i < nb; ++i) {
           if (!sub[i]) continue;
@@ -299,30 +312,39 @@ inline int mass_matrix_inverse(const ModelView& mv, const double* q, double* Min
   return -1;
 }
 
-// q̈ = ABA(q, q̇, τ) and ∂q̈/∂q, ∂q̈/∂q̇, ∂q̈/∂τ = M⁻¹ (nv, nv) each; `scratch` holds 2 nv² doubles;
-// rnea_derivs and minverse: the two kernels above as compiled for the CPU's instruction set.
+// q̈ = ABA(q, q̇, τ) and ∂q̈/∂q, ∂q̈/∂q̇, ∂q̈/∂τ = M⁻¹ (nv, nv) each; `scratch` holds 3 nv² + nv doubles;
+// rnea_derivs: the tangent-linear RNEA as compiled for the CPU's instruction set. The products with M⁻¹ are
+// solves with M's tree-sparse factor (ltl.hpp: M = LᵀL, each column O(nv · depth)), never a dense M⁻¹ product.
 // Returns −1, or the joint whose articulated inertia is singular.
-template <class RneaDerivs, class Minverse>
-int aba_derivatives(const ModelView& mv, const double* q, const double* qd, const double* tau, const double* f_ext,
-                    bool gravity, double* qdd, double* dq, double* dv, double* Minv, double* scratch,
-                    RneaDerivs rnea_derivs, Minverse minverse) {
+template <class RneaDerivs>
+int aba_derivatives(const ModelView& mv, const int* lambda_d, const double* q, const double* qd, const double* tau,
+                    const double* f_ext, bool gravity, double* qdd, double* dq, double* dv, double* Minv,
+                    double* scratch, RneaDerivs rnea_derivs) {
   const int nv = mv.nv;
+  const size_t n2 = static_cast<size_t>(nv) * nv;
   const int bad = aba(mv, q, qd, tau, f_ext, gravity, qdd);
   if (bad >= 0) return bad;
-  const int bad_inv = minverse(mv, q, Minv);
-  if (bad_inv >= 0) return bad_inv;
-  double* tq = scratch;
-  double* tv = scratch + static_cast<size_t>(nv) * nv;
+  double* L = scratch;
+  double* tq = scratch + n2;
+  double* tv = scratch + 2 * n2;
+  double* col = scratch + 3 * n2;
+  crba(mv, q, L);
+  const int bad_dof = ltl_factor(mv, lambda_d, L);
+  if (bad_dof >= 0) {
+    for (int i = 0; i < mv.nb; ++i)
+      if (mv.idx_v[i] <= bad_dof && bad_dof < mv.idx_v[i] + mv.nv_i[i]) return i;
+    return 0;
+  }
   rnea_derivs(mv, q, qd, qdd, f_ext, gravity, tq, tv);
-  for (int r = 0; r < nv; ++r) {
+  // column c of each: −M⁻¹ ∂τ/∂q, −M⁻¹ ∂τ/∂q̇, M⁻¹ e_c
+  for (int which = 0; which < 3; ++which) {
+    const double* src = which == 0 ? tq : which == 1 ? tv : nullptr;
+    double* dst = which == 0 ? dq : which == 1 ? dv : Minv;
     for (int c = 0; c < nv; ++c) {
-      double sq = 0.0, sv = 0.0;
-      for (int k = 0; k < nv; ++k) {
-        sq += Minv[r * nv + k] * tq[k * nv + c];
-        sv += Minv[r * nv + k] * tv[k * nv + c];
-      }
-      dq[r * nv + c] = -sq;
-      dv[r * nv + c] = -sv;
+      for (int r = 0; r < nv; ++r) col[r] = src ? -src[r * nv + c] : (r == c ? 1.0 : 0.0);
+      ltl_solve_Lt(mv, lambda_d, L, col);
+      ltl_solve_L(mv, lambda_d, L, col);
+      for (int r = 0; r < nv; ++r) dst[r * nv + c] = col[r];
     }
   }
   return -1;
