@@ -32,6 +32,7 @@ from ..model import Model
 from ..spatial_algebra import SpatialForce, SpatialMotion, cross_force, cross_motion
 from . import aba as _aba
 from ._common import TreeData, batch_dtype, expand, zeros
+from .rnea import forward_pass
 
 __all__ = ["rnea_derivatives", "mass_matrix_inverse", "aba_derivatives", "joint_torque_regressor",
            "dynamic_parameters", "frame_motion_derivatives"]
@@ -39,25 +40,8 @@ __all__ = ["rnea_derivatives", "mass_matrix_inverse", "aba_derivatives", "joint_
 
 def _nominal(model: Model, td: TreeData, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray, f_ext: np.ndarray | None,
              a0: SpatialMotion) -> tuple[list, list, list, list, list]:
-    """RNEA's passes, keeping ``X_up``, ``S q̇``, ``v``, ``a`` and the accumulated forces ``F``."""
-    X_up: list = []
-    vJs: list[SpatialMotion] = []
-    vel: list[SpatialMotion] = []
-    acc: list[SpatialMotion] = []
-    F: list[SpatialForce] = []
-    for i in range(td.nb):
-        lam = td.parents[i]
-        X_up.append(td.pose_in_parent(q, i).inverse())
-        vJ = td.vJ(qd, i)
-        v_i = vJ if lam == -1 else X_up[i].apply(vel[lam]) + vJ
-        a_i = X_up[i].apply(a0 if lam == -1 else acc[lam]) + td.vJ(qdd, i) + cross_motion(v_i, vJ)
-        f_i = td.I[i] @ a_i + cross_force(v_i, td.I[i] @ v_i)
-        if f_ext is not None:
-            f_i = f_i - SpatialForce._wrap(f_ext[..., i, :], None)
-        vJs.append(vJ)
-        vel.append(v_i)
-        acc.append(a_i)
-        F.append(f_i)
+    """RNEA's passes (``rnea.forward_pass``, then the backward accumulation): ``X_up``, ``S q̇``, ``v``, ``a``, ``F``."""
+    X_up, vJs, vel, acc, F = forward_pass(td, q, qd, qdd, f_ext, a0)
     for i in range(td.nb - 1, -1, -1):
         if td.parents[i] != -1:
             F[td.parents[i]] = F[td.parents[i]] + X_up[i].apply_inverse(F[i])

@@ -17,7 +17,36 @@ from ..model import Model
 from ..spatial_algebra import SpatialForce, SpatialMotion, cross_force, cross_motion
 from ._common import TreeData, batch_dtype, zeros
 
-__all__ = ["rnea"]
+__all__ = ["rnea", "forward_pass"]
+
+
+def forward_pass(td: TreeData, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray, f_ext: np.ndarray | None,
+                 a0: SpatialMotion) -> tuple[list, list[SpatialMotion], list[SpatialMotion], list[SpatialMotion],
+                                             list[SpatialForce]]:
+    """RNEA's forward pass: ``(X_up, S q̇, v, a, f)`` per body (f before the backward accumulation)::
+
+        v_i = X_up[i] v_λ(i) + S_i q̇_i,   a_i = X_up[i] a_λ(i) + S_i q̈_i + v_i × S_i q̇_i
+        f_i = I_i a_i + v_i ×* I_i v_i − f_i^ext
+    """
+    X_up: list = []  # ⁱX_λ(i), parent → body i
+    vJs: list[SpatialMotion] = []
+    vel: list[SpatialMotion] = []
+    acc: list[SpatialMotion] = []
+    f: list[SpatialForce] = []
+    for i in range(td.nb):
+        lam = td.parents[i]
+        X_up.append(td.pose_in_parent(q, i).inverse())
+        vJ = td.vJ(qd, i)
+        v_i = vJ if lam == -1 else X_up[i].apply(vel[lam]) + vJ
+        a_i = X_up[i].apply(a0 if lam == -1 else acc[lam]) + td.vJ(qdd, i) + cross_motion(v_i, vJ)
+        f_i = td.I[i] @ a_i + cross_force(v_i, td.I[i] @ v_i)
+        if f_ext is not None:
+            f_i = f_i - SpatialForce._wrap(f_ext[..., i, :], None)
+        vJs.append(vJ)
+        vel.append(v_i)
+        acc.append(a_i)
+        f.append(f_i)
+    return X_up, vJs, vel, acc, f
 
 
 def rnea(model: Model, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray, f_ext: np.ndarray | None = None,
@@ -37,23 +66,7 @@ def rnea(model: Model, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray, f_ext: np
     batch, dtype = batch_dtype(q, qd, qdd, f_ext=f_ext)
     td = TreeData(model, dtype)
     a0 = td.a0 if gravity else SpatialMotion._wrap(np.zeros(6, dtype=td.dtype), None)
-
-    X_up: list = []  # ⁱX_λ(i), parent → body i
-    vel: list[SpatialMotion] = []
-    acc: list[SpatialMotion] = []
-    f: list[SpatialForce] = []
-    for i in range(td.nb):
-        lam = td.parents[i]
-        X_up.append(td.pose_in_parent(q, i).inverse())
-        vJ = td.vJ(qd, i)
-        v_i = vJ if lam == -1 else X_up[i].apply(vel[lam]) + vJ
-        a_i = X_up[i].apply(a0 if lam == -1 else acc[lam]) + td.vJ(qdd, i) + cross_motion(v_i, vJ)
-        f_i = td.I[i] @ a_i + cross_force(v_i, td.I[i] @ v_i)
-        if f_ext is not None:
-            f_i = f_i - SpatialForce._wrap(f_ext[..., i, :], None)
-        vel.append(v_i)
-        acc.append(a_i)
-        f.append(f_i)
+    X_up, _, _, _, f = forward_pass(td, q, qd, qdd, f_ext, a0)
 
     tau = zeros(batch, (model.nv,), td.dtype)
     for i in range(td.nb - 1, -1, -1):
