@@ -2,7 +2,7 @@
 
 ::
 
-    featherdyn verify [ROBOT|URDF] [--floating-base] [--samples N] [--seed S] [--tol T]
+    featherdyn verify [ROBOT|URDF] [--floating-base] [--samples N] [--seed S] [--tol T] [--contacts F1,F2]
                       [--json FILE] [--report FILE.html] [--all]
     featherdyn check VALUES.npz --robot ROBOT|URDF [--floating-base] [--convention featherdyn|pinocchio]
                      [--tol T] [--json FILE]
@@ -66,6 +66,9 @@ def build_parser() -> argparse.ArgumentParser:
                    help="write an HTML report with the table and plots (opens offline)")
     v.add_argument("--all", action="store_true", help="verify every robot of the library (takes minutes)")
     v.add_argument("--strict", action="store_true", help="physicality warnings of the URDF loader are errors")
+    v.add_argument("--contacts", default="", metavar="FRAME[,FRAME...]",
+                   help="also compare constrained and impulse dynamics with these frames held (Pinocchio's "
+                        "constraintDynamics / impulseDynamics)")
     i = sub.add_parser("info", help="the kinematic tree, joints, masses and inertia validity of a robot")
     i.add_argument("robot", metavar="ROBOT|URDF")
     i.add_argument("--floating-base", action="store_true")
@@ -185,7 +188,9 @@ def _cmd_verify(args: argparse.Namespace) -> int:
     else:
         _name, path = verify.resolve_robot(args.robot)  # a bad name or path is refused before anything is printed
         _announce_large(path)
+        contacts = [f.strip() for f in args.contacts.split(",") if f.strip()]
         report = verify.run(args.robot, floating_base=args.floating_base, samples=args.samples, seed=args.seed,
+                            contacts=contacts,
                             tol=args.tol, strict=args.strict, progress=_progress(tty))
         reports.append(report)
         print(report.to_table())

@@ -139,3 +139,17 @@ def test_a_tolerance_below_round_off_is_named_not_blamed_on_a_convention() -> No
     summary = res.stdout.strip().splitlines()[-1]
     assert "round-off" in summary
     assert "gravity" not in summary and "triangle" not in summary, summary
+
+
+def test_contacts_compare_constrained_dynamics_with_pinocchio() -> None:
+    import subprocess
+    import sys
+
+    res = subprocess.run([sys.executable, "-m", "featherdyn", "verify", "solo12", "--floating-base", "--samples", "3",
+                          "--contacts", "FL_FOOT,HR_FOOT"], capture_output=True, text=True, timeout=600, check=False)
+    assert res.returncode == 0, res.stdout + res.stderr
+    rows = [ln for ln in res.stdout.splitlines() if ln.startswith("contacts")]
+    assert len(rows) == 6 and all(ln.rstrip().endswith("pass") for ln in rows), rows
+    bad = subprocess.run([sys.executable, "-m", "featherdyn", "verify", "panda", "--contacts", "no_such_frame"],
+                         capture_output=True, text=True, timeout=600, check=False)
+    assert bad.returncode == 2 and "no_such_frame" in bad.stderr and not bad.stdout, bad.stdout + bad.stderr

@@ -14,7 +14,7 @@ from __future__ import annotations
 import os
 import time
 import warnings
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 
 from ..tolerances import VERIFY_ALGEBRA, VERIFY_DYNAMICS
 from .check import check_values
@@ -33,7 +33,7 @@ DYNAMICS_TOL = VERIFY_DYNAMICS
 
 def run(robot: str | os.PathLike[str] | None = None, *, floating_base: bool = False, samples: int = 10,
         seed: int = 0, tol: float | None = None, algebra: bool = True, strict: bool = False,
-        progress: Callable[[str], None] | None = None) -> VerifyReport:
+        progress: Callable[[str], None] | None = None, contacts: Sequence[str] = ()) -> VerifyReport:
     """Verify one robot (and the spatial algebra) against Pinocchio.
 
     Args:
@@ -44,6 +44,9 @@ def run(robot: str | os.PathLike[str] | None = None, *, floating_base: bool = Fa
         algebra: also compare the spatial algebra with Pinocchio's operations.
         strict: physicality warnings of the URDF loader become errors.
         progress: called with a short message as each stage starts.
+        contacts: frames to hold fixed (3D point contacts in LOCAL_WORLD_ALIGNED, and one 6D contact in
+            LOCAL on the first): constrained and impulse dynamics compared with Pinocchio's
+            ``constraintDynamics`` / ``impulseDynamics``.
 
     Raises:
         ModelError, URDFError: the robot cannot be found or loaded.
@@ -62,6 +65,8 @@ def run(robot: str | os.PathLike[str] | None = None, *, floating_base: bool = Fa
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         model = load_urdf(path, floating_base=floating_base, strict=strict)
+    for frame in contacts:  # an unknown contact frame is refused before any work
+        model.resolve_frame(frame)
     base = "floating" if floating_base else "fixed"
     report = VerifyReport(
         title=f"featherdyn verify {name} ({base} base, nq={model.nq}, nv={model.nv}, {model.nbodies} bodies; "
@@ -79,6 +84,13 @@ def run(robot: str | os.PathLike[str] | None = None, *, floating_base: bool = Fa
         progress("building the Pinocchio model")
     pair = RobotPair.from_urdf(model, str(path), floating_base)
     report.results += dynamics_checks(pair, samples=samples, seed=seed, tol=tol, progress=progress)
+    if contacts:
+        from .contacts import contact_checks
+
+        if progress:
+            progress("constrained dynamics")
+        report.results += contact_checks(pair, list(contacts), samples=samples, seed=seed, tol=tol)
+        report.meta["contacts"] = list(contacts)
     report.diagnostics = model_diagnostics(model).to_dict()
     report.meta["seconds"] = round(time.perf_counter() - t0, 3)
     return report

@@ -176,6 +176,7 @@ class RunMeta(TypedDict, total=False):
     load_warnings: list[str]
     seconds: float
     error: str
+    contacts: list[str]
 
 
 @dataclass
