@@ -639,9 +639,18 @@ RowStatus rnea_derivatives_n(const ModelData& md, const In& q, const In& v, cons
   FD_TRY_ROWS(rows(a, N, mv.nv, ARG_A, A));
   FD_TRY_ROWS(rows(f_ext, N, 6 * static_cast<size_t>(mv.nb), ARG_FEXT, FX));
   double *DQ = dq.data(), *DV = dv.data();
-  return for_rows(N, [&](std::int64_t r) -> std::int64_t {
-    FD_TRY(check_state(mv, Q.row(r), V.row(r), A.row(r), FX.row(r)));
-    group_kernels().rnea_derivatives(mv, Q.row(r), V.row(r), A.row(r), FX.row(r), gravity, DQ + r * n2, DV + r * n2);
+  fdgroup::GroupArgs args{&mv, Q, V, A, FX, gravity, DQ, n2};
+  args.out2 = DV;
+  const RowStatus st = for_row_groups(
+      N, [&](std::int64_t r) { return check_state(mv, Q.row(r), V.row(r), A.row(r), FX.row(r)); },
+      [&](std::int64_t r) -> std::int64_t {
+        group_kernels().rnea_derivatives(mv, Q.row(r), V.row(r), A.row(r), FX.row(r), gravity, DQ + r * n2,
+                                         DV + r * n2);
+        return OK;
+      },
+      group_kernels().rnea_derivatives_group, args);
+  if (st.second != OK) return st;
+  return for_rows(N, [&](std::int64_t r) -> std::int64_t {  // results that finite input overflowed
     FD_TRY(finite_result(DQ + r * n2, n2));
     return finite_result(DV + r * n2, n2);
   });

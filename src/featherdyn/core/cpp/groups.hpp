@@ -21,6 +21,7 @@ struct GroupArgs {
   bool gravity;
   double* out;       // row r at out + r * out_stride
   std::int64_t out_stride;
+  double* out2 = nullptr;  // a second output of the same stride (∂τ/∂q̇ next to ∂τ/∂q)
 };
 
 // One group of `width` rows from row r0: 0, or non-zero when some lane failed (ABA: singular).
@@ -34,7 +35,7 @@ using MinverseFn = int (*)(const fdcore::ModelView&, const double* q, double* Mi
 struct GroupKernels {
   const char* isa;
   int width;
-  GroupFn rnea, crba, aba, fk;
+  GroupFn rnea, crba, aba, fk, rnea_derivatives_group;
   RneaDerivativesFn rnea_derivatives;
   MinverseFn minverse;
 };
