@@ -27,6 +27,7 @@ from ..errors import ModelError, ShapeError
 from ..frames import LOCAL, LOCAL_WORLD_ALIGNED, WORLD, ReferenceFrame, as_reference_frame
 from ..model import Model
 from ..rotation import se3_log
+from . import _dask
 from ._checks import check_state
 from .dynamics import generalized_gravity
 from .kinematics import (
@@ -146,6 +147,8 @@ def constraint_jacobian(model: Model, q: ArrayLike, constraints: Sequence[Constr
         point: the linear rows of the frame Jacobian in ``reference``;  frame: the frame Jacobian;
         loop: the chosen rows of J_a − ᵃX_b J_b (in a's frame, then ``reference``)
     """
+    if _dask.lazy(q):
+        return _dask.call(constraint_jacobian, model, {"q": q}, constraints=constraints)
     items = _constraints(constraints)
     st = check_state(model, q)
     return _stack(model, st.q, None, items)[0]
@@ -158,6 +161,8 @@ def constraint_drift(model: Model, q: ArrayLike, v: ArrayLike, constraints: Sequ
         point: the classical acceleration of the frame's origin;  frame: its spatial acceleration;
         loop: d/dt (v_a − ᵃX_b v_b) at q̈ = 0 — all in ``reference``
     """
+    if _dask.lazy(q, v):
+        return _dask.call(constraint_drift, model, {"q": q, "v": v}, constraints=constraints)
     items = _constraints(constraints)
     st = check_state(model, q, v=v)
     gamma = _stack(model, st.q, st.arrays["v"], items)[1]
@@ -167,6 +172,8 @@ def constraint_drift(model: Model, q: ArrayLike, v: ArrayLike, constraints: Sequ
 
 def delassus(model: Model, q: ArrayLike, constraints: Sequence[Constraint] | Constraint) -> np.ndarray:
     """``J M⁻¹ Jᵀ`` `(..., m, m)` from M's tree-sparse factor, without forming M⁻¹."""
+    if _dask.lazy(q):
+        return _dask.call(delassus, model, {"q": q}, constraints=constraints)
     J = constraint_jacobian(model, q, constraints)
     return _compiled.delassus(model, check_state(model, q).q, J)
 
@@ -209,6 +216,8 @@ def constrained_dynamics(model: Model, q: ArrayLike, v: ArrayLike, tau: ArrayLik
     Raises:
         ConstraintError: dependent constraints with ``mu = 0`` (the message suggests ``mu``).
     """
+    if _dask.lazy(q, v, tau, f_ext):
+        return _dask.call(constrained_dynamics, model, {"q": q, "v": v, "tau": tau, "f_ext": f_ext}, constraints=constraints, mu=mu, max_iter=max_iter, tol=tol)
     items = _constraints(constraints)
     st = check_state(model, q, v=v, tau=tau)
     qd = st.arrays["v"]
@@ -234,6 +243,8 @@ def impulse_dynamics(model: Model, q: ArrayLike, v: ArrayLike, constraints: Sequ
 
         M (v⁺ − v⁻) = Jᵀ Λ,     J v⁺ = −e J v⁻      (e: the restitution coefficient, 0 ≤ e ≤ 1)
     """
+    if _dask.lazy(q, v):
+        return _dask.call(impulse_dynamics, model, {"q": q, "v": v}, constraints=constraints, restitution=restitution, mu=mu)
     if not (0.0 <= float(restitution) <= 1.0):
         raise ModelError(f"restitution: expected a number in [0, 1], got {restitution!r}")
     items = _constraints(constraints)
@@ -265,6 +276,8 @@ def operational_space_inertia(model: Model, q: ArrayLike, frames: Sequence[str |
 
         J M⁻¹ Jᵀ from M's tree-sparse factor (M is never inverted); μ > 0 regularises a singular J
     """
+    if _dask.lazy(q):
+        return _dask.call(operational_space_inertia, model, {"q": q}, frames=frames, reference=reference, mu=mu)
     st = check_state(model, q)
     J = _frames_jacobian(model, st.q, frames, reference)
     D = _compiled.delassus(model, st.q, J) + float(mu) * np.eye(J.shape[-2])
@@ -290,6 +303,8 @@ def operational_space(model: Model, q: ArrayLike, v: ArrayLike, frames: Sequence
 
         Λ = (J M⁻¹ Jᵀ)⁻¹,   J̄ = M⁻¹ Jᵀ Λ,   μ = Λ (J M⁻¹ h − J̇ v),   p = J̄ᵀ g
     """
+    if _dask.lazy(q, v):
+        return _dask.call(operational_space, model, {"q": q, "v": v}, frames=frames, reference=reference)
     from .dynamics import nonlinear_effects
     from .kinematics import frame_jacobian_time_variation
 

@@ -18,6 +18,7 @@ from .. import core as _compiled
 from ..algorithms import derivatives as _ref
 from ..frames import LOCAL, ReferenceFrame, as_reference_frame
 from ..model import Model
+from . import _dask
 from ._backend import CORE, core_path, select_backend
 from ._checks import as_dtype, batch_with_f_ext, check_f_ext, check_state, finite_result, quiet
 from .dynamics import crba
@@ -51,6 +52,8 @@ def rnea_derivatives(model: Model, q: ArrayLike, v: ArrayLike, a: ArrayLike, f_e
                 return dq, dv, M
         except (TypeError, AttributeError):
             pass
+    if _dask.lazy(q, v, a, f_ext):
+        return _dask.call(rnea_derivatives, model, {"q": q, "v": v, "a": a, "f_ext": f_ext}, backend=backend)
     fx = check_f_ext(model, f_ext)
     st = check_state(model, q, v=v, a=a)
     dtype = batch_with_f_ext(st, fx)[1]
@@ -81,6 +84,8 @@ def aba_derivatives(model: Model, q: ArrayLike, v: ArrayLike, tau: ArrayLike, f_
                 return dq, dv, Minv
         except (TypeError, AttributeError):
             pass
+    if _dask.lazy(q, v, tau, f_ext):
+        return _dask.call(aba_derivatives, model, {"q": q, "v": v, "tau": tau, "f_ext": f_ext}, backend=backend)
     fx = check_f_ext(model, f_ext)
     st = check_state(model, q, v=v, tau=tau)
     dtype = batch_with_f_ext(st, fx)[1]
@@ -99,6 +104,8 @@ def mass_matrix_inverse(model: Model, q: ArrayLike, *, backend: str | None = Non
     Raises:
         SingularMassMatrixError: naming the joint, when M(q) is singular.
     """
+    if _dask.lazy(q):
+        return _dask.call(mass_matrix_inverse, model, {"q": q}, backend=backend)
     st = check_state(model, q)
     if select_backend(backend, st.dtype) == "compiled":
         return as_dtype(_compiled.mass_matrix_inverse(model, st.q), st.dtype)
@@ -116,6 +123,8 @@ def frame_velocity_derivatives(model: Model, q: ArrayLike, v: ArrayLike, frame: 
     point (the frame's origin) moves with q; Pinocchio's ``getFrameVelocityDerivatives`` keeps the
     point fixed: its linear rows lack ``ω × J_v[:, j]``. LOCAL and WORLD are the same in both.
     """
+    if _dask.lazy(q, v):
+        return _dask.call(frame_velocity_derivatives, model, {"q": q, "v": v}, frame=frame, reference=reference, backend=backend)
     fid, ref = model.resolve_frame(frame), as_reference_frame(reference)
     st = check_state(model, q, v=v)
     if select_backend(backend, st.dtype) == "compiled":
@@ -135,6 +144,8 @@ def frame_acceleration_derivatives(model: Model, q: ArrayLike, v: ArrayLike, a: 
     (``LOCAL_WORLD_ALIGNED``: as :func:`frame_velocity_derivatives`; Pinocchio's linear rows lack
     ``ω̇ × J_v[:, j]``.)
     """
+    if _dask.lazy(q, v, a):
+        return _dask.call(frame_acceleration_derivatives, model, {"q": q, "v": v, "a": a}, frame=frame, reference=reference, backend=backend)
     fid, ref = model.resolve_frame(frame), as_reference_frame(reference)
     st = check_state(model, q, v=v, a=a)
     if select_backend(backend, st.dtype) == "compiled":
@@ -150,6 +161,8 @@ def joint_torque_regressor(model: Model, q: ArrayLike, v: ArrayLike, a: ArrayLik
 
         Y[joint j, 10 i + k] = S_jᵀ ʲX_i* (I(e_k) a_i + v_i ×* I(e_k) v_i)    (j supporting body i)
     """
+    if _dask.lazy(q, v, a):
+        return _dask.call(joint_torque_regressor, model, {"q": q, "v": v, "a": a}, backend=backend)
     st = check_state(model, q, v=v, a=a)
     if select_backend(backend, st.dtype) == "compiled":
         return as_dtype(_compiled.joint_torque_regressor(model, st.q, st.arrays["v"], st.arrays["a"]), st.dtype)

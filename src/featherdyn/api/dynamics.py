@@ -19,6 +19,7 @@ from ..algorithms import coriolis as _coriolis
 from ..algorithms import crba as _crba
 from ..algorithms import rnea as _rnea
 from ..model import Model
+from . import _dask
 from ._backend import CORE, OK, core_path, select_backend
 from ._checks import State, as_dtype, batch_with_f_ext, check_f_ext, check_state, finite_result, quiet
 from .kinematics import kinematics_of
@@ -59,6 +60,8 @@ def rnea(model: Model, q: ArrayLike, v: ArrayLike, a: ArrayLike, f_ext: ArrayLik
                 return tau
         except TypeError:  # arguments the binding does not take as they are: the general path converts
             pass
+    if _dask.lazy(q, v, a, f_ext):
+        return _dask.call(rnea, model, {"q": q, "v": v, "a": a, "f_ext": f_ext}, gravity=gravity, backend=backend)
     fx = check_f_ext(model, f_ext)
     st = check_state(model, q, v=v, a=a)
     return _inverse_dynamics(model, st, st.arrays["v"], st.arrays["a"], fx, gravity, backend)
@@ -77,6 +80,8 @@ def nonlinear_effects(model: Model, q: ArrayLike, v: ArrayLike, *, backend: str 
                 return h
         except TypeError:  # arguments the binding does not take as they are: the general path converts
             pass
+    if _dask.lazy(q, v):
+        return _dask.call(nonlinear_effects, model, {"q": q, "v": v}, backend=backend)
     st = check_state(model, q, v=v)
     qd = st.arrays["v"]
     return _inverse_dynamics(model, st, qd, np.zeros(qd.shape, dtype=qd.dtype), None, True, backend)
@@ -95,6 +100,8 @@ def generalized_gravity(model: Model, q: ArrayLike, *, backend: str | None = Non
                 return g
         except TypeError:  # arguments the binding does not take as they are: the general path converts
             pass
+    if _dask.lazy(q):
+        return _dask.call(generalized_gravity, model, {"q": q}, backend=backend)
     st = check_state(model, q)
     zero = np.zeros(st.q.shape[:-1] + (model.nv,), dtype=st.dtype)
     return _inverse_dynamics(model, st, zero, zero, None, True, backend)
@@ -115,6 +122,8 @@ def crba(model: Model, q: ArrayLike, *, backend: str | None = None) -> np.ndarra
                 return M
         except TypeError:  # arguments the binding does not take as they are: the general path converts
             pass
+    if _dask.lazy(q):
+        return _dask.call(crba, model, {"q": q}, backend=backend)
     st = check_state(model, q)
     if select_backend(backend, st.dtype) == "compiled":
         return finite_result(as_dtype(_compiled.crba(model, st.q), st.dtype), "crba")
@@ -147,6 +156,8 @@ def aba(model: Model, q: ArrayLike, v: ArrayLike, tau: ArrayLike, f_ext: ArrayLi
                 return qdd
         except TypeError:  # arguments the binding does not take as they are: the general path converts
             pass
+    if _dask.lazy(q, v, tau, f_ext):
+        return _dask.call(aba, model, {"q": q, "v": v, "tau": tau, "f_ext": f_ext}, gravity=gravity, backend=backend)
     fx = check_f_ext(model, f_ext)
     st = check_state(model, q, v=v, tau=tau)
     dtype = batch_with_f_ext(st, fx)[1]
@@ -162,6 +173,8 @@ def coriolis_matrix(model: Model, q: ArrayLike, v: ArrayLike, *, backend: str | 
     The Christoffel-consistent factorisation (Pinocchio's ``computeCoriolisMatrix``);
     see ``algorithms/coriolis.py``.
     """
+    if _dask.lazy(q, v):
+        return _dask.call(coriolis_matrix, model, {"q": q, "v": v}, backend=backend)
     st = check_state(model, q, v=v)
     return finite_result(quiet(_coriolis.coriolis_matrix, model, kinematics_of(model, st, st.arrays["v"], None, backend)),
                          "coriolis_matrix")

@@ -19,6 +19,7 @@ from ..algorithms import energy as _energy
 from ..model import Model
 from ..results import CenterOfMass
 from ..spatial_algebra import SpatialForce
+from . import _dask
 from ._backend import select_backend
 from ._checks import as_dtype, check_state, finite_result, quiet
 from .kinematics import kinematics_of
@@ -32,6 +33,8 @@ def kinetic_energy(model: Model, q: ArrayLike, v: ArrayLike, *, backend: str | N
 
         T = Σ_i ½ v_iᵀ I_i v_i = ½ q̇ᵀ M(q) q̇
     """
+    if _dask.lazy(q, v):
+        return _dask.call(kinetic_energy, model, {"q": q, "v": v}, backend=backend)
     st = check_state(model, q, v=v)
     if select_backend(backend, st.dtype) == "compiled":
         return as_dtype(_compiled.kinetic_energy(model, st.q, st.arrays["v"]), st.dtype)
@@ -44,6 +47,8 @@ def potential_energy(model: Model, q: ArrayLike, *, backend: str | None = None) 
 
         U = −Σ_i m_i gᵀ ⁰c_i
     """
+    if _dask.lazy(q):
+        return _dask.call(potential_energy, model, {"q": q}, backend=backend)
     st = check_state(model, q)
     if select_backend(backend, st.dtype) == "compiled":
         return as_dtype(_compiled.potential_energy(model, st.q), st.dtype)
@@ -67,6 +72,8 @@ def center_of_mass(model: Model, q: ArrayLike, v: ArrayLike | None = None, *, ba
     Raises:
         ModelError: the tree has no mass (the centre of mass is undefined).
     """
+    if _dask.lazy(q, v):
+        return _dask.call(center_of_mass, model, {"q": q, "v": v}, backend=backend)
     st = check_state(model, q, optional=("v",), v=v)
     if select_backend(backend, st.dtype) == "compiled":
         qd = st.arrays.get("v")
@@ -87,6 +94,8 @@ def centroidal_momentum_matrix(model: Model, q: ArrayLike, *, backend: str | Non
 
         A_O[:, k] = ⁰I^C_k ⁰X_k S_k,    A_G = [[1, −c×], [0, 1]] A_O
     """
+    if _dask.lazy(q):
+        return _dask.call(centroidal_momentum_matrix, model, {"q": q}, backend=backend)
     st = check_state(model, q)
     if select_backend(backend, st.dtype) == "compiled":
         return as_dtype(_compiled.centroidal_momentum_matrix(model, st.q), st.dtype)
@@ -101,6 +110,8 @@ def centroidal_momentum(model: Model, q: ArrayLike, v: ArrayLike, *, backend: st
 
         h_G = A_G(q) q̇     (p = m ċ)
     """
+    if _dask.lazy(q, v):
+        return _dask.call(centroidal_momentum, model, {"q": q, "v": v}, backend=backend)
     st = check_state(model, q, v=v)
     if select_backend(backend, st.dtype) == "compiled":
         return SpatialForce._wrap(as_dtype(_compiled.centroidal_momentum(model, st.q, st.arrays["v"]), st.dtype), None)

@@ -19,6 +19,7 @@ from ..frames import LOCAL, LOCAL_WORLD_ALIGNED, WORLD, ReferenceFrame, as_refer
 from ..model import Model
 from ..results import Kinematics
 from ..spatial_algebra import PluckerTransform, SpatialMotion
+from . import _dask
 from ._backend import CORE, OK, core_path, select_backend
 from ._checks import State, as_dtype, check_state, finite_result, quiet
 
@@ -95,6 +96,8 @@ def forward_kinematics(model: Model, q: ArrayLike, v: ArrayLike | None = None, a
                 return _kinematics(model, H, Hp, vel, acc, _F64)
         except TypeError:  # arguments the binding does not take as they are: the general path converts
             pass
+    if _dask.lazy(q, v, a):
+        return _dask.call(forward_kinematics, model, {"q": q, "v": v, "a": a}, backend=backend)
     if a is not None and v is None:
         raise ShapeError("a: joint accelerations need joint velocities v as well")
     st = check_state(model, q, optional=("v", "a"), v=v, a=a)
@@ -115,6 +118,8 @@ def frame_placement(model: Model, q: ArrayLike, frame: str | int, *, backend: st
                 return PluckerTransform._wrap(R, p, None, None)
         except TypeError:  # arguments the binding does not take as they are: the general path converts
             pass
+    if _dask.lazy(q):
+        return _dask.call(frame_placement, model, {"q": q}, frame=frame, backend=backend)
     fid = _frame(model, frame)
     st = check_state(model, q)
     oMf = quiet(_kin.frame_pose, model, kinematics_of(model, st, None, None, backend), fid)
@@ -130,6 +135,8 @@ def frame_velocity(model: Model, q: ArrayLike, v: ArrayLike, frame: str | int, r
 
         LOCAL:  ᶠv = ᶠX_b v_b      WORLD: ⁰X_f ᶠv      LOCAL_WORLD_ALIGNED: [R ω; R v]
     """
+    if _dask.lazy(q, v):
+        return _dask.call(frame_velocity, model, {"q": q, "v": v}, frame=frame, reference=reference, backend=backend)
     fid, ref = _frame(model, frame), as_reference_frame(reference)
     st = check_state(model, q, v=v)
     vel = quiet(_kin.frame_velocity, model, kinematics_of(model, st, st.arrays["v"], None, backend), fid, ref)
@@ -145,6 +152,8 @@ def frame_acceleration(model: Model, q: ArrayLike, v: ArrayLike, a: ArrayLike, f
     exactly like :func:`frame_velocity`. Its linear part is **not** the
     acceleration of the frame origin: see :func:`frame_classical_acceleration`.
     """
+    if _dask.lazy(q, v, a):
+        return _dask.call(frame_acceleration, model, {"q": q, "v": v, "a": a}, frame=frame, reference=reference, backend=backend)
     fid, ref = _frame(model, frame), as_reference_frame(reference)
     st = check_state(model, q, v=v, a=a)
     kin = kinematics_of(model, st, st.arrays["v"], st.arrays["a"], backend)
@@ -165,6 +174,8 @@ def frame_classical_acceleration(model: Model, q: ArrayLike, v: ArrayLike, a: Ar
     of the frame origin (in frame or world axes). In ``WORLD`` it is that of the
     body point passing through the world origin (Pinocchio's convention).
     """
+    if _dask.lazy(q, v, a):
+        return _dask.call(frame_classical_acceleration, model, {"q": q, "v": v, "a": a}, frame=frame, reference=reference, backend=backend)
     fid, ref = _frame(model, frame), as_reference_frame(reference)
     st = check_state(model, q, v=v, a=a)
     kin = kinematics_of(model, st, st.arrays["v"], st.arrays["a"], backend)
@@ -180,6 +191,8 @@ def joint_jacobians(model: Model, q: ArrayLike, *, backend: str | None = None) -
 
         J[:, k] = ⁰X_k S_k      (the Jacobian of body b keeps the columns of its support)
     """
+    if _dask.lazy(q):
+        return _dask.call(joint_jacobians, model, {"q": q}, backend=backend)
     st = check_state(model, q)
     if select_backend(backend, st.dtype) == "compiled":
         return as_dtype(_compiled.joint_jacobians(model, st.q), st.dtype)
@@ -207,6 +220,8 @@ def frame_jacobian(model: Model, q: ArrayLike, frame: str | int, reference: Refe
                     return J_
             except TypeError:  # arguments the binding does not take as they are: the general path converts
                 pass
+    if _dask.lazy(q):
+        return _dask.call(frame_jacobian, model, {"q": q}, frame=frame, reference=reference, backend=backend)
     fid, ref = _frame(model, frame), as_reference_frame(reference)
     st = check_state(model, q)
     if select_backend(backend, st.dtype) == "compiled":
@@ -226,6 +241,8 @@ def frame_jacobian_time_variation(model: Model, q: ArrayLike, v: ArrayLike, fram
 
     and the classical acceleration identity ``a_classical = J q̈ + J̇ q̇`` in LOCAL_WORLD_ALIGNED.
     """
+    if _dask.lazy(q, v):
+        return _dask.call(frame_jacobian_time_variation, model, {"q": q, "v": v}, frame=frame, reference=reference, backend=backend)
     fid, ref = _frame(model, frame), as_reference_frame(reference)
     st = check_state(model, q, v=v)
     if select_backend(backend, st.dtype) == "compiled":
