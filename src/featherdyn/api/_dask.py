@@ -33,17 +33,19 @@ Dask is imported only when a Dask array arrives: ``import featherdyn`` never imp
 
 from __future__ import annotations
 
+import copy
 import dataclasses
 import hashlib
 import math
 import pickle
+import re
 from collections.abc import Callable
 from typing import Any
 
 import numpy as np
 
-from ..configuration import neutral
-from ..errors import ShapeError
+from ..configuration import random_configuration
+from ..errors import DTypeError, FeatherdynError, ShapeError
 from ..model import Model
 
 __all__ = ["lazy", "call", "model_key"]
@@ -52,6 +54,8 @@ __all__ = ["lazy", "call", "model_key"]
 _CORE_NDIM = {"q": 1, "q0": 1, "q1": 1, "v": 1, "a": 1, "tau": 1, "f_ext": 2}
 #: the arguments that are configurations (their single-state stand-in is the neutral configuration)
 _CONFIGURATIONS = ("q", "q0", "q1")
+#: the state index in the words of featherdyn's errors ("… at index (4, 2)")
+_AT_INDEX = re.compile(r"at index \((\d+(?:, \d+)*)\)")
 
 
 def _is_dask(x: Any) -> bool:
@@ -110,13 +114,21 @@ def _rebuild(meta: Any, arrays: list[Any]) -> Any:
 
 def _block(fn: Callable[..., Any], names: tuple[str, ...], kwargs: dict[str, Any], batch_ndim: int,
            packed: bool, dtype: np.dtype, model: Model, *blocks: np.ndarray) -> np.ndarray:
-    """One task: ``fn`` on one block of states, its result's arrays packed along one last axis."""
-    result = fn(model, **dict(zip(names, blocks, strict=True)), **kwargs)
+    """One task: ``fn`` on one block of states, its result's arrays packed along one last axis.
+
+    ``blocks`` ends with one block of ``arange`` per batch axis: where the block starts in the batch.
+    """
+    states = blocks[: len(names)]
+    try:
+        result = fn(model, **dict(zip(names, states, strict=True)), **kwargs)
+    except FeatherdynError as error:
+        offsets = tuple(int(r[0]) for r in blocks[len(names):] if len(r))
+        raise _block_errors(error, offsets) from None
     arrays: list[np.ndarray] = []
     _leaves(result, arrays)
     if not packed:
         return arrays[0]
-    batch = blocks[0].shape[:batch_ndim]
+    batch = states[0].shape[:batch_ndim]
     return np.concatenate([np.asarray(x, dtype=dtype).reshape(batch + (-1,)) for x in arrays], axis=-1)
 
 
@@ -125,14 +137,58 @@ def _block(fn: Callable[..., Any], names: tuple[str, ...], kwargs: dict[str, Any
 # --------------------------------------------------------------------------
 
 
-def _stand_in(model: Model, name: str, x: Any) -> np.ndarray:
-    """One state with the trailing shape and dtype of argument ``x``: neutral configuration or zeros."""
+def _stand_in(model: Model, name: str, x: Any, rng: np.random.Generator) -> np.ndarray:
+    """One state with the trailing shape and dtype of argument ``x``: a random configuration or vector.
+
+    Random rather than neutral: the neutral configuration is often singular (a
+    stretched arm's operational-space inertia, dependent contacts).
+    """
     k = _CORE_NDIM[name]
     shape = tuple(x.shape[-k:]) if x.ndim >= k else tuple(x.shape)
-    dtype = x.dtype
     if name in _CONFIGURATIONS and shape == (model.nq,):
-        return neutral(model).astype(dtype)
-    return np.zeros(shape, dtype=dtype)
+        return random_configuration(model, rng).astype(x.dtype)
+    return rng.standard_normal(shape).astype(x.dtype)
+
+
+def _first_state(name: str, x: Any) -> np.ndarray:
+    """The first state of argument ``x`` (computed: a Dask array's first block is read)."""
+    k = _CORE_NDIM[name]
+    first = x[(0,) * max(x.ndim - k, 0)]
+    return np.asarray(first.compute() if _is_dask(first) else first)
+
+
+def _structure(fn: Callable[..., Any], model: Model, arrays: dict[str, Any], nones: dict[str, None],
+               kwargs: dict[str, Any]) -> Any:
+    """``fn`` on one state shaped like the arguments: what NumPy would raise, else the result's structure.
+
+    A stand-in state that meets a value-dependent error (a singular matrix, dependent constraints)
+    is replaced by the arguments' first state; a shape error is raised as the full-shape call
+    raises it (zero-stride stand-ins, no memory), so its message names the shapes given.
+    """
+    rng = np.random.default_rng(0)
+    try:
+        return fn(model, **{k: _stand_in(model, k, x, rng) for k, x in arrays.items()}, **nones, **kwargs)
+    except (ShapeError, DTypeError):
+        full = {k: np.broadcast_to(_stand_in(model, k, x, rng), x.shape) for k, x in arrays.items()}
+        fn(model, **full, **nones, **kwargs)  # raises the NumPy call's words
+        raise
+    except (FeatherdynError, np.linalg.LinAlgError):
+        return fn(model, **{k: _first_state(k, x) for k, x in arrays.items()}, **nones, **kwargs)
+
+
+def _block_errors(error: Exception, offsets: tuple[int, ...]) -> Exception:
+    """``error`` raised in a block, its ``at index (i, j, …)`` moved from block to whole-batch indices."""
+    message = str(error)
+    match = _AT_INDEX.search(message)
+    if not offsets or match is None:
+        return error
+    index = [int(i) for i in match.group(1).split(",")]
+    if len(index) < len(offsets):
+        return error
+    index[: len(offsets)] = [i + o for i, o in zip(index, offsets, strict=False)]
+    moved = copy.copy(error)
+    moved.args = (message[: match.start(1)] + ", ".join(map(str, index)) + message[match.end(1):],) + error.args[1:]
+    return moved
 
 
 def call(fn: Callable[..., Any], model: Model, states: dict[str, Any], **kwargs: Any) -> Any:
@@ -157,8 +213,7 @@ def call(fn: Callable[..., Any], model: Model, states: dict[str, Any], **kwargs:
     given = {k: x for k, x in states.items() if x is not None}
     arrays: dict[str, Any] = {k: x if _is_dask(x) else np.asarray(x) for k, x in given.items()}
     # 1. one state through the function itself: the NumPy path's errors, and the result's structure
-    meta = fn(model, **{k: _stand_in(model, k, x) for k, x in arrays.items()},
-              **{k: None for k in states if k not in given}, **kwargs)
+    meta = _structure(fn, model, arrays, {k: None for k in states if k not in given}, kwargs)
     leaves: list[np.ndarray] = []
     _leaves(meta, leaves)
     # 2. batch axes: broadcast shapes, chunks only along them
@@ -192,6 +247,8 @@ def call(fn: Callable[..., Any], model: Model, states: dict[str, Any], **kwargs:
         if tuple(xd.shape) != batch + core:
             xd = da.broadcast_to(xd, batch + core)
         args += [xd, batch_index + tuple(f"{name}{j}" for j in range(k))]
+    for i, n in enumerate(batch):  # where each block starts, for the errors raised in it
+        args += [da.arange(n, chunks=-1), (batch_index[i],)]
     packed = len(leaves) != 1
     dtype = np.result_type(*leaves) if leaves else np.dtype(np.float64)
     if packed:
