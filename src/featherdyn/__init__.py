@@ -61,6 +61,7 @@ from .constraints import FrameContact, LoopConstraint, PointContact
 from .errors import (
     BackendError,
     ConstraintError,
+    DatasetError,
     DTypeError,
     FeatherdynError,
     FrameMismatchError,
@@ -148,6 +149,7 @@ __all__ = [
     "spatial_algebra",
     "BackendError",
     "ConstraintError",
+    "DatasetError",
     "DTypeError",
     "FeatherdynError",
     "FrameMismatchError",

@@ -6,6 +6,8 @@
                       [--json FILE] [--report FILE.html] [--all]
     featherdyn check VALUES.npz --robot ROBOT|URDF [--floating-base] [--convention featherdyn|pinocchio]
                      [--tol T] [--json FILE]
+    featherdyn dataset ROBOT|URDF --states N --out DIR.zarr [--quantities tau,M,ddq] [--floating-base]
+                       [--seed S] [--chunk C] [--scheduler local|sync|ADDRESS] [--workers W]
     featherdyn info ROBOT|URDF [--floating-base]
     featherdyn list
     featherdyn bench [ROBOT|URDF] [--floating-base] [--repeats N] [--batch N] [--chains 8,16,...] [--output FILE]
@@ -74,6 +76,7 @@ def build_parser() -> argparse.ArgumentParser:
     i.add_argument("--floating-base", action="store_true")
     sub.add_parser("list", help="the names of the robot library")
     _add_check(sub)
+    _add_dataset(sub)
     from .bench import add_arguments as add_bench_arguments
 
     add_bench_arguments(sub.add_parser("bench", help="time the compiled core against Pinocchio (ratios)"))
@@ -102,6 +105,50 @@ def _add_check(sub: argparse._SubParsersAction[_Parser]) -> None:
     p.add_argument("--tol", type=positive_float, default=DEFAULT_TOL,
                    help=f"relative tolerance |a − b| / max(|b|, 1) (default {DEFAULT_TOL:g})")
     p.add_argument("--json", type=Path, default=None, metavar="FILE", help="write the full report as JSON")
+
+
+def _add_dataset(sub: argparse._SubParsersAction[_Parser]) -> None:
+    """``featherdyn dataset ROBOT --states N --out DIR.zarr`` (:mod:`featherdyn.dataset`)."""
+    from .dataset import DEFAULT_QUANTITIES, QUANTITIES
+
+    p = sub.add_parser(
+        "dataset", help="random states and their dynamics written to Zarr (resumable; one machine or a Dask cluster)",
+        description="Draw N random states (q within the joint limits; v, a, u standard normal) and write them with "
+                    "the chosen quantities to a Zarr group, one array per quantity, chunk by chunk. Deterministic "
+                    "for a seed whatever the number of workers; run the same command again to resume. Quantities: "
+                    + "; ".join(f"{k}: {q.description}" for k, q in QUANTITIES.items()) + ".")
+    p.add_argument("robot", metavar="ROBOT|URDF", help="a robot-library name (see `featherdyn list`) or a URDF file")
+    p.add_argument("--states", type=positive_int, required=True, metavar="N", help="number of states")
+    p.add_argument("--out", type=Path, required=True, metavar="DIR.zarr", help="the Zarr directory to write")
+    p.add_argument("--quantities", default=",".join(DEFAULT_QUANTITIES),
+                   help=f"comma-separated (default {','.join(DEFAULT_QUANTITIES)}; any of {','.join(QUANTITIES)})")
+    p.add_argument("--floating-base", action="store_true", help="put the root link on a free-flyer joint")
+    p.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
+    p.add_argument("--chunk", type=positive_int, default=10_000, metavar="C",
+                   help="states per chunk and per Zarr chunk (default 10000)")
+    p.add_argument("--scheduler", default="local", metavar="local|sync|ADDRESS",
+                   help="local: a LocalCluster of worker processes (default); sync: this process; "
+                        "or the address of a dask.distributed scheduler")
+    p.add_argument("--workers", type=positive_int, default=None, metavar="W",
+                   help="worker processes of --scheduler local (default: the cores available)")
+
+
+def _cmd_dataset(args: argparse.Namespace) -> int:
+    from . import verify
+    from .dataset import check_request, progress_bar, write_dataset
+    from .urdf import load_urdf
+
+    quantities = check_request(args.quantities.split(","), args.out, args.states, args.chunk)
+    _name, path = verify.resolve_robot(args.robot)
+    model = load_urdf(path, floating_base=args.floating_base)
+    _say(f"featherdyn dataset: {args.states} states of {args.robot} ({model.nq} q, {model.nv} v), "
+         f"{', '.join(quantities)} -> {args.out}")
+    run = write_dataset(model, args.out, states=args.states, quantities=quantities, seed=args.seed, chunk=args.chunk,
+                        scheduler=args.scheduler, workers=args.workers, robot=str(args.robot),
+                        floating_base=args.floating_base, progress=progress_bar())
+    print(f"{run.out}: {run.states} states; {run.computed_chunks} chunks computed, {run.skipped_chunks} already "
+          f"done; {run.seconds:.1f} s ({run.states_per_second:,.0f} states/s)")
+    return EXIT_OK
 
 
 def _cmd_check(args: argparse.Namespace) -> int:
@@ -283,7 +330,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     if args.command is None:
         parser.print_help()
         return EXIT_USAGE
-    commands = {"verify": _cmd_verify, "list": _cmd_list, "info": _cmd_info, "check": _cmd_check, "bench": _cmd_bench}
+    commands = {"verify": _cmd_verify, "list": _cmd_list, "info": _cmd_info, "check": _cmd_check, "bench": _cmd_bench,
+                "dataset": _cmd_dataset}
     try:
         return commands[args.command](args)
     except (FeatherdynError, ValueError) as exc:

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 __all__ = [
     "FeatherdynError",
+    "DatasetError",
     "ShapeError",
     "NonFiniteError",
     "DTypeError",
@@ -145,6 +146,11 @@ class SingularMassMatrixError(FeatherdynError, ValueError):
 class ConstraintError(FeatherdynError, ValueError):
     """Constraints that cannot be solved as given: dependent rows (a rank-deficient constraint Jacobian)
     with ``mu = 0``, or proximal iterations that did not converge."""
+
+
+class DatasetError(FeatherdynError, ValueError):
+    """A ``featherdyn dataset`` request refused before any work (unknown quantity, unwritable or
+    mismatched ``--out``, bad sizes, unreachable scheduler)."""
 
 
 class BackendError(FeatherdynError, ValueError):

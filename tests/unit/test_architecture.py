@@ -54,6 +54,7 @@ LAYER_OF: dict[str, str] = {
     "verify": "tools",
     "cli": "tools",
     "bench": "tools",
+    "dataset": "tools",
     "_cli_args": "tools",
     "__main__": "tools",
 }
