@@ -326,7 +326,7 @@ def write_dataset(model: Model, out: str | os.PathLike[str], *, states: int, qua
                 client = Client(cluster)
             else:
                 try:
-                    client = Client(scheduler, timeout="10s")
+                    client = Client(scheduler, timeout="5s")
                 except OSError as exc:
                     raise DatasetError(f"--scheduler {scheduler}: no Dask scheduler answers there ({exc})") from None
             model_future = client.scatter(model, broadcast=True)
