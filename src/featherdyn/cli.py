@@ -3,7 +3,7 @@
 ::
 
     featherdyn verify [ROBOT|URDF] [--floating-base] [--samples N] [--seed S] [--tol T] [--contacts F1,F2]
-                      [--json FILE] [--report FILE.html] [--all]
+                      [--json FILE] [--report FILE.html] [--all [--scheduler local|ADDRESS] [--workers W]]
     featherdyn check VALUES.npz --robot ROBOT|URDF [--floating-base] [--convention featherdyn|pinocchio]
                      [--tol T] [--json FILE]
     featherdyn dataset ROBOT|URDF --states N --out DIR.zarr [--quantities tau,M,ddq] [--floating-base]
@@ -68,6 +68,11 @@ def build_parser() -> argparse.ArgumentParser:
                    help="write an HTML report with the table and plots (opens offline)")
     v.add_argument("--all", action="store_true", help="verify every robot of the library (takes minutes)")
     v.add_argument("--strict", action="store_true", help="physicality warnings of the URDF loader are errors")
+    v.add_argument("--scheduler", default=None, metavar="local|ADDRESS",
+                   help="with --all: spread the robots over Dask workers (local: a LocalCluster on this machine; "
+                        "or a dask.distributed scheduler address)")
+    v.add_argument("--workers", type=positive_int, default=None, metavar="W",
+                   help="worker processes of --scheduler local (default: the cores available)")
     v.add_argument("--contacts", default="", metavar="FRAME[,FRAME...]",
                    help="also compare constrained and impulse dynamics with these frames held (Pinocchio's "
                         "constraintDynamics / impulseDynamics)")
@@ -203,6 +208,8 @@ def _cmd_verify(args: argparse.Namespace) -> int:
 
     if args.all and args.robot:
         raise FeatherdynError("give either a ROBOT or --all, not both")
+    if args.scheduler is not None and not args.all:
+        raise FeatherdynError("--scheduler spreads the robots of --all over workers: give --all as well")
     check_writable(args.json, "--json")
     check_writable(args.report, "--report")
     require_pinocchio()
@@ -213,17 +220,14 @@ def _cmd_verify(args: argparse.Namespace) -> int:
 
         names = list_robots()
         _say(f"verifying {len(names)} robots of the library, one line per robot (about a second each)…")
-        for k, name in enumerate(names, 1):
-            print(f"[{k}/{len(names)}] {name}", file=sys.stderr, flush=True)
-            try:
-                rep = verify.run(name, floating_base=args.floating_base, samples=args.samples, seed=args.seed,
-                                 tol=args.tol, algebra=(k == 1), strict=args.strict)
-            except FeatherdynError as exc:  # a robot that does not load is reported, not fatal
-                rep = verify.VerifyReport(title=f"featherdyn verify {name}: not loadable",
-                                          meta={"robot": name, "error": str(exc)})
-                rep.results.append(verify.CheckResult("load", "load_urdf", float("nan"), float("nan"), 0, 0.0,
-                                                      False, str(exc)))
-            reports.append(rep)
+        options = {"floating_base": args.floating_base, "samples": args.samples, "seed": args.seed,
+                   "tol": args.tol, "strict": args.strict}
+        if args.scheduler is None:
+            for k, name in enumerate(names, 1):
+                print(f"[{k}/{len(names)}] {name}", file=sys.stderr, flush=True)
+                reports.append(verify.run_or_report(name, algebra=(k == 1), **options))
+        else:
+            reports = _verify_distributed(names, options, args.scheduler, args.workers)
         width = max(len(n) for n in names)
         print(f"{'robot':<{width}}  checks  failed  worst rel err")
         for rep in reports:
@@ -250,6 +254,24 @@ def _cmd_verify(args: argparse.Namespace) -> int:
         _write(args.report, reports_to_html(reports))
         print(f"HTML report written to {args.report}")
     return EXIT_OK if all(r.passed for r in reports) else EXIT_MISMATCH
+
+
+def _verify_distributed(names: list[str], options: dict[str, object], scheduler: str,
+                        workers: int | None) -> list:
+    """``verify --all --scheduler``: one task per robot on Dask workers; reports in the library's order."""
+    from dask.distributed import as_completed
+
+    from . import verify
+    from ._distributed import dask_client
+
+    with dask_client(scheduler, workers) as client:
+        futures = {client.submit(verify.run_or_report, name, algebra=(k == 0), key=f"featherdyn-verify-{name}",
+                                 retries=1, **options): name for k, name in enumerate(names)}
+        done: dict[str, object] = {}
+        for k, fut in enumerate(as_completed(futures), 1):
+            done[futures[fut]] = fut.result()
+            print(f"[{k}/{len(names)}] {futures[fut]}", file=sys.stderr, flush=True)
+    return [done[name] for name in names]
 
 
 def _cmd_list(args: argparse.Namespace) -> int:

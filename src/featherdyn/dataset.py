@@ -39,12 +39,14 @@ import pickle
 import sys
 import time
 from collections.abc import Callable, Sequence
+from contextlib import nullcontext
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
+from ._distributed import available_cores, dask_client
 from .api import (
     aba,
     aba_derivatives,
@@ -292,7 +294,7 @@ def write_dataset(model: Model, out: str | os.PathLike[str], *, states: int, qua
         MissingDependencyError: zarr, or dask.distributed for a scheduler other than ``sync``.
     """
     names = check_request(quantities, out, states, chunk)
-    cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
+    cores = available_cores()
     if scheduler == "local":
         workers = workers or cores
         threads: int | None = max(1, cores // workers)
@@ -300,47 +302,26 @@ def write_dataset(model: Model, out: str | os.PathLike[str], *, states: int, qua
         threads = None
     spec = DatasetSpec(out=str(out), states=states, chunk=chunk, seed=seed, quantities=names, robot=robot,
                        floating_base=floating_base, threads=threads)
-    client = cluster = None
-    if scheduler != "sync":
-        try:
-            from dask.distributed import Client, LocalCluster, as_completed
-        except ImportError:
-            raise MissingDependencyError(
-                "featherdyn dataset --scheduler local|ADDRESS needs dask.distributed: "
-                "pip install 'featherdyn[distributed]' (or use --scheduler sync)") from None
-    todo = _prepare(model, spec)
-    skipped = spec.nchunks - len(todo)
-    start = time.perf_counter()
-    try:
-        if scheduler == "sync" or not todo:
+    # the scheduler first: one that does not answer is refused before the store is created
+    with nullcontext() if scheduler == "sync" else dask_client(scheduler, workers) as client:
+        todo = _prepare(model, spec)
+        skipped = spec.nchunks - len(todo)
+        start = time.perf_counter()
+        if client is None or not todo:
             for n, k in enumerate(todo, 1):
                 _write_chunk(model, spec, k)
                 if progress is not None:
                     progress(n, len(todo))
         else:
-            if scheduler == "local":
-                import logging
+            from dask.distributed import as_completed
 
-                cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                                       dashboard_address=None, silence_logs=logging.ERROR)
-                client = Client(cluster)
-            else:
-                try:
-                    client = Client(scheduler, timeout="5s")
-                except OSError as exc:
-                    raise DatasetError(f"--scheduler {scheduler}: no Dask scheduler answers there ({exc})") from None
-            model_future = client.scatter(model, broadcast=True)
+            model_future = client.scatter(model, broadcast=True)  # once per worker
             futures = [client.submit(_write_chunk, model_future, spec, k, key=f"featherdyn-dataset-chunk-{k}",
                                      retries=3) for k in todo]
             for n, fut in enumerate(as_completed(futures), 1):
                 fut.result()
                 if progress is not None:
                     progress(n, len(todo))
-    finally:
-        if client is not None:
-            client.close()
-        if cluster is not None:
-            cluster.close()
     return DatasetRun(str(out), states, len(todo), skipped, time.perf_counter() - start)
 
 

@@ -176,3 +176,4 @@ def test_bad_requests_are_refused_before_any_work(tmp_path: Path, reference: Pat
     assert p.returncode == 2 and "positive integer" in p.stderr
     p = cli("panda", "--states", "10", "--out", tmp_path / "s.zarr", "--scheduler", "tcp://127.0.0.1:9", timeout=60)
     assert p.returncode == 2 and "no Dask scheduler answers" in p.stderr, p.stderr
+    assert not (tmp_path / "s.zarr").exists()

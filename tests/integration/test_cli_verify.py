@@ -70,6 +70,8 @@ def test_same_seed_same_report(tmp_path: Path) -> None:
         (("verify", "/nonexistent/robot.urdf"), "not found"),
         (("frobnicate",), "invalid choice"),
         (("verify", "panda", "--all"), "either"),
+        (("verify", "panda", "--scheduler", "local"), "give --all as well"),
+        (("verify", "--all", "--scheduler", "tcp://127.0.0.1:9"), "no Dask scheduler answers"),
     ],
 )
 def test_bad_arguments_exit_2_with_a_message(args: tuple[str, ...], message: str) -> None:
@@ -131,6 +133,21 @@ def test_all_passes_and_shows_progress(tmp_path: Path) -> None:
     assert res.returncode == 0, res.stdout[-3000:] + res.stderr[-3000:]
     assert "[1/" in res.stderr and "robots" in res.stderr.splitlines()[0]
     assert "FAIL" not in res.stdout
+
+
+def test_all_spread_over_two_dask_workers_gives_the_serial_report(tmp_path: Path) -> None:
+    """``--all --scheduler local``: the robots run on worker processes; the reports are the serial run's."""
+    serial = run("verify", "--all", "--samples", "2", "--json", str(tmp_path / "serial.json"))
+    spread = run("verify", "--all", "--samples", "2", "--scheduler", "local", "--workers", "2",
+                 "--json", str(tmp_path / "spread.json"))
+    assert spread.returncode == serial.returncode == 0, spread.stderr[-3000:]
+    assert spread.stdout.replace("spread.json", "serial.json") == serial.stdout
+    a = json.loads((tmp_path / "serial.json").read_text())["reports"]
+    b = json.loads((tmp_path / "spread.json").read_text())["reports"]
+    assert len(a) == len(b) > 60
+    for x, y in zip(a, b, strict=True):
+        assert [(r["quantity"], r["max_abs"], r["max_rel"]) for r in x["results"]] == \
+               [(r["quantity"], r["max_abs"], r["max_rel"]) for r in y["results"]]
 
 
 def test_a_tolerance_below_round_off_is_named_not_blamed_on_a_convention() -> None:

@@ -55,6 +55,7 @@ LAYER_OF: dict[str, str] = {
     "cli": "tools",
     "bench": "tools",
     "dataset": "tools",
+    "_distributed": "tools",
     "_cli_args": "tools",
     "__main__": "tools",
 }

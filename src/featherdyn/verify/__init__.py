@@ -21,7 +21,7 @@ from .check import check_values
 from .report import CheckResult, VerifyReport, compare, machine_meta
 from .resolve import resolve_robot
 
-__all__ = ["run", "resolve_robot", "check_values", "CheckResult", "VerifyReport", "compare", "ALGEBRA_TOL",
+__all__ = ["run", "run_or_report", "resolve_robot", "check_values", "CheckResult", "VerifyReport", "compare", "ALGEBRA_TOL",
            "DYNAMICS_TOL"]
 
 ALGEBRA_TOL = VERIFY_ALGEBRA
@@ -94,3 +94,19 @@ def run(robot: str | os.PathLike[str] | None = None, *, floating_base: bool = Fa
     report.diagnostics = model_diagnostics(model).to_dict()
     report.meta["seconds"] = round(time.perf_counter() - t0, 3)
     return report
+
+
+def run_or_report(robot: str, **options: object) -> VerifyReport:
+    """:func:`run` on one robot of ``featherdyn verify --all``; a robot that does not load gives a
+    report with one failed ``load`` row (the error's words) instead of an exception.
+
+    A top-level function, so that a Dask worker can run it (``--all --scheduler``).
+    """
+    from ..errors import FeatherdynError
+
+    try:
+        return run(robot, **options)  # type: ignore[arg-type]
+    except FeatherdynError as exc:
+        rep = VerifyReport(title=f"featherdyn verify {robot}: not loadable", meta={"robot": robot, "error": str(exc)})
+        rep.results.append(CheckResult("load", "load_urdf", float("nan"), float("nan"), 0, 0.0, False, str(exc)))
+        return rep
