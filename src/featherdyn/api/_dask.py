@@ -247,8 +247,11 @@ def call(fn: Callable[..., Any], model: Model, states: dict[str, Any], **kwargs:
         if tuple(xd.shape) != batch + core:
             xd = da.broadcast_to(xd, batch + core)
         args += [xd, batch_index + tuple(f"{name}{j}" for j in range(k))]
-    for i, n in enumerate(batch):  # where each block starts, for the errors raised in it
-        args += [da.arange(n, chunks=-1), (batch_index[i],)]
+    # aligned chunks now (not inside blockwise), so that the block offsets below are made in the same chunks
+    chunkss, aligned = da.core.unify_chunks(*args)
+    args = [item for x, ind in zip(aligned, args[1::2], strict=True) for item in (x, ind)]
+    for i in range(nb):  # where each block starts, for the errors raised in it: made per block, never moved
+        args += [da.arange(batch[i], chunks=(chunkss[batch_index[i]],)), (batch_index[i],)]
     packed = len(leaves) != 1
     dtype = np.result_type(*leaves) if leaves else np.dtype(np.float64)
     if packed:
@@ -262,7 +265,7 @@ def call(fn: Callable[..., Any], model: Model, states: dict[str, Any], **kwargs:
     name = f"featherdyn-{fn.__name__}-" + dask.base.tokenize(fn.__name__, model_node.key, args, kwargs)
     out = da.blockwise(_block, out_index, fn, None, names, None, kwargs, None, nb, None, packed, None, dtype, None,
                        model_node, None, *args, new_axes=new_axes, dtype=dtype, name=name,
-                       concatenate=True, meta=np.empty((0,) * len(out_index), dtype=dtype))
+                       align_arrays=False, concatenate=True, meta=np.empty((0,) * len(out_index), dtype=dtype))
     if not packed:
         return _rebuild(meta, [out])
     lazy_leaves = []
