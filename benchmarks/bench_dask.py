@@ -77,7 +77,8 @@ def main() -> None:
 
     def on_workers(client: Client) -> float:
         client.run(fd.set_num_threads, 1)
-        qw = da.random.default_rng(0).uniform(lo, hi, size=(n, model.nq), chunks=(c, -1))
+        # scalar bounds, then scaled: uniform(lo, hi) with array bounds would embed (n, nq) arrays in the graph
+        qw = lo + (hi - lo) * da.random.default_rng(0).uniform(0.0, 1.0, size=(n, model.nq), chunks=(c, -1))
         vw = da.random.default_rng(1).standard_normal((n, model.nv), chunks=(c, -1))
         aw = da.random.default_rng(2).standard_normal((n, model.nv), chunks=(c, -1))
         qw, vw, aw = client.persist([qw, vw, aw])
