@@ -17,7 +17,7 @@ def _blocks(lang: str) -> list[str]:
 
 
 def test_tour_runs_and_its_claims_hold() -> None:
-    algebra, dynamics = _blocks("python")
+    algebra, dynamics, lazy = _blocks("python")
     env: dict[str, Any] = {}
     exec(compile(algebra, "README.md", "exec"), env)
     # the tour states these values in comments; check them
@@ -29,6 +29,10 @@ def test_tour_runs_and_its_claims_hold() -> None:
     assert np.allclose(env["ddq"], env["a"], atol=1e-9)
     assert env["taus"].shape == (1000, env["model"].nv) and env["J"].shape == (6, env["model"].nv)
     assert np.allclose(env["M"], env["M"].T)
+    env = {}
+    exec(compile(lazy, "README.md", "exec"), env)  # the Dask section: its assert compares with NumPy
+    M = env["M"]
+    assert type(M).__module__.startswith("dask") and M.shape == (10_000, env["model"].nv, env["model"].nv)
 
 
 def test_quick_start_has_exactly_two_commands_run_by_ci() -> None:
