@@ -147,6 +147,18 @@ class ConstraintError(FeatherdynError, ValueError):
     """Constraints that cannot be solved as given: dependent rows (a rank-deficient constraint Jacobian)
     with ``mu = 0``, or proximal iterations that did not converge."""
 
+    @classmethod
+    def dependent(cls, m: int) -> ConstraintError:
+        """``m`` rows whose Delassus matrix ``J M⁻¹ Jᵀ`` is singular (``mu = 0``)."""
+        return cls(f"the {m} constraint rows are dependent (J M⁻¹ Jᵀ is singular): their forces are not unique; "
+                   "pass mu > 0 (e.g. mu=1e-8) for the minimum-norm forces")
+
+    @classmethod
+    def not_converged(cls, max_iter: int, tol: float) -> ConstraintError:
+        """Proximal iterations that did not reach ``tol`` in ``max_iter``."""
+        return cls(f"the proximal iterations did not converge in max_iter={max_iter} (tol={tol:g}): "
+                   "raise max_iter or mu")
+
 
 class DatasetError(FeatherdynError, ValueError):
     """A ``featherdyn dataset`` request refused before any work (unknown quantity, unwritable or

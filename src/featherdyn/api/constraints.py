@@ -22,12 +22,15 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from .. import core as _compiled
+from ..algorithms import constrained as _constrained
 from ..constraints import Constraint, FrameContact, LoopConstraint, PointContact
-from ..errors import ModelError, ShapeError
+from ..errors import ConstraintError, ModelError, ShapeError
 from ..frames import LOCAL, LOCAL_WORLD_ALIGNED, WORLD, ReferenceFrame, as_reference_frame
 from ..model import Model
 from ..rotation import se3_log
+from ..tolerances import DELASSUS_PIVOT_RTOL
 from . import _dask
+from ._backend import select_backend
 from ._checks import check_state
 from .dynamics import generalized_gravity
 from .kinematics import (
@@ -69,29 +72,29 @@ def _crm(s: np.ndarray, m: np.ndarray) -> np.ndarray:
 
 def _motion_matrix(R: np.ndarray, p: np.ndarray) -> np.ndarray:
     """The motion transform ``[[R, 0], [p×R, R]]`` `(..., 6, 6)` of a pose (R, p)."""
-    z = np.zeros(p.shape[:-1])
+    z = np.zeros(p.shape[:-1], dtype=p.dtype)
     P = np.stack([np.stack([z, -p[..., 2], p[..., 1]], -1), np.stack([p[..., 2], z, -p[..., 0]], -1),
                   np.stack([-p[..., 1], p[..., 0], z], -1)], -2)
-    out = np.zeros(R.shape[:-2] + (6, 6))
+    out = np.zeros(R.shape[:-2] + (6, 6), dtype=np.result_type(R, p))
     out[..., :3, :3] = R
     out[..., 3:, 3:] = R
     out[..., 3:, :3] = P @ R
     return out
 
 
-def _one(model: Model, q: np.ndarray, v: np.ndarray | None, c: Constraint
+def _one(model: Model, q: np.ndarray, v: np.ndarray | None, c: Constraint, backend: str | None
          ) -> tuple[np.ndarray, np.ndarray | None, np.ndarray | None]:
     """``(J, γ, e)`` of one constraint, all rows (selected later): J `(..., 6, nv)`, γ and e `(..., 6)`."""
     ref = c.reference
     if isinstance(c, (PointContact, FrameContact)):
-        J = frame_jacobian(model, q, c.frame, ref)
+        J = frame_jacobian(model, q, c.frame, ref, backend=backend)
         if v is None:
             return J, None, None
         zero = np.zeros_like(v)
         acc = frame_classical_acceleration if isinstance(c, PointContact) else frame_acceleration
-        return J, acc(model, q, v, zero, c.frame, ref).vector, np.zeros(J.shape[:-1])
-    Ja, Jb = frame_jacobian(model, q, c.frame_a, LOCAL), frame_jacobian(model, q, c.frame_b, LOCAL)
-    Ma, Mb = frame_placement(model, q, c.frame_a), frame_placement(model, q, c.frame_b)
+        return J, acc(model, q, v, zero, c.frame, ref, backend=backend).vector, np.zeros(J.shape[:-1], dtype=J.dtype)
+    Ja, Jb = frame_jacobian(model, q, c.frame_a, LOCAL, backend=backend), frame_jacobian(model, q, c.frame_b, LOCAL, backend=backend)
+    Ma, Mb = frame_placement(model, q, c.frame_a, backend=backend), frame_placement(model, q, c.frame_b, backend=backend)
     aMb = Ma.inverse() @ Mb
     X = _motion_matrix(aMb.rotation, aMb.translation)
     J_rel = Ja - X @ Jb
@@ -105,11 +108,11 @@ def _one(model: Model, q: np.ndarray, v: np.ndarray | None, c: Constraint
     if v is None:
         return J, None, None
     zero = np.zeros_like(v)
-    va = frame_velocity(model, q, v, c.frame_a, LOCAL).vector
-    Xvb = (X @ frame_velocity(model, q, v, c.frame_b, LOCAL).vector[..., None])[..., 0]
+    va = frame_velocity(model, q, v, c.frame_a, LOCAL, backend=backend).vector
+    Xvb = (X @ frame_velocity(model, q, v, c.frame_b, LOCAL, backend=backend).vector[..., None])[..., 0]
     r = va - Xvb
-    aa = frame_acceleration(model, q, v, zero, c.frame_a, LOCAL).vector
-    ab = (X @ frame_acceleration(model, q, v, zero, c.frame_b, LOCAL).vector[..., None])[..., 0]
+    aa = frame_acceleration(model, q, v, zero, c.frame_a, LOCAL, backend=backend).vector
+    ab = (X @ frame_acceleration(model, q, v, zero, c.frame_b, LOCAL, backend=backend).vector[..., None])[..., 0]
     gamma = aa - ab + _crm(r, Xvb)  # d/dt (v_a − ᵃX_b v_b) at q̈ = 0, with d(ᵃX_b)/dt = −(r ×) ᵃX_b
     e = se3_log(aMb).vector
     if ref is WORLD:
@@ -123,11 +126,27 @@ def _one(model: Model, q: np.ndarray, v: np.ndarray | None, c: Constraint
     return J, gamma, e
 
 
-def _stack(model: Model, q: np.ndarray, v: np.ndarray | None, items: list[Constraint]
+def _check_bodies(model: Model, items: list[Constraint]) -> None:
+    """Refuse constraints without rows to act on: a contact on a frame fixed to the world, a loop within one body."""
+    def body(frame: str | int) -> int:
+        return model.frames[model.resolve_frame(frame)].body
+
+    for c in items:
+        if isinstance(c, (PointContact, FrameContact)) and body(c.frame) == -1:
+            raise ConstraintError(f"{type(c).__name__}({c.frame!r}): the frame is fixed to the world, so the contact "
+                                  "has nothing to hold (its rows are zero); constrain a frame of a moving body")
+        if isinstance(c, LoopConstraint) and body(c.frame_a) == body(c.frame_b):
+            where = "the world" if body(c.frame_a) == -1 else f"body {model.body_names[body(c.frame_a)]!r}"
+            raise ConstraintError(f"LoopConstraint({c.frame_a!r}, {c.frame_b!r}): both frames are fixed to {where}, "
+                                  "so the loop has nothing to close (its rows are zero)")
+
+
+def _stack(model: Model, q: np.ndarray, v: np.ndarray | None, items: list[Constraint], backend: str | None = None
            ) -> tuple[np.ndarray, np.ndarray | None, np.ndarray | None]:
+    _check_bodies(model, items)
     Js, gs, cs = [], [], []
     for c in items:
-        J, gamma, e = _one(model, q, v, c)
+        J, gamma, e = _one(model, q, v, c, backend)
         rows = _rows(c)
         Js.append(J[..., rows, :])
         if gamma is not None and e is not None and v is not None:
@@ -141,41 +160,90 @@ def _stack(model: Model, q: np.ndarray, v: np.ndarray | None, items: list[Constr
     return J, np.concatenate(gs, axis=-1), np.concatenate(cs, axis=-1)
 
 
-def constraint_jacobian(model: Model, q: ArrayLike, constraints: Sequence[Constraint] | Constraint) -> np.ndarray:
+def constraint_jacobian(model: Model, q: ArrayLike, constraints: Sequence[Constraint] | Constraint, *,
+                        backend: str | None = None) -> np.ndarray:
     """The constraints' rows stacked, ``J`` `(..., m, nv)` (point contact: 3 rows, frame contact: 6, loop: its axes)::
 
         point: the linear rows of the frame Jacobian in ``reference``;  frame: the frame Jacobian;
         loop: the chosen rows of J_a − ᵃX_b J_b (in a's frame, then ``reference``)
     """
     if _dask.lazy(q):
-        return _dask.call(constraint_jacobian, model, {"q": q}, constraints=constraints)
+        return _dask.call(constraint_jacobian, model, {"q": q}, constraints=constraints, backend=backend)
     items = _constraints(constraints)
     st = check_state(model, q)
-    return _stack(model, st.q, None, items)[0]
+    return _stack(model, st.q, None, items, backend)[0]
 
 
-def constraint_drift(model: Model, q: ArrayLike, v: ArrayLike, constraints: Sequence[Constraint] | Constraint
-                     ) -> np.ndarray:
+def constraint_drift(model: Model, q: ArrayLike, v: ArrayLike, constraints: Sequence[Constraint] | Constraint, *,
+                     backend: str | None = None) -> np.ndarray:
     """``γ = J̇ q̇`` `(..., m)`: the constrained quantities' acceleration at q̈ = 0::
 
         point: the classical acceleration of the frame's origin;  frame: its spatial acceleration;
         loop: d/dt (v_a − ᵃX_b v_b) at q̈ = 0 — all in ``reference``
     """
     if _dask.lazy(q, v):
-        return _dask.call(constraint_drift, model, {"q": q, "v": v}, constraints=constraints)
+        return _dask.call(constraint_drift, model, {"q": q, "v": v}, constraints=constraints, backend=backend)
     items = _constraints(constraints)
     st = check_state(model, q, v=v)
-    gamma = _stack(model, st.q, st.arrays["v"], items)[1]
+    gamma = _stack(model, st.q, st.arrays["v"], items, backend)[1]
     assert gamma is not None
     return gamma
 
 
-def delassus(model: Model, q: ArrayLike, constraints: Sequence[Constraint] | Constraint) -> np.ndarray:
-    """``J M⁻¹ Jᵀ`` `(..., m, m)` from M's tree-sparse factor, without forming M⁻¹."""
+def _factor(model: Model, q: np.ndarray) -> np.ndarray:
+    """The reference's ``L`` with ``M(q) = Lᵀ L``; a singular M raises ``fd.aba``'s error for its first bad state."""
+    from .dynamics import aba, crba
+
+    L, bad = _constrained.ltl_factor(model, crba(model, q, backend="reference"))
+    if np.any(bad >= 0):
+        row = q[np.unravel_index(int(np.flatnonzero(bad.ravel() >= 0)[0]), bad.shape)] if bad.ndim else q
+        zero = np.zeros(model.nv, dtype=row.dtype)
+        aba(model, row, zero, zero, gravity=False, backend="reference")  # raises SingularMassMatrixError
+    return L
+
+
+def _delassus(model: Model, q: np.ndarray, J: np.ndarray, backend: str | None) -> np.ndarray:
+    """``J M⁻¹ Jᵀ`` by the backend's LᵀL factor."""
+    if select_backend(backend, np.result_type(q, J)) == "compiled":
+        return _compiled.delassus(model, q, J)
+    return _constrained.delassus(model, _factor(model, q), J)
+
+
+def _mass_solve(model: Model, q: np.ndarray, b: np.ndarray, backend: str | None) -> np.ndarray:
+    """``M⁻¹ b`` by the backend's LᵀL factor."""
+    if select_backend(backend, np.result_type(q, b)) == "compiled":
+        return _compiled.mass_solve(model, q, b)
+    return _constrained.mass_solve(model, _factor(model, q), b)
+
+
+def _solve(model: Model, q: np.ndarray, v: np.ndarray, tau: np.ndarray, J: np.ndarray, c: np.ndarray,
+           f_ext: ArrayLike | None, mu: float, max_iter: int, tol: float, backend: str | None
+           ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """``(q̈, λ, residual)`` of ``M q̈ + h = τ + Jᵀ λ``, ``J q̈ = c`` by the backend (the same algorithm)."""
+    if select_backend(backend, np.result_type(q, v, tau, J, c)) == "compiled":
+        return _compiled.constrained_solve(model, q, v, tau, J, c, f_ext, mu=mu, max_iter=max_iter, tol=tol)
+    from .dynamics import rnea
+
+    h = rnea(model, q, v, np.zeros_like(v), f_ext, backend="reference")
+    sol = _constrained.kkt_solve(model, _factor(model, q), tau - h, J, c, mu=float(mu), max_iter=int(max_iter),
+                                 tol=float(tol), singular_tol=DELASSUS_PIVOT_RTOL)
+    if np.any(sol.iterations == -1):
+        raise ConstraintError.dependent(J.shape[-2])
+    if np.any(sol.iterations == -2):
+        raise ConstraintError.not_converged(max_iter, tol)
+    return sol.qdd, sol.lam, sol.residual
+
+
+def delassus(model: Model, q: ArrayLike, constraints: Sequence[Constraint] | Constraint, *,
+             backend: str | None = None) -> np.ndarray:
+    """``J M⁻¹ Jᵀ`` `(..., m, m)` from M's tree-sparse factor, without forming M⁻¹::
+
+        J M⁻¹ Jᵀ = Y Yᵀ,   Y = J L⁻¹,   M = Lᵀ L
+    """
     if _dask.lazy(q):
-        return _dask.call(delassus, model, {"q": q}, constraints=constraints)
-    J = constraint_jacobian(model, q, constraints)
-    return _compiled.delassus(model, check_state(model, q).q, J)
+        return _dask.call(delassus, model, {"q": q}, constraints=constraints, backend=backend)
+    J = constraint_jacobian(model, q, constraints, backend=backend)
+    return _delassus(model, check_state(model, q).q, J, backend)
 
 
 @dataclass(frozen=True)
@@ -205,11 +273,13 @@ def _split(lam: np.ndarray, items: list[Constraint]) -> list[np.ndarray]:
 
 def constrained_dynamics(model: Model, q: ArrayLike, v: ArrayLike, tau: ArrayLike,
                          constraints: Sequence[Constraint] | Constraint, *, f_ext: ArrayLike | None = None,
-                         mu: float = 0.0, max_iter: int = 50, tol: float = 1e-12) -> ConstrainedDynamics:
-    """Forward dynamics under constraints, float64 (the compiled core)::
+                         mu: float = 0.0, max_iter: int = 50, tol: float = 1e-12,
+                         backend: str | None = None) -> ConstrainedDynamics:
+    """Forward dynamics under constraints (``algorithms/constrained.py``; the core's ``ltl.hpp`` for float64)::
 
         M q̈ + h = τ + Jᵀ λ,     J q̈ + γ = −K_p e − K_d J v
 
+    solved on M's tree-sparse factor by the Schur complement (q̈_f = M⁻¹(τ − h), (J M⁻¹ Jᵀ) λ = c − J q̈_f).
     Forces act on the robot, in each constraint's ``reference`` (a loop's: from body b on body a).
     ``mu > 0``: proximal iterations, the minimum-norm forces when constraints are dependent.
 
@@ -217,13 +287,14 @@ def constrained_dynamics(model: Model, q: ArrayLike, v: ArrayLike, tau: ArrayLik
         ConstraintError: dependent constraints with ``mu = 0`` (the message suggests ``mu``).
     """
     if _dask.lazy(q, v, tau, f_ext):
-        return _dask.call(constrained_dynamics, model, {"q": q, "v": v, "tau": tau, "f_ext": f_ext}, constraints=constraints, mu=mu, max_iter=max_iter, tol=tol)
+        return _dask.call(constrained_dynamics, model, {"q": q, "v": v, "tau": tau, "f_ext": f_ext},
+                          constraints=constraints, mu=mu, max_iter=max_iter, tol=tol, backend=backend)
     items = _constraints(constraints)
     st = check_state(model, q, v=v, tau=tau)
     qd = st.arrays["v"]
-    J, _, c = _stack(model, st.q, qd, items)
-    ddq, lam, res = _compiled.constrained_solve(model, st.q, qd, st.arrays["tau"], J, c, f_ext, mu=mu,
-                                                max_iter=max_iter, tol=tol)
+    J, _, c = _stack(model, st.q, qd, items, backend)
+    assert c is not None
+    ddq, lam, res = _solve(model, st.q, qd, st.arrays["tau"], J, c, f_ext, mu, max_iter, tol, backend)
     return ConstrainedDynamics(ddq, _split(lam, items), lam, res)
 
 
@@ -238,49 +309,53 @@ class ImpulseDynamics:
 
 
 def impulse_dynamics(model: Model, q: ArrayLike, v: ArrayLike, constraints: Sequence[Constraint] | Constraint, *,
-                     restitution: float = 0.0, mu: float = 0.0) -> ImpulseDynamics:
+                     restitution: float = 0.0, mu: float = 0.0, backend: str | None = None) -> ImpulseDynamics:
     """The velocity just after an impact with the constraints::
 
         M (v⁺ − v⁻) = Jᵀ Λ,     J v⁺ = −e J v⁻      (e: the restitution coefficient, 0 ≤ e ≤ 1)
     """
     if _dask.lazy(q, v):
-        return _dask.call(impulse_dynamics, model, {"q": q, "v": v}, constraints=constraints, restitution=restitution, mu=mu)
+        return _dask.call(impulse_dynamics, model, {"q": q, "v": v}, constraints=constraints,
+                          restitution=restitution, mu=mu, backend=backend)
     if not (0.0 <= float(restitution) <= 1.0):
         raise ModelError(f"restitution: expected a number in [0, 1], got {restitution!r}")
     items = _constraints(constraints)
     st = check_state(model, q, v=v)
     vm = st.arrays["v"]
-    J = _stack(model, st.q, None, items)[0]
+    J = _stack(model, st.q, None, items, backend)[0]
     c = -float(restitution) * (J @ vm[..., None])[..., 0]
     # the same linear system as constrained_dynamics with q̈ := v⁺ and τ − h := M v⁻ (at zero velocity,
     # h is the gravity g(q), which τ = M v⁻ + g(q) cancels)
     from .dynamics import crba
 
-    rhs = (crba(model, st.q) @ vm[..., None])[..., 0] + generalized_gravity(model, st.q)
-    v_plus, lam, _ = _compiled.constrained_solve(model, st.q, np.zeros_like(vm), rhs, J, c, mu=mu)
+    rhs = (crba(model, st.q, backend=backend) @ vm[..., None])[..., 0] + \
+        generalized_gravity(model, st.q, backend=backend)
+    v_plus, lam, _ = _solve(model, st.q, np.zeros_like(vm), rhs, J, c, None, mu, 50, 1e-12, backend)
     return ImpulseDynamics(v_plus, _split(lam, items), lam)
 
 
 def _frames_jacobian(model: Model, q: np.ndarray, frames: Sequence[str | int] | str | int,
-                     reference: ReferenceFrame | str) -> np.ndarray:
+                     reference: ReferenceFrame | str, backend: str | None) -> np.ndarray:
     names = [frames] if isinstance(frames, (str, int)) else list(frames)
     if not names:
         raise ShapeError("frames: expected at least one frame")
     ref = as_reference_frame(reference)
-    return np.concatenate([frame_jacobian(model, q, f, ref) for f in names], axis=-2)
+    return np.concatenate([frame_jacobian(model, q, f, ref, backend=backend) for f in names], axis=-2)
 
 
 def operational_space_inertia(model: Model, q: ArrayLike, frames: Sequence[str | int] | str | int,
-                              reference: ReferenceFrame | str = LOCAL_WORLD_ALIGNED, *, mu: float = 0.0) -> np.ndarray:
+                              reference: ReferenceFrame | str = LOCAL_WORLD_ALIGNED, *, mu: float = 0.0,
+                              backend: str | None = None) -> np.ndarray:
     """``Λ = (J M⁻¹ Jᵀ + μ 1)⁻¹`` `(..., 6k, 6k)` for the stacked frame Jacobians (``[ω; v]`` blocks)::
 
         J M⁻¹ Jᵀ from M's tree-sparse factor (M is never inverted); μ > 0 regularises a singular J
     """
     if _dask.lazy(q):
-        return _dask.call(operational_space_inertia, model, {"q": q}, frames=frames, reference=reference, mu=mu)
+        return _dask.call(operational_space_inertia, model, {"q": q}, frames=frames, reference=reference, mu=mu,
+                          backend=backend)
     st = check_state(model, q)
-    J = _frames_jacobian(model, st.q, frames, reference)
-    D = _compiled.delassus(model, st.q, J) + float(mu) * np.eye(J.shape[-2])
+    J = _frames_jacobian(model, st.q, frames, reference, backend)
+    D = _delassus(model, st.q, J, backend) + float(mu) * np.eye(J.shape[-2], dtype=J.dtype)
     return np.linalg.inv(D)
 
 
@@ -298,13 +373,15 @@ class OperationalSpace:
 
 
 def operational_space(model: Model, q: ArrayLike, v: ArrayLike, frames: Sequence[str | int] | str | int,
-                      reference: ReferenceFrame | str = LOCAL_WORLD_ALIGNED) -> OperationalSpace:
+                      reference: ReferenceFrame | str = LOCAL_WORLD_ALIGNED, *,
+                      backend: str | None = None) -> OperationalSpace:
     """The operational-space quantities of the stacked frames (Khatib 1987)::
 
         Λ = (J M⁻¹ Jᵀ)⁻¹,   J̄ = M⁻¹ Jᵀ Λ,   μ = Λ (J M⁻¹ h − J̇ v),   p = J̄ᵀ g
     """
     if _dask.lazy(q, v):
-        return _dask.call(operational_space, model, {"q": q, "v": v}, frames=frames, reference=reference)
+        return _dask.call(operational_space, model, {"q": q, "v": v}, frames=frames, reference=reference,
+                          backend=backend)
     from .dynamics import nonlinear_effects
     from .kinematics import frame_jacobian_time_variation
 
@@ -312,15 +389,15 @@ def operational_space(model: Model, q: ArrayLike, v: ArrayLike, frames: Sequence
     qd = st.arrays["v"]
     names = [frames] if isinstance(frames, (str, int)) else list(frames)
     ref = as_reference_frame(reference)
-    J = _frames_jacobian(model, st.q, names, ref)
-    Lambda_inv = _compiled.delassus(model, st.q, J)
+    J = _frames_jacobian(model, st.q, names, ref, backend)
+    Lambda_inv = _delassus(model, st.q, J, backend)
     Lambda = np.linalg.inv(Lambda_inv)
-    MinvJt = np.stack([_compiled.mass_solve(model, st.q, J[..., r, :]) for r in range(J.shape[-2])], axis=-1)
+    MinvJt = np.stack([_mass_solve(model, st.q, J[..., r, :], backend) for r in range(J.shape[-2])], axis=-1)
     J_bar = MinvJt @ Lambda
-    h = nonlinear_effects(model, st.q, qd)
-    Jdot_v = np.concatenate([(frame_jacobian_time_variation(model, st.q, qd, f, ref) @ qd[..., None])[..., 0]
-                             for f in names], axis=-1)
-    Minv_h = _compiled.mass_solve(model, st.q, h)
+    h = nonlinear_effects(model, st.q, qd, backend=backend)
+    Jdot_v = np.concatenate([(frame_jacobian_time_variation(model, st.q, qd, f, ref, backend=backend)
+                              @ qd[..., None])[..., 0] for f in names], axis=-1)
+    Minv_h = _mass_solve(model, st.q, h, backend)
     mu = (Lambda @ ((J @ Minv_h[..., None])[..., 0] - Jdot_v)[..., None])[..., 0]
-    p = (np.swapaxes(J_bar, -1, -2) @ generalized_gravity(model, st.q)[..., None])[..., 0]
+    p = (np.swapaxes(J_bar, -1, -2) @ generalized_gravity(model, st.q, backend=backend)[..., None])[..., 0]
     return OperationalSpace(Lambda, Lambda_inv, J, J_bar, mu, p)

@@ -930,11 +930,9 @@ def constrained_solve(model: Model, q: Any, v: Any, tau: Any, J: Any, c: Any, f_
                                  "constrained_solve")
     its = info[..., 0]
     if np.any(its == -1):
-        raise ConstraintError(f"the {m} constraint rows are dependent (J M⁻¹ Jᵀ is singular): their forces are not "
-                              "unique; pass mu > 0 (e.g. mu=1e-8) for the minimum-norm forces")
+        raise ConstraintError.dependent(m)
     if np.any(its == -2):
-        raise ConstraintError(f"the proximal iterations did not converge in max_iter={max_iter} (tol={tol:g}): "
-                              "raise max_iter or mu")
+        raise ConstraintError.not_converged(max_iter, tol)
     return qdd, lam, info[..., 1]
 
 
