@@ -360,3 +360,44 @@ def test_constraints_with_nothing_to_hold_are_named() -> None:
     # a frame fixed to the world may close a loop with a moving one: that is a contact written as a loop
     J = fd.constraint_jacobian(panda, q, fd.LoopConstraint("panda_hand", "panda_link0"))
     np.testing.assert_allclose(J, fd.frame_jacobian(panda, q, "panda_hand", fd.LOCAL), atol=1e-12)
+
+
+@pytest.mark.parametrize("ref", [fd.LOCAL, fd.WORLD, fd.LOCAL_WORLD_ALIGNED], ids=lambda r: r.name)
+def test_contacts_in_one_core_call_equal_the_rows_built_in_python(solo: fd.Model, ref: fd.ReferenceFrame) -> None:
+    """Point and frame contacts take the core's contacts.hpp (rows, drift and solve in C++): the same numbers as
+    the rows built from fd.frame_jacobian / fd.frame_*acceleration and solved by the reference, one state and
+    batched, with damping gains and external forces."""
+    rng = np.random.default_rng(17)
+    q = fd.random_configuration(solo, rng, 3)
+    v, tau = rng.normal(size=(2, 3, solo.nv))
+    f_ext = rng.normal(size=(3, solo.nbodies, 6))
+    cons = [fd.PointContact("FL_FOOT", ref, baumgarte=(0.0, 3.0)), fd.PointContact("FR_FOOT", ref),
+            fd.FrameContact("HL_FOOT", ref, baumgarte=(1.0, 0.5))]
+    fast = fd.constrained_dynamics(solo, q, v, tau, cons, f_ext=f_ext)
+    ref_res = fd.constrained_dynamics(solo, q, v, tau, cons, f_ext=f_ext, backend="reference")
+    _close(fast.ddq, ref_res.ddq)
+    _close(fast.lagrange, ref_res.lagrange)
+    J = fd.constraint_jacobian(solo, q, cons)
+    gamma = fd.constraint_drift(solo, q, v, cons)
+    kd = np.r_[[3.0] * 3, [0.0] * 3, [0.5] * 6]
+    np.testing.assert_allclose((J @ fast.ddq[..., None])[..., 0], -gamma - kd * (J @ v[..., None])[..., 0],
+                               atol=1e-8 * max(1.0, float(np.abs(gamma).max())))
+    for k in range(3):  # the one-state entry point
+        one = fd.constrained_dynamics(solo, q[k], v[k], tau[k], cons, f_ext=f_ext[k])
+        _close(one.ddq, fast.ddq[k], rtol=1e-12)
+        assert [f.shape for f in one.forces] == [(3,), (3,), (6,)] and np.ndim(one.residual) == 0
+
+
+def test_the_contact_entry_point_raises_the_general_path_words(solo: fd.Model) -> None:
+    q, v, tau = fd.random_configuration(solo, np.random.default_rng(2)), np.zeros(solo.nv), np.zeros(solo.nv)
+    cons = [fd.PointContact(f) for f in FEET]
+    bad = q.copy()
+    bad[7] = np.nan
+    with pytest.raises(fd.errors.NonFiniteError, match="q"):
+        fd.constrained_dynamics(solo, bad, v, tau, cons)
+    with pytest.raises(fd.errors.ShapeError, match="tau"):
+        fd.constrained_dynamics(solo, q, v, tau[:-1], cons)
+    unnormalised = q.copy()
+    unnormalised[3:7] *= 2
+    with pytest.raises(fd.errors.QuaternionNormError):
+        fd.constrained_dynamics(solo, unnormalised, v, tau, cons)

@@ -15,6 +15,7 @@ when ``mu > 0``.
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Sequence
 from dataclasses import dataclass
 
@@ -30,7 +31,7 @@ from ..model import Model
 from ..rotation import se3_log
 from ..tolerances import DELASSUS_PIVOT_RTOL
 from . import _dask
-from ._backend import select_backend
+from ._backend import CORE, OK, core_path, select_backend
 from ._checks import check_state
 from .dynamics import generalized_gravity
 from .kinematics import (
@@ -40,6 +41,10 @@ from .kinematics import (
     frame_placement,
     frame_velocity,
 )
+
+_EMPTY = np.empty
+_NEW = object.__new__
+_SET = object.__setattr__
 
 __all__ = ["ConstrainedDynamics", "ImpulseDynamics", "OperationalSpace", "constraint_jacobian", "constraint_drift",
            "delassus", "constrained_dynamics", "impulse_dynamics", "operational_space_inertia", "operational_space"]
@@ -227,11 +232,44 @@ def _solve(model: Model, q: np.ndarray, v: np.ndarray, tau: np.ndarray, J: np.nd
     h = rnea(model, q, v, np.zeros_like(v), f_ext, backend="reference")
     sol = _constrained.kkt_solve(model, _factor(model, q), tau - h, J, c, mu=float(mu), max_iter=int(max_iter),
                                  tol=float(tol), singular_tol=DELASSUS_PIVOT_RTOL)
-    if np.any(sol.iterations == -1):
-        raise ConstraintError.dependent(J.shape[-2])
-    if np.any(sol.iterations == -2):
-        raise ConstraintError.not_converged(max_iter, tol)
+    _raise_iterations(sol.iterations, J.shape[-2], max_iter, tol)
     return sol.qdd, sol.lam, sol.residual
+
+
+def _raise_iterations(iterations: np.ndarray, m: int, max_iter: int, tol: float) -> None:
+    """The solve's failures: ``−1`` dependent rows (with ``mu = 0``), ``−2`` proximal iterations not converged."""
+    if np.any(iterations == -1):
+        raise ConstraintError.dependent(m)
+    if np.any(iterations == -2):
+        raise ConstraintError.not_converged(max_iter, tol)
+
+
+_REF_CODE = {LOCAL: 0, WORLD: 1, LOCAL_WORLD_ALIGNED: 2}
+
+
+@functools.lru_cache(maxsize=256)
+def _contact_plan_cached(model: Model, key: tuple[Constraint, ...]) -> tuple[list[slice], np.ndarray, int] | None:
+    items = _constraints(list(key))
+    contacts = [c for c in items if isinstance(c, (PointContact, FrameContact))]
+    if len(contacts) != len(items):
+        return None
+    _check_bodies(model, items)
+    specs = np.array([[c.size, model.resolve_frame(c.frame), _REF_CODE[c.reference], c.baumgarte[1]]
+                      for c in contacts], dtype=np.float64)
+    ends = np.cumsum(specs[:, 0]).astype(int).tolist()
+    return [slice(e - c.size, e) for e, c in zip(ends, contacts, strict=True)], specs, ends[-1]
+
+
+def _contact_plan(model: Model, constraints: Sequence[Constraint] | Constraint
+                  ) -> tuple[list[slice], np.ndarray, int] | None:
+    """``(slices of λ, specs (nc, 4), m)`` when every constraint is a point or frame contact (``contacts.hpp``
+    computes their rows in the core), else ``None``; cached per model and constraint tuple."""
+    key = constraints if isinstance(constraints, tuple) else (constraints,) if isinstance(
+        constraints, (PointContact, FrameContact, LoopConstraint)) else tuple(constraints)
+    try:
+        return _contact_plan_cached(model, key)
+    except TypeError:  # an unhashable item: not a constraint (the general path words the error)
+        return None
 
 
 def delassus(model: Model, q: ArrayLike, constraints: Sequence[Constraint] | Constraint, *,
@@ -246,7 +284,7 @@ def delassus(model: Model, q: ArrayLike, constraints: Sequence[Constraint] | Con
     return _delassus(model, check_state(model, q).q, J, backend)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class ConstrainedDynamics:
     """The result of :func:`constrained_dynamics`.
 
@@ -286,12 +324,36 @@ def constrained_dynamics(model: Model, q: ArrayLike, v: ArrayLike, tau: ArrayLik
     Raises:
         ConstraintError: dependent constraints with ``mu = 0`` (the message suggests ``mu``).
     """
+    core = core_path(model, backend)
+    if core is not None:
+        plan = _contact_plan(model, constraints)
+        if plan is not None:
+            slices, specs, m = plan
+            qdd, lam, info = _EMPTY(core.nv), _EMPTY(m), _EMPTY(2)
+            try:
+                if CORE.contact_dynamics(core.cm, q, v, tau, f_ext, specs, mu, max_iter, tol, DELASSUS_PIVOT_RTOL,
+                                         qdd, lam, info) == OK and info[0] > 0:
+                    out = _NEW(ConstrainedDynamics)  # (a frozen dataclass's __init__ costs more than the solve's rows)
+                    _SET(out, "ddq", qdd)
+                    _SET(out, "forces", [lam[s] for s in slices])
+                    _SET(out, "lagrange", lam)
+                    _SET(out, "residual", info[1])
+                    return out
+            except TypeError:  # arguments the binding does not take as they are: the general path converts
+                pass
     if _dask.lazy(q, v, tau, f_ext):
         return _dask.call(constrained_dynamics, model, {"q": q, "v": v, "tau": tau, "f_ext": f_ext},
                           constraints=constraints, mu=mu, max_iter=max_iter, tol=tol, backend=backend)
     items = _constraints(constraints)
     st = check_state(model, q, v=v, tau=tau)
     qd = st.arrays["v"]
+    plan = _contact_plan(model, constraints)
+    if plan is not None and select_backend(backend, st.dtype) == "compiled":
+        specs = plan[1]
+        ddq, lam, its, res = _compiled.contact_dynamics(model, st.q, qd, st.arrays["tau"], specs, f_ext, mu=mu,
+                                                        max_iter=max_iter, tol=tol)
+        _raise_iterations(its, lam.shape[-1], max_iter, tol)
+        return ConstrainedDynamics(ddq, _split(lam, items), lam, res)
     J, _, c = _stack(model, st.q, qd, items, backend)
     assert c is not None
     ddq, lam, res = _solve(model, st.q, qd, st.arrays["tau"], J, c, f_ext, mu, max_iter, tol, backend)

@@ -44,6 +44,7 @@ except ImportError:  # pragma: no cover - a source checkout without the built ex
     _core = None
 
 __all__ = [
+    "contact_dynamics",
     "available",
     "rnea",
     "nle",
@@ -934,6 +935,33 @@ def constrained_solve(model: Model, q: Any, v: Any, tau: Any, J: Any, c: Any, f_
     if np.any(its == -2):
         raise ConstraintError.not_converged(max_iter, tol)
     return qdd, lam, info[..., 1]
+
+
+def contact_dynamics(model: Model, q: Any, v: Any, tau: Any, specs: np.ndarray, f_ext: Any = None, *,
+                     mu: float = 0.0, max_iter: int = 50, tol: float = 1e-12
+                     ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """``(q̈, λ, iterations, residual)`` under point and frame contacts, rows and solve in one core call.
+
+    ``specs`` `(nc, 4)` float64 rows ``[rows (3 | 6), frame index, reference code, K_d]`` (``contacts.hpp``)::
+
+        point: J = linear rows of the frame Jacobian, γ = classical acceleration of the origin at q̈ = 0
+        frame: J = the frame Jacobian, γ = its spatial acceleration at q̈ = 0;   c = −γ − K_d J q̇
+        M q̈ + h = τ + Jᵀ λ,  J q̈ = c    (Schur complement on M's LᵀL factor)
+
+    ``iterations`` `(...)`: −1 dependent rows (with ``mu = 0``), −2 not converged; the caller raises.
+    """
+    from ..tolerances import DELASSUS_PIVOT_RTOL
+
+    m = int(specs[:, 0].sum())
+    h, batch, rows, vectors = _dynamics_rows(model, q, v, tau, f_ext, "tau")
+    N, nv = math.prod(batch), h.nv
+    qdd, lam, info = np.empty(batch + (nv,)), np.empty(batch + (m,)), np.empty(batch + (2,))
+    st = _core.contact_dynamics_batch(h.cm, *rows, np.ascontiguousarray(specs, dtype=np.float64), float(mu),
+                                      int(max_iter), float(tol), DELASSUS_PIVOT_RTOL, qdd.reshape(N, nv),
+                                      lam.reshape(N, m), info.reshape(N, 2))
+    if st[1]:
+        _raise_derivative_status(st, model, q, vectors, f_ext, rows, True, "constrained_dynamics")
+    return qdd, lam, info[..., 0], info[..., 1]
 
 
 def frame_velocity_derivatives(model: Model, q: Any, v: Any, frame: Any,

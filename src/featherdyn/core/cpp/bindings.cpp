@@ -26,6 +26,7 @@
 #include "buffer.hpp"
 #include "centroidal.hpp"
 #include "checks.hpp"
+#include "contacts.hpp"
 #include "counted.hpp"
 #include "crba.hpp"
 #include "derivatives.hpp"
@@ -886,6 +887,80 @@ RowStatus kkt_n(const ModelData& md, const In& q, const In& v, const In& tau, co
   });
 }
 
+// Contacts given as specs (nc, 4) rows [rows (3 | 6), frame, reference code, K_d] (contacts.hpp); m = Σ rows.
+std::vector<ContactSpec> contact_specs(const ModelView& mv, const double* specs, size_t nc, int& m) {
+  std::vector<ContactSpec> out(nc);
+  m = 0;
+  for (size_t k = 0; k < nc; ++k) {
+    const double* s = specs + 4 * k;
+    const int rows = static_cast<int>(s[0]), frame = static_cast<int>(s[1]), ref = static_cast<int>(s[2]);
+    if (!(rows == 3 || rows == 6) || !(frame >= 0 && frame < mv.nf) || !(ref >= LOCAL && ref <= LOCAL_WORLD_ALIGNED) ||
+        !(s[3] >= 0.0 && s[3] < 1e300) || static_cast<double>(frame) != s[1])
+      throw nb::value_error("contact specs: rows [3|6, frame index, reference code 0..2, K_d >= 0] expected");
+    out[k] = ContactSpec{rows, frame, ref, s[3]};
+    m += rows;
+  }
+  return out;
+}
+
+// One state: q̈ (nv,), λ (m,), info (2,) = [iterations (−1: dependent rows, −2: not converged), residual].
+std::int64_t contact_dynamics1(const ModelData& md, const F64In& q, const F64In& v, const F64In& tau,
+                               const F64In& f_ext, const F64In& specs, double mu, int max_iter, double tol,
+                               double singular_tol, const F64Out& qdd, const F64Out& lam, const F64Out& info) {
+  const ModelView& mv = md.view;
+  FD_TRY(vec(q, mv.nq, ARG_Q));
+  FD_TRY(vec(v, mv.nv, ARG_V));
+  FD_TRY(vec(tau, mv.nv, ARG_A));
+  if (f_ext.is_valid()) FD_TRY(exact_shape(f_ext, {size_t(mv.nb), 6}, ARG_FEXT));
+  require_present(specs);
+  if (specs.ndim() != 2 || specs.shape(1) != 4) throw nb::value_error("contact specs: expected shape (nc, 4)");
+  int m = 0;
+  const std::vector<ContactSpec> cs = contact_specs(mv, specs.data(), specs.shape(0), m);
+  FD_TRY(exact_shape(qdd, {size_t(mv.nv)}));
+  FD_TRY(exact_shape(lam, {size_t(m)}));
+  FD_TRY(exact_shape(info, {2}));
+  const double* fx = f_ext.is_valid() ? f_ext.data() : nullptr;
+  FD_TRY(check_state(mv, q.data(), v.data(), tau.data(), fx));
+  KktResult res;
+  FD_TRY(contact_dynamics(mv, q.data(), v.data(), tau.data(), fx, cs.data(), static_cast<int>(cs.size()), mu,
+                          max_iter, tol, singular_tol, qdd.data(), lam.data(), res));
+  info.data()[0] = res.iterations;
+  info.data()[1] = res.residual;
+  return OK;
+}
+
+// Rows of a batch: q̈ (N, nv), λ (N, m), info (N, 2).
+RowStatus contact_dynamics_n(const ModelData& md, const In& q, const In& v, const In& tau, const In& f_ext,
+                             const In& specs, double mu, int max_iter, double tol, double singular_tol, Out qdd,
+                             Out lam, Out info) {
+  const ModelView& mv = md.view;
+  std::int64_t N = 0;
+  Rows Q, V, T, FX;
+  const int nv = mv.nv;
+  require_present(specs);
+  if (specs.ndim() != 2 || specs.shape(1) != 4) throw nb::value_error("contact specs: expected shape (nc, 4)");
+  int m = 0;
+  const std::vector<ContactSpec> cs = contact_specs(mv, specs.data(), specs.shape(0), m);
+  FD_TRY_ROWS(out_rows(qdd, nv, N));
+  FD_TRY_ROWS(same_rows(lam, m, N));
+  FD_TRY_ROWS(same_rows(info, 2, N));
+  FD_TRY_ROWS(rows(q, N, mv.nq, ARG_Q, Q));
+  require_present(v);
+  require_present(tau);
+  FD_TRY_ROWS(rows(v, N, nv, ARG_V, V));
+  FD_TRY_ROWS(rows(tau, N, nv, ARG_A, T));
+  FD_TRY_ROWS(rows(f_ext, N, 6 * static_cast<size_t>(mv.nb), ARG_FEXT, FX));
+  return for_rows(N, [&](std::int64_t r) -> std::int64_t {
+    FD_TRY(check_state(mv, Q.row(r), V.row(r), T.row(r), FX.row(r)));
+    KktResult res;
+    FD_TRY(contact_dynamics(mv, Q.row(r), V.row(r), T.row(r), FX.row(r), cs.data(), static_cast<int>(cs.size()), mu,
+                            max_iter, tol, singular_tol, qdd.data() + r * nv, lam.data() + r * m, res));
+    info.data()[2 * r] = res.iterations;
+    info.data()[2 * r + 1] = res.residual;
+    return OK;
+  });
+}
+
 // The core's sin and cos (trig.hpp) of every x, by the one-state path or by Packs (tests: accuracy
 // against the C library, and lanes bit-identical to one state).
 void sin_cos_n(const In& x, Out s, Out c, bool packs) {
@@ -988,6 +1063,11 @@ NB_MODULE(_core, m) {
   m.def("delassus_batch", &delassus_n, nb::arg("model"), A("q"), A("J"), nb::arg("m"), A("out"));
   m.def("kkt_batch", &kkt_n, nb::arg("model"), A("q"), A("v"), A("tau"), O("f_ext"), A("J"), A("c"), nb::arg("m"),
         nb::arg("mu"), nb::arg("max_iter"), nb::arg("tol"), nb::arg("singular_tol"), A("qdd"), A("lam"), A("info"));
+  m.def("contact_dynamics", &contact_dynamics1, nb::arg("model"), A("q"), A("v"), A("tau"), O("f_ext"), A("specs"),
+        nb::arg("mu"), nb::arg("max_iter"), nb::arg("tol"), nb::arg("singular_tol"), A("qdd"), A("lam"), A("info"));
+  m.def("contact_dynamics_batch", &contact_dynamics_n, nb::arg("model"), A("q"), A("v"), A("tau"), O("f_ext"),
+        A("specs"), nb::arg("mu"), nb::arg("max_iter"), nb::arg("tol"), nb::arg("singular_tol"), A("qdd"), A("lam"),
+        A("info"));
   m.def("flops", &flops1, nb::arg("model"), nb::arg("kind"), A("q"), A("v"), A("b"),
         "floating-point operations of one RNEA (0), CRBA (1) or ABA (2) call for this state");
   m.def("sin_cos", &sin_cos_n, A("x"), A("s"), A("c"), nb::arg("packs"));

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "crba.hpp"
+#include "scratch.hpp"
 
 namespace fdcore {
 
@@ -69,18 +70,36 @@ struct LtlWork {
 };
 
 // D = J M⁻¹ Jᵀ (m, m) for J (m, nv) row-major, L the factor of M(q). Row r of Y = J L⁻¹ solves Lᵀ y = J_rᵀ.
+// A row of J is zero outside the support of its frame, and so is its row of Y (the solve only moves
+// entries to ancestors): the sweep skips zero entries and D's products run over row r's nonzeros only.
 template <class S>
 void delassus_from_factor(const ModelView& mv, const int* lambda, const S* L, const S* J, int m, S* D,
                           std::vector<S>& Y) {
   const int nv = mv.nv;
   Y.assign(J, J + static_cast<size_t>(m) * nv);
-  for (int r = 0; r < m; ++r) ltl_solve_Lt(mv, lambda, L, Y.data() + static_cast<size_t>(r) * nv);
-  for (int r = 0; r < m; ++r)
+  thread_local std::vector<int> nz, start;
+  nz.clear();
+  start.assign(static_cast<size_t>(m) + 1, 0);
+  for (int r = 0; r < m; ++r) {
+    S* y = Y.data() + static_cast<size_t>(r) * nv;
+    for (int k = nv - 1; k >= 0; --k) {
+      if (y[k] == S(0.0)) continue;
+      y[k] = y[k] / L[k * nv + k];
+      for (int i = lambda[k]; i != -1; i = lambda[i]) y[i] = y[i] - L[k * nv + i] * y[k];
+    }
+    for (int k = 0; k < nv; ++k)
+      if (y[k] != S(0.0)) nz.push_back(k);
+    start[r + 1] = static_cast<int>(nz.size());
+  }
+  for (int r = 0; r < m; ++r) {
+    const S* yr = Y.data() + static_cast<size_t>(r) * nv;
     for (int c = 0; c <= r; ++c) {
+      const S* yc = Y.data() + static_cast<size_t>(c) * nv;
       S x(0.0);
-      for (int k = 0; k < nv; ++k) x = x + Y[r * nv + k] * Y[c * nv + k];
+      for (int t = start[r]; t < start[r + 1]; ++t) x = x + yr[nz[t]] * yc[nz[t]];
       D[r * m + c] = D[c * m + r] = x;
     }
+  }
 }
 
 }  // namespace fdcore
@@ -133,11 +152,22 @@ struct KktResult {
   double residual = 0.0;  // ‖J q̈ − c‖∞
 };
 
+struct KktWork {
+  std::vector<double> qf, Y, D, D0, rhs, x, col;
+  void resize(size_t) {}
+};
+
 inline KktResult kkt_solve(const ModelView& mv, const int* lambda_d, const double* L, const double* tau_h,
                            const double* J, const double* c, int m, double mu, int max_iter, double tol,
                            double singular_tol, double* qdd, double* lam) {
   const int nv = mv.nv;
-  std::vector<double> qf(tau_h, tau_h + nv), Y, D(static_cast<size_t>(m) * m), rhs(m), x(m), col(nv);
+  KktWork& w = thread_workspace<KktWork>(0);  // sized below: a warm call allocates nothing
+  std::vector<double>&qf = w.qf, &Y = w.Y, &D = w.D, &rhs = w.rhs, &x = w.x, &col = w.col;
+  qf.assign(tau_h, tau_h + nv);
+  D.resize(static_cast<size_t>(m) * m);
+  rhs.resize(m);
+  x.resize(m);
+  col.resize(nv);
   ltl_solve_Lt(mv, lambda_d, L, qf.data());
   ltl_solve_L(mv, lambda_d, L, qf.data());
   delassus_from_factor(mv, lambda_d, L, J, m, D.data(), Y);
@@ -146,7 +176,8 @@ inline KktResult kkt_solve(const ModelView& mv, const int* lambda_d, const doubl
     for (int k = 0; k < nv; ++k) jq += J[r * nv + k] * qf[k];
     rhs[r] = c[r] - jq;
   }
-  const std::vector<double> D0 = D;  // before the proximal shift and the factorisation
+  std::vector<double>& D0 = w.D0;  // D before the proximal shift and the factorisation
+  D0.assign(D.begin(), D.end());
   double rhs_size = 1.0;
   for (int r = 0; r < m; ++r) rhs_size = std::max(rhs_size, std::fabs(rhs[r]));
   for (int i = 0; i < m; ++i) D[i * m + i] += mu;

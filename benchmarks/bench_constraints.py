@@ -1,0 +1,98 @@
+"""Constrained dynamics and operational space against Pinocchio: ``python benchmarks/bench_constraints.py``.
+
+Interleaved medians in one process (``bench_core.median_pair``), ratio featherdyn / Pinocchio (below 1:
+featherdyn is faster):
+
+* solo12 standing on four 3D point contacts: ``fd.constrained_dynamics`` against
+  ``pin.constraintDynamics`` (constraint datas initialised once, outside the timing, as a
+  control loop would);
+* talos_full_v2 in double support (two 6D soles): the same;
+* Λ at one frame (panda's hand) and at two frames (talos's grippers): ``fd.operational_space_inertia``
+  against Pinocchio's best route from Python, ``computeDelassusMatrix`` then ``np.linalg.inv``;
+* batched: ``fd.constrained_dynamics`` on N states in one call against a Python loop of one-state calls.
+
+featherdyn's call includes building the constraint rows (frame Jacobians and drifts) from the
+constraint objects; Pinocchio's includes the same work inside ``constraintDynamics``.
+"""
+
+from __future__ import annotations
+
+import sys
+import time
+import warnings
+from pathlib import Path
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).parent))
+from bench_core import Pair, median_pair  # noqa: E402
+
+import featherdyn as fd  # noqa: E402
+
+
+def _pin_constraints(pin, p: Pair, frames: list[str], kind):  # type: ignore[no-untyped-def]
+    pm = p.pm
+    cms, cds = pin.StdVec_RigidConstraintModel(), pin.StdVec_RigidConstraintData()
+    for f in frames:
+        fr = pm.frames[pm.getFrameId(f)]
+        cms.append(pin.RigidConstraintModel(kind, pm, fr.parentJoint, fr.placement, pin.LOCAL))
+    for c in cms:
+        cds.append(c.createData())
+    pin.initConstraintDynamics(pm, p.pd, cms, cds)
+    return cms, cds
+
+
+def main() -> int:
+    import pinocchio as pin
+
+    repeats, budget = 7, 0.2
+    rows: list[tuple[str, float, float]] = []
+    settings = pin.ProximalSettings(1e-12, 0.0, 1)
+    scenes = [("solo12", ["FL_FOOT", "FR_FOOT", "HL_FOOT", "HR_FOOT"], True),
+              ("talos_full_v2", ["left_sole_link", "right_sole_link"], False)]
+    for name, frames, three_d in scenes:
+        p = Pair(name, True)
+        q, v, tau, qp, vp, taup = (x[0] for x in p.states(1))
+        cons = [fd.PointContact(f) if three_d else fd.FrameContact(f) for f in frames]
+        kind = pin.ContactType.CONTACT_3D if three_d else pin.ContactType.CONTACT_6D
+        cms, cds = _pin_constraints(pin, p, frames, kind)
+        t_fd, t_pin = median_pair(lambda: fd.constrained_dynamics(p.model, q, v, tau, cons),  # noqa: B023
+                                  lambda: pin.constraintDynamics(p.pm, p.pd, qp, vp, taup, cms, cds, settings),  # noqa: B023
+                                  repeats, budget)
+        rows.append((f"{name}: constrained_dynamics, {len(frames)} {'3D' if three_d else '6D'} contacts", t_fd, t_pin))
+        # batched against a Python loop of one-state calls
+        n = 200
+        Q, V, T = p.states(n)[:3]
+        t0 = time.perf_counter()
+        fd.constrained_dynamics(p.model, Q, V, T, cons)
+        t_batch = time.perf_counter() - t0
+        t0 = time.perf_counter()
+        for k in range(n):
+            fd.constrained_dynamics(p.model, Q[k], V[k], T[k], cons)
+        t_loop = time.perf_counter() - t0
+        rows.append((f"{name}: batch of {n} / Python loop of one-state calls", t_batch / n, t_loop / n))
+
+    for name, floating, frames in (("panda", False, ["panda_hand"]),
+                                   ("talos_full_v2", True, ["gripper_left_base_link", "gripper_right_base_link"])):
+        p = Pair(name, floating)
+        q, qp = (x[0] for x in p.states(1)[::3][:2])
+        cms, cds = _pin_constraints(pin, p, frames, pin.ContactType.CONTACT_6D)
+
+        def pin_lambda() -> np.ndarray:
+            return np.linalg.inv(pin.computeDelassusMatrix(p.pm, p.pd, qp, cms, cds, 0.0))  # noqa: B023
+
+        t_fd, t_pin = median_pair(lambda: fd.operational_space_inertia(p.model, q, frames, fd.LOCAL),  # noqa: B023
+                                  pin_lambda, repeats, budget)
+        rows.append((f"{name}: Λ at {len(frames)} frame{'s' if len(frames) > 1 else ''} / Delassus + inv", t_fd, t_pin))
+
+    print(f"featherdyn {fd.__version__}, pinocchio {pin.__version__}")
+    print(f"{'call':70} {'fd µs':>9} {'other µs':>9} {'ratio':>7}")
+    for label, a, b in rows:
+        print(f"{label:70} {a * 1e6:9.2f} {b * 1e6:9.2f} {a / b:7.2f}")
+    return 0
+
+
+if __name__ == "__main__":
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        sys.exit(main())
