@@ -401,3 +401,26 @@ def test_the_contact_entry_point_raises_the_general_path_words(solo: fd.Model) -
     unnormalised[3:7] *= 2
     with pytest.raises(fd.errors.QuaternionNormError):
         fd.constrained_dynamics(solo, unnormalised, v, tau, cons)
+
+
+@pytest.mark.parametrize(("robot", "floating", "frames"), [("panda", False, ["panda_hand"]),
+                                                           ("talos_full_v2", True, ["gripper_left_base_link",
+                                                                                    "gripper_right_base_link"])])
+def test_operational_space_inertia_one_state_equals_the_dense_definition(robot: str, floating: bool,
+                                                                         frames: list[str]) -> None:
+    """The core's one-state Λ (contacts.hpp: J M⁻¹ Jᵀ on M's factor, inverted through its Cholesky factor) against
+    (J M⁻¹ Jᵀ + μ1)⁻¹ formed densely from fd.crba and fd.frame_jacobian, and against the batched path."""
+    model = library_robot(robot, floating)
+    assert model is not None
+    rng = np.random.default_rng(4)
+    Q = fd.random_configuration(model, rng, 2)
+    for mu in (0.0, 1e-3):
+        for ref in (fd.LOCAL, fd.WORLD, fd.LOCAL_WORLD_ALIGNED):
+            batch = fd.operational_space_inertia(model, Q, frames, ref, mu=mu)
+            for k in range(2):
+                one = fd.operational_space_inertia(model, Q[k], frames, ref, mu=mu)
+                J = np.concatenate([fd.frame_jacobian(model, Q[k], f, ref) for f in frames])
+                dense = np.linalg.inv(J @ np.linalg.solve(fd.crba(model, Q[k]), J.T) + mu * np.eye(len(J)))
+                assert np.array_equal(one, one.T)
+                _close(one, dense, rtol=1e-8)
+                _close(one, batch[k], rtol=1e-9)

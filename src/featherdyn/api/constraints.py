@@ -25,7 +25,7 @@ from numpy.typing import ArrayLike
 from .. import core as _compiled
 from ..algorithms import constrained as _constrained
 from ..constraints import Constraint, FrameContact, LoopConstraint, PointContact
-from ..errors import ConstraintError, ModelError, ShapeError
+from ..errors import ConstraintError, FeatherdynError, ModelError, ShapeError
 from ..frames import LOCAL, LOCAL_WORLD_ALIGNED, WORLD, ReferenceFrame, as_reference_frame
 from ..model import Model
 from ..rotation import se3_log
@@ -260,6 +260,24 @@ def _contact_plan_cached(model: Model, key: tuple[Constraint, ...]) -> tuple[lis
     return [slice(e - c.size, e) for e, c in zip(ends, contacts, strict=True)], specs, ends[-1]
 
 
+@functools.lru_cache(maxsize=256)
+def _frames_plan_cached(model: Model, frames: tuple[str | int, ...], reference: ReferenceFrame) -> np.ndarray | None:
+    if not frames:
+        return None
+    return np.array([[6, model.resolve_frame(f), _REF_CODE[reference], 0.0] for f in frames], dtype=np.float64)
+
+
+def _frames_plan(model: Model, frames: Sequence[str | int] | str | int, reference: ReferenceFrame | str
+                 ) -> np.ndarray | None:
+    """The core's specs `(k, 4)` of the frames (6 rows each), cached; ``None`` when the general path must word
+    an error (no frames, an unknown frame or reference, unhashable input)."""
+    try:
+        key = (frames,) if isinstance(frames, (str, int)) else tuple(frames)
+        return _frames_plan_cached(model, key, as_reference_frame(reference))
+    except (TypeError, ValueError, FeatherdynError):
+        return None
+
+
 def _contact_plan(model: Model, constraints: Sequence[Constraint] | Constraint
                   ) -> tuple[list[slice], np.ndarray, int] | None:
     """``(slices of λ, specs (nc, 4), m)`` when every constraint is a point or frame contact (``contacts.hpp``
@@ -412,6 +430,16 @@ def operational_space_inertia(model: Model, q: ArrayLike, frames: Sequence[str |
 
         J M⁻¹ Jᵀ from M's tree-sparse factor (M is never inverted); μ > 0 regularises a singular J
     """
+    core = core_path(model, backend)
+    if core is not None:
+        specs = _frames_plan(model, frames, reference)
+        if specs is not None:
+            out = _EMPTY((6 * len(specs), 6 * len(specs)))
+            try:
+                if CORE.operational_space_inertia(core.cm, q, specs, mu, DELASSUS_PIVOT_RTOL, out) == OK:
+                    return out
+            except TypeError:  # arguments the binding does not take as they are: the general path converts
+                pass
     if _dask.lazy(q):
         return _dask.call(operational_space_inertia, model, {"q": q}, frames=frames, reference=reference, mu=mu,
                           backend=backend)

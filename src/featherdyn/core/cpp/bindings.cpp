@@ -929,6 +929,23 @@ std::int64_t contact_dynamics1(const ModelData& md, const F64In& q, const F64In&
   return OK;
 }
 
+// Λ (6k, 6k) of k frames: specs (k, 4) rows [6, frame, reference code, 0] (contacts.hpp).
+std::int64_t osi1(const ModelData& md, const F64In& q, const F64In& specs, double mu, double singular_tol,
+                  const F64Out& Lambda) {
+  const ModelView& mv = md.view;
+  FD_TRY(vec(q, mv.nq, ARG_Q));
+  require_present(specs);
+  if (specs.ndim() != 2 || specs.shape(1) != 4) throw nb::value_error("frame specs: expected shape (k, 4)");
+  int m = 0;
+  const std::vector<ContactSpec> cs = contact_specs(mv, specs.data(), specs.shape(0), m);
+  if (m != 6 * static_cast<int>(cs.size())) throw nb::value_error("frame specs: 6 rows per frame expected");
+  FD_TRY(exact_shape(Lambda, {size_t(m), size_t(m)}));
+  FD_TRY(check_state(mv, q.data(), nullptr, nullptr, nullptr));
+  if (!(mu >= 0.0)) throw nb::value_error("mu must be >= 0");
+  return operational_space_inertia(mv, q.data(), cs.data(), static_cast<int>(cs.size()), mu, singular_tol,
+                                   Lambda.data());
+}
+
 // Rows of a batch: q̈ (N, nv), λ (N, m), info (N, 2).
 RowStatus contact_dynamics_n(const ModelData& md, const In& q, const In& v, const In& tau, const In& f_ext,
                              const In& specs, double mu, int max_iter, double tol, double singular_tol, Out qdd,
@@ -1065,6 +1082,8 @@ NB_MODULE(_core, m) {
         nb::arg("mu"), nb::arg("max_iter"), nb::arg("tol"), nb::arg("singular_tol"), A("qdd"), A("lam"), A("info"));
   m.def("contact_dynamics", &contact_dynamics1, nb::arg("model"), A("q"), A("v"), A("tau"), O("f_ext"), A("specs"),
         nb::arg("mu"), nb::arg("max_iter"), nb::arg("tol"), nb::arg("singular_tol"), A("qdd"), A("lam"), A("info"));
+  m.def("operational_space_inertia", &osi1, nb::arg("model"), A("q"), A("specs"), nb::arg("mu"),
+        nb::arg("singular_tol"), A("out"));
   m.def("contact_dynamics_batch", &contact_dynamics_n, nb::arg("model"), A("q"), A("v"), A("tau"), O("f_ext"),
         A("specs"), nb::arg("mu"), nb::arg("max_iter"), nb::arg("tol"), nb::arg("singular_tol"), A("qdd"), A("lam"),
         A("info"));

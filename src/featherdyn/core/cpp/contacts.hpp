@@ -64,6 +64,23 @@ inline Motion<double> contact_drift(const ModelView& mv, const ContactWork& w, i
   return out;
 }
 
+// The forward pass at q̈ = 0 (RBDA §5.3): world placements ⁰R_i, ⁰p_i; with qd, body velocities v_i and
+// bias accelerations a_i = X_up a_λ + v_i × S_i q̇_i in body coordinates.
+inline void contact_pass(const ModelView& mv, const double* q, const double* qd, ContactWork& w) {
+  for (int i = 0; i < mv.nb; ++i) {
+    const int lam_i = mv.parent[i];
+    Mat3<double> R;
+    Vec3<double> p;
+    place_body(mv, i, q, w.oR.data(), w.op.data(), R, p);
+    if (qd == nullptr) continue;
+    const Xform<double> X_up{R.transpose(), p};
+    const Motion<double> vJ = S_times(mv, i, qd);
+    w.v[i] = lam_i == -1 ? vJ : X_up.apply(w.v[lam_i]) + vJ;
+    const Motion<double> aJ = cross_motion(w.v[i], vJ);
+    w.a[i] = lam_i == -1 ? aJ : X_up.apply(w.a[lam_i]) + aJ;
+  }
+}
+
 // The frame Jacobian J (6, nv) in `ref` from the forward pass's world placements (frames.hpp's
 // frame_jacobian without walking the support again): ⁰J[:, k] = ⁰X_k S_k about the world origin (WORLD)
 // or the frame's origin, in world axes, then frame axes for LOCAL.
@@ -107,17 +124,7 @@ inline std::int64_t contact_dynamics(const ModelView& mv, const double* q, const
   w.th.resize(nv);
   w.lambda.resize(nv);
   // 1. the forward pass at q̈ = 0: world placements, body velocities and bias accelerations
-  for (int i = 0; i < nb; ++i) {
-    const int lam_i = mv.parent[i];
-    Mat3<double> R;
-    Vec3<double> p;
-    place_body(mv, i, q, w.oR.data(), w.op.data(), R, p);
-    const Xform<double> X_up{R.transpose(), p};
-    const Motion<double> vJ = S_times(mv, i, qd);
-    w.v[i] = lam_i == -1 ? vJ : X_up.apply(w.v[lam_i]) + vJ;
-    const Motion<double> aJ = cross_motion(w.v[i], vJ);
-    w.a[i] = lam_i == -1 ? aJ : X_up.apply(w.a[lam_i]) + aJ;
-  }
+  contact_pass(mv, q, qd, w);
   // 2. the rows: J (m, nv) and c = −γ − K_d J q̇
   int row = 0;
   for (int k = 0; k < nc; ++k) {
@@ -151,6 +158,43 @@ inline std::int64_t contact_dynamics(const ModelView& mv, const double* q, const
   for (int j = 0; j < nv; ++j) w.th[j] = tau[j] - w.th[j];
   res = kkt_solve(mv, w.lambda.data(), w.L.data(), w.th.data(), w.J.data(), w.c.data(), m, mu, max_iter, tol,
                   singular_tol, qdd, lam);
+  return OK;
+}
+
+// Λ = (J M⁻¹ Jᵀ + μ 1)⁻¹ (m, m) for the frames of `specs` (6 rows each, the stacked frame Jacobians J):
+// J M⁻¹ Jᵀ on M's factor (ltl.hpp), then the inverse through its Cholesky factor (M is never inverted).
+// Returns OK, SINGULAR for M, or LENGTH (ARG_OUT) when J M⁻¹ Jᵀ + μ 1 has a pivot below singular_tol (the
+// caller's general path then decides).
+inline std::int64_t operational_space_inertia(const ModelView& mv, const double* q, const ContactSpec* specs, int nc,
+                                              double mu, double singular_tol, double* Lambda) {
+  const int nb = mv.nb, nv = mv.nv, m = 6 * nc;
+  ContactWork& w = thread_workspace<ContactWork>(nb);
+  w.J.resize(static_cast<size_t>(m) * nv);
+  w.L.resize(static_cast<size_t>(nv) * nv);
+  w.lambda.resize(nv);
+  w.c.resize(static_cast<size_t>(m) * m);
+  contact_pass(mv, q, nullptr, w);
+  for (int k = 0; k < nc; ++k) contact_jacobian(mv, w, specs[k].frame, specs[k].ref, w.J.data() + 6 * k * nv);
+  crba(mv, q, w.L.data());
+  dof_parents(mv, w.lambda.data());
+  const int bad = ltl_factor(mv, w.lambda.data(), w.L.data());
+  if (bad >= 0) {
+    int body = 0;
+    for (int i = 0; i < nb; ++i)
+      if (mv.idx_v[i] <= bad && bad < mv.idx_v[i] + mv.nv_i[i]) body = i;
+    return make_status(SINGULAR, ARG_Q, body);
+  }
+  double* D = w.c.data();
+  delassus_from_factor(mv, w.lambda.data(), w.L.data(), w.J.data(), m, D, w.th);
+  for (int i = 0; i < m; ++i) D[i * m + i] += mu;
+  if (!dense_cholesky(D, m, singular_tol)) return make_status(LENGTH, ARG_OUT, m);
+  for (int j = 0; j < m; ++j) {
+    double* col = Lambda + static_cast<size_t>(j) * m;  // column j of Λ (Λ is symmetric: written as row j)
+    for (int i = 0; i < m; ++i) col[i] = i == j ? 1.0 : 0.0;
+    dense_cholesky_solve(D, m, col);
+  }
+  for (int i = 0; i < m; ++i)  // symmetric to the last bit
+    for (int j = 0; j < i; ++j) Lambda[i * m + j] = Lambda[j * m + i] = 0.5 * (Lambda[i * m + j] + Lambda[j * m + i]);
   return OK;
 }
 
