@@ -85,7 +85,15 @@ class FrameContact:
 
 @dataclass(frozen=True)
 class LoopConstraint:
-    """Frames ``frame_a`` and ``frame_b`` move together along the chosen ``axes`` of ``[ω; v]`` (1–6 rows)."""
+    """Frames ``frame_a`` and ``frame_b`` move together along the chosen ``axes`` of ``[ω; v]`` (1–6 rows).
+
+    The rows are those of the relative spatial velocity ``v_a − ᵃX_b v_b`` (in a's frame, then
+    ``reference``): the motion of b carried to a's origin. With all six axes in ``LOCAL`` this is
+    Pinocchio's two-joint ``RigidConstraintModel(CONTACT_6D, …, LOCAL)`` (tested). Pinocchio's 3D
+    loops, and its ``LOCAL_WORLD_ALIGNED`` loops, compare the velocities of the two frame *origins*
+    instead: the same rows once the loop is closed (the origins coincide), different rows and drift
+    while it is open.
+    """
 
     frame_a: str | int
     frame_b: str | int
