@@ -48,6 +48,7 @@ def main() -> None:
     parser.add_argument("--states", type=int, default=1_000_000)
     parser.add_argument("--robot", default="panda")
     parser.add_argument("--chunk", type=int, default=50_000)
+    parser.add_argument("--dataset-states", type=int, default=None, help="states of the dataset runs (default --states)")
     args = parser.parse_args()
     import dask
     import dask.array as da
@@ -95,7 +96,8 @@ def main() -> None:
     rate = {}
     for w in (1, 2):
         with tempfile.TemporaryDirectory() as tmp:
-            runs = [write_dataset(model, Path(tmp) / f"d{k}.zarr", states=n, chunk=c, quantities=["M", "dtau_dq", "dtau_dv"],
+            nd = args.dataset_states or n
+            runs = [write_dataset(model, Path(tmp) / f"d{k}.zarr", states=nd, chunk=min(c, 50_000), quantities=["M", "dtau_dq", "dtau_dv"],
                                   scheduler="local", workers=w) for k in range(2)]
         rate[w] = max(r.states_per_second for r in runs)
         rows.append((f"featherdyn dataset --quantities M,dtau_dq,dtau_dv --workers {w}", rate[w]))
