@@ -42,15 +42,13 @@ def rnea_derivatives(model: Model, q: ArrayLike, v: ArrayLike, a: ArrayLike, f_e
         ∂τ/∂q[:, j] = d/dε RNEA(q ⊕ ε e_j, q̇, q̈) |_{ε=0},    ∂τ/∂q̈ = M(q)
     """
     core = core_path(model, backend)
-    if core is not None and f_ext is None and q.__class__ is _NDARRAY and q.ndim == 1:
+    if core is not None:
         # one float64 state: the binding as is (it refuses anything else, and checks the state itself)
         dq, dv, M = _EMPTY(core.shape_M), _EMPTY(core.shape_M), _EMPTY(core.shape_M)
         try:
-            if (CORE.rnea_derivatives_batch(core.cm, q[None], v[None], a[None], None, True,  # type: ignore[call-overload,index]
-                                            dq.reshape(1, -1), dv.reshape(1, -1))[1] == 0
-                    and CORE.crba(core.cm, q, M) == 0):
+            if CORE.rnea_derivatives(core.cm, q, v, a, f_ext, dq, dv, M) == 0:
                 return dq, dv, M
-        except (TypeError, AttributeError):
+        except TypeError:  # arguments the binding does not take as they are: the general path converts
             pass
     if _dask.lazy(q, v, a, f_ext):
         return _dask.call(rnea_derivatives, model, {"q": q, "v": v, "a": a, "f_ext": f_ext}, backend=backend)
@@ -76,13 +74,12 @@ def aba_derivatives(model: Model, q: ArrayLike, v: ArrayLike, tau: ArrayLike, f_
         SingularMassMatrixError: naming the joint, when M(q) is singular.
     """
     core = core_path(model, backend)
-    if core is not None and f_ext is None and q.__class__ is _NDARRAY and q.ndim == 1:
-        dq, dv, Minv, qdd = _EMPTY(core.shape_M), _EMPTY(core.shape_M), _EMPTY(core.shape_M), _EMPTY((1, core.nv))
+    if core is not None:
+        dq, dv, Minv, qdd = _EMPTY(core.shape_M), _EMPTY(core.shape_M), _EMPTY(core.shape_M), _EMPTY(core.nv)
         try:
-            if CORE.aba_derivatives_batch(core.cm, q[None], v[None], tau[None], None, True, qdd,  # type: ignore[call-overload,index]
-                                          dq.reshape(1, -1), dv.reshape(1, -1), Minv.reshape(1, -1))[1] == 0:
+            if CORE.aba_derivatives(core.cm, q, v, tau, f_ext, qdd, dq, dv, Minv) == 0:
                 return dq, dv, Minv
-        except (TypeError, AttributeError):
+        except TypeError:  # arguments the binding does not take as they are: the general path converts
             pass
     if _dask.lazy(q, v, tau, f_ext):
         return _dask.call(aba_derivatives, model, {"q": q, "v": v, "tau": tau, "f_ext": f_ext}, backend=backend)

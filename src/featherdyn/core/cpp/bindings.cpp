@@ -657,6 +657,50 @@ RowStatus rnea_derivatives_n(const ModelData& md, const In& q, const In& v, cons
   });
 }
 
+// One state (the public functions' fast path): ∂τ/∂q, ∂τ/∂q̇ (nv, nv) and ∂τ/∂q̈ = M (nv, nv), with f_ext.
+std::int64_t rnea_derivatives1(const ModelData& md, const F64In& q, const F64In& v, const F64In& a,
+                               const F64In& f_ext, const F64Out& dq, const F64Out& dv, const F64Out& M) {
+  const ModelView& mv = md.view;
+  const size_t nv = static_cast<size_t>(mv.nv);
+  FD_TRY(vec(q, mv.nq, ARG_Q));
+  FD_TRY(vec(v, mv.nv, ARG_V));
+  FD_TRY(vec(a, mv.nv, ARG_A));
+  if (f_ext.is_valid()) FD_TRY(exact_shape(f_ext, {size_t(mv.nb), 6}, ARG_FEXT));
+  for (const F64Out* o : {&dq, &dv, &M}) FD_TRY(exact_shape(*o, {nv, nv}));
+  const double* fx = f_ext.is_valid() ? f_ext.data() : nullptr;
+  FD_TRY(check_state(mv, q.data(), v.data(), a.data(), fx));
+  group_kernels().rnea_derivatives(mv, q.data(), v.data(), a.data(), fx, true, dq.data(), dv.data());
+  crba(mv, q.data(), M.data());
+  FD_TRY(finite_result(dq.data(), static_cast<std::int64_t>(nv * nv)));
+  return finite_result(dv.data(), static_cast<std::int64_t>(nv * nv));
+}
+
+// One state: ∂q̈/∂q, ∂q̈/∂q̇, M⁻¹ (nv, nv) and q̈ (nv,), with f_ext.
+std::int64_t aba_derivatives1(const ModelData& md, const F64In& q, const F64In& v, const F64In& tau,
+                              const F64In& f_ext, const F64Out& qdd, const F64Out& dq, const F64Out& dv,
+                              const F64Out& Minv) {
+  const ModelView& mv = md.view;
+  const size_t nv = static_cast<size_t>(mv.nv);
+  FD_TRY(vec(q, mv.nq, ARG_Q));
+  FD_TRY(vec(v, mv.nv, ARG_V));
+  FD_TRY(vec(tau, mv.nv, ARG_A));
+  if (f_ext.is_valid()) FD_TRY(exact_shape(f_ext, {size_t(mv.nb), 6}, ARG_FEXT));
+  FD_TRY(exact_shape(qdd, {nv}));
+  for (const F64Out* o : {&dq, &dv, &Minv}) FD_TRY(exact_shape(*o, {nv, nv}));
+  const double* fx = f_ext.is_valid() ? f_ext.data() : nullptr;
+  FD_TRY(check_state(mv, q.data(), v.data(), tau.data(), fx));
+  thread_local std::vector<double> scratch;
+  thread_local std::vector<int> lambda;
+  scratch.resize(3 * nv * nv + nv);
+  lambda.resize(nv);
+  dof_parents(mv, lambda.data());
+  const int bad = aba_derivatives(mv, lambda.data(), q.data(), v.data(), tau.data(), fx, true, qdd.data(), dq.data(),
+                                  dv.data(), Minv.data(), scratch.data(), group_kernels().rnea_derivatives);
+  if (bad >= 0) return make_status(SINGULAR, ARG_Q, bad);
+  FD_TRY(finite_result(dq.data(), static_cast<std::int64_t>(nv * nv)));
+  return finite_result(dv.data(), static_cast<std::int64_t>(nv * nv));
+}
+
 // ∂τ/∂q, ∂τ/∂q̇ of one state by forward-mode differentiation (Dual numbers): the tests' independent check.
 std::int64_t rnea_derivatives_dual1(const ModelData& md, const In& q, const In& v, const In& a, Out dq, Out dv) {
   const ModelView& mv = md.view;
@@ -1065,6 +1109,10 @@ NB_MODULE(_core, m) {
   m.def("joint_jacobians_batch", &joint_jacobians_n, nb::arg("model"), A("q"), A("out"));
   m.def("frame_jacobian_dot_batch", &frame_jacobian_dot_n, nb::arg("model"), A("q"), A("v"), nb::arg("frame"),
         nb::arg("reference"), A("out"));
+  m.def("rnea_derivatives", &rnea_derivatives1, nb::arg("model"), A("q"), A("v"), A("a"), O("f_ext"),
+        A("dtau_dq"), A("dtau_dv"), A("M"));
+  m.def("aba_derivatives", &aba_derivatives1, nb::arg("model"), A("q"), A("v"), A("tau"), O("f_ext"), A("qdd"),
+        A("dqdd_dq"), A("dqdd_dv"), A("Minv"));
   m.def("rnea_derivatives_batch", &rnea_derivatives_n, nb::arg("model"), A("q"), A("v"), A("a"), O("f_ext"),
         nb::arg("gravity"), A("dtau_dq"), A("dtau_dv"));
   m.def("rnea_derivatives_dual", &rnea_derivatives_dual1, nb::arg("model"), A("q"), A("v"), A("a"), A("dtau_dq"),

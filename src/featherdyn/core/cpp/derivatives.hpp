@@ -336,17 +336,15 @@ int aba_derivatives(const ModelView& mv, const int* lambda_d, const double* q, c
     return 0;
   }
   rnea_derivs(mv, q, qd, qdd, f_ext, gravity, tq, tv);
-  // column c of each: −M⁻¹ ∂τ/∂q, −M⁻¹ ∂τ/∂q̇, M⁻¹ e_c
-  for (int which = 0; which < 3; ++which) {
-    const double* src = which == 0 ? tq : which == 1 ? tv : nullptr;
-    double* dst = which == 0 ? dq : which == 1 ? dv : Minv;
-    for (int c = 0; c < nv; ++c) {
-      for (int r = 0; r < nv; ++r) col[r] = src ? -src[r * nv + c] : (r == c ? 1.0 : 0.0);
-      ltl_solve_Lt(mv, lambda_d, L, col);
-      ltl_solve_L(mv, lambda_d, L, col);
-      for (int r = 0; r < nv; ++r) dst[r * nv + c] = col[r];
-    }
+  // −M⁻¹ ∂τ/∂q, −M⁻¹ ∂τ/∂q̇, M⁻¹ 1: the two sweeps on all columns of each at once (ltl.hpp)
+  const size_t nn = static_cast<size_t>(nv) * nv;
+  for (size_t k = 0; k < nn; ++k) dq[k] = -tq[k], dv[k] = -tv[k], Minv[k] = 0.0;
+  for (int k = 0; k < nv; ++k) Minv[static_cast<size_t>(k) * nv + k] = 1.0;
+  for (double* X : {dq, dv, Minv}) {
+    ltl_solve_Lt_rows(mv, lambda_d, L, X, nv);
+    ltl_solve_L_rows(mv, lambda_d, L, X, nv);
   }
+  (void)col;
   return -1;
 }
 

@@ -62,6 +62,37 @@ void ltl_solve_L(const ModelView& mv, const int* lambda, const S* L, S* x) {
   }
 }
 
+// The same two solves on every column of X (nv, ncols) row-major at once: each entry sees the operations
+// of ltl_solve_Lt / ltl_solve_L in the same order (bit-identical per column), on contiguous rows.
+template <class S>
+void ltl_solve_Lt_rows(const ModelView& mv, const int* lambda, const S* L, S* X, int ncols) {
+  const int nv = mv.nv;
+  for (int k = nv - 1; k >= 0; --k) {
+    S* xk = X + static_cast<size_t>(k) * ncols;
+    const S d = L[k * nv + k];
+    for (int c = 0; c < ncols; ++c) xk[c] = xk[c] / d;
+    for (int i = lambda[k]; i != -1; i = lambda[i]) {
+      S* xi = X + static_cast<size_t>(i) * ncols;
+      const S l = L[k * nv + i];
+      for (int c = 0; c < ncols; ++c) xi[c] = xi[c] - l * xk[c];
+    }
+  }
+}
+template <class S>
+void ltl_solve_L_rows(const ModelView& mv, const int* lambda, const S* L, S* X, int ncols) {
+  const int nv = mv.nv;
+  for (int k = 0; k < nv; ++k) {
+    S* xk = X + static_cast<size_t>(k) * ncols;
+    for (int i = lambda[k]; i != -1; i = lambda[i]) {
+      const S* xi = X + static_cast<size_t>(i) * ncols;
+      const S l = L[k * nv + i];
+      for (int c = 0; c < ncols; ++c) xk[c] = xk[c] - l * xi[c];
+    }
+    const S d = L[k * nv + k];
+    for (int c = 0; c < ncols; ++c) xk[c] = xk[c] / d;
+  }
+}
+
 template <class S>
 struct LtlWork {
   std::vector<int> lambda;
