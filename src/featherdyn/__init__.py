@@ -65,6 +65,7 @@ from .errors import (
     FeatherdynError,
     FrameMismatchError,
     InertiaError,
+    MJCFError,
     ModelError,
     NonFiniteError,
     PhysicalityWarning,
@@ -101,6 +102,8 @@ __version__ = "0.1.0"
 # names whose modules are imported on first use (keeps `import featherdyn` light)
 _LAZY = {
     "load_urdf": "urdf",
+    "load_mjcf": "mjcf",
+    "load_model": "mjcf",
     "load_robot": "robots",
     "list_robots": "robots",
     "neutral": "configuration",
@@ -114,6 +117,7 @@ _LAZY = {
     "interpolate": "configuration",
     "conventions": None,
     "urdf": None,
+    "mjcf": None,
     "robots": None,
     "configuration": None,
     "verify": None,
@@ -152,6 +156,7 @@ __all__ = [
     "FeatherdynError",
     "FrameMismatchError",
     "InertiaError",
+    "MJCFError",
     "ModelError",
     "NonFiniteError",
     "PhysicalityWarning",
