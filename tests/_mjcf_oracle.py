@@ -33,7 +33,9 @@ def mj_body_name(m, b: int) -> str:
     return m.body(b).name or f"body{b}"
 
 
-def mj_joint_names(m) -> list[str]:
+def mj_joint_names(m, model: fd.Model) -> list[str]:
+    """MuJoCo's joint names; an unnamed one as featherdyn documents (``BODY/jointK``, ``BODY/free`` for a
+    ``<freejoint/>``, which the compiled model cannot tell from ``<joint type="free"/>``: either is accepted)."""
     out = []
     for j in range(m.njnt):
         name = m.joint(j).name
@@ -41,6 +43,8 @@ def mj_joint_names(m) -> list[str]:
             b = int(m.jnt_bodyid[j])
             k = j - int(m.body_jntadr[b])
             name = f"{mj_body_name(m, b)}/joint{k}"
+            if m.jnt_type[j] == mujoco.mjtJoint.mjJNT_FREE and name not in model.joint_names:
+                name = f"{mj_body_name(m, b)}/free"
         out.append(name)
     return out
 
@@ -70,7 +74,7 @@ def compare(model: fd.Model, m, *, samples: int = 3, seed: int = 0, names: list[
     """Relative errors (per quantity, the largest over ``samples`` random states) of ``model`` against ``m``."""
     errs = Errors()
     d = mujoco.MjData(m)
-    names = mj_joint_names(m) if names is None else names
+    names = mj_joint_names(m, model) if names is None else names
     assert len(names) == len(model.joint_names), (names, model.joint_names)
     for j, name in enumerate(names):
         i = model.joint_id(name)
@@ -94,8 +98,9 @@ def compare(model: fd.Model, m, *, samples: int = 3, seed: int = 0, names: list[
         per_body = {}
         scale = 0.0
         for b in range(1, m.nbody):
-            f = model.frames[model.frame_id(mj_body_name(m, b))]
-            X = fd.frame_placement(model, q, mj_body_name(m, b))
+            fid = body_frame(model, mj_body_name(m, b))
+            f = model.frames[fid]
+            X = fd.frame_placement(model, q, fid)
             errs.add("body placement", np.concatenate([X.rotation.ravel(), X.translation]),
                      np.concatenate([d.xmat[b], d.xpos[b]]), 1.0 + float(np.max(np.abs(d.xpos[b]))))
             if f.body < 0:
@@ -110,7 +115,7 @@ def compare(model: fd.Model, m, *, samples: int = 3, seed: int = 0, names: list[
             errs.add("body inertia (world)", ours, I6, max(scale, 1e-300))
         for s in range(m.nsite):
             name = m.site(s).name or f"{mj_body_name(m, int(m.site_bodyid[s]))}/site{s - _first_site(m, int(m.site_bodyid[s]))}"
-            X = fd.frame_placement(model, q, name)
+            X = fd.frame_placement(model, q, model.frame_id(name, kind="site"))
             errs.add("site placement", np.concatenate([X.rotation.ravel(), X.translation]),
                      np.concatenate([d.site_xmat[s], d.site_xpos[s]]), 1.0 + float(np.max(np.abs(d.site_xpos[s]))))
         M_mj = np.zeros((m.nv, m.nv))
@@ -131,6 +136,14 @@ def compare(model: fd.Model, m, *, samples: int = 3, seed: int = 0, names: list[
             tau = conv.tau_to_mujoco(model, q, fd.rnea(model, q, v, a, backend=backend))
             errs.add(f"rnea ({backend})", tau, tau_mj)
     return errs
+
+
+def body_frame(model: fd.Model, name: str) -> int:
+    """The frame of the MJCF body ``name`` (kind ``"body"``, or ``"link"`` for a welded body)."""
+    try:
+        return model.frame_id(name, kind="body")
+    except fd.ModelError:
+        return model.frame_id(name, kind="link")
 
 
 def _first_site(m, b: int) -> int:

@@ -296,12 +296,12 @@ class _Loader:
         return children
 
     def geom_pose(self, elem: Any, attrs: dict[str, str]) -> tuple[np.ndarray, np.ndarray]:
-        """Pose of a geom or site in its body frame, from ``fromto`` when given (z along the segment)."""
+        """Pose of a geom or site in its body frame; from ``fromto`` when given: z along ``from − to`` (measured)."""
         ft = self.doc.floats(elem, attrs, "fromto", (6,))
         if ft is None:
             return self.doc.pose(elem, attrs)
         a, b = np.array(ft[:3]), np.array(ft[3:])
-        d = b - a
+        d = a - b
         n = float(np.linalg.norm(d))
         if n < 1e-10:
             raise self.doc.error(elem, f"fromto={_quote(attrs['fromto'])}: the two points coincide")
@@ -352,15 +352,19 @@ class _Loader:
         doc, comp = self.doc, self.comp
         use_geoms = comp.inertiafromgeom == "true" or (comp.inertiafromgeom == "auto" and body.inertial is None)
         moving = bool(body.joints) or self.moving[b]
+        parts = []
         if use_geoms:
-            total, first, second = 0.0, np.zeros(3), np.zeros((3, 3))
-            parts = []
             for elem, cls, R, p in body.geoms:
                 got = self.geom_inertia(elem, cls, R, p, moving)
                 if got is not None:
                     parts.append(got)
-                    total += got[0]
-                    first += got[0] * got[1]
+            if not parts and body.inertial is not None:  # measured: inertiafromgeom='true' keeps it then
+                use_geoms = False
+        if use_geoms:
+            total, first, second = 0.0, np.zeros(3), np.zeros((3, 3))
+            for m, c, _ in parts:
+                total += m
+                first += m * c
             com = first / total if total > 0 else np.zeros(3)
             for m, c, I in parts:
                 d = c - com
@@ -394,13 +398,15 @@ class _Loader:
             if ev[0] < -1e-12 * scale:
                 raise doc.error(elem, f"the inertia is not positive semi-definite (principal moments "
                                 f"{', '.join(f'{e:.6g}' for e in ev)})")
-            if not comp.balanceinertia and ev[0] + ev[1] < ev[2] * (1 - 1e-10) - 1e-15:
-                raise doc.error(elem, f"principal moments violate the triangle inequality A + B >= C "
-                                f"({', '.join(f'{e:.6g}' for e in ev)}); MuJoCo refuses this unless "
-                                "<compiler balanceinertia='true'>")
             RR = R @ Ri
             body.mass, body.com, body.inertia = mass[0], R @ np.array(pos) + p, RR @ tensor @ RR.T
         self.bound_and_balance(body)
+        if body.inertial is not None and not use_geoms:  # MuJoCo checks after bounding and balancing
+            ev = np.linalg.eigvalsh(body.inertia)
+            if ev[0] + ev[1] < ev[2] * (1 - 1e-10) - MJ_MINVAL:
+                raise doc.error(body.inertial[0], "principal moments violate the triangle inequality A + B >= C "
+                                f"({', '.join(f'{e:.6g}' for e in ev)}); MuJoCo refuses this unless "
+                                "<compiler balanceinertia='true'>")
 
     def bound_and_balance(self, body: _Body) -> None:
         comp = self.comp
