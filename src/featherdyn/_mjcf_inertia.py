@@ -92,8 +92,8 @@ def _shell(kind: str, s: list[float]) -> tuple[float, np.ndarray] | None:
     if kind == "capsule":
         r, H = s[0], 2 * s[1]
         tube, sphere = 2 * pi * r * H, 4 * pi * r * r
-        half = sphere / 2  # a hemispherical shell: centre of mass r/2 from its flat face
-        hemi = half * (2 / 3 * r * r - r * r / 4 + (H / 2 + r / 2) ** 2)
+        hemisphere = sphere / 2  # a hemispherical shell: centre of mass r/2 from its flat face
+        hemi = hemisphere * (2 / 3 * r * r - r * r / 4 + (H / 2 + r / 2) ** 2)
         lateral = tube * (r * r / 2 + H * H / 12) + 2 * hemi
         return tube + sphere, np.array([lateral, lateral, tube * r * r + sphere * 2 / 3 * r * r])
     return None

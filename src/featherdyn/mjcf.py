@@ -500,7 +500,7 @@ class _Loader:
 
         name = doc.root.get("model") or "MuJoCo Model"
         gravity = np.zeros(3) if getattr(self, "gravity_disabled", False) else self.gravity
-        builder = ModelBuilder(name, gravity)
+        builder = ModelBuilder(name, tuple(float(g) for g in gravity))
         builder.source = self.path
         fd_body = [-1] * nb
         X_fd_mj: list[PluckerTransform] = [PluckerTransform.identity()] * nb  # MJCF body frame in its fd body
