@@ -222,11 +222,11 @@ def q_to_mujoco(model: Any, q: ArrayLike) -> np.ndarray:
         q: `(..., nq)`.
 
     Returns:
-        `(..., nq)` ``qpos``: hinge and slide unchanged, ball quaternions
-        ``(x, y, z, w)`` → ``(w, x, y, z)``, free joints as
-        :func:`freeflyer_q_to_mujoco`.
+        `(..., nq)` ``qpos``, per joint::
 
-    Source: MuJoCo documentation, joint types and ``qpos`` layout.
+            hinge, slide: qpos = q;   ball: (x, y, z, w) -> (w, x, y, z);   free: freeflyer_q_to_mujoco
+
+    Source: MuJoCo documentation, joint types and the ``qpos`` layout.
     """
     qq = as_array(q, "q", (sum(model.nqs),))
     out = qq.copy()
@@ -247,7 +247,11 @@ def q_from_mujoco(model: Any, qpos: ArrayLike) -> np.ndarray:
         qpos: `(..., nq)`.
 
     Returns:
-        `(..., nq)` ``q``.
+        `(..., nq)` ``q``::
+
+            hinge, slide: q = qpos;   ball: (w, x, y, z) -> (x, y, z, w);   free: freeflyer_q_from_mujoco
+
+    Source: MuJoCo documentation, joint types and the ``qpos`` layout.
     """
     qq = _foreign_array(qpos, "qpos", "MuJoCo qpos", (sum(model.nqs),))
     out = qq.copy()
@@ -261,14 +265,15 @@ def q_from_mujoco(model: Any, qpos: ArrayLike) -> np.ndarray:
 
 
 def mujoco_velocity_map(model: Any, q: ArrayLike) -> np.ndarray:
-    """``T`` `(..., nv, nv)` with ``v = T qvel`` at the featherdyn configuration ``q``.
+    """``T`` `(..., nv, nv)` with ``v = T qvel`` at the featherdyn configuration ``q`` `(..., nq)`.
 
-    The identity except on each free joint's block, ``[[0, 1], [Rᵀ, 0]]``
-    (``R`` the body's orientation in the world), so that::
+    The identity except on each free joint's block (``R`` the body's
+    orientation in the world; ``T`` is orthogonal, ``T⁻¹ = Tᵀ``)::
 
-        v = T qvel,   qfrc = Tᵀ τ,   M_mujoco = Tᵀ M T,   h_mujoco = Tᵀ h
+        T_free = [[0, 1], [Rᵀ, 0]],   v = T qvel,   qfrc = Tᵀ τ,   M_mujoco = Tᵀ M T
 
-    (``h`` the bias forces; ``T`` is orthogonal, ``T⁻¹ = Tᵀ``).
+    Source: MuJoCo documentation, free joint (``qvel``: world linear
+    velocity, then body angular velocity).
     """
     qq = as_array(q, "q", (sum(model.nqs),))
     nv = sum(model.nvs)
@@ -284,24 +289,55 @@ def mujoco_velocity_map(model: Any, q: ArrayLike) -> np.ndarray:
 
 
 def v_to_mujoco(model: Any, q: ArrayLike, v: ArrayLike) -> np.ndarray:
-    """A featherdyn velocity (at ``q``) as MuJoCo's ``qvel``: ``qvel = Tᵀ v`` (:func:`mujoco_velocity_map`)."""
+    """A featherdyn velocity as MuJoCo's ``qvel``.
+
+    Args:
+        model: the featherdyn model from :func:`featherdyn.load_mjcf`.
+        q: `(..., nq)` featherdyn configuration; v: `(..., nv)`.
+
+    Returns:
+        `(..., nv)`::
+
+            qvel = Tᵀ v       (T = mujoco_velocity_map(model, q))
+
+    Source: MuJoCo documentation, free and ball joints.
+    """
     vv = as_array(v, "v", (sum(model.nvs),))
     return _matvec(np.swapaxes(mujoco_velocity_map(model, q), -1, -2), vv)
 
 
 def v_from_mujoco(model: Any, qpos: ArrayLike, qvel: ArrayLike) -> np.ndarray:
-    """MuJoCo's ``qvel`` (at ``qpos``) as a featherdyn velocity: ``v = T qvel``."""
+    """MuJoCo's ``qvel`` as a featherdyn velocity.
+
+    Args:
+        model: the featherdyn model from :func:`featherdyn.load_mjcf`.
+        qpos: `(..., nq)`; qvel: `(..., nv)`.
+
+    Returns:
+        `(..., nv)`::
+
+            v = T qvel
+
+    Source: MuJoCo documentation, free and ball joints.
+    """
     q = q_from_mujoco(model, qpos)
     qv = _foreign_array(qvel, "qvel", "MuJoCo qvel", (sum(model.nvs),))
     return _matvec(mujoco_velocity_map(model, q), qv)
 
 
 def a_from_mujoco(model: Any, qpos: ArrayLike, qvel: ArrayLike, qacc: ArrayLike) -> np.ndarray:
-    """MuJoCo's ``qacc`` as a featherdyn acceleration ``a = v̇`` (``v = T qvel``: ``a = T qacc + Ṫ qvel``).
+    """MuJoCo's ``qacc`` as a featherdyn acceleration ``a = v̇``.
 
-    On a free joint ``v_b = Rᵀ v_world``, so its linear part gains ``−ω_b × v_b``::
+    Args:
+        model: the featherdyn model from :func:`featherdyn.load_mjcf`.
+        qpos: `(..., nq)`; qvel, qacc: `(..., nv)`.
 
-        a = [ω̇_b;  Rᵀ v̇_world − ω_b × v_b]
+    Returns:
+        `(..., nv)`: ``a = T qacc + Ṫ qvel``; on a free joint (``v_b = Rᵀ v_world``)::
+
+            a = [ω̇_b;  Rᵀ v̇_world − ω_b × v_b]
+
+    Source: MuJoCo documentation, free joint; the derivative of ``v = T qvel``.
     """
     q = q_from_mujoco(model, qpos)
     qv = _foreign_array(qvel, "qvel", "MuJoCo qvel", (sum(model.nvs),))
@@ -316,14 +352,23 @@ def a_from_mujoco(model: Any, qpos: ArrayLike, qvel: ArrayLike, qacc: ArrayLike)
 
 
 def a_to_mujoco(model: Any, q: ArrayLike, v: ArrayLike, a: ArrayLike) -> np.ndarray:
-    """A featherdyn acceleration as MuJoCo's ``qacc`` (inverse of :func:`a_from_mujoco`)::
+    """A featherdyn acceleration as MuJoCo's ``qacc`` (inverse of :func:`a_from_mujoco`).
 
-        free joint:  qacc = [R (v̇_b + ω_b × v_b);  ω̇_b]
+    Args:
+        model: the featherdyn model from :func:`featherdyn.load_mjcf`.
+        q: `(..., nq)`; v, a: `(..., nv)`.
+
+    Returns:
+        `(..., nv)` ``qacc``; on a free joint::
+
+            qacc = [R (v̇_b + ω_b × v_b);  ω̇_b]
+
+    Source: MuJoCo documentation, free joint.
     """
     vv = as_array(v, "v", (sum(model.nvs),))
-    aa = np.array(as_array(a, "a", (sum(model.nvs),)), dtype=np.result_type(vv.dtype, np.float64), copy=True)
+    aa = as_array(a, "a", (sum(model.nvs),))
     aa, vv = np.broadcast_arrays(aa, vv)
-    aa = aa.copy()
+    aa = aa.astype(np.result_type(aa.dtype, np.float64), copy=True)
     for kind, _, _, iv, _ in _joint_slices(model):
         if kind == "free_flyer":
             aa[..., iv + 3:iv + 6] += np.cross(vv[..., iv:iv + 3], vv[..., iv + 3:iv + 6])
@@ -331,30 +376,75 @@ def a_to_mujoco(model: Any, q: ArrayLike, v: ArrayLike, a: ArrayLike) -> np.ndar
 
 
 def tau_to_mujoco(model: Any, q: ArrayLike, tau: ArrayLike) -> np.ndarray:
-    """Joint forces ``τ`` as MuJoCo's generalized forces (``qfrc_*``): ``qfrc = Tᵀ τ``.
+    """Joint forces ``τ`` as MuJoCo generalized forces (``qfrc_bias``, ``qfrc_inverse``, ...).
 
-    On a free joint ``[n_b; f_b]`` → ``[R f_b; n_b]`` (force in world axes, moment in body axes).
+    Args:
+        model: the featherdyn model from :func:`featherdyn.load_mjcf`.
+        q: `(..., nq)`; tau: `(..., nv)`.
+
+    Returns:
+        `(..., nv)`; on a free joint ``[n_b; f_b] -> [R f_b; n_b]``::
+
+            qfrc = Tᵀ τ
+
+    Source: MuJoCo documentation, free joint; power ``τ·v = qfrc·qvel``.
     """
     tt = as_array(tau, "tau", (sum(model.nvs),))
     return _matvec(np.swapaxes(mujoco_velocity_map(model, q), -1, -2), tt)
 
 
 def tau_from_mujoco(model: Any, qpos: ArrayLike, qfrc: ArrayLike) -> np.ndarray:
-    """MuJoCo generalized forces as featherdyn ``τ``: ``τ = T qfrc`` (``T`` orthogonal)."""
+    """MuJoCo generalized forces as featherdyn ``τ`` (inverse of :func:`tau_to_mujoco`).
+
+    Args:
+        model: the featherdyn model from :func:`featherdyn.load_mjcf`.
+        qpos: `(..., nq)`; qfrc: `(..., nv)`.
+
+    Returns:
+        `(..., nv)`::
+
+            τ = T qfrc       (T orthogonal)
+
+    Source: MuJoCo documentation, free joint.
+    """
     q = q_from_mujoco(model, qpos)
     f = _foreign_array(qfrc, "qfrc", "MuJoCo qfrc", (sum(model.nvs),))
     return _matvec(mujoco_velocity_map(model, q), f)
 
 
 def joint_matrix_to_mujoco(model: Any, q: ArrayLike, M: ArrayLike) -> np.ndarray:
-    """A joint-space matrix (mass matrix, ``∂τ/∂q̈``) in MuJoCo's coordinates: ``Tᵀ M T``."""
+    """A joint-space matrix (mass matrix, ``∂τ/∂q̈``) in MuJoCo's coordinates.
+
+    Args:
+        model: the featherdyn model from :func:`featherdyn.load_mjcf`.
+        q: `(..., nq)`; M: `(..., nv, nv)`.
+
+    Returns:
+        `(..., nv, nv)` (``mj_fullM``'s layout)::
+
+            M_mujoco = Tᵀ M T
+
+    Source: MuJoCo documentation, ``mj_fullM``; kinetic energy ``½ vᵀ M v``.
+    """
     mm = as_array(M, "M", (sum(model.nvs), sum(model.nvs)))
     T = mujoco_velocity_map(model, q)
     return np.swapaxes(T, -1, -2) @ mm @ T
 
 
 def joint_matrix_from_mujoco(model: Any, qpos: ArrayLike, M: ArrayLike) -> np.ndarray:
-    """A joint-space matrix from MuJoCo's coordinates (``mj_fullM``): ``T M Tᵀ``."""
+    """A joint-space matrix from MuJoCo's coordinates (inverse of :func:`joint_matrix_to_mujoco`).
+
+    Args:
+        model: the featherdyn model from :func:`featherdyn.load_mjcf`.
+        qpos: `(..., nq)`; M: `(..., nv, nv)`.
+
+    Returns:
+        `(..., nv, nv)`::
+
+            M = T M_mujoco Tᵀ
+
+    Source: MuJoCo documentation, ``mj_fullM``.
+    """
     q = q_from_mujoco(model, qpos)
     mm = _foreign_array(M, "M", "MuJoCo joint-space", (sum(model.nvs), sum(model.nvs)))
     T = mujoco_velocity_map(model, q)
