@@ -79,7 +79,7 @@ from .joints import FreeFlyerJoint, Joint, PrismaticJoint, RevoluteJoint, Spheri
 from .model import Model, ModelBuilder
 from .spatial_algebra import PluckerTransform, SpatialInertia
 
-__all__ = ["load_mjcf", "load_model"]
+__all__ = ["load_mjcf", "load_model", "model_format"]
 
 #: MuJoCo's ``mjMINVAL``: a moving body's mass and principal inertia must exceed it.
 MJ_MINVAL = 1e-15
@@ -651,22 +651,35 @@ def load_mjcf(path_or_xml: str | os.PathLike[str] | bytes, *, strict: bool = Fal
     return model
 
 
-def load_model(path_or_xml: str | os.PathLike[str] | bytes, *, strict: bool = False) -> Model:
-    """Load a URDF or an MJCF model, told apart by the root element (``<robot>`` or ``<mujoco>``).
+def model_format(path_or_xml: str | os.PathLike[str] | bytes) -> str:
+    """``"urdf"`` or ``"mjcf"``: the format of a model file or text, by its root element (``<robot>`` / ``<mujoco>``).
 
     Raises:
-        ModelError: neither root element (an :class:`~featherdyn.MJCFError`);
-            the loaders' errors otherwise.
+        MJCFError: unreadable, not XML, or another root element.
     """
     from ._urdf_xml import _parse_xml
-    from .urdf import load_urdf
 
     text, label, _ = _read_source(path_or_xml, MJCFError, "model", "load_model")
     root, _ = _parse_xml(text, label, MJCFError, "model", line_depth=1)
-    tag = _local(root.tag)
-    tag = tag.split("}", 1)[-1]
+    tag = _local(root.tag).split("}", 1)[-1]
     if tag == "robot":
-        return load_urdf(path_or_xml, strict=strict)
+        return "urdf"
     if tag == "mujoco":
-        return load_mjcf(path_or_xml, strict=strict)
+        return "mjcf"
     raise MJCFError(f"{label}: expected the root element <robot> (URDF) or <mujoco> (MJCF), got <{tag[:100]}>")
+
+
+def load_model(path_or_xml: str | os.PathLike[str] | bytes, *, strict: bool = False) -> Model:
+    """Load a URDF or an MJCF model, told apart by the root element (``<robot>`` or ``<mujoco>``).
+
+    A URDF loads with a fixed base (:func:`featherdyn.load_urdf` takes
+    ``floating_base=True``); an MJCF as :func:`load_mjcf`.
+
+    Raises:
+        MJCFError: neither root element; the loaders' errors otherwise.
+    """
+    from .urdf import load_urdf
+
+    if model_format(path_or_xml) == "urdf":
+        return load_urdf(path_or_xml, strict=strict)
+    return load_mjcf(path_or_xml, strict=strict)

@@ -296,3 +296,14 @@ def test_not_a_path_or_xml() -> None:
         fd.load_mjcf(42)  # type: ignore[arg-type]
     with pytest.raises(MJCFError, match="cannot read the MJCF file"):
         fd.load_mjcf("/nonexistent/model.xml")
+
+
+def test_load_robot_takes_a_model_file(tmp_path: Path) -> None:
+    p = tmp_path / "arm.xml"
+    p.write_text(ARM)
+    assert fd.load_robot(str(p)).joint_names == _load(ARM).joint_names
+    urdf = fd.robots.robot_path("two_link_arm")
+    assert fd.load_robot(str(urdf), floating_base=True).floating_base
+    from featherdyn.mjcf import model_format
+
+    assert model_format(p) == "mjcf" and model_format(urdf) == "urdf"
