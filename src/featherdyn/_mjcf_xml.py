@@ -137,6 +137,16 @@ class Doc:
             out.append(x)
         return out
 
+    def float_list(self, elem: Any, attrs: dict[str, str], name: str, multiple_of: int) -> list[float]:
+        """The attribute as finite decimals, a multiple of ``multiple_of`` of them (``[]`` when absent)."""
+        text = attrs.get(name)
+        if text is None:
+            return []
+        n = len(text.split())
+        if n % multiple_of:
+            raise self.error(elem, f"{name}={_quote(text)}: expected a multiple of {multiple_of} numbers, got {n}")
+        return self.floats(elem, attrs, name, (n,)) or []
+
     def number(self, elem: Any, attrs: dict[str, str], name: str, default: float,
                bound: float = MAX_LENGTH) -> float:
         got = self.floats(elem, attrs, name, (1,), None, bound)

@@ -72,6 +72,7 @@ from typing import Any
 import numpy as np
 
 from ._mjcf_inertia import SOLID_TYPES, geom_mass_inertia
+from ._mjcf_mesh import MeshError, mesh_mass_properties, read_mesh_file
 from ._mjcf_xml import MAX_MASS, Doc, _local, read_defaults, read_document, z_to_vector
 from ._urdf_xml import _quote, _read_source, _shorten_quoted
 from .errors import FeatherdynError, MJCFError, PhysicalityWarning
@@ -147,6 +148,7 @@ class _Loader:
         self.comp = _Compiler()
         self.gravity = np.array([0.0, 0.0, -9.81])
         self.meshes: dict[str, Any] = {}
+        self.mesh_cache: dict[str, tuple[float, np.ndarray, np.ndarray]] = {}
         self.bodies: list[_Body] = []
         self.ignored: list[str] = []
 
@@ -442,11 +444,17 @@ class _Loader:
         density = doc.number(elem, attrs, "density", 1000.0, MAX_MASS)
         if density < 0:
             raise doc.error(elem, f"density={_quote(attrs['density'])}: expected a density >= 0")
-        if gtype in ("mesh", "sdf"):
-            raise doc.error(elem, f"type={gtype!r}: mesh inertia is not supported by featherdyn's MJCF loader; give "
-                            "the body an <inertial> (and inertiafromgeom='auto'), or set this geom's mass='0' or "
-                            "a group outside inertiagrouprange")
+        if gtype == "sdf":
+            raise doc.error(elem, "type='sdf': SDF geom inertia is not supported by featherdyn's MJCF loader; give "
+                            "the body an <inertial>, or set this geom's mass='0' or a group outside "
+                            "inertiagrouprange")
         shell = doc.boolean(elem, attrs, "shellinertia", False)
+        if gtype == "mesh":
+            measure, c_mesh, J = self.mesh_properties(elem, attrs)
+            m = mass[0] if mass is not None else density * measure
+            Rg, pg = doc.pose(elem, attrs)
+            Rb = R @ Rg
+            return m, R @ (Rg @ c_mesh + pg) + p, Rb @ (J * (m / measure)) @ Rb.T
         size = doc.floats(elem, attrs, "size", (1, 2, 3), [0.0, 0.0, 0.0]) or [0.0, 0.0, 0.0]
         size = size + [0.0] * (3 - len(size))
         Rg, pg = self.geom_pose(elem, attrs)
@@ -467,6 +475,53 @@ class _Loader:
         m, J = got
         Rb = R @ Rg
         return m, R @ pg + p, Rb @ np.diag(J) @ Rb.T
+
+    def mesh_properties(self, geom: Any, attrs: dict[str, str]) -> tuple[float, np.ndarray, np.ndarray]:
+        """``(V, c, I_c/ρ)`` of the geom's mesh asset in the geom frame (cached per asset)."""
+        doc = self.doc
+        name = attrs.get("mesh")
+        if name is None or name not in self.meshes:
+            raise doc.error(geom, f"mesh={_quote(name or '')}: no <mesh> asset of that name")
+        elem = self.meshes[name]
+        if name in self.mesh_cache:
+            return self.mesh_cache[name]
+        cls = doc.element_class(elem, "main")
+        mattrs = doc.attrs(elem, "mesh", cls)
+        mode = doc.choice(elem, mattrs, "inertia", ("legacy", "exact", "convex", "shell"), "legacy")
+        if mode == "convex":
+            raise doc.error(elem, "inertia='convex': convex-hull mesh inertia is not supported")
+        for key in ("refpos", "refquat"):
+            if key in mattrs:
+                raise doc.error(elem, f"{key}: mesh reference frames are not supported")
+        scale = np.array(doc.floats(elem, mattrs, "scale", (3,), [1.0, 1.0, 1.0]) or [1.0, 1.0, 1.0])
+        try:
+            if "file" in mattrs:
+                V, F = read_mesh_file(self.asset_path(mattrs["file"]))
+            else:
+                V = np.array(doc.float_list(elem, mattrs, "vertex", 3), dtype=np.float64).reshape(-1, 3)
+                face = doc.float_list(elem, mattrs, "face", 3)
+                if any(f != int(f) for f in face):
+                    raise MeshError("face indices must be integers")
+                F = np.array(face, dtype=np.int64).reshape(-1, 3)
+                if F.size and (F.min() < 0 or F.max() >= len(V)):
+                    raise MeshError(f"a face index is outside 0..{len(V) - 1}")
+            if not F.size:
+                raise MeshError("a mesh without faces (MuJoCo uses its convex hull): convex-hull inertia is not "
+                                "supported")
+            # MuJoCo keeps vertices in float32 and scales them there (measured: the mass then agrees exactly)
+            V32 = V.astype(np.float32) * scale.astype(np.float32)
+            got = mesh_mass_properties(V32.astype(np.float64), F, mode)
+        except MeshError as exc:
+            raise doc.error(elem, str(exc)) from None
+        self.mesh_cache[name] = got
+        return got
+
+    def asset_path(self, file: str) -> Path:
+        p = Path(file)
+        if p.is_absolute():
+            return p
+        folder = getattr(self, "meshdir", None) or getattr(self, "assetdir", None) or ""
+        return self.doc.model_dir / folder / p
 
     # -- the featherdyn model -------------------------------------------------
 

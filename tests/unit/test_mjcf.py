@@ -214,7 +214,22 @@ BAD: dict[str, tuple[str, str]] = {
     "ball then hinge": (_wrap('<body><joint type="ball"/><joint/><geom size=".1"/></body>'), "ball joint followed"),
     "plane in moving body": (_wrap('<body><joint/><geom size=".1"/><geom type="plane" size="1 1 1"/></body>'),
                              "static bodies"),
-    "mesh inertia": (_wrap('<body><joint/><geom type="mesh" mesh="m"/></body>'), "mesh inertia is not supported"),
+    "unknown mesh": (_wrap('<body><joint/><geom type="mesh" mesh="m"/></body>'), "no <mesh> asset of that name"),
+    "missing mesh file": (_wrap('<body><joint/><geom type="mesh" mesh="m"/></body>',
+                                head='<asset><mesh name="m" file="/nonexistent/m.stl"/></asset>'),
+                          "cannot read the mesh file"),
+    "mesh format": (_wrap('<body><joint/><geom type="mesh" mesh="m"/></body>',
+                          head='<asset><mesh name="m" file="/etc/hostname.ply"/></asset>'), "cannot read|unsupported"),
+    "mesh face index": (_wrap('<body><joint/><geom type="mesh" mesh="m"/></body>',
+                              head='<asset><mesh name="m" vertex="0 0 0 1 0 0 0 1 0 0 0 1" '
+                                   'face="0 2 1 0 1 3 0 3 2 1 2 9"/></asset>'), "face index is outside"),
+    "mesh inside out": (_wrap('<body><joint/><geom type="mesh" mesh="m"/></body>',
+                              head='<asset><mesh name="m" inertia="exact" vertex="0 0 0 1 0 0 0 1 0 0 0 1" '
+                                   'face="0 1 2 0 3 1 0 2 3 1 3 2"/></asset>'), "not positive"),
+    "mesh convex": (_wrap('<body><joint/><geom type="mesh" mesh="m"/></body>',
+                          head='<asset><mesh name="m" inertia="convex" vertex="0 0 0 1 0 0 0 1 0 0 0 1" '
+                               'face="0 2 1 0 1 3 0 3 2 1 2 3"/></asset>'), "convex"),
+    "sdf": (_wrap('<body><joint/><geom type="sdf" mesh="m"/></body>'), "SDF geom inertia is not supported"),
     "replicate": (_wrap('<replicate count="2"><body><joint/><geom size=".1"/></body></replicate>'),
                   "<replicate> is not supported"),
     "composite": (_wrap('<body><composite type="cable"/></body>'), "<composite> is not supported"),
