@@ -182,3 +182,57 @@ def mesh_mass_properties(V: np.ndarray, F: np.ndarray, mode: str) -> tuple[float
     if not (measure >= 1e-15 and math.isfinite(measure)):
         raise MeshError(f"the mesh's measure about its centre is {measure:g}, not positive")
     return measure, com, np.trace(C) * np.eye(3) - C
+
+
+#: Most vertices whose convex hull is computed (a mesh without faces, or ``inertia="convex"``).
+MAX_HULL_VERTICES = 20_000
+
+
+def convex_hull(V: np.ndarray) -> np.ndarray:
+    """Outward-oriented triangles `(m, 3)` of the convex hull of the points ``V`` `(n, 3)` (incremental).
+
+    Points on the hull's surface within round-off are left out; the
+    triangulation of coplanar facets is arbitrary, which changes no mass
+    property of the (convex) solid.
+    """
+    n = len(V)
+    if n < 4:
+        raise MeshError(f"a convex hull needs at least 4 vertices, got {n}")
+    if n > MAX_HULL_VERTICES:
+        raise MeshError(f"convex hull of {n} vertices, more than MAX_HULL_VERTICES = {MAX_HULL_VERTICES}")
+    scale = float(np.max(np.abs(V - V.mean(axis=0)))) or 1.0
+    eps = 1e-10 * scale
+    # an initial tetrahedron of four extreme points
+    i0 = int(np.argmin(V[:, 0]))
+    i1 = int(np.argmax(np.linalg.norm(V - V[i0], axis=1)))
+    d = V[i1] - V[i0]
+    i2 = int(np.argmax(np.linalg.norm(np.cross(V - V[i0], d), axis=1)))
+    normal = np.cross(d, V[i2] - V[i0])
+    i3 = int(np.argmax(np.abs((V - V[i0]) @ normal)))
+    if abs(float((V[i3] - V[i0]) @ normal)) <= eps * scale * scale or len({i0, i1, i2, i3}) < 4:
+        raise MeshError("the vertices are coplanar or collinear: their convex hull has no volume")
+    inside = V[[i0, i1, i2, i3]].mean(axis=0)
+    faces: list[tuple[int, int, int]] = []
+    for a, b, c in ((i0, i1, i2), (i0, i1, i3), (i0, i2, i3), (i1, i2, i3)):
+        nrm = np.cross(V[b] - V[a], V[c] - V[a])
+        faces.append((a, b, c) if float(nrm @ (V[a] - inside)) > 0 else (a, c, b))
+    for p in range(n):
+        if p in (i0, i1, i2, i3):
+            continue
+        F = np.array(faces)
+        A = V[F[:, 0]]
+        N = np.cross(V[F[:, 1]] - A, V[F[:, 2]] - A)
+        lengths = np.linalg.norm(N, axis=1)
+        visible = np.einsum("ij,ij->i", N, V[p] - A) > eps * lengths
+        if not np.any(visible):
+            continue
+        edges: dict[tuple[int, int], int] = {}
+        for a, b, c in F[visible].tolist():
+            for e in ((a, b), (b, c), (c, a)):
+                if (e[1], e[0]) in edges:
+                    del edges[(e[1], e[0])]
+                else:
+                    edges[e] = 1
+        faces = [f for f, vis in zip(faces, visible.tolist(), strict=True) if not vis]
+        faces += [(a, b, p) for a, b in edges]
+    return np.array(faces, dtype=np.int64)

@@ -72,7 +72,7 @@ from typing import Any
 import numpy as np
 
 from ._mjcf_inertia import SOLID_TYPES, geom_mass_inertia
-from ._mjcf_mesh import MeshError, mesh_mass_properties, read_mesh_file
+from ._mjcf_mesh import MeshError, convex_hull, mesh_mass_properties, read_mesh_file
 from ._mjcf_xml import MAX_MASS, Doc, _local, read_defaults, read_document, z_to_vector
 from ._urdf_xml import _quote, _read_source, _shorten_quoted
 from .errors import FeatherdynError, MJCFError, PhysicalityWarning
@@ -488,8 +488,6 @@ class _Loader:
         cls = doc.element_class(elem, "main")
         mattrs = doc.attrs(elem, "mesh", cls)
         mode = doc.choice(elem, mattrs, "inertia", ("legacy", "exact", "convex", "shell"), "legacy")
-        if mode == "convex":
-            raise doc.error(elem, "inertia='convex': convex-hull mesh inertia is not supported")
         for key in ("refpos", "refquat"):
             if key in mattrs:
                 raise doc.error(elem, f"{key}: mesh reference frames are not supported")
@@ -505,12 +503,12 @@ class _Loader:
                 F = np.array(face, dtype=np.int64).reshape(-1, 3)
                 if F.size and (F.min() < 0 or F.max() >= len(V)):
                     raise MeshError(f"a face index is outside 0..{len(V) - 1}")
-            if not F.size:
-                raise MeshError("a mesh without faces (MuJoCo uses its convex hull): convex-hull inertia is not "
-                                "supported")
-            # MuJoCo keeps vertices in float32 and scales them there (measured: the mass then agrees exactly)
-            V32 = V.astype(np.float32) * scale.astype(np.float32)
-            got = mesh_mass_properties(V32.astype(np.float64), F, mode)
+            # MuJoCo reads vertices as float32 and scales them in double (measured: masses then agree exactly)
+            V64 = V.astype(np.float32).astype(np.float64) * scale
+            if not F.size or mode == "convex":  # MuJoCo uses the convex hull (its faces are then outward)
+                F = convex_hull(V64)
+                mode = "exact" if mode == "convex" else mode
+            got = mesh_mass_properties(V64, F, mode)
         except MeshError as exc:
             raise doc.error(elem, str(exc)) from None
         self.mesh_cache[name] = got

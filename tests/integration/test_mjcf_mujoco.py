@@ -315,7 +315,7 @@ def _write_meshes(folder: Path) -> None:
         f.writelines(f"f {a + 1} {b + 1} {c + 1}\n" for a, b, c in F.tolist() if not (a >= 6 and b >= 6 and c >= 6))
 
 
-@pytest.mark.parametrize("mode", ["", 'inertia="exact"', 'inertia="shell"', 'inertia="legacy"'])
+@pytest.mark.parametrize("mode", ["", 'inertia="exact"', 'inertia="shell"', 'inertia="legacy"', 'inertia="convex"'])
 @pytest.mark.parametrize("file", ["l.stl", "l.obj", "l.msh", "open.obj"])
 def test_mesh_inertia_matches_mujoco(tmp_path: Path, file: str, mode: str) -> None:
     (tmp_path / "meshes").mkdir()
@@ -324,11 +324,13 @@ def test_mesh_inertia_matches_mujoco(tmp_path: Path, file: str, mode: str) -> No
         pytest.skip("MuJoCo refuses an open mesh with exact inertia (inconsistent orientation)")
     xml = f"""<mujoco><compiler meshdir="meshes"/>
       <asset><mesh name="m" file="{file}" scale="1 1.5 0.7" {mode}/>
-        <mesh name="inline" vertex="0 0 0  1 0 0  0 1 0  0 0 1.3" face="0 2 1  0 1 3  0 3 2  1 2 3"/></asset>
+        <mesh name="inline" vertex="0 0 0  1 0 0  0 1 0  0 0 1.3" face="0 2 1  0 1 3  0 3 2  1 2 3"/>
+        <mesh name="cloud" scale=".05 .05 .05" vertex="0 1 1.618 0 -1 1.618 0 1 -1.618 0 -1 -1.618 1 1.618 0
+          -1 1.618 0 1 -1.618 0 -1 -1.618 0 1.618 0 1 1.618 0 -1 -1.618 0 1 -1.618 0 -1 0.1 0.2 0.3"/></asset>
       <worldbody><body name="a" euler="10 20 30"><joint axis="0 1 0"/>
         <geom type="mesh" mesh="m" pos=".1 .2 .3" euler="30 40 50" density="700"/>
         <body name="b" pos="0.5 0 0"><joint axis="1 0 0"/><geom type="mesh" mesh="m" mass="2.5"/>
-          <geom type="mesh" mesh="inline" pos="0 .1 0"/></body>
+          <geom type="mesh" mesh="inline" pos="0 .1 0"/><geom type="mesh" mesh="cloud" pos=".3 0 0"/></body>
       </body></worldbody></mujoco>"""
     main = tmp_path / "model.xml"
     main.write_text(xml)

@@ -226,9 +226,8 @@ BAD: dict[str, tuple[str, str]] = {
     "mesh inside out": (_wrap('<body><joint/><geom type="mesh" mesh="m"/></body>',
                               head='<asset><mesh name="m" inertia="exact" vertex="0 0 0 1 0 0 0 1 0 0 0 1" '
                                    'face="0 1 2 0 3 1 0 2 3 1 3 2"/></asset>'), "not positive"),
-    "mesh convex": (_wrap('<body><joint/><geom type="mesh" mesh="m"/></body>',
-                          head='<asset><mesh name="m" inertia="convex" vertex="0 0 0 1 0 0 0 1 0 0 0 1" '
-                               'face="0 2 1 0 1 3 0 3 2 1 2 3"/></asset>'), "convex"),
+    "flat hull": (_wrap('<body><joint/><geom type="mesh" mesh="m"/></body>',
+                        head='<asset><mesh name="m" vertex="0 0 0 1 0 0 0 1 0 1 1 0 2 3 0"/></asset>'), "coplanar"),
     "sdf": (_wrap('<body><joint/><geom type="sdf" mesh="m"/></body>'), "SDF geom inertia is not supported"),
     "replicate": (_wrap('<replicate count="2"><body><joint/><geom size=".1"/></body></replicate>'),
                   "<replicate> is not supported"),
