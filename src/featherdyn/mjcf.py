@@ -73,7 +73,7 @@ import numpy as np
 
 from ._mjcf_inertia import SOLID_TYPES, geom_mass_inertia
 from ._mjcf_mesh import MeshError, convex_hull, mesh_mass_properties, read_mesh_file
-from ._mjcf_xml import MAX_MASS, Doc, _local, read_defaults, read_document, z_to_vector
+from ._mjcf_xml import MAX_MASS, Doc, _local, expand_replicates, read_defaults, read_document, z_to_vector
 from ._urdf_xml import _quote, _read_source, _shorten_quoted
 from .errors import FeatherdynError, MJCFError, PhysicalityWarning
 from .joints import FreeFlyerJoint, Joint, PrismaticJoint, RevoluteJoint, SphericalJoint
@@ -87,7 +87,7 @@ MJ_MINVAL = 1e-15
 _IGNORED_QUIETLY = frozenset({"visual", "statistic", "size", "custom", "keyframe"})
 _NO_TREE_MEANING = ("contact", "equality", "tendon", "actuator", "sensor", "deformable", "extension", "plugin")
 _HANDLED_TOP = frozenset({"compiler", "option", "default", "asset", "worldbody"})
-_BODY_REFUSED = ("composite", "flexcomp", "attach", "replicate")
+_BODY_REFUSED = ("composite", "flexcomp", "attach")
 _BODY_QUIET = frozenset({"camera", "light"})
 
 
@@ -687,6 +687,7 @@ def load_mjcf(path_or_xml: str | os.PathLike[str] | bytes, *, strict: bool = Fal
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
             loader.read_top()
+            expand_replicates(doc)
             loader.read_bodies()
             model = loader.build()
     except MJCFError:

@@ -124,9 +124,20 @@ SNIPPETS: dict[str, str] = {
         <geom type="ellipsoid" size=".1 .2 .15" group="3" pos="0.3 -.3 0.2"/>
         <geom type="box" size=".1 .1 .1" mass="0"/>
       </body>""",
+    "replicate": """
+      <replicate count="3" offset="1 0 0" euler="0 0 30" sep="-">
+        <body name="b" pos="0 1 0"><joint name="j" axis="0 1 0"/><geom size=".1"/><site name="s" pos=".1 0 0"/></body>
+      </replicate>
+      <replicate count="11" offset="0 0 1" euler="10 0 0">
+        <body name="c"><joint/><geom type="box" size=".1 .2 .1"/>
+          <replicate count="2" euler="0 0 90"><body name="d" pos="1 0 0"><joint type="slide"/><geom size=".1"/></body>
+          </replicate>
+        </body>
+      </replicate>""",
 }
 
 _COMPILERS = {
+    "replicate": "",
     "hinge chain, degrees, euler": "",
     "radian, axisangle, xyaxes, zaxis": '<compiler angle="radian"/>',
     "eulerseq extrinsic": '<compiler eulerseq="ZYX"/>',
