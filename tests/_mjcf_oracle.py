@@ -118,8 +118,7 @@ def compare(model: fd.Model, m, *, samples: int = 3, seed: int = 0, names: list[
             X = fd.frame_placement(model, q, model.frame_id(name, kind="site"))
             errs.add("site placement", np.concatenate([X.rotation.ravel(), X.translation]),
                      np.concatenate([d.site_xmat[s], d.site_xpos[s]]), 1.0 + float(np.max(np.abs(d.site_xpos[s]))))
-        M_mj = np.zeros((m.nv, m.nv))
-        mujoco.mj_fullM(m, d, M_mj)
+        M_mj = full_mass_matrix(m, d)
         g_mj = d.qfrc_bias.copy()
         M = conv.joint_matrix_to_mujoco(model, q, fd.crba(model, q))
         errs.add("M", M, M_mj)
@@ -127,8 +126,7 @@ def compare(model: fd.Model, m, *, samples: int = 3, seed: int = 0, names: list[
         errs.add("gravity", g, g_mj, max(float(np.max(np.abs(g_mj), initial=0.0)), 1e-12))
         d.qvel[:] = qvel
         mujoco.mj_forward(m, d)
-        M_mj = np.zeros((m.nv, m.nv))
-        mujoco.mj_fullM(m, d, M_mj)
+        M_mj = full_mass_matrix(m, d)
         tau_mj = d.qfrc_bias + M_mj @ qacc
         v = conv.v_from_mujoco(model, qpos, qvel)
         a = conv.a_from_mujoco(model, qpos, qvel, qacc)
@@ -136,6 +134,16 @@ def compare(model: fd.Model, m, *, samples: int = 3, seed: int = 0, names: list[
             tau = conv.tau_to_mujoco(model, q, fd.rnea(model, q, v, a, backend=backend))
             errs.add(f"rnea ({backend})", tau, tau_mj)
     return errs
+
+
+def full_mass_matrix(m, d) -> np.ndarray:
+    """``mj_fullM`` (MuJoCo 4 takes ``(m, d, dst)``, MuJoCo 3 ``(m, dst, d.qM)``)."""
+    M = np.zeros((m.nv, m.nv))
+    if hasattr(d, "qM"):
+        mujoco.mj_fullM(m, M, d.qM)
+    else:
+        mujoco.mj_fullM(m, d, M)
+    return M
 
 
 def body_frame(model: fd.Model, name: str) -> int:
