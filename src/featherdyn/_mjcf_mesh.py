@@ -30,11 +30,12 @@ from pathlib import Path
 
 import numpy as np
 
+from .urdf import MAX_LENGTH as _MAX_LENGTH
+
 __all__ = ["MAX_MESH_BYTES", "MeshError", "read_mesh_file", "mesh_mass_properties"]
 
 #: Largest mesh file read, in bytes.
 MAX_MESH_BYTES = 200_000_000
-_MAX_LENGTH = 1e60
 
 
 class MeshError(Exception):

@@ -32,15 +32,13 @@ import numpy as np
 
 from ._urdf_xml import MAX_DEPTH, _parse_xml, _quote, _read_source, _shorten
 from .errors import MJCFError, PhysicalityWarning
+from .urdf import MAX_LENGTH
 
 #: Deepest nesting of ``<include>`` files accepted.
 MAX_INCLUDE_DEPTH = 20
 #: Most files a model may include in all.
 MAX_INCLUDES = 1000
-#: Largest magnitude accepted for a length, in m (as :data:`featherdyn.urdf.MAX_LENGTH`).
-MAX_LENGTH = 1e60
-#: Largest magnitude accepted for a mass, density or inertia entry (as :data:`featherdyn.urdf.MAX_MASS`).
-MAX_MASS = 1e100
+# the magnitude bounds are the URDF loader's (featherdyn.urdf module doc: finite input, finite dynamics)
 
 # a digit run matches one way only (the fraction needs its dot), so a failed match backtracks in linear time
 _NUMBER = re.compile(r"[+-]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)(?:[eE][+-]?[0-9]+)?")

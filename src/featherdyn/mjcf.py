@@ -73,12 +73,13 @@ import numpy as np
 
 from ._mjcf_inertia import SOLID_TYPES, geom_mass_inertia
 from ._mjcf_mesh import MeshError, convex_hull, mesh_mass_properties, read_mesh_file
-from ._mjcf_xml import MAX_MASS, Doc, _local, expand_replicates, read_defaults, read_document, z_to_vector
+from ._mjcf_xml import Doc, _local, expand_replicates, read_defaults, read_document, z_to_vector
 from ._urdf_xml import _quote, _read_source, _shorten_quoted
 from .errors import FeatherdynError, MJCFError, PhysicalityWarning
 from .joints import FreeFlyerJoint, Joint, PrismaticJoint, RevoluteJoint, SphericalJoint
 from .model import Model, ModelBuilder
 from .spatial_algebra import PluckerTransform, SpatialInertia
+from .urdf import MAX_INERTIA, MAX_MASS
 
 __all__ = ["load_mjcf", "load_model", "model_format"]
 
@@ -403,6 +404,11 @@ class _Loader:
             RR = R @ Ri
             body.mass, body.com, body.inertia = mass[0], R @ np.array(pos) + p, RR @ tensor @ RR.T
         self.bound_and_balance(body)
+        largest = float(np.max(np.abs(body.inertia)))
+        if not (math.isfinite(body.mass) and math.isfinite(largest)) or body.mass > MAX_MASS or largest > MAX_INERTIA:
+            raise doc.error(body.elem, f"body {body.name or b!r}: mass {body.mass:g} and inertia entries up to "
+                            f"{largest:g}: expected at most {MAX_MASS:g} (MAX_MASS, MAX_INERTIA of featherdyn.urdf: "
+                            "larger values overflow the dynamics)")
         if body.inertial is not None and not use_geoms:  # MuJoCo checks after bounding and balancing
             ev = np.linalg.eigvalsh(body.inertia)
             if ev[0] + ev[1] < ev[2] * (1 - 1e-10) - MJ_MINVAL:

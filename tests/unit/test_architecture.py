@@ -46,6 +46,7 @@ LAYER_OF: dict[str, str] = {
     "mjcf": "model",
     "_mjcf_xml": "model",
     "_mjcf_inertia": "model",
+    "_mjcf_mesh": "model",
     "configuration": "model",
     "robots": "model",
     "algorithms": "algorithms",

@@ -326,3 +326,9 @@ def test_load_robot_takes_a_model_file(tmp_path: Path) -> None:
     from featherdyn.mjcf import model_format
 
     assert model_format(p) == "mjcf" and model_format(urdf) == "urdf"
+
+
+def test_geom_products_beyond_the_bounds_are_refused() -> None:
+    # each number is within its own bound, their product (density × size³ × size²) is not
+    with pytest.raises(MJCFError, match="MAX_MASS"):
+        _load(_wrap('<body><joint/><geom size="1e40" density="1e90"/></body>'))
