@@ -346,3 +346,30 @@ def test_mesh_inertia_matches_mujoco(tmp_path: Path, file: str, mode: str) -> No
     main = tmp_path / "model.xml"
     main.write_text(xml)
     _check("", f"mesh {file} {mode}", main, MESH_RTOL)
+
+
+def test_free_joint_armature_differs_from_mujoco_exactly_as_documented() -> None:
+    """MuJoCo adds ``armature · qacc`` in its coordinates; featherdyn ``armature · v̇`` in its own::
+
+        Tᵀ τ_featherdyn − τ_mujoco = armature · [−R (ω_b × v_b); 0]     (M and gravity agree)
+    """
+    from featherdyn import conventions as conv
+
+    xml = ('<mujoco><worldbody><body pos="0 0 1"><joint type="free" armature="0.7"/>'
+           '<geom type="box" size=".2 .1 .05" pos=".1 0 0"/></body></worldbody></mujoco>')
+    m = mujoco.MjModel.from_xml_string(xml)
+    model = fd.load_mjcf(xml)
+    d = mujoco.MjData(m)
+    rng = np.random.default_rng(2)
+    q = fd.random_configuration(model, rng)
+    qpos, qvel, qacc = conv.q_to_mujoco(model, q), rng.normal(size=6), rng.normal(size=6)
+    d.qpos[:], d.qvel[:] = qpos, qvel
+    mujoco.mj_forward(m, d)
+    from _mjcf_oracle import full_mass_matrix
+
+    tau_mj = d.qfrc_bias + full_mass_matrix(m, d) @ qacc
+    v, a = conv.v_from_mujoco(model, qpos, qvel), conv.a_from_mujoco(model, qpos, qvel, qacc)
+    tau = conv.tau_to_mujoco(model, q, fd.rnea(model, q, v, a))
+    R = d.xmat[1].reshape(3, 3)
+    expected = 0.7 * np.concatenate([-R @ np.cross(v[:3], v[3:]), np.zeros(3)])
+    np.testing.assert_allclose(tau - tau_mj, expected, rtol=0, atol=1e-12 * np.abs(tau_mj).max())
