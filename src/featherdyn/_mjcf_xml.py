@@ -104,12 +104,13 @@ class Doc:
         _overlay(merged, dict(elem.attrib))
         return merged
 
-    def element_class(self, elem: Any, childclass: str) -> str:
-        cls = elem.get("class")
+    def element_class(self, elem: Any, childclass: str, attr: str = "class") -> str:
+        """The default class of ``elem``: its ``attr`` (``class``, or ``childclass`` for what it passes on)."""
+        cls = elem.get(attr)
         if cls is None:
             return childclass
         if cls not in self.own_defaults:
-            raise self.error(elem, f"class={_quote(cls)}: unknown default class (defined: "
+            raise self.error(elem, f"{attr}={_quote(cls)}: unknown default class (defined: "
                              f"{', '.join(repr(c) for c in list(self.own_defaults)[:20])})")
         return cls
 
@@ -134,6 +135,14 @@ class Doc:
                                  f"(larger values overflow the dynamics), got {_quote(s)}")
             out.append(x)
         return out
+
+    def require(self, elem: Any, attrs: dict[str, str], name: str, counts: tuple[int, ...],
+                bound: float = MAX_LENGTH) -> list[float]:
+        """:meth:`floats` of an attribute that must be present."""
+        got = self.floats(elem, attrs, name, counts, None, bound)
+        if got is None:
+            raise self.error(elem, f"needs the attribute {name!r}")
+        return got
 
     def float_list(self, elem: Any, attrs: dict[str, str], name: str, multiple_of: int) -> list[float]:
         """The attribute as finite decimals, a multiple of ``multiple_of`` of them (``[]`` when absent)."""
@@ -173,20 +182,17 @@ class Doc:
             return np.eye(3)
         kind = given[0]
         if kind == "quat":
-            q = self.floats(elem, attrs, "quat", (4,))
-            assert q is not None
+            q = self.require(elem, attrs, "quat", (4,))
             n = math.sqrt(sum(c * c for c in q))
             if n < 1e-10:
                 raise self.error(elem, f"quat={_quote(attrs['quat'])}: a zero quaternion is not a rotation")
             return quat_wxyz_matrix(np.array(q) / n)
         if kind == "axisangle":
-            aa = self.floats(elem, attrs, "axisangle", (4,))
-            assert aa is not None
+            aa = self.require(elem, attrs, "axisangle", (4,))
             axis = self._direction(elem, attrs, "axisangle", np.array(aa[:3]))
             return axis_angle_matrix(axis, self.angle(aa[3]))
         if kind == "euler":
-            e = self.floats(elem, attrs, "euler", (3,))
-            assert e is not None
+            e = self.require(elem, attrs, "euler", (3,))
             R = np.eye(3)
             for letter, a in zip(self.eulerseq, e, strict=True):
                 axis = np.eye(3)["xyz".index(letter.lower())]
@@ -194,14 +200,12 @@ class Doc:
                 R = R @ Rk if letter.islower() else Rk @ R
             return R
         if kind == "xyaxes":
-            v = self.floats(elem, attrs, "xyaxes", (6,))
-            assert v is not None
+            v = self.require(elem, attrs, "xyaxes", (6,))
             x = self._direction(elem, attrs, "xyaxes", np.array(v[:3]))
             y = np.array(v[3:]) - x * float(np.dot(x, v[3:]))
             y = self._direction(elem, attrs, "xyaxes", y, "the y axis is parallel to the x axis")
             return np.column_stack([x, y, np.cross(x, y)])
-        z = self.floats(elem, attrs, "zaxis", (3,))
-        assert z is not None
+        z = self.require(elem, attrs, "zaxis", (3,))
         return z_to_vector(self._direction(elem, attrs, "zaxis", np.array(z)))
 
     def _direction(self, elem: Any, attrs: dict[str, str], name: str, v: np.ndarray,
@@ -214,8 +218,7 @@ class Doc:
 
     def pose(self, elem: Any, attrs: dict[str, str]) -> tuple[np.ndarray, np.ndarray]:
         """``(R, p)``: the element's ``pos`` and orientation in its parent's frame."""
-        p = self.floats(elem, attrs, "pos", (3,), [0.0, 0.0, 0.0])
-        assert p is not None
+        p = self.floats(elem, attrs, "pos", (3,), [0.0, 0.0, 0.0]) or [0.0, 0.0, 0.0]
         return self.rotation(elem, attrs), np.array(p)
 
 
@@ -254,7 +257,7 @@ def _local(tag: Any) -> str:
     return tag if isinstance(tag, str) else ""
 
 
-def _read(path_or_xml: Any, label_hint: str | None = None) -> tuple[Any, dict[Any, tuple[str, int]], str, str | None]:
+def _read(path_or_xml: Any) -> tuple[Any, dict[Any, tuple[str, int]], str, str | None]:
     text, label, path = _read_source(path_or_xml, MJCFError, "MJCF", "load_mjcf")
     root, lines = _parse_xml(text, label, MJCFError, "MJCF", line_depth=MAX_DEPTH)
     return root, {e: (label, n) for e, n in lines.items()}, label, path

@@ -71,9 +71,9 @@ from typing import Any
 
 import numpy as np
 
-from ._mjcf_inertia import SOLID_TYPES, geom_mass_inertia
+from ._mjcf_inertia import geom_mass_inertia
 from ._mjcf_mesh import MeshError, convex_hull, mesh_mass_properties, read_mesh_file
-from ._mjcf_xml import Doc, _local, expand_replicates, read_defaults, read_document, z_to_vector
+from ._mjcf_xml import Doc, _local, axis_angle_matrix, expand_replicates, read_defaults, read_document, z_to_vector
 from ._urdf_xml import _quote, _read_source, _shorten_quoted
 from .errors import FeatherdynError, MJCFError, PhysicalityWarning
 from .joints import FreeFlyerJoint, Joint, PrismaticJoint, RevoluteJoint, SphericalJoint
@@ -148,6 +148,9 @@ class _Loader:
         self.path = path
         self.comp = _Compiler()
         self.gravity = np.array([0.0, 0.0, -9.81])
+        self.gravity_disabled = False
+        self.meshdir: str | None = None
+        self.assetdir: str | None = None
         self.meshes: dict[str, Any] = {}
         self.mesh_cache: dict[str, tuple[float, np.ndarray, np.ndarray]] = {}
         self.bodies: list[_Body] = []
@@ -209,9 +212,8 @@ class _Loader:
             c.balanceinertia = doc.boolean(elem, a, "balanceinertia", False)
         if "autolimits" in a:
             c.autolimits = doc.boolean(elem, a, "autolimits", True)
-        for key in ("meshdir", "assetdir"):
-            if key in a:
-                setattr(self, key, a[key])
+        self.meshdir = a.get("meshdir", self.meshdir)
+        self.assetdir = a.get("assetdir", self.assetdir)
 
     def read_option(self, elem: Any) -> None:
         g = self.doc.floats(elem, elem.attrib, "gravity", (3,))
@@ -235,9 +237,7 @@ class _Loader:
         pending.reverse()
         while pending:
             elem, parent, R, p, childclass = pending.pop()
-            own = elem.get("childclass")
-            if own is not None:
-                childclass = doc.element_class(_ClassProbe(elem, own), childclass)
+            childclass = doc.element_class(elem, childclass, "childclass")
             attrs = dict(elem.attrib)
             Rb, pb = doc.pose(elem, attrs)
             body = _Body(elem, elem.get("name") or "", parent, R @ Rb, R @ pb + p, childclass)
@@ -265,8 +265,7 @@ class _Loader:
                 cls = doc.element_class(child, cc)
                 attrs = doc.attrs(child, "frame", cls)
                 Rf, pf = doc.pose(child, attrs)
-                sub_cc = cc if child.get("childclass") is None else doc.element_class(
-                    _ClassProbe(child, child.get("childclass")), cc)
+                sub_cc = doc.element_class(child, cc, "childclass")
                 R2, p2 = R @ Rf, R @ pf + p
                 stack += [(c, R2, p2, sub_cc) for c in reversed(list(child))]
             elif kind == "geom":
@@ -278,9 +277,8 @@ class _Loader:
                 Rs, ps = self.geom_pose(child, attrs)
                 self.bodies[b].sites.append((child.get("name") or "", R @ Rs, R @ ps + p))
             elif kind in ("joint", "freejoint"):
-                if is_world:
+                if is_world or body is None:
                     raise doc.error(child, "a joint of the world body: joints belong in a <body>")
-                assert body is not None
                 body.joints.append(self.read_joint(child, kind, cc, R, p, len(body.joints)))
             elif kind == "inertial":
                 if is_world or body is None:
@@ -393,8 +391,7 @@ class _Loader:
                 tensor = np.array([[xx, xy, xz], [xy, yy, yz], [xz, yz, zz]])
                 Ri = doc.rotation(elem, attrs)
             else:
-                assert diag is not None
-                tensor = np.diag(diag)
+                tensor = np.diag(diag or [0.0, 0.0, 0.0])
                 Ri = doc.rotation(elem, attrs)
             ev = np.linalg.eigvalsh(tensor)
             scale = max(float(np.max(np.abs(ev))), MJ_MINVAL)
@@ -474,7 +471,6 @@ class _Loader:
             if not size[k] > 0:
                 raise doc.error(elem, f"size={_quote(attrs.get('size', ''))}: size {k} of a {gtype} must be positive "
                                 f"(got {size[k]:g})")
-        assert gtype in SOLID_TYPES
         got = geom_mass_inertia(gtype, size, density, None if mass is None else mass[0], shell)
         if got is None:
             raise doc.error(elem, f"shellinertia='true' of a {gtype} is not supported")
@@ -524,7 +520,7 @@ class _Loader:
         p = Path(file)
         if p.is_absolute():
             return p
-        folder = getattr(self, "meshdir", None) or getattr(self, "assetdir", None) or ""
+        folder = self.meshdir or self.assetdir or ""
         return self.doc.model_dir / folder / p
 
     # -- the featherdyn model -------------------------------------------------
@@ -558,7 +554,7 @@ class _Loader:
                                      else f"{body.name}/joint{k}", joint_names)
 
         name = doc.root.get("model") or "MuJoCo Model"
-        gravity = np.zeros(3) if getattr(self, "gravity_disabled", False) else self.gravity
+        gravity = np.zeros(3) if self.gravity_disabled else self.gravity
         builder = ModelBuilder(name, tuple(float(g) for g in gravity))
         builder.source = self.path
         fd_body = [-1] * nb
@@ -595,7 +591,7 @@ class _Loader:
                 else:
                     anchor = PluckerTransform(np.eye(3), j.pos)
                     if j.kind == "hinge":
-                        placement = X @ anchor @ PluckerTransform(_rot(j.axis, -j.ref), np.zeros(3))
+                        placement = X @ anchor @ PluckerTransform(axis_angle_matrix(j.axis, -j.ref), np.zeros(3))
                         joint = RevoluteJoint(j.axis)
                     else:
                         placement = X @ anchor
@@ -637,24 +633,6 @@ class _Loader:
     def add_sites(self, builder: ModelBuilder, body: _Body, fd: int, X: PluckerTransform) -> None:
         for k, (name, R, p) in enumerate(body.sites):
             builder.add_frame(name or f"{body.name}/site{k}", fd, X @ PluckerTransform(R, p), "site")
-
-
-class _ClassProbe:
-    """An element whose ``class`` is a given name (to check a ``childclass`` with :meth:`Doc.element_class`)."""
-
-    def __init__(self, elem: Any, cls: str) -> None:
-        self.elem, self.cls = elem, cls
-        self.tag = elem.tag
-        self.attrib = elem.attrib
-
-    def get(self, key: str, default: Any = None) -> Any:
-        return self.cls if key == "class" else self.elem.get(key, default)
-
-
-def _rot(axis: np.ndarray, angle: float) -> np.ndarray:
-    from ._mjcf_xml import axis_angle_matrix
-
-    return axis_angle_matrix(axis, angle)
 
 
 def load_mjcf(path_or_xml: str | os.PathLike[str] | bytes, *, strict: bool = False) -> Model:
