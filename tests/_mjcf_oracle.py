@@ -6,7 +6,7 @@ functions; MuJoCo's numbers come from ``mujoco`` itself:
 * joints mapped by name (MuJoCo's name, or featherdyn's documented name of
   an unnamed joint), their ``qpos``/``qvel`` addresses equal to featherdyn's
   ``idx_q``/``idx_v``;
-* total mass of the moving bodies (``body_weldid != 0``);
+* total mass of the moving bodies (welded to a body with degrees of freedom);
 * per featherdyn body, the world-frame 6×6 spatial inertia against the sum of
   the MuJoCo bodies welded into it (``xipos``, ``ximat``, ``body_inertia``);
 * world placements of every MJCF body frame and site (``xpos``/``xmat``,
@@ -81,7 +81,8 @@ def compare(model: fd.Model, m, *, samples: int = 3, seed: int = 0, names: list[
         assert model.idx_q[i] == m.jnt_qposadr[j], (name, model.idx_q[i], m.jnt_qposadr[j])
         assert model.idx_v[i] == m.jnt_dofadr[j], (name, model.idx_v[i], m.jnt_dofadr[j])
     assert model.nq == m.nq and model.nv == m.nv
-    moving = [b for b in range(1, m.nbody) if m.body_weldid[b] != 0]
+    # moving: welded to a body with degrees of freedom (a mocap body is welded to itself, without any)
+    moving = [b for b in range(1, m.nbody) if m.body_dofnum[m.body_weldid[b]] > 0]
     mass_ref = float(sum(m.body_mass[b] for b in moving))
     errs.add("total mass", model.total_mass, mass_ref)
     errs.add("armature", model.armature, m.dof_armature, max(1.0, float(np.max(np.abs(m.dof_armature), initial=0))))

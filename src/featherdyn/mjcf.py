@@ -301,6 +301,8 @@ class _Loader:
         ft = self.doc.floats(elem, attrs, "fromto", (6,))
         if ft is None:
             return self.doc.pose(elem, attrs)
+        if "pos" in attrs:
+            raise self.doc.error(elem, "both pos and fromto given (MuJoCo refuses this)")
         a, b = np.array(ft[:3]), np.array(ft[3:])
         d = a - b
         n = float(np.linalg.norm(d))
@@ -335,6 +337,9 @@ class _Loader:
         if limited == "true" and jtype in ("hinge", "slide"):
             rng = doc.floats(elem, attrs, "range", (2,), [0.0, 0.0]) or [0.0, 0.0]
             lower, upper = rng
+            if not lower < upper:
+                raise doc.error(elem, f"range={_quote(attrs.get('range', '0 0'))}: a limited joint needs "
+                                "range[0] < range[1] (MuJoCo)")
             if jtype == "hinge":
                 lower, upper = doc.angle(lower), doc.angle(upper)
         if jtype == "hinge":
@@ -387,9 +392,12 @@ class _Loader:
             if (diag is None) == (full is None):
                 raise doc.error(elem, "<inertial> needs exactly one of 'diaginertia' and 'fullinertia'")
             if full is not None:
+                given = [k for k in ("quat", "axisangle", "euler", "xyaxes", "zaxis") if k in attrs]
+                if given:
+                    raise doc.error(elem, f"fullinertia and an orientation ({given[0]}): MuJoCo accepts one")
                 xx, yy, zz, xy, xz, yz = full
                 tensor = np.array([[xx, xy, xz], [xy, yy, yz], [xz, yz, zz]])
-                Ri = doc.rotation(elem, attrs)
+                Ri = np.eye(3)
             else:
                 tensor = np.diag(diag or [0.0, 0.0, 0.0])
                 Ri = doc.rotation(elem, attrs)

@@ -242,6 +242,11 @@ BAD: dict[str, tuple[str, str]] = {
     "eulerseq": ('<mujoco><compiler eulerseq="xyw"/></mujoco>', "eulerseq='xyw'"),
     "angle": ('<mujoco><compiler angle="grad"/></mujoco>', "angle='grad'"),
     "coordinate global": ('<mujoco><compiler coordinate="global"/></mujoco>', "global"),
+    "fullinertia and quat": (_wrap('<body><joint/><inertial pos="0 0 0" mass="1" quat="1 0 0 0" '
+                                   'fullinertia="1 1 1 0 0 0"/></body>'), "fullinertia and an orientation"),
+    "limited without range": (_wrap('<body><joint limited="true"/><geom size=".1"/></body>'), r"range\[0\] < range"),
+    "pos and fromto": (_wrap('<body><joint/><geom type="capsule" size=".1" pos="1 0 0" fromto="0 0 0 0 0 1"/></body>'),
+                       "both pos and fromto"),
     "fromto points": (_wrap('<body><joint/><geom type="capsule" size=".1" fromto="0 0 0 0 0 0"/></body>'),
                       "points coincide"),
     "zero size": (_wrap('<body><joint/><geom type="box" size=".1 0 .1"/></body>'), "size 1 of a box must be positive"),
