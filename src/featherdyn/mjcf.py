@@ -461,6 +461,9 @@ class _Loader:
                             "inertiagrouprange")
         shell = doc.boolean(elem, attrs, "shellinertia", False)
         if gtype == "mesh":
+            if "shellinertia" in attrs:
+                raise doc.error(elem, "shellinertia on a mesh geom: for mesh geoms, inertia is specified in the mesh "
+                                "asset (<mesh inertia='shell'>), as MuJoCo requires")
             measure, c_mesh, J = self.mesh_properties(elem, attrs)
             m = mass[0] if mass is not None else density * measure
             Rg, pg = doc.pose(elem, attrs)

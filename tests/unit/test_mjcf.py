@@ -228,6 +228,9 @@ BAD: dict[str, tuple[str, str]] = {
                                    'face="0 1 2 0 3 1 0 2 3 1 3 2"/></asset>'), "not positive"),
     "flat hull": (_wrap('<body><joint/><geom type="mesh" mesh="m"/></body>',
                         head='<asset><mesh name="m" vertex="0 0 0 1 0 0 0 1 0 1 1 0 2 3 0"/></asset>'), "coplanar"),
+    "mesh shellinertia": (_wrap('<body><joint/><geom type="mesh" mesh="m" shellinertia="true"/></body>',
+                                head='<asset><mesh name="m" vertex="0 0 0 1 0 0 0 1 0 0 0 1" '
+                                     'face="0 2 1 0 1 3 0 3 2 1 2 3"/></asset>'), "in the mesh asset"),
     "sdf": (_wrap('<body><joint/><geom type="sdf" mesh="m"/></body>'), "SDF geom inertia is not supported"),
     "replicate count": (_wrap('<replicate count="0"><body><joint/><geom size=".1"/></body></replicate>'),
                         "count='0'"),
