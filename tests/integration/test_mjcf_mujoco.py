@@ -226,7 +226,7 @@ def test_include_matches_mujoco(tmp_path: Path) -> None:
 
 def _installed_models() -> list[Path]:
     found = []
-    for package, sub in (("mujoco", "testdata"), ("gymnasium", "envs/mujoco/assets")):
+    for package, sub in (("mujoco", "testdata"), ("gymnasium", "envs/mujoco/assets"), ("dm_control", "suite")):
         spec = importlib.util.find_spec(package)
         if spec is None or spec.origin is None:
             continue
