@@ -182,6 +182,10 @@ class _Loader:
                     name = m.get("name") or Path(m.get("file", "")).stem
                     if name:
                         self.meshes[name] = m
+                    file = m.get("file")
+                    if file is not None and not self.asset_path(file).is_file():  # MuJoCo reads every asset
+                        raise doc.error(m, f"file={_quote(file)}: cannot read the mesh file "
+                                        f"{_quote(str(self.asset_path(file)))}: no such file")
 
     def read_compiler(self, elem: Any) -> None:
         doc, a, c = self.doc, elem.attrib, self.comp
@@ -544,7 +548,9 @@ class _Loader:
         for b in range(1, nb):
             self.moving[b] = bool(self.bodies[b].joints) or self.moving[self.bodies[b].parent]
         for b in range(1, nb):
-            self.body_inertia(b)
+            # a static body's inertia matters only to settotalmass (its meshes are not even read otherwise)
+            if self.moving[b] or self.comp.settotalmass > 0:
+                self.body_inertia(b)
         if self.comp.settotalmass > 0:
             total = sum(self.bodies[b].mass for b in range(1, nb))
             if total > 0:

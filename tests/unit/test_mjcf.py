@@ -340,3 +340,11 @@ def test_geom_products_beyond_the_bounds_are_refused() -> None:
     # each number is within its own bound, their product (density × size³ × size²) is not
     with pytest.raises(MJCFError, match="MAX_MASS"):
         _load(_wrap('<body><joint/><geom size="1e40" density="1e90"/></body>'))
+
+
+def test_a_missing_mesh_file_is_refused_even_if_unused() -> None:
+    # MuJoCo reads every mesh asset; the message names the asset and the resolved path
+    xml = _wrap('<body><joint/><geom size=".1"/></body>', head='<compiler meshdir="meshes"/>'
+                '<asset><mesh name="unused" file="nothere.stl"/></asset>')
+    with pytest.raises(MJCFError, match=r"<mesh name='unused'>: file='nothere.stl'.*meshes/nothere.stl"):
+        fd.load_mjcf(xml)
