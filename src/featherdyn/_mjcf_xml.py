@@ -279,6 +279,7 @@ def read_document(path_or_xml: Any, strict: bool) -> Doc:
     doc = Doc(root, where, label, model_dir, strict)
     chain_of: dict[Any, tuple[str, ...]] = {root: (str(Path(path).resolve()) if path else label,)}
     included = 0
+    seen: set[str] = set()
     while True:
         parent_of = {c: p for p in root.iter() for c in p}
         includes = [e for e in root.iter() if _local(e.tag) == "include"]
@@ -296,6 +297,9 @@ def read_document(path_or_xml: Any, strict: bool) -> Doc:
             if str(target) in chain:
                 raise doc.error(inc, f"file={_quote(file)}: include cycle ("
                                 + " -> ".join(_quote(c) for c in (*chain, str(target))) + ")")
+            if str(target) in seen:
+                raise doc.error(inc, f"file={_quote(file)}: already included (MuJoCo includes a file once)")
+            seen.add(str(target))
             if len(chain) > MAX_INCLUDE_DEPTH:
                 raise doc.error(inc, f"includes nested deeper than {MAX_INCLUDE_DEPTH} files (MAX_INCLUDE_DEPTH)")
             included += 1

@@ -348,3 +348,10 @@ def test_a_missing_mesh_file_is_refused_even_if_unused() -> None:
                 '<asset><mesh name="unused" file="nothere.stl"/></asset>')
     with pytest.raises(MJCFError, match=r"<mesh name='unused'>: file='nothere.stl'.*meshes/nothere.stl"):
         fd.load_mjcf(xml)
+
+
+def test_a_file_included_twice_is_refused(tmp_path: Path) -> None:
+    (tmp_path / "c.xml").write_text('<mujoco><worldbody><body><joint/><geom size=".1"/></body></worldbody></mujoco>')
+    (tmp_path / "d.xml").write_text('<mujoco><include file="c.xml"/><include file="c.xml"/></mujoco>')
+    with pytest.raises(MJCFError, match="already included"):
+        fd.load_mjcf(tmp_path / "d.xml")
