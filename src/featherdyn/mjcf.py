@@ -155,6 +155,7 @@ class _Loader:
         self.mesh_cache: dict[str, tuple[float, np.ndarray, np.ndarray]] = {}
         self.bodies: list[_Body] = []
         self.ignored: list[str] = []
+        self.site_names: set[str] = set()
 
     # -- top level ------------------------------------------------------------
 
@@ -649,7 +650,10 @@ class _Loader:
 
     def add_sites(self, builder: ModelBuilder, body: _Body, fd: int, X: PluckerTransform) -> None:
         for k, (name, R, p) in enumerate(body.sites):
-            builder.add_frame(name or f"{body.name}/site{k}", fd, X @ PluckerTransform(R, p), "site")
+            if name and name in self.site_names:
+                raise MJCFError(f"{self.doc.label}: site name {name!r} is used twice (MuJoCo: repeated name)")
+            full = _unique(name or f"{body.name}/site{k}", self.site_names)
+            builder.add_frame(full, fd, X @ PluckerTransform(R, p), "site")
 
 
 def load_mjcf(path_or_xml: str | os.PathLike[str] | bytes, *, strict: bool = False) -> Model:

@@ -250,6 +250,10 @@ BAD: dict[str, tuple[str, str]] = {
     "limited without range": (_wrap('<body><joint limited="true"/><geom size=".1"/></body>'), r"range\[0\] < range"),
     "pos and fromto": (_wrap('<body><joint/><geom type="capsule" size=".1" pos="1 0 0" fromto="0 0 0 0 0 1"/></body>'),
                        "both pos and fromto"),
+    "duplicate site": (_wrap('<body><joint/><geom size=".1"/><site name="s"/><site name="s"/></body>'),
+                       "site name 's' is used twice"),
+    "duplicate body": (_wrap('<body name="b"><joint/><geom size=".1"/></body><body name="b"><joint/>'
+                             '<geom size=".1"/></body>'), "used twice"),
     "fromto points": (_wrap('<body><joint/><geom type="capsule" size=".1" fromto="0 0 0 0 0 0"/></body>'),
                       "points coincide"),
     "zero size": (_wrap('<body><joint/><geom type="box" size=".1 0 .1"/></body>'), "size 1 of a box must be positive"),
