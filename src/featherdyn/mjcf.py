@@ -571,6 +571,12 @@ class _Loader:
                     j.name = _unique(f"{body.name}/free" if _local(j.elem.tag) == "freejoint" and j.kind == "free"
                                      else f"{body.name}/joint{k}", joint_names)
 
+        for body in self.bodies:  # named sites first, so that generated names avoid them
+            for site_name, _, _ in body.sites:
+                if site_name in self.site_names:
+                    raise MJCFError(f"{doc.label}: site name {site_name!r} is used twice (MuJoCo: repeated name)")
+                if site_name:
+                    self.site_names.add(site_name)
         name = doc.root.get("model") or "MuJoCo Model"
         gravity = np.zeros(3) if self.gravity_disabled else self.gravity
         builder = ModelBuilder(name, tuple(float(g) for g in gravity))
@@ -650,9 +656,7 @@ class _Loader:
 
     def add_sites(self, builder: ModelBuilder, body: _Body, fd: int, X: PluckerTransform) -> None:
         for k, (name, R, p) in enumerate(body.sites):
-            if name and name in self.site_names:
-                raise MJCFError(f"{self.doc.label}: site name {name!r} is used twice (MuJoCo: repeated name)")
-            full = _unique(name or f"{body.name}/site{k}", self.site_names)
+            full = name or _unique(f"{body.name}/site{k}", self.site_names)
             builder.add_frame(full, fd, X @ PluckerTransform(R, p), "site")
 
 
