@@ -295,6 +295,8 @@ class _Loader:
                 raise doc.error(child, f"<{kind}> is not supported by featherdyn's MJCF loader (it adds bodies or "
                                 "joints featherdyn cannot reproduce); expand it into plain bodies first")
             elif kind == "plugin":
+                if doc.strict:
+                    raise doc.error(child, "<plugin> has no rigid-tree meaning and is refused with strict=True")
                 if "plugin" not in self.ignored:
                     self.ignored.append("plugin")
             elif kind not in _BODY_QUIET:
