@@ -66,6 +66,7 @@ from .errors import (
     FeatherdynError,
     FrameMismatchError,
     InertiaError,
+    MJCFError,
     ModelError,
     NonFiniteError,
     PhysicalityWarning,
@@ -102,6 +103,8 @@ __version__ = "0.1.0"
 # names whose modules are imported on first use (keeps `import featherdyn` light)
 _LAZY = {
     "load_urdf": "urdf",
+    "load_mjcf": "mjcf",
+    "load_model": "mjcf",
     "load_robot": "robots",
     "list_robots": "robots",
     "neutral": "configuration",
@@ -115,6 +118,7 @@ _LAZY = {
     "interpolate": "configuration",
     "conventions": None,
     "urdf": None,
+    "mjcf": None,
     "robots": None,
     "configuration": None,
     "verify": None,
@@ -154,6 +158,7 @@ __all__ = [
     "FeatherdynError",
     "FrameMismatchError",
     "InertiaError",
+    "MJCFError",
     "ModelError",
     "NonFiniteError",
     "PhysicalityWarning",

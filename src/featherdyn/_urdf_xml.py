@@ -1,4 +1,4 @@
-"""Reading a URDF document safely (private to :mod:`featherdyn.urdf`): bytes, encodings, the XML parser, messages.
+"""Reading a URDF or MJCF document safely (private to :mod:`featherdyn.urdf` and :mod:`featherdyn.mjcf`): bytes, encodings, the XML parser, messages.
 
 The source is read as bytes and decoded (BOMs, UTF-16 with or without BOM, a
 declared encoding); whitespace before the XML declaration is moved after it;
@@ -20,7 +20,7 @@ from xml.etree.ElementTree import TreeBuilder
 from defusedxml import DefusedXmlException
 from defusedxml.ElementTree import DefusedXMLParser, ParseError
 
-from .errors import URDFError
+from .errors import ModelError, URDFError
 
 #: Deepest element nesting accepted (real URDFs nest about 5 deep).
 MAX_DEPTH = 1000
@@ -67,15 +67,20 @@ def _shorten_quoted(message: str) -> str:
 # ---------------------------------------------------------------------------
 
 
-def _read_source(path_or_xml: Any) -> tuple[str, str, str | None]:
-    """``(text, label for messages, path or None)`` of a path, an XML string or XML bytes."""
+def _read_source(path_or_xml: Any, error: type[ModelError] = URDFError, kind: str = "URDF",
+                 function: str = "load_urdf") -> tuple[str, str, str | None]:
+    """``(text, label for messages, path or None)`` of a path, an XML string or XML bytes.
+
+    ``error`` is the exception class raised (the MJCF loader passes its own),
+    ``kind`` and ``function`` name the format and the caller in messages.
+    """
     if isinstance(path_or_xml, (bytes, bytearray, memoryview)):
-        return _decode(bytes(path_or_xml), "<bytes>"), "<bytes>", None
+        return _decode(bytes(path_or_xml), "<bytes>", error), "<bytes>", None
     if isinstance(path_or_xml, str) and path_or_xml.lstrip("\ufeff \t\r\n").startswith("<"):
         return path_or_xml.lstrip("\ufeff"), "<string>", None
     if not isinstance(path_or_xml, (str, os.PathLike)):
-        raise URDFError(
-            f"load_urdf: expected a path, an XML string or bytes, got {type(path_or_xml).__name__}"
+        raise error(
+            f"{function}: expected a path, an XML string or bytes, got {type(path_or_xml).__name__}"
         )
     path = Path(path_or_xml)
     label = str(path)
@@ -83,11 +88,11 @@ def _read_source(path_or_xml: Any) -> tuple[str, str, str | None]:
         data = path.read_bytes()
     except (OSError, ValueError) as exc:
         reason = exc.strerror if isinstance(exc, OSError) and exc.strerror else str(exc)
-        raise URDFError(f"{label}: cannot read the URDF file: {reason}") from None
-    return _decode(data, label), label, label
+        raise error(f"{label}: cannot read the {kind} file: {reason}") from None
+    return _decode(data, label, error), label, label
 
 
-def _decode(data: bytes, label: str) -> str:
+def _decode(data: bytes, label: str, error: type[ModelError] = URDFError) -> str:
     """Decode XML bytes: a BOM wins, then UTF-16 sniffing, then the declared encoding, then UTF-8."""
     boms = (
         (codecs.BOM_UTF32_LE, "utf-32"),
@@ -113,22 +118,22 @@ def _decode(data: bytes, label: str) -> str:
                 try:
                     info = codecs.lookup(name)
                 except LookupError:
-                    raise URDFError(f"{label}: unknown encoding {_quote(name)} in the XML declaration") from None
+                    raise error(f"{label}: unknown encoding {_quote(name)} in the XML declaration") from None
                 if info.name.startswith("utf-16") or info.name.startswith("utf-32"):
                     # declared UTF-16 but no BOM and ASCII-readable: the declaration is wrong
-                    raise URDFError(
+                    raise error(
                         f"{label}: the XML declaration says {_quote(name)} but the bytes are not UTF-16/32"
                     )
                 encoding = info.name
     try:
         return data.decode(encoding)
     except LookupError:  # a declared bytes-to-bytes codec such as "zlib" or "base64"
-        raise URDFError(
+        raise error(
             f"{label}: the XML declaration names {_quote(encoding)}, which is not a text encoding"
         ) from None
     except UnicodeDecodeError as exc:
         line = data[: exc.start].count(b"\n") + 1
-        raise URDFError(
+        raise error(
             f"{label}: line {line}: bytes are not valid {encoding} (byte {data[exc.start:exc.start + 1]!r} "
             f"at offset {exc.start}); save the file as UTF-8"
         ) from None
@@ -142,12 +147,15 @@ def _decode(data: bytes, label: str) -> str:
 class _Builder:
     """ElementTree parser target that bounds nesting, rejects XInclude and records line numbers."""
 
-    def __init__(self, label: str) -> None:
+    def __init__(self, label: str, error: type[ModelError] = URDFError, kind: str = "URDF") -> None:
         self._tb = TreeBuilder()
         self._label = label
+        self._error = error
+        self._kind = kind
         self._depth = 0
         self.expat: Any = None
         self.lines: dict[Any, int] = {}
+        self.line_depth = 4
 
     def line(self) -> int:
         return int(self.expat.CurrentLineNumber) if self.expat is not None else 0
@@ -155,18 +163,18 @@ class _Builder:
     def start(self, tag: str, attrib: dict[str, str]) -> Any:
         self._depth += 1
         if self._depth > MAX_DEPTH:
-            raise URDFError(f"{self._label}: line {self.line()}: elements nested deeper than {MAX_DEPTH} levels")
+            raise self._error(f"{self._label}: line {self.line()}: elements nested deeper than {MAX_DEPTH} levels")
         if tag.startswith("{") and tag[1:].split("}", 1)[0] in _XINCLUDE_NAMESPACES:
-            raise URDFError(f"{self._label}: line {self.line()}: XInclude ({_shorten(tag)}) is not allowed in a URDF")
+            raise self._error(f"{self._label}: line {self.line()}: XInclude ({_shorten(tag)}) is not allowed in a {self._kind}")
         for key, value in attrib.items():
             if len(value) > MAX_ATTRIBUTE_LENGTH:
-                raise URDFError(
+                raise self._error(
                     f"{self._label}: line {self.line()}: <{_shorten(tag)}{_name_attribute(attrib)}>: "
                     f"{_shorten(key)}={_quote(value)}: expected at most {MAX_ATTRIBUTE_LENGTH} characters "
                     f"(MAX_ATTRIBUTE_LENGTH), got {len(value)}"
                 )
         elem = self._tb.start(tag, attrib)
-        if self._depth <= 4:
+        if self._depth <= self.line_depth:
             self.lines[elem] = self.line()
         return elem
 
@@ -195,30 +203,32 @@ def _declaration_first(text: str) -> str:
     return late.group(2) + late.group(1) + text[late.end():]
 
 
-def _parse_xml(text: str, label: str) -> tuple[Any, dict[Any, int]]:
-    """The root element and the line number of each element up to depth 4."""
+def _parse_xml(text: str, label: str, error: type[ModelError] = URDFError, kind: str = "URDF",
+               line_depth: int = 4) -> tuple[Any, dict[Any, int]]:
+    """The root element and the line number of each element up to depth ``line_depth``."""
     text = _declaration_first(text)
-    builder = _Builder(label)
+    builder = _Builder(label, error, kind)
+    builder.line_depth = line_depth
     parser = DefusedXMLParser(target=builder, forbid_dtd=True, forbid_entities=True, forbid_external=True)
     builder.expat = parser.parser
     try:
         parser.feed(text)
         root = parser.close()
-    except URDFError:
+    except error:
         raise
     except ParseError as exc:
         line = exc.position[0] if getattr(exc, "position", None) else builder.line()
-        raise URDFError(f"{label}: line {line}: malformed XML: {_shorten(str(exc))}") from None
+        raise error(f"{label}: line {line}: malformed XML: {_shorten(str(exc))}") from None
     except DefusedXmlException as exc:
         kind = type(exc).__name__.replace("Forbidden", "")
-        raise URDFError(
-            f"{label}: line {builder.line()}: {kind} declarations are not allowed in a URDF "
+        raise error(
+            f"{label}: line {builder.line()}: {kind} declarations are not allowed in a {kind} "
             f"(refused for safety: {_shorten(str(exc))})"
         ) from None
     except RecursionError:
-        raise URDFError(f"{label}: XML nested too deeply") from None
+        raise error(f"{label}: XML nested too deeply") from None
     except (ValueError, MemoryError) as exc:  # e.g. NUL characters in a str
-        raise URDFError(f"{label}: cannot parse the XML: {_shorten(str(exc))}") from None
+        raise error(f"{label}: cannot parse the XML: {_shorten(str(exc))}") from None
     return root, builder.lines
 
 

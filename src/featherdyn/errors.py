@@ -25,6 +25,7 @@ __all__ = [
     "FrameMismatchError",
     "ModelError",
     "URDFError",
+    "MJCFError",
     "PhysicalityWarning",
     "MissingDependencyError",
     "SingularMassMatrixError",
@@ -100,6 +101,13 @@ class URDFError(ModelError):
     """A URDF document is malformed, hostile or describes an impossible tree.
 
     The message names the file, the element and the link or joint involved.
+    """
+
+
+class MJCFError(ModelError):
+    """An MJCF (MuJoCo XML) document is malformed, hostile, unsupported or refused by MuJoCo's compiler rules.
+
+    The message names the file, the line, the element and the attribute involved.
     """
 
 

@@ -98,6 +98,9 @@ class Model:
         velocity_limit, effort_limit: `(nv,)` (``inf`` where not given).
         mimics: URDF mimic records.
         source: the file the model came from (``None`` if built in code).
+        armature: `(nv,)` reflected rotor inertia per degree of freedom (MJCF ``armature``, Pinocchio's
+            ``model.armature``), added to the mass matrix's diagonal: ``M(q) + diag(armature)``; zero when not
+            given (URDF has none). Read-only float64.
     """
 
     name: str
@@ -119,6 +122,7 @@ class Model:
     effort_limit: np.ndarray
     mimics: tuple[Mimic, ...] = ()
     source: str | None = None
+    armature: np.ndarray = None  # type: ignore[assignment]  # None -> zeros (nv,) in __post_init__
     _frame_index: dict[str, int] = field(default_factory=dict, repr=False)
     # the compiled engine's one-state fast path, set on first use (engine/_fast.py); unset until then
     _fast: Any = field(init=False, repr=False, compare=False)
@@ -131,6 +135,21 @@ class Model:
         for k, f in enumerate(self.frames):
             index.setdefault(f.name, k)
         object.__setattr__(self, "_frame_index", index)
+        nv = sum(self.nvs)
+        if self.armature is None:
+            object.__setattr__(self, "armature", _ro(np.zeros(nv)))
+        else:
+            arm = np.asarray(self.armature)
+            if arm.dtype.kind == "O":  # symbolic models (featherdyn.symbolic) keep their expressions
+                arm = arm.copy()
+                arm.flags.writeable = False
+            else:
+                arm = _ro(arm)
+            if arm.shape != (nv,):
+                raise ModelError(f"armature: expected shape (nv,) = ({nv},), got {arm.shape}")
+            if arm.dtype.kind == "f" and not (np.all(np.isfinite(arm)) and np.all(arm >= 0)):
+                raise ModelError(f"armature: expected finite values >= 0, got {arm.tolist()}")
+            object.__setattr__(self, "armature", arm)
 
     # pickling leaves out the caches of the compiled engines (rebuilt on first use)
     def __getstate__(self) -> list[Any]:
@@ -300,6 +319,7 @@ class ModelBuilder:
         self._upper: list[np.ndarray] = []
         self._vel: list[np.ndarray] = []
         self._eff: list[np.ndarray] = []
+        self._armature: list[np.ndarray] = []
         self._frames: list[FrameInfo] = []
         self._mimics: list[Mimic] = []
         self._limit_problems: list[str] = []
@@ -322,6 +342,7 @@ class ModelBuilder:
         upper: ArrayLike | None = None,
         velocity_limit: ArrayLike | None = None,
         effort_limit: ArrayLike | None = None,
+        armature: ArrayLike | None = None,
     ) -> int:
         """Add a body hanging from ``parent`` (``-1`` = world) through ``joint``; returns its index.
 
@@ -334,6 +355,7 @@ class ModelBuilder:
             joint_name: defaults to ``name + "_joint"``.
             lower, upper: `(nq,)` position limits (default unbounded).
             velocity_limit, effort_limit: `(nv,)` (default unbounded).
+            armature: `(nv,)` or a number: reflected rotor inertia of the joint's degrees of freedom (default 0).
         """
         _check_name(name, "body name")
         joint_name = f"{name}_joint" if joint_name is None else _check_name(joint_name, f"body {name!r}: joint_name")
@@ -366,6 +388,14 @@ class ModelBuilder:
         hi = self._limit(upper, joint.nq, math.inf, f"body {name!r}: upper", "nq")
         vel = self._limit(velocity_limit, joint.nv, math.inf, f"body {name!r}: velocity_limit", "nv")
         eff = self._limit(effort_limit, joint.nv, math.inf, f"body {name!r}: effort_limit", "nv")
+        try:
+            arm = np.broadcast_to(np.asarray(0.0 if armature is None else armature, dtype=np.float64),
+                                  (joint.nv,)).copy()
+        except (TypeError, ValueError):
+            raise ModelError(f"body {name!r}: armature: expected a number or {joint.nv} numbers, "
+                             f"got {armature!r}") from None
+        if not (np.all(np.isfinite(arm)) and np.all(arm >= 0)):
+            raise ModelError(f"body {name!r}: armature: expected finite values >= 0, got {arm.tolist()}")
         if np.any(lo > hi):
             self._limit_problems.append(
                 f"joint {joint_name!r} (body {name!r}): lower limit {lo.tolist()} above upper limit {hi.tolist()}"
@@ -382,6 +412,7 @@ class ModelBuilder:
         self._upper.append(hi)
         self._vel.append(vel)
         self._eff.append(eff)
+        self._armature.append(arm)
         return self.nbodies - 1
 
     @staticmethod
@@ -481,6 +512,7 @@ class ModelBuilder:
             effort_limit=_ro(np.concatenate(self._eff) if nb else np.zeros(0)),
             mimics=tuple(self._mimics),
             source=self.source,
+            armature=_ro(np.concatenate(self._armature) if nb else np.zeros(0)),
         )
         for msg in self._limit_problems:
             _complain(msg, strict)

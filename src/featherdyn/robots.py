@@ -22,6 +22,7 @@ from __future__ import annotations
 import difflib
 import functools
 import importlib.metadata
+import os
 from pathlib import Path
 
 from .errors import MissingDependencyError, ModelError
@@ -147,13 +148,16 @@ def robot_path(name: str) -> Path:
     raise ModelError(f"unknown robot {name!r}{hint} (featherdyn.list_robots() lists all {len(candidates)})")
 
 
-def load_robot(name: str | None = None, floating_base: bool = False, strict: bool = False) -> Model:
-    """Load a robot of the library by name.
+def load_robot(name: str | os.PathLike[str] | None = None, floating_base: bool = False, strict: bool = False) -> Model:
+    """Load a robot of the library by name, or a URDF or MJCF file by path.
 
     Args:
         name: a name from :func:`list_robots`; ``None`` loads
             :func:`default_robot` (``"panda"`` when example-robot-data is
-            installed, else the bundled ``"two_link_arm"``).
+            installed, else the bundled ``"two_link_arm"``); the path of an
+            existing ``.urdf`` or ``.xml`` file loads it with
+            :func:`featherdyn.load_model` (URDF or MJCF by its root element;
+            ``floating_base`` applies to a URDF only).
         floating_base: put the root link on a free-flyer joint (see
             :func:`featherdyn.load_urdf`).
         strict: physicality warnings become errors (see :func:`featherdyn.load_urdf`).
@@ -171,4 +175,10 @@ def load_robot(name: str | None = None, floating_base: bool = False, strict: boo
 
     if name is None:
         name = default_robot()
-    return load_urdf(robot_path(name), floating_base=floating_base, strict=strict)
+    if isinstance(name, (str, os.PathLike)) and str(name).lower().endswith((".urdf", ".xml")) and Path(name).is_file():
+        from .mjcf import load_mjcf, model_format
+
+        if model_format(name) == "mjcf":
+            return load_mjcf(name, strict=strict)
+        return load_urdf(name, floating_base=floating_base, strict=strict)
+    return load_urdf(robot_path(os.fspath(name)), floating_base=floating_base, strict=strict)

@@ -1014,3 +1014,59 @@ def test_sympy_object_arrays_pass_through() -> None:
     qvel = cv.freeflyer_v_to_mujoco(q, a)
     assert sympy.simplify(qvel[0] - (sympy.cos(t) * a[3] - sympy.sin(t) * a[4])) == 0
     assert qvel[5] == a[2]
+
+
+# --------------------------------------------------------------------------
+# MuJoCo: whole models (q ↔ qpos, v ↔ qvel, a ↔ qacc, τ ↔ qfrc)
+# --------------------------------------------------------------------------
+
+
+def _mujoco_like_model() -> fd.Model:
+    b = fd.ModelBuilder("mj")
+    I = fd.SpatialInertia(1.0, [0.1, 0.0, 0.0], np.diag([0.1, 0.2, 0.25]))
+    base = b.add_body("base", -1, fd.FreeFlyerJoint(), inertia=I)
+    arm = b.add_body("arm", base, fd.RevoluteJoint([0, 1, 0]), inertia=I)
+    ball = b.add_body("ball", arm, fd.SphericalJoint(), inertia=I)
+    b.add_body("slide", ball, fd.PrismaticJoint([1, 0, 0]), inertia=I)
+    return b.build()
+
+
+@pytest.mark.parametrize("shape", [(), (3,), (2, 1)])
+def test_mujoco_model_converters_round_trip(shape: tuple[int, ...]) -> None:
+    model = _mujoco_like_model()
+    rng = np.random.default_rng(11)
+    q = fd.random_configuration(model, rng, size=shape) if shape else fd.random_configuration(model, rng)
+    v, a, tau = (rng.normal(size=(*shape, model.nv)) for _ in range(3))
+    qpos = cv.q_to_mujoco(model, q)
+    # the layout: free joint [p; w x y z], the hinge unchanged, the ball (w x y z)
+    np.testing.assert_array_equal(qpos[..., 3], q[..., 6])
+    np.testing.assert_array_equal(qpos[..., 7], q[..., 7])
+    np.testing.assert_array_equal(qpos[..., 8], q[..., 11])
+    np.testing.assert_allclose(cv.q_from_mujoco(model, qpos), q, atol=0)
+    qvel = cv.v_to_mujoco(model, q, v)
+    np.testing.assert_allclose(cv.v_from_mujoco(model, qpos, qvel), v, atol=1e-14)
+    # power is invariant: qfrc · qvel = τ · v
+    np.testing.assert_allclose(np.sum(cv.tau_to_mujoco(model, q, tau) * qvel, axis=-1), np.sum(tau * v, axis=-1),
+                               rtol=1e-12)
+    np.testing.assert_allclose(cv.a_from_mujoco(model, qpos, qvel, cv.a_to_mujoco(model, q, v, a)), a, atol=1e-13)
+    M = fd.crba(model, q)
+    Mj = cv.joint_matrix_to_mujoco(model, q, M)
+    # kinetic energy is invariant: ½ qvelᵀ M_mj qvel = ½ vᵀ M v
+    np.testing.assert_allclose(np.einsum("...i,...ij,...j", qvel, Mj, qvel), np.einsum("...i,...ij,...j", v, M, v),
+                               rtol=1e-12)
+    np.testing.assert_allclose(cv.joint_matrix_from_mujoco(model, qpos, Mj), M, atol=1e-13)
+
+
+def test_mujoco_model_converters_refuse_what_mujoco_lacks() -> None:
+    b = fd.ModelBuilder("p")
+    b.add_body("p", -1, fd.PlanarJoint([0, 0, 1]), inertia=fd.SpatialInertia(1.0, [0, 0, 0], np.eye(3)))
+    model = b.build()
+    with pytest.raises(fd.ShapeError, match="no MuJoCo equivalent"):
+        cv.q_to_mujoco(model, np.zeros(3))
+    mj = _mujoco_like_model()
+    bad = fd.neutral(mj)
+    bad[7 + 1:7 + 1 + 4] = [0.0, 0.0, 0.0, 2.0]
+    with pytest.raises(fd.QuaternionNormError):
+        cv.q_to_mujoco(mj, bad)
+    with pytest.raises(fd.ShapeError):
+        cv.q_from_mujoco(mj, np.zeros(5))

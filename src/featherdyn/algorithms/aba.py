@@ -4,7 +4,7 @@ ABA (RBDA table 7.1; chapter §8 and appendix F.5), gravity as ``a₀ = −g``::
 
     pass 1 (i = 0 … nb−1):   v_i = X_up[i] v_λ(i) + S_i q̇_i,   c_i = v_i × S_i q̇_i
                              I^A_i = I_i,   p^A_i = v_i ×* I_i v_i − f_i^ext
-    pass 2 (i = nb−1 … 0):   U_i = I^A_i S_i,   D_i = S_iᵀ U_i,   u_i = τ_i − S_iᵀ p^A_i
+    pass 2 (i = nb−1 … 0):   U_i = I^A_i S_i,   D_i = S_iᵀ U_i + diag(armature_i),   u_i = τ_i − S_iᵀ p^A_i
                              I^a = I^A_i − U_i D_i⁻¹ U_iᵀ,   p^a = p^A_i + I^a c_i + U_i D_i⁻¹ u_i
                              I^A_λ(i) += X_up[i]ᵀ I^a X_up[i],   p^A_λ(i) += X_up[i]ᵀ p^a
     pass 3 (i = 0 … nb−1):   a' = X_up[i] a_λ(i) + c_i
@@ -95,12 +95,15 @@ def aba(model: Model, q: np.ndarray, qd: np.ndarray, tau: np.ndarray, f_ext: np.
     U: list[np.ndarray] = [np.empty(0)] * nb
     Dinv: list[np.ndarray] = [np.empty(0)] * nb
     u: list[np.ndarray] = [np.empty(0)] * nb
+    has_armature = bool(np.any(model.armature != 0))
     for i in range(nb - 1, -1, -1):
         lam = td.parents[i]
         S = td.S[i]
         U[i] = IA[i] @ S                                   # (..., 6, k)
-        D = _mT(S) @ U[i]                                  # (..., k, k)
         sv = slice(model.idx_v[i], model.idx_v[i] + model.nvs[i])
+        D = _mT(S) @ U[i]                                  # (..., k, k)
+        if has_armature:
+            D = D + np.diag(model.armature[sv]).astype(td.dtype)
         u[i] = tau[..., sv] - pA[i] @ S                   # (..., k)
         Dinv[i] = _inv_small(D, model, i, scale)
         if lam != -1:

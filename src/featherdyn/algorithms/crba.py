@@ -5,6 +5,7 @@ CRBA (chapter §5.3; RBDA table 6.2)::
     I^C_i = I_i + Σ_{children j} X_up[j]ᵀ I^C_j X_up[j]     (i = nb−1 … 0)
     F     = I^C_i S_i,   M_ii = S_iᵀ F
     j = i;  while λ(j) ≠ −1:  F = X_up[j]ᵀ F;  j = λ(j);  M_ji = S_jᵀ F;  M_ij = M_jiᵀ
+    M += diag(armature)                                     (reflected rotor inertia)
 
 The full symmetric matrix is returned (Pinocchio's C++ ``crba`` fills the
 upper triangle only; its Python binding returns it full).
@@ -56,6 +57,9 @@ def crba(model: Model, q: np.ndarray) -> np.ndarray:
             block = F.vector @ td.S[j]  # (..., nv_i, nv_j) = (S_jᵀ F)ᵀ
             M[..., si, sj] = block
             M[..., sj, si] = np.swapaxes(block, -1, -2)
+    if np.any(model.armature != 0):
+        k = np.arange(model.nv)
+        M[..., k, k] = M[..., k, k] + model.armature.astype(td.dtype)
     return M
 
 

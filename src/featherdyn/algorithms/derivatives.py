@@ -172,9 +172,11 @@ def _unit_parameter_force(k: int, a: np.ndarray, v: np.ndarray) -> np.ndarray:
 
 
 def joint_torque_regressor(model: Model, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray) -> np.ndarray:
-    """``Y`` `(..., nv, 10 nb)` with ``RNEA(q, q̇, q̈) = Y π`` (gravity included), float64::
+    """``Y`` `(..., nv, 10 nb)` with ``RNEA(q, q̇, q̈) = Y π + armature ∘ q̈`` (gravity included), float64::
 
         Y[joint j, 10 i + k] = S_jᵀ ʲX_i* (I(e_k) a_i + v_i ×* I(e_k) v_i)    (j supporting i)
+
+    The armature is not a body parameter: ``Y π`` is the rigid bodies' part.
     """
     batch, dtype = batch_dtype(q, qd, qdd)
     td = TreeData(model, dtype)

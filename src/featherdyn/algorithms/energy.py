@@ -24,7 +24,12 @@ __all__ = ["kinetic_energy", "potential_energy", "center_of_mass"]
 def kinetic_energy(model: Model, kin: Kinematics) -> np.ndarray:
     """Kinetic energy `(...)` from the body velocities of ``kin``::
 
-        T = Σ_i ½ v_iᵀ I_i v_i = ½ q̇ᵀ M(q) q̇
+        T = Σ_i ½ v_iᵀ I_i v_i = ½ q̇ᵀ (M(q) − diag(armature)) q̇
+
+    The bodies' energy only: the armature (rotor inertia) is left out, here
+    and in the compiled core alike. Pinocchio's ``computeKineticEnergy`` and
+    MuJoCo's energy add ``½ Σ armature q̇²`` (a known difference, see
+    ``tests/reference/test_armature.py``; zero for URDF models).
     """
     assert kin.velocities is not None
     td = TreeData(model, kin.placements.dtype)

@@ -7,6 +7,7 @@ acceleration ``a₀ = −g``::
     a_i = X_up[i] a_λ(i) + S_i q̈_i + v_i × S_i q̇_i
     f_i = I_i a_i + v_i ×* I_i v_i − f_i^ext
     τ_i = S_iᵀ f_i,        f_λ(i) += X_up[i]ᵀ f_i      (i = nb−1 … 0)
+    τ  += armature ∘ q̈                                   (reflected rotor inertia)
 """
 
 from __future__ import annotations
@@ -61,7 +62,7 @@ def rnea(model: Model, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray, f_ext: np
 
     ::
 
-        τ = M(q) q̈ + C(q, q̇) q̇ + g(q) − Σ_i J_iᵀ f_i^ext
+        τ = M(q) q̈ + C(q, q̇) q̇ + g(q) − Σ_i J_iᵀ f_i^ext      (M includes diag(armature))
     """
     batch, dtype = batch_dtype(q, qd, qdd, f_ext=f_ext)
     td = TreeData(model, dtype)
@@ -74,4 +75,6 @@ def rnea(model: Model, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray, f_ext: np
         tau[..., model.idx_v[i] : model.idx_v[i] + model.nvs[i]] = f[i].vector @ td.S[i]
         if lam != -1:
             f[lam] = f[lam] + X_up[i].apply_inverse(f[i])
+    if np.any(model.armature != 0):
+        tau = tau + model.armature.astype(td.dtype) * qdd
     return tau

@@ -56,6 +56,13 @@ featherdyn → other                     other → featherdyn                   
 **MuJoCo** (free joint)
 ``freeflyer_q_to_mujoco``              ``freeflyer_q_from_mujoco``            quaternion ``(x, y, z, w)`` ↔ ``(w, x, y, z)``
 ``freeflyer_v_to_mujoco``              ``freeflyer_v_from_mujoco``            ``[ω_b; v_b]`` ↔ ``[R v_b; ω_b]``
+**MuJoCo** (whole ``load_mjcf`` models)
+``q_to_mujoco``                        ``q_from_mujoco``                      ``q`` ↔ ``qpos`` (ball and free quaternions reordered)
+``v_to_mujoco``                        ``v_from_mujoco``                      ``v`` ↔ ``qvel`` (``v = T qvel``)
+``a_to_mujoco``                        ``a_from_mujoco``                      ``a`` ↔ ``qacc`` (``a = T qacc + Ṫ qvel``)
+``tau_to_mujoco``                      ``tau_from_mujoco``                    ``τ`` ↔ ``qfrc`` (``qfrc = Tᵀ τ``)
+``joint_matrix_to_mujoco``             ``joint_matrix_from_mujoco``           ``M`` ↔ ``Tᵀ M T`` (``mj_fullM``)
+``mujoco_velocity_map``                —                                      ``T``, identity but on free joints
 **Quaternion order**
 ``quat_xyzw_to_wxyz``                  ``quat_wxyz_to_xyzw``                  component order only
 **Derivative matrices** (``fd.rnea_derivatives`` & co.; last axis: the tangent of ``fd.integrate``)
@@ -99,12 +106,23 @@ from .modern_robotics import (
     wrench_transform_matrix,
 )
 from .mujoco import (
+    a_from_mujoco,
+    a_to_mujoco,
     freeflyer_q_from_mujoco,
     freeflyer_q_to_mujoco,
     freeflyer_v_from_mujoco,
     freeflyer_v_to_mujoco,
+    joint_matrix_from_mujoco,
+    joint_matrix_to_mujoco,
+    mujoco_velocity_map,
+    q_from_mujoco,
+    q_to_mujoco,
     quat_wxyz_to_xyzw,
     quat_xyzw_to_wxyz,
+    tau_from_mujoco,
+    tau_to_mujoco,
+    v_from_mujoco,
+    v_to_mujoco,
 )
 from .pinocchio import (
     continuous_q_from_pinocchio,
@@ -144,6 +162,17 @@ from .ros import (
 )
 
 __all__ = [
+    "a_from_mujoco",
+    "a_to_mujoco",
+    "joint_matrix_from_mujoco",
+    "joint_matrix_to_mujoco",
+    "mujoco_velocity_map",
+    "q_from_mujoco",
+    "q_to_mujoco",
+    "tau_from_mujoco",
+    "tau_to_mujoco",
+    "v_from_mujoco",
+    "v_to_mujoco",
     "MissingDependencyError",
     "ad_matrix",
     "adjoint_matrix",

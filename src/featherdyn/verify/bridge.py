@@ -59,6 +59,8 @@ def pinocchio_model_from(model: Model, *, check_order: bool = True) -> PinModel:
     ``JointModelPrismaticUnaligned``, spherical, free-flyer, planar (normal
     +z only, Pinocchio's planar joint is in the xy plane).
 
+    The armature (``model.armature``) is copied to Pinocchio's ``armature``.
+
     Pinocchio's CRBA and ABA assume depth-first body numbering (each subtree a
     contiguous index range); featherdyn needs only ``parent[i] < i``. A model
     numbered otherwise raises :class:`ModelError` unless ``check_order=False``
@@ -98,6 +100,8 @@ def pinocchio_model_from(model: Model, *, check_order: bool = True) -> PinModel:
         pm.appendBodyToJoint(jid, pin.Inertia(float(I.mass), np.array(I.com), np.array(I.inertia_com)),
                              pin.SE3.Identity())
         ids.append(jid)
+    if np.any(model.armature):
+        pm.armature = JointMap(model, pm).v_to_pin(np.asarray(model.armature, dtype=np.float64))
     return pm
 
 

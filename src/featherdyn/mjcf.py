@@ -1,0 +1,750 @@
+"""Load an MJCF (MuJoCo XML) model into a :class:`~featherdyn.Model`, with MuJoCo's compiler semantics.
+
+The reading is as hostile-input safe as the URDF loader's (:mod:`featherdyn._mjcf_xml`:
+defusedxml, no entities, bounded nesting, include cycles and depth refused,
+numbers finite and bounded); every failure is an :class:`~featherdyn.MJCFError`
+naming the file, line, element and attribute.
+
+What MuJoCo's compiler does, and featherdyn with it (the ``mujoco`` package
+is the oracle in ``tests/integration/test_mjcf_mujoco.py``):
+
+* ``<compiler>``: ``angle`` (degrees by default: ``euler``, ``axisangle``,
+  hinge ``range`` and ``ref``), ``eulerseq``, ``autolimits``,
+  ``inertiafromgeom`` (``auto``: from the geoms when a body has no
+  ``<inertial>``; ``true``: always; ``false``: never),
+  ``inertiagrouprange``, ``boundmass``, ``boundinertia``, ``balanceinertia``,
+  ``settotalmass``, ``meshdir`` / ``assetdir``; ``<option gravity>`` and
+  ``<flag gravity="disable">``.
+* default classes (nested ``<default>``, ``class``, ``childclass``),
+  ``<include>``, ``<frame>``.
+* bodies: ``pos`` and one of ``quat`` (``w x y z``), ``axisangle``,
+  ``euler``, ``xyaxes``, ``zaxis``; every child of ``<worldbody>`` starts a
+  tree; a body without joints is welded to its parent (its inertia lumped
+  into the moving ancestor, as URDF fixed joints; dropped on the world);
+* ``<inertial>`` (``diaginertia`` with an orientation, or ``fullinertia``)
+  or geom inertia: sphere, capsule, cylinder, box, ellipsoid, ``fromto``,
+  ``mass`` or ``density`` (1000), ``shellinertia`` (not ellipsoid), the
+  geom's ``group`` within ``inertiagrouprange``; contact settings do not
+  matter. Mesh geoms that would contribute inertia are refused ("mesh
+  inertia is not supported").
+* joints ``hinge``, ``slide``, ``ball``, ``free`` and ``<freejoint/>``, with
+  ``pos``, ``axis``, ``ref``, ``armature`` (:attr:`Model.armature`),
+  ``range``/``limited``. Several joints on one body become a chain of
+  massless featherdyn bodies named ``BODY#0``, ``BODY#1``, ..., the last one
+  called ``BODY`` and carrying the inertia. MuJoCo's rules: a free joint only
+  on a top-level body and alone; no rotation after a ball joint in a body; a
+  moving body needs mass and inertia.
+
+Coordinates (converters in :mod:`featherdyn.conventions.mujoco`): the tree is
+built so that a hinge's or slide's ``q`` *is* MuJoCo's ``qpos`` (the joint's
+``ref`` is folded into its placement: MuJoCo turns by ``qpos − ref``), a ball
+joint's quaternion is reordered ``(w, x, y, z)`` → ``(x, y, z, w)``, a free
+joint's ``qpos``/``qvel`` convert as in the converters. Joints keep
+MuJoCo's order, so ``q`` and ``qpos`` have the same layout. A featherdyn
+body's frame sits at its last joint's anchor (``pos``); the MJCF body's own
+frame is the frame named after it (kind ``"body"``, or ``"link"`` for a
+welded body), each joint a ``"joint"`` frame, each ``<site>`` a ``"site"``
+frame. Unnamed bodies are ``body<id>`` (MuJoCo's body id), unnamed joints
+``BODY/joint<K>`` (K the index among the body's joints), an unnamed
+``<freejoint/>`` ``BODY/free``, unnamed sites ``BODY/site<K>``.
+
+Elements without rigid-tree meaning (``actuator``, ``tendon``, ``equality``,
+``contact``, ``sensor``, ``deformable``, ``extension``, ``plugin``) are
+ignored with one :class:`~featherdyn.PhysicalityWarning` listing them
+(``strict=True`` refuses them); ``visual``, ``statistic``, ``size``,
+``custom``, ``keyframe``, cameras and lights are ignored silently. Elements
+that would add bodies featherdyn cannot reproduce (``composite``,
+``flexcomp``, ``attach``, ``replicate``) are refused.
+
+Source: MuJoCo documentation, XML reference and "Modeling" chapter; checked
+against ``mujoco`` 3.x/4.x compiled models.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import warnings
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ._mjcf_inertia import geom_mass_inertia
+from ._mjcf_mesh import MeshError, convex_hull, mesh_mass_properties, read_mesh_file
+from ._mjcf_xml import Doc, _local, axis_angle_matrix, expand_replicates, read_defaults, read_document, z_to_vector
+from ._urdf_xml import _quote, _read_source, _shorten_quoted
+from .errors import FeatherdynError, MJCFError, PhysicalityWarning
+from .joints import FreeFlyerJoint, Joint, PrismaticJoint, RevoluteJoint, SphericalJoint
+from .model import Model, ModelBuilder
+from .spatial_algebra import PluckerTransform, SpatialInertia
+from .urdf import MAX_INERTIA, MAX_MASS
+
+__all__ = ["load_mjcf", "load_model", "model_format"]
+
+#: MuJoCo's ``mjMINVAL``: a moving body's mass and principal inertia must exceed it.
+MJ_MINVAL = 1e-15
+_IGNORED_QUIETLY = frozenset({"visual", "statistic", "size", "custom", "keyframe"})
+_NO_TREE_MEANING = ("contact", "equality", "tendon", "actuator", "sensor", "deformable", "extension", "plugin")
+_HANDLED_TOP = frozenset({"compiler", "option", "default", "asset", "worldbody"})
+_BODY_REFUSED = ("composite", "flexcomp", "attach")
+_BODY_QUIET = frozenset({"camera", "light"})
+
+
+@dataclass(slots=True)
+class _Compiler:
+    inertiafromgeom: str = "auto"
+    group_range: tuple[int, int] = (0, 5)
+    boundmass: float = 0.0
+    boundinertia: float = 0.0
+    balanceinertia: bool = False
+    settotalmass: float = -1.0
+    autolimits: bool = True
+
+
+@dataclass(slots=True)
+class _JointSpec:
+    elem: Any
+    name: str
+    kind: str  # hinge, slide, ball, free
+    pos: np.ndarray  # in body coordinates
+    axis: np.ndarray  # in body coordinates (unit)
+    ref: float
+    armature: float
+    lower: float
+    upper: float
+
+
+@dataclass(slots=True)
+class _Body:
+    elem: Any
+    name: str
+    parent: int  # MuJoCo body id of the parent (0 = world)
+    R: np.ndarray  # pose in the parent body's frame
+    p: np.ndarray
+    childclass: str
+    joints: list[_JointSpec] = field(default_factory=list)
+    geoms: list[tuple[Any, str, np.ndarray, np.ndarray]] = field(default_factory=list)  # elem, class, R, p
+    sites: list[tuple[str, np.ndarray, np.ndarray]] = field(default_factory=list)
+    inertial: Any = None
+    mass: float = 0.0
+    com: np.ndarray = field(default_factory=lambda: np.zeros(3))
+    inertia: np.ndarray = field(default_factory=lambda: np.zeros((3, 3)))
+
+
+def _unique(name: str, taken: set[str]) -> str:
+    out, k = name, 1
+    while out in taken:
+        k += 1
+        out = f"{name}_{k}"
+    taken.add(out)
+    return out
+
+
+class _Loader:
+    def __init__(self, doc: Doc, path: str | None) -> None:
+        self.doc = doc
+        self.path = path
+        self.comp = _Compiler()
+        self.gravity = np.array([0.0, 0.0, -9.81])
+        self.gravity_disabled = False
+        self.meshdir: str | None = None
+        self.assetdir: str | None = None
+        self.meshes: dict[str, Any] = {}
+        self.mesh_cache: dict[str, tuple[float, np.ndarray, np.ndarray]] = {}
+        self.bodies: list[_Body] = []
+        self.ignored: list[str] = []
+        self.site_names: set[str] = set()
+
+    # -- top level ------------------------------------------------------------
+
+    def read_top(self) -> None:
+        doc = self.doc
+        for elem in doc.root:
+            kind = _local(elem.tag)
+            if not kind:
+                continue
+            if kind == "compiler":
+                self.read_compiler(elem)
+            elif kind == "option":
+                self.read_option(elem)
+            elif kind in _NO_TREE_MEANING:
+                if kind not in self.ignored:
+                    self.ignored.append(kind)
+                if doc.strict:
+                    raise doc.error(elem, f"<{kind}> has no rigid-tree meaning and is refused with strict=True")
+            elif kind not in _HANDLED_TOP and kind not in _IGNORED_QUIETLY:
+                raise doc.error(elem, f"unknown MJCF element <{kind}> in <mujoco>")
+        read_defaults(doc)
+        for asset in (e for e in doc.root if _local(e.tag) == "asset"):
+            for m in asset:
+                if _local(m.tag) == "mesh":
+                    name = m.get("name") or Path(m.get("file", "")).stem
+                    if name:
+                        self.meshes[name] = m
+                    file = m.get("file")
+                    if file is not None and not self.asset_path(file).is_file():  # MuJoCo reads every asset
+                        raise doc.error(m, f"file={_quote(file)}: cannot read the mesh file "
+                                        f"{_quote(str(self.asset_path(file)))}: no such file")
+
+    def read_compiler(self, elem: Any) -> None:
+        doc, a, c = self.doc, elem.attrib, self.comp
+        if "angle" in a:
+            doc.degree = doc.choice(elem, a, "angle", ("degree", "radian"), "degree") == "degree"
+        if "eulerseq" in a:
+            seq = a["eulerseq"]
+            if len(seq) != 3 or any(ch not in "xyzXYZ" for ch in seq):
+                raise doc.error(elem, f"eulerseq={_quote(seq)}: expected three letters of xyzXYZ")
+            doc.eulerseq = seq
+        if "coordinate" in a and a["coordinate"] != "local":
+            raise doc.error(elem, f"coordinate={_quote(a['coordinate'])}: only local coordinates exist (MuJoCo "
+                            "removed 'global')")
+        if "alignfree" in a and doc.boolean(elem, a, "alignfree", False):
+            raise doc.error(elem, "alignfree='true' (moving free bodies' frames to their inertial frames) is not "
+                            "supported")
+        if "inertiafromgeom" in a:
+            c.inertiafromgeom = doc.choice(elem, a, "inertiafromgeom", ("true", "false", "auto"), "auto")
+        if "inertiagrouprange" in a:
+            g = doc.floats(elem, a, "inertiagrouprange", (2,))
+            if g is None or any(x != int(x) for x in g):
+                raise doc.error(elem, f"inertiagrouprange={_quote(a['inertiagrouprange'])}: expected two integers")
+            c.group_range = (int(g[0]), int(g[1]))
+        c.boundmass = doc.number(elem, a, "boundmass", c.boundmass, MAX_MASS)
+        c.boundinertia = doc.number(elem, a, "boundinertia", c.boundinertia, MAX_MASS)
+        c.settotalmass = doc.number(elem, a, "settotalmass", c.settotalmass, MAX_MASS)
+        if "balanceinertia" in a:
+            c.balanceinertia = doc.boolean(elem, a, "balanceinertia", False)
+        if "autolimits" in a:
+            c.autolimits = doc.boolean(elem, a, "autolimits", True)
+        self.meshdir = a.get("meshdir", self.meshdir)
+        self.assetdir = a.get("assetdir", self.assetdir)
+
+    def read_option(self, elem: Any) -> None:
+        g = self.doc.floats(elem, elem.attrib, "gravity", (3,))
+        if g is not None:
+            self.gravity = np.array(g)
+        for flag in elem:
+            if _local(flag.tag) == "flag" and flag.get("gravity") == "disable":
+                self.gravity_disabled = True
+
+    # -- the body tree --------------------------------------------------------
+
+    def read_bodies(self) -> None:
+        doc = self.doc
+        world = _Body(None, "world", -1, np.eye(3), np.zeros(3), "main")
+        self.bodies.append(world)
+        worldbodies = [e for e in doc.root if _local(e.tag) == "worldbody"]
+        # pending bodies in MuJoCo's order (depth first, document order): (elem, parent id, R, p, childclass)
+        pending: list[tuple[Any, int, np.ndarray, np.ndarray, str]] = []
+        for wb in worldbodies:
+            pending += self.read_content(0, wb, "main")
+        pending.reverse()
+        while pending:
+            elem, parent, R, p, childclass = pending.pop()
+            childclass = doc.element_class(elem, childclass, "childclass")
+            attrs = dict(elem.attrib)
+            Rb, pb = doc.pose(elem, attrs)
+            body = _Body(elem, elem.get("name") or "", parent, R @ Rb, R @ pb + p, childclass)
+            self.bodies.append(body)
+            children = self.read_content(len(self.bodies) - 1, elem, childclass)
+            pending += reversed(children)
+
+    def read_content(self, b: int, elem: Any, childclass: str) -> list[tuple[Any, int, np.ndarray, np.ndarray, str]]:
+        """Joints, geoms, sites, inertial of body ``b`` from ``elem`` and its frames; returns its child bodies."""
+        doc = self.doc
+        body = self.bodies[b] if b < len(self.bodies) else None
+        children: list[tuple[Any, int, np.ndarray, np.ndarray, str]] = []
+        # (element, frame rotation, frame position in body coordinates, childclass), document order
+        stack: list[tuple[Any, np.ndarray, np.ndarray, str]] = [(c, np.eye(3), np.zeros(3), childclass)
+                                                                for c in reversed(list(elem))]
+        is_world = b == 0
+        while stack:
+            child, R, p, cc = stack.pop()
+            kind = _local(child.tag)
+            if not kind:
+                continue
+            if kind == "body":
+                children.append((child, b, R, p, cc))
+            elif kind == "frame":
+                cls = doc.element_class(child, cc)
+                attrs = doc.attrs(child, "frame", cls)
+                Rf, pf = doc.pose(child, attrs)
+                sub_cc = doc.element_class(child, cc, "childclass")
+                R2, p2 = R @ Rf, R @ pf + p
+                stack += [(c, R2, p2, sub_cc) for c in reversed(list(child))]
+            elif kind == "geom":
+                cls = doc.element_class(child, cc)
+                self.bodies[b].geoms.append((child, cls, R, p))
+            elif kind == "site":
+                cls = doc.element_class(child, cc)
+                attrs = doc.attrs(child, "site", cls)
+                Rs, ps = self.geom_pose(child, attrs)
+                self.bodies[b].sites.append((child.get("name") or "", R @ Rs, R @ ps + p))
+            elif kind in ("joint", "freejoint"):
+                if is_world or body is None:
+                    raise doc.error(child, "a joint of the world body: joints belong in a <body>")
+                body.joints.append(self.read_joint(child, kind, cc, R, p, len(body.joints)))
+            elif kind == "inertial":
+                if is_world or body is None:
+                    raise doc.error(child, "<inertial> of the world body")
+                if body.inertial is not None:
+                    raise doc.error(child, "a second <inertial> in one body")
+                body.inertial = (child, R, p)
+            elif kind in _BODY_REFUSED:
+                raise doc.error(child, f"<{kind}> is not supported by featherdyn's MJCF loader (it adds bodies or "
+                                "joints featherdyn cannot reproduce); expand it into plain bodies first")
+            elif kind == "plugin":
+                if doc.strict:
+                    raise doc.error(child, "<plugin> has no rigid-tree meaning and is refused with strict=True")
+                if "plugin" not in self.ignored:
+                    self.ignored.append("plugin")
+            elif kind not in _BODY_QUIET:
+                raise doc.error(child, f"unknown MJCF element <{kind}> in a body")
+        return children
+
+    def geom_pose(self, elem: Any, attrs: dict[str, str]) -> tuple[np.ndarray, np.ndarray]:
+        """Pose of a geom or site in its body frame; from ``fromto`` when given: z along ``from − to`` (measured)."""
+        ft = self.doc.floats(elem, attrs, "fromto", (6,))
+        if ft is None:
+            return self.doc.pose(elem, attrs)
+        if "pos" in attrs:
+            raise self.doc.error(elem, "both pos and fromto given (MuJoCo refuses this)")
+        a, b = np.array(ft[:3]), np.array(ft[3:])
+        d = a - b
+        n = float(np.linalg.norm(d))
+        if n < 1e-10:
+            raise self.doc.error(elem, f"fromto={_quote(attrs['fromto'])}: the two points coincide")
+        return z_to_vector(d / n), (a + b) / 2
+
+    def read_joint(self, elem: Any, kind: str, cc: str, R: np.ndarray, p: np.ndarray, index: int) -> _JointSpec:
+        doc = self.doc
+        if kind == "freejoint":
+            attrs = dict(elem.attrib)  # a <freejoint> takes no default class (measured: MuJoCo ignores them)
+            jtype = "free"
+        else:
+            attrs = doc.attrs(elem, "joint", doc.element_class(elem, cc))
+            jtype = doc.choice(elem, attrs, "type", ("hinge", "slide", "ball", "free"), "hinge")
+        pos = np.array(doc.floats(elem, attrs, "pos", (3,), [0.0, 0.0, 0.0]) or [0.0, 0.0, 0.0])
+        axis = np.array(doc.floats(elem, attrs, "axis", (3,), [0.0, 0.0, 1.0]) or [0.0, 0.0, 1.0])
+        if jtype in ("hinge", "slide"):
+            axis = doc._direction(elem, {"axis": attrs.get("axis", "")}, "axis", axis)
+        ref = doc.number(elem, attrs, "ref", 0.0)
+        armature = doc.number(elem, attrs, "armature", 0.0, MAX_MASS)
+        if armature < 0:
+            raise doc.error(elem, f"armature={_quote(attrs['armature'])}: expected a value >= 0")
+        lower, upper = -math.inf, math.inf
+        limited = doc.choice(elem, attrs, "limited", ("true", "false", "auto"), "auto")
+        has_range = "range" in attrs
+        if limited == "auto":
+            if has_range and not self.comp.autolimits:
+                raise doc.error(elem, "range given but not limited, with autolimits='false' (MuJoCo refuses this: "
+                                "set limited='true' or 'false')")
+            limited = "true" if has_range else "false"
+        if limited == "true" and jtype in ("hinge", "slide"):
+            rng = doc.floats(elem, attrs, "range", (2,), [0.0, 0.0]) or [0.0, 0.0]
+            lower, upper = rng
+            if not lower < upper:
+                raise doc.error(elem, f"range={_quote(attrs.get('range', '0 0'))}: a limited joint needs "
+                                "range[0] < range[1] (MuJoCo)")
+            if jtype == "hinge":
+                lower, upper = doc.angle(lower), doc.angle(upper)
+        if jtype == "hinge":
+            ref = doc.angle(ref)
+        if jtype in ("ball", "free"):
+            ref = 0.0
+        name = elem.get("name") or ""
+        return _JointSpec(elem, name, jtype, R @ pos + (p if jtype != "free" else 0), R @ axis, ref, armature,
+                          lower, upper)
+
+    # -- inertia --------------------------------------------------------------
+
+    def body_inertia(self, b: int) -> None:
+        """Mass, centre of mass and rotational inertia about it, in the MJCF body frame (MuJoCo's rules)."""
+        body = self.bodies[b]
+        doc, comp = self.doc, self.comp
+        use_geoms = comp.inertiafromgeom == "true" or (comp.inertiafromgeom == "auto" and body.inertial is None)
+        moving = bool(body.joints) or self.moving[b]
+        parts = []
+        if use_geoms:
+            for elem, cls, R, p in body.geoms:
+                got = self.geom_inertia(elem, cls, R, p, moving)
+                if got is not None:
+                    parts.append(got)
+            if not parts and body.inertial is not None:  # measured: inertiafromgeom='true' keeps it then
+                use_geoms = False
+        if use_geoms:
+            total, first, second = 0.0, np.zeros(3), np.zeros((3, 3))
+            for m, c, _ in parts:
+                total += m
+                first += m * c
+            com = first / total if total > 0 else np.zeros(3)
+            for m, c, I in parts:
+                d = c - com
+                second += I + m * (float(d @ d) * np.eye(3) - np.outer(d, d))
+            body.mass, body.com, body.inertia = total, com, second
+        elif body.inertial is not None:
+            elem, R, p = body.inertial
+            attrs = dict(elem.attrib)
+            pos = doc.floats(elem, attrs, "pos", (3,))
+            if pos is None:
+                raise doc.error(elem, "<inertial> needs 'pos'")
+            mass = doc.floats(elem, attrs, "mass", (1,), None, MAX_MASS)
+            if mass is None:
+                raise doc.error(elem, "<inertial> needs 'mass'")
+            if mass[0] < 0:
+                raise doc.error(elem, f"mass={_quote(attrs['mass'])}: expected a mass >= 0")
+            diag = doc.floats(elem, attrs, "diaginertia", (3,), None, MAX_MASS)
+            full = doc.floats(elem, attrs, "fullinertia", (6,), None, MAX_MASS)
+            if (diag is None) == (full is None):
+                raise doc.error(elem, "<inertial> needs exactly one of 'diaginertia' and 'fullinertia'")
+            if full is not None:
+                given = [k for k in ("quat", "axisangle", "euler", "xyaxes", "zaxis") if k in attrs]
+                if given:
+                    raise doc.error(elem, f"fullinertia and an orientation ({given[0]}): MuJoCo accepts one")
+                xx, yy, zz, xy, xz, yz = full
+                tensor = np.array([[xx, xy, xz], [xy, yy, yz], [xz, yz, zz]])
+                Ri = np.eye(3)
+            else:
+                tensor = np.diag(diag or [0.0, 0.0, 0.0])
+                Ri = doc.rotation(elem, attrs)
+            ev = np.linalg.eigvalsh(tensor)
+            scale = max(float(np.max(np.abs(ev))), MJ_MINVAL)
+            if ev[0] < -1e-12 * scale:
+                raise doc.error(elem, f"the inertia is not positive semi-definite (principal moments "
+                                f"{', '.join(f'{e:.6g}' for e in ev)})")
+            RR = R @ Ri
+            body.mass, body.com, body.inertia = mass[0], R @ np.array(pos) + p, RR @ tensor @ RR.T
+        self.bound_and_balance(body)
+        largest = float(np.max(np.abs(body.inertia)))
+        if not (math.isfinite(body.mass) and math.isfinite(largest)) or body.mass > MAX_MASS or largest > MAX_INERTIA:
+            raise doc.error(body.elem, f"body {body.name or b!r}: mass {body.mass:g} and inertia entries up to "
+                            f"{largest:g}: expected at most {MAX_MASS:g} (MAX_MASS, MAX_INERTIA of featherdyn.urdf: "
+                            "larger values overflow the dynamics)")
+        if body.inertial is not None and not use_geoms:  # MuJoCo checks after bounding and balancing
+            ev = np.linalg.eigvalsh(body.inertia)
+            if ev[0] + ev[1] < ev[2] * (1 - 1e-10) - MJ_MINVAL:
+                raise doc.error(body.inertial[0], "principal moments violate the triangle inequality A + B >= C "
+                                f"({', '.join(f'{e:.6g}' for e in ev)}); MuJoCo refuses this unless "
+                                "<compiler balanceinertia='true'>")
+
+    def bound_and_balance(self, body: _Body) -> None:
+        comp = self.comp
+        if comp.boundmass > 0 and body.mass < comp.boundmass:
+            body.mass = comp.boundmass
+        if comp.boundinertia > 0 or comp.balanceinertia:
+            ev, V = np.linalg.eigh((body.inertia + body.inertia.T) / 2)
+            ev = np.maximum(ev, comp.boundinertia) if comp.boundinertia > 0 else ev
+            if comp.balanceinertia and ev[0] + ev[1] < ev[2]:
+                ev = np.full(3, ev.mean())
+            body.inertia = V @ np.diag(ev) @ V.T
+
+    def geom_inertia(self, elem: Any, cls: str, R: np.ndarray, p: np.ndarray,
+                     moving: bool) -> tuple[float, np.ndarray, np.ndarray] | None:
+        """``(m, c, I_c)`` of a geom in body coordinates, or ``None`` when it adds nothing."""
+        doc = self.doc
+        attrs = doc.attrs(elem, "geom", cls)
+        gtype = doc.choice(elem, attrs, "type", ("plane", "hfield", "sphere", "capsule", "ellipsoid", "cylinder",
+                                                   "box", "mesh", "sdf"), "sphere")
+        group = doc.number(elem, attrs, "group", 0.0)
+        lo, hi = self.comp.group_range
+        if not lo <= group <= hi:
+            return None
+        if gtype in ("plane", "hfield"):
+            if moving:
+                raise doc.error(elem, f"type={gtype!r}: a {gtype} is only allowed in static bodies (MuJoCo)")
+            return None
+        mass = doc.floats(elem, attrs, "mass", (1,), None, MAX_MASS)
+        if mass is not None and mass[0] < 0:
+            raise doc.error(elem, f"mass={_quote(attrs['mass'])}: expected a mass >= 0")
+        if mass is not None and mass[0] == 0:
+            return None
+        density = doc.number(elem, attrs, "density", 1000.0, MAX_MASS)
+        if density < 0:
+            raise doc.error(elem, f"density={_quote(attrs['density'])}: expected a density >= 0")
+        if gtype == "sdf":
+            raise doc.error(elem, "type='sdf': SDF geom inertia is not supported by featherdyn's MJCF loader; give "
+                            "the body an <inertial>, or set this geom's mass='0' or a group outside "
+                            "inertiagrouprange")
+        shell = doc.boolean(elem, attrs, "shellinertia", False)
+        if gtype == "mesh":
+            if "shellinertia" in attrs:
+                raise doc.error(elem, "shellinertia on a mesh geom: for mesh geoms, inertia is specified in the mesh "
+                                "asset (<mesh inertia='shell'>), as MuJoCo requires")
+            measure, c_mesh, J = self.mesh_properties(elem, attrs)
+            m = mass[0] if mass is not None else density * measure
+            Rg, pg = doc.pose(elem, attrs)
+            Rb = R @ Rg
+            return m, R @ (Rg @ c_mesh + pg) + p, Rb @ (J * (m / measure)) @ Rb.T
+        size = doc.floats(elem, attrs, "size", (1, 2, 3), [0.0, 0.0, 0.0]) or [0.0, 0.0, 0.0]
+        size = size + [0.0] * (3 - len(size))
+        Rg, pg = self.geom_pose(elem, attrs)
+        if "fromto" in attrs and gtype in ("capsule", "cylinder", "box", "ellipsoid"):
+            ft = doc.floats(elem, attrs, "fromto", (6,)) or [0.0] * 6
+            half = float(np.linalg.norm(np.array(ft[3:]) - np.array(ft[:3]))) / 2
+            # measured: a capsule/cylinder keeps its radius; a box/ellipsoid is (size[0], size[0], half)
+            size = [size[0], half, 0.0] if gtype in ("capsule", "cylinder") else [size[0], size[0], half]
+        needed = {"sphere": 1, "capsule": 2, "cylinder": 2, "ellipsoid": 3, "box": 3}[gtype]
+        for k in range(needed):
+            if not size[k] > 0:
+                raise doc.error(elem, f"size={_quote(attrs.get('size', ''))}: size {k} of a {gtype} must be positive "
+                                f"(got {size[k]:g})")
+        got = geom_mass_inertia(gtype, size, density, None if mass is None else mass[0], shell)
+        if got is None:
+            raise doc.error(elem, f"shellinertia='true' of a {gtype} is not supported")
+        m, J = got
+        Rb = R @ Rg
+        return m, R @ pg + p, Rb @ np.diag(J) @ Rb.T
+
+    def mesh_properties(self, geom: Any, attrs: dict[str, str]) -> tuple[float, np.ndarray, np.ndarray]:
+        """``(V, c, I_c/ρ)`` of the geom's mesh asset in the geom frame (cached per asset)."""
+        doc = self.doc
+        name = attrs.get("mesh")
+        if name is None or name not in self.meshes:
+            raise doc.error(geom, f"mesh={_quote(name or '')}: no <mesh> asset of that name")
+        elem = self.meshes[name]
+        if name in self.mesh_cache:
+            return self.mesh_cache[name]
+        cls = doc.element_class(elem, "main")
+        mattrs = doc.attrs(elem, "mesh", cls)
+        mode = doc.choice(elem, mattrs, "inertia", ("legacy", "exact", "convex", "shell"), "legacy")
+        for key in ("refpos", "refquat"):
+            if key in mattrs:
+                raise doc.error(elem, f"{key}: mesh reference frames are not supported")
+        scale = np.array(doc.floats(elem, mattrs, "scale", (3,), [1.0, 1.0, 1.0]) or [1.0, 1.0, 1.0])
+        try:
+            if "file" in mattrs:
+                V, F = read_mesh_file(self.asset_path(mattrs["file"]))
+            else:
+                V = np.array(doc.float_list(elem, mattrs, "vertex", 3), dtype=np.float64).reshape(-1, 3)
+                face = doc.float_list(elem, mattrs, "face", 3)
+                if any(f != int(f) for f in face):
+                    raise MeshError("face indices must be integers")
+                F = np.array(face, dtype=np.int64).reshape(-1, 3)
+                if F.size and (F.min() < 0 or F.max() >= len(V)):
+                    raise MeshError(f"a face index is outside 0..{len(V) - 1}")
+            # MuJoCo reads vertices as float32 and scales them in double (measured: masses then agree exactly)
+            V64 = V.astype(np.float32).astype(np.float64) * scale
+            if not F.size or mode == "convex":  # MuJoCo uses the convex hull (its faces are then outward)
+                F = convex_hull(V64)
+                mode = "exact" if mode == "convex" else mode
+            got = mesh_mass_properties(V64, F, mode)
+        except MeshError as exc:
+            raise doc.error(elem, str(exc)) from None
+        self.mesh_cache[name] = got
+        return got
+
+    def asset_path(self, file: str) -> Path:
+        p = Path(file)
+        if p.is_absolute():
+            return p
+        folder = self.meshdir or self.assetdir or ""
+        return self.doc.model_dir / folder / p
+
+    # -- the featherdyn model -------------------------------------------------
+
+    def build(self) -> Model:
+        doc = self.doc
+        nb = len(self.bodies)
+        # a body moves if it or an ancestor has a joint (its inertia then matters: plane/mesh checks)
+        self.moving = [False] * nb
+        for b in range(1, nb):
+            self.moving[b] = bool(self.bodies[b].joints) or self.moving[self.bodies[b].parent]
+        for b in range(1, nb):
+            # a static body's inertia matters only to settotalmass (its meshes are not even read otherwise)
+            if self.moving[b] or self.comp.settotalmass > 0:
+                self.body_inertia(b)
+        if self.comp.settotalmass > 0:
+            total = sum(self.bodies[b].mass for b in range(1, nb))
+            if total > 0:
+                s = self.comp.settotalmass / total
+                for b in range(1, nb):
+                    self.bodies[b].mass *= s
+                    self.bodies[b].inertia = self.bodies[b].inertia * s
+        # names (MuJoCo's where given)
+        body_names: set[str] = {body.name for body in self.bodies[1:] if body.name}
+        for b in range(1, nb):
+            if not self.bodies[b].name:
+                self.bodies[b].name = _unique(f"body{b}", body_names)
+        joint_names: set[str] = {j.name for body in self.bodies for j in body.joints if j.name}
+        for body in self.bodies[1:]:
+            for k, j in enumerate(body.joints):
+                if not j.name:
+                    j.name = _unique(f"{body.name}/free" if _local(j.elem.tag) == "freejoint" and j.kind == "free"
+                                     else f"{body.name}/joint{k}", joint_names)
+
+        for body in self.bodies:  # named sites first, so that generated names avoid them
+            for site_name, _, _ in body.sites:
+                if site_name in self.site_names:
+                    raise MJCFError(f"{doc.label}: site name {site_name!r} is used twice (MuJoCo: repeated name)")
+                if site_name:
+                    self.site_names.add(site_name)
+        name = doc.root.get("model") or "MuJoCo Model"
+        gravity = np.zeros(3) if self.gravity_disabled else self.gravity
+        builder = ModelBuilder(name, tuple(float(g) for g in gravity))
+        builder.source = self.path
+        fd_body = [-1] * nb
+        X_fd_mj: list[PluckerTransform] = [PluckerTransform.identity()] * nb  # MJCF body frame in its fd body
+        taken = set(body_names)
+        for b in range(1, nb):
+            body = self.bodies[b]
+            parent = body.parent
+            X = X_fd_mj[parent] @ PluckerTransform(body.R, body.p)
+            inertia = SpatialInertia(body.mass, body.com, body.inertia)
+            self.check_joints(body, b)
+            if not body.joints:
+                fd_body[b] = fd_body[parent]
+                X_fd_mj[b] = X
+                if fd_body[b] >= 0:
+                    builder.add_inertia(fd_body[b], X.apply(inertia))
+                builder.add_frame(body.name, fd_body[b], X, "link")
+                self.add_sites(builder, body, fd_body[b], X)
+                continue
+            if body.mass < MJ_MINVAL or float(np.min(np.linalg.eigvalsh(body.inertia))) < MJ_MINVAL:
+                raise doc.error(body.elem, f"body {body.name!r}: mass {body.mass:g} and principal inertia "
+                                f"{np.linalg.eigvalsh(body.inertia).tolist()}: MuJoCo requires the mass and "
+                                f"inertia of a moving body to exceed mjMINVAL = {MJ_MINVAL:g}")
+            up = fd_body[parent]
+            for k, j in enumerate(body.joints):
+                last = k == len(body.joints) - 1
+                joint: Joint
+                if j.kind == "free":
+                    placement = PluckerTransform.identity()
+                    joint, after = FreeFlyerJoint(), PluckerTransform.identity()
+                elif j.kind == "slide":
+                    placement = X @ PluckerTransform(np.eye(3), -j.ref * j.axis)
+                    joint, after = PrismaticJoint(j.axis), PluckerTransform.identity()
+                else:
+                    anchor = PluckerTransform(np.eye(3), j.pos)
+                    if j.kind == "hinge":
+                        placement = X @ anchor @ PluckerTransform(axis_angle_matrix(j.axis, -j.ref), np.zeros(3))
+                        joint = RevoluteJoint(j.axis)
+                    else:
+                        placement = X @ anchor
+                        joint = SphericalJoint()
+                    after = PluckerTransform(np.eye(3), -j.pos)
+                fd_name = body.name if last else _unique(f"{body.name}#{k}", taken)
+                nv = joint.nv
+                up = builder.add_body(
+                    fd_name, up, joint, placement=placement,
+                    inertia=after.apply(inertia) if last else None, joint_name=j.name,
+                    lower=[j.lower] if j.kind in ("hinge", "slide") else None,
+                    upper=[j.upper] if j.kind in ("hinge", "slide") else None,
+                    armature=np.full(nv, j.armature),
+                )
+                builder.add_frame(j.name, up, PluckerTransform.identity(), "joint")
+                X = after
+            fd_body[b] = up
+            X_fd_mj[b] = X
+            builder.add_frame(body.name, up, X, "body")
+            self.add_sites(builder, body, up, X)
+        self.add_sites(builder, self.bodies[0], -1, PluckerTransform.identity())
+        return builder.build(strict=doc.strict)
+
+    def check_joints(self, body: _Body, b: int) -> None:
+        doc = self.doc
+        kinds = [j.kind for j in body.joints]
+        if "free" in kinds:
+            j = body.joints[kinds.index("free")]
+            if body.parent != 0:
+                raise doc.error(j.elem, "a free joint can only be used on a top-level body (a child of <worldbody>)")
+            if len(kinds) > 1:
+                raise doc.error(j.elem, f"body {body.name!r}: a free joint must be the body's only joint (MuJoCo: "
+                                "more than 6 dofs in a body)")
+        for k, kind in enumerate(kinds):
+            if kind == "ball" and any(x in ("hinge", "ball") for x in kinds[k + 1:]):
+                raise doc.error(body.joints[k].elem, f"body {body.name!r}: a ball joint followed by a rotation in the "
+                                "same body (MuJoCo refuses this)")
+
+    def add_sites(self, builder: ModelBuilder, body: _Body, fd: int, X: PluckerTransform) -> None:
+        for k, (name, R, p) in enumerate(body.sites):
+            full = name or _unique(f"{body.name}/site{k}", self.site_names)
+            builder.add_frame(full, fd, X @ PluckerTransform(R, p), "site")
+
+
+def load_mjcf(path_or_xml: str | os.PathLike[str] | bytes, *, strict: bool = False) -> Model:
+    """Load an MJCF (MuJoCo XML) model with MuJoCo's compiler semantics (module doc: what is supported).
+
+    Args:
+        path_or_xml: a file path, an XML string (starting with ``<``) or bytes.
+            ``<include>`` files are found relative to the main file's
+            directory (the current directory for a string).
+        strict: refuse elements without rigid-tree meaning (``actuator``,
+            ``tendon``, ...) and turn physicality warnings into errors.
+
+    Returns:
+        The :class:`~featherdyn.Model`; ``q`` has MuJoCo's ``qpos`` layout (convert
+        with :func:`featherdyn.conventions.q_from_mujoco` & co.), ``armature``
+        MuJoCo's ``dof_armature``.
+
+    Raises:
+        MJCFError: bad XML, hostile input (entities, include cycles, depth),
+            a number that is not finite or too large, an unknown element,
+            class or attribute value, a missing include, a model MuJoCo's
+            compiler refuses (massless moving body, misplaced free joint, ...)
+            or one featherdyn does not support (mesh inertia, ``replicate``).
+            Every failure is an ``MJCFError`` (a :class:`~featherdyn.ModelError`,
+            a ``ValueError``) naming the file, line, element and attribute.
+
+    Warns:
+        PhysicalityWarning: once, listing the ignored elements without
+            rigid-tree meaning.
+    """
+    doc = read_document(path_or_xml, strict)
+    path = None if isinstance(path_or_xml, (bytes, bytearray, memoryview)) or (
+        isinstance(path_or_xml, str) and path_or_xml.lstrip("\ufeff \t\r\n").startswith("<")) else str(path_or_xml)
+    loader = _Loader(doc, path)
+    try:
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            loader.read_top()
+            expand_replicates(doc)
+            loader.read_bodies()
+            model = loader.build()
+    except MJCFError:
+        raise
+    except FeatherdynError as exc:  # a check of the spatial types or the model builder: name the file
+        raise MJCFError(f"{doc.label}: {_shorten_quoted(str(exc))}") from None
+    if loader.ignored:
+        warnings.warn(f"{doc.label}: ignored MJCF elements without rigid-tree meaning: {', '.join(loader.ignored)}",
+                      PhysicalityWarning, stacklevel=2)
+    for w in caught:
+        if issubclass(w.category, PhysicalityWarning):
+            warnings.warn(f"{doc.label}: {_shorten_quoted(str(w.message))}", PhysicalityWarning, stacklevel=2)
+        else:
+            warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
+    return model
+
+
+def model_format(path_or_xml: str | os.PathLike[str] | bytes) -> str:
+    """``"urdf"`` or ``"mjcf"``: the format of a model file or text, by its root element (``<robot>`` / ``<mujoco>``).
+
+    Raises:
+        MJCFError: unreadable, not XML, or another root element.
+    """
+    from ._urdf_xml import _parse_xml
+
+    text, label, _ = _read_source(path_or_xml, MJCFError, "model", "load_model")
+    root, _ = _parse_xml(text, label, MJCFError, "model", line_depth=1)
+    tag = _local(root.tag).split("}", 1)[-1]
+    if tag == "robot":
+        return "urdf"
+    if tag == "mujoco":
+        return "mjcf"
+    raise MJCFError(f"{label}: expected the root element <robot> (URDF) or <mujoco> (MJCF), got <{tag[:100]}>")
+
+
+def load_model(path_or_xml: str | os.PathLike[str] | bytes, *, strict: bool = False) -> Model:
+    """Load a URDF or an MJCF model, told apart by the root element (``<robot>`` or ``<mujoco>``).
+
+    A URDF loads with a fixed base (:func:`featherdyn.load_urdf` takes
+    ``floating_base=True``); an MJCF as :func:`load_mjcf`.
+
+    Raises:
+        MJCFError: neither root element; the loaders' errors otherwise.
+    """
+    from .urdf import load_urdf
+
+    if model_format(path_or_xml) == "urdf":
+        return load_urdf(path_or_xml, strict=strict)
+    return load_mjcf(path_or_xml, strict=strict)

@@ -1,0 +1,361 @@
+"""featherdyn.load_mjcf and load_model: names, frames, coordinates, warnings, and every refusal (MJCFError).
+
+The physics is checked against MuJoCo in ``tests/integration/test_mjcf_mujoco.py``;
+here each test states an expectation from the MJCF documentation (or
+MuJoCo's own behaviour, measured and quoted) without MuJoCo installed.
+"""
+
+from __future__ import annotations
+
+import math
+import pickle
+import warnings
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import featherdyn as fd
+from featherdyn.errors import MJCFError, PhysicalityWarning
+
+
+def _wrap(body: str, head: str = "", tail: str = "") -> str:
+    return f"<mujoco model='t'>{head}<worldbody>{body}</worldbody>{tail}</mujoco>"
+
+
+ARM = _wrap("""
+<body name="upper" pos="0 0 1">
+  <joint axis="0 1 0"/>
+  <joint name="roll" axis="1 0 0"/>
+  <geom type="capsule" fromto="0 0 0 0 0 -0.5" size="0.05"/>
+  <site pos="0 0 -0.5"/>
+  <body pos="0 0 -0.5">
+    <joint type="ball"/>
+    <geom size="0.1"/>
+  </body>
+</body>""")
+
+
+def _load(xml: str | Path, **kw: object) -> fd.Model:
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        return fd.load_mjcf(xml, **kw)  # type: ignore[arg-type]
+
+
+# --------------------------------------------------------------------------- names, frames, layout
+
+
+def test_names_of_unnamed_joints_bodies_and_sites() -> None:
+    xml = _wrap("""
+    <body name="upper"><joint axis="0 1 0"/><joint name="roll" axis="1 0 0"/><geom size=".1"/>
+      <site pos="0 0 1"/><site name="named"/>
+      <body><joint type="slide"/><geom size=".1"/></body>
+    </body>
+    <body name="flyer"><freejoint/><geom size=".1"/></body>
+    <body name="flyer2"><joint type="free"/><geom size=".1"/></body>""")
+    model = _load(xml)
+    assert model.joint_names == ("upper/joint0", "roll", "body2/joint0", "flyer/free", "flyer2/joint0")
+    assert model.body_names == ("upper#0", "upper", "body2", "flyer", "flyer2")
+    kinds = {f.name: f.kind for f in model.frames}
+    assert kinds["upper/site0"] == "site" and kinds["named"] == "site"
+    assert kinds["upper"] == "body" and kinds["roll"] == "joint"
+
+
+def test_generated_names_avoid_existing_ones() -> None:
+    model = _load(_wrap('<body name="body1"><joint/><geom size=".1"/><body><joint/><geom size=".1"/></body></body>'
+                        '<body name="body2"><joint name="body2/joint0"/><joint/><geom size=".1"/></body>'))
+    assert len(set(model.body_names)) == model.nbodies
+    assert len(set(model.joint_names)) == model.nbodies
+    assert "body2/joint0" in model.joint_names and "body2/joint1" in model.joint_names
+
+
+def test_layout_is_mujocos_and_q_equals_qpos_for_hinge_with_ref() -> None:
+    # MuJoCo turns a hinge by qpos − ref: at q = ref the body sits where the XML puts it
+    xml = _wrap('<body name="b" pos="0.1 0.2 0.3" euler="10 20 30"><joint axis="0 0 1" ref="40" pos="0.5 0 0"/>'
+                '<geom size=".1"/></body>'
+                '<body name="s" pos="1 0 0"><joint type="slide" axis="0 1 0" ref="0.25"/><geom size=".1"/></body>')
+    model = _load(xml)
+    q = np.array([math.radians(40), 0.25])
+    X = fd.frame_placement(model, q, model.frame_id("b", kind="body"))
+    np.testing.assert_allclose(X.translation, [0.1, 0.2, 0.3], atol=1e-15)
+    expected = _euler_xyz(10, 20, 30)
+    np.testing.assert_allclose(X.rotation, expected, atol=1e-15)
+    Xs = fd.frame_placement(model, q, model.frame_id("s", kind="body"))
+    np.testing.assert_allclose(Xs.translation, [1, 0, 0], atol=1e-15)
+    # limits come in qpos units (hinge range in degrees by default)
+    model2 = _load(_wrap('<body><joint axis="0 0 1" range="-90 45"/><geom size=".1"/></body>'))
+    np.testing.assert_allclose([model2.lower[0], model2.upper[0]], [-math.pi / 2, math.pi / 4])
+
+
+def _euler_xyz(a: float, b: float, c: float) -> np.ndarray:
+    """Intrinsic x-y-z rotation (MuJoCo's default eulerseq), written out."""
+    ca, sa = math.cos(math.radians(a)), math.sin(math.radians(a))
+    cb, sb = math.cos(math.radians(b)), math.sin(math.radians(b))
+    cc, sc = math.cos(math.radians(c)), math.sin(math.radians(c))
+    Rx = np.array([[1, 0, 0], [0, ca, -sa], [0, sa, ca]])
+    Ry = np.array([[cb, 0, sb], [0, 1, 0], [-sb, 0, cb]])
+    Rz = np.array([[cc, -sc, 0], [sc, cc, 0], [0, 0, 1]])
+    return Rx @ Ry @ Rz
+
+
+def test_armature_from_defaults_and_freejoint_ignores_defaults() -> None:
+    xml = _wrap('<body><joint axis="1 0 0"/><geom size=".1"/></body><body><freejoint/><geom size=".1"/></body>'
+                '<body><joint class="big" type="ball"/><geom size=".1"/></body>',
+                head='<default><joint armature="0.5"/><default class="big"><joint armature="2"/></default></default>')
+    model = _load(xml)
+    np.testing.assert_array_equal(model.armature, [0.5] + [0.0] * 6 + [2.0] * 3)
+    again = pickle.loads(pickle.dumps(model))
+    np.testing.assert_array_equal(again.armature, model.armature)
+
+
+def test_a_welded_body_adds_its_inertia_to_the_moving_ancestor() -> None:
+    one = _load(_wrap('<body><joint/><geom size=".1" mass="2"/><geom size=".1" pos="1 0 0" mass="3"/></body>'))
+    two = _load(_wrap('<body><joint/><geom size=".1" mass="2"/><body pos="1 0 0"><geom size=".1" mass="3"/></body>'
+                      '</body>'))
+    assert one.nbodies == two.nbodies == 1
+    np.testing.assert_allclose(two.inertias[0].matrix(), one.inertias[0].matrix(), atol=1e-14)
+    assert two.total_mass == pytest.approx(5.0)
+
+
+def test_static_bodies_are_dropped_and_gravity_read() -> None:
+    model = _load(_wrap('<geom type="plane" size="1 1 1"/><body><geom size="1"/></body>'
+                        '<body><joint/><geom size=".1" mass="1"/></body>', head='<option gravity="0 0 -1.62"/>'))
+    assert model.nbodies == 1 and model.total_mass == pytest.approx(1.0)
+    np.testing.assert_array_equal(model.gravity, [0, 0, -1.62])
+    off = _load(_wrap('<body><joint/><geom size=".1"/></body>', head='<option><flag gravity="disable"/></option>'))
+    np.testing.assert_array_equal(off.gravity, [0, 0, 0])
+
+
+def test_sphere_inertia_default_density() -> None:
+    model = _load(_wrap('<body><joint/><geom size="0.1"/></body>'))
+    m = 1000 * 4 / 3 * math.pi * 0.1**3
+    assert model.total_mass == pytest.approx(m, rel=1e-14)
+    np.testing.assert_allclose(model.inertias[0].inertia_com, np.eye(3) * 0.4 * m * 0.01, rtol=1e-14)
+
+
+def test_long_chain_loads_without_recursion() -> None:
+    n = 600
+    body = "".join('<body pos="0 0 0.1"><joint axis="0 1 0"/><geom size="0.01"/>' for _ in range(n)) + "</body>" * n
+    model = _load(_wrap(body))
+    assert model.nbodies == n
+
+
+def test_include_relative_to_main_file(tmp_path: Path) -> None:
+    (tmp_path / "sub").mkdir()
+    (tmp_path / "sub" / "b.xml").write_text('<mujoco><body name="x"><joint/><geom size=".1"/></body></mujoco>')
+    (tmp_path / "m.xml").write_text('<mujoco><worldbody><include file="sub/b.xml"/></worldbody></mujoco>')
+    model = _load(tmp_path / "m.xml")
+    assert model.body_names == ("x",)
+    assert model.source == str(tmp_path / "m.xml")
+
+
+# --------------------------------------------------------------------------- load_model
+
+
+def test_load_model_tells_urdf_from_mjcf(tmp_path: Path) -> None:
+    urdf = fd.load_model(fd.robots.robot_path("two_link_arm"))
+    assert urdf.nv == 2
+    p = tmp_path / "m.xml"
+    p.write_text(ARM)
+    mj = fd.load_model(p)
+    assert mj.joint_names[0] == "upper/joint0"
+    with pytest.raises(MJCFError, match=r"<robot> \(URDF\) or <mujoco> \(MJCF\)"):
+        fd.load_model("<sdf version='1.6'/>")
+
+
+# --------------------------------------------------------------------------- elements without tree meaning
+
+
+def test_ignored_elements_warn_once_and_strict_refuses() -> None:
+    xml = _wrap('<body><joint name="j"/><geom size=".1"/></body>',
+                tail='<actuator><motor joint="j"/></actuator><tendon/><sensor/><contact/><equality/>'
+                     '<actuator><motor joint="j"/></actuator><visual/><keyframe/>')
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        fd.load_mjcf(xml)
+    messages = [str(w.message) for w in caught if issubclass(w.category, PhysicalityWarning)]
+    assert len(messages) == 1, messages
+    for kind in ("actuator", "tendon", "sensor", "contact", "equality"):
+        assert kind in messages[0]
+    assert "visual" not in messages[0] and "keyframe" not in messages[0]
+    with pytest.raises(MJCFError, match="strict=True"):
+        fd.load_mjcf(xml, strict=True)
+
+
+# --------------------------------------------------------------------------- refusals
+
+BAD: dict[str, tuple[str, str]] = {
+    "not mujoco": ("<robot name='r'><link name='a'/></robot>", "expected the root element <mujoco>.*URDF"),
+    "malformed": ("<mujoco><worldbody>", "malformed XML"),
+    "entity": ('<!DOCTYPE m [<!ENTITY x "y">]><mujoco/>', "not allowed"),
+    "external entity": ('<!DOCTYPE m SYSTEM "file:///etc/passwd"><mujoco/>', "not allowed"),
+    "nan": (_wrap('<body pos="nan 0 0"><joint/><geom size=".1"/></body>'), r"pos='nan 0 0'.*'nan'"),
+    "inf": (_wrap('<body><joint/><geom size="inf"/></body>'), "size='inf'"),
+    "overflow": (_wrap('<body><joint/><geom size="1e999"/></body>'), "at most"),
+    "huge": (_wrap('<body pos="1e70 0 0"><joint/><geom size=".1"/></body>'), "at most 1e\\+60"),
+    "huge mass": (_wrap('<body><joint/><geom size=".1" mass="1e200"/></body>'), "at most 1e\\+100"),
+    "garbage number": (_wrap('<body pos="1 2 x"><joint/><geom size=".1"/></body>'), "'x' is not a decimal number"),
+    "count": (_wrap('<body pos="1 2"><joint/><geom size=".1"/></body>'), "expected 3 numbers, got 2"),
+    "two orientations": (_wrap('<body euler="1 0 0" quat="1 0 0 0"><joint/><geom size=".1"/></body>'),
+                         "several orientations"),
+    "zero quat": (_wrap('<body quat="0 0 0 0"><joint/><geom size=".1"/></body>'), "zero quaternion"),
+    "zero axis": (_wrap('<body><joint axis="0 0 0"/><geom size=".1"/></body>'), "not a direction"),
+    "unknown class": (_wrap('<body><joint class="nope"/><geom size=".1"/></body>'), "unknown default class"),
+    "unknown childclass": (_wrap('<body childclass="nope"><joint/><geom size=".1"/></body>'),
+                           "unknown default class"),
+    "unknown element": (_wrap('<body><joint/><geom size=".1"/><gizmo/></body>'), "unknown MJCF element <gizmo>"),
+    "unknown top": ("<mujoco><gizmo/></mujoco>", "unknown MJCF element <gizmo>"),
+    "unknown joint type": (_wrap('<body><joint type="screw"/><geom size=".1"/></body>'), "type='screw'"),
+    "negative mass": (_wrap('<body><joint/><geom size=".1" mass="-1"/></body>'), "mass >= 0"),
+    "massless moving": (_wrap('<body><joint/></body>'), "mjMINVAL"),
+    "nested free": (_wrap('<body><joint/><geom size=".1"/><body><freejoint/><geom size=".1"/></body></body>'),
+                    "top-level body"),
+    "free and hinge": (_wrap('<body><freejoint/><joint/><geom size=".1"/></body>'), "only joint"),
+    "ball then hinge": (_wrap('<body><joint type="ball"/><joint/><geom size=".1"/></body>'), "ball joint followed"),
+    "plane in moving body": (_wrap('<body><joint/><geom size=".1"/><geom type="plane" size="1 1 1"/></body>'),
+                             "static bodies"),
+    "unknown mesh": (_wrap('<body><joint/><geom type="mesh" mesh="m"/></body>'), "no <mesh> asset of that name"),
+    "missing mesh file": (_wrap('<body><joint/><geom type="mesh" mesh="m"/></body>',
+                                head='<asset><mesh name="m" file="/nonexistent/m.stl"/></asset>'),
+                          "cannot read the mesh file"),
+    "mesh format": (_wrap('<body><joint/><geom type="mesh" mesh="m"/></body>',
+                          head='<asset><mesh name="m" file="/etc/hostname.ply"/></asset>'), "cannot read|unsupported"),
+    "mesh face index": (_wrap('<body><joint/><geom type="mesh" mesh="m"/></body>',
+                              head='<asset><mesh name="m" vertex="0 0 0 1 0 0 0 1 0 0 0 1" '
+                                   'face="0 2 1 0 1 3 0 3 2 1 2 9"/></asset>'), "face index is outside"),
+    "mesh inside out": (_wrap('<body><joint/><geom type="mesh" mesh="m"/></body>',
+                              head='<asset><mesh name="m" inertia="exact" vertex="0 0 0 1 0 0 0 1 0 0 0 1" '
+                                   'face="0 1 2 0 3 1 0 2 3 1 3 2"/></asset>'), "not positive"),
+    "flat hull": (_wrap('<body><joint/><geom type="mesh" mesh="m"/></body>',
+                        head='<asset><mesh name="m" vertex="0 0 0 1 0 0 0 1 0 1 1 0 2 3 0"/></asset>'), "coplanar"),
+    "mesh shellinertia": (_wrap('<body><joint/><geom type="mesh" mesh="m" shellinertia="true"/></body>',
+                                head='<asset><mesh name="m" vertex="0 0 0 1 0 0 0 1 0 0 0 1" '
+                                     'face="0 2 1 0 1 3 0 3 2 1 2 3"/></asset>'), "in the mesh asset"),
+    "sdf": (_wrap('<body><joint/><geom type="sdf" mesh="m"/></body>'), "SDF geom inertia is not supported"),
+    "replicate count": (_wrap('<replicate count="0"><body><joint/><geom size=".1"/></body></replicate>'),
+                        "count='0'"),
+    "replicate joint": (_wrap('<body><replicate count="2"><joint/></replicate><geom size=".1"/></body>'),
+                        "direct child of <replicate>"),
+    "replicate bomb": (_wrap('<replicate count="1000"><replicate count="1000"><replicate count="1000">'
+                             '<body><joint/><geom size=".1"/></body></replicate></replicate></replicate>'),
+                       "MAX_REPLICATED"),
+    "composite": (_wrap('<body><composite type="cable"/></body>'), "<composite> is not supported"),
+    "autolimits off": (_wrap('<body><joint range="0 1"/><geom size=".1"/></body>',
+                             head='<compiler autolimits="false"/>'), "range given but not limited"),
+    "eulerseq": ('<mujoco><compiler eulerseq="xyw"/></mujoco>', "eulerseq='xyw'"),
+    "angle": ('<mujoco><compiler angle="grad"/></mujoco>', "angle='grad'"),
+    "coordinate global": ('<mujoco><compiler coordinate="global"/></mujoco>', "global"),
+    "fullinertia and quat": (_wrap('<body><joint/><inertial pos="0 0 0" mass="1" quat="1 0 0 0" '
+                                   'fullinertia="1 1 1 0 0 0"/></body>'), "fullinertia and an orientation"),
+    "limited without range": (_wrap('<body><joint limited="true"/><geom size=".1"/></body>'), r"range\[0\] < range"),
+    "pos and fromto": (_wrap('<body><joint/><geom type="capsule" size=".1" pos="1 0 0" fromto="0 0 0 0 0 1"/></body>'),
+                       "both pos and fromto"),
+    "duplicate site": (_wrap('<body><joint/><geom size=".1"/><site name="s"/><site name="s"/></body>'),
+                       "site name 's' is used twice"),
+    "duplicate body": (_wrap('<body name="b"><joint/><geom size=".1"/></body><body name="b"><joint/>'
+                             '<geom size=".1"/></body>'), "used twice"),
+    "fromto points": (_wrap('<body><joint/><geom type="capsule" size=".1" fromto="0 0 0 0 0 0"/></body>'),
+                      "points coincide"),
+    "zero size": (_wrap('<body><joint/><geom type="box" size=".1 0 .1"/></body>'), "size 1 of a box must be positive"),
+    "inertial without pos": (_wrap('<body><joint/><inertial mass="1" diaginertia="1 1 1"/></body>'), "needs 'pos'"),
+    "both inertias": (_wrap('<body><joint/><inertial pos="0 0 0" mass="1" diaginertia="1 1 1" '
+                            'fullinertia="1 1 1 0 0 0"/></body>'), "exactly one"),
+    "triangle": (_wrap('<body><joint/><inertial pos="0 0 0" mass="1" diaginertia="1 1 3"/></body>'),
+                 "triangle inequality"),
+    "indefinite": (_wrap('<body><joint/><inertial pos="0 0 0" mass="1" fullinertia="1 1 1 2 0 0"/></body>'),
+                   "not positive semi-definite"),
+    "joint in world": (_wrap('<joint/>'), "joints belong in a <body>"),
+    "missing include": ('<mujoco><include file="/nonexistent/x.xml"/></mujoco>', "does not exist"),
+    "include without file": ('<mujoco><include/></mujoco>', "needs a 'file'"),
+    "ellipsoid shell": (_wrap('<body><joint/><geom type="ellipsoid" size=".1 .2 .3" shellinertia="true"/></body>'),
+                        "not supported"),
+    "alignfree": ('<mujoco><compiler alignfree="true"/></mujoco>', "alignfree"),
+    "duplicate class": ('<mujoco><default><default class="a"/><default class="a"/></default></mujoco>',
+                        "defined twice"),
+}
+
+
+@pytest.mark.parametrize("case", list(BAD))
+def test_refused_with_mjcf_error(case: str) -> None:
+    xml, pattern = BAD[case]
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", PhysicalityWarning)
+        with pytest.raises(MJCFError, match=pattern) as info:
+            fd.load_mjcf(xml)
+    assert isinstance(info.value, ValueError)
+    assert str(info.value).startswith("<string>")
+
+
+def test_error_names_the_file_line_element_and_attribute(tmp_path: Path) -> None:
+    p = tmp_path / "bad.xml"
+    p.write_text("<mujoco>\n<worldbody>\n<body name='b'>\n<joint/>\n<geom name='g' size='-1'/>\n</body>\n"
+                 "</worldbody>\n</mujoco>\n")
+    with pytest.raises(MJCFError) as info:
+        fd.load_mjcf(p)
+    msg = str(info.value)
+    assert msg.startswith(str(p)) and "line 5" in msg and "<geom name='g'>" in msg and "size" in msg
+
+
+def test_include_cycle_and_depth(tmp_path: Path) -> None:
+    (tmp_path / "a.xml").write_text('<mujoco><include file="b.xml"/></mujoco>')
+    (tmp_path / "b.xml").write_text('<mujoco><include file="a.xml"/></mujoco>')
+    with pytest.raises(MJCFError, match="include cycle"):
+        fd.load_mjcf(tmp_path / "a.xml")
+    for k in range(30):
+        (tmp_path / f"d{k}.xml").write_text(f'<mujoco><include file="d{k + 1}.xml"/></mujoco>')
+    (tmp_path / "d30.xml").write_text("<mujoco/>")
+    with pytest.raises(MJCFError, match="MAX_INCLUDE_DEPTH"):
+        fd.load_mjcf(tmp_path / "d0.xml")
+    (tmp_path / "notmj.xml").write_text("<robot/>")
+    (tmp_path / "inc.xml").write_text('<mujoco><include file="notmj.xml"/></mujoco>')
+    with pytest.raises(MJCFError, match="root must be <mujoco>"):
+        fd.load_mjcf(tmp_path / "inc.xml")
+
+
+def test_billion_laughs_and_deep_nesting_are_refused_fast() -> None:
+    laughs = ('<!DOCTYPE m [<!ENTITY a "aaaaaaaaaa"><!ENTITY b "&a;&a;&a;&a;&a;&a;&a;&a;&a;&a;">]>'
+              "<mujoco>&b;</mujoco>")
+    with pytest.raises(MJCFError):
+        fd.load_mjcf(laughs)
+    deep = "<mujoco><worldbody>" + "<frame>" * 5000 + "</frame>" * 5000 + "</worldbody></mujoco>"
+    with pytest.raises(MJCFError, match="nested deeper"):
+        fd.load_mjcf(deep)
+
+
+def test_not_a_path_or_xml() -> None:
+    with pytest.raises(MJCFError, match="load_mjcf: expected a path"):
+        fd.load_mjcf(42)  # type: ignore[arg-type]
+    with pytest.raises(MJCFError, match="cannot read the MJCF file"):
+        fd.load_mjcf("/nonexistent/model.xml")
+
+
+def test_load_robot_takes_a_model_file(tmp_path: Path) -> None:
+    p = tmp_path / "arm.xml"
+    p.write_text(ARM)
+    assert fd.load_robot(str(p)).joint_names == _load(ARM).joint_names
+    urdf = fd.robots.robot_path("two_link_arm")
+    assert fd.load_robot(str(urdf), floating_base=True).floating_base
+    from featherdyn.mjcf import model_format
+
+    assert model_format(p) == "mjcf" and model_format(urdf) == "urdf"
+
+
+def test_geom_products_beyond_the_bounds_are_refused() -> None:
+    # each number is within its own bound, their product (density × size³ × size²) is not
+    with pytest.raises(MJCFError, match="MAX_MASS"):
+        _load(_wrap('<body><joint/><geom size="1e40" density="1e90"/></body>'))
+
+
+def test_a_missing_mesh_file_is_refused_even_if_unused() -> None:
+    # MuJoCo reads every mesh asset; the message names the asset and the resolved path
+    xml = _wrap('<body><joint/><geom size=".1"/></body>', head='<compiler meshdir="meshes"/>'
+                '<asset><mesh name="unused" file="nothere.stl"/></asset>')
+    with pytest.raises(MJCFError, match=r"<mesh name='unused'>: file='nothere.stl'.*meshes/nothere.stl"):
+        fd.load_mjcf(xml)
+
+
+def test_a_file_included_twice_is_refused(tmp_path: Path) -> None:
+    (tmp_path / "c.xml").write_text('<mujoco><worldbody><body><joint/><geom size=".1"/></body></worldbody></mujoco>')
+    (tmp_path / "d.xml").write_text('<mujoco><include file="c.xml"/><include file="c.xml"/></mujoco>')
+    with pytest.raises(MJCFError, match="already included"):
+        fd.load_mjcf(tmp_path / "d.xml")
