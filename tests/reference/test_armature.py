@@ -111,8 +111,9 @@ def test_armature_leaves_gravity_and_nle_alone() -> None:
                      fd.nonlinear_effects(bare, q, v, backend=backend), "nle")
 
 
-def test_kinetic_energy_and_regressor_leave_the_armature_out() -> None:
-    """A known difference: Pinocchio's kinetic energy adds ½ Σ armature q̇², featherdyn's (both backends) does not."""
+def test_kinetic_energy_counts_the_armature_and_the_regressor_leaves_it_out() -> None:
+    """T = ½ q̇ᵀ M q̇ with M's armature (Pinocchio's computeKineticEnergy adds ½ Σ armature q̇² too); the regressor
+    holds the bodies' parameters only, so τ = Y π + armature ∘ q̈."""
     model, pm, jm, rng = _models("panda", False, 4)
     bare = dataclasses.replace(model, armature=None)
     q, v, a = fd.random_configuration(model, rng), rng.normal(size=model.nv), rng.normal(size=model.nv)
@@ -120,7 +121,9 @@ def test_kinetic_energy_and_regressor_leave_the_armature_out() -> None:
     pin_energy = pin.computeKineticEnergy(pm, pd, jm.q_to_pin(q), jm.v_to_pin(v))
     for backend in ("reference", "compiled"):
         ours = fd.kinetic_energy(model, q, v, backend=backend)
-        assert ours == pytest.approx(pin_energy - 0.5 * np.sum(model.armature * v * v), rel=1e-12)
-        assert ours == pytest.approx(fd.kinetic_energy(bare, q, v, backend=backend), rel=1e-14)
+        assert ours == pytest.approx(pin_energy, rel=1e-12)
+        assert ours == pytest.approx(0.5 * v @ fd.crba(model, q, backend=backend) @ v, rel=1e-12)
+        assert ours == pytest.approx(fd.kinetic_energy(bare, q, v, backend=backend) + 0.5 * np.sum(model.armature * v * v),
+                                     rel=1e-14)
     Y = fd.joint_torque_regressor(model, q, v, a)
     assert_close(Y @ fd.dynamic_parameters(model) + model.armature * a, fd.rnea(model, q, v, a), "Y pi + armature a")

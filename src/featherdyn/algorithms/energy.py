@@ -21,21 +21,23 @@ from .kinematics import _body_at, _motion_at
 __all__ = ["kinetic_energy", "potential_energy", "center_of_mass"]
 
 
-def kinetic_energy(model: Model, kin: Kinematics) -> np.ndarray:
-    """Kinetic energy `(...)` from the body velocities of ``kin``::
+def kinetic_energy(model: Model, kin: Kinematics, qd: np.ndarray | None = None) -> np.ndarray:
+    """Kinetic energy `(...)` from the body velocities of ``kin`` and the joint velocities ``qd`` `(..., nv)`::
 
-        T = Σ_i ½ v_iᵀ I_i v_i = ½ q̇ᵀ (M(q) − diag(armature)) q̇
+        T = Σ_i ½ v_iᵀ I_i v_i + ½ Σ_k armature_k q̇_k² = ½ q̇ᵀ M(q) q̇
 
-    The bodies' energy only: the armature (rotor inertia) is left out, here
-    and in the compiled core alike. Pinocchio's ``computeKineticEnergy`` and
-    MuJoCo's energy add ``½ Σ armature q̇²`` (a known difference, see
-    ``tests/reference/test_armature.py``; zero for URDF models).
+    The rotors' term (the armature, M's diagonal addition) needs ``qd``; as
+    Pinocchio's ``computeKineticEnergy`` and MuJoCo's energy.
     """
     assert kin.velocities is not None
     td = TreeData(model, kin.placements.dtype)
     T = zeros(kin.placements.shape[:-1], (), td.dtype)
     for i in range(model.nbodies):
         T = T + td.I[i].kinetic_energy(_motion_at(kin.velocities, i))
+    arm = model.armature
+    if qd is not None and arm is not None and np.any(arm != 0):
+        for k in np.flatnonzero(arm):  # (a loop: SymPy object arrays too)
+            T = T + 0.5 * arm[k] * qd[..., k] * qd[..., k]
     return T
 
 

@@ -38,7 +38,8 @@ def kinetic_energy(model: Model, q: ArrayLike, v: ArrayLike, *, backend: str | N
     st = check_state(model, q, v=v)
     if select_backend(backend, st.dtype) == "compiled":
         return as_dtype(_compiled.kinetic_energy(model, st.q, st.arrays["v"]), st.dtype)
-    return finite_result(quiet(_energy.kinetic_energy, model, kinematics_of(model, st, st.arrays["v"], None, backend)),
+    return finite_result(quiet(_energy.kinetic_energy, model, kinematics_of(model, st, st.arrays["v"], None, backend),
+                               st.arrays["v"]),
                          "kinetic_energy")
 
 

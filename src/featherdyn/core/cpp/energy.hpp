@@ -38,6 +38,8 @@ S kinetic_energy(const ModelView& mv, const S* q, const S* qd) {
     v[i] = lam == -1 ? vJ : X_up.apply(v[lam]) + vJ;
     T = T + S(0.5) * dot(v[i], body_inertia<S>(mv, i) * v[i]);
   }
+  if (mv.armature)  // the rotors: ½ Σ armature_k q̇_k², so that T = ½ q̇ᵀ M q̇ with M's armature
+    for (int k = 0; k < mv.nv; ++k) T = T + S(0.5) * S(mv.armature[k]) * qd[k] * qd[k];
   return T;
 }
 
