@@ -2,7 +2,7 @@
 
 ::
 
-    featherdyn verify [ROBOT|URDF] [--floating-base] [--samples N] [--seed S] [--tol T] [--contacts F1,F2]
+    featherdyn verify [ROBOT|URDF|MJCF] [--oracle pinocchio|mujoco|both] [--floating-base] [--samples N] [--seed S] [--tol T] [--contacts F1,F2]
                       [--json FILE] [--report FILE.html] [--all [--scheduler local|ADDRESS] [--workers W]]
     featherdyn check VALUES.npz --robot ROBOT|URDF [--floating-base] [--convention featherdyn|pinocchio]
                      [--tol T] [--json FILE]
@@ -57,8 +57,9 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--version", action="version", version=f"featherdyn {__version__}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
     v = sub.add_parser("verify", help="compare featherdyn with Pinocchio on a robot and check oracle-free identities")
-    v.add_argument("robot", nargs="?", default=None, metavar="ROBOT|URDF",
-                   help="a robot-library name (see `featherdyn list`) or a URDF file; default: the default robot")
+    v.add_argument("robot", nargs="?", default=None, metavar="ROBOT|URDF|MJCF",
+                   help="a robot-library name (see `featherdyn list`), a URDF or an MJCF file; default: the default "
+                        "robot")
     v.add_argument("--floating-base", action="store_true", help="put the root link on a free-flyer joint")
     v.add_argument("--samples", type=positive_int, default=10, help="random states per check (default 10)")
     v.add_argument("--seed", type=int, default=0, help="random seed (default 0; same seed, same report)")
@@ -68,6 +69,9 @@ def build_parser() -> argparse.ArgumentParser:
                    help="write an HTML report with the table and plots (opens offline)")
     v.add_argument("--all", action="store_true", help="verify every robot of the library (takes minutes)")
     v.add_argument("--strict", action="store_true", help="physicality warnings of the URDF loader are errors")
+    v.add_argument("--oracle", choices=("pinocchio", "mujoco", "both"), default=None,
+                   help="what to compare with: Pinocchio (the default for a URDF), MuJoCo (the default for an MJCF "
+                        "model; a URDF through MuJoCo's URDF importer) or both")
     v.add_argument("--scheduler", default=None, metavar="local|ADDRESS",
                    help="with --all: spread the robots over Dask workers (local: a LocalCluster on this machine; "
                         "or a dask.distributed scheduler address)")
@@ -141,11 +145,10 @@ def _add_dataset(sub: argparse._SubParsersAction[_Parser]) -> None:
 def _cmd_dataset(args: argparse.Namespace) -> int:
     from . import verify
     from .dataset import check_request, progress_bar, write_dataset
-    from .urdf import load_urdf
 
     quantities = check_request(args.quantities.split(","), args.out, args.states, args.chunk)
     _name, path = verify.resolve_robot(args.robot)
-    model = load_urdf(path, floating_base=args.floating_base)
+    model = verify.load_resolved(path, args.floating_base)
     _say(f"featherdyn dataset: {args.states} states of {args.robot} ({model.nq} q, {model.nv} v), "
          f"{', '.join(quantities)} -> {args.out}")
     run = write_dataset(model, args.out, states=args.states, quantities=quantities, seed=args.seed, chunk=args.chunk,
@@ -212,7 +215,10 @@ def _cmd_verify(args: argparse.Namespace) -> int:
         raise FeatherdynError("--scheduler spreads the robots of --all over workers: give --all as well")
     check_writable(args.json, "--json")
     check_writable(args.report, "--report")
-    require_pinocchio()
+    if args.all:  # (one robot: verify.run asks for the oracles it needs)
+        if args.oracle not in (None, "pinocchio"):
+            raise FeatherdynError("--all verifies the URDF library against Pinocchio; --oracle mujoco takes one model")
+        require_pinocchio()
     tty = sys.stderr.isatty()
     reports = []
     if args.all:
@@ -241,7 +247,7 @@ def _cmd_verify(args: argparse.Namespace) -> int:
         _announce_large(path)
         contacts = [f.strip() for f in args.contacts.split(",") if f.strip()]
         report = verify.run(args.robot, floating_base=args.floating_base, samples=args.samples, seed=args.seed,
-                            contacts=contacts,
+                            contacts=contacts, oracle=args.oracle,
                             tol=args.tol, strict=args.strict, progress=_progress(tty))
         reports.append(report)
         print(report.to_table())
@@ -300,14 +306,13 @@ def _limits(lower: np.ndarray, upper: np.ndarray, velocity: np.ndarray, effort: 
 
 def _cmd_info(args: argparse.Namespace) -> int:
     from .errors import InertiaError
-    from .urdf import load_urdf
-    from .verify import resolve_robot
+    from .verify import load_resolved, resolve_robot
 
     _name, path = resolve_robot(args.robot)
     _announce_large(path)
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
-        model = load_urdf(path, floating_base=args.floating_base)
+        model = load_resolved(path, args.floating_base)
     base = "floating" if model.floating_base else "fixed"
     print(f"{model.name} ({path})")
     print(f"  {base} base, {model.nbodies} bodies, nq={model.nq}, nv={model.nv}, total mass {model.total_mass:.6g} kg")

@@ -16,12 +16,19 @@ import time
 import warnings
 from collections.abc import Callable, Sequence
 
+import numpy as np
+
+from ..api import coriolis_matrix as fd_coriolis_matrix
+from ..api import crba as fd_crba
+from ..api import rnea as fd_rnea
+from ..configuration import random_configuration as fd_random_configuration
 from ..tolerances import VERIFY_ALGEBRA, VERIFY_DYNAMICS
+from .algebra import algebra_checks
 from .check import check_values
 from .report import CheckResult, VerifyReport, compare, machine_meta
-from .resolve import resolve_robot
+from .resolve import load_resolved, resolve_robot
 
-__all__ = ["run", "run_or_report", "resolve_robot", "check_values", "CheckResult", "VerifyReport", "compare", "ALGEBRA_TOL",
+__all__ = ["run", "run_or_report", "resolve_robot", "load_resolved", "ORACLES", "check_values", "CheckResult", "VerifyReport", "compare", "ALGEBRA_TOL",
            "DYNAMICS_TOL"]
 
 ALGEBRA_TOL = VERIFY_ALGEBRA
@@ -31,66 +38,114 @@ DYNAMICS_TOL = VERIFY_DYNAMICS
 """Relative tolerance of the robot comparisons (the dynamics issue's standard)."""
 
 
+ORACLES = ("pinocchio", "mujoco", "both")
+
+
 def run(robot: str | os.PathLike[str] | None = None, *, floating_base: bool = False, samples: int = 10,
         seed: int = 0, tol: float | None = None, algebra: bool = True, strict: bool = False,
-        progress: Callable[[str], None] | None = None, contacts: Sequence[str] = ()) -> VerifyReport:
-    """Verify one robot (and the spatial algebra) against Pinocchio.
+        progress: Callable[[str], None] | None = None, contacts: Sequence[str] = (),
+        oracle: str | None = None) -> VerifyReport:
+    """Verify one robot (and the spatial algebra) against Pinocchio, MuJoCo or both.
 
     Args:
-        robot: a robot-library name, a URDF path, or ``None`` for the default robot.
-        floating_base: put the root link on a free-flyer joint (in both libraries).
+        robot: a robot-library name, a URDF or MJCF path, or ``None`` for the default robot.
+        floating_base: put the root link of a URDF on a free-flyer joint (in both libraries).
         samples: random states per check; seed: the random seed (same seed, same report).
         tol: relative tolerance for the robot comparisons (default :data:`DYNAMICS_TOL`).
-        algebra: also compare the spatial algebra with Pinocchio's operations.
-        strict: physicality warnings of the URDF loader become errors.
+        algebra: also compare the spatial algebra with Pinocchio's operations (with Pinocchio as oracle).
+        strict: physicality warnings of the loader become errors.
         progress: called with a short message as each stage starts.
         contacts: frames to hold fixed (3D point contacts in LOCAL_WORLD_ALIGNED, and one 6D contact in
             LOCAL on the first): constrained and impulse dynamics compared with Pinocchio's
             ``constraintDynamics`` / ``impulseDynamics``.
+        oracle: ``"pinocchio"`` (the default for a URDF), ``"mujoco"`` (the default for an MJCF:
+            :mod:`featherdyn.verify.mujoco`) or ``"both"``.
 
     Raises:
-        ModelError, URDFError: the robot cannot be found or loaded.
-        MissingDependencyError: Pinocchio is not installed.
+        ModelError, URDFError, MJCFError: the robot cannot be found or loaded, or the oracle cannot take it
+            (Pinocchio for an MJCF model, MuJoCo for a floating-base URDF).
+        MissingDependencyError: the oracle is not installed.
     """
-    from ..urdf import load_urdf
-    from ._pinocchio import pinocchio_version
-    from .algebra import algebra_checks
-    from .dynamics import RobotPair, dynamics_checks, model_diagnostics
+    from ..errors import ModelError
+    from ..mjcf import model_format
+    from .dynamics import RobotPair, dynamics_checks, identity_checks, model_diagnostics
 
     if samples < 1:
         raise ValueError(f"samples: expected a positive number of samples, got {samples}")
     tol = DYNAMICS_TOL if tol is None else tol
     name, path = resolve_robot(robot)
+    fmt = model_format(path)
+    oracle = oracle or ("mujoco" if fmt == "mjcf" else "pinocchio")
+    if oracle not in ORACLES:
+        raise ModelError(f"oracle: expected one of {', '.join(ORACLES)}, got {oracle!r}")
+    if fmt == "mjcf" and oracle != "mujoco":
+        raise ModelError(f"{path}: an MJCF model is compared with MuJoCo (--oracle mujoco); Pinocchio's MJCF reader "
+                         "disagrees with MuJoCo's compiler on most public models (docs/mjcf-models.md)")
+    if fmt == "urdf" and floating_base and oracle != "pinocchio":
+        raise ModelError("--floating-base with --oracle mujoco: MuJoCo's URDF importer builds no free joint; "
+                         "compare the floating base with Pinocchio, or an MJCF model with a <freejoint/> with MuJoCo")
+    if contacts and oracle == "mujoco":
+        raise ModelError("--contacts compares constrained dynamics with Pinocchio: use --oracle pinocchio or both")
+    use_pin, use_mj = oracle in ("pinocchio", "both"), oracle in ("mujoco", "both")
+    if use_pin:
+        from ._pinocchio import pinocchio_version, require_pinocchio
+
+        require_pinocchio()
+    if use_mj:
+        from .mujoco import mujoco_version, require_mujoco
+
+        require_mujoco()
     t0 = time.perf_counter()
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
-        model = load_urdf(path, floating_base=floating_base, strict=strict)
+        model = load_resolved(path, floating_base, strict)
     for frame in contacts:  # an unknown contact frame is refused before any work
         model.resolve_frame(frame)
     base = "floating" if floating_base else "fixed"
+    oracles = " and ".join(o for o, used in (("Pinocchio", use_pin), ("MuJoCo", use_mj)) if used)
     report = VerifyReport(
         title=f"featherdyn verify {name} ({base} base, nq={model.nq}, nv={model.nv}, {model.nbodies} bodies; "
-              f"{samples} states, seed {seed})",
-        meta={**machine_meta(), "pinocchio": pinocchio_version(), "robot": name, "urdf": str(path),
+              f"{samples} states, seed {seed}" + ("" if oracle == "pinocchio" else f"; against {oracles}") + ")",
+        meta={**machine_meta(), "robot": name, "format": fmt, "oracle": oracle,
               "floating_base": floating_base, "samples": samples, "seed": seed, "tol": tol,
               "nq": model.nq, "nv": model.nv, "nbodies": model.nbodies,
               "load_warnings": sorted({str(w.message) for w in caught})},
     )
-    if algebra:
+    if fmt == "urdf":
+        report.meta["urdf"] = str(path)
+    else:
+        report.meta["mjcf"] = str(path)
+    if use_pin:
+        report.meta["pinocchio"] = pinocchio_version()
+        if algebra:
+            if progress:
+                progress("spatial algebra")
+            report.results += algebra_checks(samples=samples, seed=seed, tol=min(tol, ALGEBRA_TOL))
         if progress:
-            progress("spatial algebra")
-        report.results += algebra_checks(samples=samples, seed=seed, tol=min(tol, ALGEBRA_TOL))
-    if progress:
-        progress("building the Pinocchio model")
-    pair = RobotPair.from_urdf(model, str(path), floating_base)
-    report.results += dynamics_checks(pair, samples=samples, seed=seed, tol=tol, progress=progress)
-    if contacts:
-        from .contacts import contact_checks
+            progress("building the Pinocchio model")
+        pair = RobotPair.from_urdf(model, str(path), floating_base)
+        report.results += dynamics_checks(pair, samples=samples, seed=seed, tol=tol, progress=progress)
+        if contacts:
+            from .contacts import contact_checks
 
+            if progress:
+                progress("constrained dynamics")
+            report.results += contact_checks(pair, list(contacts), samples=samples, seed=seed, tol=tol)
+            report.meta["contacts"] = list(contacts)
+    if use_mj:
+        from .mujoco import compile_mujoco, mujoco_checks
+
+        report.meta["mujoco"] = mujoco_version()
         if progress:
-            progress("constrained dynamics")
-        report.results += contact_checks(pair, list(contacts), samples=samples, seed=seed, tol=tol)
-        report.meta["contacts"] = list(contacts)
+            progress("compiling the model with MuJoCo")
+        report.results += mujoco_checks(model, compile_mujoco(path, fmt), fmt, samples=samples, seed=seed, tol=tol)
+        if not use_pin:  # the laws that need no oracle (with Pinocchio they come with its checks)
+            rng = np.random.default_rng(seed)
+            q = fd_random_configuration(model, rng, samples)
+            v, a = rng.normal(size=(2, samples, model.nv))
+            M = fd_crba(model, q)
+            report.results += identity_checks(model, q, v, a, fd_rnea(model, q, v, a), M,
+                                              fd_coriolis_matrix(model, q, v), tol, singular=False)
     report.diagnostics = model_diagnostics(model).to_dict()
     report.meta["seconds"] = round(time.perf_counter() - t0, 3)
     return report
@@ -108,5 +163,5 @@ def run_or_report(robot: str, **options: object) -> VerifyReport:
         return run(robot, **options)  # type: ignore[arg-type]
     except FeatherdynError as exc:
         rep = VerifyReport(title=f"featherdyn verify {robot}: not loadable", meta={"robot": robot, "error": str(exc)})
-        rep.results.append(CheckResult("load", "load_urdf", float("nan"), float("nan"), 0, 0.0, False, str(exc)))
+        rep.results.append(CheckResult("load", "load_model", float("nan"), float("nan"), 0, 0.0, False, str(exc)))
         return rep

@@ -166,6 +166,10 @@ class RunMeta(TypedDict, total=False):
     pinocchio: str
     robot: str
     urdf: str
+    mjcf: str
+    format: str
+    oracle: str
+    mujoco: str
     floating_base: bool
     samples: int
     seed: int

@@ -1,4 +1,4 @@
-"""Which robot a command means: a robot-library name, a URDF path, or the default robot."""
+"""Which robot a command means: a robot-library name, a URDF or MJCF path, or the default robot; and its model."""
 
 from __future__ import annotations
 
@@ -6,8 +6,9 @@ import os
 from pathlib import Path
 
 from ..errors import ModelError
+from ..model import Model
 
-__all__ = ["resolve_robot"]
+__all__ = ["resolve_robot", "load_resolved"]
 
 
 def resolve_robot(robot: str | os.PathLike[str] | None) -> tuple[str, Path]:
@@ -24,9 +25,28 @@ def resolve_robot(robot: str | os.PathLike[str] | None) -> tuple[str, Path]:
     text = os.fspath(robot)
     path = Path(text)
     if path.is_dir():
-        raise ModelError(f"{text!r} is a directory, expected a URDF file or a robot name (see `featherdyn list`)")
+        raise ModelError(f"{text!r} is a directory, expected a URDF or MJCF file or a robot name "
+                         "(see `featherdyn list`)")
     if text.lower().endswith((".urdf", ".xml")) or (os.sep in text and path.exists()) or path.is_file():
         if not path.is_file():
-            raise ModelError(f"URDF file {text!r} not found")
+            raise ModelError(f"{'URDF' if text.lower().endswith('.urdf') else 'model'} file {text!r} not found")
         return path.stem, path
     return text, robot_path(text)
+
+
+def load_resolved(path: str | os.PathLike[str], floating_base: bool = False, strict: bool = False) -> Model:
+    """The model in ``path``: a URDF (``floating_base`` puts its root on a free-flyer) or an MJCF (by the
+    root element, :func:`featherdyn.mjcf.model_format`).
+
+    Raises:
+        ModelError: ``floating_base`` with an MJCF model (its free joints are in the file); the loaders' errors.
+    """
+    from ..mjcf import load_mjcf, model_format
+    from ..urdf import load_urdf
+
+    if model_format(path) == "urdf":
+        return load_urdf(path, floating_base=floating_base, strict=strict)
+    if floating_base:
+        raise ModelError(f"{os.fspath(path)}: --floating-base applies to a URDF; an MJCF model's free joints are "
+                         "in the file")
+    return load_mjcf(path, strict=strict)
