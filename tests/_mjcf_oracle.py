@@ -138,13 +138,10 @@ def compare(model: fd.Model, m, *, samples: int = 3, seed: int = 0, names: list[
 
 
 def full_mass_matrix(m, d) -> np.ndarray:
-    """``mj_fullM`` (MuJoCo 4 takes ``(m, d, dst)``, MuJoCo 3 ``(m, dst, d.qM)``)."""
-    M = np.zeros((m.nv, m.nv))
-    if hasattr(d, "qM"):
-        mujoco.mj_fullM(m, M, d.qM)
-    else:
-        mujoco.mj_fullM(m, d, M)
-    return M
+    """``mj_fullM`` of either MuJoCo API (featherdyn.verify.mujoco's wrapper: a call, not a computation)."""
+    from featherdyn.verify.mujoco import full_mass_matrix as _full
+
+    return _full(mujoco, m, d)
 
 
 def body_frame(model: fd.Model, name: str) -> int:

@@ -40,7 +40,7 @@ from ..model import Model
 from .dynamics import forward_dynamics_result
 from .report import CheckResult, compare
 
-__all__ = ["require_mujoco", "mujoco_version", "compile_mujoco", "mujoco_checks"]
+__all__ = ["require_mujoco", "mujoco_version", "compile_mujoco", "mujoco_checks", "full_mass_matrix"]
 
 GROUP = "mujoco"
 
@@ -173,7 +173,7 @@ def _body_of(model: Model, name: str) -> int | None:
     return None
 
 
-def _full_mass_matrix(mujoco: Any, m: Any, d: Any) -> np.ndarray:
+def full_mass_matrix(mujoco: Any, m: Any, d: Any) -> np.ndarray:
     """``mj_fullM`` (MuJoCo 3 takes ``(m, dst, d.qM)``, MuJoCo 4 ``(m, d, dst)``)."""
     M = np.zeros((m.nv, m.nv))
     if hasattr(d, "qM"):
@@ -230,13 +230,13 @@ def mujoco_checks(model: Model, m: Any, fmt: str, *, samples: int = 10, seed: in
             theirs_I.append(I6)
         if ours_I:
             add("body spatial inertias (world) vs xipos, ximat, body_inertia", np.stack(ours_I), np.stack(theirs_I))
-        add("crba vs mj_fullM", layout.matrix_to(q, crba(model, q)), _full_mass_matrix(mujoco, m, d))
+        add("crba vs mj_fullM", layout.matrix_to(q, crba(model, q)), full_mass_matrix(mujoco, m, d))
         add("generalized_gravity vs qfrc_bias (qvel = 0)", layout.tau_to(q, generalized_gravity(model, q)),
             d.qfrc_bias.copy())
         qvel, qacc, frc = rng.normal(size=(3, m.nv))
         d.qvel[:] = qvel
         mujoco.mj_forward(m, d)
-        Mmj = _full_mass_matrix(mujoco, m, d)
+        Mmj = full_mass_matrix(mujoco, m, d)
         v = layout.v_from(qpos, qvel)
         layout._qvel = qvel
         a = layout.v_from(qpos, qacc, acc=True)

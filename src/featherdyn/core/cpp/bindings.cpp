@@ -133,13 +133,6 @@ std::int64_t exact_shape(const A& x, std::initializer_list<size_t> shape, std::i
     if (s_ != OK) return RowStatus{-1, s_};            \
   } while (0)
 
-// The body whose joint owns dof k.
-inline int dof_body(const ModelView& mv, int k) {
-  for (int i = 0; i < mv.nb; ++i)
-    if (mv.idx_v[i] <= k && k < mv.idx_v[i] + mv.nv_i[i]) return i;
-  return 0;
-}
-
 // Run body(item) → status over `items` items on the pool, GIL released; (first failing row, its
 // status). An item is `group` consecutive rows; a failing body adds (row − first row of the item) << 60.
 template <class F>

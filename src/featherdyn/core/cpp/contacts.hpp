@@ -91,21 +91,7 @@ inline void contact_jacobian(const ModelView& mv, const ContactWork& w, int fram
   const Mat3<double> Rf = w.oR[b] * load9<double>(mv.frame_R + 9 * frame);
   const Vec3<double> pf = w.op[b] + w.oR[b] * load3<double>(mv.frame_p + 3 * frame);
   const Vec3<double> origin = ref == WORLD ? Vec3<double>{0.0, 0.0, 0.0} : pf;
-  for (int i = b; i != -1; i = mv.parent[i]) {
-    const Vec3<double> d = w.op[i] - origin;
-    for (int c = 0; c < mv.nv_i[i]; ++c) {
-      const Motion<double> Sc = S_col<double>(mv, i, c);
-      Vec3<double> om = w.oR[i] * Sc.w;
-      Vec3<double> vel = w.oR[i] * Sc.v + cross(d, om);
-      if (ref == LOCAL) {
-        om = mul_transpose(Rf, om);
-        vel = mul_transpose(Rf, vel);
-      }
-      const int col = mv.idx_v[i] + c;
-      J[0 * nv + col] = om.x, J[1 * nv + col] = om.y, J[2 * nv + col] = om.z;
-      J[3 * nv + col] = vel.x, J[4 * nv + col] = vel.y, J[5 * nv + col] = vel.z;
-    }
-  }
+  for (int i = b; i != -1; i = mv.parent[i]) put_frame_columns(mv, i, w.oR[i], w.op[i], origin, Rf, ref, J);
 }
 
 // q̈ (nv,), λ (m,), and the KKT result for the contacts `specs` at (q, q̇, τ, f_ext); m = Σ rows.
@@ -148,12 +134,7 @@ inline std::int64_t contact_dynamics(const ModelView& mv, const double* q, const
   crba(mv, q, w.L.data());
   dof_parents(mv, w.lambda.data());
   const int bad = ltl_factor(mv, w.lambda.data(), w.L.data());
-  if (bad >= 0) {
-    int body = 0;
-    for (int i = 0; i < nb; ++i)
-      if (mv.idx_v[i] <= bad && bad < mv.idx_v[i] + mv.nv_i[i]) body = i;
-    return make_status(SINGULAR, ARG_Q, body);
-  }
+  if (bad >= 0) return make_status(SINGULAR, ARG_Q, dof_body(mv, bad));
   rnea(mv, q, qd, static_cast<const double*>(nullptr), f_ext, true, w.th.data());
   for (int j = 0; j < nv; ++j) w.th[j] = tau[j] - w.th[j];
   res = kkt_solve(mv, w.lambda.data(), w.L.data(), w.th.data(), w.J.data(), w.c.data(), m, mu, max_iter, tol,
@@ -178,12 +159,7 @@ inline std::int64_t operational_space_inertia(const ModelView& mv, const double*
   crba(mv, q, w.L.data());
   dof_parents(mv, w.lambda.data());
   const int bad = ltl_factor(mv, w.lambda.data(), w.L.data());
-  if (bad >= 0) {
-    int body = 0;
-    for (int i = 0; i < nb; ++i)
-      if (mv.idx_v[i] <= bad && bad < mv.idx_v[i] + mv.nv_i[i]) body = i;
-    return make_status(SINGULAR, ARG_Q, body);
-  }
+  if (bad >= 0) return make_status(SINGULAR, ARG_Q, dof_body(mv, bad));
   double* D = w.c.data();
   delassus_from_factor(mv, w.lambda.data(), w.L.data(), w.J.data(), m, D, w.th);
   for (int i = 0; i < m; ++i) D[i * m + i] += mu;

@@ -330,11 +330,7 @@ int aba_derivatives(const ModelView& mv, const int* lambda_d, const double* q, c
   double* col = scratch + 3 * n2;
   crba(mv, q, L);
   const int bad_dof = ltl_factor(mv, lambda_d, L);
-  if (bad_dof >= 0) {
-    for (int i = 0; i < mv.nb; ++i)
-      if (mv.idx_v[i] <= bad_dof && bad_dof < mv.idx_v[i] + mv.nv_i[i]) return i;
-    return 0;
-  }
+  if (bad_dof >= 0) return dof_body(mv, bad_dof);
   rnea_derivs(mv, q, qd, qdd, f_ext, gravity, tq, tv);
   // −M⁻¹ ∂τ/∂q, −M⁻¹ ∂τ/∂q̇, M⁻¹ 1: the two sweeps on all columns of each at once (ltl.hpp)
   const size_t nn = static_cast<size_t>(nv) * nv;

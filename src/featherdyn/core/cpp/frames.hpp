@@ -73,6 +73,27 @@ void frame_placement(const ModelView& mv, const S* q, int frame, S* H) {
   H[15] = S(1.0);
 }
 
+// The columns of joint k (world pose R, p) in the Jacobian J (6, nv) of a frame at (Rf, ·): ⁰X_k S_k about
+// `origin` (the world origin for WORLD, the frame's origin otherwise), in world axes, frame axes for LOCAL.
+template <class S>
+inline void put_frame_columns(const ModelView& mv, int k, const Mat3<S>& R, const Vec3<S>& p, const Vec3<S>& origin,
+                              const Mat3<S>& Rf, int ref, S* J) {
+  const int nv = mv.nv;
+  const Vec3<S> d = p - origin;
+  for (int c = 0; c < mv.nv_i[k]; ++c) {
+    const Motion<S> Sc = S_col<S>(mv, k, c);
+    Vec3<S> om = R * Sc.w;
+    Vec3<S> vel = R * Sc.v + cross(d, om);
+    if (ref == LOCAL) {
+      om = mul_transpose(Rf, om);
+      vel = mul_transpose(Rf, vel);
+    }
+    const int col = mv.idx_v[k] + c;
+    J[0 * nv + col] = om.x, J[1 * nv + col] = om.y, J[2 * nv + col] = om.z;
+    J[3 * nv + col] = vel.x, J[4 * nv + col] = vel.y, J[5 * nv + col] = vel.z;
+  }
+}
+
 // J (6, nv) row-major, rows [ω; v], in the reference frame `ref`.
 template <class S>
 void frame_jacobian(const ModelView& mv, const S* q, int frame, int ref, S* J) {
@@ -86,24 +107,7 @@ void frame_jacobian(const ModelView& mv, const S* q, int frame, int ref, S* J) {
   const Vec3<S> pf = w.op[n - 1] + w.oR[n - 1] * load3<S>(mv.frame_p + 3 * frame);
   const S z(0.0);
   const Vec3<S> origin = ref == WORLD ? Vec3<S>{z, z, z} : pf;
-  for (int s = 0; s < n; ++s) {
-    const int k = w.path[s];
-    const Mat3<S>& R = w.oR[s];
-    // the reference point of the columns: the world origin (WORLD) or the frame origin
-    const Vec3<S> d = w.op[s] - origin;
-    for (int c = 0; c < mv.nv_i[k]; ++c) {
-      const Motion<S> Sc = S_col<S>(mv, k, c);
-      Vec3<S> om = R * Sc.w;
-      Vec3<S> vel = R * Sc.v + cross(d, om);
-      if (ref == LOCAL) {
-        om = mul_transpose(Rf, om);
-        vel = mul_transpose(Rf, vel);
-      }
-      const int col = mv.idx_v[k] + c;
-      J[0 * nv + col] = om.x, J[1 * nv + col] = om.y, J[2 * nv + col] = om.z;
-      J[3 * nv + col] = vel.x, J[4 * nv + col] = vel.y, J[5 * nv + col] = vel.z;
-    }
-  }
+  for (int s = 0; s < n; ++s) put_frame_columns(mv, w.path[s], w.oR[s], w.op[s], origin, Rf, ref, J);
 }
 
 }  // namespace fdcore

@@ -27,6 +27,13 @@ inline void dof_parents(const ModelView& mv, int* lambda) {
   }
 }
 
+// The body whose joint owns dof k (a failed pivot of the factor is reported by body).
+inline int dof_body(const ModelView& mv, int k) {
+  for (int i = 0; i < mv.nb; ++i)
+    if (mv.idx_v[i] <= k && k < mv.idx_v[i] + mv.nv_i[i]) return i;
+  return 0;
+}
+
 // In place: M (nv, nv) row-major, full and symmetric → L in its lower triangle (the strict upper part is
 // left as it was). Returns −1, or the dof whose pivot is not positive (M not positive definite).
 template <class S>
