@@ -885,6 +885,22 @@ RowStatus delassus_n(const ModelData& md, const In& q, const In& J, int m, Out D
   });
 }
 
+// The rows of a constrained-dynamics batch: outputs q̈ (N, nv), λ (N, m), info (N, 2); inputs q, v, τ, f_ext.
+std::int64_t dynamics_batch_rows(const ModelView& mv, int m, const In& q, const In& v, const In& tau, const In& f_ext,
+                                 const Out& qdd, const Out& lam, const Out& info, std::int64_t& N, Rows& Q, Rows& V,
+                                 Rows& T, Rows& FX) {
+  const int nv = mv.nv;
+  FD_TRY(out_rows(qdd, nv, N));
+  FD_TRY(same_rows(lam, m, N));
+  FD_TRY(same_rows(info, 2, N));
+  FD_TRY(rows(q, N, mv.nq, ARG_Q, Q));
+  require_present(v);
+  require_present(tau);
+  FD_TRY(rows(v, N, nv, ARG_V, V));
+  FD_TRY(rows(tau, N, nv, ARG_A, T));
+  return rows(f_ext, N, 6 * static_cast<size_t>(mv.nb), ARG_FEXT, FX);
+}
+
 // Constrained dynamics rows: q̈ (N, nv), λ (N, m), [iterations, residual] (N, 2) for M q̈ + h = τ + Jᵀλ,
 // J q̈ = c with J (N or 1, m·nv) and c (N or 1, m); h with gravity and f_ext (optional).
 RowStatus kkt_n(const ModelData& md, const In& q, const In& v, const In& tau, const In& f_ext, const In& J,
@@ -895,15 +911,7 @@ RowStatus kkt_n(const ModelData& md, const In& q, const In& v, const In& tau, co
   Rows Q, V, T, FX, JR, CR;
   const int nv = mv.nv;
   if (m < 0) throw nb::value_error("kkt: m must be non-negative");
-  FD_TRY_ROWS(out_rows(qdd, nv, N));
-  FD_TRY_ROWS(same_rows(lam, m, N));
-  FD_TRY_ROWS(same_rows(info, 2, N));
-  FD_TRY_ROWS(rows(q, N, mv.nq, ARG_Q, Q));
-  require_present(v);
-  require_present(tau);
-  FD_TRY_ROWS(rows(v, N, nv, ARG_V, V));
-  FD_TRY_ROWS(rows(tau, N, nv, ARG_A, T));
-  FD_TRY_ROWS(rows(f_ext, N, 6 * static_cast<size_t>(mv.nb), ARG_FEXT, FX));
+  FD_TRY_ROWS(dynamics_batch_rows(mv, m, q, v, tau, f_ext, qdd, lam, info, N, Q, V, T, FX));
   FD_TRY_ROWS(rows(J, N, static_cast<size_t>(m) * nv, ARG_OUT, JR));
   FD_TRY_ROWS(rows(c, N, static_cast<size_t>(m), ARG_OUT, CR));
   std::vector<int> lambda(nv);
@@ -995,15 +1003,7 @@ RowStatus contact_dynamics_n(const ModelData& md, const In& q, const In& v, cons
   if (specs.ndim() != 2 || specs.shape(1) != 4) throw nb::value_error("contact specs: expected shape (nc, 4)");
   int m = 0;
   const std::vector<ContactSpec> cs = contact_specs(mv, specs.data(), specs.shape(0), m);
-  FD_TRY_ROWS(out_rows(qdd, nv, N));
-  FD_TRY_ROWS(same_rows(lam, m, N));
-  FD_TRY_ROWS(same_rows(info, 2, N));
-  FD_TRY_ROWS(rows(q, N, mv.nq, ARG_Q, Q));
-  require_present(v);
-  require_present(tau);
-  FD_TRY_ROWS(rows(v, N, nv, ARG_V, V));
-  FD_TRY_ROWS(rows(tau, N, nv, ARG_A, T));
-  FD_TRY_ROWS(rows(f_ext, N, 6 * static_cast<size_t>(mv.nb), ARG_FEXT, FX));
+  FD_TRY_ROWS(dynamics_batch_rows(mv, m, q, v, tau, f_ext, qdd, lam, info, N, Q, V, T, FX));
   return for_rows(N, [&](std::int64_t r) -> std::int64_t {
     FD_TRY(check_state(mv, Q.row(r), V.row(r), T.row(r), FX.row(r)));
     KktResult res;
