@@ -424,3 +424,19 @@ def test_operational_space_inertia_one_state_equals_the_dense_definition(robot: 
                 assert np.array_equal(one, one.T)
                 _close(one, dense, rtol=1e-8)
                 _close(one, batch[k], rtol=1e-9)
+
+
+def test_a_constraint_list_changed_in_place_is_not_served_a_stale_plan(solo: fd.Model) -> None:
+    """The one-state path remembers the last list of contacts by identity: replacing an item, appending or
+    removing one must change the answer."""
+    q, v, tau = fd.random_configuration(solo, np.random.default_rng(8)), np.zeros(solo.nv), np.zeros(solo.nv)
+    cons: list[fd.Constraint] = [fd.PointContact("FL_FOOT")]
+    assert [f.shape for f in fd.constrained_dynamics(solo, q, v, tau, cons).forces] == [(3,)]
+    cons[0] = fd.FrameContact("FL_FOOT")
+    assert [f.shape for f in fd.constrained_dynamics(solo, q, v, tau, cons).forces] == [(6,)]
+    cons.append(fd.PointContact("HR_FOOT"))
+    res = fd.constrained_dynamics(solo, q, v, tau, cons)
+    assert [f.shape for f in res.forces] == [(6,), (3,)]
+    _close(res.ddq, fd.constrained_dynamics(solo, q, v, tau, list(cons), backend="reference").ddq)
+    cons.pop(0)
+    assert [f.shape for f in fd.constrained_dynamics(solo, q, v, tau, cons).forces] == [(3,)]

@@ -18,6 +18,7 @@ from __future__ import annotations
 import functools
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -278,10 +279,29 @@ def _frames_plan(model: Model, frames: Sequence[str | int] | str | int, referenc
         return None
 
 
+#: the last plan: (model, the constraints object, its items, the plan), one tuple replaced whole (thread-safe
+#: reads); constraints are frozen, so the same items (by identity) in the same container mean the same plan —
+#: a control loop pays identity checks, not hashing
+_LAST_PLAN: tuple[Any, Any, tuple[Any, ...], Any] = (None, None, (), None)
+
+
 def _contact_plan(model: Model, constraints: Sequence[Constraint] | Constraint
                   ) -> tuple[list[slice], np.ndarray, int] | None:
     """``(slices of λ, specs (nc, 4), m)`` when every constraint is a point or frame contact (``contacts.hpp``
     computes their rows in the core), else ``None``; cached per model and constraint tuple."""
+    global _LAST_PLAN
+    last_model, last_constraints, items, plan = _LAST_PLAN
+    if last_model is model and last_constraints is constraints and isinstance(constraints, (list, tuple)) and \
+            len(constraints) == len(items) and all(a is b for a, b in zip(constraints, items, strict=True)):
+        return plan
+    plan = _contact_plan_lookup(model, constraints)
+    if isinstance(constraints, (list, tuple)):
+        _LAST_PLAN = (model, constraints, tuple(constraints), plan)
+    return plan
+
+
+def _contact_plan_lookup(model: Model, constraints: Sequence[Constraint] | Constraint
+                         ) -> tuple[list[slice], np.ndarray, int] | None:
     key = constraints if isinstance(constraints, tuple) else (constraints,) if isinstance(
         constraints, (PointContact, FrameContact, LoopConstraint)) else tuple(constraints)
     try:
