@@ -308,7 +308,7 @@ def read_document(path_or_xml: Any, strict: bool) -> Doc:
             if not target.is_file():
                 raise doc.error(inc, f"file={_quote(file)}: the included file {_quote(str(target))} does not exist")
             sub, sub_where, _, _ = _read(target)
-            if _local(sub.tag) != "mujoco":
+            if _local(sub.tag) not in ("mujoco", "mujocoinclude"):  # <mujocoinclude>: MuJoCo's older root, still read
                 raise doc.error(inc, f"file={_quote(file)}: an included file's root must be <mujoco>, got "
                                 f"<{_shorten(_local(sub.tag) or '?')}>")
             doc.where_of.update(sub_where)

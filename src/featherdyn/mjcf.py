@@ -174,6 +174,12 @@ class _Loader:
                     self.ignored.append(kind)
                 if doc.strict:
                     raise doc.error(elem, f"<{kind}> has no rigid-tree meaning and is refused with strict=True")
+            elif kind == "body":  # outside <worldbody>: MuJoCo's schema takes it and its compiler ignores it
+                what = "body (outside <worldbody>)"
+                if what not in self.ignored:
+                    self.ignored.append(what)
+                if doc.strict:
+                    raise doc.error(elem, "<body> outside <worldbody> is ignored by MuJoCo; refused with strict=True")
             elif kind not in _HANDLED_TOP and kind not in _IGNORED_QUIETLY:
                 raise doc.error(elem, f"unknown MJCF element <{kind}> in <mujoco>")
         read_defaults(doc)

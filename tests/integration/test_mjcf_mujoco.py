@@ -371,3 +371,21 @@ def test_free_joint_armature_differs_from_mujoco_exactly_as_documented() -> None
     R = d.xmat[1].reshape(3, 3)
     expected = 0.7 * np.concatenate([-R @ np.cross(v[:3], v[3:]), np.zeros(3)])
     np.testing.assert_allclose(tau - tau_mj, expected, rtol=0, atol=1e-12 * np.abs(tau_mj).max())
+
+
+def test_mujocoinclude_roots_and_bodies_outside_the_worldbody_as_mujoco(tmp_path: Path) -> None:
+    """Two things MuJoCo reads that the survey found in public models (adroit, fetch): an included file whose root
+    is the older <mujocoinclude>, and a <body> directly under <mujoco> (MuJoCo ignores it; featherdyn too, with the
+    ignored-elements warning, and refuses it with strict=True)."""
+    (tmp_path / "arm.xml").write_text(
+        '<mujocoinclude><body name="a" pos="0 0 1"><joint name="j" axis="0 1 0"/>'
+        '<geom type="capsule" fromto="0 0 0 .3 0 0" size=".04"/></body></mujocoinclude>')
+    main = tmp_path / "main.xml"
+    main.write_text('<mujoco><body name="stray"><geom size=".1"/></body>'
+                    '<worldbody><include file="arm.xml"/></worldbody></mujoco>')
+    with pytest.warns(fd.PhysicalityWarning, match="body \\(outside <worldbody>\\)"):
+        model = fd.load_mjcf(main)
+    assert model.joint_names == ("j",) and "stray" not in model.body_names
+    _check("", "mujocoinclude", main)
+    with pytest.raises(fd.MJCFError, match="outside <worldbody>"):
+        fd.load_mjcf(main, strict=True)
