@@ -592,6 +592,10 @@ class _Loader:
         fd_body = [-1] * nb
         X_fd_mj: list[PluckerTransform] = [PluckerTransform.identity()] * nb  # MJCF body frame in its fd body
         taken = set(body_names)
+        # MuJoCo's rule on moving bodies is on the body with its welded descendants (its weld group):
+        # checked once the group is complete
+        composite: dict[int, SpatialInertia] = {}
+        owner: dict[int, _Body] = {}
         for b in range(1, nb):
             body = self.bodies[b]
             parent = body.parent
@@ -603,13 +607,11 @@ class _Loader:
                 X_fd_mj[b] = X
                 if fd_body[b] >= 0:
                     builder.add_inertia(fd_body[b], X.apply(inertia))
+                    if fd_body[b] in composite:
+                        composite[fd_body[b]] = composite[fd_body[b]] + X.apply(inertia)
                 builder.add_frame(body.name, fd_body[b], X, "link")
                 self.add_sites(builder, body, fd_body[b], X)
                 continue
-            if body.mass < MJ_MINVAL or float(np.min(np.linalg.eigvalsh(body.inertia))) < MJ_MINVAL:
-                raise doc.error(body.elem, f"body {body.name!r}: mass {body.mass:g} and principal inertia "
-                                f"{np.linalg.eigvalsh(body.inertia).tolist()}: MuJoCo requires the mass and "
-                                f"inertia of a moving body to exceed mjMINVAL = {MJ_MINVAL:g}")
             up = fd_body[parent]
             for k, j in enumerate(body.joints):
                 last = k == len(body.joints) - 1
@@ -642,9 +644,17 @@ class _Loader:
                 X = after
             fd_body[b] = up
             X_fd_mj[b] = X
+            composite[up], owner[up] = X.apply(inertia), body
             builder.add_frame(body.name, up, X, "body")
             self.add_sites(builder, body, up, X)
         self.add_sites(builder, self.bodies[0], -1, PluckerTransform.identity())
+        for i, group in composite.items():
+            mass, principal = float(group.mass), np.linalg.eigvalsh(np.asarray(group.inertia_com, dtype=float))
+            if mass < MJ_MINVAL or float(principal.min()) < MJ_MINVAL:
+                body = owner[i]
+                raise doc.error(body.elem, f"body {body.name!r}: mass {mass:g} and principal inertia "
+                                f"{principal.tolist()} with its welded descendants: MuJoCo requires the mass and "
+                                f"inertia of a moving body to exceed mjMINVAL = {MJ_MINVAL:g}")
         return builder.build(strict=doc.strict)
 
     def check_joints(self, body: _Body, b: int) -> None:

@@ -389,3 +389,19 @@ def test_mujocoinclude_roots_and_bodies_outside_the_worldbody_as_mujoco(tmp_path
     _check("", "mujocoinclude", main)
     with pytest.raises(fd.MJCFError, match="outside <worldbody>"):
         fd.load_mjcf(main, strict=True)
+
+
+@pytest.mark.parametrize(("child", "compiles"), [("", True), ('<joint axis="0 0 1"/>', False)],
+                         ids=["welded-massive-child", "jointed-child"])
+def test_a_massless_moving_body_is_judged_with_its_welded_descendants(child: str, compiles: bool) -> None:
+    """MuJoCo's mjMINVAL rule looks at a moving body with the bodies welded to it (robosuite's omron base)."""
+    xml = ('<mujoco><worldbody><body name="a"><joint type="slide" axis="1 0 0"/>'
+           '<inertial pos="0 0 0" mass="0" diaginertia="0 0 0"/>'
+           f'<body name="b" pos=".2 0 0">{child}<geom size=".1"/></body></body></worldbody></mujoco>')
+    if compiles:
+        _check(xml, "massless body, massive welded child")
+        return
+    with pytest.raises(ValueError, match="mjMINVAL"):
+        mujoco.MjModel.from_xml_string(xml)
+    with pytest.raises(fd.MJCFError, match="mjMINVAL"):
+        fd.load_mjcf(xml)
