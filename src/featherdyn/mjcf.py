@@ -133,6 +133,12 @@ class _Body:
     inertia: np.ndarray = field(default_factory=lambda: np.zeros((3, 3)))
 
 
+def _X(R: np.ndarray, p: np.ndarray) -> PluckerTransform:
+    """A placement from the loader's own rotations, proper by construction (normalised quaternions, Rodrigues
+    with unit axes, Gram-Schmidt frames and their products): the per-call orthonormality check is skipped."""
+    return PluckerTransform(R, p, validate=False)
+
+
 def _unique(name: str, taken: set[str]) -> str:
     out, k = name, 1
     while out in taken:
@@ -589,7 +595,7 @@ class _Loader:
         for b in range(1, nb):
             body = self.bodies[b]
             parent = body.parent
-            X = X_fd_mj[parent] @ PluckerTransform(body.R, body.p)
+            X = X_fd_mj[parent] @ _X(body.R, body.p)
             inertia = SpatialInertia(body.mass, body.com, body.inertia)
             self.check_joints(body, b)
             if not body.joints:
@@ -612,17 +618,17 @@ class _Loader:
                     placement = PluckerTransform.identity()
                     joint, after = FreeFlyerJoint(), PluckerTransform.identity()
                 elif j.kind == "slide":
-                    placement = X @ PluckerTransform(np.eye(3), -j.ref * j.axis)
+                    placement = X @ _X(np.eye(3), -j.ref * j.axis)
                     joint, after = PrismaticJoint(j.axis), PluckerTransform.identity()
                 else:
-                    anchor = PluckerTransform(np.eye(3), j.pos)
+                    anchor = _X(np.eye(3), j.pos)
                     if j.kind == "hinge":
-                        placement = X @ anchor @ PluckerTransform(axis_angle_matrix(j.axis, -j.ref), np.zeros(3))
+                        placement = X @ anchor @ _X(axis_angle_matrix(j.axis, -j.ref), np.zeros(3))
                         joint = RevoluteJoint(j.axis)
                     else:
                         placement = X @ anchor
                         joint = SphericalJoint()
-                    after = PluckerTransform(np.eye(3), -j.pos)
+                    after = _X(np.eye(3), -j.pos)
                 fd_name = body.name if last else _unique(f"{body.name}#{k}", taken)
                 nv = joint.nv
                 up = builder.add_body(
@@ -659,7 +665,7 @@ class _Loader:
     def add_sites(self, builder: ModelBuilder, body: _Body, fd: int, X: PluckerTransform) -> None:
         for k, (name, R, p) in enumerate(body.sites):
             full = name or _unique(f"{body.name}/site{k}", self.site_names)
-            builder.add_frame(full, fd, X @ PluckerTransform(R, p), "site")
+            builder.add_frame(full, fd, X @ _X(R, p), "site")
 
 
 def load_mjcf(path_or_xml: str | os.PathLike[str] | bytes, *, strict: bool = False) -> Model:
