@@ -398,11 +398,30 @@ def _spec_edits() -> dict[str, Any]:
                 g.mass, hit = float("nan"), True
         return hit
 
-    def mesh_mass_one(spec: Any) -> bool:
+    def default_mass_ignored(spec: Any) -> bool:
+        # a geom whose mass equals its default class's is taken as having it from the class (an explicit
+        # attribute of the same value would be misread: then the edit fails to explain and is not chosen)
+        hit = False
+        for g in spec.geoms:
+            cls = g.classname if isinstance(g.classname, str) else g.classname.name
+            d = spec.find_default(cls)
+            if d is not None and not np.isnan(d.geom.mass) and g.mass == d.geom.mass:
+                g.mass, hit = float("nan"), True
+        return hit
+
+    def top_body_unrotated(spec: Any) -> bool:
+        hit = False
+        for b in spec.worldbody.bodies:
+            if not b.joints and not np.array_equal(b.quat, [1.0, 0.0, 0.0, 0.0]):
+                b.quat, hit = [1.0, 0.0, 0.0, 0.0], True
+        return hit
+
+    def mesh_unit(spec: Any) -> bool:
+        # mass 1 and inertia 1 about each axis at the geom's origin: a sphere of radius √2.5 (I = 2/5 m r²)
         hit = False
         for g in spec.geoms:
             if g.type == mesh and not (g.contype == 0 and g.conaffinity == 0):
-                g.mass, hit = 1.0, True
+                g.type, g.meshname, g.size, g.mass, hit = mujoco.mjtGeom.mjGEOM_SPHERE, "", [2.5 ** 0.5, 0, 0], 1.0, True
         return hit
 
     def all_groups(spec: Any) -> bool:
@@ -416,8 +435,10 @@ def _spec_edits() -> dict[str, Any]:
         "Pinocchio drops geoms with contype=conaffinity=0 from the inertia":
             lambda s: _drop_mass(s, lambda g: g.contype == 0 and g.conaffinity == 0),
         "Pinocchio ignores settotalmass": no_totalmass,
+        "Pinocchio ignores a geom mass set in a <default> class (uses the density)": default_mass_ignored,
         "Pinocchio ignores a geom's mass attribute (uses the density)": geom_mass_ignored,
-        "Pinocchio gives a mesh geom mass 1": mesh_mass_one,
+        "Pinocchio ignores the orientation of a jointless top-level body": top_body_unrotated,
+        "Pinocchio gives a mesh geom mass 1 and unit inertia (about the geom's origin)": mesh_unit,
         "Pinocchio drops mesh geoms from the inertia": lambda s: _drop_mass(s, lambda g: g.type == mesh),
         "Pinocchio ignores inertiagrouprange": all_groups,
     }
