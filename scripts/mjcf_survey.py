@@ -122,8 +122,8 @@ def _random_qpos(m: Any, rng: np.random.Generator) -> np.ndarray:
     return qpos
 
 
-def _mj_states(m: Any) -> list[tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]]:
-    """``(qpos, M, gravity torques, xquat of every body)`` at SAMPLES seeded configurations."""
+def _mj_states(m: Any) -> list[tuple[np.ndarray, np.ndarray, np.ndarray]]:
+    """``(qpos, M, gravity torques)`` at SAMPLES seeded configurations."""
     mujoco = _mujoco()
     d = mujoco.MjData(m)
     rng = np.random.default_rng(SEED)
@@ -132,7 +132,7 @@ def _mj_states(m: Any) -> list[tuple[np.ndarray, np.ndarray, np.ndarray, np.ndar
         d.qpos[:] = _random_qpos(m, rng)
         d.qvel[:] = 0
         mujoco.mj_forward(m, d)
-        out.append((d.qpos.copy(), _full_m(m, d), d.qfrc_bias.copy(), d.xquat.copy()))
+        out.append((d.qpos.copy(), _full_m(m, d), d.qfrc_bias.copy()))
     return out
 
 
@@ -199,7 +199,7 @@ def survey_featherdyn(path: Path, m: Any, states: list) -> dict[str, Any]:
     errs: dict[str, float] = {}
     mass_mj = float(sum(m.body_mass[b] for b in _moving_bodies(m)))
     errs["mass"] = abs(model.total_mass - mass_mj) / max(mass_mj, 1e-12)
-    for qpos, M_mj, g_mj, _ in states:
+    for qpos, M_mj, g_mj in states:
         q = conv.q_from_mujoco(model, qpos)
         M = conv.joint_matrix_to_mujoco(model, q, fd.crba(model, q))
         g = conv.tau_to_mujoco(model, q, fd.generalized_gravity(model, q))
@@ -243,9 +243,18 @@ def _pin_segments(pm: Any, m: Any) -> tuple[list[tuple[int, list[int]]], list[st
     return out, unmatched
 
 
-def _pin_maps(pm: Any, m: Any, segs: list[tuple[int, list[int]]], qpos: np.ndarray, xquat: np.ndarray
+def _pin_maps(pm: Any, m: Any, segs: list[tuple[int, list[int]]], qpos: np.ndarray
               ) -> tuple[np.ndarray, np.ndarray]:
-    """Pinocchio's ``q`` from MuJoCo's ``qpos`` and ``P`` with ``v_pin = P qvel`` (``τ_mj = Pᵀ τ_pin``)."""
+    """Pinocchio's ``q`` from MuJoCo's ``qpos`` and ``P`` with ``v_pin = P qvel`` (``τ_mj = Pᵀ τ_pin``).
+
+    featherdyn's MuJoCo converters give the configurations (Pinocchio's free-flyer and ball ``q`` are
+    featherdyn's: ``[p; x y z w]``); velocities: a free joint's ``qvel = [v_world; ω_body]`` becomes
+    Pinocchio's ``[Rᵀ v_world; ω_body]`` (``featherdyn.conventions.mujoco_velocity_map`` with the halves
+    in Pinocchio's order), hinge, slide and ball velocities are the same numbers.
+    """
+    from featherdyn import conventions as conv
+    from featherdyn.rotation import quat_to_matrix
+
     mujoco = _mujoco()
     q = np.zeros(pm.nq)
     P = np.zeros((pm.nv, m.nv))
@@ -254,16 +263,13 @@ def _pin_maps(pm: Any, m: Any, segs: list[tuple[int, list[int]]], qpos: np.ndarr
         for j in joints:
             a, v, t = int(m.jnt_qposadr[j]), int(m.jnt_dofadr[j]), int(m.jnt_type[j])
             if t == mujoco.mjtJoint.mjJNT_FREE:
-                w, x, y, z = qpos[a + 3:a + 7]
-                q[iq:iq + 7] = [*qpos[a:a + 3], x, y, z, w]
-                R = np.zeros(9)
-                mujoco.mju_quat2Mat(R, qpos[a + 3:a + 7])
-                P[iv:iv + 3, v:v + 3] = R.reshape(3, 3).T  # Pinocchio: linear velocity in the body frame
+                q[iq:iq + 7] = conv.freeflyer_q_from_mujoco(qpos[a:a + 7])
+                R = quat_to_matrix(q[iq + 3:iq + 7])
+                P[iv:iv + 3, v:v + 3] = R.T
                 P[iv + 3:iv + 6, v + 3:v + 6] = np.eye(3)
                 iq, iv = iq + 7, iv + 6
             elif t == mujoco.mjtJoint.mjJNT_BALL:
-                w, x, y, z = qpos[a:a + 4]
-                q[iq:iq + 4] = [x, y, z, w]
+                q[iq:iq + 4] = conv.quat_wxyz_to_xyzw(qpos[a:a + 4])
                 P[iv:iv + 3, v:v + 3] = np.eye(3)
                 iq, iv = iq + 4, iv + 3
             else:
@@ -282,8 +288,8 @@ def _pin_compare(pm: Any, m: Any, segs: list[tuple[int, list[int]]], states: lis
     mass_mj = float(sum(m.body_mass[b] for b in _moving_bodies(m)))
     mass_pin = float(sum(pm.inertias[i].mass for i in range(1, pm.njoints)))
     errs["mass"] = abs(mass_pin - mass_mj) / max(mass_mj, floor)
-    for qpos, M_mj, g_mj, xquat in states:
-        q, P = _pin_maps(pm, m, segs, qpos, xquat)
+    for qpos, M_mj, g_mj in states:
+        q, P = _pin_maps(pm, m, segs, qpos)
         M = pin.crba(pm, data, q)
         M = np.triu(M) + np.triu(M, 1).T
         g = pin.computeGeneralizedGravity(pm, data, q)
