@@ -133,6 +133,20 @@ class _Body:
     inertia: np.ndarray = field(default_factory=lambda: np.zeros((3, 3)))
 
 
+def _X(R: np.ndarray, p: np.ndarray) -> PluckerTransform:
+    """A placement from the loader's own rotations, proper by construction (normalised quaternions, Rodrigues
+    with unit axes, Gram-Schmidt frames and their products): the per-call orthonormality check is skipped."""
+    return PluckerTransform(R, p, validate=False)
+
+
+def _inertia_in(body: _Body, R: np.ndarray, p: np.ndarray) -> SpatialInertia:
+    """The body's inertia (about its com, MJCF body frame) in the frame where the body frame's pose is ``(R, p)``::
+
+        m' = m,   c' = R c + p,   I_c' = R I_c Rᵀ      (X* I X⁻¹, RBDA §2.13)
+    """
+    return SpatialInertia(body.mass, R @ body.com + p, R @ body.inertia @ R.T)
+
+
 def _unique(name: str, taken: set[str]) -> str:
     out, k = name, 1
     while out in taken:
@@ -589,8 +603,13 @@ class _Loader:
         gravity = np.zeros(3) if self.gravity_disabled else self.gravity
         builder = ModelBuilder(name, tuple(float(g) for g in gravity))
         builder.source = self.path
+        eye3, zero3 = np.eye(3), np.zeros(3)
+        identity = PluckerTransform.identity()  # immutable (read-only arrays): shared by every joint frame
         fd_body = [-1] * nb
-        X_fd_mj: list[PluckerTransform] = [PluckerTransform.identity()] * nb  # MJCF body frame in its fd body
+        # each MJCF body frame in its featherdyn body as (R, p), composed in numpy, (R1, p1) ∘ (R2, p2) =
+        # (R1 R2, R1 p2 + p1): a PluckerTransform is made only where the builder takes one (building the
+        # intermediate spatial objects cost more than the 3×3 products they hold)
+        pose_fd_mj: list[tuple[np.ndarray, np.ndarray]] = [(eye3, zero3)] * nb
         taken = set(body_names)
         # MuJoCo's rule on moving bodies is on the body with its welded descendants (its weld group):
         # checked once the group is complete
@@ -599,16 +618,18 @@ class _Loader:
         for b in range(1, nb):
             body = self.bodies[b]
             parent = body.parent
-            X = X_fd_mj[parent] @ PluckerTransform(body.R, body.p)
-            inertia = SpatialInertia(body.mass, body.com, body.inertia)
+            R_up, p_up = pose_fd_mj[parent]
+            R, p = R_up @ body.R, R_up @ body.p + p_up
             self.check_joints(body, b)
             if not body.joints:
                 fd_body[b] = fd_body[parent]
-                X_fd_mj[b] = X
+                pose_fd_mj[b] = (R, p)
+                X = _X(R, p)
                 if fd_body[b] >= 0:
-                    builder.add_inertia(fd_body[b], X.apply(inertia))
+                    welded = _inertia_in(body, R, p)
+                    builder.add_inertia(fd_body[b], welded)
                     if fd_body[b] in composite:
-                        composite[fd_body[b]] = composite[fd_body[b]] + X.apply(inertia)
+                        composite[fd_body[b]] = composite[fd_body[b]] + welded
                 builder.add_frame(body.name, fd_body[b], X, "link")
                 self.add_sites(builder, body, fd_body[b], X)
                 continue
@@ -616,38 +637,39 @@ class _Loader:
             for k, j in enumerate(body.joints):
                 last = k == len(body.joints) - 1
                 joint: Joint
+                # placement = X ∘ (anchor at pos) ∘ (turn by -ref); the frame after the joint goes back by -pos
                 if j.kind == "free":
-                    placement = PluckerTransform.identity()
-                    joint, after = FreeFlyerJoint(), PluckerTransform.identity()
+                    placement = identity
+                    joint, after = FreeFlyerJoint(), (eye3, zero3)
                 elif j.kind == "slide":
-                    placement = X @ PluckerTransform(np.eye(3), -j.ref * j.axis)
-                    joint, after = PrismaticJoint(j.axis), PluckerTransform.identity()
+                    placement = _X(R, R @ (-j.ref * j.axis) + p)
+                    joint, after = PrismaticJoint(j.axis), (eye3, zero3)
                 else:
-                    anchor = PluckerTransform(np.eye(3), j.pos)
                     if j.kind == "hinge":
-                        placement = X @ anchor @ PluckerTransform(axis_angle_matrix(j.axis, -j.ref), np.zeros(3))
+                        placement = _X(R @ axis_angle_matrix(j.axis, -j.ref), R @ j.pos + p)
                         joint = RevoluteJoint(j.axis)
                     else:
-                        placement = X @ anchor
+                        placement = _X(R, R @ j.pos + p)
                         joint = SphericalJoint()
-                    after = PluckerTransform(np.eye(3), -j.pos)
+                    after = (eye3, -j.pos)
                 fd_name = body.name if last else _unique(f"{body.name}#{k}", taken)
                 nv = joint.nv
                 up = builder.add_body(
                     fd_name, up, joint, placement=placement,
-                    inertia=after.apply(inertia) if last else None, joint_name=j.name,
+                    inertia=_inertia_in(body, *after) if last else None, joint_name=j.name,
                     lower=[j.lower] if j.kind in ("hinge", "slide") else None,
                     upper=[j.upper] if j.kind in ("hinge", "slide") else None,
                     armature=np.full(nv, j.armature),
                 )
-                builder.add_frame(j.name, up, PluckerTransform.identity(), "joint")
-                X = after
+                builder.add_frame(j.name, up, identity, "joint")
+                R, p = after
             fd_body[b] = up
-            X_fd_mj[b] = X
-            composite[up], owner[up] = X.apply(inertia), body
+            pose_fd_mj[b] = (R, p)
+            X = _X(R, p)
+            composite[up], owner[up] = _inertia_in(body, R, p), body
             builder.add_frame(body.name, up, X, "body")
             self.add_sites(builder, body, up, X)
-        self.add_sites(builder, self.bodies[0], -1, PluckerTransform.identity())
+        self.add_sites(builder, self.bodies[0], -1, identity)
         for i, group in composite.items():
             mass, principal = float(group.mass), np.linalg.eigvalsh(np.asarray(group.inertia_com, dtype=float))
             if mass < MJ_MINVAL or float(principal.min()) < MJ_MINVAL:
@@ -675,7 +697,7 @@ class _Loader:
     def add_sites(self, builder: ModelBuilder, body: _Body, fd: int, X: PluckerTransform) -> None:
         for k, (name, R, p) in enumerate(body.sites):
             full = name or _unique(f"{body.name}/site{k}", self.site_names)
-            builder.add_frame(full, fd, X @ PluckerTransform(R, p), "site")
+            builder.add_frame(full, fd, X @ _X(R, p), "site")
 
 
 def load_mjcf(path_or_xml: str | os.PathLike[str] | bytes, *, strict: bool = False) -> Model:

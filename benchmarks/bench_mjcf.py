@@ -1,0 +1,113 @@
+"""Loading MJCF: ``fd.load_mjcf(path)`` against MuJoCo's compiler ``mujoco.MjModel.from_xml_path(path)``.
+
+Usage::
+
+    FD_NO_EDITABLE=1 PYTHONPATH=src python benchmarks/bench_mjcf.py [--repeat 7] [--profile MODEL]
+
+The models: gymnasium's ``envs/mujoco/assets``, mujoco's ``testdata`` and, if
+installed, dm_control's ``suite`` (none is a featherdyn dependency), each
+file both loaders accept. Times are the best of ``--repeat`` runs in one
+process, the two loaders alternating; the ratio is featherdyn / MuJoCo (below
+1: featherdyn loads faster). MuJoCo's compile does more than featherdyn's load
+(collision structures, constants, sizes of everything); featherdyn's builds the
+rigid-body ``Model`` only. Both read meshes from disk on every call.
+
+``--profile NAME`` runs cProfile on ``fd.load_mjcf`` of the models whose file
+name contains NAME and prints the top entries.
+"""
+
+from __future__ import annotations
+
+import argparse
+import cProfile
+import importlib.util
+import io
+import pstats
+import statistics
+import time
+import warnings
+from pathlib import Path
+
+import featherdyn as fd
+
+mujoco = __import__("mujoco")
+
+
+def models() -> list[Path]:
+    found: list[Path] = []
+    for package, sub in (("gymnasium", "envs/mujoco/assets"), ("mujoco", "testdata"), ("dm_control", "suite")):
+        spec = importlib.util.find_spec(package)
+        if spec is None or spec.origin is None:
+            continue
+        found += sorted((Path(spec.origin).parent / sub).glob("*.xml"))
+    out = []
+    for path in found:
+        try:
+            mujoco.MjModel.from_xml_path(str(path))
+            _fd_load(path)
+        except Exception:  # not a standalone model, or refused by featherdyn: not a loading-speed question
+            continue
+        out.append(path)
+    return out
+
+
+def _fd_load(path: Path) -> fd.Model:
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return fd.load_mjcf(path)
+
+
+def _mj_load(path: Path) -> object:
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return mujoco.MjModel.from_xml_path(str(path))
+
+
+def best_pair(path: Path, repeat: int) -> tuple[float, float]:
+    """Best-of-``repeat`` seconds of featherdyn's and MuJoCo's load, alternating."""
+    t_fd, t_mj = float("inf"), float("inf")
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        _fd_load(path)
+        t1 = time.perf_counter()
+        _mj_load(path)
+        t2 = time.perf_counter()
+        t_fd, t_mj = min(t_fd, t1 - t0), min(t_mj, t2 - t1)
+    return t_fd, t_mj
+
+
+def profile(paths: list[Path], n: int = 25) -> str:
+    prof = cProfile.Profile()
+    prof.enable()
+    for path in paths:
+        for _ in range(5):
+            _fd_load(path)
+    prof.disable()
+    out = io.StringIO()
+    pstats.Stats(prof, stream=out).sort_stats("cumulative").print_stats(n)
+    return out.getvalue()
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--repeat", type=int, default=7)
+    parser.add_argument("--profile", default=None)
+    args = parser.parse_args()
+    paths = models()
+    if args.profile is not None:
+        print(profile([p for p in paths if args.profile in p.name]))
+        return
+    print(f"featherdyn {fd.__version__}, mujoco {mujoco.__version__}; best of {args.repeat}, same process")
+    print(f"{'model':44s} {'fd ms':>9s} {'MuJoCo ms':>10s} {'ratio':>7s}")
+    ratios = []
+    for path in paths:
+        t_fd, t_mj = best_pair(path, args.repeat)
+        ratios.append(t_fd / t_mj)
+        name = f"{path.parent.parent.name}/{path.parent.name}/{path.name}"
+        print(f"{name:44s} {t_fd * 1e3:9.2f} {t_mj * 1e3:10.2f} {t_fd / t_mj:7.2f}")
+    print(f"median ratio fd / MuJoCo over {len(ratios)} models: {statistics.median(ratios):.2f} "
+          f"(min {min(ratios):.2f}, max {max(ratios):.2f})")
+
+
+if __name__ == "__main__":
+    main()
