@@ -44,7 +44,7 @@ def test_header_names_the_generating_command() -> None:
     assert re.search(r"on \d{4}-\d{2}-\d{2}", head), "no date"
     assert re.search(r"mujoco \d", head) and re.search(r"pin \d", head), "no package versions"
     assert SCRIPT.is_file()
-    assert "FD_NO_EDITABLE=1 PYTHONPATH=src python scripts/mjcf_survey.py" in SCRIPT.read_text()
+    assert "python scripts/mjcf_survey.py" in SCRIPT.read_text()
 
 
 def test_summary_counts_equal_the_table() -> None:
