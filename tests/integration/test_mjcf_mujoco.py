@@ -225,24 +225,33 @@ def test_include_matches_mujoco(tmp_path: Path) -> None:
 
 
 def _installed_models() -> list[Path]:
+    """The MJCF models shipped in mujoco, gymnasium (test extras) and dm_control (when installed) that MuJoCo
+    compiles on their own (asset-only fragments are not models; docs/mjcf-models.md lists them)."""
     found = []
     for package, sub in (("mujoco", "testdata"), ("gymnasium", "envs/mujoco/assets"), ("dm_control", "suite")):
         spec = importlib.util.find_spec(package)
         if spec is None or spec.origin is None:
             continue
-        found += sorted((Path(spec.origin).parent / sub).glob("*.xml"))
+        for path in sorted((Path(spec.origin).parent / sub).glob("*.xml")):
+            try:
+                mujoco.MjModel.from_xml_path(str(path))
+            except ValueError:
+                continue
+            found.append(path)
     return found
 
 
 INSTALLED = _installed_models()
 
 
+def test_the_installed_models_are_found() -> None:
+    """gymnasium is a test dependency: its 14 models at least (an empty list would make the test below vacuous)."""
+    assert sum(p.parent.name == "assets" for p in INSTALLED) >= 14, INSTALLED
+
+
 @pytest.mark.parametrize("path", INSTALLED, ids=[f"{p.parent.name}/{p.name}" for p in INSTALLED])
 def test_installed_model_matches_mujoco(path: Path) -> None:
-    try:
-        m = mujoco.MjModel.from_xml_path(str(path))
-    except ValueError as exc:  # not a whole model (an asset-only test file)
-        pytest.skip(f"MuJoCo does not compile it alone: {exc}")
+    m = mujoco.MjModel.from_xml_path(str(path))
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         model = fd.load_mjcf(path)
