@@ -13,6 +13,7 @@ from __future__ import annotations
 import codecs
 import os
 import re
+import warnings
 from pathlib import Path
 from typing import Any
 from xml.etree.ElementTree import TreeBuilder
@@ -20,7 +21,7 @@ from xml.etree.ElementTree import TreeBuilder
 from defusedxml import DefusedXmlException
 from defusedxml.ElementTree import DefusedXMLParser, ParseError
 
-from .errors import ModelError, URDFError
+from .errors import ModelError, PhysicalityWarning, URDFError
 
 #: Deepest element nesting accepted (real URDFs nest about 5 deep).
 MAX_DEPTH = 1000
@@ -239,3 +240,13 @@ def _local(tag: Any, ns: str) -> str:
     if ns and tag.startswith(ns):
         return tag[len(ns):]
     return tag
+
+
+def reissue_warnings(caught: list[warnings.WarningMessage], label: str) -> None:
+    """Re-issue the warnings caught while a loader built its model: physicality warnings prefixed with the file's
+    ``label`` (attributed to the loader's caller), the others unchanged."""
+    for w in caught:
+        if issubclass(w.category, PhysicalityWarning):
+            warnings.warn(f"{label}: {_shorten_quoted(str(w.message))}", PhysicalityWarning, stacklevel=3)
+        else:
+            warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)

@@ -74,7 +74,7 @@ import numpy as np
 from ._mjcf_inertia import geom_mass_inertia
 from ._mjcf_mesh import MeshError, convex_hull, mesh_mass_properties, read_mesh_file
 from ._mjcf_xml import Doc, _local, axis_angle_matrix, expand_replicates, read_defaults, read_document, z_to_vector
-from ._urdf_xml import _quote, _read_source, _shorten_quoted
+from ._urdf_xml import _quote, _read_source, _shorten_quoted, reissue_warnings
 from .errors import FeatherdynError, MJCFError, PhysicalityWarning
 from .joints import FreeFlyerJoint, Joint, PrismaticJoint, RevoluteJoint, SphericalJoint
 from .model import Model, ModelBuilder
@@ -746,11 +746,7 @@ def load_mjcf(path_or_xml: str | os.PathLike[str] | bytes, *, strict: bool = Fal
     if loader.ignored:
         warnings.warn(f"{doc.label}: ignored MJCF elements without rigid-tree meaning: {', '.join(loader.ignored)}",
                       PhysicalityWarning, stacklevel=2)
-    for w in caught:
-        if issubclass(w.category, PhysicalityWarning):
-            warnings.warn(f"{doc.label}: {_shorten_quoted(str(w.message))}", PhysicalityWarning, stacklevel=2)
-        else:
-            warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
+    reissue_warnings(caught, doc.label)
     return model
 
 

@@ -84,6 +84,7 @@ from ._urdf_xml import (
     _read_source,
     _shorten,
     _shorten_quoted,
+    reissue_warnings,
 )
 from .errors import FeatherdynError, PhysicalityWarning, URDFError
 from .joints import FreeFlyerJoint, Joint, PlanarJoint, PrismaticJoint, RevoluteJoint
@@ -703,9 +704,5 @@ def load_urdf(path_or_xml: str | os.PathLike[str] | bytes, floating_base: bool =
         raise
     except FeatherdynError as exc:  # a check of the spatial types or the model builder: name the file
         raise URDFError(f"{label}: {_shorten_quoted(str(exc))}") from None
-    for w in caught:
-        if issubclass(w.category, PhysicalityWarning):
-            warnings.warn(f"{label}: {_shorten_quoted(str(w.message))}", PhysicalityWarning, stacklevel=2)
-        else:
-            warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
+    reissue_warnings(caught, label)
     return model
