@@ -135,8 +135,9 @@ class _Body:
 
 def _X(R: np.ndarray, p: np.ndarray) -> PluckerTransform:
     """A placement from the loader's own rotations, proper by construction (normalised quaternions, Rodrigues
-    with unit axes, Gram-Schmidt frames and their products): the per-call orthonormality check is skipped."""
-    return PluckerTransform(R, p, validate=False)
+    with unit axes, Gram-Schmidt frames and their products): the constructor's checks are skipped (copies: the
+    placement's arrays become read-only)."""
+    return PluckerTransform._wrap(np.array(R, dtype=np.float64), np.array(p, dtype=np.float64), None, None)
 
 
 def _inertia_in(body: _Body, R: np.ndarray, p: np.ndarray) -> SpatialInertia:
@@ -144,7 +145,10 @@ def _inertia_in(body: _Body, R: np.ndarray, p: np.ndarray) -> SpatialInertia:
 
         m' = m,   c' = R c + p,   I_c' = R I_c Rᵀ      (X* I X⁻¹, RBDA §2.13)
     """
-    return SpatialInertia(body.mass, R @ body.com + p, R @ body.inertia @ R.T)
+    ic = R @ body.inertia @ R.T
+    # the constructor's checks, stated: body.inertia is symmetric (built so), and so is R I Rᵀ up to round-off,
+    # which the mean of the two triangles removes, as SpatialInertia's constructor does
+    return SpatialInertia._wrap(np.array(float(body.mass)), R @ body.com + p, (ic + ic.T) / 2, None)
 
 
 def _unique(name: str, taken: set[str]) -> str:
