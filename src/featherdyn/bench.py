@@ -117,16 +117,21 @@ class _Pair:
 
     @classmethod
     def from_urdf(cls, name: str, path: str, floating: bool) -> _Pair:
-        """A robot read from the same URDF by both libraries."""
+        """A robot read from the same URDF by both libraries (an MJCF file: Pinocchio's model mirrors featherdyn's)."""
         import pinocchio as pin
 
-        from .urdf import load_urdf
+        from .mjcf import model_format
+        from .verify.bridge import pinocchio_model_from
+        from .verify.resolve import load_resolved
 
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            model = load_urdf(path, floating_base=floating)
-            pin_model = (pin.buildModelFromUrdf(path, pin.JointModelFreeFlyer()) if floating
-                         else pin.buildModelFromUrdf(path))
+            model = load_resolved(path, floating)
+            if model_format(path) == "mjcf":
+                pin_model = pinocchio_model_from(model)
+            else:
+                pin_model = (pin.buildModelFromUrdf(path, pin.JointModelFreeFlyer()) if floating
+                             else pin.buildModelFromUrdf(path))
         return cls(name, model, pin_model)
 
     def states(self, n: int) -> tuple[np.ndarray, ...]:

@@ -89,3 +89,20 @@ def test_info_and_dataset_take_an_mjcf_file(tmp_path: Path) -> None:
     g = zarr.open_group(str(out), mode="r")
     model = fd.load_mjcf(ASSETS / "ant.xml")
     np.testing.assert_array_equal(g["M"][:], fd.crba(model, g["q"][:]))
+
+
+def test_check_takes_an_mjcf_model(tmp_path: Path) -> None:
+    """``featherdyn check VALUES.npz --robot model.xml``: the user's numbers against featherdyn's model of the MJCF
+    file; a wrong mass matrix is caught."""
+    path = ASSETS / "walker2d.xml"
+    model = fd.load_mjcf(path)
+    rng = np.random.default_rng(3)
+    q = fd.random_configuration(model, rng, 3)
+    v, a = rng.normal(size=(2, 3, model.nv))
+    good, bad = tmp_path / "good.npz", tmp_path / "bad.npz"
+    np.savez(good, q=q, v=v, a=a, tau=fd.rnea(model, q, v, a), M=fd.crba(model, q))
+    np.savez(bad, q=q, v=v, a=a, M=1.01 * fd.crba(model, q))
+    p = cli("check", good, "--robot", path)
+    assert p.returncode == 0 and "all 2 comparisons agree" in p.stdout, p.stdout + p.stderr
+    p = cli("check", bad, "--robot", path)
+    assert p.returncode == 1, p.stdout + p.stderr

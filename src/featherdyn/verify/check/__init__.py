@@ -114,7 +114,8 @@ Robot = str | os.PathLike[str] | Model
 def _load_robot(robot: Robot, floating_base: bool, need_pin: bool
                 ) -> tuple[str, str | None, Model, PinModel | None, JointMap | None, list[str]]:
     """``(name, urdf, model, pin_model, joint map, loader warnings)``; Pinocchio only where it can be had."""
-    from ...urdf import load_urdf
+    from ...mjcf import model_format
+    from ..resolve import load_resolved
 
     caught_msgs: list[str] = []
     if isinstance(robot, Model):
@@ -123,10 +124,11 @@ def _load_robot(robot: Robot, floating_base: bool, need_pin: bool
         model, name, path = robot, robot.name, None
     else:
         name, urdf = resolve_robot(robot)
-        path = str(urdf)
+        # an MJCF model: Pinocchio's mirror is built from featherdyn's model (its MJCF reader disagrees with MuJoCo)
+        path = str(urdf) if model_format(urdf) == "urdf" else None
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
-            model = load_urdf(urdf, floating_base=floating_base)
+            model = load_resolved(urdf, floating_base)
         caught_msgs = sorted({str(w.message) for w in caught})
     try:
         pin = require_pinocchio()
