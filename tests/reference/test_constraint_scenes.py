@@ -440,3 +440,21 @@ def test_a_constraint_list_changed_in_place_is_not_served_a_stale_plan(solo: fd.
     _close(res.ddq, fd.constrained_dynamics(solo, q, v, tau, list(cons), backend="reference").ddq)
     cons.pop(0)
     assert [f.shape for f in fd.constrained_dynamics(solo, q, v, tau, cons).forces] == [(3,)]
+
+
+@pytest.mark.parametrize(("kwargs", "words"), [
+    ({"mu": -1.0}, "mu: expected a finite number >= 0"), ({"mu": float("nan")}, "mu: expected"),
+    ({"mu": float("inf")}, "mu: expected"), ({"max_iter": 0}, "max_iter: expected an integer >= 1"),
+    ({"max_iter": 2.5}, "max_iter an integer"), ({"tol": -1e-9}, "tol: expected a finite number > 0"),
+    ({"tol": "small"}, "expected numbers"),
+])
+def test_solver_arguments_out_of_range_are_named(solo: fd.Model, kwargs: dict, words: str) -> None:
+    q, zero = fd.neutral(solo), np.zeros(solo.nv)
+    for backend in ("compiled", "reference"):
+        with pytest.raises(fd.ConstraintError, match=words):
+            fd.constrained_dynamics(solo, q, zero, zero, [fd.PointContact("FL_FOOT")], backend=backend, **kwargs)
+    if "mu" in kwargs:
+        with pytest.raises(fd.ConstraintError, match=words):
+            fd.operational_space_inertia(solo, q, "FL_FOOT", **kwargs)
+        with pytest.raises(fd.ConstraintError, match=words):
+            fd.impulse_dynamics(solo, q, zero, [fd.PointContact("FL_FOOT")], **kwargs)

@@ -16,6 +16,7 @@ when ``mu > 0``.
 from __future__ import annotations
 
 import functools
+import operator
 from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
@@ -237,6 +238,26 @@ def _solve(model: Model, q: np.ndarray, v: np.ndarray, tau: np.ndarray, J: np.nd
     return sol.qdd, sol.lam, sol.residual
 
 
+_INF = float("inf")
+
+
+def _solver_args(mu: object, max_iter: object, tol: object) -> tuple[float, int, float]:
+    """``mu`` a finite number ≥ 0, ``max_iter`` an integer ≥ 1, ``tol`` a finite number > 0, or a ConstraintError."""
+    try:
+        m, t = float(mu), float(tol)  # type: ignore[arg-type]
+        k = operator.index(max_iter)  # type: ignore[arg-type]
+    except (TypeError, ValueError):
+        raise ConstraintError(f"mu, max_iter, tol: expected numbers (max_iter an integer), got {mu!r}, {max_iter!r}, "
+                              f"{tol!r}") from None
+    if not 0.0 <= m < _INF:
+        raise ConstraintError(f"mu: expected a finite number >= 0 (the proximal regularisation), got {mu!r}")
+    if k < 1:
+        raise ConstraintError(f"max_iter: expected an integer >= 1, got {max_iter!r}")
+    if not 0.0 < t < _INF:
+        raise ConstraintError(f"tol: expected a finite number > 0, got {tol!r}")
+    return m, k, t
+
+
 def _raise_iterations(iterations: np.ndarray, m: int, max_iter: int, tol: float) -> None:
     """The solve's failures: ``−1`` dependent rows (with ``mu = 0``), ``−2`` proximal iterations not converged."""
     if np.any(iterations == -1):
@@ -368,9 +389,10 @@ def constrained_dynamics(model: Model, q: ArrayLike, v: ArrayLike, tau: ArrayLik
         if plan is not None:
             slices, specs, m = plan
             qdd, lam, info = _EMPTY(core.nv), _EMPTY(m), _EMPTY(2)
-            try:
-                if CORE.contact_dynamics(core.cm, q, v, tau, f_ext, specs, mu, max_iter, tol, DELASSUS_PIVOT_RTOL,
-                                         qdd, lam, info) == OK and info[0] > 0:
+            try:  # (solver arguments out of range, or not numbers: the general path words the error)
+                if 0.0 <= mu < _INF and max_iter >= 1 and 0.0 < tol < _INF and CORE.contact_dynamics(
+                        core.cm, q, v, tau, f_ext, specs, mu, max_iter, tol, DELASSUS_PIVOT_RTOL, qdd, lam,
+                        info) == OK and info[0] > 0:
                     out = _NEW(ConstrainedDynamics)  # (a frozen dataclass's __init__ costs more than the solve's rows)
                     _SET(out, "ddq", qdd)
                     _SET(out, "forces", [lam[s] for s in slices])
@@ -379,6 +401,7 @@ def constrained_dynamics(model: Model, q: ArrayLike, v: ArrayLike, tau: ArrayLik
                     return out
             except TypeError:  # arguments the binding does not take as they are: the general path converts
                 pass
+    mu, max_iter, tol = _solver_args(mu, max_iter, tol)
     if _dask.lazy(q, v, tau, f_ext):
         return _dask.call(constrained_dynamics, model, {"q": q, "v": v, "tau": tau, "f_ext": f_ext},
                           constraints=constraints, mu=mu, max_iter=max_iter, tol=tol, backend=backend)
@@ -419,6 +442,7 @@ def impulse_dynamics(model: Model, q: ArrayLike, v: ArrayLike, constraints: Sequ
                           restitution=restitution, mu=mu, backend=backend)
     if not (0.0 <= float(restitution) <= 1.0):
         raise ModelError(f"restitution: expected a number in [0, 1], got {restitution!r}")
+    mu = _solver_args(mu, 1, 1.0)[0]
     items = _constraints(constraints)
     st = check_state(model, q, v=v)
     vm = st.arrays["v"]
@@ -456,10 +480,12 @@ def operational_space_inertia(model: Model, q: ArrayLike, frames: Sequence[str |
         if specs is not None:
             out = _EMPTY((6 * len(specs), 6 * len(specs)))
             try:
-                if CORE.operational_space_inertia(core.cm, q, specs, mu, DELASSUS_PIVOT_RTOL, out) == OK:
+                if 0.0 <= mu < _INF and CORE.operational_space_inertia(core.cm, q, specs, mu, DELASSUS_PIVOT_RTOL,
+                                                                       out) == OK:
                     return out
             except TypeError:  # arguments the binding does not take as they are: the general path converts
                 pass
+    mu = _solver_args(mu, 1, 1.0)[0]
     if _dask.lazy(q):
         return _dask.call(operational_space_inertia, model, {"q": q}, frames=frames, reference=reference, mu=mu,
                           backend=backend)
