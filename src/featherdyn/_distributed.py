@@ -44,8 +44,9 @@ def dask_client(scheduler: str, workers: int | None, option: str = "--scheduler"
     else:
         try:
             client = Client(scheduler, timeout="5s")
-        except OSError as exc:
-            raise DatasetError(f"{option} {scheduler}: no Dask scheduler answers there ({exc})") from None
+        except (OSError, ValueError, TypeError) as exc:  # refused, timed out, or not an address at all
+            raise DatasetError(f"{option} {scheduler}: no Dask scheduler answers there ({exc}); expected local, sync "
+                               "(dataset) or a scheduler address such as tcp://host:8786") from None
     try:
         yield client
     finally:

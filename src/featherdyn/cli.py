@@ -146,7 +146,7 @@ def _cmd_dataset(args: argparse.Namespace) -> int:
     from . import verify
     from .dataset import check_request, progress_bar, write_dataset
 
-    quantities = check_request(args.quantities.split(","), args.out, args.states, args.chunk)
+    quantities = check_request(args.quantities.split(","), args.out, args.states, args.chunk, args.seed)
     _name, path = verify.resolve_robot(args.robot)
     model = verify.load_resolved(path, args.floating_base)
     _say(f"featherdyn dataset: {args.states} states of {args.robot} ({model.nq} q, {model.nv} v), "

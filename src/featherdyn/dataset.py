@@ -232,8 +232,9 @@ def _prepare(model: Model, spec: DatasetSpec) -> list[int]:
     return list(range(spec.nchunks))
 
 
-def check_request(quantities: Sequence[str], out: str | os.PathLike[str], states: int, chunk: int) -> tuple[str, ...]:
-    """Refuse a bad request before any work: unknown quantity, unwritable ``out``, non-positive sizes.
+def check_request(quantities: Sequence[str], out: str | os.PathLike[str], states: int, chunk: int,
+                  seed: int = 0) -> tuple[str, ...]:
+    """Refuse a bad request before any work: unknown quantity, unwritable ``out``, non-positive sizes, a negative seed.
 
     Raises:
         DatasetError: naming the option and what was expected.
@@ -245,6 +246,8 @@ def check_request(quantities: Sequence[str], out: str | os.PathLike[str], states
                            f"expected a comma-separated list of {', '.join(QUANTITIES)}")
     if states < 1 or chunk < 1:
         raise DatasetError(f"--states and --chunk: expected positive integers, got {states} and {chunk}")
+    if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
+        raise DatasetError(f"--seed: expected a non-negative integer (numpy's SeedSequence entropy), got {seed!r}")
     path = Path(out)
     folder = path.parent if str(path.parent) else Path(".")
     if not folder.is_dir():
@@ -293,7 +296,7 @@ def write_dataset(model: Model, out: str | os.PathLike[str], *, states: int, qua
         DatasetError: bad request, or ``out`` holds a dataset made with other settings.
         MissingDependencyError: zarr, or dask.distributed for a scheduler other than ``sync``.
     """
-    names = check_request(quantities, out, states, chunk)
+    names = check_request(quantities, out, states, chunk, seed)
     cores = available_cores()
     if scheduler == "local":
         workers = workers or cores

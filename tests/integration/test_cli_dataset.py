@@ -174,6 +174,12 @@ def test_bad_requests_are_refused_before_any_work(tmp_path: Path, reference: Pat
     assert p.returncode == 2 and "unknown robot" in p.stderr
     p = cli("panda", "--states", "0", "--out", tmp_path / "r.zarr")
     assert p.returncode == 2 and "positive integer" in p.stderr
+    p = cli("panda", "--states", "10", "--seed", "-1", "--out", tmp_path / "n.zarr", "--scheduler", "sync")
+    assert p.returncode == 2 and "--seed: expected a non-negative integer" in p.stderr
+    assert not (tmp_path / "n.zarr").exists()
+    p = cli("panda", "--states", "10", "--out", tmp_path / "a.zarr", "--scheduler", "not:an-address", timeout=60)
+    assert p.returncode == 2 and "no Dask scheduler answers" in p.stderr and "Traceback" not in p.stderr, p.stderr
+    assert not (tmp_path / "a.zarr").exists()
     p = cli("panda", "--states", "10", "--out", tmp_path / "s.zarr", "--scheduler", "tcp://127.0.0.1:9", timeout=60)
     assert p.returncode == 2 and "no Dask scheduler answers" in p.stderr, p.stderr
     assert not (tmp_path / "s.zarr").exists()
