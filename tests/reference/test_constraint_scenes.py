@@ -458,3 +458,22 @@ def test_solver_arguments_out_of_range_are_named(solo: fd.Model, kwargs: dict, w
             fd.operational_space_inertia(solo, q, "FL_FOOT", **kwargs)
         with pytest.raises(fd.ConstraintError, match=words):
             fd.impulse_dynamics(solo, q, zero, [fd.PointContact("FL_FOOT")], **kwargs)
+
+
+@pytest.mark.parametrize("scene", sorted(SCENES))
+def test_closed_chains_against_the_dense_kkt(scene: str) -> None:
+    """On the four-bar and the Delta robot: q̈ and λ of both backends against the dense KKT system formed from
+    fd.crba, fd.nonlinear_effects and the loop rows (M q̈ − Jᵀλ = τ − h, J q̈ = −γ)."""
+    model, cons, q = SCENES[scene]()
+    rng = np.random.default_rng(12)
+    v = _admissible_velocity(model, q, cons, seed=2)
+    tau = rng.normal(size=model.nv)
+    M, h = fd.crba(model, q), fd.nonlinear_effects(model, q, v)
+    J, gamma = fd.constraint_jacobian(model, q, cons), fd.constraint_drift(model, q, v, cons)
+    m = J.shape[0]
+    K = np.block([[M, -J.T], [J, np.zeros((m, m))]])
+    sol = np.linalg.solve(K, np.concatenate([tau - h, -gamma]))
+    for backend in ("compiled", "reference"):
+        res = fd.constrained_dynamics(model, q, v, tau, cons, backend=backend)
+        _close(res.ddq, sol[: model.nv], rtol=1e-9)
+        _close(res.lagrange, sol[model.nv:], rtol=1e-9)
