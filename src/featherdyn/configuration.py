@@ -34,6 +34,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
+from . import _dask
 from ._validation import as_array, result_dtype
 from .errors import QuaternionNormError, ShapeError
 from .joints import FreeFlyerJoint, SphericalJoint
@@ -203,6 +204,8 @@ def integrate(model: Model, q: ArrayLike, v: ArrayLike) -> np.ndarray:
     Raises:
         ShapeError, NonFiniteError, QuaternionNormError.
     """
+    if _dask.lazy(q, v):
+        return _dask.call(integrate, model, {"q": q, "v": v})
     model = _check_model(model)
     qq = _vector(q, "q", "nq", model.nq)
     vv = _vector(v, "v", "nv", model.nv)
@@ -237,6 +240,8 @@ def difference(model: Model, q0: ArrayLike, q1: ArrayLike) -> np.ndarray:
     Raises:
         ShapeError, NonFiniteError, QuaternionNormError.
     """
+    if _dask.lazy(q0, q1):
+        return _dask.call(difference, model, {"q0": q0, "q1": q1})
     model = _check_model(model)
     a0 = _vector(q0, "q0", "nq", model.nq)
     a1 = _vector(q1, "q1", "nq", model.nq)
@@ -296,6 +301,8 @@ def integrate_derivatives(model: Model, q: ArrayLike, v: ArrayLike) -> tuple[np.
     Raises:
         ShapeError, NonFiniteError, QuaternionNormError.
     """
+    if _dask.lazy(q, v):
+        return _dask.call(integrate_derivatives, model, {"q": q, "v": v})
     model = _check_model(model)
     qq = _vector(q, "q", "nq", model.nq)
     vv = _vector(v, "v", "nv", model.nv)
@@ -314,6 +321,8 @@ def difference_derivatives(model: Model, q0: ArrayLike, q1: ArrayLike) -> tuple[
     Raises:
         ShapeError, NonFiniteError, QuaternionNormError.
     """
+    if _dask.lazy(q0, q1):
+        return _dask.call(difference_derivatives, model, {"q0": q0, "q1": q1})
     model = _check_model(model)
     a0 = _vector(q0, "q0", "nq", model.nq)
     a1 = _vector(q1, "q1", "nq", model.nq)

@@ -48,6 +48,7 @@ LAYER_OF: dict[str, str] = {
     "_mjcf_inertia": "model",
     "_mjcf_mesh": "model",
     "configuration": "model",
+    "_dask": "model",
     "robots": "model",
     "algorithms": "algorithms",
     "core": "core",

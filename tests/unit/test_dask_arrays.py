@@ -1,4 +1,4 @@
-"""Dask arrays in, Dask arrays out (``api/_dask.py``): lazy, bit for bit equal to NumPy, one model key.
+"""Dask arrays in, Dask arrays out (``featherdyn/_dask.py``): lazy, bit for bit equal to NumPy, one model key.
 
 Oracle: the same public function called on the NumPy arrays the Dask arrays
 hold. Equality is exact (``np.array_equal``): every block runs the same
@@ -16,6 +16,7 @@ import numpy as np
 import pytest
 
 import featherdyn as fd
+import featherdyn._dask
 
 da = pytest.importorskip("dask.array")  # a test dependency: installed by the `test` extra, so this runs in CI
 import dask  # noqa: E402
@@ -94,6 +95,10 @@ CALLS: list[tuple[str, Callable[..., Any]]] = [
     ("frame_acceleration_derivatives",
      lambda m, s, f: fd.frame_acceleration_derivatives(m, s["q"], s["v"], s["a"], f, reference=fd.WORLD)),
     ("joint_torque_regressor", lambda m, s, f: fd.joint_torque_regressor(m, s["q"], s["v"], s["a"])),
+    ("integrate", lambda m, s, f: fd.integrate(m, s["q"], s["v"])),
+    ("difference", lambda m, s, f: fd.difference(m, s["q"], fd.integrate(m, s["q"], s["a"]))),
+    ("integrate_derivatives", lambda m, s, f: fd.integrate_derivatives(m, s["q"], s["v"])),
+    ("difference_derivatives", lambda m, s, f: fd.difference_derivatives(m, s["q"], fd.integrate(m, s["q"], s["v"]))),
     ("operational_space_inertia", lambda m, s, f: fd.operational_space_inertia(m, s["q"], f)),
     ("operational_space", lambda m, s, f: fd.operational_space(m, s["q"], s["v"], f)),
 ]
@@ -193,8 +198,8 @@ def test_the_model_is_one_key_of_the_graph(panda: fd.Model) -> None:
     for k in blocks:
         assert model_keys[0] in graph[k].dependencies
     # the same model gives the same key; another model another key
-    assert fd.api._dask.model_key(panda) == fd.api._dask.model_key(fd.load_robot("panda"))
-    assert fd.api._dask.model_key(panda) != fd.api._dask.model_key(fd.load_robot("panda", floating_base=True))
+    assert featherdyn._dask.model_key(panda) == featherdyn._dask.model_key(fd.load_robot("panda"))
+    assert featherdyn._dask.model_key(panda) != featherdyn._dask.model_key(fd.load_robot("panda", floating_base=True))
 
 
 def _raises_like_numpy(numpy_call: Callable[[], Any], lazy_call: Callable[[], Any]) -> None:

@@ -24,6 +24,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
+from .. import _dask
 from .. import core as _compiled
 from ..algorithms import constrained as _constrained
 from ..constraints import Constraint, FrameContact, LoopConstraint, PointContact
@@ -32,7 +33,6 @@ from ..frames import LOCAL, LOCAL_WORLD_ALIGNED, WORLD, ReferenceFrame, as_refer
 from ..model import Model
 from ..rotation import se3_log
 from ..tolerances import DELASSUS_PIVOT_RTOL
-from . import _dask
 from ._backend import CORE, OK, core_path, select_backend
 from ._checks import check_state
 from .dynamics import generalized_gravity

@@ -14,11 +14,11 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike
 
+from .. import _dask
 from .. import core as _compiled
 from ..algorithms import derivatives as _ref
 from ..frames import LOCAL, ReferenceFrame, as_reference_frame
 from ..model import Model
-from . import _dask
 from ._backend import CORE, core_path, select_backend
 from ._checks import as_dtype, batch_with_f_ext, check_f_ext, check_state, finite_result, quiet
 from .dynamics import crba

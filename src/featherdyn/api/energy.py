@@ -13,13 +13,13 @@ from typing import overload
 import numpy as np
 from numpy.typing import ArrayLike
 
+from .. import _dask
 from .. import core as _compiled
 from ..algorithms import centroidal as _centroidal
 from ..algorithms import energy as _energy
 from ..model import Model
 from ..results import CenterOfMass
 from ..spatial_algebra import SpatialForce
-from . import _dask
 from ._backend import select_backend
 from ._checks import as_dtype, check_state, finite_result, quiet
 from .kinematics import kinematics_of

@@ -11,6 +11,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike
 
+from .. import _dask
 from .. import core as _compiled
 from ..algorithms import jacobians as _jac
 from ..algorithms import kinematics as _kin
@@ -19,7 +20,6 @@ from ..frames import LOCAL, LOCAL_WORLD_ALIGNED, WORLD, ReferenceFrame, as_refer
 from ..model import Model
 from ..results import Kinematics
 from ..spatial_algebra import PluckerTransform, SpatialMotion
-from . import _dask
 from ._backend import CORE, OK, core_path, select_backend
 from ._checks import State, as_dtype, check_state, finite_result, quiet
 

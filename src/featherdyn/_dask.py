@@ -1,4 +1,5 @@
-"""Dask arrays in, Dask arrays out (private): the public functions over chunked batches.
+"""Dask arrays in, Dask arrays out (private; model layer, so that the configuration functions use it too):
+the public functions over chunked batches.
 
 A public function (``fd.rnea`` & co.) that receives a Dask array among its
 state arguments hands the call to :func:`call`, which returns at once a result
@@ -44,9 +45,8 @@ from typing import Any
 
 import numpy as np
 
-from ..configuration import random_configuration
-from ..errors import DTypeError, FeatherdynError, ShapeError
-from ..model import Model
+from .errors import DTypeError, FeatherdynError, ShapeError
+from .model import Model
 
 __all__ = ["lazy", "call", "model_key"]
 
@@ -146,7 +146,13 @@ def _stand_in(model: Model, name: str, x: Any, rng: np.random.Generator) -> np.n
     k = _CORE_NDIM[name]
     shape = tuple(x.shape[-k:]) if x.ndim >= k else tuple(x.shape)
     if name in _CONFIGURATIONS and shape == (model.nq,):
-        return random_configuration(model, rng).astype(x.dtype)
+        # joint by joint within the limits, as fd.random_configuration (which lives in configuration.py, a user
+        # of this module)
+        q = np.empty(model.nq)
+        for i, joint in enumerate(model.joints):
+            sq = slice(model.idx_q[i], model.idx_q[i] + joint.nq)
+            q[sq] = joint.random(rng, model.lower[sq], model.upper[sq], ())
+        return q.astype(x.dtype)
     return rng.standard_normal(shape).astype(x.dtype)
 
 
