@@ -164,7 +164,8 @@ def _zarr() -> Any:
     try:
         import zarr
     except ImportError:
-        raise MissingDependencyError("featherdyn dataset writes Zarr: pip install 'featherdyn[distributed]'") from None
+        raise MissingDependencyError("featherdyn dataset writes Zarr (version 3, which needs Python >= 3.11): "
+                                     "pip install 'featherdyn[distributed]'") from None
     return zarr
 
 
