@@ -131,16 +131,17 @@ class _Layout:
         out[self.perm] = q
         return out
 
-    _qvel: np.ndarray | None = None  # MuJoCo's velocity of the state, for converting accelerations
+    def v_from(self, qpos: np.ndarray, qvel: np.ndarray) -> np.ndarray:
+        """featherdyn's velocity of MuJoCo's ``qvel``."""
+        return np.asarray(_conv.v_from_mujoco(self.model, qpos, qvel)) if self.same else qvel[self.perm]
 
-    def v_from(self, qpos: np.ndarray, qvel: np.ndarray, acc: bool = False) -> np.ndarray:
-        """featherdyn's velocity (or, with ``acc``, acceleration at the velocity ``_qvel``) of MuJoCo's ``qvel``."""
-        if self.same:
-            if acc:
-                assert self._qvel is not None
-                return np.asarray(_conv.a_from_mujoco(self.model, qpos, self._qvel, qvel))
-            return np.asarray(_conv.v_from_mujoco(self.model, qpos, qvel))
-        return qvel[self.perm]
+    def a_from(self, qpos: np.ndarray, qvel: np.ndarray, qacc: np.ndarray) -> np.ndarray:
+        """featherdyn's acceleration of MuJoCo's ``qacc`` at the velocity ``qvel``."""
+        return np.asarray(_conv.a_from_mujoco(self.model, qpos, qvel, qacc)) if self.same else qacc[self.perm]
+
+    def tau_from(self, qpos: np.ndarray, qfrc: np.ndarray) -> np.ndarray:
+        """featherdyn's joint forces of MuJoCo's generalized forces ``qfrc``."""
+        return np.asarray(_conv.tau_from_mujoco(self.model, qpos, qfrc)) if self.same else qfrc[self.perm]
 
     def tau_to(self, q: np.ndarray, tau: np.ndarray) -> np.ndarray:
         if self.same:
@@ -197,9 +198,9 @@ def mujoco_checks(model: Model, m: Any, fmt: str, *, samples: int = 10, seed: in
     out = [compare(GROUP, "total mass vs MuJoCo body_mass (moving bodies)", [model.total_mass],
                    [float(sum(m.body_mass[b] for b in moving))], tol)]
     arm = np.zeros(model.nv) if model.armature is None else np.asarray(model.armature)
-    out.append(compare(GROUP, "armature vs dof_armature", [arm],
-                       [layout.v_from(np.zeros(m.nq), np.asarray(m.dof_armature))] if not layout.same
-                       else [np.asarray(m.dof_armature)], tol))
+    theirs = np.asarray(m.dof_armature)  # per dof: MJCF layouts coincide, a URDF's are permuted
+    out.append(compare(GROUP, "armature vs dof_armature", [arm], [theirs if layout.same else theirs[layout.perm]],
+                       tol))
     rng = np.random.default_rng(seed)
     rows: dict[str, tuple[list[np.ndarray], list[np.ndarray]]] = {}
     fwd: dict[str, list[np.ndarray]] = {}
@@ -238,14 +239,13 @@ def mujoco_checks(model: Model, m: Any, fmt: str, *, samples: int = 10, seed: in
         mujoco.mj_forward(m, d)
         Mmj = full_mass_matrix(mujoco, m, d)
         v = layout.v_from(qpos, qvel)
-        layout._qvel = qvel
-        a = layout.v_from(qpos, qacc, acc=True)
+        a = layout.a_from(qpos, qvel, qacc)
         add("rnea vs qfrc_bias + M qacc", layout.tau_to(q, rnea(model, q, v, a)), d.qfrc_bias + Mmj @ qacc)
         d.qfrc_applied[:] = frc
         mujoco.mj_forward(m, d)
-        tau = _tau_from(layout, q, frc)
+        tau = layout.tau_from(qpos, frc)
         for key, x in (("q", q), ("v", v), ("tau", tau), ("M", crba(model, q)), ("ddq", aba(model, q, v, tau)),
-                       ("ddq_ref", layout.v_from(qpos, np.asarray(d.qacc), acc=True))):
+                       ("ddq_ref", layout.a_from(qpos, qvel, np.asarray(d.qacc)))):
             fwd.setdefault(key, []).append(x)
     for key, (ours, theirs) in rows.items():
         out.append(compare(GROUP, key, np.stack(ours), np.stack(theirs), tol))
@@ -254,10 +254,3 @@ def mujoco_checks(model: Model, m: Any, fmt: str, *, samples: int = 10, seed: in
     out.append(forward_dynamics_result(GROUP, "aba vs mj_forward qacc (constraints, passive forces, actuators off)",
                                        model, F["q"], F["v"], F["tau"], F["ddq"], F["ddq_ref"], F["M"], tol))
     return out
-
-
-def _tau_from(layout: _Layout, q: np.ndarray, frc: np.ndarray) -> np.ndarray:
-    """featherdyn's joint forces whose MuJoCo image (``tau_to``) is ``frc`` (the map is linear: solved column-wise)."""
-    nv = layout.model.nv
-    T = np.stack([layout.tau_to(q, e) for e in np.eye(nv)], axis=1)  # MuJoCo image of each unit force
-    return np.linalg.solve(T, frc)
