@@ -198,8 +198,8 @@ def mujoco_checks(model: Model, m: Any, fmt: str, *, samples: int = 10, seed: in
     out = [compare(GROUP, "total mass vs MuJoCo body_mass (moving bodies)", [model.total_mass],
                    [float(sum(m.body_mass[b] for b in moving))], tol)]
     arm = np.zeros(model.nv) if model.armature is None else np.asarray(model.armature)
-    theirs = np.asarray(m.dof_armature)  # per dof: MJCF layouts coincide, a URDF's are permuted
-    out.append(compare(GROUP, "armature vs dof_armature", [arm], [theirs if layout.same else theirs[layout.perm]],
+    arm_mj = np.asarray(m.dof_armature)  # per dof: MJCF layouts coincide, a URDF's are permuted
+    out.append(compare(GROUP, "armature vs dof_armature", [arm], [arm_mj if layout.same else arm_mj[layout.perm]],
                        tol))
     rng = np.random.default_rng(seed)
     rows: dict[str, tuple[list[np.ndarray], list[np.ndarray]]] = {}
