@@ -76,7 +76,23 @@ class Quantity:
 
     description: str
     shape: Callable[[Model], tuple[int, ...]]
-    compute: Callable[[Model, dict[str, np.ndarray]], np.ndarray]
+    compute: Callable[[Model, dict[str, Any]], np.ndarray]
+
+
+def _once(s: dict[str, Any], key: str, compute: Callable[[], Any]) -> Any:
+    """A result shared by several quantities of one chunk (∂τ/∂q and ∂τ/∂q̇ come from one derivative pass),
+    computed the first time one of them asks for it and kept in the chunk's dict ``s``."""
+    if key not in s:
+        s[key] = compute()
+    return s[key]
+
+
+def _rnea_d(m: Model, s: dict[str, Any]) -> Any:
+    return _once(s, "rnea_derivatives", lambda: rnea_derivatives(m, s["q"], s["v"], s["a"]))
+
+
+def _aba_d(m: Model, s: dict[str, Any]) -> Any:
+    return _once(s, "aba_derivatives", lambda: aba_derivatives(m, s["q"], s["v"], s["u"]))
 
 
 def _nv(m: Model) -> tuple[int, ...]:
@@ -96,10 +112,10 @@ QUANTITIES: dict[str, Quantity] = {
     "ddq": Quantity("q̈ = ABA(q, v, u) (forward dynamics under the torque u)", _nv,
                     lambda m, s: aba(m, s["q"], s["v"], s["u"])),
     "Minv": Quantity("M(q)⁻¹", _nvnv, lambda m, s: mass_matrix_inverse(m, s["q"])),
-    "dtau_dq": Quantity("∂τ/∂q at (q, v, a)", _nvnv, lambda m, s: rnea_derivatives(m, s["q"], s["v"], s["a"])[0]),
-    "dtau_dv": Quantity("∂τ/∂v at (q, v, a)", _nvnv, lambda m, s: rnea_derivatives(m, s["q"], s["v"], s["a"])[1]),
-    "dddq_dq": Quantity("∂q̈/∂q at (q, v, u)", _nvnv, lambda m, s: aba_derivatives(m, s["q"], s["v"], s["u"])[0]),
-    "dddq_dv": Quantity("∂q̈/∂v at (q, v, u)", _nvnv, lambda m, s: aba_derivatives(m, s["q"], s["v"], s["u"])[1]),
+    "dtau_dq": Quantity("∂τ/∂q at (q, v, a)", _nvnv, lambda m, s: _rnea_d(m, s)[0]),
+    "dtau_dv": Quantity("∂τ/∂v at (q, v, a)", _nvnv, lambda m, s: _rnea_d(m, s)[1]),
+    "dddq_dq": Quantity("∂q̈/∂q at (q, v, u)", _nvnv, lambda m, s: _aba_d(m, s)[0]),
+    "dddq_dv": Quantity("∂q̈/∂v at (q, v, u)", _nvnv, lambda m, s: _aba_d(m, s)[1]),
     "T": Quantity("kinetic energy ½ vᵀ M v", lambda m: (), lambda m, s: kinetic_energy(m, s["q"], s["v"])),
     "V": Quantity("potential energy", lambda m: (), lambda m, s: potential_energy(m, s["q"])),
     "com": Quantity("centre of mass in the world", lambda m: (3,), lambda m, s: center_of_mass(m, s["q"])),
