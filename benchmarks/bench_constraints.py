@@ -25,9 +25,9 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).parent))
-from bench_core import Pair, median_pair  # noqa: E402
+from bench_core import Pair, median_pair, print_ratios
 
-import featherdyn as fd  # noqa: E402
+import featherdyn as fd
 
 
 def _pin_constraints(pin, p: Pair, frames: list[str], kind):  # type: ignore[no-untyped-def]
@@ -86,9 +86,7 @@ def main() -> int:
         rows.append((f"{name}: Λ at {len(frames)} frame{'s' if len(frames) > 1 else ''} / Delassus + inv", t_fd, t_pin))
 
     print(f"featherdyn {fd.__version__}, pinocchio {pin.__version__}")
-    print(f"{'call':70} {'fd µs':>9} {'other µs':>9} {'ratio':>7}")
-    for label, a, b in rows:
-        print(f"{label:70} {a * 1e6:9.2f} {b * 1e6:9.2f} {a / b:7.2f}")
+    print_ratios(rows)
     return 0
 
 

@@ -70,6 +70,14 @@ def median_pair(a: Callable[[], Any], b: Callable[[], Any], repeats: int, budget
     return statistics.median(xs), statistics.median(ys)
 
 
+def print_ratios(rows: list[tuple[str, float, float]], other: str = "pin") -> None:
+    """Print ``(label, featherdyn seconds, other seconds)`` rows as µs and the ratio featherdyn / other."""
+    width = max(len(label) for label, _, _ in rows)
+    print(f"{'call':{width}} {'fd µs':>9} {other + ' µs':>9} {'ratio':>7}")
+    for label, a, b in rows:
+        print(f"{label:{width}} {a * 1e6:9.2f} {b * 1e6:9.2f} {a / b:7.2f}")
+
+
 class Pair:
     """A library robot loaded by featherdyn and by Pinocchio, with a converter of states."""
 

@@ -18,9 +18,9 @@ import warnings
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).parent))
-from bench_core import Pair, median_pair  # noqa: E402
+from bench_core import Pair, median_pair, print_ratios
 
-import featherdyn as fd  # noqa: E402
+import featherdyn as fd
 
 
 def main() -> int:
@@ -53,9 +53,7 @@ def main() -> int:
         rows.append((f"{name}: rnea_derivatives batch of {n} / loop of computeRNEADerivatives", best_fd / n,
                      best_pin / n))
     print(f"featherdyn {fd.__version__}, pinocchio {pin.__version__}, core threads {fd.get_num_threads()}")
-    print(f"{'call':78} {'fd µs':>9} {'pin µs':>9} {'ratio':>7}")
-    for label, x, y in rows:
-        print(f"{label:78} {x * 1e6:9.2f} {y * 1e6:9.2f} {x / y:7.2f}")
+    print_ratios(rows)
     return 0
 
 
