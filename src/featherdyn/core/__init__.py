@@ -765,17 +765,17 @@ def rnea_derivatives(model: Model, q: Any, v: Any, a: Any, f_ext: Any = None,
     """``(∂τ/∂q, ∂τ/∂q̇, ∂τ/∂q̈ = M)``, each `(..., nv, nv)`, of ``τ = RNEA(q, q̇, q̈)``.
 
     ∂/∂q along the tangent of ``fd.integrate`` (``q ⊕ δ``, δ in ``v``'s layout); exact to round-off
-    (forward-mode differentiation of the RNEA template)::
+    (the analytical algorithm of Carpentier & Mansard, RSS 2018, in each tree's root-body coordinates)::
 
         ∂τ/∂q[:, j] = d/dε RNEA(q ⊕ ε e_j, q̇, q̈) |_{ε=0},   ∂τ/∂q̇[:, j] = d/dε RNEA(q, q̇ + ε e_j, q̈)
     """
     h, batch, (Q, V, A, FX), vectors = _dynamics_rows(model, q, v, a, f_ext, "a")
     N, nv = math.prod(batch), h.nv
-    dq, dv = np.empty(batch + (nv, nv)), np.empty(batch + (nv, nv))
+    dq, dv, M = np.empty(batch + (nv, nv)), np.empty(batch + (nv, nv)), np.empty(batch + (nv, nv))
     st = _core.rnea_derivatives_batch(h.cm, Q, V, A, FX, bool(gravity), dq.reshape(N, nv * nv),
-                                      dv.reshape(N, nv * nv))
+                                      dv.reshape(N, nv * nv), M.reshape(N, nv * nv))
     _raise_derivative_status(st, model, q, vectors, f_ext, [Q, V, A, FX], bool(gravity), "rnea_derivatives")
-    return dq, dv, crba(model, q)
+    return dq, dv, M
 
 
 def mass_matrix_inverse(model: Model, q: Any) -> np.ndarray:

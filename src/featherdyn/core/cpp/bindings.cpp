@@ -619,27 +619,29 @@ std::int64_t flops1(const ModelData& md, int kind, const In& q, const In& v, con
 
 // ∂τ/∂q, ∂τ/∂q̇ (N, nv²) for rows of (q, q̇, q̈, f_ext).
 RowStatus rnea_derivatives_n(const ModelData& md, const In& q, const In& v, const In& a, const In& f_ext,
-                             bool gravity, Out dq, Out dv) {
+                             bool gravity, Out dq, Out dv, Out M) {
   const ModelView& mv = md.view;
   std::int64_t N = 0;
   Rows Q, V, A, FX;
   const std::int64_t n2 = static_cast<std::int64_t>(mv.nv) * mv.nv;
   FD_TRY_ROWS(out_rows(dq, n2, N));
   FD_TRY_ROWS(same_rows(dv, n2, N));
+  FD_TRY_ROWS(same_rows(M, n2, N));
   FD_TRY_ROWS(rows(q, N, mv.nq, ARG_Q, Q));
   require_present(v);
   require_present(a);
   FD_TRY_ROWS(rows(v, N, mv.nv, ARG_V, V));
   FD_TRY_ROWS(rows(a, N, mv.nv, ARG_A, A));
   FD_TRY_ROWS(rows(f_ext, N, 6 * static_cast<size_t>(mv.nb), ARG_FEXT, FX));
-  double *DQ = dq.data(), *DV = dv.data();
+  double *DQ = dq.data(), *DV = dv.data(), *MM = M.data();
   fdgroup::GroupArgs args{&mv, Q, V, A, FX, gravity, DQ, n2};
   args.out2 = DV;
+  args.out3 = MM;
   const RowStatus st = for_row_groups(
       N, [&](std::int64_t r) { return check_state(mv, Q.row(r), V.row(r), A.row(r), FX.row(r)); },
       [&](std::int64_t r) -> std::int64_t {
         group_kernels().rnea_derivatives(mv, Q.row(r), V.row(r), A.row(r), FX.row(r), gravity, DQ + r * n2,
-                                         DV + r * n2);
+                                         DV + r * n2, MM + r * n2);
         return OK;
       },
       group_kernels().rnea_derivatives_group, args);
@@ -662,8 +664,7 @@ std::int64_t rnea_derivatives1(const ModelData& md, const F64In& q, const F64In&
   for (const F64Out* o : {&dq, &dv, &M}) FD_TRY(exact_shape(*o, {nv, nv}));
   const double* fx = f_ext.is_valid() ? f_ext.data() : nullptr;
   FD_TRY(check_state(mv, q.data(), v.data(), a.data(), fx));
-  group_kernels().rnea_derivatives(mv, q.data(), v.data(), a.data(), fx, true, dq.data(), dv.data());
-  crba(mv, q.data(), M.data());
+  group_kernels().rnea_derivatives(mv, q.data(), v.data(), a.data(), fx, true, dq.data(), dv.data(), M.data());
   FD_TRY(finite_result(dq.data(), static_cast<std::int64_t>(nv * nv)));
   return finite_result(dv.data(), static_cast<std::int64_t>(nv * nv));
 }
@@ -1107,7 +1108,7 @@ NB_MODULE(_core, m) {
   m.def("aba_derivatives", &aba_derivatives1, nb::arg("model"), A("q"), A("v"), A("tau"), O("f_ext"), A("qdd"),
         A("dqdd_dq"), A("dqdd_dv"), A("Minv"));
   m.def("rnea_derivatives_batch", &rnea_derivatives_n, nb::arg("model"), A("q"), A("v"), A("a"), O("f_ext"),
-        nb::arg("gravity"), A("dtau_dq"), A("dtau_dv"));
+        nb::arg("gravity"), A("dtau_dq"), A("dtau_dv"), A("M"));
   m.def("rnea_derivatives_dual", &rnea_derivatives_dual1, nb::arg("model"), A("q"), A("v"), A("a"), A("dtau_dq"),
         A("dtau_dv"));
   m.def("minverse_batch", &minverse_n, nb::arg("model"), A("q"), A("out"));

@@ -1,18 +1,26 @@
 // Derivatives of inverse and forward dynamics (reference: featherdyn/algorithms/; Carpentier &
-// Mansard, RSS 2018), in body coordinates.
+// Mansard, RSS 2018).
 //
-// ∂τ/∂q and ∂τ/∂q̇: the tangent-linear RNEA. q's derivative is taken along the tangent of
-// fd.integrate, q ⊕ ε e_j, which moves body k (the joint of direction j, column c of S_k) by
-// ᵖM_k exp(ε S_c): so δX_up[k] = −S_c × X_up[k] and, for the bodies i of k's subtree,
+// ∂τ/∂q, ∂τ/∂q̇ (and ∂τ/∂q̈ = M): the analytical algorithm of Carpentier & Mansard, with every quantity of
+// a tree in its root body's coordinates (r, as crba.hpp: exact however far the robot is from the origin).
+// q's derivative is taken along the tangent of fd.integrate, q ⊕ ε e_j: the column S_j of joint k (ʳS_j in
+// r) moves the whole subtree of k rigidly by exp(ε ʳS_j). Seen from the moving subtree, only its parent's
+// motion changes, by
 //
-//     δv_k = −S_c × (X_up[k] v_λ(k)),            δa_k = −S_c × (X_up[k] a_λ(k)) + δv_k × S_k q̇_k
-//     δv_i = X_up[i] δv_λ(i),                     δa_i = X_up[i] δa_λ(i) + δv_i × S_i q̇_i
-//     δf_i = I_i δa_i + δv_i ×* I_i v_i + v_i ×* I_i δv_i
-//     δτ_i = S_iᵀ δF_i,   δF_λ(i) += X_up[i]ᵀ δF_i,   at k: δF_λ(k) += X_up[k]ᵀ (δF_k + S_c ×* F_k)
+//     ∂V/∂q_j = v_λ(k) × S_j,     ∂A/∂q_j = a_λ(k) × S_j + v_λ(k) × ∂V/∂q_j,     ∂A/∂q̇_j = ∂V/∂q_j + v_k × S_j
 //
-// (F: the forces after RNEA's backward pass), then up the ancestors of k; a q̇ direction starts
-// from δv_k = S_c, δa_k = S_c × S_k q̇_k + v_k × S_c. Each direction costs its subtree and its
-// support, as the analytical algorithm does.
+// (v, a in r; a with the base acceleration −g), and every body l of the subtree answers with
+// I_l ∂A + D_l ∂V, where D_l u = İ_l u + u ×* h_l (İ_l = v_l ×* I_l − I_l v_l×, the inertia's rate;
+// h_l = I_l v_l its momentum). With the composites I^C_i = Σ I_l, D^C_i = Σ D_l, F^C_i = Σ f_l over the
+// subtree of i, for a row of joint i and a column j of joint k:
+//
+//     k ∈ support(i):  ∂τ_i/∂q_j = S_iᵀ (I^C_i ∂A/∂q_j + D^C_i ∂V/∂q_j),   ∂τ_i/∂q̇_j = S_iᵀ (I^C_i ∂A/∂q̇_j + D^C_i S_j)
+//     i ancestor of k: ∂τ_i/∂q_j = S_iᵀ (S_j ×* F^C_k + I^C_k ∂A/∂q_j + D^C_k ∂V/∂q_j),
+//                      ∂τ_i/∂q̇_j = S_iᵀ (I^C_k ∂A/∂q̇_j + D^C_k S_j)
+//
+// (the rigid rotation of S_i and F^C_i cancels when i moves with k: power is frame-invariant), and
+// M_ij = S_iᵀ I^C_i S_j as in CRBA. Each pair (i, j on a path to the root) costs a few 6-vector dot
+// products: O(nv · depth) in all.
 //
 // Forward dynamics: q̈ = ABA(q, q̇, τ) solves RNEA(q, q̇, q̈) = τ, so
 //
@@ -154,111 +162,168 @@ struct DerivWork {
 
 template <class S>
 struct RneaDerivWork {
-  std::vector<Xform<S>> X_up;
-  std::vector<RigidInertia<S>> I;
-  std::vector<Motion<S>> v, a, vJ, dv, da;
-  std::vector<Force<S>> F, dF;
-  std::vector<char> in_subtree;
+  std::vector<Mat3<S>> R;                  // ʳR_i: body i's axes in its tree's root body
+  std::vector<Vec3<S>> p;                  // ʳp_i: body i's origin in the root body
+  std::vector<Motion<S>> v, a;             // ʳv_i, ʳa_i (a with the base acceleration −g)
+  std::vector<RigidInertia<S>> Yc, Bc;     // composite inertia Σ ʳI_l and its rate Σ ʳİ_l (mass 0)
+  std::vector<Force<S>> hc, Fc;            // composite momentum Σ ʳI_l ʳv_l and force Σ ʳf_l
+  std::vector<Motion<S>> J, dV, dA, dAv;   // per column: ʳS, ∂V/∂q, ∂A/∂q, ∂A/∂q̇
   void resize(size_t nb) {
-    if (X_up.size() < nb)
-      X_up.resize(nb), I.resize(nb), v.resize(nb), a.resize(nb), vJ.resize(nb), dv.resize(nb), da.resize(nb),
-          F.resize(nb), dF.resize(nb), in_subtree.resize(nb);
+    if (R.size() < nb)
+      R.resize(nb), p.resize(nb), v.resize(nb), a.resize(nb), Yc.resize(nb), Bc.resize(nb), hc.resize(nb),
+          Fc.resize(nb), J.resize(6 * nb), dV.resize(6 * nb), dA.resize(6 * nb), dAv.resize(6 * nb);
   }
 };
 
-// A root joint's direction S_c whose seeds δv_k = 0 (no parent velocity) and δa_k = −S_c × (X_up a₀) vanish:
-// its column of ∂τ/∂q is zero (a root has no parent to receive S_c ×* F). Only exact zeros count.
-inline bool moves_nothing(const Motion<double>& Sc, const Motion<double>& xa) {
-  const Motion<double> u = cross_motion(Sc, xa);
-  return u.w.x == 0.0 && u.w.y == 0.0 && u.w.z == 0.0 && u.v.x == 0.0 && u.v.y == 0.0 && u.v.z == 0.0;
-}
+// The rate İ = v ×* I − I v× of a rigid inertia (m, h, Ī) moving with the twist v = [ω; u], in the same
+// (m, h, Ī) form (a rigid body keeps its mass):  ṁ = 0,  ḣ = m u + ω × h,
+//     Ī' = [ω]× Ī − Ī [ω]× + 2 (h·u) 1 − (u hᵀ + h uᵀ)      (symmetric: d/dt Σ m (|x|² 1 − x xᵀ), ẋ = u + ω × x)
 template <class S>
-inline bool moves_nothing(const Motion<S>&, const Motion<S>&) {
-  return false;
+inline RigidInertia<S> inertia_rate(const RigidInertia<S>& I, const Motion<S>& v) {
+  const Vec3<S>& w = v.w;
+  const Vec3<S>& u = v.v;
+  const Sym3<S>& Y = I.I;
+  // A = [ω]× Ī column by column; [ω]× Ī − Ī [ω]× = A + Aᵀ
+  const Vec3<S> c0 = cross(w, Vec3<S>{Y.xx, Y.xy, Y.xz}), c1 = cross(w, Vec3<S>{Y.xy, Y.yy, Y.yz}),
+                c2 = cross(w, Vec3<S>{Y.xz, Y.yz, Y.zz});
+  const Vec3<S>& h = I.h;
+  const S two(2.0);
+  const S d = two * dot(h, u);
+  return {S(0.0), I.m * u + cross(w, h),
+          {two * c0.x + d - two * u.x * h.x, c1.x + c0.y - (u.x * h.y + h.x * u.y),
+           c2.x + c0.z - (u.x * h.z + h.x * u.z), two * c1.y + d - two * u.y * h.y,
+           c2.y + c1.z - (u.y * h.z + h.y * u.z), two * c2.z + d - two * u.z * h.z}};
 }
 
-// ∂τ/∂q and ∂τ/∂q̇ (nv, nv) row-major (column j: the derivative along direction j), by the tangent-linear
-// RNEA of the file comment.
+// ∂τ/∂q, ∂τ/∂q̇ and (when M is not null) ∂τ/∂q̈ = M, each (nv, nv) row-major: the analytical algorithm of
+// the file comment, in the coordinates of each tree's root body.
 template <class S>
 void rnea_derivatives(const ModelView& mv, const S* q, const S* qd, const S* qdd, const S* f_ext, bool gravity,
-                      S* dtau_dq, S* dtau_dv) {
+                      S* dtau_dq, S* dtau_dv, S* M = nullptr) {
   const int nb = mv.nb, nv = mv.nv;
   RneaDerivWork<S>& w = thread_workspace<RneaDerivWork<S>>(nb);
+  Mat3<S>* R = w.R.data();
+  Vec3<S>* p = w.p.data();
+  Motion<S>* V = w.v.data();
+  Motion<S>* A = w.a.data();
+  Motion<S>* J = w.J.data();
+  Motion<S>* dV = w.dV.data();
+  Motion<S>* dA = w.dA.data();
+  Motion<S>* dAv = w.dAv.data();
   const S z(0.0);
   const Motion<S> zero{{z, z, z}, {z, z, z}};
   const Motion<S> a0 = base_acceleration<S>(mv, gravity);
-  // the nominal RNEA, keeping X_up, v, a, S q̇ and the accumulated forces F
+
+  // forward: poses in the root body, ʳS, ʳv, ʳa, the body inertias, momenta and forces, and the columns'
+  // ∂V/∂q = v_λ × S,  ∂A/∂q = a_λ × S + v_λ × ∂V/∂q,  ∂A/∂q̇ = ∂V/∂q + v_i × S
   for (int i = 0; i < nb; ++i) {
-    const int lam = mv.parent[i];
-    w.X_up[i] = joint_X_up(mv, i, q);
-    w.I[i] = body_inertia<S>(mv, i);
-    w.vJ[i] = S_times(mv, i, qd);
-    w.v[i] = lam == -1 ? w.vJ[i] : w.X_up[i].apply(w.v[lam]) + w.vJ[i];
-    w.a[i] = w.X_up[i].apply(lam == -1 ? a0 : w.a[lam]) + S_times(mv, i, qdd) + cross_motion(w.v[i], w.vJ[i]);
-    w.F[i] = w.I[i] * w.a[i] + cross_force(w.v[i], w.I[i] * w.v[i]);
-    if (f_ext) {
+    const int lam = mv.parent[i], iv = mv.idx_v[i], ki = mv.nv_i[i];
+    const RigidInertia<S> I = body_inertia<S>(mv, i);
+    Motion<S> v_lam = zero, a_lam;
+    RigidInertia<S> oI;
+    if (lam == -1) {  // a root body: its own coordinates; the world's acceleration −g seen from it
+      R[i] = Mat3<S>::identity();
+      p[i] = Vec3<S>{z, z, z};
+      a_lam = joint_X_up(mv, i, q).apply(a0);
+      oI = I;
+      for (int c = 0; c < ki; ++c) J[iv + c] = S_col<S>(mv, i, c);
+    } else {
+      Mat3<S> Rp;
+      Vec3<S> pp;
+      pose_in_parent(mv, i, q, Rp, pp);
+      if (mv.parent[lam] == -1) {
+        R[i] = Rp;
+        p[i] = pp;
+      } else {
+        R[i] = R[lam] * Rp;
+        p[i] = p[lam] + R[lam] * pp;
+      }
+      v_lam = V[lam];
+      a_lam = A[lam];
+      oI = transform_to_parent(Xform<S>{R[i].transpose(), p[i]}, I);
+      for (int c = 0; c < ki; ++c) {
+        const Motion<S> s = S_col<S>(mv, i, c);
+        const Vec3<S> wr = R[i] * s.w;
+        J[iv + c] = {wr, R[i] * s.v + cross(p[i], wr)};
+      }
+    }
+    Motion<S> vJ = zero, aJ = zero;
+    for (int c = 0; c < ki; ++c) {
+      const Motion<S>& s = J[iv + c];
+      const S x = qd[iv + c], y = qdd[iv + c];
+      vJ = vJ + Motion<S>{x * s.w, x * s.v};
+      aJ = aJ + Motion<S>{y * s.w, y * s.v};
+    }
+    V[i] = v_lam + vJ;
+    A[i] = a_lam + aJ + cross_motion(V[i], vJ);
+    const Force<S> h = oI * V[i];
+    Force<S> f = oI * A[i] + cross_force(V[i], h);
+    if (f_ext) {  // a body-frame force [n; f] in root coordinates: [R n + p × R f; R f]
       const S* fx = f_ext + 6 * i;
-      w.F[i] = w.F[i] - Force<S>{{fx[0], fx[1], fx[2]}, {fx[3], fx[4], fx[5]}};
+      const Vec3<S> Rf = R[i] * Vec3<S>{fx[3], fx[4], fx[5]};
+      f = f - Force<S>{R[i] * Vec3<S>{fx[0], fx[1], fx[2]} + cross(p[i], Rf), Rf};
+    }
+    w.Yc[i] = oI;
+    w.Bc[i] = inertia_rate(oI, V[i]);
+    w.hc[i] = h;
+    w.Fc[i] = f;
+    for (int c = 0; c < ki; ++c) {
+      const Motion<S>& s = J[iv + c];
+      dV[iv + c] = cross_motion(v_lam, s);
+      dA[iv + c] = cross_motion(a_lam, s) + cross_motion(v_lam, dV[iv + c]);
+      dAv[iv + c] = dV[iv + c] + cross_motion(V[i], s);
     }
   }
-  for (int i = nb - 1; i >= 0; --i)
-    if (mv.parent[i] != -1) w.F[mv.parent[i]] += w.X_up[i].apply_transpose(w.F[i]);
-  for (int k = 0; k < nv * nv; ++k) dtau_dq[k] = dtau_dv[k] = z;
 
-  S col[6];
-  for (int k = 0; k < nb; ++k) {
-    const int lam_k = mv.parent[k];
-    char* sub = w.in_subtree.data();
-    sub[k] = 1;
-    for (int i = k + 1; i < nb; ++i) sub[i] = mv.parent[i] >= k && sub[mv.parent[i]];
-    const Motion<S> xv = lam_k == -1 ? zero : w.X_up[k].apply(w.v[lam_k]);
-    const Motion<S> xa = w.X_up[k].apply(lam_k == -1 ? a0 : w.a[lam_k]);
-    for (int c = 0; c < mv.nv_i[k]; ++c) {
-      const Motion<S> Sc = S_col<S>(mv, k, c);
-      const int j = mv.idx_v[k] + c;
-      for (int wrt_v = 0; wrt_v < 2; ++wrt_v) {
-        S* out = wrt_v ? dtau_dv : dtau_dq;
-        if (!wrt_v && lam_k == -1 && moves_nothing(Sc, xa)) continue;  // e.g. a root free-flyer's translations
-        // forward over the subtree of k
-        for (int i = k; i < nb; ++i) {
-          if (!sub[i]) continue;
-          if (i == k) {
-            if (wrt_v) {
-              w.dv[k] = Sc;
-              w.da[k] = cross_motion(Sc, w.vJ[k]) + cross_motion(w.v[k], Sc);
-            } else {
-              const Motion<S> u = cross_motion(Sc, xv);
-              w.dv[k] = Motion<S>{-u.w, -u.v};
-              const Motion<S> ua = cross_motion(Sc, xa);
-              w.da[k] = Motion<S>{-ua.w, -ua.v} + cross_motion(w.dv[k], w.vJ[k]);
-            }
-          } else {
-            const int lam = mv.parent[i];
-            w.dv[i] = w.X_up[i].apply(w.dv[lam]);
-            w.da[i] = w.X_up[i].apply(w.da[lam]) + cross_motion(w.dv[i], w.vJ[i]);
-          }
-          const RigidInertia<S>& I = w.I[i];
-          w.dF[i] = I * w.da[i] + cross_force(w.dv[i], I * w.v[i]) + cross_force(w.v[i], I * w.dv[i]);
+  for (int k = 0; k < nv * nv; ++k) dtau_dq[k] = dtau_dv[k] = z;
+  if (M)
+    for (int k = 0; k < nv * nv; ++k) M[k] = z;
+  // backward: when body i's composites are complete, the rows of i against the columns of its support,
+  // and the rows of its strict ancestors against the columns of i
+  for (int i = nb - 1; i >= 0; --i) {
+    const int lam = mv.parent[i], iv = mv.idx_v[i], ki = mv.nv_i[i];
+    const RigidInertia<S>& Yc = w.Yc[i];
+    const RigidInertia<S>& Bc = w.Bc[i];
+    const Force<S>& hc = w.hc[i];
+    for (int c = 0; c < ki; ++c) {
+      const int row = iv + c;
+      const Motion<S>& s = J[row];
+      // rows of i:  ∂τ_i/∂q_j = (I^C S_i)ᵀ ∂A/∂q_j + (D^Cᵀ S_i)ᵀ ∂V/∂q_j,  D^C u = İ^C u + u ×* h^C
+      const Force<S> ar = Yc * s;
+      const Force<S> br = Bc * s - cross_force(s, hc);
+      S* rq = dtau_dq + static_cast<size_t>(row) * nv;
+      S* rv = dtau_dv + static_cast<size_t>(row) * nv;
+      for (int k = i; k != -1; k = mv.parent[k]) {
+        const int kv = mv.idx_v[k];
+        for (int cc = 0; cc < mv.nv_i[k]; ++cc) {
+          const int col = kv + cc;
+          rq[col] = dot(dA[col], ar) + dot(dV[col], br);
+          rv[col] = dot(dAv[col], ar) + dot(J[col], br);
+          if (M) M[static_cast<size_t>(row) * nv + col] = M[static_cast<size_t>(col) * nv + row] = dot(J[col], ar);
         }
-        // backward over the subtree, then up the ancestors of k
-        for (int i = nb - 1; i > k; --i) {
-          if (!sub[i]) continue;
-          St_times(mv, i, w.dF[i], col);
-          for (int r = 0; r < mv.nv_i[i]; ++r) out[(mv.idx_v[i] + r) * nv + j] = col[r];
-          w.dF[mv.parent[i]] += w.X_up[i].apply_transpose(w.dF[i]);
-        }
-        St_times(mv, k, w.dF[k], col);
-        for (int r = 0; r < mv.nv_i[k]; ++r) out[(mv.idx_v[k] + r) * nv + j] = col[r];
-        if (lam_k == -1) continue;
-        Force<S> G = w.X_up[k].apply_transpose(wrt_v ? w.dF[k] : w.dF[k] + cross_force(Sc, w.F[k]));
-        for (int i = lam_k; i != -1; i = mv.parent[i]) {
-          St_times(mv, i, G, col);
-          for (int r = 0; r < mv.nv_i[i]; ++r) out[(mv.idx_v[i] + r) * nv + j] = col[r];
-          if (mv.parent[i] != -1) G = w.X_up[i].apply_transpose(G);
+      }
+      if (lam == -1) continue;
+      // column of i, rows of the ancestors:  ∂τ_r/∂q_j = ʳS_rᵀ (S_j ×* F^C + I^C ∂A/∂q_j + D^C ∂V/∂q_j)
+      const Force<S> Fq = cross_force(s, w.Fc[i]) + Yc * dA[row] + Bc * dV[row] + cross_force(dV[row], hc);
+      const Force<S> Fv = Yc * dAv[row] + Bc * s + cross_force(s, hc);
+      for (int k = lam; k != -1; k = mv.parent[k]) {
+        const int kv = mv.idx_v[k];
+        for (int cc = 0; cc < mv.nv_i[k]; ++cc) {
+          const size_t at = static_cast<size_t>(kv + cc) * nv + row;
+          dtau_dq[at] = dot(J[kv + cc], Fq);
+          dtau_dv[at] = dot(J[kv + cc], Fv);
         }
       }
     }
+    if (lam != -1) {
+      w.Yc[lam] = w.Yc[lam] + Yc;
+      w.Bc[lam] = w.Bc[lam] + Bc;
+      w.hc[lam] += hc;
+      w.Fc[lam] += w.Fc[i];
+    }
   }
+  if (M && mv.armature)
+    for (int k = 0; k < nv; ++k) M[static_cast<size_t>(k) * nv + k] += S(mv.armature[k]);
 }
 
 // ∂τ/∂q and ∂τ/∂q̇ (nv, nv) row-major by forward-mode differentiation of the RNEA template on Dual
@@ -328,10 +393,9 @@ int aba_derivatives(const ModelView& mv, const int* lambda_d, const double* q, c
   double* tq = scratch + n2;
   double* tv = scratch + 2 * n2;
   double* col = scratch + 3 * n2;
-  crba(mv, q, L);
+  rnea_derivs(mv, q, qd, qdd, f_ext, gravity, tq, tv, L);  // and M into L, factored in place
   const int bad_dof = ltl_factor(mv, lambda_d, L);
   if (bad_dof >= 0) return dof_body(mv, bad_dof);
-  rnea_derivs(mv, q, qd, qdd, f_ext, gravity, tq, tv);
   // −M⁻¹ ∂τ/∂q, −M⁻¹ ∂τ/∂q̇, M⁻¹ 1: the two sweeps on all columns of each at once (ltl.hpp)
   const size_t nn = static_cast<size_t>(nv) * nv;
   for (size_t k = 0; k < nn; ++k) dq[k] = -tq[k], dv[k] = -tv[k], Minv[k] = 0.0;

@@ -22,6 +22,7 @@ struct GroupArgs {
   double* out;       // row r at out + r * out_stride
   std::int64_t out_stride;
   double* out2 = nullptr;  // a second output of the same stride (∂τ/∂q̇ next to ∂τ/∂q)
+  double* out3 = nullptr;  // a third (M next to them)
 };
 
 // One group of `width` rows from row r0: 0, or non-zero when some lane failed (ABA: singular).
@@ -29,7 +30,8 @@ using GroupFn = std::int64_t (*)(const GroupArgs&, std::int64_t r0);
 
 // One-state kernels whose inner loops are wide (derivatives.hpp), compiled per instruction set too.
 using RneaDerivativesFn = void (*)(const fdcore::ModelView&, const double* q, const double* qd, const double* qdd,
-                                   const double* f_ext, bool gravity, double* dtau_dq, double* dtau_dv);
+                                   const double* f_ext, bool gravity, double* dtau_dq, double* dtau_dv,
+                                   double* M);
 using MinverseFn = int (*)(const fdcore::ModelView&, const double* q, double* Minv);
 
 struct GroupKernels {

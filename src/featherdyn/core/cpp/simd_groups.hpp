@@ -91,20 +91,22 @@ inline std::int64_t fk_group(const fdgroup::GroupArgs& g, std::int64_t r0) {
   return 0;
 }
 
-// ∂τ/∂q and ∂τ/∂q̇ of W rows: the tangent-linear RNEA template instantiated for Pack.
+// ∂τ/∂q, ∂τ/∂q̇ and M of W rows: the analytical RNEA derivatives instantiated for Pack.
 inline std::int64_t rnea_derivatives_group(const fdgroup::GroupArgs& g, std::int64_t r0) {
   const ModelView& mv = *g.mv;
   const size_t nq = mv.nq, nv = mv.nv, nf = 6 * static_cast<size_t>(mv.nb), n2 = nv * nv;
-  Lanes& L = thread_lanes(nq + 2 * nv + nf + 2 * n2);
+  Lanes& L = thread_lanes(nq + 2 * nv + nf + 3 * n2);
   const Pack* q = L.gather(g.Q, r0, nq, 0);
   const Pack* v = L.gather(g.V, r0, nv, nq);
   const Pack* a = L.gather(g.A, r0, nv, nq + nv);
   const Pack* f = L.gather(g.FX, r0, nf, nq + 2 * nv);
   Pack* dq = L.space(nq + 2 * nv + nf);
   Pack* dv = dq + n2;
-  rnea_derivatives(mv, q, v, a, f, g.gravity, dq, dv);
+  Pack* M = dv + n2;
+  rnea_derivatives(mv, q, v, a, f, g.gravity, dq, dv, M);
   scatter(dq, n2, g.out + r0 * g.out_stride, g.out_stride);
   scatter(dv, n2, g.out2 + r0 * g.out_stride, g.out_stride);
+  scatter(M, n2, g.out3 + r0 * g.out_stride, g.out_stride);
   return 0;
 }
 
