@@ -685,11 +685,11 @@ std::int64_t aba_derivatives1(const ModelData& md, const F64In& q, const F64In& 
   FD_TRY(check_state(mv, q.data(), v.data(), tau.data(), fx));
   thread_local std::vector<double> scratch;
   thread_local std::vector<int> lambda;
-  scratch.resize(3 * nv * nv + nv);
+  scratch.resize(aba_derivatives_scratch(mv.nv));
   lambda.resize(nv);
   dof_parents(mv, lambda.data());
-  const int bad = aba_derivatives(mv, lambda.data(), q.data(), v.data(), tau.data(), fx, true, qdd.data(), dq.data(),
-                                  dv.data(), Minv.data(), scratch.data(), group_kernels().rnea_derivatives);
+  const int bad = group_kernels().aba_derivatives(mv, lambda.data(), q.data(), v.data(), tau.data(), fx, true,
+                                                  qdd.data(), dq.data(), dv.data(), Minv.data(), scratch.data());
   if (bad >= 0) return make_status(SINGULAR, ARG_Q, bad);
   FD_TRY(finite_result(dq.data(), static_cast<std::int64_t>(nv * nv)));
   return finite_result(dv.data(), static_cast<std::int64_t>(nv * nv));
@@ -745,10 +745,10 @@ RowStatus aba_derivatives_n(const ModelData& md, const In& q, const In& v, const
   return for_rows(N, [&](std::int64_t r) -> std::int64_t {
     FD_TRY(check_state(mv, Q.row(r), V.row(r), T.row(r), FX.row(r)));
     thread_local std::vector<double> scratch;
-    scratch.resize(3 * static_cast<size_t>(n2) + mv.nv);
-    const int bad = aba_derivatives(mv, lambda.data(), Q.row(r), V.row(r), T.row(r), FX.row(r), gravity,
-                                    QDD + r * mv.nv, DQ + r * n2, DV + r * n2, MI + r * n2, scratch.data(),
-                                    group_kernels().rnea_derivatives);
+    scratch.resize(aba_derivatives_scratch(mv.nv));
+    const int bad = group_kernels().aba_derivatives(mv, lambda.data(), Q.row(r), V.row(r), T.row(r), FX.row(r),
+                                                    gravity, QDD + r * mv.nv, DQ + r * n2, DV + r * n2, MI + r * n2,
+                                                    scratch.data());
     if (bad >= 0) return make_status(SINGULAR, ARG_Q, bad);
     FD_TRY(finite_result(DQ + r * n2, n2));
     return finite_result(DV + r * n2, n2);

@@ -377,34 +377,69 @@ inline int mass_matrix_inverse(const ModelView& mv, const double* q, double* Min
   return -1;
 }
 
-// q̈ = ABA(q, q̇, τ) and ∂q̈/∂q, ∂q̈/∂q̇, ∂q̈/∂τ = M⁻¹ (nv, nv) each; `scratch` holds 3 nv² + nv doubles;
-// rnea_derivs: the tangent-linear RNEA as compiled for the CPU's instruction set. The products with M⁻¹ are
-// solves with M's tree-sparse factor (ltl.hpp: M = LᵀL, each column O(nv · depth)), never a dense M⁻¹ product.
-// Returns −1, or the joint whose articulated inertia is singular.
-template <class RneaDerivs>
-int aba_derivatives(const ModelView& mv, const int* lambda_d, const double* q, const double* qd, const double* tau,
-                    const double* f_ext, bool gravity, double* qdd, double* dq, double* dv, double* Minv,
-                    double* scratch, RneaDerivs rnea_derivs) {
+// M⁻¹ (nv, nv) row-major from M's tree-sparse factor M = LᵀL (ltl.hpp): M⁻¹ = Zᵀ Z with Z = L⁻ᵀ, whose
+// column a is nonzero only on a's ancestor dofs (solving Lᵀ z = e_a climbs the ancestors), so
+//
+//     row a of M⁻¹ = Σ_{i ∈ anc(a) ∪ {a}} Z_ia · (row i of Z)        (Σ depth · nv products)
+//
+// The nonzero terms of M⁻¹_ab and M⁻¹_ba are the same products (the common ancestors, deepest first)
+// in the same order: M⁻¹ comes out exactly symmetric. Z: nv² scratch.
+inline void minv_from_factor(const ModelView& mv, const int* lambda, const double* L, double* Minv, double* Z) {
+  const int nv = mv.nv;
+  const size_t n2 = static_cast<size_t>(nv) * nv;
+  for (size_t k = 0; k < n2; ++k) Z[k] = 0.0, Minv[k] = 0.0;
+  for (int a = 0; a < nv; ++a) {  // column a of Z: Lᵀ z = e_a
+    Z[static_cast<size_t>(a) * nv + a] = 1.0;
+    for (int k = a; k != -1; k = lambda[k]) {
+      double& zk = Z[static_cast<size_t>(k) * nv + a];
+      zk = zk / L[k * nv + k];
+      for (int i = lambda[k]; i != -1; i = lambda[i]) Z[static_cast<size_t>(i) * nv + a] -= L[k * nv + i] * zk;
+    }
+  }
+  for (int a = 0; a < nv; ++a) {
+    double* row = Minv + static_cast<size_t>(a) * nv;
+    for (int i = a; i != -1; i = lambda[i]) {
+      const double zia = Z[static_cast<size_t>(i) * nv + a];
+      const double* zi = Z + static_cast<size_t>(i) * nv;
+      for (int b = 0; b < nv; ++b) row[b] += zia * zi[b];
+    }
+  }
+}
+
+// q̈ = ABA(q, q̇, τ) and ∂q̈/∂q, ∂q̈/∂q̇, ∂q̈/∂τ = M⁻¹ (nv, nv) each; `scratch` holds
+// aba_derivatives_scratch(nv) doubles. The products with M⁻¹ are solves with M's tree-sparse factor
+// (ltl.hpp: M = LᵀL; ∂τ/∂q and ∂τ/∂q̇ side by side, one (nv, 2 nv) block of rows per sweep), M⁻¹ itself
+// is Zᵀ Z (minv_from_factor): never a dense product. Returns −1, or the joint whose articulated inertia
+// is singular.
+inline size_t aba_derivatives_scratch(int nv) { return 3 * static_cast<size_t>(nv) * nv; }
+
+inline int aba_derivatives(const ModelView& mv, const int* lambda_d, const double* q, const double* qd,
+                           const double* tau, const double* f_ext, bool gravity, double* qdd, double* dq, double* dv,
+                           double* Minv, double* scratch) {
   const int nv = mv.nv;
   const size_t n2 = static_cast<size_t>(nv) * nv;
   const int bad = aba(mv, q, qd, tau, f_ext, gravity, qdd);
   if (bad >= 0) return bad;
-  double* L = scratch;
-  double* tq = scratch + n2;
-  double* tv = scratch + 2 * n2;
-  double* col = scratch + 3 * n2;
-  rnea_derivs(mv, q, qd, qdd, f_ext, gravity, tq, tv, L);  // and M into L, factored in place
+  double* L = scratch;       // M, then its factor
+  double* X = scratch + n2;  // [∂τ/∂q  ∂τ/∂q̇] (nv, 2 nv), then −M⁻¹ times it; Z for M⁻¹ afterwards
+  rnea_derivatives(mv, q, qd, qdd, f_ext, gravity, dq, dv, L);
   const int bad_dof = ltl_factor(mv, lambda_d, L);
   if (bad_dof >= 0) return dof_body(mv, bad_dof);
-  // −M⁻¹ ∂τ/∂q, −M⁻¹ ∂τ/∂q̇, M⁻¹ 1: the two sweeps on all columns of each at once (ltl.hpp)
-  const size_t nn = static_cast<size_t>(nv) * nv;
-  for (size_t k = 0; k < nn; ++k) dq[k] = -tq[k], dv[k] = -tv[k], Minv[k] = 0.0;
-  for (int k = 0; k < nv; ++k) Minv[static_cast<size_t>(k) * nv + k] = 1.0;
-  for (double* X : {dq, dv, Minv}) {
-    ltl_solve_Lt_rows(mv, lambda_d, L, X, nv);
-    ltl_solve_L_rows(mv, lambda_d, L, X, nv);
+  for (int r = 0; r < nv; ++r) {
+    double* x = X + 2 * static_cast<size_t>(r) * nv;
+    const double* tq = dq + static_cast<size_t>(r) * nv;
+    const double* tv = dv + static_cast<size_t>(r) * nv;
+    for (int c = 0; c < nv; ++c) x[c] = -tq[c], x[nv + c] = -tv[c];
   }
-  (void)col;
+  ltl_solve_Lt_rows(mv, lambda_d, L, X, 2 * nv);
+  ltl_solve_L_rows(mv, lambda_d, L, X, 2 * nv);
+  for (int r = 0; r < nv; ++r) {
+    const double* x = X + 2 * static_cast<size_t>(r) * nv;
+    double* oq = dq + static_cast<size_t>(r) * nv;
+    double* ov = dv + static_cast<size_t>(r) * nv;
+    for (int c = 0; c < nv; ++c) oq[c] = x[c], ov[c] = x[nv + c];
+  }
+  minv_from_factor(mv, lambda_d, L, Minv, X);
   return -1;
 }
 

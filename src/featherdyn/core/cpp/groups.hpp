@@ -33,6 +33,9 @@ using RneaDerivativesFn = void (*)(const fdcore::ModelView&, const double* q, co
                                    const double* f_ext, bool gravity, double* dtau_dq, double* dtau_dv,
                                    double* M);
 using MinverseFn = int (*)(const fdcore::ModelView&, const double* q, double* Minv);
+using AbaDerivativesFn = int (*)(const fdcore::ModelView&, const int* lambda_d, const double* q, const double* qd,
+                                 const double* tau, const double* f_ext, bool gravity, double* qdd, double* dq,
+                                 double* dv, double* Minv, double* scratch);
 
 struct GroupKernels {
   const char* isa;
@@ -40,6 +43,7 @@ struct GroupKernels {
   GroupFn rnea, crba, aba, fk, rnea_derivatives_group;
   RneaDerivativesFn rnea_derivatives;
   MinverseFn minverse;
+  AbaDerivativesFn aba_derivatives;
 };
 
 }  // namespace fdgroup

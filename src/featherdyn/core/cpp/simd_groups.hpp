@@ -112,7 +112,7 @@ inline std::int64_t rnea_derivatives_group(const fdgroup::GroupArgs& g, std::int
 
 inline fdgroup::GroupKernels group_kernels(const char* isa) {
   return {isa, PACK_WIDTH, &rnea_group, &crba_group, &aba_group, &fk_group, &rnea_derivatives_group,
-          &rnea_derivatives<double>, &mass_matrix_inverse};
+          &rnea_derivatives<double>, &mass_matrix_inverse, &aba_derivatives};
 }
 
 }  // namespace fdcore
