@@ -119,6 +119,8 @@ def test_bad_input_and_singular_mass_matrix() -> None:
     with pytest.raises(fd.errors.SingularMassMatrixError) as ref:
         fd.aba(massless, np.zeros(1), np.zeros(1), np.zeros(1), backend="reference")
     assert str(info.value) == str(ref.value)
+    with pytest.raises(fd.errors.SingularMassMatrixError, match="'j'"):  # a batch: packed lanes, then row by row
+        core.aba_derivatives(massless, np.zeros((19, 1)), np.zeros((19, 1)), np.zeros((19, 1)))
 
 
 @pytest.mark.parametrize(("name", "floating", "frame"), [("panda", False, "panda_hand"), ("solo12", True, "HR_FOOT")])
@@ -259,3 +261,32 @@ def test_batched_derivatives_use_the_simd_lanes_and_equal_the_rows(spec) -> None
     for k in range(19):
         one = core.rnea_derivatives(model, st.q[k], st.v[k], st.a[k], f_ext=st.f_ext[k])
         assert np.array_equal(dq[k], one[0]) and np.array_equal(dv[k], one[1]), (spec.name, k)
+    tau = fd.rnea(model, st.q, st.v, st.a)
+    abad = core.aba_derivatives(model, st.q, st.v, tau, f_ext=st.f_ext)
+    for k in range(19):
+        one = core.aba_derivatives(model, st.q[k], st.v[k], tau[k], f_ext=st.f_ext[k])
+        assert all(np.array_equal(x[k], y) for x, y in zip(abad, one)), (spec.name, k)
+
+
+def test_batched_derivatives_write_into_out() -> None:
+    """``out=``: the three arrays given are the results (equal to fresh ones bit for bit); wrong outputs are
+    refused before any work."""
+    model = tree("free_branch")
+    st = random_state(model, 29, (6,))
+    tau = fd.rnea(model, st.q, st.v, st.a)
+    cm = fd.compile(model)
+    nv = model.nv
+    for method, third in ((cm.rnea_derivatives_batch, st.a), (cm.aba_derivatives_batch, tau)):
+        fresh = method(st.q, st.v, third)
+        outs = tuple(np.full((6, nv, nv), np.nan) for _ in range(3))
+        got = method(st.q, st.v, third, out=outs)
+        assert all(g is o for g, o in zip(got, outs))
+        assert all(np.array_equal(g, f) for g, f in zip(got, fresh))
+        with pytest.raises(TypeError, match="tuple of 3"):
+            method(st.q, st.v, third, out=outs[0])
+        with pytest.raises(fd.errors.ShapeError, match=r"out: expected shape \(6, "):
+            method(st.q, st.v, third, out=(outs[0], outs[1], np.empty((5, nv, nv))))
+        with pytest.raises(TypeError, match="C-contiguous float64"):
+            method(st.q, st.v, third, out=(outs[0], outs[1], np.empty((6, nv, nv), np.float32)))
+        with pytest.raises(ValueError, match="must not overlap"):
+            method(st.q, st.v, third, out=(outs[0], outs[0], outs[2]))

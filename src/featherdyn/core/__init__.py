@@ -133,6 +133,19 @@ def _out(out: Any, shape: tuple[int, ...]) -> np.ndarray:
     return out
 
 
+def _outs(out: Any, n: int, shape: tuple[int, ...]) -> tuple[np.ndarray, ...]:
+    """``n`` result arrays of ``shape``: fresh, or the ``n`` arrays of ``out`` after :func:`_out`'s checks."""
+    if out is None:
+        return tuple(np.empty(shape) for _ in range(n))
+    if not isinstance(out, (tuple, list)) or len(out) != n:
+        raise TypeError(f"out: expected a tuple of {n} arrays")
+    arrays = tuple(_out(o, shape) for o in out)
+    if len({id(a) for a in arrays}) != n or any(np.shares_memory(a, b) for i, a in enumerate(arrays)
+                                                   for b in arrays[i + 1:]):
+        raise ValueError("out: the arrays must not overlap")
+    return arrays
+
+
 def _reference_code(reference: Any) -> int:
     """The kernel's code of ``fd.LOCAL`` & co. (or their names), or the code itself (0, 1, 2)."""
     if isinstance(reference, (int, np.integer)) and not isinstance(reference, bool) and 0 <= reference <= 2:
@@ -760,18 +773,21 @@ def _raise_derivative_status(st: tuple[int, int], model: Model, q: Any, vectors:
 ARG_NAMES = _errors.ARG_NAMES
 
 
-def rnea_derivatives(model: Model, q: Any, v: Any, a: Any, f_ext: Any = None,
-                     gravity: bool = True) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def rnea_derivatives(model: Model, q: Any, v: Any, a: Any, f_ext: Any = None, gravity: bool = True,
+                     out: Any = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """``(∂τ/∂q, ∂τ/∂q̇, ∂τ/∂q̈ = M)``, each `(..., nv, nv)`, of ``τ = RNEA(q, q̇, q̈)``.
 
     ∂/∂q along the tangent of ``fd.integrate`` (``q ⊕ δ``, δ in ``v``'s layout); exact to round-off
     (the analytical algorithm of Carpentier & Mansard, RSS 2018, in each tree's root-body coordinates)::
 
         ∂τ/∂q[:, j] = d/dε RNEA(q ⊕ ε e_j, q̇, q̈) |_{ε=0},   ∂τ/∂q̇[:, j] = d/dε RNEA(q, q̇ + ε e_j, q̈)
+
+    ``out``: three float64 C-contiguous `(..., nv, nv)` arrays to write into (reusing them avoids the page
+    faults of large fresh arrays).
     """
     h, batch, (Q, V, A, FX), vectors = _dynamics_rows(model, q, v, a, f_ext, "a")
     N, nv = math.prod(batch), h.nv
-    dq, dv, M = np.empty(batch + (nv, nv)), np.empty(batch + (nv, nv)), np.empty(batch + (nv, nv))
+    dq, dv, M = _outs(out, 3, batch + (nv, nv))
     st = _core.rnea_derivatives_batch(h.cm, Q, V, A, FX, bool(gravity), dq.reshape(N, nv * nv),
                                       dv.reshape(N, nv * nv), M.reshape(N, nv * nv))
     _raise_derivative_status(st, model, q, vectors, f_ext, [Q, V, A, FX], bool(gravity), "rnea_derivatives")
@@ -793,16 +809,18 @@ def mass_matrix_inverse(model: Model, q: Any) -> np.ndarray:
     return out
 
 
-def aba_derivatives(model: Model, q: Any, v: Any, tau: Any, f_ext: Any = None,
-                    gravity: bool = True) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def aba_derivatives(model: Model, q: Any, v: Any, tau: Any, f_ext: Any = None, gravity: bool = True,
+                    out: Any = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """``(∂q̈/∂q, ∂q̈/∂q̇, ∂q̈/∂τ = M⁻¹)``, each `(..., nv, nv)`, of ``q̈ = ABA(q, q̇, τ)``::
 
         ∂q̈/∂q = −M⁻¹ ∂τ/∂q,   ∂q̈/∂q̇ = −M⁻¹ ∂τ/∂q̇   (∂τ of RNEA at q̈ = ABA(q, q̇, τ))
+
+    ``out``: as in :func:`rnea_derivatives`.
     """
     h, batch, (Q, V, T, FX), vectors = _dynamics_rows(model, q, v, tau, f_ext, "tau")
     N, nv = math.prod(batch), h.nv
     qdd = np.empty(batch + (nv,))
-    dq, dv, Minv = (np.empty(batch + (nv, nv)) for _ in range(3))
+    dq, dv, Minv = _outs(out, 3, batch + (nv, nv))
     st = _core.aba_derivatives_batch(h.cm, Q, V, T, FX, bool(gravity), qdd.reshape(N, nv),
                                      dq.reshape(N, nv * nv), dv.reshape(N, nv * nv), Minv.reshape(N, nv * nv))
     _raise_derivative_status(st, model, q, vectors, f_ext, [Q, V, T, FX], bool(gravity), "aba_derivatives")

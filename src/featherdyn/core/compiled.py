@@ -10,6 +10,7 @@
     J = cm.frame_jacobian(q, "tool", fd.LOCAL)   # (6, nv)
     cm.rnea(q, v, a, out=tau)         # writes into tau: no allocation at all
     TAU = cm.rnea_batch(Q, V, A)      # (N, nv), on the core's threads
+    cm.rnea_derivatives_batch(Q, V, A, out=(DQ, DV, M))   # three (N, nv, nv), reused: no page faults
 
 The single-state methods hand their arguments to the core's binding as they
 are: native-endian, aligned, C-contiguous float64 arrays of the exact shapes
@@ -34,7 +35,17 @@ import numpy as np
 from ..errors import ModelError
 from ..frames import LOCAL, LOCAL_WORLD_ALIGNED, WORLD
 from ..model import Model
-from . import _lib, _view, aba_batch, crba_batch, fk_batch, frame_jacobian_batch, rnea_batch
+from . import (
+    _lib,
+    _view,
+    aba_batch,
+    aba_derivatives,
+    crba_batch,
+    fk_batch,
+    frame_jacobian_batch,
+    rnea_batch,
+    rnea_derivatives,
+)
 from . import aba as _aba
 from . import crba as _crba
 from . import fk as _fk
@@ -164,6 +175,20 @@ class CompiledModel:
         the page faults of a large fresh array).
         """
         return rnea_batch(self.model, q, v, a, f_ext, gravity, out)
+
+    def rnea_derivatives_batch(self, q: Any, v: Any, a: Any, f_ext: Any = None, gravity: bool = True,
+                               out: Any = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """``(∂τ/∂q, ∂τ/∂q̇, M)``, each `(..., nv, nv)`, for batches of states, on the core's threads.
+
+        ``out``: three float64 C-contiguous `(..., nv, nv)` arrays to write into.
+        """
+        return rnea_derivatives(self.model, q, v, a, f_ext, gravity, out)
+
+    def aba_derivatives_batch(self, q: Any, v: Any, tau: Any, f_ext: Any = None, gravity: bool = True,
+                              out: Any = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """``(∂q̈/∂q, ∂q̈/∂q̇, M⁻¹)``, each `(..., nv, nv)`, for batches of states (``out`` as in
+        :meth:`rnea_derivatives_batch`)."""
+        return aba_derivatives(self.model, q, v, tau, f_ext, gravity, out)
 
     def crba_batch(self, q: Any, out: Any = None) -> np.ndarray:
         """``M`` `(..., nv, nv)` for a batch of configurations (``out`` as in :meth:`rnea_batch`)."""

@@ -742,14 +742,24 @@ RowStatus aba_derivatives_n(const ModelData& md, const In& q, const In& v, const
   double *QDD = qdd.data(), *DQ = dq.data(), *DV = dv.data(), *MI = Minv.data();
   std::vector<int> lambda(mv.nv);
   dof_parents(mv, lambda.data());
-  return for_rows(N, [&](std::int64_t r) -> std::int64_t {
-    FD_TRY(check_state(mv, Q.row(r), V.row(r), T.row(r), FX.row(r)));
-    thread_local std::vector<double> scratch;
-    scratch.resize(aba_derivatives_scratch(mv.nv));
-    const int bad = group_kernels().aba_derivatives(mv, lambda.data(), Q.row(r), V.row(r), T.row(r), FX.row(r),
-                                                    gravity, QDD + r * mv.nv, DQ + r * n2, DV + r * n2, MI + r * n2,
-                                                    scratch.data());
-    if (bad >= 0) return make_status(SINGULAR, ARG_Q, bad);
+  fdgroup::GroupArgs args{&mv, Q, V, T, FX, gravity, DQ, n2};
+  args.out2 = DV;
+  args.out3 = MI;
+  args.out_qdd = QDD;
+  args.lambda_d = lambda.data();
+  const RowStatus st = for_row_groups(
+      N, [&](std::int64_t r) { return check_state(mv, Q.row(r), V.row(r), T.row(r), FX.row(r)); },
+      [&](std::int64_t r) -> std::int64_t {
+        thread_local std::vector<double> scratch;
+        scratch.resize(aba_derivatives_scratch(mv.nv));
+        const int bad = group_kernels().aba_derivatives(mv, lambda.data(), Q.row(r), V.row(r), T.row(r), FX.row(r),
+                                                        gravity, QDD + r * mv.nv, DQ + r * n2, DV + r * n2,
+                                                        MI + r * n2, scratch.data());
+        return bad >= 0 ? make_status(SINGULAR, ARG_Q, bad) : OK;
+      },
+      group_kernels().aba_derivatives_group, args);
+  if (st.second != OK) return st;
+  return for_rows(N, [&](std::int64_t r) -> std::int64_t {  // results that finite input overflowed
     FD_TRY(finite_result(DQ + r * n2, n2));
     return finite_result(DV + r * n2, n2);
   });

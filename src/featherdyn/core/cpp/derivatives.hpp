@@ -195,11 +195,37 @@ inline RigidInertia<S> inertia_rate(const RigidInertia<S>& I, const Motion<S>& v
            c2.y + c1.z - (u.y * h.z + h.y * u.z), two * c2.z + d - two * u.z * h.z}};
 }
 
-// ∂τ/∂q, ∂τ/∂q̇ and (when M is not null) ∂τ/∂q̈ = M, each (nv, nv) row-major: the analytical algorithm of
-// the file comment, in the coordinates of each tree's root body.
+// Where the derivative kernel writes ∂τ/∂q, ∂τ/∂q̇ and M (each (nv, nv) row-major; M optional): the
+// arrays of one state, or, for a Pack, each lane straight into its own row of the batch's outputs (no
+// packed copy of three nv² blocks to scatter afterwards).
 template <class S>
-void rnea_derivatives(const ModelView& mv, const S* q, const S* qd, const S* qdd, const S* f_ext, bool gravity,
-                      S* dtau_dq, S* dtau_dv, S* M = nullptr) {
+struct StateOut {
+  S* m[3];
+  void zero(int n2) const {
+    for (int k = 0; k < 3; ++k)
+      if (m[k]) std::fill(m[k], m[k] + n2, S(0.0));
+  }
+  bool has_M() const { return m[2] != nullptr; }
+  void put(int k, size_t at, const S& x) const { m[k][at] = x; }
+};
+struct LanesOut {
+  double* m[3];          // lane 0's row of each output
+  std::int64_t stride;   // between lanes
+  void zero(int n2) const {
+    for (int k = 0; k < 3; ++k)
+      for (int lane = 0; k < 3 && m[k] && lane < PACK_WIDTH; ++lane) std::fill_n(m[k] + lane * stride, n2, 0.0);
+  }
+  bool has_M() const { return m[2] != nullptr; }
+  void put(int k, size_t at, const Pack& x) const {
+    for (int lane = 0; lane < PACK_WIDTH; ++lane) m[k][lane * stride + static_cast<std::int64_t>(at)] = x[lane];
+  }
+};
+
+// ∂τ/∂q, ∂τ/∂q̇ and (when wanted) ∂τ/∂q̈ = M, written through `out`: the analytical algorithm of
+// the file comment, in the coordinates of each tree's root body.
+template <class S, class Out>
+void rnea_derivatives_to(const ModelView& mv, const S* q, const S* qd, const S* qdd, const S* f_ext, bool gravity,
+                         const Out& out) {
   const int nb = mv.nb, nv = mv.nv;
   RneaDerivWork<S>& w = thread_workspace<RneaDerivWork<S>>(nb);
   Mat3<S>* R = w.R.data();
@@ -275,9 +301,8 @@ void rnea_derivatives(const ModelView& mv, const S* q, const S* qd, const S* qdd
     }
   }
 
-  for (int k = 0; k < nv * nv; ++k) dtau_dq[k] = dtau_dv[k] = z;
-  if (M)
-    for (int k = 0; k < nv * nv; ++k) M[k] = z;
+  out.zero(nv * nv);
+  const bool with_M = out.has_M();
   // backward: when body i's composites are complete, the rows of i against the columns of its support,
   // and the rows of its strict ancestors against the columns of i
   for (int i = nb - 1; i >= 0; --i) {
@@ -291,15 +316,18 @@ void rnea_derivatives(const ModelView& mv, const S* q, const S* qd, const S* qdd
       // rows of i:  ∂τ_i/∂q_j = (I^C S_i)ᵀ ∂A/∂q_j + (D^Cᵀ S_i)ᵀ ∂V/∂q_j,  D^C u = İ^C u + u ×* h^C
       const Force<S> ar = Yc * s;
       const Force<S> br = Bc * s - cross_force(s, hc);
-      S* rq = dtau_dq + static_cast<size_t>(row) * nv;
-      S* rv = dtau_dv + static_cast<size_t>(row) * nv;
+      const size_t r0 = static_cast<size_t>(row) * nv;
       for (int k = i; k != -1; k = mv.parent[k]) {
         const int kv = mv.idx_v[k];
         for (int cc = 0; cc < mv.nv_i[k]; ++cc) {
           const int col = kv + cc;
-          rq[col] = dot(dA[col], ar) + dot(dV[col], br);
-          rv[col] = dot(dAv[col], ar) + dot(J[col], br);
-          if (M) M[static_cast<size_t>(row) * nv + col] = M[static_cast<size_t>(col) * nv + row] = dot(J[col], ar);
+          out.put(0, r0 + col, dot(dA[col], ar) + dot(dV[col], br));
+          out.put(1, r0 + col, dot(dAv[col], ar) + dot(J[col], br));
+          if (with_M) {
+            const S m = col == row && mv.armature ? dot(J[col], ar) + S(mv.armature[row]) : dot(J[col], ar);
+            out.put(2, r0 + col, m);
+            out.put(2, static_cast<size_t>(col) * nv + row, m);
+          }
         }
       }
       if (lam == -1) continue;
@@ -310,8 +338,8 @@ void rnea_derivatives(const ModelView& mv, const S* q, const S* qd, const S* qdd
         const int kv = mv.idx_v[k];
         for (int cc = 0; cc < mv.nv_i[k]; ++cc) {
           const size_t at = static_cast<size_t>(kv + cc) * nv + row;
-          dtau_dq[at] = dot(J[kv + cc], Fq);
-          dtau_dv[at] = dot(J[kv + cc], Fv);
+          out.put(0, at, dot(J[kv + cc], Fq));
+          out.put(1, at, dot(J[kv + cc], Fv));
         }
       }
     }
@@ -322,8 +350,13 @@ void rnea_derivatives(const ModelView& mv, const S* q, const S* qd, const S* qdd
       w.Fc[lam] += w.Fc[i];
     }
   }
-  if (M && mv.armature)
-    for (int k = 0; k < nv; ++k) M[static_cast<size_t>(k) * nv + k] += S(mv.armature[k]);
+}
+
+// The same on plain arrays: ∂τ/∂q, ∂τ/∂q̇ (nv, nv) row-major and M (nv, nv) when not null.
+template <class S>
+void rnea_derivatives(const ModelView& mv, const S* q, const S* qd, const S* qdd, const S* f_ext, bool gravity,
+                      S* dtau_dq, S* dtau_dv, S* M = nullptr) {
+  rnea_derivatives_to(mv, q, qd, qdd, f_ext, gravity, StateOut<S>{{dtau_dq, dtau_dv, M}});
 }
 
 // ∂τ/∂q and ∂τ/∂q̇ (nv, nv) row-major by forward-mode differentiation of the RNEA template on Dual
@@ -413,19 +446,14 @@ inline void minv_from_factor(const ModelView& mv, const int* lambda, const doubl
 // is singular.
 inline size_t aba_derivatives_scratch(int nv) { return 3 * static_cast<size_t>(nv) * nv; }
 
-inline int aba_derivatives(const ModelView& mv, const int* lambda_d, const double* q, const double* qd,
-                           const double* tau, const double* f_ext, bool gravity, double* qdd, double* dq, double* dv,
-                           double* Minv, double* scratch) {
+// The second half of aba_derivatives, once M (in L) and ∂τ/∂q, ∂τ/∂q̇ (in dq, dv) are there: factor M,
+// dq ← −M⁻¹ dq, dv ← −M⁻¹ dv, Minv ← M⁻¹. X: 2 nv² scratch. Returns −1, or the body of a failed pivot.
+inline int aba_derivatives_from_rnea(const ModelView& mv, const int* lambda_d, double* L, double* dq, double* dv,
+                                     double* Minv, double* X) {
   const int nv = mv.nv;
-  const size_t n2 = static_cast<size_t>(nv) * nv;
-  const int bad = aba(mv, q, qd, tau, f_ext, gravity, qdd);
-  if (bad >= 0) return bad;
-  double* L = scratch;       // M, then its factor
-  double* X = scratch + n2;  // [∂τ/∂q  ∂τ/∂q̇] (nv, 2 nv), then −M⁻¹ times it; Z for M⁻¹ afterwards
-  rnea_derivatives(mv, q, qd, qdd, f_ext, gravity, dq, dv, L);
   const int bad_dof = ltl_factor(mv, lambda_d, L);
   if (bad_dof >= 0) return dof_body(mv, bad_dof);
-  for (int r = 0; r < nv; ++r) {
+  for (int r = 0; r < nv; ++r) {  // [∂τ/∂q  ∂τ/∂q̇] (nv, 2 nv), then −M⁻¹ times it
     double* x = X + 2 * static_cast<size_t>(r) * nv;
     const double* tq = dq + static_cast<size_t>(r) * nv;
     const double* tv = dv + static_cast<size_t>(r) * nv;
@@ -439,8 +467,18 @@ inline int aba_derivatives(const ModelView& mv, const int* lambda_d, const doubl
     double* ov = dv + static_cast<size_t>(r) * nv;
     for (int c = 0; c < nv; ++c) oq[c] = x[c], ov[c] = x[nv + c];
   }
-  minv_from_factor(mv, lambda_d, L, Minv, X);
+  minv_from_factor(mv, lambda_d, L, Minv, X);  // Z in X
   return -1;
+}
+
+inline int aba_derivatives(const ModelView& mv, const int* lambda_d, const double* q, const double* qd,
+                           const double* tau, const double* f_ext, bool gravity, double* qdd, double* dq, double* dv,
+                           double* Minv, double* scratch) {
+  const int bad = aba(mv, q, qd, tau, f_ext, gravity, qdd);
+  if (bad >= 0) return bad;
+  double* L = scratch;  // M, then its factor
+  rnea_derivatives(mv, q, qd, qdd, f_ext, gravity, dq, dv, L);
+  return aba_derivatives_from_rnea(mv, lambda_d, L, dq, dv, Minv, scratch + static_cast<size_t>(mv.nv) * mv.nv);
 }
 
 }  // namespace fdcore

@@ -23,6 +23,8 @@ struct GroupArgs {
   std::int64_t out_stride;
   double* out2 = nullptr;  // a second output of the same stride (∂τ/∂q̇ next to ∂τ/∂q)
   double* out3 = nullptr;  // a third (M next to them)
+  double* out_qdd = nullptr;        // (ABA derivatives) q̈, rows of nv
+  const int* lambda_d = nullptr;   // (ABA derivatives) the dofs' parents (ltl.hpp)
 };
 
 // One group of `width` rows from row r0: 0, or non-zero when some lane failed (ABA: singular).
@@ -44,6 +46,7 @@ struct GroupKernels {
   RneaDerivativesFn rnea_derivatives;
   MinverseFn minverse;
   AbaDerivativesFn aba_derivatives;
+  GroupFn aba_derivatives_group;
 };
 
 }  // namespace fdgroup

@@ -94,25 +94,49 @@ inline std::int64_t fk_group(const fdgroup::GroupArgs& g, std::int64_t r0) {
 // ∂τ/∂q, ∂τ/∂q̇ and M of W rows: the analytical RNEA derivatives instantiated for Pack.
 inline std::int64_t rnea_derivatives_group(const fdgroup::GroupArgs& g, std::int64_t r0) {
   const ModelView& mv = *g.mv;
-  const size_t nq = mv.nq, nv = mv.nv, nf = 6 * static_cast<size_t>(mv.nb), n2 = nv * nv;
-  Lanes& L = thread_lanes(nq + 2 * nv + nf + 3 * n2);
+  const size_t nq = mv.nq, nv = mv.nv, nf = 6 * static_cast<size_t>(mv.nb);
+  Lanes& L = thread_lanes(nq + 2 * nv + nf);
   const Pack* q = L.gather(g.Q, r0, nq, 0);
   const Pack* v = L.gather(g.V, r0, nv, nq);
   const Pack* a = L.gather(g.A, r0, nv, nq + nv);
   const Pack* f = L.gather(g.FX, r0, nf, nq + 2 * nv);
-  Pack* dq = L.space(nq + 2 * nv + nf);
-  Pack* dv = dq + n2;
-  Pack* M = dv + n2;
-  rnea_derivatives(mv, q, v, a, f, g.gravity, dq, dv, M);
-  scatter(dq, n2, g.out + r0 * g.out_stride, g.out_stride);
-  scatter(dv, n2, g.out2 + r0 * g.out_stride, g.out_stride);
-  scatter(M, n2, g.out3 + r0 * g.out_stride, g.out_stride);
+  const std::int64_t at = r0 * g.out_stride;
+  rnea_derivatives_to(mv, q, v, a, f, g.gravity,
+                      LanesOut{{g.out + at, g.out2 + at, g.out3 ? g.out3 + at : nullptr}, g.out_stride});
+  return 0;
+}
+
+// q̈, ∂q̈/∂q, ∂q̈/∂q̇ and M⁻¹ of W rows: ABA and the RNEA derivatives on Packs (the lanes' derivatives and M
+// written straight into their rows), then each lane's factorisation and solves (aba_derivatives_from_rnea).
+inline std::int64_t aba_derivatives_group(const fdgroup::GroupArgs& g, std::int64_t r0) {
+  const ModelView& mv = *g.mv;
+  const size_t nq = mv.nq, nv = mv.nv, nf = 6 * static_cast<size_t>(mv.nb), n2 = nv * nv;
+  Lanes& L = thread_lanes(nq + 3 * nv + nf);
+  const Pack* q = L.gather(g.Q, r0, nq, 0);
+  const Pack* v = L.gather(g.V, r0, nv, nq);
+  const Pack* tau = L.gather(g.A, r0, nv, nq + nv);
+  const Pack* f = L.gather(g.FX, r0, nf, nq + 2 * nv);
+  Pack* qdd = L.space(nq + 2 * nv + nf);
+  if (aba(mv, q, v, tau, f, g.gravity, qdd) >= 0) return 1;  // singular in some lane: redone row by row
+  scatter(qdd, nv, g.out_qdd + r0 * static_cast<std::int64_t>(nv), static_cast<std::int64_t>(nv));
+  thread_local std::vector<double> M, X;
+  M.resize(PACK_WIDTH * n2);
+  X.resize(2 * n2);
+  const std::int64_t at = r0 * g.out_stride;
+  rnea_derivatives_to(mv, q, v, qdd, f, g.gravity,
+                      LanesOut{{g.out + at, g.out2 + at, M.data()}, static_cast<std::int64_t>(n2)});
+  for (int lane = 0; lane < PACK_WIDTH; ++lane) {
+    const std::int64_t row = at + lane * g.out_stride;
+    if (aba_derivatives_from_rnea(mv, g.lambda_d, M.data() + lane * n2, g.out + row, g.out2 + row, g.out3 + row,
+                                  X.data()) >= 0)
+      return 1;
+  }
   return 0;
 }
 
 inline fdgroup::GroupKernels group_kernels(const char* isa) {
   return {isa, PACK_WIDTH, &rnea_group, &crba_group, &aba_group, &fk_group, &rnea_derivatives_group,
-          &rnea_derivatives<double>, &mass_matrix_inverse, &aba_derivatives};
+          &rnea_derivatives<double>, &mass_matrix_inverse, &aba_derivatives, &aba_derivatives_group};
 }
 
 }  // namespace fdcore
