@@ -168,10 +168,14 @@ struct RneaDerivWork {
   std::vector<RigidInertia<S>> Yc, Bc;     // composite inertia Σ ʳI_l and its rate Σ ʳİ_l (mass 0)
   std::vector<Force<S>> hc, Fc;            // composite momentum Σ ʳI_l ʳv_l and force Σ ʳf_l
   std::vector<Motion<S>> J, dV, dA, dAv;   // per column: ʳS, ∂V/∂q, ∂A/∂q, ∂A/∂q̇
+  std::vector<RigidInertia<S>> I0;         // ʳI_i (forward dynamics: the forces of the accelerations)
+  std::vector<Motion<S>> psi;              // forward dynamics: ψ_i = Σ_support ʳS q̈
+  std::vector<Force<S>> G;                 // forward dynamics: I_i ψ_i, summed over subtrees
   void resize(size_t nb) {
     if (R.size() < nb)
       R.resize(nb), p.resize(nb), v.resize(nb), a.resize(nb), Yc.resize(nb), Bc.resize(nb), hc.resize(nb),
-          Fc.resize(nb), J.resize(6 * nb), dV.resize(6 * nb), dA.resize(6 * nb), dAv.resize(6 * nb);
+          Fc.resize(nb), J.resize(6 * nb), dV.resize(6 * nb), dA.resize(6 * nb), dAv.resize(6 * nb),
+          I0.resize(nb), psi.resize(nb), G.resize(nb);
   }
 };
 
@@ -201,9 +205,8 @@ inline RigidInertia<S> inertia_rate(const RigidInertia<S>& I, const Motion<S>& v
 template <class S>
 struct StateOut {
   S* m[3];
-  void zero(int n2) const {
-    for (int k = 0; k < 3; ++k)
-      if (m[k]) std::fill(m[k], m[k] + n2, S(0.0));
+  void zero_one(int k, int n2) const {
+    if (m[k]) std::fill(m[k], m[k] + n2, S(0.0));
   }
   bool has_M() const { return m[2] != nullptr; }
   void put(int k, size_t at, const S& x) const { m[k][at] = x; }
@@ -211,9 +214,8 @@ struct StateOut {
 struct LanesOut {
   double* m[3];          // lane 0's row of each output
   std::int64_t stride;   // between lanes
-  void zero(int n2) const {
-    for (int k = 0; k < 3; ++k)
-      for (int lane = 0; k < 3 && m[k] && lane < PACK_WIDTH; ++lane) std::fill_n(m[k] + lane * stride, n2, 0.0);
+  void zero_one(int k, int n2) const {
+    for (int lane = 0; m[k] && lane < PACK_WIDTH; ++lane) std::fill_n(m[k] + lane * stride, n2, 0.0);
   }
   bool has_M() const { return m[2] != nullptr; }
   void put(int k, size_t at, const Pack& x) const {
@@ -221,27 +223,26 @@ struct LanesOut {
   }
 };
 
-// ∂τ/∂q, ∂τ/∂q̇ and (when wanted) ∂τ/∂q̈ = M, written through `out`: the analytical algorithm of
-// the file comment, in the coordinates of each tree's root body.
-template <class S, class Out>
-void rnea_derivatives_to(const ModelView& mv, const S* q, const S* qd, const S* qdd, const S* f_ext, bool gravity,
-                         const Out& out) {
-  const int nb = mv.nb, nv = mv.nv;
-  RneaDerivWork<S>& w = thread_workspace<RneaDerivWork<S>>(nb);
+// The passes of the analytical algorithm (file comment), on the thread's RneaDerivWork. Inverse dynamics'
+// derivatives (q̈ given): forward, then pairs with the composites summed on the way. Forward dynamics'
+// derivatives (τ given) need q̈ first: forward with q̈ = 0, composites (M and h = C q̇ + g − Jᵀf_ext from the
+// same sums), q̈ = M⁻¹ (τ − h) by M's factor, then the accelerations S q̈ added (acceleration pass), then
+// the pairs: no articulated-body pass at all.
+
+// Forward: poses in the root body, ʳS, ʳv, ʳa (q̈ = 0 when qdd is null), the body inertias, momenta and
+// forces, and the columns' ∂V/∂q = v_λ × S,  ∂A/∂q = a_λ × S + v_λ × ∂V/∂q,  ∂A/∂q̇ = ∂V/∂q + v_i × S.
+template <class S>
+void rnea_derivatives_forward(const ModelView& mv, RneaDerivWork<S>& w, const S* q, const S* qd, const S* qdd,
+                              const S* f_ext, bool gravity) {
+  const int nb = mv.nb;
   Mat3<S>* R = w.R.data();
   Vec3<S>* p = w.p.data();
   Motion<S>* V = w.v.data();
   Motion<S>* A = w.a.data();
   Motion<S>* J = w.J.data();
-  Motion<S>* dV = w.dV.data();
-  Motion<S>* dA = w.dA.data();
-  Motion<S>* dAv = w.dAv.data();
   const S z(0.0);
   const Motion<S> zero{{z, z, z}, {z, z, z}};
   const Motion<S> a0 = base_acceleration<S>(mv, gravity);
-
-  // forward: poses in the root body, ʳS, ʳv, ʳa, the body inertias, momenta and forces, and the columns'
-  // ∂V/∂q = v_λ × S,  ∂A/∂q = a_λ × S + v_λ × ∂V/∂q,  ∂A/∂q̇ = ∂V/∂q + v_i × S
   for (int i = 0; i < nb; ++i) {
     const int lam = mv.parent[i], iv = mv.idx_v[i], ki = mv.nv_i[i];
     const RigidInertia<S> I = body_inertia<S>(mv, i);
@@ -276,9 +277,9 @@ void rnea_derivatives_to(const ModelView& mv, const S* q, const S* qd, const S* 
     Motion<S> vJ = zero, aJ = zero;
     for (int c = 0; c < ki; ++c) {
       const Motion<S>& s = J[iv + c];
-      const S x = qd[iv + c], y = qdd[iv + c];
+      const S x = qd[iv + c];
       vJ = vJ + Motion<S>{x * s.w, x * s.v};
-      aJ = aJ + Motion<S>{y * s.w, y * s.v};
+      if (qdd) aJ = aJ + Motion<S>{qdd[iv + c] * s.w, qdd[iv + c] * s.v};
     }
     V[i] = v_lam + vJ;
     A[i] = a_lam + aJ + cross_motion(V[i], vJ);
@@ -289,27 +290,96 @@ void rnea_derivatives_to(const ModelView& mv, const S* q, const S* qd, const S* 
       const Vec3<S> Rf = R[i] * Vec3<S>{fx[3], fx[4], fx[5]};
       f = f - Force<S>{R[i] * Vec3<S>{fx[0], fx[1], fx[2]} + cross(p[i], Rf), Rf};
     }
+    w.I0[i] = oI;
     w.Yc[i] = oI;
     w.Bc[i] = inertia_rate(oI, V[i]);
     w.hc[i] = h;
     w.Fc[i] = f;
     for (int c = 0; c < ki; ++c) {
       const Motion<S>& s = J[iv + c];
-      dV[iv + c] = cross_motion(v_lam, s);
-      dA[iv + c] = cross_motion(a_lam, s) + cross_motion(v_lam, dV[iv + c]);
-      dAv[iv + c] = dV[iv + c] + cross_motion(V[i], s);
+      w.dV[iv + c] = cross_motion(v_lam, s);
+      w.dA[iv + c] = cross_motion(a_lam, s) + cross_motion(v_lam, w.dV[iv + c]);
+      w.dAv[iv + c] = w.dV[iv + c] + cross_motion(V[i], s);
     }
   }
+}
 
-  out.zero(nv * nv);
-  const bool with_M = out.has_M();
-  // backward: when body i's composites are complete, the rows of i against the columns of its support,
-  // and the rows of its strict ancestors against the columns of i
-  for (int i = nb - 1; i >= 0; --i) {
+// M_ij = S_iᵀ I^C_i S_j for j in i's support (both triangles, + armature), written as output 2 of `out`.
+template <class S, class Out>
+inline void put_mass_matrix_rows(const ModelView& mv, const RneaDerivWork<S>& w, int i, const Out& out) {
+  const int nv = mv.nv;
+  const Motion<S>* J = w.J.data();
+  for (int c = 0; c < mv.nv_i[i]; ++c) {
+    const int row = mv.idx_v[i] + c;
+    const Force<S> ar = w.Yc[i] * J[row];
+    for (int k = i; k != -1; k = mv.parent[k])
+      for (int cc = 0; cc < mv.nv_i[k]; ++cc) {
+        const int col = mv.idx_v[k] + cc;
+        const S m = col == row && mv.armature ? dot(J[col], ar) + S(mv.armature[row]) : dot(J[col], ar);
+        out.put(2, static_cast<size_t>(row) * nv + col, m);
+        out.put(2, static_cast<size_t>(col) * nv + row, m);
+      }
+  }
+}
+
+// Backward, forward dynamics: the composites, M (output 2 of `out`, zeroed first) and h = τ(q, q̇, 0) (nv).
+template <class S, class Out>
+void rnea_derivatives_composites(const ModelView& mv, RneaDerivWork<S>& w, const Out& out, S* h) {
+  out.zero_one(2, mv.nv * mv.nv);
+  for (int i = mv.nb - 1; i >= 0; --i) {
+    const int lam = mv.parent[i];
+    put_mass_matrix_rows(mv, w, i, out);
+    for (int c = 0; c < mv.nv_i[i]; ++c) h[mv.idx_v[i] + c] = dot(w.J[mv.idx_v[i] + c], w.Fc[i]);
+    if (lam != -1) {
+      w.Yc[lam] = w.Yc[lam] + w.Yc[i];
+      w.Bc[lam] = w.Bc[lam] + w.Bc[i];
+      w.hc[lam] += w.hc[i];
+      w.Fc[lam] += w.Fc[i];
+    }
+  }
+}
+
+// Forward, forward dynamics: the accelerations ψ_i = ψ_λ + S_i q̈_i added where the forward pass had q̈ = 0:
+// ∂A/∂q_j += ψ_λ × S_j, and body i's force by I_i ψ_i (G, summed over subtrees by the pairs pass).
+template <class S>
+void rnea_derivatives_accelerations(const ModelView& mv, RneaDerivWork<S>& w, const S* qdd) {
+  const S z(0.0);
+  for (int i = 0; i < mv.nb; ++i) {
+    const int lam = mv.parent[i], iv = mv.idx_v[i];
+    const Motion<S> psi_lam = lam == -1 ? Motion<S>{{z, z, z}, {z, z, z}} : w.psi[lam];
+    Motion<S> psi = psi_lam;
+    for (int c = 0; c < mv.nv_i[i]; ++c) {
+      const Motion<S>& s = w.J[iv + c];
+      psi = psi + Motion<S>{qdd[iv + c] * s.w, qdd[iv + c] * s.v};
+      if (lam != -1) w.dA[iv + c] = w.dA[iv + c] + cross_motion(psi_lam, s);
+    }
+    w.psi[i] = psi;
+    w.G[i] = w.I0[i] * psi;
+  }
+}
+
+// Backward: the rows of i against the columns of its support and the rows of its strict ancestors
+// against the columns of i (outputs 0 and 1 of `out`, zeroed first). sum_composites: the composites are
+// summed here (inverse dynamics; M too when `out` has it); otherwise they are there already and only
+// the forces of the acceleration pass are summed into F^C.
+template <class S, class Out>
+void rnea_derivatives_pairs(const ModelView& mv, RneaDerivWork<S>& w, const Out& out, bool sum_composites) {
+  const int nv = mv.nv;
+  const Motion<S>* J = w.J.data();
+  const Motion<S>* dV = w.dV.data();
+  const Motion<S>* dA = w.dA.data();
+  const Motion<S>* dAv = w.dAv.data();
+  out.zero_one(0, nv * nv);
+  out.zero_one(1, nv * nv);
+  const bool with_M = sum_composites && out.has_M();
+  if (with_M) out.zero_one(2, nv * nv);
+  for (int i = mv.nb - 1; i >= 0; --i) {
     const int lam = mv.parent[i], iv = mv.idx_v[i], ki = mv.nv_i[i];
+    if (!sum_composites) w.Fc[i] += w.G[i];
     const RigidInertia<S>& Yc = w.Yc[i];
     const RigidInertia<S>& Bc = w.Bc[i];
     const Force<S>& hc = w.hc[i];
+    if (with_M) put_mass_matrix_rows(mv, w, i, out);
     for (int c = 0; c < ki; ++c) {
       const int row = iv + c;
       const Motion<S>& s = J[row];
@@ -323,11 +393,6 @@ void rnea_derivatives_to(const ModelView& mv, const S* q, const S* qd, const S* 
           const int col = kv + cc;
           out.put(0, r0 + col, dot(dA[col], ar) + dot(dV[col], br));
           out.put(1, r0 + col, dot(dAv[col], ar) + dot(J[col], br));
-          if (with_M) {
-            const S m = col == row && mv.armature ? dot(J[col], ar) + S(mv.armature[row]) : dot(J[col], ar);
-            out.put(2, r0 + col, m);
-            out.put(2, static_cast<size_t>(col) * nv + row, m);
-          }
         }
       }
       if (lam == -1) continue;
@@ -343,13 +408,41 @@ void rnea_derivatives_to(const ModelView& mv, const S* q, const S* qd, const S* 
         }
       }
     }
-    if (lam != -1) {
+    if (lam == -1) continue;
+    if (sum_composites) {
       w.Yc[lam] = w.Yc[lam] + Yc;
       w.Bc[lam] = w.Bc[lam] + Bc;
       w.hc[lam] += hc;
       w.Fc[lam] += w.Fc[i];
+    } else {
+      w.G[lam] += w.G[i];
     }
   }
+}
+
+// ∂τ/∂q, ∂τ/∂q̇ and (when `out` has it) ∂τ/∂q̈ = M at (q, q̇, q̈), written through `out`.
+template <class S, class Out>
+void rnea_derivatives_to(const ModelView& mv, const S* q, const S* qd, const S* qdd, const S* f_ext, bool gravity,
+                         const Out& out) {
+  RneaDerivWork<S>& w = thread_workspace<RneaDerivWork<S>>(mv.nb);
+  rnea_derivatives_forward(mv, w, q, qd, qdd, f_ext, gravity);
+  rnea_derivatives_pairs(mv, w, out, true);
+}
+
+// q̈ = FD(q, q̇, τ) and ∂τ/∂q, ∂τ/∂q̇ at it, without ABA: M (output 2 of `out`) and h from the composites,
+// then solve(h, qdd) (q̈ = M⁻¹ (τ − h) by M's factor, in place of M; −1, or a singular joint's body,
+// which stops here), then the accelerations and the pairs (outputs 0 and 1).
+template <class S, class Out, class Solve>
+int forward_dynamics_derivatives_to(const ModelView& mv, const S* q, const S* qd, const S* f_ext, bool gravity,
+                                    const Out& out, S* h, S* qdd, const Solve& solve) {
+  RneaDerivWork<S>& w = thread_workspace<RneaDerivWork<S>>(mv.nb);
+  rnea_derivatives_forward(mv, w, q, qd, static_cast<const S*>(nullptr), f_ext, gravity);
+  rnea_derivatives_composites(mv, w, out, h);
+  const int bad = solve(h, qdd);
+  if (bad >= 0) return bad;
+  rnea_derivatives_accelerations(mv, w, qdd);
+  rnea_derivatives_pairs(mv, w, out, false);
+  return -1;
 }
 
 // The same on plain arrays: ∂τ/∂q, ∂τ/∂q̇ (nv, nv) row-major and M (nv, nv) when not null.
@@ -429,38 +522,74 @@ inline void minv_from_factor(const ModelView& mv, const int* lambda, const doubl
       for (int i = lambda[k]; i != -1; i = lambda[i]) Z[static_cast<size_t>(i) * nv + a] -= L[k * nv + i] * zk;
     }
   }
-  for (int a = 0; a < nv; ++a) {
+  for (int a = 0; a < nv; ++a) {  // the upper triangle b ≥ a, mirrored
     double* row = Minv + static_cast<size_t>(a) * nv;
     for (int i = a; i != -1; i = lambda[i]) {
       const double zia = Z[static_cast<size_t>(i) * nv + a];
       const double* zi = Z + static_cast<size_t>(i) * nv;
-      for (int b = 0; b < nv; ++b) row[b] += zia * zi[b];
+      for (int b = a; b < nv; ++b) row[b] += zia * zi[b];
     }
+    for (int b = a + 1; b < nv; ++b) Minv[static_cast<size_t>(b) * nv + a] = row[b];
   }
 }
 
-// q̈ = ABA(q, q̇, τ) and ∂q̈/∂q, ∂q̈/∂q̇, ∂q̈/∂τ = M⁻¹ (nv, nv) each; `scratch` holds
-// aba_derivatives_scratch(nv) doubles. The products with M⁻¹ are solves with M's tree-sparse factor
-// (ltl.hpp: M = LᵀL; ∂τ/∂q and ∂τ/∂q̇ side by side, one (nv, 2 nv) block of rows per sweep), M⁻¹ itself
-// is Zᵀ Z (minv_from_factor): never a dense product. Returns −1, or the joint whose articulated inertia
-// is singular.
-inline size_t aba_derivatives_scratch(int nv) { return 3 * static_cast<size_t>(nv) * nv; }
-
-// The second half of aba_derivatives, once M (in L) and ∂τ/∂q, ∂τ/∂q̇ (in dq, dv) are there: factor M,
-// dq ← −M⁻¹ dq, dv ← −M⁻¹ dv, Minv ← M⁻¹. X: 2 nv² scratch. Returns −1, or the body of a failed pivot.
-inline int aba_derivatives_from_rnea(const ModelView& mv, const int* lambda_d, double* L, double* dq, double* dv,
-                                     double* Minv, double* X) {
+// X ← M⁻¹ X = L⁻¹ L⁻ᵀ X on the ncols columns of X (nv, ncols) row-major at once (ltl.hpp's two row sweeps,
+// with each pivot's reciprocal taken once: a row is scaled by multiplications, not 2 nv divisions).
+inline void ltl_solve_rows_scaled(const ModelView& mv, const int* lambda, const double* L, double* X, int ncols) {
   const int nv = mv.nv;
+  for (int k = nv - 1; k >= 0; --k) {
+    double* xk = X + static_cast<size_t>(k) * ncols;
+    const double inv = 1.0 / L[k * nv + k];
+    for (int c = 0; c < ncols; ++c) xk[c] *= inv;
+    for (int i = lambda[k]; i != -1; i = lambda[i]) {
+      double* xi = X + static_cast<size_t>(i) * ncols;
+      const double l = L[k * nv + i];
+      for (int c = 0; c < ncols; ++c) xi[c] -= l * xk[c];
+    }
+  }
+  for (int k = 0; k < nv; ++k) {
+    double* xk = X + static_cast<size_t>(k) * ncols;
+    for (int i = lambda[k]; i != -1; i = lambda[i]) {
+      const double* xi = X + static_cast<size_t>(i) * ncols;
+      const double l = L[k * nv + i];
+      for (int c = 0; c < ncols; ++c) xk[c] -= l * xi[c];
+    }
+    const double inv = 1.0 / L[k * nv + k];
+    for (int c = 0; c < ncols; ++c) xk[c] *= inv;
+  }
+}
+
+// q̈ = FD(q, q̇, τ) and ∂q̈/∂q, ∂q̈/∂q̇, ∂q̈/∂τ = M⁻¹ (nv, nv) each; `scratch` holds
+// aba_derivatives_scratch(nv) doubles. No articulated-body pass: M and h come from the derivative kernel's
+// composites, q̈ = M⁻¹ (τ − h) from M's tree-sparse factor (ltl.hpp: M = LᵀL), and the products with M⁻¹ are
+// solves with the same factor (∂τ/∂q and ∂τ/∂q̇ side by side, one (nv, 2 nv) block of rows per sweep);
+// M⁻¹ itself is Zᵀ Z (minv_from_factor): never a dense product. Returns −1, or the joint whose pivot is not
+// positive (M singular).
+inline size_t aba_derivatives_scratch(int nv) { return 3 * static_cast<size_t>(nv) * nv + 2 * static_cast<size_t>(nv); }
+
+// x ← M⁻¹ (τ − h) with L = M's factor (ltl_factor on M in place first; −1, or the failed pivot's body).
+inline int factor_and_solve(const ModelView& mv, const int* lambda_d, double* L, const double* tau, const double* h,
+                            double* x) {
   const int bad_dof = ltl_factor(mv, lambda_d, L);
   if (bad_dof >= 0) return dof_body(mv, bad_dof);
+  for (int k = 0; k < mv.nv; ++k) x[k] = tau[k] - h[k];
+  ltl_solve_Lt(mv, lambda_d, L, x);
+  ltl_solve_L(mv, lambda_d, L, x);
+  return -1;
+}
+
+// The second half of aba_derivatives, once L holds M's factor and dq, dv hold ∂τ/∂q, ∂τ/∂q̇:
+// dq ← −M⁻¹ dq, dv ← −M⁻¹ dv, Minv ← M⁻¹. X: 2 nv² scratch.
+inline void aba_derivatives_solves(const ModelView& mv, const int* lambda_d, const double* L, double* dq, double* dv,
+                                   double* Minv, double* X) {
+  const int nv = mv.nv;
   for (int r = 0; r < nv; ++r) {  // [∂τ/∂q  ∂τ/∂q̇] (nv, 2 nv), then −M⁻¹ times it
     double* x = X + 2 * static_cast<size_t>(r) * nv;
     const double* tq = dq + static_cast<size_t>(r) * nv;
     const double* tv = dv + static_cast<size_t>(r) * nv;
     for (int c = 0; c < nv; ++c) x[c] = -tq[c], x[nv + c] = -tv[c];
   }
-  ltl_solve_Lt_rows(mv, lambda_d, L, X, 2 * nv);
-  ltl_solve_L_rows(mv, lambda_d, L, X, 2 * nv);
+  ltl_solve_rows_scaled(mv, lambda_d, L, X, 2 * nv);
   for (int r = 0; r < nv; ++r) {
     const double* x = X + 2 * static_cast<size_t>(r) * nv;
     double* oq = dq + static_cast<size_t>(r) * nv;
@@ -468,17 +597,21 @@ inline int aba_derivatives_from_rnea(const ModelView& mv, const int* lambda_d, d
     for (int c = 0; c < nv; ++c) oq[c] = x[c], ov[c] = x[nv + c];
   }
   minv_from_factor(mv, lambda_d, L, Minv, X);  // Z in X
-  return -1;
 }
 
 inline int aba_derivatives(const ModelView& mv, const int* lambda_d, const double* q, const double* qd,
                            const double* tau, const double* f_ext, bool gravity, double* qdd, double* dq, double* dv,
                            double* Minv, double* scratch) {
-  const int bad = aba(mv, q, qd, tau, f_ext, gravity, qdd);
-  if (bad >= 0) return bad;
+  const size_t n2 = static_cast<size_t>(mv.nv) * mv.nv;
   double* L = scratch;  // M, then its factor
-  rnea_derivatives(mv, q, qd, qdd, f_ext, gravity, dq, dv, L);
-  return aba_derivatives_from_rnea(mv, lambda_d, L, dq, dv, Minv, scratch + static_cast<size_t>(mv.nv) * mv.nv);
+  double* X = scratch + n2;
+  double* h = scratch + 3 * n2;
+  const int bad = forward_dynamics_derivatives_to(
+      mv, q, qd, f_ext, gravity, StateOut<double>{{dq, dv, L}}, h, qdd,
+      [&](const double* hh, double* x) { return factor_and_solve(mv, lambda_d, L, tau, hh, x); });
+  if (bad >= 0) return bad;
+  aba_derivatives_solves(mv, lambda_d, L, dq, dv, Minv, X);
+  return -1;
 }
 
 }  // namespace fdcore

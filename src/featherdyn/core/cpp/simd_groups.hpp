@@ -106,30 +106,38 @@ inline std::int64_t rnea_derivatives_group(const fdgroup::GroupArgs& g, std::int
   return 0;
 }
 
-// q̈, ∂q̈/∂q, ∂q̈/∂q̇ and M⁻¹ of W rows: ABA and the RNEA derivatives on Packs (the lanes' derivatives and M
-// written straight into their rows), then each lane's factorisation and solves (aba_derivatives_from_rnea).
+// q̈, ∂q̈/∂q, ∂q̈/∂q̇ and M⁻¹ of W rows: the derivative kernel on Packs (the lanes' derivatives written straight
+// into their rows, each lane's M into its own block), each lane's q̈ from its factor, then each lane's solves.
 inline std::int64_t aba_derivatives_group(const fdgroup::GroupArgs& g, std::int64_t r0) {
   const ModelView& mv = *g.mv;
   const size_t nq = mv.nq, nv = mv.nv, nf = 6 * static_cast<size_t>(mv.nb), n2 = nv * nv;
-  Lanes& L = thread_lanes(nq + 3 * nv + nf);
+  Lanes& L = thread_lanes(nq + 4 * nv + nf);
   const Pack* q = L.gather(g.Q, r0, nq, 0);
   const Pack* v = L.gather(g.V, r0, nv, nq);
   const Pack* tau = L.gather(g.A, r0, nv, nq + nv);
   const Pack* f = L.gather(g.FX, r0, nf, nq + 2 * nv);
   Pack* qdd = L.space(nq + 2 * nv + nf);
-  if (aba(mv, q, v, tau, f, g.gravity, qdd) >= 0) return 1;  // singular in some lane: redone row by row
-  scatter(qdd, nv, g.out_qdd + r0 * static_cast<std::int64_t>(nv), static_cast<std::int64_t>(nv));
-  thread_local std::vector<double> M, X;
-  M.resize(PACK_WIDTH * n2);
-  X.resize(2 * n2);
+  Pack* h = qdd + nv;
+  thread_local std::vector<double> M, X, x, t, hl;
+  M.resize(PACK_WIDTH * n2), X.resize(2 * n2), x.resize(nv), t.resize(nv), hl.resize(nv);
   const std::int64_t at = r0 * g.out_stride;
-  rnea_derivatives_to(mv, q, v, qdd, f, g.gravity,
-                      LanesOut{{g.out + at, g.out2 + at, M.data()}, static_cast<std::int64_t>(n2)});
+  auto solve = [&](const Pack* hh, Pack* out) -> int {
+    for (int lane = 0; lane < PACK_WIDTH; ++lane) {
+      for (size_t k = 0; k < nv; ++k) t[k] = tau[k][lane], hl[k] = hh[k][lane];
+      const int bad = factor_and_solve(mv, g.lambda_d, M.data() + lane * n2, t.data(), hl.data(), x.data());
+      if (bad >= 0) return bad;
+      for (size_t k = 0; k < nv; ++k) out[k].set(lane, x[k]);
+    }
+    return -1;
+  };
+  if (forward_dynamics_derivatives_to(mv, q, v, f, g.gravity,
+                                      LanesOut{{g.out + at, g.out2 + at, M.data()}, static_cast<std::int64_t>(n2)},
+                                      h, qdd, solve) >= 0)
+    return 1;  // singular in some lane: redone row by row, which names it
+  scatter(qdd, nv, g.out_qdd + r0 * static_cast<std::int64_t>(nv), static_cast<std::int64_t>(nv));
   for (int lane = 0; lane < PACK_WIDTH; ++lane) {
     const std::int64_t row = at + lane * g.out_stride;
-    if (aba_derivatives_from_rnea(mv, g.lambda_d, M.data() + lane * n2, g.out + row, g.out2 + row, g.out3 + row,
-                                  X.data()) >= 0)
-      return 1;
+    aba_derivatives_solves(mv, g.lambda_d, M.data() + lane * n2, g.out + row, g.out2 + row, g.out3 + row, X.data());
   }
   return 0;
 }
