@@ -94,13 +94,22 @@ def aba_derivatives(model: Model, q: ArrayLike, v: ArrayLike, tau: ArrayLike, f_
 
 
 def mass_matrix_inverse(model: Model, q: ArrayLike, *, backend: str | None = None) -> np.ndarray:
-    """``M(q)⁻¹`` `(..., nv, nv)` from the articulated-body recursion (M is never formed nor inverted)::
+    """``M(q)⁻¹`` `(..., nv, nv)`, never by inverting a dense M::
 
-        M⁻¹ e_j = ABA(q, 0, e_j) without gravity
+        M⁻¹ e_j = ABA(q, 0, e_j) without gravity                   (the reference)
+        M = Lᵀ L (tree-sparse),  M⁻¹ = Zᵀ Z,  Z = L⁻ᵀ               (the core: O(nv · depth) per row)
 
     Raises:
         SingularMassMatrixError: naming the joint, when M(q) is singular.
     """
+    core = core_path(model, backend)
+    if core is not None:
+        Minv = _EMPTY(core.shape_M)
+        try:
+            if CORE.mass_matrix_inverse(core.cm, q, Minv) == 0:
+                return Minv
+        except TypeError:  # arguments the binding does not take as they are: the general path converts
+            pass
     if _dask.lazy(q):
         return _dask.call(mass_matrix_inverse, model, {"q": q}, backend=backend)
     st = check_state(model, q)

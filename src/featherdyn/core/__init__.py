@@ -795,9 +795,9 @@ def rnea_derivatives(model: Model, q: Any, v: Any, a: Any, f_ext: Any = None, gr
 
 
 def mass_matrix_inverse(model: Model, q: Any) -> np.ndarray:
-    """``M(q)⁻¹`` `(..., nv, nv)` from the articulated-body recursion on unit joint forces (M is never inverted)::
+    """``M(q)⁻¹`` `(..., nv, nv)` from M's tree-sparse factor (a dense M is never inverted)::
 
-        M⁻¹ e_j = ABA(q, 0, e_j) without gravity
+        M = Lᵀ L,   M⁻¹ = Zᵀ Z,   Z = L⁻ᵀ   (column a of Z nonzero only on a's ancestor dofs)
     """
     h = _view(model)
     q_ = _f64(q, "q")

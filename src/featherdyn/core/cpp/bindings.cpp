@@ -707,6 +707,18 @@ std::int64_t rnea_derivatives_dual1(const ModelData& md, const In& q, const In& 
   return OK;
 }
 
+// One state: M⁻¹ (nv, nv).
+std::int64_t minverse1(const ModelData& md, const F64In& q, const F64Out& Minv) {
+  const ModelView& mv = md.view;
+  const size_t nv = static_cast<size_t>(mv.nv);
+  FD_TRY(vec(q, mv.nq, ARG_Q));
+  FD_TRY(exact_shape(Minv, {nv, nv}));
+  FD_TRY(check_state(mv, q.data(), nullptr, nullptr, nullptr));
+  const int bad = group_kernels().minverse(mv, q.data(), Minv.data());
+  if (bad >= 0) return make_status(SINGULAR, ARG_Q, bad);
+  return finite_result(Minv.data(), static_cast<std::int64_t>(nv * nv));
+}
+
 // M⁻¹ (N, nv²) for rows of q.
 RowStatus minverse_n(const ModelData& md, const In& q, Out Minv) {
   const ModelView& mv = md.view;
@@ -1122,6 +1134,7 @@ NB_MODULE(_core, m) {
   m.def("rnea_derivatives_dual", &rnea_derivatives_dual1, nb::arg("model"), A("q"), A("v"), A("a"), A("dtau_dq"),
         A("dtau_dv"));
   m.def("minverse_batch", &minverse_n, nb::arg("model"), A("q"), A("out"));
+  m.def("mass_matrix_inverse", &minverse1, nb::arg("model"), A("q"), A("Minv"));
   m.def("aba_derivatives_batch", &aba_derivatives_n, nb::arg("model"), A("q"), A("v"), A("tau"), O("f_ext"),
         nb::arg("gravity"), A("qdd"), A("dqdd_dq"), A("dqdd_dv"), A("Minv"));
   m.def("frame_motion_derivatives_batch", &frame_motion_derivatives_n, nb::arg("model"), A("q"), A("v"), O("a"),

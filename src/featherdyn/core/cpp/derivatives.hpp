@@ -480,29 +480,6 @@ inline void rnea_derivatives_dual(const ModelView& mv, const double* q, const do
   }
 }
 
-// M⁻¹ (nv, nv) row-major: ABA on unit joint forces e_j, no velocity, no gravity, PACK_WIDTH columns a
-// pass. Returns −1, or the joint whose articulated inertia is singular.
-inline int mass_matrix_inverse(const ModelView& mv, const double* q, double* Minv) {
-  const int nq = mv.nq, nv = mv.nv;
-  DerivWork<Pack>& w = thread_workspace<DerivWork<Pack>>(mv.nb);
-  w.Q.resize(nq), w.V.resize(nv), w.A.resize(nv), w.T.resize(nv);
-  for (int k = 0; k < nq; ++k) w.Q[k] = Pack(q[k]);
-  for (int k = 0; k < nv; ++k) w.V[k] = Pack(0.0);
-  for (int start = 0; start < nv; start += PACK_WIDTH) {
-    for (int k = 0; k < nv; ++k) w.A[k] = Pack(0.0);
-    const int lanes = std::min(PACK_WIDTH, nv - start);
-    for (int l = 0; l < lanes; ++l) w.A[start + l].set(l, 1.0);
-    const int bad = aba(mv, w.Q.data(), w.V.data(), w.A.data(), static_cast<const Pack*>(nullptr), false, w.T.data());
-    if (bad >= 0) return bad;
-    for (int l = 0; l < lanes; ++l)
-      for (int r = 0; r < nv; ++r) Minv[r * nv + start + l] = w.T[r][l];
-  }
-  // M⁻¹ is symmetric: the mean of the two triangles removes the round-off asymmetry
-  for (int r = 0; r < nv; ++r)
-    for (int c = r + 1; c < nv; ++c) Minv[r * nv + c] = Minv[c * nv + r] = 0.5 * (Minv[r * nv + c] + Minv[c * nv + r]);
-  return -1;
-}
-
 // M⁻¹ (nv, nv) row-major from M's tree-sparse factor M = LᵀL (ltl.hpp): M⁻¹ = Zᵀ Z with Z = L⁻ᵀ, whose
 // column a is nonzero only on a's ancestor dofs (solving Lᵀ z = e_a climbs the ancestors), so
 //
@@ -531,6 +508,23 @@ inline void minv_from_factor(const ModelView& mv, const int* lambda, const doubl
     }
     for (int b = a + 1; b < nv; ++b) Minv[static_cast<size_t>(b) * nv + a] = row[b];
   }
+}
+
+// M⁻¹ (nv, nv) row-major: CRBA's M, its tree-sparse factor, then Zᵀ Z (minv_from_factor) — O(nv · depth)
+// per row, where ABA on the nv unit forces would repeat the articulated-body pass nv times. Returns −1, or
+// the joint whose pivot is not positive (M singular).
+inline int mass_matrix_inverse(const ModelView& mv, const double* q, double* Minv) {
+  const int nv = mv.nv;
+  const size_t n2 = static_cast<size_t>(nv) * nv;
+  thread_local std::vector<double> L, Z;
+  thread_local std::vector<int> lambda;
+  L.resize(n2), Z.resize(n2), lambda.resize(nv);
+  dof_parents(mv, lambda.data());
+  crba(mv, q, L.data());
+  const int bad_dof = ltl_factor(mv, lambda.data(), L.data());
+  if (bad_dof >= 0) return dof_body(mv, bad_dof);
+  minv_from_factor(mv, lambda.data(), L.data(), Minv, Z.data());
+  return -1;
 }
 
 // X ← M⁻¹ X = L⁻¹ L⁻ᵀ X on the ncols columns of X (nv, ncols) row-major at once (ltl.hpp's two row sweeps,
