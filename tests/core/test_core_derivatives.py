@@ -222,8 +222,8 @@ def test_regressor_times_parameters_is_rnea(spec) -> None:  # type: ignore[no-un
 
 
 @pytest.mark.parametrize("spec", TREES, ids=lambda s: s.name)
-def test_tangent_linear_rnea_equals_forward_mode_differentiation(spec) -> None:  # type: ignore[no-untyped-def]
-    """Two independent derivations in the core: the hand-written tangent-linear RNEA and the RNEA template
+def test_analytical_rnea_derivatives_equal_forward_mode_differentiation(spec) -> None:  # type: ignore[no-untyped-def]
+    """Two independent derivations in the core: the hand-written analytical algorithm and the RNEA template
     on Dual numbers (one does not know the other's formulas) agree to round-off on every joint type."""
     from featherdyn.core import _core
 
@@ -249,7 +249,7 @@ def test_complex_step_through_the_complex_instantiation(spec) -> None:  # type: 
     h = 1e-30
     cols = [np.imag(core.rnea_complex(model, st.q + 1j * h * Q[:, j], st.v, st.a)) / h for j in range(model.nv)]
     dq, _, _ = core.rnea_derivatives(model, st.q, st.v, st.a)
-    assert_rel(np.stack(cols, axis=-1), dq, f"{spec.name}: complex step vs tangent-linear RNEA", rtol=1e-12)
+    assert_rel(np.stack(cols, axis=-1), dq, f"{spec.name}: complex step vs analytical RNEA derivatives", rtol=1e-12)
 
 
 @pytest.mark.parametrize("spec", TREES, ids=lambda s: s.name)
@@ -290,3 +290,51 @@ def test_batched_derivatives_write_into_out() -> None:
             method(st.q, st.v, third, out=(outs[0], outs[1], np.empty((6, nv, nv), np.float32)))
         with pytest.raises(ValueError, match="must not overlap"):
             method(st.q, st.v, third, out=(outs[0], outs[0], outs[2]))
+
+
+def _two_trees() -> fd.Model:
+    """Two trees hanging from the world (a spherical root with a revolute child, a prismatic root with a
+    revolute child and armature): each tree's quantities live in its own root body's coordinates."""
+    b = fd.ModelBuilder("two_trees")
+    box = fd.SpatialInertia.box(1.3, [0.2, 0.1, 0.3])
+    a = b.add_body("a0", -1, fd.SphericalJoint(), inertia=box, placement=fd.xlt([0.3, -0.2, 0.5]))
+    b.add_body("a1", a, fd.RevoluteJoint([0, 1, 0]), inertia=box, placement=fd.xlt([0.0, 0.0, 0.4]))
+    c = b.add_body("b0", -1, fd.PrismaticJoint([1, 0, 0]), inertia=box, placement=fd.rotz(0.7))
+    b.add_body("b1", c, fd.RevoluteJoint([0, 0, 1]), inertia=box, placement=fd.xlt([0.2, 0.1, 0.0]), armature=0.05)
+    return b.build()
+
+
+def test_two_root_trees_against_forward_mode_and_the_reference() -> None:
+    from featherdyn.core import _core
+
+    model = _two_trees()
+    st = random_state(model, 31)
+    dq, dv, M = core.rnea_derivatives(model, st.q, st.v, st.a)
+    dq_dual, dv_dual = np.empty(model.nv * model.nv), np.empty(model.nv * model.nv)
+    assert _core.rnea_derivatives_dual(core._view(model).cm, st.q, st.v, st.a, dq_dual, dv_dual) == 0
+    assert_rel(dq, dq_dual.reshape(model.nv, model.nv), "two trees: dtau_dq", rtol=1e-13)
+    assert_rel(dv, dv_dual.reshape(model.nv, model.nv), "two trees: dtau_dv", rtol=1e-13)
+    assert_rel(M, fd.crba(model, st.q), "two trees: M (with armature)", rtol=1e-14)
+    ref = fd.rnea_derivatives(model, st.q, st.v, st.a, backend="reference")
+    assert_rel(dq, ref[0], "two trees: reference dtau_dq", rtol=1e-13)
+    assert_rel(dv, ref[1], "two trees: reference dtau_dv", rtol=1e-13)
+    tau = fd.rnea(model, st.q, st.v, st.a)
+    ddq_dq, ddq_dv, Minv = core.aba_derivatives(model, st.q, st.v, tau)
+    assert_rel(Minv @ M, np.eye(model.nv), "two trees: M⁻¹ M", rtol=1e-13)
+    assert_rel(ddq_dq, -Minv @ dq, "two trees: ddq_dq", rtol=1e-12)
+    assert_rel(ddq_dv, -Minv @ dv, "two trees: ddq_dv", rtol=1e-12)
+
+
+def test_a_floating_base_far_from_the_origin_changes_no_digit_that_matters() -> None:
+    """Uniform gravity: translating the whole robot changes neither τ nor its derivatives along the body-frame
+    tangent. Every quantity lives in the root body's coordinates, so 10⁶ m away loses no digits (a world-frame
+    formulation carries lever arms of 10⁶ m into every product)."""
+    model = robot("solo12", floating=True)
+    st = random_state(model, 32)
+    tau = fd.rnea(model, st.q, st.v, st.a)
+    near = core.rnea_derivatives(model, st.q, st.v, st.a), core.aba_derivatives(model, st.q, st.v, tau)
+    far_q = st.q.copy()
+    far_q[:3] += [1e6, -2e6, 3e5]
+    far = core.rnea_derivatives(model, far_q, st.v, st.a), core.aba_derivatives(model, far_q, st.v, tau)
+    for x, y in zip(near[0] + near[1], far[0] + far[1]):
+        assert_rel(y, x, "solo12 10⁶ m away", rtol=1e-12)

@@ -1,19 +1,28 @@
 """Derivatives of inverse and forward dynamics, the joint torque regressor (reference).
 
-∂τ/∂q and ∂τ/∂q̇ by the tangent-linear RNEA (the derivative of each line of
-``rnea.py``; Carpentier & Mansard, RSS 2018, written in body coordinates).
-A derivative with respect to q is taken along the tangent of
-``fd.integrate``: ``q ⊕ ε e_j`` moves body k — the body of direction j,
-column c of its motion subspace — by ``ᵖM_k exp(ε S_c)``, so that
-``δX_up[k] = −S_c × X_up[k]``. For the bodies i of k's subtree::
+∂τ/∂q and ∂τ/∂q̇ by the analytical algorithm of Carpentier & Mansard ("Analytical
+derivatives of rigid body dynamics algorithms", RSS 2018), with every quantity of
+a tree expressed in its root body's coordinates ``r`` (the body frame of the
+tree's first body: exact however far the robot is from the world origin; the
+core's ``derivatives.hpp`` is the same algorithm line for line). A derivative
+with respect to q is taken along the tangent of ``fd.integrate``: ``q ⊕ ε e_j``
+with column ``S_j`` of joint k moves k's whole subtree rigidly by ``exp(ε ʳS_j)``.
+Seen from the moving subtree only its parent's motion changes::
 
-    δv_k = −S_c × (X_up[k] v_λ(k)),            δa_k = −S_c × (X_up[k] a_λ(k)) + δv_k × S_k q̇_k
-    δv_i = X_up[i] δv_λ(i),                     δa_i = X_up[i] δa_λ(i) + δv_i × S_i q̇_i
-    δf_i = I_i δa_i + δv_i ×* I_i v_i + v_i ×* I_i δv_i
-    δτ_i = S_iᵀ δF_i,   δF_λ(i) += X_up[i]ᵀ δF_i,   at k: δF_λ(k) += X_up[k]ᵀ (δF_k + S_c ×* F_k)
+    ∂V/∂q_j = v_λ(k) × S_j,    ∂A/∂q_j = a_λ(k) × S_j + v_λ(k) × ∂V/∂q_j,    ∂A/∂q̇_j = ∂V/∂q_j + v_k × S_j
 
-and up the ancestors of k (F: the forces after RNEA's backward pass). A q̇
-direction starts from ``δv_k = S_c``, ``δa_k = S_c × S_k q̇_k + v_k × S_c``.
+(``v``, ``a`` in r, ``a`` with the base acceleration −g), and each body l of the
+subtree answers with ``I_l ∂A + D_l ∂V``, ``D_l u = İ_l u + u ×* h_l`` (``İ_l =
+v_l ×* I_l − I_l v_l×`` the inertia's rate, ``h_l = I_l v_l`` the momentum).
+With the composites ``I^C``, ``D^C``, ``F^C`` (sums over a subtree), for a row of
+joint i and a column j of joint k::
+
+    k ∈ support(i):   ∂τ_i/∂q_j = S_iᵀ (I^C_i ∂A/∂q_j + D^C_i ∂V/∂q_j)      ∂τ_i/∂q̇_j = S_iᵀ (I^C_i ∂A/∂q̇_j + D^C_i S_j)
+    i ancestor of k:  ∂τ_i/∂q_j = S_iᵀ (S_j ×* F^C_k + I^C_k ∂A/∂q_j + D^C_k ∂V/∂q_j)
+                      ∂τ_i/∂q̇_j = S_iᵀ (I^C_k ∂A/∂q̇_j + D^C_k S_j)
+
+(the rotation of ``S_i`` and ``F^C_i`` cancels when i moves with k: power is
+frame-invariant). Every other entry is zero.
 
 Forward dynamics: ``q̈ = ABA(q, q̇, τ)`` solves ``RNEA(q, q̇, q̈) = τ``, so
 ``∂q̈/∂q = −M⁻¹ ∂τ/∂q``, ``∂q̈/∂q̇ = −M⁻¹ ∂τ/∂q̇``, ``∂q̈/∂τ = M⁻¹``, with
@@ -27,9 +36,10 @@ from __future__ import annotations
 
 import numpy as np
 
+from .._spatial_ops import _crf_apply, _crm_apply, _skew
 from ..frames import ReferenceFrame
 from ..model import Model
-from ..spatial_algebra import SpatialForce, SpatialMotion, cross_force, cross_motion
+from ..spatial_algebra import PluckerTransform, SpatialForce, SpatialMotion, crf, crm
 from . import aba as _aba
 from ._common import TreeData, batch_dtype, expand, zeros
 from .rnea import forward_pass
@@ -48,13 +58,11 @@ def _nominal(model: Model, td: TreeData, q: np.ndarray, qd: np.ndarray, qdd: np.
     return X_up, vJs, vel, acc, F
 
 
-def _subtree(model: Model, k: int) -> list[int]:
-    """Body k and its descendants, in increasing order."""
-    inside = {k}
-    for i in range(k + 1, model.nbodies):
-        if model.parents[i] in inside:
-            inside.add(i)
-    return sorted(inside)
+def _momentum_cross(h: np.ndarray) -> np.ndarray:
+    """The `(..., 6, 6)` matrix of ``u ↦ u ×* h`` for a force ``h = [n; f]``: ``[[−[n]×, −[f]×], [−[f]×, 0]]``."""
+    nx, fx = _skew(h[..., :3]), _skew(h[..., 3:])
+    return -np.concatenate([np.concatenate([nx, fx], axis=-1), np.concatenate([fx, np.zeros_like(fx)], axis=-1)],
+                           axis=-2)
 
 
 def rnea_derivatives(model: Model, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray, f_ext: np.ndarray | None = None,
@@ -62,53 +70,76 @@ def rnea_derivatives(model: Model, q: np.ndarray, qd: np.ndarray, qdd: np.ndarra
     """``(∂τ/∂q, ∂τ/∂q̇)`` `(..., nv, nv)` of ``τ = RNEA(q, q̇, q̈)`` on checked arrays (module docstring)."""
     batch, dtype = batch_dtype(q, qd, qdd, f_ext=f_ext)
     td = TreeData(model, dtype)
+    nb, nv, parents = td.nb, model.nv, td.parents
     a0 = td.a0 if gravity else SpatialMotion._wrap(np.zeros(6, dtype=td.dtype), None)
-    X_up, vJ, vel, acc, F = _nominal(model, td, q, qd, qdd, f_ext, a0)
-    nv = model.nv
-    out = {False: zeros(batch, (nv, nv), td.dtype), True: zeros(batch, (nv, nv), td.dtype)}
+    S, dV, dA, dAv = (zeros(batch, (nv, 6), td.dtype) for _ in range(4))  # per column: ʳS, ∂V/∂q, ∂A/∂q, ∂A/∂q̇
+    pose: list[PluckerTransform] = []  # ʳM_i: body i's pose in its root body (body → root coordinates)
+    v: list[np.ndarray] = []
+    a: list[np.ndarray] = []
+    Ic: list[np.ndarray] = []  # composite inertia, rate, momentum and force, in r
+    Bc: list[np.ndarray] = []
+    hc: list[np.ndarray] = []
+    Fc: list[np.ndarray] = []
+    cols = [slice(model.idx_v[i], model.idx_v[i] + model.nvs[i]) for i in range(nb)]
 
-    def put(m: np.ndarray, i: int, j: int, f: SpatialForce) -> None:
-        m[..., model.idx_v[i]: model.idx_v[i] + model.nvs[i], j] = f.vector @ td.S[i]
+    # forward: poses, ʳS, ʳv, ʳa, the body inertias, momenta, forces and rates, and the columns' ∂V, ∂A
+    for i in range(nb):
+        lam = parents[i]
+        pM = td.pose_in_parent(q, i)
+        if lam == -1:  # a root body: its own coordinates; the world's acceleration −g seen from it
+            P = PluckerTransform._wrap(np.eye(3, dtype=td.dtype), np.zeros(3, dtype=td.dtype), None, None)
+            v_lam = zeros(batch, (6,), td.dtype)
+            a_lam = np.broadcast_to(pM.inverse().apply(a0).vector, batch + (6,))
+        else:
+            P = pM if parents[lam] == -1 else pose[lam] @ pM
+            v_lam, a_lam = v[lam], a[lam]
+        pose.append(P)
+        Sc = expand(P).apply(SpatialMotion._wrap(td.S[i].T, None)).vector  # (..., nv_i, 6)
+        S[..., cols[i], :] = Sc
+        vJ = np.einsum("...k,...kj->...j", qd[..., cols[i]], Sc)
+        v_i = v_lam + vJ
+        a_i = a_lam + np.einsum("...k,...kj->...j", qdd[..., cols[i]], Sc) + _crm_apply(v_i, vJ)
+        I = P.apply(td.I[i]).matrix()
+        h = np.einsum("...ij,...j->...i", I, v_i)
+        f = np.einsum("...ij,...j->...i", I, a_i) + _crf_apply(v_i, h)
+        if f_ext is not None:
+            f = f - P.apply(SpatialForce._wrap(f_ext[..., i, :], None)).vector
+        v.append(v_i)
+        a.append(a_i)
+        Ic.append(np.broadcast_to(I, batch + (6, 6)))
+        Bc.append(crf(v_i) @ I - I @ crm(v_i))
+        hc.append(h)
+        Fc.append(f)
+        dV[..., cols[i], :] = _crm_apply(v_lam[..., None, :], Sc)
+        dA[..., cols[i], :] = _crm_apply(a_lam[..., None, :], Sc) + _crm_apply(v_lam[..., None, :], dV[..., cols[i], :])
+        dAv[..., cols[i], :] = dV[..., cols[i], :] + _crm_apply(v_i[..., None, :], Sc)
 
-    for k in range(td.nb):
-        lam_k = td.parents[k]
-        sub = _subtree(model, k)
-        xv = None if lam_k == -1 else X_up[k].apply(vel[lam_k])
-        xa = X_up[k].apply(a0 if lam_k == -1 else acc[lam_k])
-        for c in range(model.nvs[k]):
-            Sc = SpatialMotion._wrap(np.broadcast_to(td.S[k][:, c], batch + (6,)).copy(), None)
-            j = model.idx_v[k] + c
-            for wrt_v in (False, True):
-                dv: dict[int, SpatialMotion] = {}
-                da: dict[int, SpatialMotion] = {}
-                dF: dict[int, SpatialForce] = {}
-                for i in sub:
-                    if i == k and wrt_v:
-                        dv[k] = Sc
-                        da[k] = cross_motion(Sc, vJ[k]) + cross_motion(vel[k], Sc)
-                    elif i == k:
-                        dv[k] = -cross_motion(Sc, xv) if xv is not None else Sc - Sc
-                        da[k] = -cross_motion(Sc, xa) + cross_motion(dv[k], vJ[k])
-                    else:
-                        lam = td.parents[i]
-                        dv[i] = X_up[i].apply(dv[lam])
-                        da[i] = X_up[i].apply(da[lam]) + cross_motion(dv[i], vJ[i])
-                    I = td.I[i]
-                    dF[i] = I @ da[i] + cross_force(dv[i], I @ vel[i]) + cross_force(vel[i], I @ dv[i])
-                for i in reversed(sub[1:]):
-                    put(out[wrt_v], i, j, dF[i])
-                    dF[td.parents[i]] = dF[td.parents[i]] + X_up[i].apply_inverse(dF[i])
-                put(out[wrt_v], k, j, dF[k])
-                if lam_k == -1:
-                    continue
-                G = X_up[k].apply_inverse(dF[k] if wrt_v else dF[k] + cross_force(Sc, F[k]))
-                i = lam_k
-                while i != -1:
-                    put(out[wrt_v], i, j, G)
-                    if td.parents[i] != -1:
-                        G = X_up[i].apply_inverse(G)
-                    i = td.parents[i]
-    return out[False], out[True]
+    dq, dv = zeros(batch, (nv, nv), td.dtype), zeros(batch, (nv, nv), td.dtype)
+    # backward: with i's composites complete, the rows of i against its support's columns, and the rows
+    # of i's strict ancestors against i's columns
+    for i in range(nb - 1, -1, -1):
+        lam, rows = parents[i], cols[i]
+        D = Bc[i] + _momentum_cross(hc[i])
+        support, k = [], i
+        while k != -1:
+            support.extend(range(model.idx_v[k], model.idx_v[k] + model.nvs[k]))
+            k = parents[k]
+        Si = S[..., rows, :]
+        ar, br = Si @ Ic[i], Si @ D  # rows (I^C S_i)ᵀ and (D^Cᵀ S_i)ᵀ
+        dq[..., rows, support] = ar @ dA[..., support, :].swapaxes(-1, -2) + br @ dV[..., support, :].swapaxes(-1, -2)
+        dv[..., rows, support] = ar @ dAv[..., support, :].swapaxes(-1, -2) + br @ S[..., support, :].swapaxes(-1, -2)
+        if lam == -1:
+            continue
+        ancestors = support[model.nvs[i]:]
+        Fq = (_crf_apply(Si, Fc[i][..., None, :]) + dA[..., rows, :] @ Ic[i] + dV[..., rows, :] @ D.swapaxes(-1, -2))
+        Fv = dAv[..., rows, :] @ Ic[i] + Si @ D.swapaxes(-1, -2)
+        dq[..., ancestors, rows] = S[..., ancestors, :] @ Fq.swapaxes(-1, -2)
+        dv[..., ancestors, rows] = S[..., ancestors, :] @ Fv.swapaxes(-1, -2)
+        Ic[lam] = Ic[lam] + Ic[i]
+        Bc[lam] = Bc[lam] + Bc[i]
+        hc[lam] = hc[lam] + hc[i]
+        Fc[lam] = Fc[lam] + Fc[i]
+    return dq, dv
 
 
 def mass_matrix_inverse(model: Model, q: np.ndarray) -> np.ndarray:

@@ -453,7 +453,7 @@ void rnea_derivatives(const ModelView& mv, const S* q, const S* qd, const S* qdd
 }
 
 // ∂τ/∂q and ∂τ/∂q̇ (nv, nv) row-major by forward-mode differentiation of the RNEA template on Dual
-// numbers: an independent check of the tangent-linear algorithm (tests), eight directions a pass.
+// numbers: an independent check of the analytical algorithm (tests), eight directions a pass.
 inline void rnea_derivatives_dual(const ModelView& mv, const double* q, const double* qd, const double* qdd,
                              const double* f_ext, bool gravity, double* dtau_dq, double* dtau_dv) {
   const int nq = mv.nq, nv = mv.nv, nf = 6 * mv.nb;
