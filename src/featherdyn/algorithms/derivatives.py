@@ -120,10 +120,12 @@ def rnea_derivatives(model: Model, q: np.ndarray, qd: np.ndarray, qdd: np.ndarra
     for i in range(nb - 1, -1, -1):
         lam, rows = parents[i], cols[i]
         D = Bc[i] + _momentum_cross(hc[i])
-        support, k = [], i
+        dofs: list[int] = []
+        k = i
         while k != -1:
-            support.extend(range(model.idx_v[k], model.idx_v[k] + model.nvs[k]))
+            dofs.extend(range(model.idx_v[k], model.idx_v[k] + model.nvs[k]))
             k = parents[k]
+        support = np.array(dofs, dtype=np.intp)  # i's dofs first, then its ancestors'
         Si = S[..., rows, :]
         ar, br = Si @ Ic[i], Si @ D  # rows (I^C S_i)ᵀ and (D^Cᵀ S_i)ᵀ
         dq[..., rows, support] = ar @ dA[..., support, :].swapaxes(-1, -2) + br @ dV[..., support, :].swapaxes(-1, -2)
