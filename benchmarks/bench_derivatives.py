@@ -9,7 +9,9 @@ featherdyn is faster), on panda (fixed base), solo12 and talos_full_v2 (floating
 * batched: ``fd.compile(model).rnea_derivatives_batch`` / ``aba_derivatives_batch`` on N states in one call
   (the same kernels as ``fd.rnea_derivatives`` on a batch), into fresh arrays and into reused ``out=`` arrays,
   against a Python loop of ``pin.computeRNEADerivatives`` / ``computeABADerivatives`` (which fill ``data``:
-  nothing allocated); the issue's target: ≥ 8×. Fresh arrays of N·nv² doubles cost their page faults
+  nothing allocated); the issue's target: ≥ 8×.
+* for comparison, ∂τ/∂q and ∂τ/∂q̇ by central finite differences (4 nv perturbed states in one batched
+  ``fd.rnea`` call) against the analytical ``computeRNEADerivatives``. Fresh arrays of N·nv² doubles cost their page faults
   (the kernel zeroes every page the first time it is touched).
 """
 
@@ -43,6 +45,20 @@ def main() -> int:
         t_fd, t_pin = median_pair(lambda: fd.aba_derivatives(p.model, q, v, tau),  # noqa: B023
                                   lambda: pin.computeABADerivatives(p.pm, p.pd, qp, vp, taup), 7, 0.2)  # noqa: B023
         rows.append((f"{name}: aba_derivatives / computeABADerivatives", t_fd, t_pin))
+        # for comparison: ∂τ/∂q and ∂τ/∂q̇ by central differences, the 4 nv perturbed states in one batched
+        # fd.rnea call (q ⊕ ±h e_j through fd.integrate)
+        nv, step = p.model.nv, 1e-6
+        E = np.eye(nv) * step
+        qs = fd.integrate(p.model, np.broadcast_to(q, (2 * nv, q.size)), np.concatenate([E, -E]))
+        Qs = np.concatenate([qs, np.broadcast_to(q, (2 * nv, q.size))])
+        Vs = np.concatenate([np.broadcast_to(v, (2 * nv, nv)), v + np.concatenate([E, -E])])
+
+        def central() -> tuple[np.ndarray, np.ndarray]:
+            t = fd.rnea(p.model, Qs, Vs, a)  # noqa: B023
+            return ((t[:nv] - t[nv:2 * nv]).T / (2 * step), (t[2 * nv:3 * nv] - t[3 * nv:]).T / (2 * step))  # noqa: B023
+
+        t_fd, t_pin = median_pair(central, lambda: pin.computeRNEADerivatives(p.pm, p.pd, qp, vp, ap), 7, 0.2)  # noqa: B023
+        rows.append((f"{name}: central differences (4 nv RNEAs, batched) / computeRNEADerivatives", t_fd, t_pin))
         n = 2000
         Q, V, A, QP, VP, AP = p.states(n)
         T = fd.rnea(p.model, Q, V, A)
