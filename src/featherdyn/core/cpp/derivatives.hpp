@@ -480,30 +480,53 @@ inline void rnea_derivatives_dual(const ModelView& mv, const double* q, const do
   }
 }
 
-// M⁻¹ (nv, nv) row-major from M's tree-sparse factor M = LᵀL (ltl.hpp): M⁻¹ = Zᵀ Z with Z = L⁻ᵀ, whose
-// column a is nonzero only on a's ancestor dofs (solving Lᵀ z = e_a climbs the ancestors), so
+// The factor-and-solve steps of the forward-dynamics derivatives, templated on the scalar so that one
+// state (double), each lane of a batch (double) and packed lanes (Pack) run the same operations: every
+// lane is bit-identical to its one-state result. (ltl.hpp has the same factorisation for double.)
+
+// In place: M (nv, nv) full and symmetric → L (M = LᵀL) in its lower triangle (RBDA table 6.3). Returns −1,
+// or the dof of a pivot that is not positive (in any lane).
+template <class S>
+int ltl_factor_t(const ModelView& mv, const int* lambda, S* M) {
+  using std::sqrt;
+  const int nv = mv.nv;
+  for (int k = nv - 1; k >= 0; --k) {
+    const S d = M[k * nv + k];
+    if (lanes_le(d, 0.0)) return k;
+    const S a = sqrt(d);
+    M[k * nv + k] = a;
+    for (int i = lambda[k]; i != -1; i = lambda[i]) M[k * nv + i] = M[k * nv + i] / a;
+    for (int i = lambda[k]; i != -1; i = lambda[i])
+      for (int j = i; j != -1; j = lambda[j]) M[i * nv + j] = M[i * nv + j] - M[k * nv + i] * M[k * nv + j];
+  }
+  return -1;
+}
+
+// M⁻¹ (nv, nv) row-major from M's factor: M⁻¹ = Zᵀ Z with Z = L⁻ᵀ, whose column a is nonzero only on a's
+// ancestor dofs (solving Lᵀ z = e_a climbs the ancestors), so
 //
 //     row a of M⁻¹ = Σ_{i ∈ anc(a) ∪ {a}} Z_ia · (row i of Z)        (Σ depth · nv products)
 //
 // The nonzero terms of M⁻¹_ab and M⁻¹_ba are the same products (the common ancestors, deepest first)
 // in the same order: M⁻¹ comes out exactly symmetric. Z: nv² scratch.
-inline void minv_from_factor(const ModelView& mv, const int* lambda, const double* L, double* Minv, double* Z) {
+template <class S>
+void minv_from_factor(const ModelView& mv, const int* lambda, const S* L, S* Minv, S* Z) {
   const int nv = mv.nv;
   const size_t n2 = static_cast<size_t>(nv) * nv;
-  for (size_t k = 0; k < n2; ++k) Z[k] = 0.0, Minv[k] = 0.0;
+  for (size_t k = 0; k < n2; ++k) Z[k] = S(0.0), Minv[k] = S(0.0);
   for (int a = 0; a < nv; ++a) {  // column a of Z: Lᵀ z = e_a
-    Z[static_cast<size_t>(a) * nv + a] = 1.0;
+    Z[static_cast<size_t>(a) * nv + a] = S(1.0);
     for (int k = a; k != -1; k = lambda[k]) {
-      double& zk = Z[static_cast<size_t>(k) * nv + a];
+      S& zk = Z[static_cast<size_t>(k) * nv + a];
       zk = zk / L[k * nv + k];
       for (int i = lambda[k]; i != -1; i = lambda[i]) Z[static_cast<size_t>(i) * nv + a] -= L[k * nv + i] * zk;
     }
   }
   for (int a = 0; a < nv; ++a) {  // the upper triangle b ≥ a, mirrored
-    double* row = Minv + static_cast<size_t>(a) * nv;
+    S* row = Minv + static_cast<size_t>(a) * nv;
     for (int i = a; i != -1; i = lambda[i]) {
-      const double zia = Z[static_cast<size_t>(i) * nv + a];
-      const double* zi = Z + static_cast<size_t>(i) * nv;
+      const S zia = Z[static_cast<size_t>(i) * nv + a];
+      const S* zi = Z + static_cast<size_t>(i) * nv;
       for (int b = a; b < nv; ++b) row[b] += zia * zi[b];
     }
     for (int b = a + 1; b < nv; ++b) Minv[static_cast<size_t>(b) * nv + a] = row[b];
@@ -521,73 +544,81 @@ inline int mass_matrix_inverse(const ModelView& mv, const double* q, double* Min
   L.resize(n2), Z.resize(n2), lambda.resize(nv);
   dof_parents(mv, lambda.data());
   crba(mv, q, L.data());
-  const int bad_dof = ltl_factor(mv, lambda.data(), L.data());
+  const int bad_dof = ltl_factor_t(mv, lambda.data(), L.data());
   if (bad_dof >= 0) return dof_body(mv, bad_dof);
   minv_from_factor(mv, lambda.data(), L.data(), Minv, Z.data());
   return -1;
 }
 
-// X ← M⁻¹ X = L⁻¹ L⁻ᵀ X on the ncols columns of X (nv, ncols) row-major at once (ltl.hpp's two row sweeps,
-// with each pivot's reciprocal taken once: a row is scaled by multiplications, not 2 nv divisions).
-inline void ltl_solve_rows_scaled(const ModelView& mv, const int* lambda, const double* L, double* X, int ncols) {
+// X ← M⁻¹ X = L⁻¹ L⁻ᵀ X on the ncols columns of X (nv, ncols) row-major at once (the two row sweeps of
+// ltl.hpp, with each pivot's reciprocal taken once: a row is scaled by multiplications, not divisions).
+template <class S>
+void ltl_solve_rows_scaled(const ModelView& mv, const int* lambda, const S* L, S* X, int ncols) {
   const int nv = mv.nv;
   for (int k = nv - 1; k >= 0; --k) {
-    double* xk = X + static_cast<size_t>(k) * ncols;
-    const double inv = 1.0 / L[k * nv + k];
+    S* xk = X + static_cast<size_t>(k) * ncols;
+    const S inv = S(1.0) / L[k * nv + k];
     for (int c = 0; c < ncols; ++c) xk[c] *= inv;
     for (int i = lambda[k]; i != -1; i = lambda[i]) {
-      double* xi = X + static_cast<size_t>(i) * ncols;
-      const double l = L[k * nv + i];
+      S* xi = X + static_cast<size_t>(i) * ncols;
+      const S l = L[k * nv + i];
       for (int c = 0; c < ncols; ++c) xi[c] -= l * xk[c];
     }
   }
   for (int k = 0; k < nv; ++k) {
-    double* xk = X + static_cast<size_t>(k) * ncols;
+    S* xk = X + static_cast<size_t>(k) * ncols;
     for (int i = lambda[k]; i != -1; i = lambda[i]) {
-      const double* xi = X + static_cast<size_t>(i) * ncols;
-      const double l = L[k * nv + i];
+      const S* xi = X + static_cast<size_t>(i) * ncols;
+      const S l = L[k * nv + i];
       for (int c = 0; c < ncols; ++c) xk[c] -= l * xi[c];
     }
-    const double inv = 1.0 / L[k * nv + k];
+    const S inv = S(1.0) / L[k * nv + k];
     for (int c = 0; c < ncols; ++c) xk[c] *= inv;
   }
 }
 
 // q̈ = FD(q, q̇, τ) and ∂q̈/∂q, ∂q̈/∂q̇, ∂q̈/∂τ = M⁻¹ (nv, nv) each; `scratch` holds
 // aba_derivatives_scratch(nv) doubles. No articulated-body pass: M and h come from the derivative kernel's
-// composites, q̈ = M⁻¹ (τ − h) from M's tree-sparse factor (ltl.hpp: M = LᵀL), and the products with M⁻¹ are
-// solves with the same factor (∂τ/∂q and ∂τ/∂q̇ side by side, one (nv, 2 nv) block of rows per sweep);
-// M⁻¹ itself is Zᵀ Z (minv_from_factor): never a dense product. Returns −1, or the joint whose pivot is not
-// positive (M singular).
+// composites, q̈ = M⁻¹ (τ − h) from M's tree-sparse factor (M = LᵀL), and the products with M⁻¹ are solves
+// with the same factor (∂τ/∂q and ∂τ/∂q̇ side by side, one (nv, 2 nv) block of rows per sweep); M⁻¹ itself
+// is Zᵀ Z (minv_from_factor): never a dense product. Returns −1, or the joint whose pivot is not positive
+// (M singular).
 inline size_t aba_derivatives_scratch(int nv) { return 3 * static_cast<size_t>(nv) * nv + 2 * static_cast<size_t>(nv); }
 
-// x ← M⁻¹ (τ − h) with L = M's factor (ltl_factor on M in place first; −1, or the failed pivot's body).
-inline int factor_and_solve(const ModelView& mv, const int* lambda_d, double* L, const double* tau, const double* h,
-                            double* x) {
-  const int bad_dof = ltl_factor(mv, lambda_d, L);
+// x ← M⁻¹ (τ − h) with L = M's factor (ltl_factor_t on M in place first; −1, or the failed pivot's body).
+template <class S>
+int factor_and_solve(const ModelView& mv, const int* lambda, S* L, const S* tau, const S* h, S* x) {
+  const int nv = mv.nv;
+  const int bad_dof = ltl_factor_t(mv, lambda, L);
   if (bad_dof >= 0) return dof_body(mv, bad_dof);
-  for (int k = 0; k < mv.nv; ++k) x[k] = tau[k] - h[k];
-  ltl_solve_Lt(mv, lambda_d, L, x);
-  ltl_solve_L(mv, lambda_d, L, x);
+  for (int k = 0; k < nv; ++k) x[k] = tau[k] - h[k];
+  for (int k = nv - 1; k >= 0; --k) {  // Lᵀ y = x, then L x = y
+    x[k] = x[k] / L[k * nv + k];
+    for (int i = lambda[k]; i != -1; i = lambda[i]) x[i] = x[i] - L[k * nv + i] * x[k];
+  }
+  for (int k = 0; k < nv; ++k) {
+    for (int i = lambda[k]; i != -1; i = lambda[i]) x[k] = x[k] - L[k * nv + i] * x[i];
+    x[k] = x[k] / L[k * nv + k];
+  }
   return -1;
 }
 
 // The second half of aba_derivatives, once L holds M's factor and dq, dv hold ∂τ/∂q, ∂τ/∂q̇:
 // dq ← −M⁻¹ dq, dv ← −M⁻¹ dv, Minv ← M⁻¹. X: 2 nv² scratch.
-inline void aba_derivatives_solves(const ModelView& mv, const int* lambda_d, const double* L, double* dq, double* dv,
-                                   double* Minv, double* X) {
+template <class S>
+void aba_derivatives_solves(const ModelView& mv, const int* lambda_d, const S* L, S* dq, S* dv, S* Minv, S* X) {
   const int nv = mv.nv;
   for (int r = 0; r < nv; ++r) {  // [∂τ/∂q  ∂τ/∂q̇] (nv, 2 nv), then −M⁻¹ times it
-    double* x = X + 2 * static_cast<size_t>(r) * nv;
-    const double* tq = dq + static_cast<size_t>(r) * nv;
-    const double* tv = dv + static_cast<size_t>(r) * nv;
+    S* x = X + 2 * static_cast<size_t>(r) * nv;
+    const S* tq = dq + static_cast<size_t>(r) * nv;
+    const S* tv = dv + static_cast<size_t>(r) * nv;
     for (int c = 0; c < nv; ++c) x[c] = -tq[c], x[nv + c] = -tv[c];
   }
   ltl_solve_rows_scaled(mv, lambda_d, L, X, 2 * nv);
   for (int r = 0; r < nv; ++r) {
-    const double* x = X + 2 * static_cast<size_t>(r) * nv;
-    double* oq = dq + static_cast<size_t>(r) * nv;
-    double* ov = dv + static_cast<size_t>(r) * nv;
+    const S* x = X + 2 * static_cast<size_t>(r) * nv;
+    S* oq = dq + static_cast<size_t>(r) * nv;
+    S* ov = dv + static_cast<size_t>(r) * nv;
     for (int c = 0; c < nv; ++c) oq[c] = x[c], ov[c] = x[nv + c];
   }
   minv_from_factor(mv, lambda_d, L, Minv, X);  // Z in X
