@@ -338,3 +338,22 @@ def test_a_floating_base_far_from_the_origin_changes_no_digit_that_matters() -> 
     far = core.rnea_derivatives(model, far_q, st.v, st.a), core.aba_derivatives(model, far_q, st.v, tau)
     for x, y in zip(near[0] + near[1], far[0] + far[1]):
         assert_rel(y, x, "solo12 10⁶ m away", rtol=1e-12)
+
+
+def test_batched_aba_derivatives_of_a_long_chain_equal_the_rows() -> None:
+    """70 dofs: above the packed-solve size the batch factors and solves lane by lane; rows still equal their
+    one-state results bit for bit."""
+    b = fd.ModelBuilder("chain70")
+    parent = -1
+    for k in range(70):
+        axis = np.eye(3)[k % 3]
+        parent = b.add_body(f"l{k}", parent, fd.RevoluteJoint(axis), placement=fd.xlt([0.0, 0.05, 0.1]),
+                            inertia=fd.SpatialInertia.box(0.5, [0.05, 0.04, 0.1]))
+    model = b.build()
+    st = random_state(model, 33, (9,))
+    tau = fd.rnea(model, st.q, st.v, st.a)
+    batch = core.aba_derivatives(model, st.q, st.v, tau)
+    for k in range(9):
+        one = core.aba_derivatives(model, st.q[k], st.v[k], tau[k])
+        assert all(np.array_equal(x[k], y) for x, y in zip(batch, one)), k
+    assert_rel(batch[2][0] @ fd.crba(model, st.q[0]), np.eye(70), "chain70: M⁻¹ M", rtol=1e-9)
