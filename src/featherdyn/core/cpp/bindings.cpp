@@ -163,7 +163,21 @@ RowStatus for_rows(std::int64_t items, const F& body, std::int64_t group = 1) {
 
 // A result that finite input overflowed (products beyond float64's range): NONFINITE on the output,
 // so the caller words it instead of returning inf or NaN.
+// (all_finite first: a talos mass matrix's 2 500 entries cost 1.3 µs through first_nonfinite's
+// early exit, which does not vectorise, and 0.1 µs here)
+inline bool all_finite(const double* x, std::int64_t n) {
+  constexpr std::uint64_t EXPONENT = 0x7FF0000000000000ull, ONE = 0x0010000000000000ull;
+  std::uint64_t carry = 0;
+  for (std::int64_t k = 0; k < n; ++k) {
+    std::uint64_t u;
+    std::memcpy(&u, x + k, sizeof u);
+    carry |= (u & EXPONENT) + ONE;  // bit 63 only for the all-ones exponent of inf and NaN
+  }
+  return (carry >> 63) == 0;
+}
+
 inline std::int64_t finite_result(const double* x, std::int64_t n) {
+  if (all_finite(x, n)) return OK;
   const std::int64_t k = first_nonfinite(x, n);
   return k < 0 ? OK : make_status(NONFINITE, ARG_OUT, k);
 }
@@ -1057,6 +1071,7 @@ NB_MODULE(_core, m) {
   // module-level caches (functools.cache, lru tables) may outlive this module at interpreter
   // exit; nanobind would report those as leaks. They are not: nothing here holds a reference.
   nb::set_leak_warnings(false);
+  init_ndarray_fields();  // buffer.hpp: the one-state entry points' direct path to NumPy's arrays
 
   nb::class_<ModelData>(m, "Model")
       .def(nb::new_(&make_model), nb::arg("nb"), nb::arg("nq"), nb::arg("nv"), nb::arg("body_ints"),
