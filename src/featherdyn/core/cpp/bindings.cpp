@@ -224,6 +224,127 @@ std::int64_t crba1(const ModelData& md, const F64In& q, const F64Out& M) {
   return finite_result(M.data(), std::int64_t(mv.nv) * mv.nv);
 }
 
+// ---------------------------------------------------------------------------
+// one state, the result allocated here: the public functions' fast path
+// ---------------------------------------------------------------------------
+
+// A fresh C-contiguous float64 NumPy array, made by NumPy's C-API function PyArray_NewFromDescr
+// (entry 94 of the API table NumPy exports as numpy._core._multiarray_umath._ARRAY_API; checked at
+// import on an array it makes), which skips numpy.empty's argument parsing; numpy.empty otherwise.
+struct NumpyAlloc {
+  using NewFromDescr = PyObject* (*)(PyTypeObject*, PyObject*, int, const Py_ssize_t*, const Py_ssize_t*, void*, int,
+                                     PyObject*);
+  NewFromDescr new_from_descr = nullptr;
+  PyTypeObject* ndarray = nullptr;
+  PyObject* float64 = nullptr;
+  PyObject* empty = nullptr;  // numpy.empty, the fallback
+
+  nb::object operator()(std::initializer_list<Py_ssize_t> shape) const {
+    const Py_ssize_t* dims = shape.begin();
+    const int nd = static_cast<int>(shape.size());
+    if (new_from_descr != nullptr) {
+      Py_INCREF(float64);  // PyArray_NewFromDescr steals a reference to the dtype
+      PyObject* a = new_from_descr(ndarray, float64, nd, dims, nullptr, nullptr, 0, nullptr);
+      if (a == nullptr) throw nb::python_error();
+      return nb::steal(a);
+    }
+    nb::tuple t = nd == 1 ? nb::make_tuple(dims[0]) : nd == 2 ? nb::make_tuple(dims[0], dims[1])
+                                                             : nb::make_tuple(dims[0], dims[1], dims[2]);
+    return nb::borrow(empty)(t);
+  }
+};
+NumpyAlloc numpy_alloc;
+
+void init_numpy_alloc() {
+  nb::module_ np = nb::module_::import_("numpy");
+  numpy_alloc.empty = np.attr("empty").inc_ref().ptr();
+  try {
+    nb::object capsule = nb::module_::import_("numpy._core._multiarray_umath").attr("_ARRAY_API");
+    void** api = static_cast<void**>(PyCapsule_GetPointer(capsule.ptr(), nullptr));
+    if (api == nullptr) throw nb::python_error();
+    NumpyAlloc trial{reinterpret_cast<NumpyAlloc::NewFromDescr>(api[94]), reinterpret_cast<PyTypeObject*>(api[2]),
+                     np.attr("dtype")("float64").ptr(), nullptr};
+    if (trial.ndarray != reinterpret_cast<PyTypeObject*>(np.attr("ndarray").ptr())) return;
+    nb::object a = trial({2, 3});
+    const bool ok = a.type().ptr() == np.attr("ndarray").ptr() && nb::object(a.attr("dtype")).ptr() == trial.float64 && nb::cast<bool>(a.attr("shape").equal(nb::make_tuple(2, 3))) &&
+                    nb::cast<bool>(a.attr("flags")["C_CONTIGUOUS"]) && nb::cast<bool>(a.attr("flags")["WRITEABLE"]) &&
+                    nb::cast<bool>(a.attr("flags")["OWNDATA"]);
+    if (ok) {
+      Py_INCREF(trial.float64);
+      numpy_alloc.new_from_descr = trial.new_from_descr;
+      numpy_alloc.ndarray = trial.ndarray;
+      numpy_alloc.float64 = trial.float64;
+    }
+  } catch (const nb::python_error&) {
+    // NumPy 1.x names the module numpy.core._multiarray_umath: numpy.empty serves
+  }
+}
+
+// The element storage of an array numpy_alloc made.
+inline double* array_data(const nb::object& a) { return reinterpret_cast<double*>(reinterpret_cast<NdarrayFields*>(a.ptr())->data); }
+
+// Each returns its result, or None for anything the entry point above would refuse with a status (a
+// wrong length, a bad state, an overflowed or singular result): the caller's general path words it.
+
+nb::object rnea_new(const ModelData& md, const F64In& q, const F64In& v, const F64In& a, const F64In& f_ext,
+                    bool gravity) {
+  const ModelView& mv = md.view;
+  if (vec(q, mv.nq, ARG_Q) != OK || vec(v, mv.nv, ARG_V) != OK || vec(a, mv.nv, ARG_A) != OK) return nb::none();
+  if (f_ext.is_valid() && exact_shape(f_ext, {size_t(mv.nb), 6}, ARG_FEXT) != OK) return nb::none();
+  const double* fx = f_ext.is_valid() ? f_ext.data() : nullptr;
+  if (check_state(mv, q.data(), v.data(), a.data(), fx) != OK) return nb::none();
+  nb::object tau = numpy_alloc({mv.nv});
+  rnea(mv, q.data(), v.data(), a.data(), fx, gravity, array_data(tau));
+  return finite_result(array_data(tau), mv.nv) == OK ? tau : nb::none();
+}
+
+nb::object nle_new(const ModelData& md, const F64In& q, const F64In& v) {
+  const ModelView& mv = md.view;
+  if (vec(q, mv.nq, ARG_Q) != OK || vec(v, mv.nv, ARG_V) != OK) return nb::none();
+  if (check_state(mv, q.data(), v.data(), nullptr, nullptr) != OK) return nb::none();
+  nb::object h = numpy_alloc({mv.nv});
+  rnea<double>(mv, q.data(), v.data(), nullptr, nullptr, true, array_data(h));
+  return finite_result(array_data(h), mv.nv) == OK ? h : nb::none();
+}
+
+nb::object gravity_new(const ModelData& md, const F64In& q) {
+  const ModelView& mv = md.view;
+  if (vec(q, mv.nq, ARG_Q) != OK || check_state(mv, q.data(), nullptr, nullptr, nullptr) != OK) return nb::none();
+  nb::object g = numpy_alloc({mv.nv});
+  rnea<double>(mv, q.data(), nullptr, nullptr, nullptr, true, array_data(g));
+  return finite_result(array_data(g), mv.nv) == OK ? g : nb::none();
+}
+
+nb::object crba_new(const ModelData& md, const F64In& q) {
+  const ModelView& mv = md.view;
+  if (vec(q, mv.nq, ARG_Q) != OK || check_state(mv, q.data(), nullptr, nullptr, nullptr) != OK) return nb::none();
+  nb::object M = numpy_alloc({mv.nv, mv.nv});
+  crba(mv, q.data(), array_data(M));
+  return finite_result(array_data(M), std::int64_t(mv.nv) * mv.nv) == OK ? M : nb::none();
+}
+
+nb::object aba_new(const ModelData& md, const F64In& q, const F64In& v, const F64In& tau, const F64In& f_ext,
+                   bool gravity) {
+  const ModelView& mv = md.view;
+  if (vec(q, mv.nq, ARG_Q) != OK || vec(v, mv.nv, ARG_V) != OK || vec(tau, mv.nv, ARG_A) != OK) return nb::none();
+  if (f_ext.is_valid() && exact_shape(f_ext, {size_t(mv.nb), 6}, ARG_FEXT) != OK) return nb::none();
+  const double* fx = f_ext.is_valid() ? f_ext.data() : nullptr;
+  if (check_state(mv, q.data(), v.data(), tau.data(), fx) != OK) return nb::none();
+  nb::object qdd = numpy_alloc({mv.nv});
+  const int bad = aba<double>(mv, q.data(), v.data(), tau.data(), fx, gravity, array_data(qdd), nullptr);
+  return bad < 0 && finite_result(array_data(qdd), mv.nv) == OK ? qdd : nb::none();
+}
+
+nb::object frame_jacobian_new(const ModelData& md, const F64In& q, int frame, int ref) {
+  const ModelView& mv = md.view;
+  if (vec(q, mv.nq, ARG_Q) != OK || frame < 0 || frame >= mv.nf || ref < LOCAL || ref > LOCAL_WORLD_ALIGNED)
+    return nb::none();
+  if (check_state(mv, q.data(), nullptr, nullptr, nullptr) != OK) return nb::none();
+  nb::object J = numpy_alloc({6, mv.nv});
+  frame_jacobian(mv, q.data(), frame, ref, array_data(J));
+  return finite_result(array_data(J), 6 * std::int64_t(mv.nv)) == OK ? J : nb::none();
+}
+
 // D_singular (36,) receives the singular joint's D_i (row stride 6) when the status is SINGULAR.
 std::int64_t aba1(const ModelData& md, const F64In& q, const F64In& v, const F64In& tau, const F64In& f_ext,
                   bool gravity, const F64Out& qdd, const F64Out& D_singular) {
@@ -1072,6 +1193,7 @@ NB_MODULE(_core, m) {
   // exit; nanobind would report those as leaks. They are not: nothing here holds a reference.
   nb::set_leak_warnings(false);
   init_ndarray_fields();  // buffer.hpp: the one-state entry points' direct path to NumPy's arrays
+  init_numpy_alloc();     // the results of the *_new entry points
 
   nb::class_<ModelData>(m, "Model")
       .def(nb::new_(&make_model), nb::arg("nb"), nb::arg("nq"), nb::arg("nv"), nb::arg("body_ints"),
@@ -1098,6 +1220,13 @@ NB_MODULE(_core, m) {
   m.def("frame_pose", &frame_pose1, nb::arg("model"), A("q"), nb::arg("frame"), A("R"), A("p"));
   m.def("frame_jacobian", &frame_jacobian1, nb::arg("model"), A("q"), nb::arg("frame"), nb::arg("reference"),
         A("out"));
+  // the same, returning a fresh result or None (the public functions' one-state path)
+  m.def("rnea_new", &rnea_new, nb::arg("model"), A("q"), A("v"), A("a"), O("f_ext"), nb::arg("gravity"));
+  m.def("nle_new", &nle_new, nb::arg("model"), A("q"), A("v"));
+  m.def("gravity_new", &gravity_new, nb::arg("model"), A("q"));
+  m.def("crba_new", &crba_new, nb::arg("model"), A("q"));
+  m.def("aba_new", &aba_new, nb::arg("model"), A("q"), A("v"), A("tau"), O("f_ext"), nb::arg("gravity"));
+  m.def("frame_jacobian_new", &frame_jacobian_new, nb::arg("model"), A("q"), nb::arg("frame"), nb::arg("reference"));
   m.def("rnea_complex", &rnea_complex1, nb::arg("model"), A("q"), A("v"), A("a"), O("f_ext"), nb::arg("gravity"),
         A("out"));
 
