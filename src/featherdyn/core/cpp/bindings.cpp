@@ -182,6 +182,16 @@ inline std::int64_t finite_result(const double* x, std::int64_t n) {
   return k < 0 ? OK : make_status(NONFINITE, ARG_OUT, k);
 }
 
+// The same for nb homogeneous placements H (nb, 4, 4): only the translations H[i][0..2][3] can overflow
+// (a rotation's entries stay within ±1 for finite angles and unit quaternions, and the last row is
+// constant), so they are the first non-finite element whenever there is one.
+inline std::int64_t finite_placements(const double* H, std::int64_t nb) {
+  for (std::int64_t i = 0; i < nb; ++i)
+    for (const std::int64_t k : {16 * i + 3, 16 * i + 7, 16 * i + 11})
+      if (!std::isfinite(H[k])) return make_status(NONFINITE, ARG_OUT, k);
+  return OK;
+}
+
 std::int64_t rnea1(const ModelData& md, const F64In& q, const F64In& v, const F64In& a, const F64In& f_ext,
                    bool gravity, const F64Out& tau) {
   const ModelView& mv = md.view;
@@ -379,7 +389,7 @@ std::int64_t fk1(const ModelData& md, const F64In& q, const F64In& v, const F64I
   FD_TRY(check_state(mv, q.data(), vp, ap, nullptr));
   forward_kinematics(mv, q.data(), vp, ap, H.data(), vp ? vel.data() : nullptr, ap ? acc.data() : nullptr,
                      Hp.is_valid() ? Hp.data() : nullptr);
-  return finite_result(H.data(), 16 * std::int64_t(mv.nb));
+  return finite_placements(H.data(), mv.nb);
 }
 
 std::int64_t frame_placement1(const ModelData& md, const F64In& q, int frame, const F64Out& pose) {
@@ -389,7 +399,7 @@ std::int64_t frame_placement1(const ModelData& md, const F64In& q, int frame, co
   FD_TRY(exact_shape(pose, {4, 4}));
   FD_TRY(check_state(mv, q.data(), nullptr, nullptr, nullptr));
   frame_placement(mv, q.data(), frame, pose.data());
-  return finite_result(pose.data(), 16);
+  return finite_placements(pose.data(), 1);
 }
 
 // ⁰M_f as its rotation R (3, 3) and translation p (3,): the arrays of a PluckerTransform.
@@ -406,8 +416,7 @@ std::int64_t frame_pose1(const ModelData& md, const F64In& q, int frame, const F
   double* r = R.data();
   for (int k = 0; k < 9; ++k) r[k] = Rf.m[k];
   p.data()[0] = pf.x, p.data()[1] = pf.y, p.data()[2] = pf.z;
-  FD_TRY(finite_result(r, 9));
-  return finite_result(p.data(), 3);
+  return finite_result(p.data(), 3);  // (the rotation's entries stay within ±1: see finite_placements)
 }
 
 std::int64_t frame_jacobian1(const ModelData& md, const F64In& q, int frame, int ref, const F64Out& J) {
@@ -545,7 +554,7 @@ std::int64_t placements1(const ModelData& md, const F64In& q, const F64Out& H) {
   FD_TRY(exact_shape(H, {size_t(mv.nb), 4, 4}));
   FD_TRY(check_state(mv, q.data(), nullptr, nullptr, nullptr));
   forward_kinematics<double>(mv, q.data(), nullptr, nullptr, H.data(), nullptr, nullptr);
-  return finite_result(H.data(), 16 * std::int64_t(mv.nb));
+  return finite_placements(H.data(), mv.nb);
 }
 
 RowStatus fk_n(const ModelData& md, const In& q, Out H) {
@@ -588,7 +597,7 @@ RowStatus kinematics_n(const ModelData& md, const In& q, const In& v, const In& 
     FD_TRY(check_state(mv, Q.row(r), V.row(r), A.row(r), nullptr));
     forward_kinematics(mv, Q.row(r), V.row(r), A.row(r), oH + r * n, oV ? oV + r * m : nullptr,
                        oA ? oA + r * m : nullptr, oHp + r * n);
-    return finite_result(oH + r * n, n);
+    return finite_placements(oH + r * n, mv.nb);
   });
 }
 
