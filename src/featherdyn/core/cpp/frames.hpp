@@ -70,7 +70,7 @@ void frame_placement(const ModelView& mv, const S* q, int frame, S* H) {
 // The columns of joint k (world pose R, p) in the Jacobian J (6, nv) of a frame at (Rf, ·): ⁰X_k S_k about
 // `origin` (the world origin for WORLD, the frame's origin otherwise), in world axes, frame axes for LOCAL.
 template <class S>
-inline void put_frame_columns(const ModelView& mv, int k, const Mat3<S>& R, const Vec3<S>& p, const Vec3<S>& origin,
+FD_INLINE void put_frame_columns(const ModelView& mv, int k, const Mat3<S>& R, const Vec3<S>& p, const Vec3<S>& origin,
                               const Mat3<S>& Rf, int ref, S* J) {
   const int nv = mv.nv;
   const Vec3<S> d = p - origin;

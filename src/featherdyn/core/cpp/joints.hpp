@@ -55,7 +55,7 @@ FD_INLINE Mat3<S> quat_to_matrix(const S* q) {
 
 // The pose (R, p) of body i in its parent for q (the whole configuration): Xtree_i · pose_J(q_i).
 template <class S>
-inline void pose_in_parent(const ModelView& mv, int i, const S* q, Mat3<S>& R, Vec3<S>& p) {
+FD_INLINE void pose_in_parent(const ModelView& mv, int i, const S* q, Mat3<S>& R, Vec3<S>& p) {
   const Mat3<S> Rt = load9<S>(mv.Xtree_R + 9 * i);
   const Vec3<S> pt = load3<S>(mv.Xtree_p + 3 * i);
   const S* qi = q + mv.idx_q[i];

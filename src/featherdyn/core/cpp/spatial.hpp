@@ -189,7 +189,7 @@ struct RigidInertia {
 // and with [a]×[b]× = b aᵀ − (a·b) 1 the last two terms are symmetric rank-two updates:
 //     Ī' = Eᵀ Ī E − (g rᵀ + r gᵀ) − m r rᵀ + (2 r·g + m r·r) 1
 template <class S>
-inline RigidInertia<S> transform_to_parent(const Xform<S>& X, const RigidInertia<S>& I) {
+FD_INLINE RigidInertia<S> transform_to_parent(const Xform<S>& X, const RigidInertia<S>& I) {
   const Vec3<S> g = mul_transpose(X.E, I.h);
   const Vec3<S>& r = X.r;
   const Mat3<S> T = I.I.full() * X.E;  // Ī E; then Eᵀ (Ī E), upper triangle only
