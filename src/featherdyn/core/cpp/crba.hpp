@@ -61,9 +61,17 @@ void crba(const ModelView& mv, const S* q, S* M) {
       Sr[iv + c] = {wr, R[i] * s.v + cross(p[i], wr)};
     }
   }
+  // I^C_λ += I^C_i; along a serial stretch (λ(i) = i − 1) the running sum stays in registers instead of a
+  // store and a reload per body (as in rnea.hpp)
+  RigidInertia<S> IC_i = nb > 0 ? IC[nb - 1] : RigidInertia<S>{};
   for (int i = nb - 1; i >= 0; --i) {
     const int lam = mv.parent[i];
-    if (lam != -1) IC[lam] = IC[lam] + IC[i];
+    if (lam == i - 1 && lam != -1) {
+      IC[lam] = IC_i = IC[lam] + IC_i;
+    } else {
+      if (lam != -1) IC[lam] = IC[lam] + IC_i;
+      if (i > 0) IC_i = IC[i - 1];
+    }
   }
   for (int k = 0; k < nv * nv; ++k) M[k] = S(0.0);
 

@@ -73,10 +73,18 @@ void rnea(const ModelView& mv, const S* q, const S* qd, const S* qdd, const S* f
       f[i] = f[i] - Force<S>{{fx[0], fx[1], fx[2]}, {fx[3], fx[4], fx[5]}};
     }
   }
+  // f_i is complete once every child (all numbered above i) has added its share; along a serial
+  // stretch (λ(i) = i − 1) the running force stays in registers instead of a store and a reload per body
+  Force<S> fi = nb > 0 ? f[nb - 1] : Force<S>{};
   for (int i = nb - 1; i >= 0; --i) {
     const int lam = mv.parent[i];
-    St_times(mv, i, f[i], tau + mv.idx_v[i]);
-    if (lam != -1) f[lam] += X_up[i].apply_transpose(f[i]);
+    St_times(mv, i, fi, tau + mv.idx_v[i]);
+    if (lam == i - 1 && lam != -1) {
+      fi = f[lam] + X_up[i].apply_transpose(fi);  // f_λ += X_upᵀ f_i, carried on to λ = i − 1
+    } else {
+      if (lam != -1) f[lam] += X_up[i].apply_transpose(fi);
+      if (i > 0) fi = f[i - 1];
+    }
   }
   if (mv.armature && qdd)
     for (int k = 0; k < mv.nv; ++k) tau[k] += S(mv.armature[k]) * qdd[k];
