@@ -5,6 +5,8 @@
 // take the buffer protocol's view with the same rules, buffer.hpp), checks their lengths, lets the
 // core check finiteness and quaternions, runs one kernel, and returns a status (checks.hpp)
 // that featherdyn/core/_errors.py turns into the reference's exception. No numerics here.
+// The public functions' one-state path uses the *_new variants, which allocate the result and
+// return it, or None where the status would not be OK (the general path then words the error).
 // Batched entry points release the GIL and run rows on the core's thread pool; they return
 // (row, status) of the first failing row, or (−1, 0).
 #include <nanobind/nanobind.h>
