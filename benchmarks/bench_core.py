@@ -14,6 +14,11 @@ Sections:
 * batched, N states on T threads: ``core.rnea_batch`` / ``core.aba_batch`` against
   ``pin.rneaInParallel`` / ``pin.abaInParallel`` with the same thread count, and
   ``core.crba_batch`` against a Python loop over ``pin.crba``;
+* where a public one-state call's time goes: ``fd.crba(model, q)`` & co. (the public
+  function), the binding call it makes (``_core.crba_new(cm, q)``: checks, kernel, result
+  allocation) and the same binding call on a state it refuses at once (one wrong length: the
+  Python call, argument conversion and return, i.e. the floor of any call), against Pinocchio's
+  call; the kernel alone is the binding call minus that floor and the output checks;
 * panda's batched RNEA as a fraction of the machine's double-precision arithmetic
   peak: its exact operation count (the RNEA template instantiated for a counting
   scalar, ``_core.flops``) over the time per state, against
@@ -129,6 +134,40 @@ def single_rows(p: Pair, frame: str, repeats: int, budget: float) -> list[tuple[
     return [(name, *median_pair(f, g, repeats, budget)) for name, f, g in calls]
 
 
+def floor_rows(p: Pair, frame: str, repeats: int, budget: float) -> list[tuple[str, float, float, float, float]]:
+    """``(call, public s, binding s, refused-at-once s, Pinocchio s)`` per one-state public call (see the module doc)."""
+    import pinocchio as pin
+
+    from featherdyn.core import _core
+
+    m, pm, pd = p.model, p.pm, p.pd
+    Q, V, A, Qp, Vp, Ap = p.states(1)
+    q, v, a, qp, vp, ap = Q[0], V[0], A[0], np.ascontiguousarray(Qp[0]), np.ascontiguousarray(Vp[0]), np.ascontiguousarray(Ap[0])
+    cm, short = core._view(m).cm, np.zeros(1)
+    fid, fid_pin = m.frame_id(frame), pm.getFrameId(frame)
+    H = np.empty((m.nbodies, 4, 4))
+    cmodel = fd.compile(m)
+    calls: list[tuple[str, Callable[[], Any], Callable[[], Any], Callable[[], Any], Callable[[], Any]]] = [
+        ("fd.rnea", lambda: fd.rnea(m, q, v, a), lambda: _core.rnea_new(cm, q, v, a, None, True),
+         lambda: _core.rnea_new(cm, short, v, a, None, True), lambda: pin.rnea(pm, pd, qp, vp, ap)),
+        ("fd.crba", lambda: fd.crba(m, q), lambda: _core.crba_new(cm, q), lambda: _core.crba_new(cm, short),
+         lambda: pin.crba(pm, pd, qp)),
+        ("fd.generalized_gravity", lambda: fd.generalized_gravity(m, q), lambda: _core.gravity_new(cm, q),
+         lambda: _core.gravity_new(cm, short), lambda: pin.computeGeneralizedGravity(pm, pd, qp)),
+        ("fd.frame_jacobian LOCAL", lambda: fd.frame_jacobian(m, q, frame, fd.LOCAL),
+         lambda: _core.frame_jacobian_new(cm, q, fid, 0), lambda: _core.frame_jacobian_new(cm, short, fid, 0),
+         lambda: pin.computeFrameJacobian(pm, pd, qp, fid_pin, pin.LOCAL)),
+        ("fd.compile(model).fk(q, out=H)", lambda: cmodel.fk(q, out=H), lambda: _core.placements(cm, q, H),
+         lambda: _core.placements(cm, short, H), lambda: pin.forwardKinematics(pm, pd, qp)),
+    ]
+    rows = []
+    for name, public, binding, refused, pin_call in calls:
+        t_public, t_pin = median_pair(public, pin_call, repeats, budget)
+        t_binding, t_refused = median_pair(binding, refused, repeats, budget)
+        rows.append((name, t_public, t_binding, t_refused, t_pin))
+    return rows
+
+
 def batch_rows(p: Pair, n: int, threads: int, repeats: int, budget: float) -> list[tuple[str, float, float]]:
     import pinocchio as pin
 
@@ -217,6 +256,11 @@ def main(argv: list[str]) -> int:
         for row, t_core, t_pin in single_rows(p, frame, repeats, budget) + batch_rows(p, args.batch, args.threads,
                                                                                     max(3, repeats // 3), budget * 10):
             print(f"{row:40s} {t_core * 1e6:9.2f} {t_pin * 1e6:9.2f} {t_core / t_pin:7.2f}")
+        print(f"\nwhere the time goes (µs; floor = the binding call on a state it refuses at once)\n"
+              f"{'call':32s} {'public':>8s} {'binding':>8s} {'floor':>8s} {'pin':>8s} {'ratio':>7s}")
+        for row, t_public, t_binding, t_floor, t_pin in floor_rows(p, frame, repeats, budget):
+            print(f"{row:32s} {t_public * 1e6:8.2f} {t_binding * 1e6:8.2f} {t_floor * 1e6:8.2f} {t_pin * 1e6:8.2f} "
+                  f"{t_public / t_pin:7.2f}")
         print()
     return 0
 

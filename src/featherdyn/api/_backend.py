@@ -9,7 +9,7 @@ Every public function (``fd.rnea`` & co.) takes ``backend=None | "reference" |
 * :func:`core_path` gives the core's handle of a model when a one-state call
   may hand its arguments to the binding as they are. The binding refuses
   (``TypeError``) anything but native-endian, aligned, C-contiguous float64
-  arrays of the exact shapes and returns a non-zero status for a bad state;
+  arrays of the exact shapes and returns ``None`` (or a non-zero status) for a bad state;
   either way the call goes down its general path, which converts, validates
   and raises the reference's worded errors: the one-state path changes how
   long a call takes, never what it returns or raises. Each call site writes
@@ -112,10 +112,13 @@ def core_path(model: Any, backend: str | None) -> Any:
     ``fd.frame_placement`` hand their arguments to the core's binding as
     they are; it takes only native-endian, aligned, C-contiguous float64 arrays
     of the exact lengths (exact ``numpy.ndarray``, so a masked array is never
-    read through its mask) and raises ``TypeError`` for anything else, or
-    returns a non-zero status for a bad state or a result that overflowed.
-    Either way the call goes on with its general path, which converts, checks
-    and words the error.
+    read through its mask) and raises ``TypeError`` for anything else. The
+    ``_core.<alg>_new`` entry points return the freshly allocated result, or
+    ``None`` for a bad state, a singular or an overflowed result (``fd.crba``
+    & co.); the ``out=`` entry points return a non-zero status instead
+    (``frame_placement``, ``fd.compile``'s methods with ``out=``). Either way
+    the call goes on with its general path, which converts, checks and words
+    the error.
     """
     if backend is None and _DEFAULT is None:
         try:

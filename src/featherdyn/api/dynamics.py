@@ -20,13 +20,12 @@ from ..algorithms import coriolis as _coriolis
 from ..algorithms import crba as _crba
 from ..algorithms import rnea as _rnea
 from ..model import Model
-from ._backend import CORE, OK, core_path, select_backend
+from ._backend import CORE, core_path, select_backend
 from ._checks import State, as_dtype, batch_with_f_ext, check_f_ext, check_state, finite_result, quiet
 from .kinematics import kinematics_of
 
 __all__ = ["rnea", "nonlinear_effects", "generalized_gravity", "crba", "aba", "coriolis_matrix"]
 
-_EMPTY = np.empty
 def _inverse_dynamics(model: Model, st: State, v: np.ndarray, a: np.ndarray, fx: np.ndarray | None, gravity: bool,
                       backend: str | None) -> np.ndarray:
     """RNEA on a checked state, by the backend ``backend`` resolves to."""
@@ -54,9 +53,9 @@ def rnea(model: Model, q: ArrayLike, v: ArrayLike, a: ArrayLike, f_ext: ArrayLik
     """
     core = core_path(model, backend)
     if core is not None:
-        tau = _EMPTY(core.nv)
         try:
-            if CORE.rnea(core.cm, q, v, a, f_ext, gravity, tau) == OK:
+            tau = CORE.rnea_new(core.cm, q, v, a, f_ext, gravity)  # the result, or None: the general path words why
+            if tau is not None:
                 return tau
         except TypeError:  # arguments the binding does not take as they are: the general path converts
             pass
@@ -74,9 +73,9 @@ def nonlinear_effects(model: Model, q: ArrayLike, v: ArrayLike, *, backend: str 
     """
     core = core_path(model, backend)
     if core is not None:
-        h = _EMPTY(core.nv)
         try:
-            if CORE.nle(core.cm, q, v, h) == OK:
+            h = CORE.nle_new(core.cm, q, v)
+            if h is not None:
                 return h
         except TypeError:  # arguments the binding does not take as they are: the general path converts
             pass
@@ -94,9 +93,9 @@ def generalized_gravity(model: Model, q: ArrayLike, *, backend: str | None = Non
     """
     core = core_path(model, backend)
     if core is not None:
-        g = _EMPTY(core.nv)
         try:
-            if CORE.gravity(core.cm, q, g) == OK:
+            g = CORE.gravity_new(core.cm, q)
+            if g is not None:
                 return g
         except TypeError:  # arguments the binding does not take as they are: the general path converts
             pass
@@ -116,9 +115,9 @@ def crba(model: Model, q: ArrayLike, *, backend: str | None = None) -> np.ndarra
     """
     core = core_path(model, backend)
     if core is not None:
-        M = _EMPTY(core.shape_M)
         try:
-            if CORE.crba(core.cm, q, M) == OK:
+            M = CORE.crba_new(core.cm, q)
+            if M is not None:
                 return M
         except TypeError:  # arguments the binding does not take as they are: the general path converts
             pass
@@ -150,9 +149,9 @@ def aba(model: Model, q: ArrayLike, v: ArrayLike, tau: ArrayLike, f_ext: ArrayLi
     """
     core = core_path(model, backend)
     if core is not None:
-        qdd = _EMPTY(core.nv)
         try:
-            if CORE.aba(core.cm, q, v, tau, f_ext, gravity, qdd, None) == OK:
+            qdd = CORE.aba_new(core.cm, q, v, tau, f_ext, gravity)
+            if qdd is not None:
                 return qdd
         except TypeError:  # arguments the binding does not take as they are: the general path converts
             pass

@@ -214,9 +214,9 @@ def frame_jacobian(model: Model, q: ArrayLike, frame: str | int, reference: Refe
                     else 2 if reference is LOCAL_WORLD_ALIGNED else -1)
         fid_ = core.frames.get(frame, -1) if frame.__class__ is str else frame
         if ref_code >= 0:
-            J_ = _EMPTY(core.shape_J)
             try:
-                if CORE.frame_jacobian(core.cm, q, fid_, ref_code, J_) == OK:
+                J_ = CORE.frame_jacobian_new(core.cm, q, fid_, ref_code)  # the result, or None
+                if J_ is not None:
                     return J_
             except TypeError:  # arguments the binding does not take as they are: the general path converts
                 pass

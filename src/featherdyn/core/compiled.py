@@ -78,6 +78,9 @@ class CompiledModel:
         frames = handle.frames
         k_rnea, k_nle, k_gravity, k_crba, k_aba, k_fk, k_jac = (
             core.rnea, core.nle, core.gravity, core.crba, core.aba, core.placements, core.frame_jacobian)
+        # without out=: the entry points that allocate the result themselves (or return None)
+        n_rnea, n_nle, n_gravity, n_crba, n_aba, n_jac = (
+            core.rnea_new, core.nle_new, core.gravity_new, core.crba_new, core.aba_new, core.frame_jacobian_new)
         codes = {id(LOCAL): 0, id(WORLD): 1, id(LOCAL_WORLD_ALIGNED): 2}
 
         # The methods are closures stored on the instance: no bound-method object, few lookups.
@@ -86,50 +89,65 @@ class CompiledModel:
 
         def rnea(q: Any, v: Any, a: Any, f_ext: Any = None, out: Any = None) -> np.ndarray:
             """``τ = RNEA(q, v, a)`` `(nv,)` with gravity, optional body-frame ``f_ext`` `(nb, 6)`."""
-            tau = empty(nv) if out is None else out
             try:
-                if k_rnea(cm, q, v, a, f_ext, True, tau) == 0:
-                    return tau
+                if out is None:
+                    tau = n_rnea(cm, q, v, a, f_ext, True)
+                    if tau is not None:
+                        return tau
+                elif k_rnea(cm, q, v, a, f_ext, True, out) == 0:
+                    return out
             except TypeError:
                 pass
             return _rnea(model, q, v, a, f_ext, True, _one_state_out(out, (nv,)))
 
         def nle(q: Any, v: Any, out: Any = None) -> np.ndarray:
             """``h(q, v) = RNEA(q, v, 0)`` `(nv,)`."""
-            h = empty(nv) if out is None else out
             try:
-                if k_nle(cm, q, v, h) == 0:
-                    return h
+                if out is None:
+                    h = n_nle(cm, q, v)
+                    if h is not None:
+                        return h
+                elif k_nle(cm, q, v, out) == 0:
+                    return out
             except TypeError:
                 pass
             return _nle(model, q, v, _one_state_out(out, (nv,)))
 
         def gravity(q: Any, out: Any = None) -> np.ndarray:
             """``g(q) = RNEA(q, 0, 0)`` `(nv,)`."""
-            g = empty(nv) if out is None else out
             try:
-                if k_gravity(cm, q, g) == 0:
-                    return g
+                if out is None:
+                    g = n_gravity(cm, q)
+                    if g is not None:
+                        return g
+                elif k_gravity(cm, q, out) == 0:
+                    return out
             except TypeError:
                 pass
             return _gravity(model, q, _one_state_out(out, (nv,)))
 
         def crba(q: Any, out: Any = None) -> np.ndarray:
             """The mass matrix ``M(q)`` `(nv, nv)`, full and symmetric."""
-            M = empty(shape_M) if out is None else out
             try:
-                if k_crba(cm, q, M) == 0:
-                    return M
+                if out is None:
+                    M = n_crba(cm, q)
+                    if M is not None:
+                        return M
+                elif k_crba(cm, q, out) == 0:
+                    return out
             except TypeError:
                 pass
             return _crba(model, q, _one_state_out(out, shape_M))
 
         def aba(q: Any, v: Any, tau: Any, f_ext: Any = None, out: Any = None) -> np.ndarray:
             """``q̈ = ABA(q, v, τ)`` `(nv,)`; ``SingularMassMatrixError`` naming the joint."""
-            qdd = empty(nv) if out is None else out
             try:
-                if k_aba(cm, q, v, tau, f_ext, True, qdd, None) == 0:
-                    return qdd
+                if out is None:
+                    qdd = n_aba(cm, q, v, tau, f_ext, True)
+                    if qdd is not None:
+                        return qdd
+                elif k_aba(cm, q, v, tau, f_ext, True, out, None) == 0:
+                    return out
             except TypeError:
                 pass
             return _aba(model, q, v, tau, f_ext, True, _one_state_out(out, (nv,)))
@@ -148,11 +166,14 @@ class CompiledModel:
             """The Jacobian `(6, nv)` of ``frame`` (name or index) in ``reference`` (``fd.LOCAL``, ...)."""
             fid = frames.get(frame, -1) if frame.__class__ is str else frame
             ref = codes.get(id(reference), -1)
-            J = empty(shape_J) if out is None else out
             if ref >= 0:
                 try:
-                    if k_jac(cm, q, fid, ref, J) == 0:
-                        return J
+                    if out is None:
+                        J = n_jac(cm, q, fid, ref)
+                        if J is not None:
+                            return J
+                    elif k_jac(cm, q, fid, ref, out) == 0:
+                        return out
                 except TypeError:
                     pass
             return _frame_jacobian(model, q, frame, reference, _one_state_out(out, shape_J))

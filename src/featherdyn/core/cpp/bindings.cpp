@@ -5,6 +5,8 @@
 // take the buffer protocol's view with the same rules, buffer.hpp), checks their lengths, lets the
 // core check finiteness and quaternions, runs one kernel, and returns a status (checks.hpp)
 // that featherdyn/core/_errors.py turns into the reference's exception. No numerics here.
+// The public functions' one-state path uses the *_new variants, which allocate the result and
+// return it, or None where the status would not be OK (the general path then words the error).
 // Batched entry points release the GIL and run rows on the core's thread pool; they return
 // (row, status) of the first failing row, or (−1, 0).
 #include <nanobind/nanobind.h>
@@ -163,9 +165,33 @@ RowStatus for_rows(std::int64_t items, const F& body, std::int64_t group = 1) {
 
 // A result that finite input overflowed (products beyond float64's range): NONFINITE on the output,
 // so the caller words it instead of returning inf or NaN.
+// (all_finite first: a talos mass matrix's 2 500 entries cost 1.3 µs through first_nonfinite's
+// early exit, which does not vectorise, and 0.1 µs here)
+inline bool all_finite(const double* x, std::int64_t n) {
+  constexpr std::uint64_t EXPONENT = 0x7FF0000000000000ull, ONE = 0x0010000000000000ull;
+  std::uint64_t carry = 0;
+  for (std::int64_t k = 0; k < n; ++k) {
+    std::uint64_t u;
+    std::memcpy(&u, x + k, sizeof u);
+    carry |= (u & EXPONENT) + ONE;  // bit 63 only for the all-ones exponent of inf and NaN
+  }
+  return (carry >> 63) == 0;
+}
+
 inline std::int64_t finite_result(const double* x, std::int64_t n) {
+  if (all_finite(x, n)) return OK;
   const std::int64_t k = first_nonfinite(x, n);
   return k < 0 ? OK : make_status(NONFINITE, ARG_OUT, k);
+}
+
+// The same for nb homogeneous placements H (nb, 4, 4): only the translations H[i][0..2][3] can overflow
+// (a rotation's entries stay within ±1 for finite angles and unit quaternions, and the last row is
+// constant), so they are the first non-finite element whenever there is one.
+inline std::int64_t finite_placements(const double* H, std::int64_t nb) {
+  for (std::int64_t i = 0; i < nb; ++i)
+    for (const std::int64_t k : {16 * i + 3, 16 * i + 7, 16 * i + 11})
+      if (!std::isfinite(H[k])) return make_status(NONFINITE, ARG_OUT, k);
+  return OK;
 }
 
 std::int64_t rnea1(const ModelData& md, const F64In& q, const F64In& v, const F64In& a, const F64In& f_ext,
@@ -210,6 +236,127 @@ std::int64_t crba1(const ModelData& md, const F64In& q, const F64Out& M) {
   return finite_result(M.data(), std::int64_t(mv.nv) * mv.nv);
 }
 
+// ---------------------------------------------------------------------------
+// one state, the result allocated here: the public functions' fast path
+// ---------------------------------------------------------------------------
+
+// A fresh C-contiguous float64 NumPy array, made by NumPy's C-API function PyArray_NewFromDescr
+// (entry 94 of the API table NumPy exports as numpy._core._multiarray_umath._ARRAY_API; checked at
+// import on an array it makes), which skips numpy.empty's argument parsing; numpy.empty otherwise.
+struct NumpyAlloc {
+  using NewFromDescr = PyObject* (*)(PyTypeObject*, PyObject*, int, const Py_ssize_t*, const Py_ssize_t*, void*, int,
+                                     PyObject*);
+  NewFromDescr new_from_descr = nullptr;
+  PyTypeObject* ndarray = nullptr;
+  PyObject* float64 = nullptr;
+  PyObject* empty = nullptr;  // numpy.empty, the fallback
+
+  nb::object operator()(std::initializer_list<Py_ssize_t> shape) const {
+    const Py_ssize_t* dims = shape.begin();
+    const int nd = static_cast<int>(shape.size());
+    if (new_from_descr != nullptr) {
+      Py_INCREF(float64);  // PyArray_NewFromDescr steals a reference to the dtype
+      PyObject* a = new_from_descr(ndarray, float64, nd, dims, nullptr, nullptr, 0, nullptr);
+      if (a == nullptr) throw nb::python_error();
+      return nb::steal(a);
+    }
+    nb::tuple t = nd == 1 ? nb::make_tuple(dims[0]) : nd == 2 ? nb::make_tuple(dims[0], dims[1])
+                                                             : nb::make_tuple(dims[0], dims[1], dims[2]);
+    return nb::borrow(empty)(t);
+  }
+};
+NumpyAlloc numpy_alloc;
+
+void init_numpy_alloc() {
+  nb::module_ np = nb::module_::import_("numpy");
+  numpy_alloc.empty = np.attr("empty").inc_ref().ptr();
+  try {
+    nb::object capsule = nb::module_::import_("numpy._core._multiarray_umath").attr("_ARRAY_API");
+    void** api = static_cast<void**>(PyCapsule_GetPointer(capsule.ptr(), nullptr));
+    if (api == nullptr) throw nb::python_error();
+    NumpyAlloc trial{reinterpret_cast<NumpyAlloc::NewFromDescr>(api[94]), reinterpret_cast<PyTypeObject*>(api[2]),
+                     np.attr("dtype")("float64").ptr(), nullptr};
+    if (trial.ndarray != reinterpret_cast<PyTypeObject*>(np.attr("ndarray").ptr())) return;
+    nb::object a = trial({2, 3});
+    const bool ok = a.type().ptr() == np.attr("ndarray").ptr() && nb::object(a.attr("dtype")).ptr() == trial.float64 && nb::cast<bool>(a.attr("shape").equal(nb::make_tuple(2, 3))) &&
+                    nb::cast<bool>(a.attr("flags")["C_CONTIGUOUS"]) && nb::cast<bool>(a.attr("flags")["WRITEABLE"]) &&
+                    nb::cast<bool>(a.attr("flags")["OWNDATA"]);
+    if (ok) {
+      Py_INCREF(trial.float64);
+      numpy_alloc.new_from_descr = trial.new_from_descr;
+      numpy_alloc.ndarray = trial.ndarray;
+      numpy_alloc.float64 = trial.float64;
+    }
+  } catch (const nb::python_error&) {
+    // NumPy 1.x names the module numpy.core._multiarray_umath: numpy.empty serves
+  }
+}
+
+// The element storage of an array numpy_alloc made.
+inline double* array_data(const nb::object& a) { return reinterpret_cast<double*>(reinterpret_cast<NdarrayFields*>(a.ptr())->data); }
+
+// Each returns its result, or None for anything the entry point above would refuse with a status (a
+// wrong length, a bad state, an overflowed or singular result): the caller's general path words it.
+
+nb::object rnea_new(const ModelData& md, const F64In& q, const F64In& v, const F64In& a, const F64In& f_ext,
+                    bool gravity) {
+  const ModelView& mv = md.view;
+  if (vec(q, mv.nq, ARG_Q) != OK || vec(v, mv.nv, ARG_V) != OK || vec(a, mv.nv, ARG_A) != OK) return nb::none();
+  if (f_ext.is_valid() && exact_shape(f_ext, {size_t(mv.nb), 6}, ARG_FEXT) != OK) return nb::none();
+  const double* fx = f_ext.is_valid() ? f_ext.data() : nullptr;
+  if (check_state(mv, q.data(), v.data(), a.data(), fx) != OK) return nb::none();
+  nb::object tau = numpy_alloc({mv.nv});
+  rnea(mv, q.data(), v.data(), a.data(), fx, gravity, array_data(tau));
+  return finite_result(array_data(tau), mv.nv) == OK ? tau : nb::none();
+}
+
+nb::object nle_new(const ModelData& md, const F64In& q, const F64In& v) {
+  const ModelView& mv = md.view;
+  if (vec(q, mv.nq, ARG_Q) != OK || vec(v, mv.nv, ARG_V) != OK) return nb::none();
+  if (check_state(mv, q.data(), v.data(), nullptr, nullptr) != OK) return nb::none();
+  nb::object h = numpy_alloc({mv.nv});
+  rnea<double>(mv, q.data(), v.data(), nullptr, nullptr, true, array_data(h));
+  return finite_result(array_data(h), mv.nv) == OK ? h : nb::none();
+}
+
+nb::object gravity_new(const ModelData& md, const F64In& q) {
+  const ModelView& mv = md.view;
+  if (vec(q, mv.nq, ARG_Q) != OK || check_state(mv, q.data(), nullptr, nullptr, nullptr) != OK) return nb::none();
+  nb::object g = numpy_alloc({mv.nv});
+  rnea<double>(mv, q.data(), nullptr, nullptr, nullptr, true, array_data(g));
+  return finite_result(array_data(g), mv.nv) == OK ? g : nb::none();
+}
+
+nb::object crba_new(const ModelData& md, const F64In& q) {
+  const ModelView& mv = md.view;
+  if (vec(q, mv.nq, ARG_Q) != OK || check_state(mv, q.data(), nullptr, nullptr, nullptr) != OK) return nb::none();
+  nb::object M = numpy_alloc({mv.nv, mv.nv});
+  crba(mv, q.data(), array_data(M));
+  return finite_result(array_data(M), std::int64_t(mv.nv) * mv.nv) == OK ? M : nb::none();
+}
+
+nb::object aba_new(const ModelData& md, const F64In& q, const F64In& v, const F64In& tau, const F64In& f_ext,
+                   bool gravity) {
+  const ModelView& mv = md.view;
+  if (vec(q, mv.nq, ARG_Q) != OK || vec(v, mv.nv, ARG_V) != OK || vec(tau, mv.nv, ARG_A) != OK) return nb::none();
+  if (f_ext.is_valid() && exact_shape(f_ext, {size_t(mv.nb), 6}, ARG_FEXT) != OK) return nb::none();
+  const double* fx = f_ext.is_valid() ? f_ext.data() : nullptr;
+  if (check_state(mv, q.data(), v.data(), tau.data(), fx) != OK) return nb::none();
+  nb::object qdd = numpy_alloc({mv.nv});
+  const int bad = aba<double>(mv, q.data(), v.data(), tau.data(), fx, gravity, array_data(qdd), nullptr);
+  return bad < 0 && finite_result(array_data(qdd), mv.nv) == OK ? qdd : nb::none();
+}
+
+nb::object frame_jacobian_new(const ModelData& md, const F64In& q, int frame, int ref) {
+  const ModelView& mv = md.view;
+  if (vec(q, mv.nq, ARG_Q) != OK || frame < 0 || frame >= mv.nf || ref < LOCAL || ref > LOCAL_WORLD_ALIGNED)
+    return nb::none();
+  if (check_state(mv, q.data(), nullptr, nullptr, nullptr) != OK) return nb::none();
+  nb::object J = numpy_alloc({6, mv.nv});
+  frame_jacobian(mv, q.data(), frame, ref, array_data(J));
+  return finite_result(array_data(J), 6 * std::int64_t(mv.nv)) == OK ? J : nb::none();
+}
+
 // D_singular (36,) receives the singular joint's D_i (row stride 6) when the status is SINGULAR.
 std::int64_t aba1(const ModelData& md, const F64In& q, const F64In& v, const F64In& tau, const F64In& f_ext,
                   bool gravity, const F64Out& qdd, const F64Out& D_singular) {
@@ -244,7 +391,7 @@ std::int64_t fk1(const ModelData& md, const F64In& q, const F64In& v, const F64I
   FD_TRY(check_state(mv, q.data(), vp, ap, nullptr));
   forward_kinematics(mv, q.data(), vp, ap, H.data(), vp ? vel.data() : nullptr, ap ? acc.data() : nullptr,
                      Hp.is_valid() ? Hp.data() : nullptr);
-  return finite_result(H.data(), 16 * std::int64_t(mv.nb));
+  return finite_placements(H.data(), mv.nb);
 }
 
 std::int64_t frame_placement1(const ModelData& md, const F64In& q, int frame, const F64Out& pose) {
@@ -254,7 +401,7 @@ std::int64_t frame_placement1(const ModelData& md, const F64In& q, int frame, co
   FD_TRY(exact_shape(pose, {4, 4}));
   FD_TRY(check_state(mv, q.data(), nullptr, nullptr, nullptr));
   frame_placement(mv, q.data(), frame, pose.data());
-  return finite_result(pose.data(), 16);
+  return finite_placements(pose.data(), 1);
 }
 
 // ⁰M_f as its rotation R (3, 3) and translation p (3,): the arrays of a PluckerTransform.
@@ -271,8 +418,7 @@ std::int64_t frame_pose1(const ModelData& md, const F64In& q, int frame, const F
   double* r = R.data();
   for (int k = 0; k < 9; ++k) r[k] = Rf.m[k];
   p.data()[0] = pf.x, p.data()[1] = pf.y, p.data()[2] = pf.z;
-  FD_TRY(finite_result(r, 9));
-  return finite_result(p.data(), 3);
+  return finite_result(p.data(), 3);  // (the rotation's entries stay within ±1: see finite_placements)
 }
 
 std::int64_t frame_jacobian1(const ModelData& md, const F64In& q, int frame, int ref, const F64Out& J) {
@@ -410,7 +556,7 @@ std::int64_t placements1(const ModelData& md, const F64In& q, const F64Out& H) {
   FD_TRY(exact_shape(H, {size_t(mv.nb), 4, 4}));
   FD_TRY(check_state(mv, q.data(), nullptr, nullptr, nullptr));
   forward_kinematics<double>(mv, q.data(), nullptr, nullptr, H.data(), nullptr, nullptr);
-  return finite_result(H.data(), 16 * std::int64_t(mv.nb));
+  return finite_placements(H.data(), mv.nb);
 }
 
 RowStatus fk_n(const ModelData& md, const In& q, Out H) {
@@ -453,7 +599,7 @@ RowStatus kinematics_n(const ModelData& md, const In& q, const In& v, const In& 
     FD_TRY(check_state(mv, Q.row(r), V.row(r), A.row(r), nullptr));
     forward_kinematics(mv, Q.row(r), V.row(r), A.row(r), oH + r * n, oV ? oV + r * m : nullptr,
                        oA ? oA + r * m : nullptr, oHp + r * n);
-    return finite_result(oH + r * n, n);
+    return finite_placements(oH + r * n, mv.nb);
   });
 }
 
@@ -1080,6 +1226,8 @@ NB_MODULE(_core, m) {
   // module-level caches (functools.cache, lru tables) may outlive this module at interpreter
   // exit; nanobind would report those as leaks. They are not: nothing here holds a reference.
   nb::set_leak_warnings(false);
+  init_ndarray_fields();  // buffer.hpp: the one-state entry points' direct path to NumPy's arrays
+  init_numpy_alloc();     // the results of the *_new entry points
 
   nb::class_<ModelData>(m, "Model")
       .def(nb::new_(&make_model), nb::arg("nb"), nb::arg("nq"), nb::arg("nv"), nb::arg("body_ints"),
@@ -1106,6 +1254,13 @@ NB_MODULE(_core, m) {
   m.def("frame_pose", &frame_pose1, nb::arg("model"), A("q"), nb::arg("frame"), A("R"), A("p"));
   m.def("frame_jacobian", &frame_jacobian1, nb::arg("model"), A("q"), nb::arg("frame"), nb::arg("reference"),
         A("out"));
+  // the same, returning a fresh result or None (the public functions' one-state path)
+  m.def("rnea_new", &rnea_new, nb::arg("model"), A("q"), A("v"), A("a"), O("f_ext"), nb::arg("gravity"));
+  m.def("nle_new", &nle_new, nb::arg("model"), A("q"), A("v"));
+  m.def("gravity_new", &gravity_new, nb::arg("model"), A("q"));
+  m.def("crba_new", &crba_new, nb::arg("model"), A("q"));
+  m.def("aba_new", &aba_new, nb::arg("model"), A("q"), A("v"), A("tau"), O("f_ext"), nb::arg("gravity"));
+  m.def("frame_jacobian_new", &frame_jacobian_new, nb::arg("model"), A("q"), nb::arg("frame"), nb::arg("reference"));
   m.def("rnea_complex", &rnea_complex1, nb::arg("model"), A("q"), A("v"), A("a"), O("f_ext"), nb::arg("gravity"),
         A("out"));
 

@@ -37,23 +37,22 @@ void crba(const ModelView& mv, const S* q, S* M) {
   Vec3<S>* p = w.p.data();
   RigidInertia<S>* IC = w.IC.data();
   Motion<S>* Sr = w.Sr.data();
+  // (in passes, as in rnea.hpp: only the second waits on the parent at every body)
+  for (int i = 0; i < nb; ++i)  // each body's pose in its parent
+    if (mv.parent[i] != -1) pose_in_parent(mv, i, q, R[i], p[i]);
+  for (int i = 0; i < nb; ++i) {  // composed to root-body coordinates (a child of the root keeps its own)
+    const int lam = mv.parent[i];
+    if (lam == -1 || mv.parent[lam] == -1) continue;
+    p[i] = p[lam] + R[lam] * p[i];
+    R[i] = R[lam] * R[i];
+  }
   for (int i = 0; i < nb; ++i) {
-    const int lam = mv.parent[i], iv = mv.idx_v[i];
+    const int iv = mv.idx_v[i];
     const RigidInertia<S> I = body_inertia<S>(mv, i);
-    if (lam == -1) {  // a root body: its own coordinates
+    if (mv.parent[i] == -1) {  // a root body: its own coordinates
       IC[i] = I;
       for (int c = 0; c < mv.nv_i[i]; ++c) Sr[iv + c] = S_col<S>(mv, i, c);
       continue;
-    }
-    Mat3<S> Rp;
-    Vec3<S> pp;
-    pose_in_parent(mv, i, q, Rp, pp);
-    if (mv.parent[lam] == -1) {  // the parent is the root: ʳX_λ = 1
-      R[i] = Rp;
-      p[i] = pp;
-    } else {
-      R[i] = R[lam] * Rp;
-      p[i] = p[lam] + R[lam] * pp;
     }
     IC[i] = transform_to_parent(Xform<S>{R[i].transpose(), p[i]}, I);
     for (int c = 0; c < mv.nv_i[i]; ++c) {
@@ -62,9 +61,17 @@ void crba(const ModelView& mv, const S* q, S* M) {
       Sr[iv + c] = {wr, R[i] * s.v + cross(p[i], wr)};
     }
   }
+  // I^C_λ += I^C_i; along a serial stretch (λ(i) = i − 1) the running sum stays in registers instead of a
+  // store and a reload per body (as in rnea.hpp)
+  RigidInertia<S> IC_i = nb > 0 ? IC[nb - 1] : RigidInertia<S>{};
   for (int i = nb - 1; i >= 0; --i) {
     const int lam = mv.parent[i];
-    if (lam != -1) IC[lam] = IC[lam] + IC[i];
+    if (lam == i - 1 && lam != -1) {
+      IC[lam] = IC_i = IC[lam] + IC_i;
+    } else {
+      if (lam != -1) IC[lam] = IC[lam] + IC_i;
+      if (i > 0) IC_i = IC[i - 1];
+    }
   }
   for (int k = 0; k < nv * nv; ++k) M[k] = S(0.0);
 

@@ -30,17 +30,11 @@ inline int support_placements(const ModelView& mv, int body, const S* q, Support
   for (int j = body; j != -1; j = mv.parent[j]) ++n;
   int m = n;
   for (int j = body; j != -1; j = mv.parent[j]) w.path[--m] = j;
-  for (int s = 0; s < n; ++s) {
-    Mat3<S> R;
-    Vec3<S> p;
-    pose_in_parent(mv, w.path[s], q, R, p);
-    if (s == 0) {
-      w.oR[0] = R;
-      w.op[0] = p;
-    } else {
-      w.oR[s] = w.oR[s - 1] * R;
-      w.op[s] = w.op[s - 1] + w.oR[s - 1] * p;
-    }
+  // the poses in the parents first (independent: sin, cos), then composed in place (as in rnea.hpp)
+  for (int s = 0; s < n; ++s) pose_in_parent(mv, w.path[s], q, w.oR[s], w.op[s]);
+  for (int s = 1; s < n; ++s) {
+    w.op[s] = w.op[s - 1] + w.oR[s - 1] * w.op[s];
+    w.oR[s] = w.oR[s - 1] * w.oR[s];
   }
   return n;
 }
@@ -76,7 +70,7 @@ void frame_placement(const ModelView& mv, const S* q, int frame, S* H) {
 // The columns of joint k (world pose R, p) in the Jacobian J (6, nv) of a frame at (Rf, ·): ⁰X_k S_k about
 // `origin` (the world origin for WORLD, the frame's origin otherwise), in world axes, frame axes for LOCAL.
 template <class S>
-inline void put_frame_columns(const ModelView& mv, int k, const Mat3<S>& R, const Vec3<S>& p, const Vec3<S>& origin,
+FD_INLINE void put_frame_columns(const ModelView& mv, int k, const Mat3<S>& R, const Vec3<S>& p, const Vec3<S>& origin,
                               const Mat3<S>& Rf, int ref, S* J) {
   const int nv = mv.nv;
   const Vec3<S> d = p - origin;

@@ -19,11 +19,11 @@
 namespace fdcore {
 
 template <class S>
-inline Vec3<S> load3(const double* p) {
+FD_INLINE Vec3<S> load3(const double* p) {
   return {S(p[0]), S(p[1]), S(p[2])};
 }
 template <class S>
-inline Mat3<S> load9(const double* p) {
+FD_INLINE Mat3<S> load9(const double* p) {
   Mat3<S> R;
   for (int k = 0; k < 9; ++k) R.m[k] = S(p[k]);
   return R;
@@ -31,7 +31,7 @@ inline Mat3<S> load9(const double* p) {
 
 // Xtree_R · Rodrigues(a, θ) = Xtree_R + sin θ · Xtree_R [a]× + (1 − cos θ) · Xtree_R [a]×²  (revolute, planar)
 template <class S>
-inline Mat3<S> rotate_about_axis(const ModelView& mv, int i, const Mat3<S>& Rt, const S& theta) {
+FD_INLINE Mat3<S> rotate_about_axis(const ModelView& mv, int i, const Mat3<S>& Rt, const S& theta) {
   S s, c;
   sin_cos(theta, s, c);  // trig.hpp: the same operations for double and Pack
   const S c1 = S(1.0) - c;
@@ -44,7 +44,7 @@ inline Mat3<S> rotate_about_axis(const ModelView& mv, int i, const Mat3<S>& Rt, 
 
 // R(q) for q = (x, y, z, w), with the factor 2 taken as 2 / |q|² (featherdyn.rotation.quat_to_matrix)
 template <class S>
-inline Mat3<S> quat_to_matrix(const S* q) {
+FD_INLINE Mat3<S> quat_to_matrix(const S* q) {
   const S x = q[0], y = q[1], z = q[2], w = q[3];
   const S two = S(2.0) / (x * x + y * y + z * z + w * w);
   const S one(1.0);
@@ -55,7 +55,7 @@ inline Mat3<S> quat_to_matrix(const S* q) {
 
 // The pose (R, p) of body i in its parent for q (the whole configuration): Xtree_i · pose_J(q_i).
 template <class S>
-inline void pose_in_parent(const ModelView& mv, int i, const S* q, Mat3<S>& R, Vec3<S>& p) {
+FD_INLINE void pose_in_parent(const ModelView& mv, int i, const S* q, Mat3<S>& R, Vec3<S>& p) {
   const Mat3<S> Rt = load9<S>(mv.Xtree_R + 9 * i);
   const Vec3<S> pt = load3<S>(mv.Xtree_p + 3 * i);
   const S* qi = q + mv.idx_q[i];
@@ -87,7 +87,7 @@ inline void pose_in_parent(const ModelView& mv, int i, const S* q, Mat3<S>& R, V
 
 // X_up[i] = ⁱX_λ(i) = plux(Rᵀ, p) for the pose (R, p) of body i in its parent.
 template <class S>
-inline Xform<S> joint_X_up(const ModelView& mv, int i, const S* q) {
+FD_INLINE Xform<S> joint_X_up(const ModelView& mv, int i, const S* q) {
   Mat3<S> R;
   Vec3<S> p;
   pose_in_parent(mv, i, q, R, p);
@@ -96,7 +96,7 @@ inline Xform<S> joint_X_up(const ModelView& mv, int i, const S* q) {
 
 // Column j of S_i as a motion.
 template <class S>
-inline Motion<S> S_col(const ModelView& mv, int i, int j) {
+FD_INLINE Motion<S> S_col(const ModelView& mv, int i, int j) {
   const S z(0.0), one(1.0);
   const Vec3<S> zero{z, z, z};
   switch (mv.jtype[i]) {
@@ -122,7 +122,7 @@ inline Motion<S> S_col(const ModelView& mv, int i, int j) {
 
 // v_J = S_i x_i for a joint-space rate x (x points at the whole vector).
 template <class S>
-inline Motion<S> S_times(const ModelView& mv, int i, const S* x) {
+FD_INLINE Motion<S> S_times(const ModelView& mv, int i, const S* x) {
   const S* xi = x + mv.idx_v[i];
   const S z(0.0);
   switch (mv.jtype[i]) {
@@ -144,7 +144,7 @@ inline Motion<S> S_times(const ModelView& mv, int i, const S* x) {
 
 // out[0 .. nv_i) = S_iᵀ f
 template <class S>
-inline void St_times(const ModelView& mv, int i, const Force<S>& f, S* out) {
+FD_INLINE void St_times(const ModelView& mv, int i, const Force<S>& f, S* out) {
   switch (mv.jtype[i]) {
     case REVOLUTE:
       out[0] = dot(load3<S>(mv.axis + 3 * i), f.n);

@@ -59,11 +59,16 @@ void forward_kinematics(const ModelView& mv, const S* q, const S* qd, const S* q
   Vec3<S>* op = w.op.data();
   Motion<S>* v = w.v.data();
   Motion<S>* a = w.a.data();
+  // the poses in the parents first (independent: sin, cos), then the recursion (as in rnea.hpp)
+  for (int i = 0; i < nb; ++i) pose_in_parent(mv, i, q, oR[i], op[i]);
   for (int i = 0; i < nb; ++i) {
     const int lam = mv.parent[i];
-    Mat3<S> R;
-    Vec3<S> p;
-    place_body(mv, i, q, oR, op, R, p);
+    const Mat3<S> R = oR[i];  // ᵖM_i, composed in place into ⁰M_i
+    const Vec3<S> p = op[i];
+    if (lam != -1) {
+      oR[i] = oR[lam] * R;
+      op[i] = op[lam] + oR[lam] * p;
+    }
     write_homogeneous(oR[i], op[i], H + 16 * i);
     if (Hp) write_homogeneous(R, p, Hp + 16 * i);
     if (qd == nullptr) continue;

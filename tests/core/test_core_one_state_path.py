@@ -1,0 +1,150 @@
+"""The one-state fast path of the public functions: the ``*_new`` entry points and the direct array read.
+
+* ``_core.<alg>_new`` allocates its result (NumPy's ``PyArray_NewFromDescr``) and returns exactly
+  the numbers the ``out=`` entry point writes, as a fresh, owned, writeable float64 array; for a
+  state the ``out=`` entry point would refuse with a status it returns ``None`` (the caller's general
+  path words the error), and for an array it does not take it raises ``TypeError``;
+* a float64 array whose dtype object is not NumPy's native singleton (an unpickled dtype) is read
+  through the buffer protocol instead of the array's fields, with the same numbers; a read-only
+  output, an ``ndarray`` subclass and a strided array are refused; an offset C-contiguous view is read
+  at its offset;
+* placements that finite input overflows are reported at the same element as a full scan would
+  (only translations can overflow).
+"""
+
+from __future__ import annotations
+
+import pickle
+
+import numpy as np
+import pytest
+from _models import TREES, random_state, tree
+
+import featherdyn as fd
+from featherdyn import core
+from featherdyn.core import _core
+from featherdyn.errors import NonFiniteError
+
+TREE_NAMES = [s.name for s in TREES]
+
+
+def _calls(model: fd.Model, seed: int) -> list[tuple[str, object, object]]:
+    """``(name, result of the *_new entry point, result of the out= entry point)`` for one random state."""
+    cm = core._view(model).cm
+    st = random_state(model, seed)
+    nv = model.nv
+    tau, h, g, qdd = np.empty(nv), np.empty(nv), np.empty(nv), np.empty(nv)
+    M, J = np.empty((nv, nv)), np.empty((6, nv))
+    assert _core.rnea(cm, st.q, st.v, st.a, st.f_ext, True, tau) == 0
+    assert _core.nle(cm, st.q, st.v, h) == 0
+    assert _core.gravity(cm, st.q, g) == 0
+    assert _core.crba(cm, st.q, M) == 0
+    assert _core.aba(cm, st.q, st.v, st.a, st.f_ext, False, qdd, None) == 0
+    frame = len(model.frames) - 2  # a tool frame on the last body
+    rows = [
+        ("rnea", _core.rnea_new(cm, st.q, st.v, st.a, st.f_ext, True), tau),
+        ("nle", _core.nle_new(cm, st.q, st.v), h),
+        ("gravity", _core.gravity_new(cm, st.q), g),
+        ("crba", _core.crba_new(cm, st.q), M),
+        ("aba", _core.aba_new(cm, st.q, st.v, st.a, st.f_ext, False), qdd),
+    ]
+    for ref in (0, 1, 2):
+        assert _core.frame_jacobian(cm, st.q, frame, ref, J) == 0
+        rows.append((f"frame_jacobian {ref}", _core.frame_jacobian_new(cm, st.q, frame, ref), J.copy()))
+    return rows
+
+
+@pytest.mark.parametrize("name", TREE_NAMES)
+def test_new_entry_points_equal_the_out_entry_points(name: str) -> None:
+    for what, got, expected in _calls(tree(name), 41):
+        assert isinstance(got, np.ndarray) and type(got) is np.ndarray, what
+        assert got.dtype == np.float64 and got.flags.c_contiguous and got.flags.writeable and got.flags.owndata, what
+        assert np.array_equal(got, expected), what
+
+
+def test_new_entry_points_return_none_for_a_state_the_general_path_words() -> None:
+    model = tree("free_branch")
+    cm = core._view(model).cm
+    st = random_state(model, 42)
+    nan_q = st.q.copy()
+    nan_q[1] = np.nan
+    bad_quat = st.q.copy()
+    bad_quat[6] *= 1.01
+    for q in (nan_q, bad_quat, st.q[:-1]):
+        assert _core.crba_new(cm, q) is None
+        assert _core.gravity_new(cm, q) is None
+        assert _core.rnea_new(cm, q, st.v, st.a, None, True) is None
+        assert _core.frame_jacobian_new(cm, q, 0, 0) is None
+    assert _core.frame_jacobian_new(cm, st.q, len(model.frames), 0) is None  # no such frame
+    assert _core.frame_jacobian_new(cm, st.q, 0, 3) is None  # no such reference
+    with pytest.raises(fd.FeatherdynError):
+        fd.crba(model, nan_q)  # and the public function words it
+
+
+@pytest.mark.parametrize("bad", ["float32", "strided", "big-endian", "list"])
+def test_new_entry_points_refuse_arrays_they_would_reinterpret(bad: str) -> None:
+    model = tree("revolute_chain")
+    cm = core._view(model).cm
+    q = random_state(model, 43).q
+    strided = np.empty(2 * model.nq)
+    strided[::2] = q
+    arrays = {"float32": q.astype(np.float32), "strided": strided[::2], "big-endian": q.astype(">f8"), "list": q.tolist()}
+    with pytest.raises(TypeError):
+        _core.crba_new(cm, arrays[bad])
+    converted = np.asarray(arrays[bad], dtype=np.float64)
+    assert np.array_equal(core.crba(model, arrays[bad]), core.crba(model, converted))  # the wrapper converts
+
+
+def test_a_float64_dtype_other_than_numpys_singleton_reads_through_the_buffer_protocol() -> None:
+    model = tree("free_chain")
+    cm = core._view(model).cm
+    st = random_state(model, 44)
+    other = pickle.loads(pickle.dumps(np.dtype(np.float64)))
+    assert other is not np.dtype(np.float64) and other == np.dtype(np.float64)
+    q2 = st.q.astype(other)
+    tau2 = np.empty(model.nv, dtype=other)
+    tau = np.empty(model.nv)
+    assert _core.rnea(cm, st.q, st.v, st.a, None, True, tau) == 0
+    assert _core.rnea(cm, q2, st.v.astype(other), st.a, None, True, tau2) == 0
+    assert np.array_equal(tau, tau2)
+    assert np.array_equal(_core.crba_new(cm, q2), _core.crba_new(cm, st.q))
+
+
+def test_outputs_subclasses_and_views() -> None:
+    model = tree("fixed_branch_mixed")
+    cm = core._view(model).cm
+    st = random_state(model, 45)
+    M = np.empty((model.nv, model.nv))
+    assert _core.crba(cm, st.q, M) == 0
+    readonly = np.empty_like(M)
+    readonly.flags.writeable = False
+    with pytest.raises(TypeError):
+        _core.crba(cm, st.q, readonly)
+
+    class Sub(np.ndarray):
+        pass
+
+    with pytest.raises(TypeError):
+        _core.crba_new(cm, st.q.view(Sub))
+    padded = np.concatenate([[7.0, 8.0], st.q, [9.0]])  # an offset, C-contiguous view
+    assert np.array_equal(_core.crba_new(cm, padded[2:-1]), M)
+    big = np.empty((3, model.nv, model.nv))
+    assert _core.crba(cm, st.q, big[1]) == 0  # an output view into a larger array
+    assert np.array_equal(big[1], M)
+
+
+def test_overflowing_placements_are_named_at_the_first_non_finite_element() -> None:
+    """Only translations are scanned; the element named is the first non-finite one of the whole array."""
+    model = tree("fixed_chain_mixed")  # prismatic root, planar joints: translations grow with q
+    q = random_state(model, 3).q.copy()
+    q[[0, 5, 6, 15]] = 1.7e308
+    with pytest.raises(NonFiniteError, match="overflowed") as info:
+        fd.forward_kinematics(model, q, backend="reference")
+    with pytest.raises(NonFiniteError, match="overflowed") as info_core:
+        fd.forward_kinematics(model, q)
+    H = np.empty((model.nbodies, 4, 4))
+    status = _core.placements(core._view(model).cm, q, H)
+    flat = status >> 8
+    assert flat % 16 in (3, 7, 11), flat  # a translation
+    assert not np.isfinite(H.reshape(-1)[flat]) and np.isfinite(H.reshape(-1)[:flat]).all()
+    assert str(flat) in str(info_core.value) and "(2, 0)" in str(info.value)
