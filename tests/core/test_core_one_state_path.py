@@ -148,3 +148,17 @@ def test_overflowing_placements_are_named_at_the_first_non_finite_element() -> N
     assert flat % 16 in (3, 7, 11), flat  # a translation
     assert not np.isfinite(H.reshape(-1)[flat]) and np.isfinite(H.reshape(-1)[:flat]).all()
     assert str(flat) in str(info_core.value) and "(2, 0)" in str(info.value)
+
+
+def test_fk_overflow_is_reported_as_an_overflow() -> None:
+    """Finite q whose placements overflow: the core's fk (and fd.compile's) word it as the reference does,
+    not as a missing velocity."""
+    b = fd.ModelBuilder("two_slides")
+    box = fd.SpatialInertia.box(1.0, [0.1, 0.1, 0.1])
+    i = b.add_body("a", -1, fd.PrismaticJoint([1, 0, 0]), inertia=box)
+    b.add_body("b", i, fd.PrismaticJoint([1, 0, 0]), inertia=box)
+    model = b.build()
+    q = np.array([1.5e308, 1.5e308])
+    for call in (lambda: core.fk(model, q), lambda: fd.compile(model).fk(q)):
+        with pytest.raises(fd.errors.NonFiniteError, match="forward kinematics: the result overflowed"):
+            call()

@@ -480,7 +480,8 @@ def fk(model: Model, q: Any, v: Any = None, a: Any = None, out: Any = None) -> A
     acc = None if a is None else np.empty((h.nb, 6))
     s = _core.fk(h.cm, q_, v_, a_, H, None, vel, acc)
     if s:
-        _errors.raise_for(s, model, q, [("v", v), ("a", a)], what="forward kinematics")
+        _errors.raise_for(s, model, q, [(n, x) for n, x in (("v", v), ("a", a)) if x is not None],
+                          what="forward kinematics")
     if v is None:
         return H
     return (H, vel) if a is None else (H, vel, acc)
