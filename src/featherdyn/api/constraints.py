@@ -300,10 +300,10 @@ def _frames_plan(model: Model, frames: Sequence[str | int] | str | int, referenc
         return None
 
 
-#: the last plan: (model, the constraints object, its items, the plan), one tuple replaced whole (thread-safe
-#: reads); constraints are frozen, so the same items (by identity) in the same container mean the same plan —
-#: a control loop pays identity checks, not hashing
-_LAST_PLAN: tuple[Any, Any, tuple[Any, ...], Any] = (None, None, (), None)
+#: the last plan: (model, a copy of the constraints list or the tuple itself, the plan), one tuple replaced whole
+#: (thread-safe reads). Constraints are frozen values, so equal items mean the same plan; a list compares item by
+#: item by identity first (C speed), so a control loop that passes the same list pays a few pointer compares
+_LAST_PLAN: tuple[Any, Any, Any] = (None, None, None)
 
 
 def _contact_plan(model: Model, constraints: Sequence[Constraint] | Constraint
@@ -311,13 +311,15 @@ def _contact_plan(model: Model, constraints: Sequence[Constraint] | Constraint
     """``(slices of λ, specs (nc, 4), m)`` when every constraint is a point or frame contact (``contacts.hpp``
     computes their rows in the core), else ``None``; cached per model and constraint tuple."""
     global _LAST_PLAN
-    last_model, last_constraints, items, plan = _LAST_PLAN
-    if last_model is model and last_constraints is constraints and isinstance(constraints, (list, tuple)) and \
-            len(constraints) == len(items) and all(a is b for a, b in zip(constraints, items, strict=True)):
+    last_model, last_items, plan = _LAST_PLAN
+    if last_model is model and (constraints is last_items or (type(constraints) is list and type(last_items) is list
+                                                              and constraints == last_items)):
         return plan
     plan = _contact_plan_lookup(model, constraints)
-    if isinstance(constraints, (list, tuple)):
-        _LAST_PLAN = (model, constraints, tuple(constraints), plan)
+    if type(constraints) is list:
+        _LAST_PLAN = (model, constraints.copy(), plan)
+    elif type(constraints) is tuple:
+        _LAST_PLAN = (model, constraints, plan)
     return plan
 
 

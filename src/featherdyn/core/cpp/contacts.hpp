@@ -51,7 +51,7 @@ struct ContactWork {
   std::vector<RigidInertia<double>> IC;  // ʳI_i, then I^C_i (root-body coordinates)
   std::vector<Motion<double>> Sr, v, a;  // ʳS of each dof; v_i, a_i (q̈ = 0, no gravity) in body coordinates
   std::vector<Force<double>> f;
-  std::vector<double> P, J, Y, c, th, z, D, D0, rhs, x;
+  std::vector<double> P, dinv, J, Y, c, th, z, D, D0, rhs, x;
   std::vector<int> first, len, last, common;  // per contact: first row, chain length, last dof; common prefixes
   void resize(size_t nb) {
     if (Rp.size() < nb)
@@ -62,14 +62,17 @@ struct ContactWork {
 
 // The forward and backward passes of the file comment. With qd == nullptr only the kinematics and the
 // composite inertias; with h != nullptr also h (nv,) = RNEA(q, q̇, 0) with gravity and f_ext (nb, 6) or nullptr.
+// Velocities, accelerations and forces are in root-body coordinates too (any coordinates fixed in space at
+// this instant serve the recursion, RBDA §5.3 in a fixed frame): v_i = v_λ + ʳS_i q̇_i, a_i = a_λ + v_i × ʳS_i q̇_i,
+// f_i = ʳI_i (a_i + a₀) + v_i ×* ʳI_i v_i − ʳX_i* f_i^ext, f_λ += f_i, τ_i = ʳS_iᵀ f_i: no transform per body.
 inline void contact_pass(const ModelView& mv, const double* q, const double* qd, const double* f_ext, ContactWork& w,
                          double* h) {
   const int nb = mv.nb;
   w.Sr.resize(static_cast<size_t>(mv.nv));
-  const Vec3<double> g0{-mv.gravity[0], -mv.gravity[1], -mv.gravity[2]};  // a₀ = [0; −g]
+  const Vec3<double> g0{-mv.gravity[0], -mv.gravity[1], -mv.gravity[2]};  // a₀ = [0; −g] in world coordinates
   const Vec3<double> zero3{0.0, 0.0, 0.0};
   for (int i = 0; i < nb; ++i) {
-    const int lam = mv.parent[i], iv = mv.idx_v[i];
+    const int lam = mv.parent[i], iv = mv.idx_v[i], ni = mv.nv_i[i];
     pose_in_parent(mv, i, q, w.Rp[i], w.pp[i]);
     const RigidInertia<double> I = body_inertia<double>(mv, i);
     if (lam == -1) {  // a root body: its own coordinates
@@ -77,7 +80,8 @@ inline void contact_pass(const ModelView& mv, const double* q, const double* qd,
       w.Rr[i] = Mat3<double>::identity();
       w.pr[i] = zero3;
       w.IC[i] = I;
-      for (int c = 0; c < mv.nv_i[i]; ++c) w.Sr[iv + c] = S_col<double>(mv, i, c);
+      w.g[i] = mul_transpose(w.Rp[i], g0);  // a₀ of the tree, [0; ʳR_0 (−g)]
+      for (int c = 0; c < ni; ++c) w.Sr[iv + c] = S_col<double>(mv, i, c);
     } else {
       w.root[i] = w.root[lam];
       if (mv.parent[lam] == -1) {  // the parent is the root: ʳX_λ = 1
@@ -88,33 +92,39 @@ inline void contact_pass(const ModelView& mv, const double* q, const double* qd,
         w.pr[i] = w.pr[lam] + w.Rr[lam] * w.pp[i];
       }
       w.IC[i] = transform_to_parent(Xform<double>{w.Rr[i].transpose(), w.pr[i]}, I);
-      for (int c = 0; c < mv.nv_i[i]; ++c) {
+      for (int c = 0; c < ni; ++c) {
         const Motion<double> s = S_col<double>(mv, i, c);
         const Vec3<double> wr = w.Rr[i] * s.w;
         w.Sr[iv + c] = {wr, w.Rr[i] * s.v + cross(w.pr[i], wr)};
       }
     }
     if (qd == nullptr) continue;
-    const Xform<double> X_up{w.Rp[i].transpose(), w.pp[i]};
-    const Motion<double> vJ = S_times(mv, i, qd);
-    w.v[i] = lam == -1 ? vJ : X_up.apply(w.v[lam]) + vJ;
-    const Motion<double> aJ = cross_motion(w.v[i], vJ);
-    w.a[i] = lam == -1 ? aJ : X_up.apply(w.a[lam]) + aJ;
+    Motion<double> vJ{zero3, zero3};
+    for (int c = 0; c < ni; ++c) vJ = vJ + Motion<double>{qd[iv + c] * w.Sr[iv + c].w, qd[iv + c] * w.Sr[iv + c].v};
+    if (lam == -1) {
+      w.v[i] = vJ;
+      w.a[i] = {zero3, zero3};  // v × v = 0
+    } else {
+      w.v[i] = w.v[lam] + vJ;
+      w.a[i] = w.a[lam] + cross_motion(w.v[i], vJ);
+    }
     if (h == nullptr) continue;
-    w.g[i] = mul_transpose(w.Rp[i], lam == -1 ? g0 : w.g[lam]);
-    const Motion<double> ai{w.a[i].w, w.a[i].v + w.g[i]};
-    w.f[i] = I * ai + cross_force(w.v[i], I * w.v[i]);
-    if (f_ext) {
+    const RigidInertia<double>& Ir = w.IC[i];  // ʳI_i (the children are added in the backward pass)
+    const Motion<double> ai{w.a[i].w, w.a[i].v + w.g[w.root[i]]};
+    w.f[i] = Ir * ai + cross_force(w.v[i], Ir * w.v[i]);
+    if (f_ext) {  // ʳX_i* f = [R n + p × R f; R f]
       const double* fx = f_ext + 6 * i;
-      w.f[i] = w.f[i] - Force<double>{{fx[0], fx[1], fx[2]}, {fx[3], fx[4], fx[5]}};
+      const Vec3<double> fr = w.Rr[i] * Vec3<double>{fx[3], fx[4], fx[5]};
+      const Vec3<double> nr = w.Rr[i] * Vec3<double>{fx[0], fx[1], fx[2]} + cross(w.pr[i], fr);
+      w.f[i] = w.f[i] - Force<double>{nr, fr};
     }
   }
   for (int i = nb - 1; i >= 0; --i) {
-    const int lam = mv.parent[i];
+    const int lam = mv.parent[i], iv = mv.idx_v[i];
     if (lam != -1) w.IC[lam] = w.IC[lam] + w.IC[i];
     if (h == nullptr) continue;
-    St_times(mv, i, w.f[i], h + mv.idx_v[i]);
-    if (lam != -1) w.f[lam] += Xform<double>{w.Rp[i].transpose(), w.pp[i]}.apply_transpose(w.f[i]);
+    for (int c = 0; c < mv.nv_i[i]; ++c) h[iv + c] = dot(w.Sr[iv + c], w.f[i]);
+    if (lam != -1) w.f[lam] += w.f[i];
   }
 }
 
@@ -168,23 +178,22 @@ inline void frame_rows(const ModelView& mv, const DofTree& t, const ContactWork&
 }
 
 // The frame's motion at q̈ = 0 in `ref`: spatial (rows == 6) or classical (rows == 3) acceleration, from the body's
-// v_b, a_b (body coordinates) and its world pose (⁰R_b, ⁰p_b).
+// v_b, a_b (root-body coordinates) and the frame's pose in the root body and the root's in the world.
 inline Motion<double> contact_drift(const ModelView& mv, const ContactWork& w, int frame, int ref, int rows) {
   const int b = mv.frame_body[frame];
   if (b == -1) return {{0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}};
-  const Mat3<double> Rbf = load9<double>(mv.frame_R + 9 * frame);
-  const Vec3<double> pbf = load3<double>(mv.frame_p + 3 * frame);
-  const Xform<double> f_X_b{Rbf.transpose(), pbf};
-  const Motion<double> vf = f_X_b.apply(w.v[b]), af = f_X_b.apply(w.a[b]);
+  const Mat3<double> Rrf = w.Rr[b] * load9<double>(mv.frame_R + 9 * frame);              // ʳR_f
+  const Vec3<double> prf = w.pr[b] + w.Rr[b] * load3<double>(mv.frame_p + 3 * frame);    // ʳp_f
+  const Xform<double> f_X_r{Rrf.transpose(), prf};
+  const Motion<double> vf = f_X_r.apply(w.v[b]), af = f_X_r.apply(w.a[b]);
   Motion<double> out = af;
   if (rows == 3) out.v = af.v + cross(vf.w, vf.v);
   if (ref == LOCAL) return out;
   const int r = w.root[b];
-  const Mat3<double> oRb = w.Rp[r] * w.Rr[b];
-  const Mat3<double> Rf = oRb * Rbf;  // ⁰R_f
+  const Mat3<double> Rf = w.Rp[r] * Rrf;  // ⁰R_f
   if (ref == LOCAL_WORLD_ALIGNED) return {Rf * out.w, Rf * out.v};
-  const Vec3<double> pf = w.pp[r] + w.Rp[r] * (w.pr[b] + w.Rr[b] * pbf);  // ⁰p_f
-  const Xform<double> f_X_0{Rf.transpose(), pf};                           // ⁰X_f = f_X_0⁻¹
+  const Vec3<double> pf = w.pp[r] + w.Rp[r] * prf;  // ⁰p_f
+  const Xform<double> f_X_0{Rf.transpose(), pf};    // ⁰X_f = f_X_0⁻¹
   const Motion<double> a0 = f_X_0.apply_inverse(af);
   if (rows == 6) return a0;
   const Motion<double> v0 = f_X_0.apply_inverse(vf);
@@ -253,10 +262,11 @@ inline void delassus_rows(const ContactSpec* specs, int nc, const ContactWork& w
 
 // Y = J L⁻¹: each row solved along its chain (ltl_solve_Lt_chain).
 inline void solve_rows(const DofTree& t, const double* P, const ContactSpec* specs, int nc, ContactWork& w) {
+  const double* dinv = w.dinv.data();
   w.Y.assign(w.J.begin(), w.J.begin() + w.first[nc]);
   for (int k = 0; k < nc; ++k)
     if (w.last[k] >= 0)
-      for (int i = 0; i < specs[k].rows; ++i) ltl_solve_Lt_chain(t, P, w.last[k], w.Y.data() + w.first[k] + i * w.len[k]);
+      for (int i = 0; i < specs[k].rows; ++i) ltl_solve_Lt_chain(t, P, dinv, w.last[k], w.Y.data() + w.first[k] + i * w.len[k]);
 }
 
 // q̈ (nv,), λ (m,), and the KKT result for the contacts `specs` at (q, q̇, τ, f_ext); m = Σ rows.
@@ -269,10 +279,11 @@ inline std::int64_t contact_dynamics(const ModelView& mv, const double* q, const
   ContactWork& w = thread_workspace<ContactWork>(nb);
   w.th.resize(nv);
   w.P.resize(static_cast<size_t>(t.off[nv]));
+  w.dinv.resize(nv);
   // 1. the passes: placements, ʳS, I^C, v, a, h; then M packed and its factor
   contact_pass(mv, q, qd, f_ext, w, w.th.data());
   mass_matrix_packed(mv, t, w, w.P.data());
-  const int bad = ltl_factor_packed(t, w.P.data());
+  const int bad = ltl_factor_packed(t, w.P.data(), w.dinv.data());
   if (bad >= 0) return make_status(SINGULAR, ARG_Q, dof_body(mv, bad));
   // 2. the rows J and c = −γ − K_d J q̇ in chain positions, Y = J L⁻¹
   const int m = contact_rows(mv, t, specs, nc, w);
@@ -295,7 +306,7 @@ inline std::int64_t contact_dynamics(const ModelView& mv, const double* q, const
   // 3. z = L⁻ᵀ (τ − h), the right-hand side c − Y z, D = Y Yᵀ
   w.z.resize(nv);
   for (int j = 0; j < nv; ++j) w.z[j] = tau[j] - w.th[j];
-  ltl_solve_Lt_packed(t, w.P.data(), w.z.data());
+  ltl_solve_Lt_packed(t, w.P.data(), w.dinv.data(), w.z.data());
   w.rhs.resize(m);
   w.D.resize(static_cast<size_t>(m) * m);
   w.D0.resize(static_cast<size_t>(m) * m);
@@ -352,7 +363,7 @@ inline std::int64_t contact_dynamics(const ModelView& mv, const double* q, const
       for (int u = 0; u < len; ++u) qdd[ch[u]] += yr[u] * lam[row];
     }
   }
-  ltl_solve_L_packed(t, w.P.data(), qdd);
+  ltl_solve_L_packed(t, w.P.data(), w.dinv.data(), qdd);
   row = 0;
   for (int k = 0; k < nc; ++k) {
     const int len = w.len[k];
@@ -377,9 +388,10 @@ inline std::int64_t operational_space_inertia(const ModelView& mv, const double*
   const DofTree& t = dof_tree(mv);
   ContactWork& w = thread_workspace<ContactWork>(nb);
   w.P.resize(static_cast<size_t>(t.off[nv]));
+  w.dinv.resize(nv);
   contact_pass(mv, q, nullptr, nullptr, w, nullptr);
   mass_matrix_packed(mv, t, w, w.P.data());
-  const int bad = ltl_factor_packed(t, w.P.data());
+  const int bad = ltl_factor_packed(t, w.P.data(), w.dinv.data());
   if (bad >= 0) return make_status(SINGULAR, ARG_Q, dof_body(mv, bad));
   contact_rows(mv, t, specs, nc, w);
   solve_rows(t, w.P.data(), specs, nc, w);
@@ -388,13 +400,8 @@ inline std::int64_t operational_space_inertia(const ModelView& mv, const double*
   delassus_rows(specs, nc, w, w.Y.data(), m, D);
   for (int i = 0; i < m; ++i) D[i * m + i] += mu;
   if (!dense_cholesky(D, m, singular_tol)) return make_status(LENGTH, ARG_OUT, m);
-  for (int j = 0; j < m; ++j) {
-    double* col = Lambda + static_cast<size_t>(j) * m;  // column j of Λ (Λ is symmetric: written as row j)
-    for (int i = 0; i < m; ++i) col[i] = i == j ? 1.0 : 0.0;
-    dense_cholesky_solve(D, m, col);
-  }
-  for (int i = 0; i < m; ++i)  // symmetric to the last bit
-    for (int j = 0; j < i; ++j) Lambda[i * m + j] = Lambda[j * m + i] = 0.5 * (Lambda[i * m + j] + Lambda[j * m + i]);
+  w.D0.resize(static_cast<size_t>(m) * m);
+  dense_cholesky_inverse(D, m, w.D0.data(), Lambda);
   return OK;
 }
 

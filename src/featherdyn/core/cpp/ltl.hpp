@@ -303,17 +303,19 @@ inline const DofTree& dof_tree(const ModelView& mv) {
   return t;
 }
 
-// In place: P holds M's entries in the packed layout (row k: M_{k, chain_k[t]}, then M_kk) → L, as ltl_factor.
+// In place: P holds M's entries in the packed layout (row k: M_{k, chain_k[t]}, then M_kk) → L, as ltl_factor
+// (each row scaled by the reciprocal of its pivot); dinv (nv,) ← 1 / L_kk for the solves below.
 // Returns −1, or the dof whose pivot is not positive.
-inline int ltl_factor_packed(const DofTree& t, double* P) {
+inline int ltl_factor_packed(const DofTree& t, double* P, double* dinv) {
   for (int k = t.nv - 1; k >= 0; --k) {
     double* __restrict Lk = P + t.off[k];
     const int dk = t.depth[k];
     const double d = Lk[dk];
     if (!(d > 0.0)) return k;
-    const double a = std::sqrt(d);
+    const double a = std::sqrt(d), inv = 1.0 / a;
     Lk[dk] = a;
-    for (int s = 0; s < dk; ++s) Lk[s] = Lk[s] / a;
+    dinv[k] = inv;
+    for (int s = 0; s < dk; ++s) Lk[s] = Lk[s] * inv;
     const int* ch = t.chain.data() + t.off[k];
     for (int s = 0; s < dk; ++s) {  // row i = chain_k[s]: L_i[0 .. s] −= L_k[s] · L_k[0 .. s]
       double* __restrict Li = P + t.off[ch[s]];
@@ -325,37 +327,57 @@ inline int ltl_factor_packed(const DofTree& t, double* P) {
 }
 
 // x ← L⁻ᵀ x and x ← L⁻¹ x on the packed factor (x (nv,), the whole joint space).
-inline void ltl_solve_Lt_packed(const DofTree& t, const double* P, double* x) {
+inline void ltl_solve_Lt_packed(const DofTree& t, const double* P, const double* dinv, double* x) {
   for (int k = t.nv - 1; k >= 0; --k) {
     const double* Lk = P + t.off[k];
     const int* ch = t.chain.data() + t.off[k];
     const int dk = t.depth[k];
-    const double xk = x[k] / Lk[dk];
+    const double xk = x[k] * dinv[k];
     x[k] = xk;
     for (int s = 0; s < dk; ++s) x[ch[s]] = x[ch[s]] - Lk[s] * xk;
   }
 }
-inline void ltl_solve_L_packed(const DofTree& t, const double* P, double* x) {
+inline void ltl_solve_L_packed(const DofTree& t, const double* P, const double* dinv, double* x) {
   for (int k = 0; k < t.nv; ++k) {
     const double* Lk = P + t.off[k];
     const int* ch = t.chain.data() + t.off[k];
     const int dk = t.depth[k];
     double s = x[k];
     for (int u = 0; u < dk; ++u) s = s - Lk[u] * x[ch[u]];
-    x[k] = s / Lk[dk];
+    x[k] = s * dinv[k];
   }
 }
 
 // y ← L⁻ᵀ y for a vector y that is zero outside the chain of dof k (root … k), held in chain positions
 // y[0 .. depth_k]: Lᵀ only moves entries to ancestors, so the solve stays on the chain, contiguous.
-inline void ltl_solve_Lt_chain(const DofTree& t, const double* P, int k, double* y) {
+inline void ltl_solve_Lt_chain(const DofTree& t, const double* P, const double* dinv, int k, double* y) {
   const int* ch = t.chain.data() + t.off[k];
   for (int s = t.depth[k]; s >= 0; --s) {
     const double* __restrict Li = P + t.off[ch[s]];  // row chain_k[s]: its ancestors are positions 0 .. s
-    const double ys = y[s] / Li[s];
+    const double ys = y[s] * dinv[ch[s]];
     y[s] = ys;
     for (int u = 0; u < s; ++u) y[u] = y[u] - Li[u] * ys;
   }
+}
+
+// A⁻¹ (m, m), full and exactly symmetric, from the Cholesky factor of dense_cholesky (A = C Cᵀ): W = C⁻¹ (lower
+// triangular, in the upper scratch W), then A⁻¹ = Wᵀ W. Costs m³/3 multiply-adds and m divisions.
+inline void dense_cholesky_inverse(const double* C, int m, double* W, double* Ainv) {
+  for (int j = 0; j < m; ++j) {  // column j of W = C⁻¹: forward substitution on e_j
+    const double dj = 1.0 / C[j * m + j];
+    W[j * m + j] = dj;
+    for (int i = j + 1; i < m; ++i) {
+      double x = 0.0;
+      for (int k = j; k < i; ++k) x -= C[i * m + k] * W[k * m + j];
+      W[i * m + j] = x / C[i * m + i];
+    }
+  }
+  for (int i = 0; i < m; ++i)
+    for (int j = 0; j <= i; ++j) {  // (Wᵀ W)_ij = Σ_{k ≥ i} W_ki W_kj
+      double x = 0.0;
+      for (int k = i; k < m; ++k) x += W[k * m + i] * W[k * m + j];
+      Ainv[i * m + j] = Ainv[j * m + i] = x;
+    }
 }
 
 }  // namespace fdcore
