@@ -289,15 +289,27 @@ def _frames_plan_cached(model: Model, frames: tuple[str | int, ...], reference: 
     return np.array([[6, model.resolve_frame(f), _REF_CODE[reference], 0.0] for f in frames], dtype=np.float64)
 
 
+#: the last frames plan: (model, a copy of the frames list or the tuple or name itself, the reference, the specs)
+_LAST_FRAMES: tuple[Any, Any, Any, Any] = (None, None, None, None)
+
+
 def _frames_plan(model: Model, frames: Sequence[str | int] | str | int, reference: ReferenceFrame | str
                  ) -> np.ndarray | None:
     """The core's specs `(k, 4)` of the frames (6 rows each), cached; ``None`` when the general path must word
     an error (no frames, an unknown frame or reference, unhashable input)."""
+    global _LAST_FRAMES
+    last_model, last_frames, last_reference, specs = _LAST_FRAMES
+    if last_model is model and reference is last_reference and (
+            frames is last_frames or (type(frames) is list and type(last_frames) is list and frames == last_frames)):
+        return specs
     try:
         key = (frames,) if isinstance(frames, (str, int)) else tuple(frames)
-        return _frames_plan_cached(model, key, as_reference_frame(reference))
+        specs = _frames_plan_cached(model, key, as_reference_frame(reference))
     except (TypeError, ValueError, FeatherdynError):
         return None
+    if type(frames) in (list, tuple, str, int):
+        _LAST_FRAMES = (model, frames.copy() if type(frames) is list else frames, reference, specs)  # type: ignore[union-attr]
+    return specs
 
 
 #: the last plan: (model, a copy of the constraints list or the tuple itself, the plan), one tuple replaced whole
