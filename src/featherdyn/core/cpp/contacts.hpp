@@ -266,7 +266,7 @@ inline void solve_rows(const DofTree& t, const double* P, const ContactSpec* spe
   w.Y.assign(w.J.begin(), w.J.begin() + w.first[nc]);
   for (int k = 0; k < nc; ++k)
     if (w.last[k] >= 0)
-      for (int i = 0; i < specs[k].rows; ++i) ltl_solve_Lt_chain(t, P, dinv, w.last[k], w.Y.data() + w.first[k] + i * w.len[k]);
+      ltl_solve_Lt_chain_rows(t, P, dinv, w.last[k], w.Y.data() + w.first[k], specs[k].rows, w.len[k]);
 }
 
 // q̈ (nv,), λ (m,), and the KKT result for the contacts `specs` at (q, q̇, τ, f_ext); m = Σ rows.

@@ -312,7 +312,7 @@ inline int ltl_factor_packed(const DofTree& t, double* P, double* dinv) {
     const int dk = t.depth[k];
     const double d = Lk[dk];
     if (!(d > 0.0)) return k;
-    const double a = std::sqrt(d), inv = 1.0 / a;
+    const double r = 1.0 / d, a = std::sqrt(d), inv = a * r;  // 1/√d = √d / d: the division and the root overlap
     Lk[dk] = a;
     dinv[k] = inv;
     for (int s = 0; s < dk; ++s) Lk[s] = Lk[s] * inv;
@@ -348,15 +348,22 @@ inline void ltl_solve_L_packed(const DofTree& t, const double* P, const double* 
   }
 }
 
-// y ← L⁻ᵀ y for a vector y that is zero outside the chain of dof k (root … k), held in chain positions
-// y[0 .. depth_k]: Lᵀ only moves entries to ancestors, so the solve stays on the chain, contiguous.
-inline void ltl_solve_Lt_chain(const DofTree& t, const double* P, const double* dinv, int k, double* y) {
+// y ← L⁻ᵀ y for each of `n` vectors y (the rows of Y, row stride `stride`) that are zero outside the chain of
+// dof k (root … k), held in chain positions y[0 .. depth_k]. Lᵀ only moves entries to ancestors,
+// so the solve stays on the chain, contiguous; the rows share the chain's rows of L and their independent
+// updates interleave.
+inline void ltl_solve_Lt_chain_rows(const DofTree& t, const double* P, const double* dinv, int k, double* Y, int n,
+                                    int stride) {
   const int* ch = t.chain.data() + t.off[k];
   for (int s = t.depth[k]; s >= 0; --s) {
-    const double* __restrict Li = P + t.off[ch[s]];  // row chain_k[s]: its ancestors are positions 0 .. s
-    const double ys = y[s] * dinv[ch[s]];
-    y[s] = ys;
-    for (int u = 0; u < s; ++u) y[u] = y[u] - Li[u] * ys;
+    const double* __restrict Li = P + t.off[ch[s]];
+    const double di = dinv[ch[s]];
+    for (int r = 0; r < n; ++r) {
+      double* __restrict y = Y + static_cast<size_t>(r) * stride;
+      const double ys = y[s] * di;
+      y[s] = ys;
+      for (int u = 0; u < s; ++u) y[u] = y[u] - Li[u] * ys;
+    }
   }
 }
 
