@@ -73,7 +73,7 @@ def main() -> int:
             fd.constrained_dynamics(p.model, Q, V, T, cons)  # noqa: B023
 
         def loop() -> None:
-            for k in range(n):
+            for k in range(n):  # noqa: B023
                 fd.constrained_dynamics(p.model, Q[k], V[k], T[k], cons)  # noqa: B023
 
         threads = fd.get_num_threads()

@@ -329,7 +329,7 @@ def _frames_plan(model: Model, frames: Sequence[str | int] | str | int, referenc
     except (TypeError, ValueError, FeatherdynError):
         return None
     if type(frames) in (list, tuple, str, int):
-        _LAST_FRAMES = (model, frames.copy() if type(frames) is list else frames, reference, plan)  # type: ignore[union-attr]
+        _LAST_FRAMES = (model, frames.copy() if type(frames) is list else frames, reference, plan)
     return plan
 
 

@@ -273,21 +273,23 @@ namespace fdcore {
 struct DofTree {
   int nv = 0;
   std::vector<int> lambda, depth, off, chain;
-  std::vector<std::int32_t> key;  // nb, then the parent and nv_i arrays of the model it was built for
+  std::vector<std::int32_t> key;  // nb, then the parent, nv_i and idx_v arrays of the model it was built for
 };
 
 // The calling thread's DofTree for this model (rebuilt when the model's tree differs from the last one's).
 inline const DofTree& dof_tree(const ModelView& mv) {
   thread_local DofTree t;
   const size_t nb = static_cast<size_t>(mv.nb);
-  bool same = t.key.size() == 2 * nb + 1 && t.key[0] == mv.nb && t.nv == mv.nv;
-  for (size_t i = 0; same && i < nb; ++i) same = t.key[1 + i] == mv.parent[i] && t.key[1 + nb + i] == mv.nv_i[i];
+  bool same = t.key.size() == 3 * nb + 1 && t.key[0] == mv.nb && t.nv == mv.nv;
+  for (size_t i = 0; same && i < nb; ++i)
+    same = t.key[1 + i] == mv.parent[i] && t.key[1 + nb + i] == mv.nv_i[i] && t.key[1 + 2 * nb + i] == mv.idx_v[i];
   if (same) return t;
   const int nv = mv.nv;
   t.nv = nv;
-  t.key.assign(2 * nb + 1, 0);
+  t.key.assign(3 * nb + 1, 0);
   t.key[0] = mv.nb;
-  for (size_t i = 0; i < nb; ++i) t.key[1 + i] = mv.parent[i], t.key[1 + nb + i] = mv.nv_i[i];
+  for (size_t i = 0; i < nb; ++i)
+    t.key[1 + i] = mv.parent[i], t.key[1 + nb + i] = mv.nv_i[i], t.key[1 + 2 * nb + i] = mv.idx_v[i];
   t.lambda.resize(nv);
   t.depth.resize(nv);
   t.off.resize(static_cast<size_t>(nv) + 1);
