@@ -53,6 +53,8 @@ struct ContactWork {
   std::vector<Force<double>> f;
   std::vector<double> P, dinv, J, Y, c, th, z, D, D0, rhs, x;
   std::vector<int> first, len, last, common;  // per contact: first row, chain length, last dof; common prefixes
+  std::vector<ArticulatedInertia<double>> IA;  // Λ: I^A_i with the dofs off the frames' chains eliminated
+  std::vector<char> on_chain;                  // Λ: per dof, on the chain of some frame
   void resize(size_t nb) {
     if (Rp.size() < nb)
       Rp.resize(nb), Rr.resize(nb), pp.resize(nb), pr.resize(nb), g.resize(nb), root.resize(nb), IC.resize(nb),
@@ -61,12 +63,12 @@ struct ContactWork {
 };
 
 // The forward and backward passes of the file comment. With qd == nullptr only the kinematics and the
-// composite inertias; with h != nullptr also h (nv,) = RNEA(q, q̇, 0) with gravity and f_ext (nb, 6) or nullptr.
+// composite inertias (with composite == false: each body's own ʳI_i); with h != nullptr also h (nv,) = RNEA(q, q̇, 0) with gravity and f_ext (nb, 6) or nullptr.
 // Velocities, accelerations and forces are in root-body coordinates too (any coordinates fixed in space at
 // this instant serve the recursion, RBDA §5.3 in a fixed frame): v_i = v_λ + ʳS_i q̇_i, a_i = a_λ + v_i × ʳS_i q̇_i,
 // f_i = ʳI_i (a_i + a₀) + v_i ×* ʳI_i v_i − ʳX_i* f_i^ext, f_λ += f_i, τ_i = ʳS_iᵀ f_i: no transform per body.
 inline void contact_pass(const ModelView& mv, const double* q, const double* qd, const double* f_ext, ContactWork& w,
-                         double* h) {
+                         double* h, bool composite = true) {
   const int nb = mv.nb;
   w.Sr.resize(static_cast<size_t>(mv.nv));
   const Vec3<double> g0{-mv.gravity[0], -mv.gravity[1], -mv.gravity[2]};  // a₀ = [0; −g] in world coordinates
@@ -121,7 +123,7 @@ inline void contact_pass(const ModelView& mv, const double* q, const double* qd,
   }
   for (int i = nb - 1; i >= 0; --i) {
     const int lam = mv.parent[i], iv = mv.idx_v[i];
-    if (lam != -1) w.IC[lam] = w.IC[lam] + w.IC[i];
+    if (lam != -1 && composite) w.IC[lam] = w.IC[lam] + w.IC[i];
     if (h == nullptr) continue;
     for (int c = 0; c < mv.nv_i[i]; ++c) h[iv + c] = dot(w.Sr[iv + c], w.f[i]);
     if (lam != -1) w.f[lam] += w.f[i];
@@ -378,10 +380,21 @@ inline std::int64_t contact_dynamics(const ModelView& mv, const double* q, const
   return OK;
 }
 
-// Λ = (J M⁻¹ Jᵀ + μ 1)⁻¹ (m, m) for the frames of `specs` (6 rows each, the stacked frame Jacobians J):
-// J M⁻¹ Jᵀ = Y Yᵀ on M's packed factor, then the inverse through its Cholesky factor (M is never inverted).
-// Returns OK, SINGULAR for M, or LENGTH (ARG_OUT) when J M⁻¹ Jᵀ + μ 1 has a pivot below singular_tol (the
-// caller's general path then decides).
+// Λ = (J M⁻¹ Jᵀ + μ 1)⁻¹ (m, m) for the frames of `specs` (6 rows each, the stacked frame Jacobians J).
+//
+// Y = J L⁻¹ reads only the rows of L on the frames' chains (the support), and eliminating every dof off the
+// support leaves on the support rows the Schur complement, whose entries are those of M with each subtree
+// hanging off the support carried by its articulated-body inertia instead of its composite one (RBDA §7.2;
+// the support-only part of the extended force propagator of Wensing, Featherstone & Orin 2012). In root-body
+// coordinates the articulated inertias add up with no transform:
+//
+//     I^A_i = ʳI_i + Σ_children I^A_j;   off the support, for each dof k of body i (last first):
+//         U = I^A_i ʳS_k,   D = ʳS_kᵀ U + armature_k,   I^A_i −= U Uᵀ / D          (D: the LᵀL pivot of dof k)
+//     on the support:  M_kj = ʳS_jᵀ I^A_i ʳS_k  (j an ancestor dof of k), then the packed factor of these rows
+//
+// so the subtrees off the frames' chains cost O(bodies) instead of the factor's O(depth²) per dof. Then
+// J M⁻¹ Jᵀ = Y Yᵀ and its inverse through its Cholesky factor (M is never inverted). Returns OK, SINGULAR for
+// M, or LENGTH (ARG_OUT) when J M⁻¹ Jᵀ + μ 1 has a pivot below singular_tol (the caller's general path decides).
 inline std::int64_t operational_space_inertia(const ModelView& mv, const double* q, const ContactSpec* specs, int nc,
                                               double mu, double singular_tol, double* Lambda) {
   const int nb = mv.nb, nv = mv.nv, m = 6 * nc;
@@ -389,9 +402,47 @@ inline std::int64_t operational_space_inertia(const ModelView& mv, const double*
   ContactWork& w = thread_workspace<ContactWork>(nb);
   w.P.resize(static_cast<size_t>(t.off[nv]));
   w.dinv.resize(nv);
-  contact_pass(mv, q, nullptr, nullptr, w, nullptr);
-  mass_matrix_packed(mv, t, w, w.P.data());
-  const int bad = ltl_factor_packed(t, w.P.data(), w.dinv.data());
+  w.IA.resize(nb);
+  w.on_chain.assign(nv, 0);
+  contact_pass(mv, q, nullptr, nullptr, w, nullptr, false);
+  for (int k = 0; k < nc; ++k) {
+    const int b = mv.frame_body[specs[k].frame], kd = b == -1 ? -1 : last_dof(mv, b);
+    for (int i = kd; i != -1 && !w.on_chain[i]; i = t.lambda[i]) w.on_chain[i] = 1;
+  }
+  for (int i = 0; i < nb; ++i) w.IA[i] = ArticulatedInertia<double>::from_rigid(w.IC[i]);
+  for (int i = nb - 1; i >= 0; --i) {
+    const int iv = mv.idx_v[i];
+    ArticulatedInertia<double>& IA = w.IA[i];
+    for (int c = mv.nv_i[i] - 1; c >= 0 && !w.on_chain[iv + c]; --c) {
+      const Motion<double>& S = w.Sr[iv + c];
+      const Force<double> U = IA * S;
+      double D = dot(S, U);
+      if (mv.armature) D += mv.armature[iv + c];
+      if (!(D > 0.0)) return make_status(SINGULAR, ARG_Q, i);
+      const double d = 1.0 / D;
+      const Vec3<double> n = d * U.n, f = d * U.f;  // I^A −= U Uᵀ / D, block by block
+      for (int r = 0; r < 3; ++r) {
+        const double nr = r == 0 ? U.n.x : r == 1 ? U.n.y : U.n.z, fr = r == 0 ? U.f.x : r == 1 ? U.f.y : U.f.z;
+        IA.A(r, 0) -= nr * n.x, IA.A(r, 1) -= nr * n.y, IA.A(r, 2) -= nr * n.z;
+        IA.B(r, 0) -= nr * f.x, IA.B(r, 1) -= nr * f.y, IA.B(r, 2) -= nr * f.z;
+        IA.C(r, 0) -= fr * f.x, IA.C(r, 1) -= fr * f.y, IA.C(r, 2) -= fr * f.z;
+      }
+    }
+    if (mv.parent[i] != -1) w.IA[mv.parent[i]] += IA;
+  }
+  for (int i = 0; i < nb; ++i) {  // the support rows of M (a body is on the support through its last dof)
+    for (int c = 0; c < mv.nv_i[i]; ++c) {
+      const int k = mv.idx_v[i] + c, dk = t.depth[k];
+      if (!w.on_chain[k]) continue;
+      const Force<double> F = w.IA[i] * w.Sr[k];
+      double* row = w.P.data() + t.off[k];
+      const int* ch = t.chain.data() + t.off[k];
+      for (int s = 0; s < dk; ++s) row[s] = dot(w.Sr[ch[s]], F);
+      row[dk] = dot(w.Sr[k], F);
+      if (mv.armature) row[dk] += mv.armature[k];
+    }
+  }
+  const int bad = ltl_factor_packed(t, w.P.data(), w.dinv.data(), w.on_chain.data());
   if (bad >= 0) return make_status(SINGULAR, ARG_Q, dof_body(mv, bad));
   contact_rows(mv, t, specs, nc, w);
   solve_rows(t, w.P.data(), specs, nc, w);

@@ -306,10 +306,12 @@ inline const DofTree& dof_tree(const ModelView& mv) {
 }
 
 // In place: P holds M's entries in the packed layout (row k: M_{k, chain_k[t]}, then M_kk) → L, as ltl_factor
-// (each row scaled by the reciprocal of its pivot); dinv (nv,) ← 1 / L_kk for the solves below.
-// Returns −1, or the dof whose pivot is not positive.
-inline int ltl_factor_packed(const DofTree& t, double* P, double* dinv) {
+// (each row scaled by the reciprocal of its pivot); dinv (nv,) ← 1 / L_kk for the solves below. With `rows`
+// (nv,) only the rows k with rows[k] != 0 (a set closed under ancestors, holding a Schur complement) are read
+// and factored. Returns −1, or the dof whose pivot is not positive.
+inline int ltl_factor_packed(const DofTree& t, double* P, double* dinv, const char* rows = nullptr) {
   for (int k = t.nv - 1; k >= 0; --k) {
+    if (rows && !rows[k]) continue;
     double* __restrict Lk = P + t.off[k];
     const int dk = t.depth[k];
     const double d = Lk[dk];
@@ -370,21 +372,27 @@ inline void ltl_solve_Lt_chain_rows(const DofTree& t, const double* P, const dou
 }
 
 // A⁻¹ (m, m), full and exactly symmetric, from the Cholesky factor of dense_cholesky (A = C Cᵀ): W = C⁻¹ (lower
-// triangular, in the upper scratch W), then A⁻¹ = Wᵀ W. Costs m³/3 multiply-adds and m divisions.
-inline void dense_cholesky_inverse(const double* C, int m, double* W, double* Ainv) {
+// triangular; its columns kept as the rows of Wt, so every sum below runs over contiguous entries), then
+// A⁻¹ = Wᵀ W. Costs m³/3 multiply-adds and m divisions. Wt: (m, m) scratch.
+inline void dense_cholesky_inverse(const double* C, int m, double* Wt, double* Ainv) {
+  double* r = Ainv;  // the diagonal's reciprocals, in Ainv's first row until it is written
+  for (int i = 0; i < m; ++i) r[i] = 1.0 / C[i * m + i];
   for (int j = 0; j < m; ++j) {  // column j of W = C⁻¹: forward substitution on e_j
-    const double dj = 1.0 / C[j * m + j];
-    W[j * m + j] = dj;
+    double* w = Wt + static_cast<size_t>(j) * m;
+    w[j] = r[j];
     for (int i = j + 1; i < m; ++i) {
+      const double* Ci = C + static_cast<size_t>(i) * m;
       double x = 0.0;
-      for (int k = j; k < i; ++k) x -= C[i * m + k] * W[k * m + j];
-      W[i * m + j] = x / C[i * m + i];
+      for (int k = j; k < i; ++k) x -= Ci[k] * w[k];
+      w[i] = x * r[i];
     }
   }
-  for (int i = 0; i < m; ++i)
-    for (int j = 0; j <= i; ++j) {  // (Wᵀ W)_ij = Σ_{k ≥ i} W_ki W_kj
+  for (int i = 0; i < m; ++i)  // (Wᵀ W)_ij = Σ_{k ≥ i} W_ki W_kj (the reciprocals are no longer read)
+    for (int j = 0; j <= i; ++j) {
+      const double* wi = Wt + static_cast<size_t>(i) * m;
+      const double* wj = Wt + static_cast<size_t>(j) * m;
       double x = 0.0;
-      for (int k = i; k < m; ++k) x += W[k * m + i] * W[k * m + j];
+      for (int k = i; k < m; ++k) x += wi[k] * wj[k];
       Ainv[i * m + j] = Ainv[j * m + i] = x;
     }
 }
