@@ -12,12 +12,13 @@
 //
 //   forward (i = 0 … nb−1):  the pose of body i in its parent and in its tree's root body (ʳR_i, ʳp_i);
 //       CRBA's ʳS_i and ʳI_i (crba.hpp: the tree's root-body coordinates);
-//       with q̇: v_i, the bias acceleration a_i at q̈ = 0 (RBDA §5.3) and RNEA's f_i (with gravity, f_ext)
-//   backward (i = nb−1 … 0): I^C_λ += I^C_i, τ_i = S_iᵀ f_i, f_λ += X_upᵀ f_i  → h = C q̇ + g − J_extᵀ f_ext
+//       with q̇: v_i, the bias acceleration a_i at q̈ = 0 (RBDA §5.3) and RNEA's f_i (with gravity, f_ext),
+//       in the same root-body coordinates
+//   backward (i = nb−1 … 0): I^C_λ += I^C_i, τ_i = ʳS_iᵀ f_i, f_λ += f_i  → h = C q̇ + g − J_extᵀ f_ext
 //   M in ltl.hpp's packed layout (row k: M_k at the ancestor dofs of k, then M_kk), factored in place
 //
 // A contact on body b has nonzero columns only on the chain of b's last dof (root … b), so its rows, and
-// Y = J L⁻¹ (ltl_solve_Lt_chain), are kept in that chain's positions, contiguous:
+// Y = J L⁻¹ (ltl_solve_Lt_chain_rows), are kept in that chain's positions, contiguous:
 //
 //     ʳJ column of dof k = ʳS_k shifted to the frame's origin,  then frame axes (LOCAL) or world axes (LWA);
 //     WORLD: ⁰X_r ʳS_k (about the world origin)
@@ -46,10 +47,10 @@ struct ContactSpec {
 
 struct ContactWork {
   std::vector<Mat3<double>> Rp, Rr;      // body i in its parent (X_up = plux(Rpᵀ, pp)), in its root body
-  std::vector<Vec3<double>> pp, pr, g;   // g_i: the base acceleration −g in body i's axes
+  std::vector<Vec3<double>> pp, pr, g;   // g_r: a₀'s linear part [ʳR_0 (−g)] for a root body r
   std::vector<int> root;                 // the root body of body i's tree
   std::vector<RigidInertia<double>> IC;  // ʳI_i, then I^C_i (root-body coordinates)
-  std::vector<Motion<double>> Sr, v, a;  // ʳS of each dof; v_i, a_i (q̈ = 0, no gravity) in body coordinates
+  std::vector<Motion<double>> Sr, v, a;  // ʳS of each dof; v_i, a_i (q̈ = 0, no gravity) in root-body coordinates
   std::vector<Force<double>> f;
   std::vector<double> P, dinv, J, Y, c, th, z, D, D0, rhs, x;
   std::vector<int> first, len, last, common;  // per contact: first row, chain length, last dof; common prefixes
@@ -63,7 +64,8 @@ struct ContactWork {
 };
 
 // The forward and backward passes of the file comment. With qd == nullptr only the kinematics and the
-// composite inertias (with composite == false: each body's own ʳI_i); with h != nullptr also h (nv,) = RNEA(q, q̇, 0) with gravity and f_ext (nb, 6) or nullptr.
+// composite inertias (with composite == false: each body's own ʳI_i); with h != nullptr also
+// h (nv,) = RNEA(q, q̇, 0) with gravity and f_ext (nb, 6) or nullptr.
 // Velocities, accelerations and forces are in root-body coordinates too (any coordinates fixed in space at
 // this instant serve the recursion, RBDA §5.3 in a fixed frame): v_i = v_λ + ʳS_i q̇_i, a_i = a_λ + v_i × ʳS_i q̇_i,
 // f_i = ʳI_i (a_i + a₀) + v_i ×* ʳI_i v_i − ʳX_i* f_i^ext, f_λ += f_i, τ_i = ʳS_iᵀ f_i: no transform per body.

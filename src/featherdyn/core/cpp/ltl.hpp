@@ -265,7 +265,8 @@ namespace fdcore {
 // The packed storage of the same factor (contacts.hpp): row k of L keeps only its entries at the ancestor dofs
 // of k, root first, then the diagonal:
 //
-//     P[off_k + t] = L_{k, chain_k[t]}   (t < depth_k, chain_k[t] the ancestor dof of k at depth t),   P[off_k + depth_k] = L_kk
+//     P[off_k + t] = L_{k, chain_k[t]}   (t < depth_k: chain_k[t] is the ancestor dof of k at depth t)
+//     P[off_k + depth_k] = L_kk
 //
 // The ancestors of an ancestor i = chain_k[s] of k are chain_k[0 .. s), so row i's entries sit at the same
 // positions as row k's first s + 1: the factor's update of row i by row k, and every solve along one chain,
