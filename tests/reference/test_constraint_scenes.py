@@ -550,3 +550,18 @@ def test_the_contact_kernel_on_two_trees_with_every_joint_equals_the_reference(r
             J = np.concatenate([fd.frame_jacobian(model, q[k], f, ref) for f in frames])
             dense = np.linalg.inv(J @ np.linalg.solve(fd.crba(model, q[k]), J.T) + mu * np.eye(12))
             _close(fd.operational_space_inertia(model, q[k], frames, ref, mu=mu), dense, rtol=1e-8)
+
+
+def test_a_list_with_an_array_where_a_constraint_belongs_is_named_after_a_cached_plan(solo: fd.Model) -> None:
+    """The remembered plan compares the new list with the last one item by item; an array in it (whose == is
+    elementwise) must still reach the general path's words, not a NumPy truth-value error."""
+    q, zero = fd.neutral(solo), np.zeros(solo.nv)
+    cons: list[object] = [fd.PointContact("FL_FOOT"), fd.PointContact("FR_FOOT")]
+    fd.constrained_dynamics(solo, q, zero, zero, cons)  # type: ignore[arg-type]
+    cons[1] = np.zeros(3)
+    with pytest.raises(fd.ModelError, match=r"expected fd\.PointContact"):
+        fd.constrained_dynamics(solo, q, zero, zero, cons)  # type: ignore[arg-type]
+    q = fd.random_configuration(solo, np.random.default_rng(6))
+    fd.operational_space_inertia(solo, q, ["FL_FOOT", "FR_FOOT"])
+    with pytest.raises((fd.FeatherdynError, TypeError)):
+        fd.operational_space_inertia(solo, q, ["FL_FOOT", np.zeros(2)])  # type: ignore[list-item]

@@ -309,6 +309,15 @@ def _frames_plan_cached(model: Model, frames: tuple[str | int, ...], reference: 
     return None if plan is None else (plan, (6 * len(frames), 6 * len(frames)))
 
 
+def _same_items(a: list[Any], b: list[Any]) -> bool:
+    """``a == b`` for two lists (item by item, identity first), ``False`` when an item's ``==`` is not a truth
+    value (an array where a constraint or a frame belongs: the general path words that)."""
+    try:
+        return a == b
+    except (TypeError, ValueError):
+        return False
+
+
 #: the last frames plan: (model, a copy of the frames list or the tuple or name itself, the reference, the plan)
 _LAST_FRAMES: tuple[Any, Any, Any, Any] = (None, None, None, None)
 
@@ -320,8 +329,8 @@ def _frames_plan(model: Model, frames: Sequence[str | int] | str | int, referenc
     the model."""
     global _LAST_FRAMES
     last_model, last_frames, last_reference, plan = _LAST_FRAMES
-    if last_model is model and reference is last_reference and (
-            frames is last_frames or (type(frames) is list and type(last_frames) is list and frames == last_frames)):
+    if last_model is model and reference is last_reference and (frames is last_frames or (
+            type(frames) is list and type(last_frames) is list and _same_items(frames, last_frames))):
         return plan
     try:
         key = (frames,) if isinstance(frames, (str, int)) else tuple(frames)
@@ -340,12 +349,12 @@ _LAST_PLAN: tuple[Any, Any, Any] = (None, None, None)
 
 
 def _contact_plan(model: Model, constraints: Sequence[Constraint] | Constraint) -> _ContactPlan | None:
-    """``(slices of λ, specs (nc, 4), m, the core's plan)`` when every constraint is a point or frame contact (``contacts.hpp``
-    computes their rows in the core), else ``None``; cached per model and constraint tuple."""
+    """``(slices of λ, specs (nc, 4), m, the core's plan)`` when every constraint is a point or frame contact
+    (``contacts.hpp`` computes their rows in the core), else ``None``; cached per model and constraint tuple."""
     global _LAST_PLAN
     last_model, last_items, plan = _LAST_PLAN
-    if last_model is model and (constraints is last_items or (type(constraints) is list and type(last_items) is list
-                                                              and constraints == last_items)):
+    if last_model is model and (constraints is last_items or (
+            type(constraints) is list and type(last_items) is list and _same_items(constraints, last_items))):
         return plan
     plan = _contact_plan_lookup(model, constraints)
     if type(constraints) is list:
