@@ -9,7 +9,12 @@ featherdyn is faster):
 * talos_full_v2 in double support (two 6D soles): the same;
 * Λ at one frame (panda's hand) and at two frames (talos's grippers): ``fd.operational_space_inertia``
   against Pinocchio's best route from Python, ``computeDelassusMatrix`` then ``np.linalg.inv``;
-* batched: ``fd.constrained_dynamics`` on N states in one call against a Python loop of one-state calls.
+* batched: ``fd.constrained_dynamics`` on N states in one call (the core's thread pool, ``fd.get_num_threads()``
+  threads; also on one thread, to show what the pool adds) against a Python loop of one-state calls, both
+  warmed up and timed as interleaved medians like the rest.
+
+The load average is printed with the table: the 2-core sandbox is shared, and a batch on two threads is only
+as parallel as the cores left free.
 
 featherdyn's call includes building the constraint rows (frame Jacobians and drifts) from the
 constraint objects; Pinocchio's includes the same work inside ``constraintDynamics``.
@@ -17,8 +22,8 @@ constraint objects; Pinocchio's includes the same work inside ``constraintDynami
 
 from __future__ import annotations
 
+import os
 import sys
-import time
 import warnings
 from pathlib import Path
 
@@ -63,14 +68,24 @@ def main() -> int:
         # batched against a Python loop of one-state calls
         n = 200
         Q, V, T = p.states(n)[:3]
-        t0 = time.perf_counter()
-        fd.constrained_dynamics(p.model, Q, V, T, cons)
-        t_batch = time.perf_counter() - t0
-        t0 = time.perf_counter()
-        for k in range(n):
-            fd.constrained_dynamics(p.model, Q[k], V[k], T[k], cons)
-        t_loop = time.perf_counter() - t0
-        rows.append((f"{name}: batch of {n} / Python loop of one-state calls", t_batch / n, t_loop / n))
+
+        def batch() -> None:
+            fd.constrained_dynamics(p.model, Q, V, T, cons)  # noqa: B023
+
+        def loop() -> None:
+            for k in range(n):  # noqa: B023
+                fd.constrained_dynamics(p.model, Q[k], V[k], T[k], cons)  # noqa: B023
+
+        threads = fd.get_num_threads()
+        t_batch, t_loop = median_pair(batch, loop, repeats, budget)
+        rows.append((f"{name}: batch of {n} ({threads} threads) / Python loop of one-state calls", t_batch / n,
+                     t_loop / n))
+        fd.set_num_threads(1)
+        try:
+            t_batch1, t_loop = median_pair(batch, loop, repeats, budget)
+        finally:
+            fd.set_num_threads(threads)
+        rows.append((f"{name}: batch of {n} (1 thread) / Python loop of one-state calls", t_batch1 / n, t_loop / n))
 
     for name, floating, frames in (("panda", False, ["panda_hand"]),
                                    ("talos_full_v2", True, ["gripper_left_base_link", "gripper_right_base_link"])):
@@ -85,7 +100,8 @@ def main() -> int:
                                   pin_lambda, repeats, budget)
         rows.append((f"{name}: Λ at {len(frames)} frame{'s' if len(frames) > 1 else ''} / Delassus + inv", t_fd, t_pin))
 
-    print(f"featherdyn {fd.__version__}, pinocchio {pin.__version__}")
+    print(f"featherdyn {fd.__version__}, pinocchio {pin.__version__}, load average {os.getloadavg()[0]:.2f} "
+          f"(1 min) on {os.cpu_count()} cores")
     print_ratios(rows)
     return 0
 

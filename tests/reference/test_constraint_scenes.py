@@ -14,6 +14,7 @@ Oracles:
 
 from __future__ import annotations
 
+import dataclasses
 import warnings
 from collections.abc import Callable
 
@@ -477,3 +478,90 @@ def test_closed_chains_against_the_dense_kkt(scene: str) -> None:
         res = fd.constrained_dynamics(model, q, v, tau, cons, backend=backend)
         _close(res.ddq, sol[: model.nv], rtol=1e-9)
         _close(res.lagrange, sol[model.nv:], rtol=1e-9)
+
+
+# ---------------------------------------------------------------- the contact kernel on every tree shape
+
+
+def two_trees_every_joint() -> fd.Model:
+    """Two trees (a free-flying torso with two branches, a fixed planar-prismatic arm beside it), every joint type,
+    frames off the body origins, and armature: what contacts.hpp's packed factor and chain-held rows must handle
+    (several roots, multi-dof joints inside a chain, branches that share a prefix of the chain)."""
+    b = fd.ModelBuilder("two_trees")
+    rng = np.random.default_rng(3)
+
+    def inertia(mass: float) -> fd.SpatialInertia:
+        A = rng.normal(size=(3, 3))
+        return fd.SpatialInertia(mass, rng.normal(scale=0.1, size=3), 0.05 * (A @ A.T) + 0.02 * np.eye(3))
+
+    def at(p: list[float], angle: float = 0.3) -> fd.PluckerTransform:
+        c, s = np.cos(angle), np.sin(angle)
+        return fd.PluckerTransform(np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]]), np.asarray(p, dtype=float))
+
+    torso = b.add_body("torso", -1, fd.FreeFlyerJoint(), inertia=inertia(3.0))
+    shoulder = b.add_body("shoulder", torso, fd.SphericalJoint(), placement=at([0.2, 0.1, 0.3]), inertia=inertia(1.0))
+    elbow = b.add_body("elbow", shoulder, fd.RevoluteJoint([0.0, 0.6, 0.8]), placement=at([0.0, 0.0, 0.4]),
+                       inertia=inertia(0.8))
+    hip = b.add_body("hip", torso, fd.RevoluteJoint([1.0, 0.0, 0.0]), placement=at([-0.1, 0.0, -0.3], -0.4),
+                     inertia=inertia(1.2))
+    knee = b.add_body("knee", hip, fd.PrismaticJoint([0.0, 0.0, 1.0]), placement=at([0.0, 0.05, -0.4]),
+                      inertia=inertia(0.9))
+    cart = b.add_body("cart", -1, fd.PlanarJoint([0.0, 0.0, 1.0]), placement=at([2.0, 0.0, 0.0]),
+                      inertia=inertia(2.0))
+    slider = b.add_body("slider", cart, fd.PrismaticJoint([0.0, 0.0, 1.0]), placement=at([0.1, 0.2, 0.0]),
+                        inertia=inertia(0.5))
+    b.add_frame("hand", elbow, at([0.1, -0.05, 0.3], 0.7))
+    b.add_frame("foot", knee, at([0.02, 0.0, -0.1], -0.2))
+    b.add_frame("torso_point", torso, at([0.0, 0.2, 0.0]))
+    wrist = b.add_body("wrist", slider, fd.SphericalJoint(), placement=at([0.2, 0.0, 0.1]), inertia=inertia(0.4))
+    b.add_frame("tool", wrist, at([0.3, 0.0, 0.05], 1.1))
+    model = b.build()
+    return dataclasses.replace(model, armature=np.linspace(0.0, 0.3, model.nv))
+
+
+@pytest.mark.parametrize("ref", [fd.LOCAL, fd.WORLD, fd.LOCAL_WORLD_ALIGNED], ids=lambda r: r.name)
+@pytest.mark.parametrize("mu", [0.0, 1e-6])
+def test_the_contact_kernel_on_two_trees_with_every_joint_equals_the_reference(ref: fd.ReferenceFrame,
+                                                                               mu: float) -> None:
+    """contacts.hpp (one pass, M packed along the dof chains, rows kept on their chains) against the reference
+    backend's rows and solve, one state and batched, with f_ext, damping gains and armature; and Λ at a frame
+    of each tree against (J M⁻¹ Jᵀ)⁻¹ from fd.crba and fd.frame_jacobian."""
+    model = two_trees_every_joint()
+    rng = np.random.default_rng(21)
+    q = fd.random_configuration(model, rng, 3)
+    v, tau = rng.normal(size=(2, 3, model.nv))
+    f_ext = rng.normal(size=(3, model.nbodies, 6))
+    cons = [fd.PointContact("hand", ref, baumgarte=(0.0, 2.0)), fd.PointContact("foot", ref),
+            fd.PointContact("torso_point", ref, baumgarte=(1.0, 0.5)), fd.FrameContact("tool", ref)]
+    if ref is fd.WORLD:  # in WORLD a point contact's rows move the body point at the world origin: on one tree,
+        del cons[2]      # three of them are dependent (rank 8 of 9)
+    batch = fd.constrained_dynamics(model, q, v, tau, cons, f_ext=f_ext, mu=mu)
+    ref_res = fd.constrained_dynamics(model, q, v, tau, cons, f_ext=f_ext, mu=mu, backend="reference")
+    _close(batch.ddq, ref_res.ddq)
+    _close(batch.lagrange, ref_res.lagrange)
+    for k in range(3):
+        one = fd.constrained_dynamics(model, q[k], v[k], tau[k], cons, f_ext=f_ext[k], mu=mu)
+        _close(one.ddq, ref_res.ddq[k])
+        _close(one.lagrange, ref_res.lagrange[k])
+        assert one.residual < 1e-9
+        # Λ eliminates the dofs off the frames' chains by articulated inertias: off the hand's chain the hip and
+        # knee (one dof each), off the foot's the spherical shoulder and the elbow (a multi-dof joint)
+        for frames in (["hand", "tool"], ["foot", "tool"]):
+            J = np.concatenate([fd.frame_jacobian(model, q[k], f, ref) for f in frames])
+            dense = np.linalg.inv(J @ np.linalg.solve(fd.crba(model, q[k]), J.T) + mu * np.eye(12))
+            _close(fd.operational_space_inertia(model, q[k], frames, ref, mu=mu), dense, rtol=1e-8)
+
+
+def test_a_list_with_an_array_where_a_constraint_belongs_is_named_after_a_cached_plan(solo: fd.Model) -> None:
+    """The remembered plan compares the new list with the last one item by item; an array in it (whose == is
+    elementwise) must still reach the general path's words, not a NumPy truth-value error."""
+    q, zero = fd.neutral(solo), np.zeros(solo.nv)
+    cons: list[object] = [fd.PointContact("FL_FOOT"), fd.PointContact("FR_FOOT")]
+    fd.constrained_dynamics(solo, q, zero, zero, cons)  # type: ignore[arg-type]
+    cons[1] = np.zeros(3)
+    with pytest.raises(fd.ModelError, match=r"expected fd\.PointContact"):
+        fd.constrained_dynamics(solo, q, zero, zero, cons)  # type: ignore[arg-type]
+    q = fd.random_configuration(solo, np.random.default_rng(6))
+    fd.operational_space_inertia(solo, q, ["FL_FOOT", "FR_FOOT"])
+    with pytest.raises((fd.FeatherdynError, TypeError)):
+        fd.operational_space_inertia(solo, q, ["FL_FOOT", np.zeros(2)])  # type: ignore[list-item]

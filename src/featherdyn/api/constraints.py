@@ -269,8 +269,24 @@ def _raise_iterations(iterations: np.ndarray, m: int, max_iter: int, tol: float)
 _REF_CODE = {LOCAL: 0, WORLD: 1, LOCAL_WORLD_ALIGNED: 2}
 
 
+#: a contact plan: the slices of λ per constraint, the core's specs `(nc, 4)` (rows, frame, reference code, K_d),
+#: m, and the core's checked copy of the specs for the one-state call (``None`` when the core cannot take the model)
+_ContactPlan = tuple[list[slice], np.ndarray, int, Any]
+
+
+def _core_plan(model: Model, specs: np.ndarray) -> Any:
+    """The core's ``ContactPlan`` of ``specs`` (checked once, so a one-state call converts no specs array), or
+    ``None`` when the core cannot take the model."""
+    if CORE is None:
+        return None
+    try:
+        return CORE.ContactPlan(_compiled._view(model).cm, specs)
+    except (TypeError, ValueError, FeatherdynError):
+        return None
+
+
 @functools.lru_cache(maxsize=256)
-def _contact_plan_cached(model: Model, key: tuple[Constraint, ...]) -> tuple[list[slice], np.ndarray, int] | None:
+def _contact_plan_cached(model: Model, key: tuple[Constraint, ...]) -> _ContactPlan | None:
     items = _constraints(list(key))
     contacts = [c for c in items if isinstance(c, (PointContact, FrameContact))]
     if len(contacts) != len(items):
@@ -279,50 +295,76 @@ def _contact_plan_cached(model: Model, key: tuple[Constraint, ...]) -> tuple[lis
     specs = np.array([[c.size, model.resolve_frame(c.frame), _REF_CODE[c.reference], c.baumgarte[1]]
                       for c in contacts], dtype=np.float64)
     ends = np.cumsum(specs[:, 0]).astype(int).tolist()
-    return [slice(e - c.size, e) for e, c in zip(ends, contacts, strict=True)], specs, ends[-1]
+    return [slice(e - c.size, e) for e, c in zip(ends, contacts, strict=True)], specs, ends[-1], \
+        _core_plan(model, specs)
 
 
 @functools.lru_cache(maxsize=256)
-def _frames_plan_cached(model: Model, frames: tuple[str | int, ...], reference: ReferenceFrame) -> np.ndarray | None:
+def _frames_plan_cached(model: Model, frames: tuple[str | int, ...], reference: ReferenceFrame
+                        ) -> tuple[Any, tuple[int, int]] | None:
     if not frames:
         return None
-    return np.array([[6, model.resolve_frame(f), _REF_CODE[reference], 0.0] for f in frames], dtype=np.float64)
+    specs = np.array([[6, model.resolve_frame(f), _REF_CODE[reference], 0.0] for f in frames], dtype=np.float64)
+    plan = _core_plan(model, specs)
+    return None if plan is None else (plan, (6 * len(frames), 6 * len(frames)))
+
+
+def _same_items(a: list[Any], b: list[Any]) -> bool:
+    """``a == b`` for two lists (item by item, identity first), ``False`` when an item's ``==`` is not a truth
+    value (an array where a constraint or a frame belongs: the general path words that)."""
+    try:
+        return a == b
+    except (TypeError, ValueError):
+        return False
+
+
+#: the last frames plan: (model, a copy of the frames list or the tuple or name itself, the reference, the plan)
+_LAST_FRAMES: tuple[Any, Any, Any, Any] = (None, None, None, None)
 
 
 def _frames_plan(model: Model, frames: Sequence[str | int] | str | int, reference: ReferenceFrame | str
-                 ) -> np.ndarray | None:
-    """The core's specs `(k, 4)` of the frames (6 rows each), cached; ``None`` when the general path must word
-    an error (no frames, an unknown frame or reference, unhashable input)."""
+                 ) -> tuple[Any, tuple[int, int]] | None:
+    """The core's plan of the frames (6 rows each) and the shape of Λ, cached; ``None`` when the general path
+    must word an error (no frames, an unknown frame or reference, unhashable input) or the core cannot take
+    the model."""
+    global _LAST_FRAMES
+    last_model, last_frames, last_reference, plan = _LAST_FRAMES
+    if last_model is model and reference is last_reference and (frames is last_frames or (
+            type(frames) is list and type(last_frames) is list and _same_items(frames, last_frames))):
+        return plan
     try:
         key = (frames,) if isinstance(frames, (str, int)) else tuple(frames)
-        return _frames_plan_cached(model, key, as_reference_frame(reference))
+        plan = _frames_plan_cached(model, key, as_reference_frame(reference))
     except (TypeError, ValueError, FeatherdynError):
         return None
-
-
-#: the last plan: (model, the constraints object, its items, the plan), one tuple replaced whole (thread-safe
-#: reads); constraints are frozen, so the same items (by identity) in the same container mean the same plan —
-#: a control loop pays identity checks, not hashing
-_LAST_PLAN: tuple[Any, Any, tuple[Any, ...], Any] = (None, None, (), None)
-
-
-def _contact_plan(model: Model, constraints: Sequence[Constraint] | Constraint
-                  ) -> tuple[list[slice], np.ndarray, int] | None:
-    """``(slices of λ, specs (nc, 4), m)`` when every constraint is a point or frame contact (``contacts.hpp``
-    computes their rows in the core), else ``None``; cached per model and constraint tuple."""
-    global _LAST_PLAN
-    last_model, last_constraints, items, plan = _LAST_PLAN
-    if last_model is model and last_constraints is constraints and isinstance(constraints, (list, tuple)) and \
-            len(constraints) == len(items) and all(a is b for a, b in zip(constraints, items, strict=True)):
-        return plan
-    plan = _contact_plan_lookup(model, constraints)
-    if isinstance(constraints, (list, tuple)):
-        _LAST_PLAN = (model, constraints, tuple(constraints), plan)
+    if type(frames) in (list, tuple, str, int):
+        _LAST_FRAMES = (model, frames.copy() if type(frames) is list else frames, reference, plan)
     return plan
 
 
-def _contact_plan_lookup(model: Model, constraints: Sequence[Constraint] | Constraint
-                         ) -> tuple[list[slice], np.ndarray, int] | None:
+#: the last plan: (model, a copy of the constraints list or the tuple itself, the plan), one tuple replaced whole
+#: (thread-safe reads). Constraints are frozen values, so equal items mean the same plan; a list compares item by
+#: item by identity first (C speed), so a control loop that passes the same list pays a few pointer compares
+_LAST_PLAN: tuple[Any, Any, Any] = (None, None, None)
+
+
+def _contact_plan(model: Model, constraints: Sequence[Constraint] | Constraint) -> _ContactPlan | None:
+    """``(slices of λ, specs (nc, 4), m, the core's plan)`` when every constraint is a point or frame contact
+    (``contacts.hpp`` computes their rows in the core), else ``None``; cached per model and constraint tuple."""
+    global _LAST_PLAN
+    last_model, last_items, plan = _LAST_PLAN
+    if last_model is model and (constraints is last_items or (
+            type(constraints) is list and type(last_items) is list and _same_items(constraints, last_items))):
+        return plan
+    plan = _contact_plan_lookup(model, constraints)
+    if type(constraints) is list:
+        _LAST_PLAN = (model, constraints.copy(), plan)
+    elif type(constraints) is tuple:
+        _LAST_PLAN = (model, constraints, plan)
+    return plan
+
+
+def _contact_plan_lookup(model: Model, constraints: Sequence[Constraint] | Constraint) -> _ContactPlan | None:
     key = constraints if isinstance(constraints, tuple) else (constraints,) if isinstance(
         constraints, (PointContact, FrameContact, LoopConstraint)) else tuple(constraints)
     try:
@@ -386,12 +428,12 @@ def constrained_dynamics(model: Model, q: ArrayLike, v: ArrayLike, tau: ArrayLik
     core = core_path(model, backend)
     if core is not None:
         plan = _contact_plan(model, constraints)
-        if plan is not None:
-            slices, specs, m = plan
+        if plan is not None and plan[3] is not None:
+            slices, _, m, core_plan = plan
             qdd, lam, info = _EMPTY(core.nv), _EMPTY(m), _EMPTY(2)
             try:  # (solver arguments out of range, or not numbers: the general path words the error)
                 if 0.0 <= mu < _INF and max_iter >= 1 and 0.0 < tol < _INF and CORE.contact_dynamics(
-                        core.cm, q, v, tau, f_ext, specs, mu, max_iter, tol, DELASSUS_PIVOT_RTOL, qdd, lam,
+                        core.cm, q, v, tau, f_ext, core_plan, mu, max_iter, tol, DELASSUS_PIVOT_RTOL, qdd, lam,
                         info) == OK and info[0] > 0:
                     out = _NEW(ConstrainedDynamics)  # (a frozen dataclass's __init__ costs more than the solve's rows)
                     _SET(out, "ddq", qdd)
@@ -476,11 +518,11 @@ def operational_space_inertia(model: Model, q: ArrayLike, frames: Sequence[str |
     """
     core = core_path(model, backend)
     if core is not None:
-        specs = _frames_plan(model, frames, reference)
-        if specs is not None:
-            out = _EMPTY((6 * len(specs), 6 * len(specs)))
+        fplan = _frames_plan(model, frames, reference)
+        if fplan is not None:
+            out = _EMPTY(fplan[1])
             try:
-                if 0.0 <= mu < _INF and CORE.operational_space_inertia(core.cm, q, specs, mu, DELASSUS_PIVOT_RTOL,
+                if 0.0 <= mu < _INF and CORE.operational_space_inertia(core.cm, q, fplan[0], mu, DELASSUS_PIVOT_RTOL,
                                                                        out) == OK:
                     return out
             except TypeError:  # arguments the binding does not take as they are: the general path converts

@@ -1117,19 +1117,41 @@ std::vector<ContactSpec> contact_specs(const ModelView& mv, const double* specs,
   return out;
 }
 
+// The specs of one model's contacts (or frames), checked once and kept by the caller's plan cache
+// (api/constraints.py), so that a one-state call converts no specs array. `model` is the ModelData it was
+// checked against (its address and frame count): a call with another model is refused (TypeError: the caller's
+// general path then converts).
+struct ContactPlan {
+  const ModelData* model;
+  int nf;
+  std::vector<ContactSpec> specs;
+  int m = 0;
+};
+
+ContactPlan make_contact_plan(const ModelData& md, const F64In& specs) {
+  require_present(specs);
+  if (specs.ndim() != 2 || specs.shape(1) != 4) throw nb::value_error("contact specs: expected shape (nc, 4)");
+  ContactPlan plan{&md, md.view.nf, {}, 0};
+  plan.specs = contact_specs(md.view, specs.data(), specs.shape(0), plan.m);
+  return plan;
+}
+
+const std::vector<ContactSpec>& plan_specs(const ModelData& md, const ContactPlan& plan) {
+  if (plan.model != &md || plan.nf != md.view.nf) throw nb::type_error("contact plan: made for another model");
+  return plan.specs;
+}
+
 // One state: q̈ (nv,), λ (m,), info (2,) = [iterations (−1: dependent rows, −2: not converged), residual].
 std::int64_t contact_dynamics1(const ModelData& md, const F64In& q, const F64In& v, const F64In& tau,
-                               const F64In& f_ext, const F64In& specs, double mu, int max_iter, double tol,
+                               const F64In& f_ext, const ContactPlan& plan, double mu, int max_iter, double tol,
                                double singular_tol, const F64Out& qdd, const F64Out& lam, const F64Out& info) {
   const ModelView& mv = md.view;
   FD_TRY(vec(q, mv.nq, ARG_Q));
   FD_TRY(vec(v, mv.nv, ARG_V));
   FD_TRY(vec(tau, mv.nv, ARG_A));
   if (f_ext.is_valid()) FD_TRY(exact_shape(f_ext, {size_t(mv.nb), 6}, ARG_FEXT));
-  require_present(specs);
-  if (specs.ndim() != 2 || specs.shape(1) != 4) throw nb::value_error("contact specs: expected shape (nc, 4)");
-  int m = 0;
-  const std::vector<ContactSpec> cs = contact_specs(mv, specs.data(), specs.shape(0), m);
+  const std::vector<ContactSpec>& cs = plan_specs(md, plan);
+  const int m = plan.m;
   FD_TRY(exact_shape(qdd, {size_t(mv.nv)}));
   FD_TRY(exact_shape(lam, {size_t(m)}));
   FD_TRY(exact_shape(info, {2}));
@@ -1144,14 +1166,12 @@ std::int64_t contact_dynamics1(const ModelData& md, const F64In& q, const F64In&
 }
 
 // Λ (6k, 6k) of k frames: specs (k, 4) rows [6, frame, reference code, 0] (contacts.hpp).
-std::int64_t osi1(const ModelData& md, const F64In& q, const F64In& specs, double mu, double singular_tol,
+std::int64_t osi1(const ModelData& md, const F64In& q, const ContactPlan& plan, double mu, double singular_tol,
                   const F64Out& Lambda) {
   const ModelView& mv = md.view;
   FD_TRY(vec(q, mv.nq, ARG_Q));
-  require_present(specs);
-  if (specs.ndim() != 2 || specs.shape(1) != 4) throw nb::value_error("frame specs: expected shape (k, 4)");
-  int m = 0;
-  const std::vector<ContactSpec> cs = contact_specs(mv, specs.data(), specs.shape(0), m);
+  const std::vector<ContactSpec>& cs = plan_specs(md, plan);
+  const int m = plan.m;
   if (m != 6 * static_cast<int>(cs.size())) throw nb::value_error("frame specs: 6 rows per frame expected");
   FD_TRY(exact_shape(Lambda, {size_t(m), size_t(m)}));
   FD_TRY(check_state(mv, q.data(), nullptr, nullptr, nullptr));
@@ -1300,9 +1320,11 @@ NB_MODULE(_core, m) {
   m.def("delassus_batch", &delassus_n, nb::arg("model"), A("q"), A("J"), nb::arg("m"), A("out"));
   m.def("kkt_batch", &kkt_n, nb::arg("model"), A("q"), A("v"), A("tau"), O("f_ext"), A("J"), A("c"), nb::arg("m"),
         nb::arg("mu"), nb::arg("max_iter"), nb::arg("tol"), nb::arg("singular_tol"), A("qdd"), A("lam"), A("info"));
-  m.def("contact_dynamics", &contact_dynamics1, nb::arg("model"), A("q"), A("v"), A("tau"), O("f_ext"), A("specs"),
+  nb::class_<ContactPlan>(m, "ContactPlan").def(nb::new_(&make_contact_plan), nb::arg("model"), A("specs"))
+      .def_prop_ro("m", [](const ContactPlan& p) { return p.m; });
+  m.def("contact_dynamics", &contact_dynamics1, nb::arg("model"), A("q"), A("v"), A("tau"), O("f_ext"), nb::arg("plan"),
         nb::arg("mu"), nb::arg("max_iter"), nb::arg("tol"), nb::arg("singular_tol"), A("qdd"), A("lam"), A("info"));
-  m.def("operational_space_inertia", &osi1, nb::arg("model"), A("q"), A("specs"), nb::arg("mu"),
+  m.def("operational_space_inertia", &osi1, nb::arg("model"), A("q"), nb::arg("plan"), nb::arg("mu"),
         nb::arg("singular_tol"), A("out"));
   m.def("contact_dynamics_batch", &contact_dynamics_n, nb::arg("model"), A("q"), A("v"), A("tau"), O("f_ext"),
         A("specs"), nb::arg("mu"), nb::arg("max_iter"), nb::arg("tol"), nb::arg("singular_tol"), A("qdd"), A("lam"),

@@ -7,17 +7,31 @@
 //     frame contact (6 rows):  J = the frame Jacobian in `ref`, γ = the frame's spatial acceleration at q̈ = 0
 //     c = −γ − K_d J q̇        (a contact's error e is zero: K_p has nothing to act on)
 //
-// then M q̈ + h = τ + Jᵀ λ, J q̈ = c on M's LᵀL factor (ltl.hpp). The frame's motion at q̈ = 0 comes from
-// one forward pass over the bodies (v_i, a_i in body coordinates, RBDA §5.3 with q̈ = 0):
+// then M q̈ + h = τ + Jᵀ λ, J q̈ = c by the Schur complement on M's LᵀL factor (ltl.hpp's kkt_solve, the
+// same equations). Everything comes from one pass over the bodies, each joint transform computed once:
 //
-//     ᶠv = ᶠX_b v_b,  ᶠa = ᶠX_b a_b                          (LOCAL)
-//     classical: a_lin + ω × v_lin (in the same axes)       LWA: rotate LOCAL by ⁰R_f
-//     WORLD: ⁰X_f ᶠa, and for the classical acceleration the body point at the world origin
+//   forward (i = 0 … nb−1):  the pose of body i in its parent and in its tree's root body (ʳR_i, ʳp_i);
+//       CRBA's ʳS_i and ʳI_i (crba.hpp: the tree's root-body coordinates);
+//       with q̇: v_i, the bias acceleration a_i at q̈ = 0 (RBDA §5.3) and RNEA's f_i (with gravity, f_ext),
+//       in the same root-body coordinates
+//   backward (i = nb−1 … 0): I^C_λ += I^C_i, τ_i = ʳS_iᵀ f_i, f_λ += f_i  → h = C q̇ + g − J_extᵀ f_ext
+//   M in ltl.hpp's packed layout (row k: M_k at the ancestor dofs of k, then M_kk), factored in place
+//
+// A contact on body b has nonzero columns only on the chain of b's last dof (root … b), so its rows, and
+// Y = J L⁻¹ (ltl_solve_Lt_chain_rows), are kept in that chain's positions, contiguous:
+//
+//     ʳJ column of dof k = ʳS_k shifted to the frame's origin,  then frame axes (LOCAL) or world axes (LWA);
+//     WORLD: ⁰X_r ʳS_k (about the world origin)
+//     z = L⁻ᵀ (τ − h),   J q̈_f = Y z,   D = J M⁻¹ Jᵀ = Y Yᵀ (only over the two chains' common prefix)
+//     D λ = c − Y z,     q̈ = L⁻¹ (z + Yᵀ λ)
+//
+// With mu > 0 the proximal iterations of kkt_solve (Carpentier, Budhiraja & Mansard, RSS 2021).
 #pragma once
 
+#include <algorithm>
+#include <cmath>
 #include <vector>
 
-#include "crba.hpp"
 #include "frames.hpp"
 #include "ltl.hpp"
 #include "rnea.hpp"
@@ -32,66 +46,231 @@ struct ContactSpec {
 };
 
 struct ContactWork {
-  std::vector<Mat3<double>> oR;
-  std::vector<Vec3<double>> op;
-  std::vector<Motion<double>> v, a;
-  std::vector<double> J6, J, c, L, th;
-  std::vector<int> lambda;
+  std::vector<Mat3<double>> Rp, Rr;      // body i in its parent (X_up = plux(Rpᵀ, pp)), in its root body
+  std::vector<Vec3<double>> pp, pr, g;   // g_r: a₀'s linear part [ʳR_0 (−g)] for a root body r
+  std::vector<int> root;                 // the root body of body i's tree
+  std::vector<RigidInertia<double>> IC;  // ʳI_i, then I^C_i (root-body coordinates)
+  std::vector<Motion<double>> Sr, v, a;  // ʳS of each dof; v_i, a_i (q̈ = 0, no gravity) in root-body coordinates
+  std::vector<Force<double>> f;
+  std::vector<double> P, dinv, J, Y, c, th, z, D, D0, rhs, x;
+  std::vector<int> first, len, last, common;  // per contact: first row, chain length, last dof; common prefixes
+  std::vector<ArticulatedInertia<double>> IA;  // Λ: I^A_i with the dofs off the frames' chains eliminated
+  std::vector<char> on_chain;                  // Λ: per dof, on the chain of some frame
   void resize(size_t nb) {
-    if (oR.size() < nb) oR.resize(nb), op.resize(nb), v.resize(nb), a.resize(nb);
+    if (Rp.size() < nb)
+      Rp.resize(nb), Rr.resize(nb), pp.resize(nb), pr.resize(nb), g.resize(nb), root.resize(nb), IC.resize(nb),
+          v.resize(nb), a.resize(nb), f.resize(nb);
   }
 };
 
-// The motion of frame `frame` at q̈ = 0 in `ref`: spatial (rows == 6) or classical (rows == 3) acceleration.
+// The forward and backward passes of the file comment. With qd == nullptr only the kinematics and the
+// composite inertias (with composite == false: each body's own ʳI_i); with h != nullptr also
+// h (nv,) = RNEA(q, q̇, 0) with gravity and f_ext (nb, 6) or nullptr.
+// Velocities, accelerations and forces are in root-body coordinates too (any coordinates fixed in space at
+// this instant serve the recursion, RBDA §5.3 in a fixed frame): v_i = v_λ + ʳS_i q̇_i, a_i = a_λ + v_i × ʳS_i q̇_i,
+// f_i = ʳI_i (a_i + a₀) + v_i ×* ʳI_i v_i − ʳX_i* f_i^ext, f_λ += f_i, τ_i = ʳS_iᵀ f_i: no transform per body.
+inline void contact_pass(const ModelView& mv, const double* q, const double* qd, const double* f_ext, ContactWork& w,
+                         double* h, bool composite = true) {
+  const int nb = mv.nb;
+  w.Sr.resize(static_cast<size_t>(mv.nv));
+  const Vec3<double> g0{-mv.gravity[0], -mv.gravity[1], -mv.gravity[2]};  // a₀ = [0; −g] in world coordinates
+  const Vec3<double> zero3{0.0, 0.0, 0.0};
+  for (int i = 0; i < nb; ++i) {
+    const int lam = mv.parent[i], iv = mv.idx_v[i], ni = mv.nv_i[i];
+    pose_in_parent(mv, i, q, w.Rp[i], w.pp[i]);
+    const RigidInertia<double> I = body_inertia<double>(mv, i);
+    if (lam == -1) {  // a root body: its own coordinates
+      w.root[i] = i;
+      w.Rr[i] = Mat3<double>::identity();
+      w.pr[i] = zero3;
+      w.IC[i] = I;
+      w.g[i] = mul_transpose(w.Rp[i], g0);  // a₀ of the tree, [0; ʳR_0 (−g)]
+      for (int c = 0; c < ni; ++c) w.Sr[iv + c] = S_col<double>(mv, i, c);
+    } else {
+      w.root[i] = w.root[lam];
+      if (mv.parent[lam] == -1) {  // the parent is the root: ʳX_λ = 1
+        w.Rr[i] = w.Rp[i];
+        w.pr[i] = w.pp[i];
+      } else {
+        w.Rr[i] = w.Rr[lam] * w.Rp[i];
+        w.pr[i] = w.pr[lam] + w.Rr[lam] * w.pp[i];
+      }
+      w.IC[i] = transform_to_parent(Xform<double>{w.Rr[i].transpose(), w.pr[i]}, I);
+      for (int c = 0; c < ni; ++c) {
+        const Motion<double> s = S_col<double>(mv, i, c);
+        const Vec3<double> wr = w.Rr[i] * s.w;
+        w.Sr[iv + c] = {wr, w.Rr[i] * s.v + cross(w.pr[i], wr)};
+      }
+    }
+    if (qd == nullptr) continue;
+    Motion<double> vJ{zero3, zero3};
+    for (int c = 0; c < ni; ++c) vJ = vJ + Motion<double>{qd[iv + c] * w.Sr[iv + c].w, qd[iv + c] * w.Sr[iv + c].v};
+    if (lam == -1) {
+      w.v[i] = vJ;
+      w.a[i] = {zero3, zero3};  // v × v = 0
+    } else {
+      w.v[i] = w.v[lam] + vJ;
+      w.a[i] = w.a[lam] + cross_motion(w.v[i], vJ);
+    }
+    if (h == nullptr) continue;
+    const RigidInertia<double>& Ir = w.IC[i];  // ʳI_i (the children are added in the backward pass)
+    const Motion<double> ai{w.a[i].w, w.a[i].v + w.g[w.root[i]]};
+    w.f[i] = Ir * ai + cross_force(w.v[i], Ir * w.v[i]);
+    if (f_ext) {  // ʳX_i* f = [R n + p × R f; R f]
+      const double* fx = f_ext + 6 * i;
+      const Vec3<double> fr = w.Rr[i] * Vec3<double>{fx[3], fx[4], fx[5]};
+      const Vec3<double> nr = w.Rr[i] * Vec3<double>{fx[0], fx[1], fx[2]} + cross(w.pr[i], fr);
+      w.f[i] = w.f[i] - Force<double>{nr, fr};
+    }
+  }
+  for (int i = nb - 1; i >= 0; --i) {
+    const int lam = mv.parent[i], iv = mv.idx_v[i];
+    if (lam != -1 && composite) w.IC[lam] = w.IC[lam] + w.IC[i];
+    if (h == nullptr) continue;
+    for (int c = 0; c < mv.nv_i[i]; ++c) h[iv + c] = dot(w.Sr[iv + c], w.f[i]);
+    if (lam != -1) w.f[lam] += w.f[i];
+  }
+}
+
+// M in the packed layout of ltl.hpp from the pass's composite inertias (crba.hpp's entries: M_kj = ʳS_jᵀ I^C ʳS_k
+// for j an ancestor dof of k or k itself, plus the armature on the diagonal).
+inline void mass_matrix_packed(const ModelView& mv, const DofTree& t, const ContactWork& w, double* P) {
+  for (int i = 0; i < mv.nb; ++i) {
+    for (int c = 0; c < mv.nv_i[i]; ++c) {
+      const int k = mv.idx_v[i] + c, dk = t.depth[k];
+      const Force<double> F = w.IC[i] * w.Sr[k];
+      double* row = P + t.off[k];
+      const int* ch = t.chain.data() + t.off[k];
+      for (int s = 0; s < dk; ++s) row[s] = dot(w.Sr[ch[s]], F);
+      row[dk] = dot(w.Sr[k], F);
+      if (mv.armature) row[dk] += mv.armature[k];
+    }
+  }
+}
+
+// The last dof on the way from body b to the root (−1: none, b is fixed to the world).
+inline int last_dof(const ModelView& mv, int b) {
+  for (int i = b; i != -1; i = mv.parent[i])
+    if (mv.nv_i[i] > 0) return mv.idx_v[i] + mv.nv_i[i] - 1;
+  return -1;
+}
+
+// The frame's rows (6, len) in chain positions of dof `kd` (len = depth + 1; column s is dof chain[s]) in `ref`,
+// all six rows [ω; v], from the pass's ʳS (see the file comment).
+inline void frame_rows(const ModelView& mv, const DofTree& t, const ContactWork& w, int frame, int ref, int kd,
+                       double* J6) {
+  if (kd < 0) return;
+  const int b = mv.frame_body[frame], len = t.depth[kd] + 1, r = w.root[b];
+  const int* ch = t.chain.data() + t.off[kd];
+  const Mat3<double> Rf = w.Rr[b] * load9<double>(mv.frame_R + 9 * frame);              // ʳR_f
+  const Vec3<double> pf = w.pr[b] + w.Rr[b] * load3<double>(mv.frame_p + 3 * frame);    // ʳp_f
+  const Mat3<double>& R0 = w.Rp[r];                                                       // ⁰R_r
+  for (int s = 0; s < len; ++s) {
+    const Motion<double>& S = w.Sr[ch[s]];
+    Vec3<double> om, vel;
+    if (ref == WORLD) {
+      om = R0 * S.w;
+      vel = R0 * S.v + cross(w.pp[r], om);
+    } else {
+      const Vec3<double> vf = S.v + cross(S.w, pf);  // the column's velocity of the point at the frame's origin
+      om = ref == LOCAL ? mul_transpose(Rf, S.w) : R0 * S.w;
+      vel = ref == LOCAL ? mul_transpose(Rf, vf) : R0 * vf;
+    }
+    J6[0 * len + s] = om.x, J6[1 * len + s] = om.y, J6[2 * len + s] = om.z;
+    J6[3 * len + s] = vel.x, J6[4 * len + s] = vel.y, J6[5 * len + s] = vel.z;
+  }
+}
+
+// The frame's motion at q̈ = 0 in `ref`: spatial (rows == 6) or classical (rows == 3) acceleration, from the body's
+// v_b, a_b (root-body coordinates) and the frame's pose in the root body and the root's in the world.
 inline Motion<double> contact_drift(const ModelView& mv, const ContactWork& w, int frame, int ref, int rows) {
   const int b = mv.frame_body[frame];
-  const Mat3<double> Rbf = load9<double>(mv.frame_R + 9 * frame);
-  const Vec3<double> pbf = load3<double>(mv.frame_p + 3 * frame);
-  const Xform<double> f_X_b{Rbf.transpose(), pbf};
-  const Motion<double> vf = f_X_b.apply(w.v[b]), af = f_X_b.apply(w.a[b]);
-  const Mat3<double> Rf = w.oR[b] * Rbf;                  // ⁰R_f
-  const Vec3<double> pf = w.op[b] + w.oR[b] * pbf;         // ⁰p_f
-  if (ref == WORLD) {
-    const Xform<double> f_X_0{Rf.transpose(), pf};          // ⁰X_f = f_X_0⁻¹
-    const Motion<double> a0 = f_X_0.apply_inverse(af);
-    if (rows == 6) return a0;
-    const Motion<double> v0 = f_X_0.apply_inverse(vf);
-    return {a0.w, a0.v + cross(v0.w, v0.v)};
-  }
+  if (b == -1) return {{0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}};
+  const Mat3<double> Rrf = w.Rr[b] * load9<double>(mv.frame_R + 9 * frame);              // ʳR_f
+  const Vec3<double> prf = w.pr[b] + w.Rr[b] * load3<double>(mv.frame_p + 3 * frame);    // ʳp_f
+  const Xform<double> f_X_r{Rrf.transpose(), prf};
+  const Motion<double> vf = f_X_r.apply(w.v[b]), af = f_X_r.apply(w.a[b]);
   Motion<double> out = af;
   if (rows == 3) out.v = af.v + cross(vf.w, vf.v);
-  if (ref == LOCAL_WORLD_ALIGNED) out = {Rf * out.w, Rf * out.v};
-  return out;
+  if (ref == LOCAL) return out;
+  const int r = w.root[b];
+  const Mat3<double> Rf = w.Rp[r] * Rrf;  // ⁰R_f
+  if (ref == LOCAL_WORLD_ALIGNED) return {Rf * out.w, Rf * out.v};
+  const Vec3<double> pf = w.pp[r] + w.Rp[r] * prf;  // ⁰p_f
+  const Xform<double> f_X_0{Rf.transpose(), pf};    // ⁰X_f = f_X_0⁻¹
+  const Motion<double> a0 = f_X_0.apply_inverse(af);
+  if (rows == 6) return a0;
+  const Motion<double> v0 = f_X_0.apply_inverse(vf);
+  return {a0.w, a0.v + cross(v0.w, v0.v)};
 }
 
-// The forward pass at q̈ = 0 (RBDA §5.3): world placements ⁰R_i, ⁰p_i; with qd, body velocities v_i and
-// bias accelerations a_i = X_up a_λ + v_i × S_i q̇_i in body coordinates.
-inline void contact_pass(const ModelView& mv, const double* q, const double* qd, ContactWork& w) {
-  for (int i = 0; i < mv.nb; ++i) {
-    const int lam_i = mv.parent[i];
-    Mat3<double> R;
-    Vec3<double> p;
-    place_body(mv, i, q, w.oR.data(), w.op.data(), R, p);
-    if (qd == nullptr) continue;
-    const Xform<double> X_up{R.transpose(), p};
-    const Motion<double> vJ = S_times(mv, i, qd);
-    w.v[i] = lam_i == -1 ? vJ : X_up.apply(w.v[lam_i]) + vJ;
-    const Motion<double> aJ = cross_motion(w.v[i], vJ);
-    w.a[i] = lam_i == -1 ? aJ : X_up.apply(w.a[lam_i]) + aJ;
+// The contacts' rows in chain positions: w.J (m rows, row r of contact k at w.first[k], w.len[k] entries each,
+// consecutive), and the common chain prefix of each pair of contacts w.common (nc, nc). Returns m.
+inline int contact_rows(const ModelView& mv, const DofTree& t, const ContactSpec* specs, int nc, ContactWork& w) {
+  w.first.resize(nc + 1);
+  w.len.resize(nc);
+  w.last.resize(nc);
+  w.common.resize(static_cast<size_t>(nc) * nc);
+  int m = 0, size = 0;
+  for (int k = 0; k < nc; ++k) {
+    const int b = mv.frame_body[specs[k].frame];
+    w.last[k] = b == -1 ? -1 : last_dof(mv, b);
+    w.len[k] = w.last[k] == -1 ? 0 : t.depth[w.last[k]] + 1;
+    w.first[k] = size;
+    size += specs[k].rows * w.len[k];
+    m += specs[k].rows;
+  }
+  w.first[nc] = size;
+  w.J.resize(static_cast<size_t>(size) + 6 * static_cast<size_t>(mv.nv));  // and a 6-row scratch at the end
+  double* J6 = w.J.data() + size;
+  for (int k = 0; k < nc; ++k) {
+    const ContactSpec& s = specs[k];
+    const int len = w.len[k];
+    frame_rows(mv, t, w, s.frame, s.ref, w.last[k], J6);
+    std::copy(J6 + (6 - s.rows) * len, J6 + 6 * len, w.J.data() + w.first[k]);
+    for (int l = 0; l < nc; ++l) {  // the chains of k and l agree up to their lowest common ancestor dof
+      int n = 0;
+      if (l < k) {
+        n = w.common[l * nc + k];
+      } else if (w.last[k] >= 0 && w.last[l] >= 0) {
+        const int* a = t.chain.data() + t.off[w.last[k]];
+        const int* c = t.chain.data() + t.off[w.last[l]];
+        const int nmax = std::min(w.len[k], w.len[l]);
+        while (n < nmax && a[n] == c[n]) ++n;
+      }
+      w.common[k * nc + l] = n;
+    }
+  }
+  return m;
+}
+
+// D = Y Yᵀ (m, m) for the solved rows Y (the layout of w.J): row pairs only over their chains' common prefix.
+inline void delassus_rows(const ContactSpec* specs, int nc, const ContactWork& w, const double* Y, int m, double* D) {
+  int r = 0;
+  for (int k = 0; k < nc; ++k) {
+    for (int i = 0; i < specs[k].rows; ++i, ++r) {
+      const double* yr = Y + w.first[k] + i * w.len[k];
+      int c = 0;
+      for (int l = 0; l <= k; ++l) {
+        const int n = w.common[k * nc + l];
+        for (int j = 0; j < specs[l].rows && c <= r; ++j, ++c) {
+          const double* yc = Y + w.first[l] + j * w.len[l];
+          double x = 0.0;
+          for (int s = 0; s < n; ++s) x = x + yr[s] * yc[s];
+          D[r * m + c] = D[c * m + r] = x;
+        }
+      }
+    }
   }
 }
 
-// The frame Jacobian J (6, nv) in `ref` from the forward pass's world placements (frames.hpp's
-// frame_jacobian without walking the support again): ⁰J[:, k] = ⁰X_k S_k about the world origin (WORLD)
-// or the frame's origin, in world axes, then frame axes for LOCAL.
-inline void contact_jacobian(const ModelView& mv, const ContactWork& w, int frame, int ref, double* J) {
-  const int nv = mv.nv;
-  for (int k = 0; k < 6 * nv; ++k) J[k] = 0.0;
-  const int b = mv.frame_body[frame];
-  const Mat3<double> Rf = w.oR[b] * load9<double>(mv.frame_R + 9 * frame);
-  const Vec3<double> pf = w.op[b] + w.oR[b] * load3<double>(mv.frame_p + 3 * frame);
-  const Vec3<double> origin = ref == WORLD ? Vec3<double>{0.0, 0.0, 0.0} : pf;
-  for (int i = b; i != -1; i = mv.parent[i]) put_frame_columns(mv, i, w.oR[i], w.op[i], origin, Rf, ref, J);
+// Y = J L⁻¹: each row solved along its chain (ltl_solve_Lt_chain).
+inline void solve_rows(const DofTree& t, const double* P, const ContactSpec* specs, int nc, ContactWork& w) {
+  const double* dinv = w.dinv.data();
+  w.Y.assign(w.J.begin(), w.J.begin() + w.first[nc]);
+  for (int k = 0; k < nc; ++k)
+    if (w.last[k] >= 0)
+      ltl_solve_Lt_chain_rows(t, P, dinv, w.last[k], w.Y.data() + w.first[k], specs[k].rows, w.len[k]);
 }
 
 // q̈ (nv,), λ (m,), and the KKT result for the contacts `specs` at (q, q̇, τ, f_ext); m = Σ rows.
@@ -100,77 +279,182 @@ inline std::int64_t contact_dynamics(const ModelView& mv, const double* q, const
                                      const double* f_ext, const ContactSpec* specs, int nc, double mu, int max_iter,
                                      double tol, double singular_tol, double* qdd, double* lam, KktResult& res) {
   const int nb = mv.nb, nv = mv.nv;
+  const DofTree& t = dof_tree(mv);
   ContactWork& w = thread_workspace<ContactWork>(nb);
-  int m = 0;
-  for (int k = 0; k < nc; ++k) m += specs[k].rows;
-  w.J6.resize(6 * static_cast<size_t>(nv));
-  w.J.resize(static_cast<size_t>(m) * nv);
-  w.c.resize(m);
-  w.L.resize(static_cast<size_t>(nv) * nv);
   w.th.resize(nv);
-  w.lambda.resize(nv);
-  // 1. the forward pass at q̈ = 0: world placements, body velocities and bias accelerations
-  contact_pass(mv, q, qd, w);
-  // 2. the rows: J (m, nv) and c = −γ − K_d J q̇
+  w.P.resize(static_cast<size_t>(t.off[nv]));
+  w.dinv.resize(nv);
+  // 1. the passes: placements, ʳS, I^C, v, a, h; then M packed and its factor
+  contact_pass(mv, q, qd, f_ext, w, w.th.data());
+  mass_matrix_packed(mv, t, w, w.P.data());
+  const int bad = ltl_factor_packed(t, w.P.data(), w.dinv.data());
+  if (bad >= 0) return make_status(SINGULAR, ARG_Q, dof_body(mv, bad));
+  // 2. the rows J and c = −γ − K_d J q̇ in chain positions, Y = J L⁻¹
+  const int m = contact_rows(mv, t, specs, nc, w);
+  w.c.resize(m);
   int row = 0;
   for (int k = 0; k < nc; ++k) {
     const ContactSpec& s = specs[k];
-    contact_jacobian(mv, w, s.frame, s.ref, w.J6.data());
     const Motion<double> g = contact_drift(mv, w, s.frame, s.ref, s.rows);
     const double gam[6] = {g.w.x, g.w.y, g.w.z, g.v.x, g.v.y, g.v.z};
-    const int first = 6 - s.rows;
+    const int len = w.len[k];
+    const int* ch = len > 0 ? t.chain.data() + t.off[w.last[k]] : nullptr;
     for (int r = 0; r < s.rows; ++r, ++row) {
-      const double* src = w.J6.data() + static_cast<size_t>(first + r) * nv;
-      double* dst = w.J.data() + static_cast<size_t>(row) * nv;
+      const double* Jr = w.J.data() + w.first[k] + r * len;
       double jv = 0.0;
-      for (int j = 0; j < nv; ++j) {
-        dst[j] = src[j];
-        jv += src[j] * qd[j];
-      }
-      w.c[row] = -gam[first + r] - s.kd * jv;
+      for (int u = 0; u < len; ++u) jv += Jr[u] * qd[ch[u]];
+      w.c[row] = -gam[6 - s.rows + r] - s.kd * jv;
     }
   }
-  // 3. M = Lᵀ L, τ − h, and the Schur complement
-  crba(mv, q, w.L.data());
-  dof_parents(mv, w.lambda.data());
-  const int bad = ltl_factor(mv, w.lambda.data(), w.L.data());
-  if (bad >= 0) return make_status(SINGULAR, ARG_Q, dof_body(mv, bad));
-  rnea(mv, q, qd, static_cast<const double*>(nullptr), f_ext, true, w.th.data());
-  for (int j = 0; j < nv; ++j) w.th[j] = tau[j] - w.th[j];
-  res = kkt_solve(mv, w.lambda.data(), w.L.data(), w.th.data(), w.J.data(), w.c.data(), m, mu, max_iter, tol,
-                  singular_tol, qdd, lam);
+  solve_rows(t, w.P.data(), specs, nc, w);
+  // 3. z = L⁻ᵀ (τ − h), the right-hand side c − Y z, D = Y Yᵀ
+  w.z.resize(nv);
+  for (int j = 0; j < nv; ++j) w.z[j] = tau[j] - w.th[j];
+  ltl_solve_Lt_packed(t, w.P.data(), w.dinv.data(), w.z.data());
+  w.rhs.resize(m);
+  w.D.resize(static_cast<size_t>(m) * m);
+  w.D0.resize(static_cast<size_t>(m) * m);
+  w.x.resize(std::max(m, nv));
+  row = 0;
+  for (int k = 0; k < nc; ++k) {
+    const int len = w.len[k];
+    const int* ch = len > 0 ? t.chain.data() + t.off[w.last[k]] : nullptr;
+    for (int r = 0; r < specs[k].rows; ++r, ++row) {
+      const double* yr = w.Y.data() + w.first[k] + r * len;
+      double jq = 0.0;
+      for (int u = 0; u < len; ++u) jq += yr[u] * w.z[ch[u]];
+      w.rhs[row] = w.c[row] - jq;
+    }
+  }
+  double* D = w.D.data();
+  delassus_rows(specs, nc, w, w.Y.data(), m, D);
+  // 4. λ: one solve (mu = 0), or kkt_solve's proximal iterations
+  std::copy(D, D + static_cast<size_t>(m) * m, w.D0.data());
+  double rhs_size = 1.0;
+  for (int r = 0; r < m; ++r) rhs_size = std::max(rhs_size, std::fabs(w.rhs[r]));
+  for (int i = 0; i < m; ++i) D[i * m + i] += mu;
+  res = KktResult{};
+  if (!dense_cholesky(D, m, mu > 0.0 ? 0.0 : singular_tol)) {
+    res.iterations = -1;
+    return OK;
+  }
+  double* x = w.x.data();
+  for (int r = 0; r < m; ++r) lam[r] = 0.0;
+  const int iters = mu > 0.0 ? std::max(1, max_iter) : 1;
+  for (int it = 1; it <= iters; ++it) {
+    for (int r = 0; r < m; ++r) x[r] = w.rhs[r] + mu * lam[r];
+    dense_cholesky_solve(D, m, x);
+    for (int r = 0; r < m; ++r) lam[r] = x[r];
+    res.iterations = it;
+    if (mu <= 0.0) break;
+    double dual = 0.0;  // ‖D λ − (c − J q̈_f)‖∞
+    for (int r = 0; r < m; ++r) {
+      double y = -w.rhs[r];
+      for (int k = 0; k < m; ++k) y += w.D0[r * m + k] * lam[k];
+      dual = std::max(dual, std::fabs(y));
+    }
+    if (dual <= tol * rhs_size) break;
+    if (it == iters) res.iterations = -2;
+  }
+  // 5. q̈ = L⁻¹ (z + Yᵀ λ), and the residual ‖J q̈ − c‖∞
+  for (int j = 0; j < nv; ++j) qdd[j] = w.z[j];
+  row = 0;
+  for (int k = 0; k < nc; ++k) {
+    const int len = w.len[k];
+    const int* ch = len > 0 ? t.chain.data() + t.off[w.last[k]] : nullptr;
+    for (int r = 0; r < specs[k].rows; ++r, ++row) {
+      const double* yr = w.Y.data() + w.first[k] + r * len;
+      for (int u = 0; u < len; ++u) qdd[ch[u]] += yr[u] * lam[row];
+    }
+  }
+  ltl_solve_L_packed(t, w.P.data(), w.dinv.data(), qdd);
+  row = 0;
+  for (int k = 0; k < nc; ++k) {
+    const int len = w.len[k];
+    const int* ch = len > 0 ? t.chain.data() + t.off[w.last[k]] : nullptr;
+    for (int r = 0; r < specs[k].rows; ++r, ++row) {
+      const double* Jr = w.J.data() + w.first[k] + r * len;
+      double jq = 0.0;
+      for (int u = 0; u < len; ++u) jq += Jr[u] * qdd[ch[u]];
+      res.residual = std::max(res.residual, std::fabs(jq - w.c[row]));
+    }
+  }
   return OK;
 }
 
-// Λ = (J M⁻¹ Jᵀ + μ 1)⁻¹ (m, m) for the frames of `specs` (6 rows each, the stacked frame Jacobians J):
-// J M⁻¹ Jᵀ on M's factor (ltl.hpp), then the inverse through its Cholesky factor (M is never inverted).
-// Returns OK, SINGULAR for M, or LENGTH (ARG_OUT) when J M⁻¹ Jᵀ + μ 1 has a pivot below singular_tol (the
-// caller's general path then decides).
+// Λ = (J M⁻¹ Jᵀ + μ 1)⁻¹ (m, m) for the frames of `specs` (6 rows each, the stacked frame Jacobians J).
+//
+// Y = J L⁻¹ reads only the rows of L on the frames' chains (the support), and eliminating every dof off the
+// support leaves on the support rows the Schur complement, whose entries are those of M with each subtree
+// hanging off the support carried by its articulated-body inertia instead of its composite one (RBDA §7.2;
+// the support-only part of the extended force propagator of Wensing, Featherstone & Orin 2012). In root-body
+// coordinates the articulated inertias add up with no transform:
+//
+//     I^A_i = ʳI_i + Σ_children I^A_j;   off the support, for each dof k of body i (last first):
+//         U = I^A_i ʳS_k,   D = ʳS_kᵀ U + armature_k,   I^A_i −= U Uᵀ / D          (D: the LᵀL pivot of dof k)
+//     on the support:  M_kj = ʳS_jᵀ I^A_i ʳS_k  (j an ancestor dof of k), then the packed factor of these rows
+//
+// so the subtrees off the frames' chains cost O(bodies) instead of the factor's O(depth²) per dof. Then
+// J M⁻¹ Jᵀ = Y Yᵀ and its inverse through its Cholesky factor (M is never inverted). Returns OK, SINGULAR for
+// M, or LENGTH (ARG_OUT) when J M⁻¹ Jᵀ + μ 1 has a pivot below singular_tol (the caller's general path decides).
 inline std::int64_t operational_space_inertia(const ModelView& mv, const double* q, const ContactSpec* specs, int nc,
                                               double mu, double singular_tol, double* Lambda) {
   const int nb = mv.nb, nv = mv.nv, m = 6 * nc;
+  const DofTree& t = dof_tree(mv);
   ContactWork& w = thread_workspace<ContactWork>(nb);
-  w.J.resize(static_cast<size_t>(m) * nv);
-  w.L.resize(static_cast<size_t>(nv) * nv);
-  w.lambda.resize(nv);
-  w.c.resize(static_cast<size_t>(m) * m);
-  contact_pass(mv, q, nullptr, w);
-  for (int k = 0; k < nc; ++k) contact_jacobian(mv, w, specs[k].frame, specs[k].ref, w.J.data() + 6 * k * nv);
-  crba(mv, q, w.L.data());
-  dof_parents(mv, w.lambda.data());
-  const int bad = ltl_factor(mv, w.lambda.data(), w.L.data());
+  w.P.resize(static_cast<size_t>(t.off[nv]));
+  w.dinv.resize(nv);
+  w.IA.resize(nb);
+  w.on_chain.assign(nv, 0);
+  contact_pass(mv, q, nullptr, nullptr, w, nullptr, false);
+  for (int k = 0; k < nc; ++k) {
+    const int b = mv.frame_body[specs[k].frame], kd = b == -1 ? -1 : last_dof(mv, b);
+    for (int i = kd; i != -1 && !w.on_chain[i]; i = t.lambda[i]) w.on_chain[i] = 1;
+  }
+  for (int i = 0; i < nb; ++i) w.IA[i] = ArticulatedInertia<double>::from_rigid(w.IC[i]);
+  for (int i = nb - 1; i >= 0; --i) {
+    const int iv = mv.idx_v[i];
+    ArticulatedInertia<double>& IA = w.IA[i];
+    for (int c = mv.nv_i[i] - 1; c >= 0 && !w.on_chain[iv + c]; --c) {
+      const Motion<double>& S = w.Sr[iv + c];
+      const Force<double> U = IA * S;
+      double D = dot(S, U);
+      if (mv.armature) D += mv.armature[iv + c];
+      if (!(D > 0.0)) return make_status(SINGULAR, ARG_Q, i);
+      const double d = 1.0 / D;
+      const Vec3<double> n = d * U.n, f = d * U.f;  // I^A −= U Uᵀ / D, block by block
+      for (int r = 0; r < 3; ++r) {
+        const double nr = r == 0 ? U.n.x : r == 1 ? U.n.y : U.n.z, fr = r == 0 ? U.f.x : r == 1 ? U.f.y : U.f.z;
+        IA.A(r, 0) -= nr * n.x, IA.A(r, 1) -= nr * n.y, IA.A(r, 2) -= nr * n.z;
+        IA.B(r, 0) -= nr * f.x, IA.B(r, 1) -= nr * f.y, IA.B(r, 2) -= nr * f.z;
+        IA.C(r, 0) -= fr * f.x, IA.C(r, 1) -= fr * f.y, IA.C(r, 2) -= fr * f.z;
+      }
+    }
+    if (mv.parent[i] != -1) w.IA[mv.parent[i]] += IA;
+  }
+  for (int i = 0; i < nb; ++i) {  // the support rows of M (a body is on the support through its last dof)
+    for (int c = 0; c < mv.nv_i[i]; ++c) {
+      const int k = mv.idx_v[i] + c, dk = t.depth[k];
+      if (!w.on_chain[k]) continue;
+      const Force<double> F = w.IA[i] * w.Sr[k];
+      double* row = w.P.data() + t.off[k];
+      const int* ch = t.chain.data() + t.off[k];
+      for (int s = 0; s < dk; ++s) row[s] = dot(w.Sr[ch[s]], F);
+      row[dk] = dot(w.Sr[k], F);
+      if (mv.armature) row[dk] += mv.armature[k];
+    }
+  }
+  const int bad = ltl_factor_packed(t, w.P.data(), w.dinv.data(), w.on_chain.data());
   if (bad >= 0) return make_status(SINGULAR, ARG_Q, dof_body(mv, bad));
-  double* D = w.c.data();
-  delassus_from_factor(mv, w.lambda.data(), w.L.data(), w.J.data(), m, D, w.th);
+  contact_rows(mv, t, specs, nc, w);
+  solve_rows(t, w.P.data(), specs, nc, w);
+  w.D.resize(static_cast<size_t>(m) * m);
+  double* D = w.D.data();
+  delassus_rows(specs, nc, w, w.Y.data(), m, D);
   for (int i = 0; i < m; ++i) D[i * m + i] += mu;
   if (!dense_cholesky(D, m, singular_tol)) return make_status(LENGTH, ARG_OUT, m);
-  for (int j = 0; j < m; ++j) {
-    double* col = Lambda + static_cast<size_t>(j) * m;  // column j of Λ (Λ is symmetric: written as row j)
-    for (int i = 0; i < m; ++i) col[i] = i == j ? 1.0 : 0.0;
-    dense_cholesky_solve(D, m, col);
-  }
-  for (int i = 0; i < m; ++i)  // symmetric to the last bit
-    for (int j = 0; j < i; ++j) Lambda[i * m + j] = Lambda[j * m + i] = 0.5 * (Lambda[i * m + j] + Lambda[j * m + i]);
+  w.D0.resize(static_cast<size_t>(m) * m);
+  dense_cholesky_inverse(D, m, w.D0.data(), Lambda);
   return OK;
 }
 

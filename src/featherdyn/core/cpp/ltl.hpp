@@ -259,3 +259,143 @@ inline KktResult kkt_solve(const ModelView& mv, const int* lambda_d, const doubl
 }
 
 }  // namespace fdcore
+
+namespace fdcore {
+
+// The packed storage of the same factor (contacts.hpp): row k of L keeps only its entries at the ancestor dofs
+// of k, root first, then the diagonal:
+//
+//     P[off_k + t] = L_{k, chain_k[t]}   (t < depth_k: chain_k[t] is the ancestor dof of k at depth t)
+//     P[off_k + depth_k] = L_kk
+//
+// The ancestors of an ancestor i = chain_k[s] of k are chain_k[0 .. s), so row i's entries sit at the same
+// positions as row k's first s + 1: the factor's update of row i by row k, and every solve along one chain,
+// run over contiguous entries with no walk of λ_d in the inner loops.
+struct DofTree {
+  int nv = 0;
+  std::vector<int> lambda, depth, off, chain;
+  std::vector<std::int32_t> key;  // nb, then the parent, nv_i and idx_v arrays of the model it was built for
+};
+
+// The calling thread's DofTree for this model (rebuilt when the model's tree differs from the last one's).
+inline const DofTree& dof_tree(const ModelView& mv) {
+  thread_local DofTree t;
+  const size_t nb = static_cast<size_t>(mv.nb);
+  bool same = t.key.size() == 3 * nb + 1 && t.key[0] == mv.nb && t.nv == mv.nv;
+  for (size_t i = 0; same && i < nb; ++i)
+    same = t.key[1 + i] == mv.parent[i] && t.key[1 + nb + i] == mv.nv_i[i] && t.key[1 + 2 * nb + i] == mv.idx_v[i];
+  if (same) return t;
+  const int nv = mv.nv;
+  t.nv = nv;
+  t.key.assign(3 * nb + 1, 0);
+  t.key[0] = mv.nb;
+  for (size_t i = 0; i < nb; ++i)
+    t.key[1 + i] = mv.parent[i], t.key[1 + nb + i] = mv.nv_i[i], t.key[1 + 2 * nb + i] = mv.idx_v[i];
+  t.lambda.resize(nv);
+  t.depth.resize(nv);
+  t.off.resize(static_cast<size_t>(nv) + 1);
+  dof_parents(mv, t.lambda.data());
+  t.off[0] = 0;
+  for (int k = 0; k < nv; ++k) {  // λ_d(k) < k: the parent's depth is known
+    t.depth[k] = t.lambda[k] == -1 ? 0 : t.depth[t.lambda[k]] + 1;
+    t.off[k + 1] = t.off[k] + t.depth[k] + 1;
+  }
+  t.chain.resize(static_cast<size_t>(t.off[nv]));
+  for (int k = 0; k < nv; ++k)
+    for (int i = k, d = t.depth[k]; i != -1; i = t.lambda[i], --d) t.chain[t.off[k] + d] = i;
+  return t;
+}
+
+// In place: P holds M's entries in the packed layout (row k: M_{k, chain_k[t]}, then M_kk) → L, as ltl_factor
+// (each row scaled by the reciprocal of its pivot); dinv (nv,) ← 1 / L_kk for the solves below. With `rows`
+// (nv,) only the rows k with rows[k] != 0 (a set closed under ancestors, holding a Schur complement) are read
+// and factored. Returns −1, or the dof whose pivot is not positive.
+inline int ltl_factor_packed(const DofTree& t, double* P, double* dinv, const char* rows = nullptr) {
+  for (int k = t.nv - 1; k >= 0; --k) {
+    if (rows && !rows[k]) continue;
+    double* __restrict Lk = P + t.off[k];
+    const int dk = t.depth[k];
+    const double d = Lk[dk];
+    if (!(d > 0.0)) return k;
+    const double r = 1.0 / d, a = std::sqrt(d), inv = a * r;  // 1/√d = √d / d: the division and the root overlap
+    Lk[dk] = a;
+    dinv[k] = inv;
+    for (int s = 0; s < dk; ++s) Lk[s] = Lk[s] * inv;
+    const int* ch = t.chain.data() + t.off[k];
+    for (int s = 0; s < dk; ++s) {  // row i = chain_k[s]: L_i[0 .. s] −= L_k[s] · L_k[0 .. s]
+      double* __restrict Li = P + t.off[ch[s]];
+      const double l = Lk[s];
+      for (int u = 0; u <= s; ++u) Li[u] = Li[u] - l * Lk[u];
+    }
+  }
+  return -1;
+}
+
+// x ← L⁻ᵀ x and x ← L⁻¹ x on the packed factor (x (nv,), the whole joint space).
+inline void ltl_solve_Lt_packed(const DofTree& t, const double* P, const double* dinv, double* x) {
+  for (int k = t.nv - 1; k >= 0; --k) {
+    const double* Lk = P + t.off[k];
+    const int* ch = t.chain.data() + t.off[k];
+    const int dk = t.depth[k];
+    const double xk = x[k] * dinv[k];
+    x[k] = xk;
+    for (int s = 0; s < dk; ++s) x[ch[s]] = x[ch[s]] - Lk[s] * xk;
+  }
+}
+inline void ltl_solve_L_packed(const DofTree& t, const double* P, const double* dinv, double* x) {
+  for (int k = 0; k < t.nv; ++k) {
+    const double* Lk = P + t.off[k];
+    const int* ch = t.chain.data() + t.off[k];
+    const int dk = t.depth[k];
+    double s = x[k];
+    for (int u = 0; u < dk; ++u) s = s - Lk[u] * x[ch[u]];
+    x[k] = s * dinv[k];
+  }
+}
+
+// y ← L⁻ᵀ y for each of `n` vectors y (the rows of Y, row stride `stride`) that are zero outside the chain of
+// dof k (root … k), held in chain positions y[0 .. depth_k]. Lᵀ only moves entries to ancestors,
+// so the solve stays on the chain, contiguous; the rows share the chain's rows of L and their independent
+// updates interleave.
+inline void ltl_solve_Lt_chain_rows(const DofTree& t, const double* P, const double* dinv, int k, double* Y, int n,
+                                    int stride) {
+  const int* ch = t.chain.data() + t.off[k];
+  for (int s = t.depth[k]; s >= 0; --s) {
+    const double* __restrict Li = P + t.off[ch[s]];
+    const double di = dinv[ch[s]];
+    for (int r = 0; r < n; ++r) {
+      double* __restrict y = Y + static_cast<size_t>(r) * stride;
+      const double ys = y[s] * di;
+      y[s] = ys;
+      for (int u = 0; u < s; ++u) y[u] = y[u] - Li[u] * ys;
+    }
+  }
+}
+
+// A⁻¹ (m, m), full and exactly symmetric, from the Cholesky factor of dense_cholesky (A = C Cᵀ): W = C⁻¹ (lower
+// triangular; its columns kept as the rows of Wt, so every sum below runs over contiguous entries), then
+// A⁻¹ = Wᵀ W. Costs m³/3 multiply-adds and m divisions. Wt: (m, m) scratch.
+inline void dense_cholesky_inverse(const double* C, int m, double* Wt, double* Ainv) {
+  double* r = Ainv;  // the diagonal's reciprocals, in Ainv's first row until it is written
+  for (int i = 0; i < m; ++i) r[i] = 1.0 / C[i * m + i];
+  for (int j = 0; j < m; ++j) {  // column j of W = C⁻¹: forward substitution on e_j
+    double* w = Wt + static_cast<size_t>(j) * m;
+    w[j] = r[j];
+    for (int i = j + 1; i < m; ++i) {
+      const double* Ci = C + static_cast<size_t>(i) * m;
+      double x = 0.0;
+      for (int k = j; k < i; ++k) x -= Ci[k] * w[k];
+      w[i] = x * r[i];
+    }
+  }
+  for (int i = 0; i < m; ++i)  // (Wᵀ W)_ij = Σ_{k ≥ i} W_ki W_kj (the reciprocals are no longer read)
+    for (int j = 0; j <= i; ++j) {
+      const double* wi = Wt + static_cast<size_t>(i) * m;
+      const double* wj = Wt + static_cast<size_t>(j) * m;
+      double x = 0.0;
+      for (int k = i; k < m; ++k) x += wi[k] * wj[k];
+      Ainv[i * m + j] = Ainv[j * m + i] = x;
+    }
+}
+
+}  // namespace fdcore
