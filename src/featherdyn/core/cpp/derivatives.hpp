@@ -26,9 +26,11 @@
 //
 //     ∂q̈/∂q = −M⁻¹ ∂τ/∂q,   ∂q̈/∂q̇ = −M⁻¹ ∂τ/∂q̇   (at q̈ = ABA(q, q̇, τ)),   ∂q̈/∂τ = M⁻¹
 //
-// with M⁻¹'s columns from the ABA template on unit joint forces (no velocity, no gravity): M⁻¹ e_j,
-// several columns per pass through the SIMD Pack instantiation. Frame velocities and accelerations
-// (frame_derivatives.hpp) are differentiated by running their template on Dual numbers: a value and
+// computed here without an articulated-body pass: M and h = τ(q, q̇, 0) from the kernel's composites, q̈
+// from M's tree-sparse factor M = LᵀL, then the accelerations added to the kernel's forces and ∂A/∂q; the
+// products with M⁻¹ are solves with the same factor, and M⁻¹ = Zᵀ Z with Z = L⁻ᵀ (tree-sparse).
+//
+// Frame velocities and accelerations (frame_derivatives.hpp) are differentiated by running their template on Dual numbers: a value and
 // K directional derivatives, whose tangent seeds are the derivatives of q ⊕ ε e_j at ε = 0:
 //
 //     revolute, prismatic:  δq = e_j
