@@ -30,8 +30,9 @@
 // from M's tree-sparse factor M = LᵀL, then the accelerations added to the kernel's forces and ∂A/∂q; the
 // products with M⁻¹ are solves with the same factor, and M⁻¹ = Zᵀ Z with Z = L⁻ᵀ (tree-sparse).
 //
-// Frame velocities and accelerations (frame_derivatives.hpp) are differentiated by running their template on Dual numbers: a value and
-// K directional derivatives, whose tangent seeds are the derivatives of q ⊕ ε e_j at ε = 0:
+// Frame velocities and accelerations (frame_derivatives.hpp) are differentiated by running their template
+// on Dual numbers: a value and K directional derivatives, whose tangent seeds are the derivatives of
+// q ⊕ ε e_j at ε = 0:
 //
 //     revolute, prismatic:  δq = e_j
 //     spherical (ω in the child frame):           δquat = quat ⊗ (e_c / 2, 0)
