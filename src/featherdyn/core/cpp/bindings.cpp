@@ -830,11 +830,9 @@ std::int64_t aba_derivatives1(const ModelData& md, const F64In& q, const F64In& 
   const double* fx = f_ext.is_valid() ? f_ext.data() : nullptr;
   FD_TRY(check_state(mv, q.data(), v.data(), tau.data(), fx));
   thread_local std::vector<double> scratch;
-  thread_local std::vector<int> lambda;
   scratch.resize(aba_derivatives_scratch(mv.nv));
-  lambda.resize(nv);
-  dof_parents(mv, lambda.data());
-  const int bad = group_kernels().aba_derivatives(mv, lambda.data(), q.data(), v.data(), tau.data(), fx, true,
+  const int* lambda = dof_tree(mv).lambda.data();
+  const int bad = group_kernels().aba_derivatives(mv, lambda, q.data(), v.data(), tau.data(), fx, true,
                                                   qdd.data(), dq.data(), dv.data(), Minv.data(), scratch.data());
   if (bad >= 0) return make_status(SINGULAR, ARG_Q, bad);
   FD_TRY(finite_result(dq.data(), static_cast<std::int64_t>(nv * nv)));

@@ -483,27 +483,9 @@ inline void rnea_derivatives_dual(const ModelView& mv, const double* q, const do
   }
 }
 
-// The factor-and-solve steps of the forward-dynamics derivatives, templated on the scalar so that one
-// state (double), each lane of a batch (double) and packed lanes (Pack) run the same operations: every
-// lane is bit-identical to its one-state result. (ltl.hpp has the same factorisation for double.)
-
-// In place: M (nv, nv) full and symmetric → L (M = LᵀL) in its lower triangle (RBDA table 6.3). Returns −1,
-// or the dof of a pivot that is not positive (in any lane).
-template <class S>
-int ltl_factor_t(const ModelView& mv, const int* lambda, S* M) {
-  using std::sqrt;
-  const int nv = mv.nv;
-  for (int k = nv - 1; k >= 0; --k) {
-    const S d = M[k * nv + k];
-    if (lanes_le(d, 0.0)) return k;
-    const S a = sqrt(d);
-    M[k * nv + k] = a;
-    for (int i = lambda[k]; i != -1; i = lambda[i]) M[k * nv + i] = M[k * nv + i] / a;
-    for (int i = lambda[k]; i != -1; i = lambda[i])
-      for (int j = i; j != -1; j = lambda[j]) M[i * nv + j] = M[i * nv + j] - M[k * nv + i] * M[k * nv + j];
-  }
-  return -1;
-}
+// The factor-and-solve steps of the forward-dynamics derivatives (ltl.hpp's factor and sweeps, and M⁻¹ from
+// the factor), templated on the scalar so that one state (double), each lane of a batch (double) and packed
+// lanes (Pack) run the same operations: every lane is bit-identical to its one-state result.
 
 // M⁻¹ (nv, nv) row-major from M's factor: M⁻¹ = Zᵀ Z with Z = L⁻ᵀ, whose column a is nonzero only on a's
 // ancestor dofs (solving Lᵀ z = e_a climbs the ancestors), so
@@ -543,41 +525,13 @@ inline int mass_matrix_inverse(const ModelView& mv, const double* q, double* Min
   const int nv = mv.nv;
   const size_t n2 = static_cast<size_t>(nv) * nv;
   thread_local std::vector<double> L, Z;
-  thread_local std::vector<int> lambda;
-  L.resize(n2), Z.resize(n2), lambda.resize(nv);
-  dof_parents(mv, lambda.data());
+  L.resize(n2), Z.resize(n2);
+  const int* lambda = dof_tree(mv).lambda.data();
   crba(mv, q, L.data());
-  const int bad_dof = ltl_factor_t(mv, lambda.data(), L.data());
+  const int bad_dof = ltl_factor(mv, lambda, L.data());
   if (bad_dof >= 0) return dof_body(mv, bad_dof);
-  minv_from_factor(mv, lambda.data(), L.data(), Minv, Z.data());
+  minv_from_factor(mv, lambda, L.data(), Minv, Z.data());
   return -1;
-}
-
-// X ← M⁻¹ X = L⁻¹ L⁻ᵀ X on the ncols columns of X (nv, ncols) row-major at once (the two row sweeps of
-// ltl.hpp, with each pivot's reciprocal taken once: a row is scaled by multiplications, not divisions).
-template <class S>
-void ltl_solve_rows_scaled(const ModelView& mv, const int* lambda, const S* L, S* X, int ncols) {
-  const int nv = mv.nv;
-  for (int k = nv - 1; k >= 0; --k) {
-    S* xk = X + static_cast<size_t>(k) * ncols;
-    const S inv = S(1.0) / L[k * nv + k];
-    for (int c = 0; c < ncols; ++c) xk[c] *= inv;
-    for (int i = lambda[k]; i != -1; i = lambda[i]) {
-      S* xi = X + static_cast<size_t>(i) * ncols;
-      const S l = L[k * nv + i];
-      for (int c = 0; c < ncols; ++c) xi[c] -= l * xk[c];
-    }
-  }
-  for (int k = 0; k < nv; ++k) {
-    S* xk = X + static_cast<size_t>(k) * ncols;
-    for (int i = lambda[k]; i != -1; i = lambda[i]) {
-      const S* xi = X + static_cast<size_t>(i) * ncols;
-      const S l = L[k * nv + i];
-      for (int c = 0; c < ncols; ++c) xk[c] -= l * xi[c];
-    }
-    const S inv = S(1.0) / L[k * nv + k];
-    for (int c = 0; c < ncols; ++c) xk[c] *= inv;
-  }
 }
 
 // q̈ = FD(q, q̇, τ) and ∂q̈/∂q, ∂q̈/∂q̇, ∂q̈/∂τ = M⁻¹ (nv, nv) each; `scratch` holds
@@ -588,21 +542,14 @@ void ltl_solve_rows_scaled(const ModelView& mv, const int* lambda, const S* L, S
 // (M singular).
 inline size_t aba_derivatives_scratch(int nv) { return 3 * static_cast<size_t>(nv) * nv + 2 * static_cast<size_t>(nv); }
 
-// x ← M⁻¹ (τ − h) with L = M's factor (ltl_factor_t on M in place first; −1, or the failed pivot's body).
+// x ← M⁻¹ (τ − h) with L = M's factor (ltl_factor on M in place first; −1, or the failed pivot's body).
 template <class S>
 int factor_and_solve(const ModelView& mv, const int* lambda, S* L, const S* tau, const S* h, S* x) {
-  const int nv = mv.nv;
-  const int bad_dof = ltl_factor_t(mv, lambda, L);
+  const int bad_dof = ltl_factor(mv, lambda, L);
   if (bad_dof >= 0) return dof_body(mv, bad_dof);
-  for (int k = 0; k < nv; ++k) x[k] = tau[k] - h[k];
-  for (int k = nv - 1; k >= 0; --k) {  // Lᵀ y = x, then L x = y
-    x[k] = x[k] / L[k * nv + k];
-    for (int i = lambda[k]; i != -1; i = lambda[i]) x[i] = x[i] - L[k * nv + i] * x[k];
-  }
-  for (int k = 0; k < nv; ++k) {
-    for (int i = lambda[k]; i != -1; i = lambda[i]) x[k] = x[k] - L[k * nv + i] * x[i];
-    x[k] = x[k] / L[k * nv + k];
-  }
+  for (int k = 0; k < mv.nv; ++k) x[k] = tau[k] - h[k];
+  ltl_solve_Lt(mv, lambda, L, x);
+  ltl_solve_L(mv, lambda, L, x);
   return -1;
 }
 
@@ -617,7 +564,7 @@ void aba_derivatives_solves(const ModelView& mv, const int* lambda_d, const S* L
     const S* tv = dv + static_cast<size_t>(r) * nv;
     for (int c = 0; c < nv; ++c) x[c] = -tq[c], x[nv + c] = -tv[c];
   }
-  ltl_solve_rows_scaled(mv, lambda_d, L, X, 2 * nv);
+  ltl_solve_rows(mv, lambda_d, L, X, 2 * nv);
   for (int r = 0; r < nv; ++r) {
     const S* x = X + 2 * static_cast<size_t>(r) * nv;
     S* oq = dq + static_cast<size_t>(r) * nv;

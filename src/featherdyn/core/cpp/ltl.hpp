@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "crba.hpp"
+#include "pack.hpp"
 #include "scratch.hpp"
 
 namespace fdcore {
@@ -36,13 +37,15 @@ inline int dof_body(const ModelView& mv, int k) {
 
 // In place: M (nv, nv) row-major, full and symmetric → L in its lower triangle (the strict upper part is
 // left as it was). Returns −1, or the dof whose pivot is not positive (M not positive definite).
+// S: double, or Pack (lanes factored together; a pivot that fails in any lane fails the call).
 template <class S>
 int ltl_factor(const ModelView& mv, const int* lambda, S* M) {
+  using std::sqrt;
   const int nv = mv.nv;
   for (int k = nv - 1; k >= 0; --k) {
     const S d = M[k * nv + k];
-    if (!(d > S(0.0))) return k;
-    const S a = std::sqrt(d);
+    if (lanes_le(d, 0.0)) return k;
+    const S a = sqrt(d);
     M[k * nv + k] = a;
     for (int i = lambda[k]; i != -1; i = lambda[i]) M[k * nv + i] = M[k * nv + i] / a;
     for (int i = lambda[k]; i != -1; i = lambda[i])
@@ -69,34 +72,31 @@ void ltl_solve_L(const ModelView& mv, const int* lambda, const S* L, S* x) {
   }
 }
 
-// The same two solves on every column of X (nv, ncols) row-major at once: each entry sees the operations
-// of ltl_solve_Lt / ltl_solve_L in the same order (bit-identical per column), on contiguous rows.
+// X ← M⁻¹ X = L⁻¹ L⁻ᵀ X on the ncols columns of X (nv, ncols) row-major at once: the two sweeps of
+// ltl_solve_Lt / ltl_solve_L on contiguous rows, each pivot's reciprocal taken once (a row is scaled by
+// multiplications, not ncols divisions).
 template <class S>
-void ltl_solve_Lt_rows(const ModelView& mv, const int* lambda, const S* L, S* X, int ncols) {
+void ltl_solve_rows(const ModelView& mv, const int* lambda, const S* L, S* X, int ncols) {
   const int nv = mv.nv;
   for (int k = nv - 1; k >= 0; --k) {
     S* xk = X + static_cast<size_t>(k) * ncols;
-    const S d = L[k * nv + k];
-    for (int c = 0; c < ncols; ++c) xk[c] = xk[c] / d;
+    const S inv = S(1.0) / L[k * nv + k];
+    for (int c = 0; c < ncols; ++c) xk[c] *= inv;
     for (int i = lambda[k]; i != -1; i = lambda[i]) {
       S* xi = X + static_cast<size_t>(i) * ncols;
       const S l = L[k * nv + i];
-      for (int c = 0; c < ncols; ++c) xi[c] = xi[c] - l * xk[c];
+      for (int c = 0; c < ncols; ++c) xi[c] -= l * xk[c];
     }
   }
-}
-template <class S>
-void ltl_solve_L_rows(const ModelView& mv, const int* lambda, const S* L, S* X, int ncols) {
-  const int nv = mv.nv;
   for (int k = 0; k < nv; ++k) {
     S* xk = X + static_cast<size_t>(k) * ncols;
     for (int i = lambda[k]; i != -1; i = lambda[i]) {
       const S* xi = X + static_cast<size_t>(i) * ncols;
       const S l = L[k * nv + i];
-      for (int c = 0; c < ncols; ++c) xk[c] = xk[c] - l * xi[c];
+      for (int c = 0; c < ncols; ++c) xk[c] -= l * xi[c];
     }
-    const S d = L[k * nv + k];
-    for (int c = 0; c < ncols; ++c) xk[c] = xk[c] / d;
+    const S inv = S(1.0) / L[k * nv + k];
+    for (int c = 0; c < ncols; ++c) xk[c] *= inv;
   }
 }
 
