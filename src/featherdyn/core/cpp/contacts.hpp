@@ -273,6 +273,25 @@ inline void solve_rows(const DofTree& t, const double* P, const ContactSpec* spe
       ltl_solve_Lt_chain_rows(t, P, dinv, w.last[k], w.Y.data() + w.first[k], specs[k].rows, w.len[k]);
 }
 
+// Σ_u a[u] x[chain[u]]: a row kept in chain positions (J or Y) against a joint-space vector x.
+inline double chain_dot(const double* a, const int* chain, int len, const double* x) {
+  double s = 0.0;
+  for (int u = 0; u < len; ++u) s += a[u] * x[chain[u]];
+  return s;
+}
+
+// f(row, at, chain, len) for every constraint row, in order: `at` its offset in J and Y (chain positions),
+// `chain` and `len` its contact's chain of dofs.
+template <class F>
+inline void for_contact_rows(const DofTree& t, const ContactSpec* specs, int nc, const ContactWork& w, F f) {
+  int row = 0;
+  for (int k = 0; k < nc; ++k) {
+    const int len = w.len[k];
+    const int* ch = len > 0 ? t.chain.data() + t.off[w.last[k]] : nullptr;
+    for (int r = 0; r < specs[k].rows; ++r, ++row) f(row, w.first[k] + r * len, ch, len);
+  }
+}
+
 // q̈ (nv,), λ (m,), and the KKT result for the contacts `specs` at (q, q̇, τ, f_ext); m = Σ rows.
 // Returns OK, or a SINGULAR status naming the body whose pivot of M failed.
 inline std::int64_t contact_dynamics(const ModelView& mv, const double* q, const double* qd, const double* tau,
@@ -299,12 +318,8 @@ inline std::int64_t contact_dynamics(const ModelView& mv, const double* q, const
     const double gam[6] = {g.w.x, g.w.y, g.w.z, g.v.x, g.v.y, g.v.z};
     const int len = w.len[k];
     const int* ch = len > 0 ? t.chain.data() + t.off[w.last[k]] : nullptr;
-    for (int r = 0; r < s.rows; ++r, ++row) {
-      const double* Jr = w.J.data() + w.first[k] + r * len;
-      double jv = 0.0;
-      for (int u = 0; u < len; ++u) jv += Jr[u] * qd[ch[u]];
-      w.c[row] = -gam[6 - s.rows + r] - s.kd * jv;
-    }
+    for (int r = 0; r < s.rows; ++r, ++row)
+      w.c[row] = -gam[6 - s.rows + r] - s.kd * chain_dot(w.J.data() + w.first[k] + r * len, ch, len, qd);
   }
   solve_rows(t, w.P.data(), specs, nc, w);
   // 3. z = L⁻ᵀ (τ − h), the right-hand side c − Y z, D = Y Yᵀ
@@ -315,17 +330,9 @@ inline std::int64_t contact_dynamics(const ModelView& mv, const double* q, const
   w.D.resize(static_cast<size_t>(m) * m);
   w.D0.resize(static_cast<size_t>(m) * m);
   w.x.resize(std::max(m, nv));
-  row = 0;
-  for (int k = 0; k < nc; ++k) {
-    const int len = w.len[k];
-    const int* ch = len > 0 ? t.chain.data() + t.off[w.last[k]] : nullptr;
-    for (int r = 0; r < specs[k].rows; ++r, ++row) {
-      const double* yr = w.Y.data() + w.first[k] + r * len;
-      double jq = 0.0;
-      for (int u = 0; u < len; ++u) jq += yr[u] * w.z[ch[u]];
-      w.rhs[row] = w.c[row] - jq;
-    }
-  }
+  for_contact_rows(t, specs, nc, w, [&](int i, int at, const int* ch, int len) {
+    w.rhs[i] = w.c[i] - chain_dot(w.Y.data() + at, ch, len, w.z.data());
+  });
   double* D = w.D.data();
   delassus_rows(specs, nc, w, w.Y.data(), m, D);
   // 4. λ: one solve (mu = 0), or kkt_solve's proximal iterations
@@ -358,27 +365,14 @@ inline std::int64_t contact_dynamics(const ModelView& mv, const double* q, const
   }
   // 5. q̈ = L⁻¹ (z + Yᵀ λ), and the residual ‖J q̈ − c‖∞
   for (int j = 0; j < nv; ++j) qdd[j] = w.z[j];
-  row = 0;
-  for (int k = 0; k < nc; ++k) {
-    const int len = w.len[k];
-    const int* ch = len > 0 ? t.chain.data() + t.off[w.last[k]] : nullptr;
-    for (int r = 0; r < specs[k].rows; ++r, ++row) {
-      const double* yr = w.Y.data() + w.first[k] + r * len;
-      for (int u = 0; u < len; ++u) qdd[ch[u]] += yr[u] * lam[row];
-    }
-  }
+  for_contact_rows(t, specs, nc, w, [&](int i, int at, const int* ch, int len) {
+    const double* yr = w.Y.data() + at;
+    for (int u = 0; u < len; ++u) qdd[ch[u]] += yr[u] * lam[i];
+  });
   ltl_solve_L_packed(t, w.P.data(), w.dinv.data(), qdd);
-  row = 0;
-  for (int k = 0; k < nc; ++k) {
-    const int len = w.len[k];
-    const int* ch = len > 0 ? t.chain.data() + t.off[w.last[k]] : nullptr;
-    for (int r = 0; r < specs[k].rows; ++r, ++row) {
-      const double* Jr = w.J.data() + w.first[k] + r * len;
-      double jq = 0.0;
-      for (int u = 0; u < len; ++u) jq += Jr[u] * qdd[ch[u]];
-      res.residual = std::max(res.residual, std::fabs(jq - w.c[row]));
-    }
-  }
+  for_contact_rows(t, specs, nc, w, [&](int i, int at, const int* ch, int len) {
+    res.residual = std::max(res.residual, std::fabs(chain_dot(w.J.data() + at, ch, len, qdd) - w.c[i]));
+  });
   return OK;
 }
 
