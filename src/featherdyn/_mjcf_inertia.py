@@ -28,80 +28,79 @@ from __future__ import annotations
 
 import math
 
-import numpy as np
-
 __all__ = ["SOLID_TYPES", "geom_mass_inertia"]
 
 SOLID_TYPES = ("sphere", "capsule", "ellipsoid", "cylinder", "box")
 
 
-def _solid(kind: str, s: list[float]) -> tuple[float, np.ndarray]:
+def _solid(kind: str, s: list[float]) -> tuple[float, tuple[float, float, float]]:
     """``(V, I/ρ)``: the volume and the inertia per unit density (diagonal, geom frame)."""
     pi = math.pi
     if kind == "sphere":
         r = s[0]
         V = 4 / 3 * pi * r**3
-        return V, V * 2 / 5 * r * r * np.ones(3)
+        j = V * 2 / 5 * r * r
+        return V, (j, j, j)
     if kind == "ellipsoid":
         a, b, c = s[:3]
         V = 4 / 3 * pi * a * b * c
-        return V, V / 5 * np.array([b * b + c * c, a * a + c * c, a * a + b * b])
+        return V, (V / 5 * (b * b + c * c), V / 5 * (a * a + c * c), V / 5 * (a * a + b * b))
     if kind == "cylinder":
         r, h = s[0], s[1]
         V = pi * r * r * 2 * h
-        return V, V * np.array([(3 * r * r + 4 * h * h) / 12, (3 * r * r + 4 * h * h) / 12, r * r / 2])
+        lateral = V * ((3 * r * r + 4 * h * h) / 12)
+        return V, (lateral, lateral, V * (r * r / 2))
     if kind == "box":
         a, b, c = s[:3]
         V = 8 * a * b * c
-        return V, V / 3 * np.array([b * b + c * c, a * a + c * c, a * a + b * b])
+        return V, (V / 3 * (b * b + c * c), V / 3 * (a * a + c * c), V / 3 * (a * a + b * b))
     # capsule
     r, H = s[0], 2 * s[1]
     Vc, Vs = pi * r * r * H, 4 / 3 * pi * r**3
     axial = Vc * r * r / 2 + Vs * 2 * r * r / 5
     lateral = Vc * (3 * r * r + H * H) / 12 + Vs * (2 * r * r / 5 + H * H / 4 + 3 * H * r / 8)
-    return Vc + Vs, np.array([lateral, lateral, axial])
+    return Vc + Vs, (lateral, lateral, axial)
 
 
-def _shell(kind: str, s: list[float]) -> tuple[float, np.ndarray] | None:
+def _shell(kind: str, s: list[float]) -> tuple[float, tuple[float, float, float]] | None:
     """``(A, I/ρ)`` of the surface (area density ``ρ``), or ``None`` where unsupported (ellipsoid)."""
     pi = math.pi
     if kind == "sphere":
         r = s[0]
         A = 4 * pi * r * r
-        return A, A * 2 / 3 * r * r * np.ones(3)
+        j = A * 2 / 3 * r * r
+        return A, (j, j, j)
     if kind == "box":
         half = s[:3]
         area = 0.0
-        J = np.zeros(3)
+        J = [0.0, 0.0, 0.0]
         for n in range(3):  # the two plates normal to axis n, at ±half[n]
             u, w = [k for k in range(3) if k != n]
             a_u, a_w = half[u], half[w]
             m = 4 * a_u * a_w  # each plate's area
             area += 2 * m
-            plate = np.zeros(3)
-            plate[n] = m * (a_u * a_u + a_w * a_w) / 3
-            plate[u] = m * (a_w * a_w / 3 + half[n] ** 2)
-            plate[w] = m * (a_u * a_u / 3 + half[n] ** 2)
-            J += 2 * plate
-        return area, J
+            J[n] += 2 * (m * (a_u * a_u + a_w * a_w) / 3)
+            J[u] += 2 * (m * (a_w * a_w / 3 + half[n] ** 2))
+            J[w] += 2 * (m * (a_u * a_u / 3 + half[n] ** 2))
+        return area, (J[0], J[1], J[2])
     if kind == "cylinder":
         r, H = s[0], 2 * s[1]
         tube, disc = 2 * pi * r * H, pi * r * r
         lateral = tube * (r * r / 2 + H * H / 12) + 2 * disc * (r * r / 4 + H * H / 4)
-        return tube + 2 * disc, np.array([lateral, lateral, tube * r * r + 2 * disc * r * r / 2])
+        return tube + 2 * disc, (lateral, lateral, tube * r * r + 2 * disc * r * r / 2)
     if kind == "capsule":
         r, H = s[0], 2 * s[1]
         tube, sphere = 2 * pi * r * H, 4 * pi * r * r
         hemisphere = sphere / 2  # a hemispherical shell: centre of mass r/2 from its flat face
         hemi = hemisphere * (2 / 3 * r * r - r * r / 4 + (H / 2 + r / 2) ** 2)
         lateral = tube * (r * r / 2 + H * H / 12) + 2 * hemi
-        return tube + sphere, np.array([lateral, lateral, tube * r * r + sphere * 2 / 3 * r * r])
+        return tube + sphere, (lateral, lateral, tube * r * r + sphere * 2 / 3 * r * r)
     return None
 
 
 def geom_mass_inertia(kind: str, size: list[float], density: float, mass: float | None,
-                      shell: bool) -> tuple[float, np.ndarray] | None:
-    """``(m, I)`` of a primitive geom: its mass and diagonal inertia `(3,)` about its centre, geom axes.
+                      shell: bool) -> tuple[float, tuple[float, float, float]] | None:
+    """``(m, I)`` of a primitive geom: its mass and diagonal inertia (three floats) about its centre, geom axes.
 
     ``mass`` (when given) wins over ``density``. ``None`` for an unsupported
     shell. A zero volume with a given mass is MuJoCo's error; callers check
@@ -111,6 +110,5 @@ def geom_mass_inertia(kind: str, size: list[float], density: float, mass: float 
     if got is None:
         return None
     V, J = got
-    if mass is not None:
-        return mass, J * (mass / V)
-    return density * V, J * density
+    k = mass / V if mass is not None else density
+    return (mass if mass is not None else density * V), (J[0] * k, J[1] * k, J[2] * k)

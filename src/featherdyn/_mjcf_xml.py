@@ -28,9 +28,8 @@ import warnings
 from pathlib import Path
 from typing import Any
 
-import numpy as np
 
-from ._urdf_xml import MAX_DEPTH, _parse_xml, _quote, _read_source, _shorten
+from ._urdf_xml import ElementLines, _quote, _read_source, _shorten, parse_elements
 from .errors import MJCFError, PhysicalityWarning
 from .urdf import MAX_LENGTH
 
@@ -42,6 +41,8 @@ MAX_INCLUDES = 1000
 
 # a digit run matches one way only (the fraction needs its dot), so a failed match backtracks in linear time
 _NUMBER = re.compile(r"[+-]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)(?:[eE][+-]?[0-9]+)?")
+# a whole attribute of decimals separated by whitespace (one pass instead of a match per number)
+_DECIMALS = re.compile(r"[ \t\r\n]*(?:" + _NUMBER.pattern + r"(?:[ \t\r\n]+|$))*")
 _ORIENTATIONS = ("quat", "axisangle", "euler", "xyaxes", "zaxis")
 # element kinds that default classes configure (the rest are accepted and ignored)
 _DEFAULT_KINDS = frozenset({"joint", "geom", "site", "mesh", "inertial", "frame"})
@@ -50,7 +51,7 @@ _DEFAULT_KINDS = frozenset({"joint", "geom", "site", "mesh", "inertial", "frame"
 class Doc:
     """The parsed document: where each element came from, the compiler settings, the default classes."""
 
-    def __init__(self, root: Any, where: dict[Any, tuple[str, int]], label: str, model_dir: Path,
+    def __init__(self, root: Any, where: dict[Any, tuple[ElementLines | None, int]], label: str, model_dir: Path,
                  strict: bool) -> None:
         self.root = root
         self.where_of = where
@@ -62,11 +63,13 @@ class Doc:
         self.own_defaults: dict[str, dict[str, dict[str, str]]] = {}
         self.default_parent: dict[str, str | None] = {}
         self._resolved: dict[tuple[str, str], dict[str, str]] = {}
+        self._parsed: dict[str, tuple[tuple[float, ...], float]] = {}
 
     # -- messages -------------------------------------------------------------
 
     def where(self, elem: Any) -> str:
-        label, line = self.where_of.get(elem, (self.label, 0))
+        source, index = self.where_of.get(elem, (None, -1))
+        label, line = (self.label, 0) if source is None else (source.label, source.line(index))
         tag = _shorten(str(elem.tag)) if isinstance(elem.tag, str) else "?"
         name = elem.get("name")
         named = f" name={_quote(name)}" if name is not None else ""
@@ -116,25 +119,30 @@ class Doc:
 
     def floats(self, elem: Any, attrs: dict[str, str], name: str, counts: tuple[int, ...],
                default: list[float] | None = None, bound: float = MAX_LENGTH) -> list[float] | None:
-        """The attribute as finite decimals, ``len`` one of ``counts``; ``default`` when absent."""
+        """The attribute as finite decimals, ``len`` one of ``counts``; ``default`` when absent.
+
+        A text is parsed once per document (the same few texts recur: ``"0 0 0"``, a class's ``size``):
+        :attr:`_parsed` keeps its numbers and their largest magnitude, or ``None`` if one is not a decimal.
+        """
         text = attrs.get(name)
         if text is None:
             return default
-        parts = text.split()
-        if len(parts) not in counts:
+        got = self._parsed.get(text)
+        if got is None:
+            got = self._parsed[text] = _parse_decimals(text)
+        values, largest = got
+        if len(values) not in counts:
             want = " or ".join(str(c) for c in counts)
             raise self.error(elem, f"{name}={_quote(text)}: expected {want} number{'s' if max(counts) > 1 else ''}, "
-                             f"got {len(parts)}")
-        out = []
-        for s in parts:
-            if not _NUMBER.fullmatch(s):
-                raise self.error(elem, f"{name}={_quote(text)}: {_quote(s)} is not a decimal number")
-            x = float(s)
-            if not math.isfinite(x) or abs(x) > bound:
-                raise self.error(elem, f"{name}={_quote(text)}: expected a magnitude of at most {bound:g} "
-                                 f"(larger values overflow the dynamics), got {_quote(s)}")
-            out.append(x)
-        return out
+                             f"got {len(values)}")
+        if largest < 0:  # a part is not a decimal: name it
+            bad = next(s for s in text.split() if not _NUMBER.fullmatch(s))
+            raise self.error(elem, f"{name}={_quote(text)}: {_quote(bad)} is not a decimal number")
+        if largest > bound:  # also +inf: a decimal too long for a double
+            bad = next(s for s in text.split() if abs(float(s)) > bound)
+            raise self.error(elem, f"{name}={_quote(text)}: expected a magnitude of at most {bound:g} "
+                             f"(larger values overflow the dynamics), got {_quote(bad)}")
+        return list(values)
 
     def require(self, elem: Any, attrs: dict[str, str], name: str, counts: tuple[int, ...],
                 bound: float = MAX_LENGTH) -> list[float]:
@@ -173,79 +181,172 @@ class Doc:
 
     # -- poses ----------------------------------------------------------------
 
-    def rotation(self, elem: Any, attrs: dict[str, str]) -> np.ndarray:
-        """The element's orientation as a rotation matrix (identity when none is given)."""
+    def rotation(self, elem: Any, attrs: dict[str, str]) -> Mat:
+        """The element's orientation as a rotation matrix (:data:`I3` itself when none is given)."""
         given = [k for k in _ORIENTATIONS if k in attrs]
+        if not given:
+            return I3
         if len(given) > 1:
             raise self.error(elem, f"several orientations given ({', '.join(given)}); MuJoCo accepts one")
-        if not given:
-            return np.eye(3)
         kind = given[0]
         if kind == "quat":
-            q = self.require(elem, attrs, "quat", (4,))
-            n = math.sqrt(sum(c * c for c in q))
+            w, x, y, z = self.require(elem, attrs, "quat", (4,))
+            n = math.hypot(w, x, y, z)
             if n < 1e-10:
                 raise self.error(elem, f"quat={_quote(attrs['quat'])}: a zero quaternion is not a rotation")
-            return quat_wxyz_matrix(np.array(q) / n)
+            return quat_wxyz_matrix((w / n, x / n, y / n, z / n))
         if kind == "axisangle":
             aa = self.require(elem, attrs, "axisangle", (4,))
-            axis = self._direction(elem, attrs, "axisangle", np.array(aa[:3]))
+            axis = self._direction(elem, attrs, "axisangle", (aa[0], aa[1], aa[2]))
             return axis_angle_matrix(axis, self.angle(aa[3]))
         if kind == "euler":
             e = self.require(elem, attrs, "euler", (3,))
-            R = np.eye(3)
+            R = I3
             for letter, a in zip(self.eulerseq, e, strict=True):
-                axis = np.eye(3)["xyz".index(letter.lower())]
-                Rk = axis_angle_matrix(axis, self.angle(a))
-                R = R @ Rk if letter.islower() else Rk @ R
+                Rk = axis_angle_matrix(_AXES["xyz".index(letter.lower())], self.angle(a))
+                R = mat_mul(R, Rk) if letter.islower() else mat_mul(Rk, R)
             return R
         if kind == "xyaxes":
             v = self.require(elem, attrs, "xyaxes", (6,))
-            x = self._direction(elem, attrs, "xyaxes", np.array(v[:3]))
-            y = np.array(v[3:]) - x * float(np.dot(x, v[3:]))
-            y = self._direction(elem, attrs, "xyaxes", y, "the y axis is parallel to the x axis")
-            return np.column_stack([x, y, np.cross(x, y)])
+            x = self._direction(elem, attrs, "xyaxes", (v[0], v[1], v[2]))
+            d = x[0] * v[3] + x[1] * v[4] + x[2] * v[5]
+            y = self._direction(elem, attrs, "xyaxes", (v[3] - x[0] * d, v[4] - x[1] * d, v[5] - x[2] * d),
+                                "the y axis is parallel to the x axis")
+            zc = cross(x, y)
+            return (x[0], y[0], zc[0], x[1], y[1], zc[1], x[2], y[2], zc[2])
         z = self.require(elem, attrs, "zaxis", (3,))
-        return z_to_vector(self._direction(elem, attrs, "zaxis", np.array(z)))
+        return z_to_vector(self._direction(elem, attrs, "zaxis", (z[0], z[1], z[2])))
 
-    def _direction(self, elem: Any, attrs: dict[str, str], name: str, v: np.ndarray,
-                   why: str = "a zero vector") -> np.ndarray:
-        largest = float(np.max(np.abs(v)))
-        n = largest * float(np.linalg.norm(v / largest)) if largest > 0 else 0.0
+    def _direction(self, elem: Any, attrs: dict[str, str], name: str, v: Vec, why: str = "a zero vector") -> Vec:
+        n = math.hypot(*v)  # without overflow or underflow
         if n < 1e-10:
             raise self.error(elem, f"{name}={_quote(attrs[name])}: {why} is not a direction")
-        return np.asarray(v / n, dtype=np.float64)
+        return (v[0] / n, v[1] / n, v[2] / n)
 
-    def pose(self, elem: Any, attrs: dict[str, str]) -> tuple[np.ndarray, np.ndarray]:
-        """``(R, p)``: the element's ``pos`` and orientation in its parent's frame."""
-        p = self.floats(elem, attrs, "pos", (3,), [0.0, 0.0, 0.0]) or [0.0, 0.0, 0.0]
-        return self.rotation(elem, attrs), np.array(p)
+    def pose(self, elem: Any, attrs: dict[str, str]) -> tuple[Mat, Vec]:
+        """``(R, p)``: the element's orientation and ``pos`` in its parent's frame (:data:`I3`, :data:`Z3` when
+        absent)."""
+        p = self.floats(elem, attrs, "pos", (3,))
+        return self.rotation(elem, attrs), Z3 if p is None else (p[0], p[1], p[2])
 
 
-def quat_wxyz_matrix(q: np.ndarray) -> np.ndarray:
+# ---------------------------------------------------------------------------
+# 3×3 matrices and 3-vectors as tuples of floats
+# ---------------------------------------------------------------------------
+# A loader's geometry is a few dozen 3×3 products per body: on tuples they cost less than numpy's per-call
+# overhead, and most frames are the identity — passed as the constants I3 and Z3 and skipped by identity tests.
+
+#: A 3×3 matrix, row major.
+Mat = tuple[float, float, float, float, float, float, float, float, float]
+#: A 3-vector.
+Vec = tuple[float, float, float]
+I3: Mat = (1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0)
+Z3: Vec = (0.0, 0.0, 0.0)
+_AXES: tuple[Vec, Vec, Vec] = ((1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0))
+
+
+def mat_mul(A: Mat, B: Mat) -> Mat:
+    """``A B``."""
+    if A is I3:
+        return B
+    if B is I3:
+        return A
+    a0, a1, a2, a3, a4, a5, a6, a7, a8 = A
+    b0, b1, b2, b3, b4, b5, b6, b7, b8 = B
+    return (a0 * b0 + a1 * b3 + a2 * b6, a0 * b1 + a1 * b4 + a2 * b7, a0 * b2 + a1 * b5 + a2 * b8,
+            a3 * b0 + a4 * b3 + a5 * b6, a3 * b1 + a4 * b4 + a5 * b7, a3 * b2 + a4 * b5 + a5 * b8,
+            a6 * b0 + a7 * b3 + a8 * b6, a6 * b1 + a7 * b4 + a8 * b7, a6 * b2 + a7 * b5 + a8 * b8)
+
+
+def mat_vec(A: Mat, v: Vec) -> Vec:
+    """``A v``."""
+    if A is I3 or v is Z3:
+        return v
+    x, y, z = v
+    return (A[0] * x + A[1] * y + A[2] * z, A[3] * x + A[4] * y + A[5] * z, A[6] * x + A[7] * y + A[8] * z)
+
+
+def vec_add(a: Vec, b: Vec) -> Vec:
+    """``a + b``."""
+    if b is Z3:
+        return a
+    if a is Z3:
+        return b
+    return (a[0] + b[0], a[1] + b[1], a[2] + b[2])
+
+
+def cross(a: Vec, b: Vec) -> Vec:
+    """``a × b``."""
+    return (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
+
+
+def compose(R1: Mat, p1: Vec, R2: Mat, p2: Vec) -> tuple[Mat, Vec]:
+    """``(R1, p1) ∘ (R2, p2) = (R1 R2, R1 p2 + p1)``: the pose ``(R2, p2)`` given in the frame posed ``(R1, p1)``."""
+    return mat_mul(R1, R2), vec_add(mat_vec(R1, p2), p1)
+
+
+def rotate_symmetric(R: Mat, S: Mat) -> Mat:
+    """``R S Rᵀ`` of a symmetric ``S`` (symmetric exactly: the upper triangle is computed and mirrored)."""
+    if R is I3:
+        return S
+    r0, r1, r2, r3, r4, r5, r6, r7, r8 = R
+    s0, s1, s2, _, s4, s5, _, _, s8 = S
+    # T = R S (rows of R against the columns of S)
+    t0, t1, t2 = r0 * s0 + r1 * s1 + r2 * s2, r0 * s1 + r1 * s4 + r2 * s5, r0 * s2 + r1 * s5 + r2 * s8
+    t3, t4, t5 = r3 * s0 + r4 * s1 + r5 * s2, r3 * s1 + r4 * s4 + r5 * s5, r3 * s2 + r4 * s5 + r5 * s8
+    t6, t7, t8 = r6 * s0 + r7 * s1 + r8 * s2, r6 * s1 + r7 * s4 + r8 * s5, r6 * s2 + r7 * s5 + r8 * s8
+    xx, xy, xz = t0 * r0 + t1 * r1 + t2 * r2, t0 * r3 + t1 * r4 + t2 * r5, t0 * r6 + t1 * r7 + t2 * r8
+    yy, yz = t3 * r3 + t4 * r4 + t5 * r5, t3 * r6 + t4 * r7 + t5 * r8
+    zz = t6 * r6 + t7 * r7 + t8 * r8
+    return (xx, xy, xz, xy, yy, yz, xz, yz, zz)
+
+
+def diagonal(d: Vec) -> Mat:
+    """``diag(d)``."""
+    return (d[0], 0.0, 0.0, 0.0, d[1], 0.0, 0.0, 0.0, d[2])
+
+
+def rows(A: Mat) -> tuple[Vec, Vec, Vec]:
+    """The three rows of ``A`` (a `(3, 3)` nested sequence for numpy)."""
+    return (A[0], A[1], A[2]), (A[3], A[4], A[5]), (A[6], A[7], A[8])
+
+
+def _parse_decimals(text: str) -> tuple[tuple[float, ...], float]:
+    """``(numbers, largest magnitude)`` of a whitespace-separated list of decimals; the magnitude is ``-1`` when a
+    part is not a decimal (``float`` alone would take ``inf``, ``nan`` and ``1_0``)."""
+    parts = text.split()
+    if not _DECIMALS.fullmatch(text):
+        return tuple(0.0 for _ in parts), -1.0
+    values = tuple(map(float, parts))
+    return values, max(map(abs, values), default=0.0)
+
+
+def quat_wxyz_matrix(q: tuple[float, float, float, float]) -> Mat:
     """Rotation matrix of a unit quaternion ``(w, x, y, z)``."""
-    w, x, y, z = (float(c) for c in q)
-    return np.array([
-        [1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
-        [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
-        [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)],
-    ])
+    w, x, y, z = q
+    return (1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w),
+            2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w),
+            2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y))
 
 
-def axis_angle_matrix(axis: np.ndarray, angle: float) -> np.ndarray:
-    """Rodrigues: ``R = 1 + sin θ [a]× + (1 − cos θ) [a]×²`` for a unit ``axis``."""
-    K = np.array([[0.0, -axis[2], axis[1]], [axis[2], 0.0, -axis[0]], [-axis[1], axis[0], 0.0]])
-    return np.eye(3) + math.sin(angle) * K + (1 - math.cos(angle)) * (K @ K)
+def axis_angle_matrix(axis: Vec, angle: float) -> Mat:
+    """Rodrigues for a unit ``axis``: ``R = cos θ 1 + (1 − cos θ) a aᵀ + sin θ [a]×``."""
+    if angle == 0.0:
+        return I3
+    x, y, z = axis
+    c, s = math.cos(angle), math.sin(angle)
+    t = 1 - c
+    return (t * x * x + c, t * x * y - s * z, t * x * z + s * y,
+            t * x * y + s * z, t * y * y + c, t * y * z - s * x,
+            t * x * z - s * y, t * y * z + s * x, t * z * z + c)
 
 
-def z_to_vector(v: np.ndarray) -> np.ndarray:
+def z_to_vector(v: Vec) -> Mat:
     """The smallest rotation taking ``(0, 0, 1)`` to the unit vector ``v`` (π about x when opposite), as MuJoCo."""
-    z = np.array([0.0, 0.0, 1.0])
-    axis = np.cross(z, v)
-    s = float(np.linalg.norm(axis))
+    s = math.hypot(v[0], v[1])  # |z × v|, z × v = (−v_y, v_x, 0)
     if s < 1e-14:
-        return np.eye(3) if v[2] > 0 else np.diag([1.0, -1.0, -1.0])
-    return axis_angle_matrix(axis / s, math.atan2(s, float(v[2])))
+        return I3 if v[2] > 0 else (1.0, 0.0, 0.0, 0.0, -1.0, 0.0, 0.0, 0.0, -1.0)
+    return axis_angle_matrix((-v[1] / s, v[0] / s, 0.0), math.atan2(s, v[2]))
 
 
 # ---------------------------------------------------------------------------
@@ -257,10 +358,11 @@ def _local(tag: Any) -> str:
     return tag if isinstance(tag, str) else ""
 
 
-def _read(path_or_xml: Any) -> tuple[Any, dict[Any, tuple[str, int]], str, str | None]:
+def _read(path_or_xml: Any) -> tuple[Any, dict[Any, tuple[ElementLines | None, int]], str, str | None]:
+    """``(root, where each element is: its file's lines and its index there, label, path)``."""
     text, label, path = _read_source(path_or_xml, MJCFError, "MJCF", "load_mjcf")
-    root, lines = _parse_xml(text, label, MJCFError, "MJCF", line_depth=MAX_DEPTH)
-    return root, {e: (label, n) for e, n in lines.items()}, label, path
+    root, index, lines = parse_elements(text, label, MJCFError, "MJCF")
+    return root, {e: (lines, k) for e, k in index.items()}, label, path
 
 
 def read_document(path_or_xml: Any, strict: bool) -> Doc:
@@ -281,10 +383,10 @@ def read_document(path_or_xml: Any, strict: bool) -> Doc:
     included = 0
     seen: set[str] = set()
     while True:
-        parent_of = {c: p for p in root.iter() for c in p}
-        includes = [e for e in root.iter() if _local(e.tag) == "include"]
+        includes = list(root.iter("include"))
         if not includes:
             return doc
+        parent_of = {c: p for p in root.iter() for c in p}
         for inc in includes:
             up = inc
             while up not in chain_of:
@@ -385,6 +487,8 @@ def expand_replicates(doc: Doc) -> None:
 
     created = 0
     while True:
+        if next(doc.root.iter("replicate"), None) is None:
+            return
         parent_of = {c: p for p in doc.root.iter() for c in p}
         innermost = [e for e in doc.root.iter() if _local(e.tag) == "replicate"
                      and not any(_local(d.tag) == "replicate" for d in e.iter() if d is not e)]
@@ -403,27 +507,28 @@ def expand_replicates(doc: Doc) -> None:
             created += count * size
             if created > MAX_REPLICATED:
                 raise doc.error(rep, f"<replicate> would create more than {MAX_REPLICATED} elements (MAX_REPLICATED)")
-            offset = np.array(doc.floats(rep, attrs, "offset", (3,), [0.0, 0.0, 0.0]) or [0.0, 0.0, 0.0])
+            off = doc.floats(rep, attrs, "offset", (3,))
+            offset = Z3 if off is None else (off[0], off[1], off[2])
             step = doc.rotation(rep, {k: v for k, v in attrs.items() if k == "euler"})
             sep = attrs.get("sep", "")
             digits = len(str(count))
             parent = parent_of[rep]
             at = list(parent).index(rep)
             parent.remove(rep)
-            R, p = np.eye(3), np.zeros(3)
+            R, p = I3, Z3
             for k in range(count):
                 frame = type(rep)("frame", {
                     "pos": " ".join(repr(float(x)) for x in p),
-                    "xyaxes": " ".join(repr(float(x)) for x in (*R[:, 0], *R[:, 1])),
+                    "xyaxes": " ".join(repr(float(x)) for x in (R[0], R[3], R[6], R[1], R[4], R[7])),
                 })
-                doc.where_of[frame] = doc.where_of.get(rep, (doc.label, 0))
+                doc.where_of[frame] = doc.where_of.get(rep, (None, -1))
                 suffix = f"{sep}{k:0{digits}d}"
                 for child in rep:
                     clone = copy.deepcopy(child)
                     for orig, new in zip(child.iter(), clone.iter(), strict=True):
-                        doc.where_of[new] = doc.where_of.get(orig, doc.where_of.get(rep, (doc.label, 0)))
+                        doc.where_of[new] = doc.where_of.get(orig, doc.where_of.get(rep, (None, -1)))
                         if new.get("name") is not None:
                             new.set("name", new.get("name") + suffix)
                     frame.append(clone)
                 parent.insert(at + k, frame)
-                R, p = R @ step, R @ offset + p
+                R, p = compose(R, p, step, offset)

@@ -73,12 +73,31 @@ import numpy as np
 
 from ._mjcf_inertia import geom_mass_inertia
 from ._mjcf_mesh import MeshError, convex_hull, mesh_mass_properties, read_mesh_file
-from ._mjcf_xml import Doc, _local, axis_angle_matrix, expand_replicates, read_defaults, read_document, z_to_vector
+from ._mjcf_xml import (
+    I3,
+    Z3,
+    Doc,
+    Mat,
+    Vec,
+    _local,
+    axis_angle_matrix,
+    compose,
+    diagonal,
+    expand_replicates,
+    mat_mul,
+    mat_vec,
+    read_defaults,
+    read_document,
+    rotate_symmetric,
+    rows,
+    vec_add,
+    z_to_vector,
+)
 from ._urdf_xml import _quote, _read_source, _shorten_quoted, reissue_warnings
 from .errors import FeatherdynError, MJCFError, PhysicalityWarning
 from .joints import FreeFlyerJoint, Joint, PrismaticJoint, RevoluteJoint, SphericalJoint
 from .model import Model, ModelBuilder
-from .spatial_algebra import PluckerTransform, SpatialInertia
+from .spatial_algebra import PluckerTransform
 from .urdf import MAX_INERTIA, MAX_MASS
 
 __all__ = ["load_mjcf", "load_model", "model_format"]
@@ -108,12 +127,17 @@ class _JointSpec:
     elem: Any
     name: str
     kind: str  # hinge, slide, ball, free
-    pos: np.ndarray  # in body coordinates
-    axis: np.ndarray  # in body coordinates (unit)
+    pos: Vec  # in body coordinates
+    axis: Vec  # in body coordinates (unit)
     ref: float
     armature: float
     lower: float
     upper: float
+
+
+#: ``(m, c, I_c)``: a mass, its centre and its rotational inertia about the centre (symmetric).
+Inertia = tuple[float, Vec, Mat]
+_NO_INERTIA: Inertia = (0.0, Z3, (0.0,) * 9)  # type: ignore[assignment]
 
 
 @dataclass(slots=True)
@@ -121,34 +145,63 @@ class _Body:
     elem: Any
     name: str
     parent: int  # MuJoCo body id of the parent (0 = world)
-    R: np.ndarray  # pose in the parent body's frame
-    p: np.ndarray
+    R: Mat  # pose in the parent body's frame
+    p: Vec
     childclass: str
     joints: list[_JointSpec] = field(default_factory=list)
-    geoms: list[tuple[Any, str, np.ndarray, np.ndarray]] = field(default_factory=list)  # elem, class, R, p
-    sites: list[tuple[str, np.ndarray, np.ndarray]] = field(default_factory=list)
+    geoms: list[tuple[Any, str, Mat, Vec]] = field(default_factory=list)  # elem, class, R, p
+    sites: list[tuple[str, Mat, Vec]] = field(default_factory=list)
     inertial: Any = None
-    mass: float = 0.0
-    com: np.ndarray = field(default_factory=lambda: np.zeros(3))
-    inertia: np.ndarray = field(default_factory=lambda: np.zeros((3, 3)))
+    inertia: Inertia = _NO_INERTIA  # in the MJCF body frame
 
 
-def _X(R: np.ndarray, p: np.ndarray) -> PluckerTransform:
+def _X(R: Mat, p: Vec) -> PluckerTransform:
     """A placement from the loader's own rotations, proper by construction (normalised quaternions, Rodrigues
-    with unit axes, Gram-Schmidt frames and their products): the constructor's checks are skipped (copies: the
-    placement's arrays become read-only)."""
-    return PluckerTransform._wrap(np.array(R, dtype=np.float64), np.array(p, dtype=np.float64), None, None)
+    with unit axes, Gram-Schmidt frames and their products): the constructor's checks are skipped."""
+    return PluckerTransform._wrap(np.array(rows(R)), np.array(p), None, None)
 
 
-def _inertia_in(body: _Body, R: np.ndarray, p: np.ndarray) -> SpatialInertia:
-    """The body's inertia (about its com, MJCF body frame) in the frame where the body frame's pose is ``(R, p)``::
+def _moved(inertia: Inertia, R: Mat, p: Vec) -> Inertia:
+    """The inertia in the frame where the frame it is given in is posed ``(R, p)``::
 
         m' = m,   c' = R c + p,   I_c' = R I_c Rᵀ      (X* I X⁻¹, RBDA §2.13)
     """
-    ic = R @ body.inertia @ R.T
-    # the constructor's checks, stated: body.inertia is symmetric (built so), and so is R I Rᵀ up to round-off,
-    # which the mean of the two triangles removes, as SpatialInertia's constructor does
-    return SpatialInertia._wrap(np.array(float(body.mass)), R @ body.com + p, (ic + ic.T) / 2, None)
+    m, c, ic = inertia
+    return m, vec_add(mat_vec(R, c), p), rotate_symmetric(R, ic)
+
+
+def _combined(a: Inertia, b: Inertia) -> Inertia:
+    """Two rigidly joined inertias as one (the parallel-axis theorem for the pair, no cancellation)::
+
+        m = m_a + m_b,   c = (m_a c_a + m_b c_b) / m,   I_c = I_a + I_b + (m_a m_b / m) (|d|² 1 − d dᵀ),  d = c_a − c_b
+    """
+    ma, ca, ia = a
+    mb, cb, ib = b
+    m = ma + mb
+    if m == 0.0:
+        return (0.0, Z3, tuple(x + y for x, y in zip(ia, ib, strict=True)))  # type: ignore[return-value]
+    wa, wb = ma / m, mb / m
+    c = (wa * ca[0] + wb * cb[0], wa * ca[1] + wb * cb[1], wa * ca[2] + wb * cb[2])
+    return m, c, _parallel(tuple(x + y for x, y in zip(ia, ib, strict=True)), ma * wb,  # type: ignore[arg-type]
+                           (ca[0] - cb[0], ca[1] - cb[1], ca[2] - cb[2]))
+
+
+def _parallel(ic: Mat, m: float, d: Vec) -> Mat:
+    """``I_c + m (|d|² 1 − d dᵀ)``: an inertia about a point ``d`` away from where ``I_c`` is taken."""
+    x, y, z = d
+    xx, yy, zz = m * x * x, m * y * y, m * z * z
+    xy, xz, yz = m * x * y, m * x * z, m * y * z
+    return (ic[0] + yy + zz, ic[1] - xy, ic[2] - xz,
+            ic[3] - xy, ic[4] + xx + zz, ic[5] - yz,
+            ic[6] - xz, ic[7] - yz, ic[8] + xx + yy)
+
+
+def _smallest_above(ic: Mat, floor: float) -> bool:
+    """Whether the smallest eigenvalue of the symmetric ``ic`` surely is at least ``floor`` (Gershgorin's lower
+    bound, with room for round-off); ``False`` means: compute the eigenvalues."""
+    a, b, c, e, f, i = ic[0], abs(ic[1]), abs(ic[2]), ic[4], abs(ic[5]), ic[8]
+    bound = min(a - b - c, e - b - f, i - c - f)
+    return bound > 2 * floor + 1e-12 * max(a, e, i)
 
 
 def _unique(name: str, taken: set[str]) -> str:
@@ -165,12 +218,13 @@ class _Loader:
         self.doc = doc
         self.path = path
         self.comp = _Compiler()
-        self.gravity = np.array([0.0, 0.0, -9.81])
+        self.gravity: Vec = (0.0, 0.0, -9.81)
         self.gravity_disabled = False
         self.meshdir: str | None = None
         self.assetdir: str | None = None
         self.meshes: dict[str, Any] = {}
-        self.mesh_cache: dict[str, tuple[float, np.ndarray, np.ndarray]] = {}
+        self.mesh_cache: dict[str, tuple[float, Vec, Mat]] = {}
+        self.joint_cache: dict[tuple[str, Vec], Joint] = {}  # joints are immutable: one per kind and axis
         self.bodies: list[_Body] = []
         self.ignored: list[str] = []
         self.site_names: set[str] = set()
@@ -247,7 +301,7 @@ class _Loader:
     def read_option(self, elem: Any) -> None:
         g = self.doc.floats(elem, elem.attrib, "gravity", (3,))
         if g is not None:
-            self.gravity = np.array(g)
+            self.gravity = (g[0], g[1], g[2])
         for flag in elem:
             if _local(flag.tag) == "flag" and flag.get("gravity") == "disable":
                 self.gravity_disabled = True
@@ -256,32 +310,30 @@ class _Loader:
 
     def read_bodies(self) -> None:
         doc = self.doc
-        world = _Body(None, "world", -1, np.eye(3), np.zeros(3), "main")
+        world = _Body(None, "world", -1, I3, Z3, "main")
         self.bodies.append(world)
         worldbodies = [e for e in doc.root if _local(e.tag) == "worldbody"]
         # pending bodies in MuJoCo's order (depth first, document order): (elem, parent id, R, p, childclass)
-        pending: list[tuple[Any, int, np.ndarray, np.ndarray, str]] = []
+        pending: list[tuple[Any, int, Mat, Vec, str]] = []
         for wb in worldbodies:
             pending += self.read_content(0, wb, "main")
         pending.reverse()
         while pending:
             elem, parent, R, p, childclass = pending.pop()
             childclass = doc.element_class(elem, childclass, "childclass")
-            attrs = dict(elem.attrib)
-            Rb, pb = doc.pose(elem, attrs)
-            body = _Body(elem, elem.get("name") or "", parent, R @ Rb, R @ pb + p, childclass)
+            Rb, pb = doc.pose(elem, elem.attrib)
+            body = _Body(elem, elem.get("name") or "", parent, *compose(R, p, Rb, pb), childclass)
             self.bodies.append(body)
             children = self.read_content(len(self.bodies) - 1, elem, childclass)
             pending += reversed(children)
 
-    def read_content(self, b: int, elem: Any, childclass: str) -> list[tuple[Any, int, np.ndarray, np.ndarray, str]]:
+    def read_content(self, b: int, elem: Any, childclass: str) -> list[tuple[Any, int, Mat, Vec, str]]:
         """Joints, geoms, sites, inertial of body ``b`` from ``elem`` and its frames; returns its child bodies."""
         doc = self.doc
         body = self.bodies[b] if b < len(self.bodies) else None
-        children: list[tuple[Any, int, np.ndarray, np.ndarray, str]] = []
+        children: list[tuple[Any, int, Mat, Vec, str]] = []
         # (element, frame rotation, frame position in body coordinates, childclass), document order
-        stack: list[tuple[Any, np.ndarray, np.ndarray, str]] = [(c, np.eye(3), np.zeros(3), childclass)
-                                                                for c in reversed(list(elem))]
+        stack: list[tuple[Any, Mat, Vec, str]] = [(c, I3, Z3, childclass) for c in reversed(list(elem))]
         is_world = b == 0
         while stack:
             child, R, p, cc = stack.pop()
@@ -295,7 +347,7 @@ class _Loader:
                 attrs = doc.attrs(child, "frame", cls)
                 Rf, pf = doc.pose(child, attrs)
                 sub_cc = doc.element_class(child, cc, "childclass")
-                R2, p2 = R @ Rf, R @ pf + p
+                R2, p2 = compose(R, p, Rf, pf)
                 stack += [(c, R2, p2, sub_cc) for c in reversed(list(child))]
             elif kind == "geom":
                 cls = doc.element_class(child, cc)
@@ -304,7 +356,7 @@ class _Loader:
                 cls = doc.element_class(child, cc)
                 attrs = doc.attrs(child, "site", cls)
                 Rs, ps = self.geom_pose(child, attrs)
-                self.bodies[b].sites.append((child.get("name") or "", R @ Rs, R @ ps + p))
+                self.bodies[b].sites.append((child.get("name") or "", *compose(R, p, Rs, ps)))
             elif kind in ("joint", "freejoint"):
                 if is_world or body is None:
                     raise doc.error(child, "a joint of the world body: joints belong in a <body>")
@@ -327,21 +379,21 @@ class _Loader:
                 raise doc.error(child, f"unknown MJCF element <{kind}> in a body")
         return children
 
-    def geom_pose(self, elem: Any, attrs: dict[str, str]) -> tuple[np.ndarray, np.ndarray]:
+    def geom_pose(self, elem: Any, attrs: dict[str, str]) -> tuple[Mat, Vec]:
         """Pose of a geom or site in its body frame; from ``fromto`` when given: z along ``from − to`` (measured)."""
         ft = self.doc.floats(elem, attrs, "fromto", (6,))
         if ft is None:
             return self.doc.pose(elem, attrs)
         if "pos" in attrs:
             raise self.doc.error(elem, "both pos and fromto given (MuJoCo refuses this)")
-        a, b = np.array(ft[:3]), np.array(ft[3:])
-        d = a - b
-        n = float(np.linalg.norm(d))
+        d = (ft[0] - ft[3], ft[1] - ft[4], ft[2] - ft[5])
+        n = math.hypot(*d)
         if n < 1e-10:
             raise self.doc.error(elem, f"fromto={_quote(attrs['fromto'])}: the two points coincide")
-        return z_to_vector(d / n), (a + b) / 2
+        return z_to_vector((d[0] / n, d[1] / n, d[2] / n)), ((ft[0] + ft[3]) / 2, (ft[1] + ft[4]) / 2,
+                                                             (ft[2] + ft[5]) / 2)
 
-    def read_joint(self, elem: Any, kind: str, cc: str, R: np.ndarray, p: np.ndarray, index: int) -> _JointSpec:
+    def read_joint(self, elem: Any, kind: str, cc: str, R: Mat, p: Vec, index: int) -> _JointSpec:
         doc = self.doc
         if kind == "freejoint":
             attrs = dict(elem.attrib)  # a <freejoint> takes no default class (measured: MuJoCo ignores them)
@@ -349,10 +401,12 @@ class _Loader:
         else:
             attrs = doc.attrs(elem, "joint", doc.element_class(elem, cc))
             jtype = doc.choice(elem, attrs, "type", ("hinge", "slide", "ball", "free"), "hinge")
-        pos = np.array(doc.floats(elem, attrs, "pos", (3,), [0.0, 0.0, 0.0]) or [0.0, 0.0, 0.0])
-        axis = np.array(doc.floats(elem, attrs, "axis", (3,), [0.0, 0.0, 1.0]) or [0.0, 0.0, 1.0])
-        if jtype in ("hinge", "slide"):
-            axis = doc._direction(elem, {"axis": attrs.get("axis", "")}, "axis", axis)
+        given = doc.floats(elem, attrs, "pos", (3,))
+        pos: Vec = Z3 if given is None else (given[0], given[1], given[2])
+        given = doc.floats(elem, attrs, "axis", (3,))
+        axis: Vec = (0.0, 0.0, 1.0) if given is None else (given[0], given[1], given[2])
+        if jtype in ("hinge", "slide") and given is not None:
+            axis = doc._direction(elem, attrs, "axis", axis)
         ref = doc.number(elem, attrs, "ref", 0.0)
         armature = doc.number(elem, attrs, "armature", 0.0, MAX_MASS)
         if armature < 0:
@@ -378,8 +432,8 @@ class _Loader:
         if jtype in ("ball", "free"):
             ref = 0.0
         name = elem.get("name") or ""
-        return _JointSpec(elem, name, jtype, R @ pos + (p if jtype != "free" else 0), R @ axis, ref, armature,
-                          lower, upper)
+        return _JointSpec(elem, name, jtype, vec_add(mat_vec(R, pos), p) if jtype != "free" else mat_vec(R, pos),
+                          mat_vec(R, axis), ref, armature, lower, upper)
 
     # -- inertia --------------------------------------------------------------
 
@@ -389,7 +443,7 @@ class _Loader:
         doc, comp = self.doc, self.comp
         use_geoms = comp.inertiafromgeom == "true" or (comp.inertiafromgeom == "auto" and body.inertial is None)
         moving = bool(body.joints) or self.moving[b]
-        parts = []
+        parts: list[Inertia] = []
         if use_geoms:
             for elem, cls, R, p in body.geoms:
                 got = self.geom_inertia(elem, cls, R, p, moving)
@@ -397,19 +451,24 @@ class _Loader:
                     parts.append(got)
             if not parts and body.inertial is not None:  # measured: inertiafromgeom='true' keeps it then
                 use_geoms = False
+        principal: list[float] | None = None  # the principal moments, when known without computing them
         if use_geoms:
-            total, first, second = 0.0, np.zeros(3), np.zeros((3, 3))
+            total = 0.0
+            first = [0.0, 0.0, 0.0]
             for m, c, _ in parts:
                 total += m
-                first += m * c
-            com = first / total if total > 0 else np.zeros(3)
-            for m, c, I in parts:
-                d = c - com
-                second += I + m * (float(d @ d) * np.eye(3) - np.outer(d, d))
-            body.mass, body.com, body.inertia = total, com, second
+                first[0] += m * c[0]
+                first[1] += m * c[1]
+                first[2] += m * c[2]
+            com: Vec = (first[0] / total, first[1] / total, first[2] / total) if total > 0 else Z3
+            second: Mat = (0.0,) * 9  # type: ignore[assignment]
+            for m, c, ic in parts:
+                second = _parallel(tuple(x + y for x, y in zip(second, ic, strict=True)), m,  # type: ignore[arg-type]
+                                   (c[0] - com[0], c[1] - com[1], c[2] - com[2]))
+            body.inertia = (total, com, second)
         elif body.inertial is not None:
             elem, R, p = body.inertial
-            attrs = dict(elem.attrib)
+            attrs = elem.attrib
             pos = doc.floats(elem, attrs, "pos", (3,))
             if pos is None:
                 raise doc.error(elem, "<inertial> needs 'pos'")
@@ -427,44 +486,54 @@ class _Loader:
                 if given:
                     raise doc.error(elem, f"fullinertia and an orientation ({given[0]}): MuJoCo accepts one")
                 xx, yy, zz, xy, xz, yz = full
-                tensor = np.array([[xx, xy, xz], [xy, yy, yz], [xz, yz, zz]])
-                Ri = np.eye(3)
+                tensor: Mat = (xx, xy, xz, xy, yy, yz, xz, yz, zz)
+                Ri = I3
+                ev = np.linalg.eigvalsh(np.array(rows(tensor))).tolist()
             else:
-                tensor = np.diag(diag or [0.0, 0.0, 0.0])
+                assert diag is not None
+                tensor = diagonal((diag[0], diag[1], diag[2]))
                 Ri = doc.rotation(elem, attrs)
-            ev = np.linalg.eigvalsh(tensor)
-            scale = max(float(np.max(np.abs(ev))), MJ_MINVAL)
+                ev = principal = sorted(diag)
+            scale = max(abs(ev[0]), abs(ev[2]), MJ_MINVAL)
             if ev[0] < -1e-12 * scale:
                 raise doc.error(elem, f"the inertia is not positive semi-definite (principal moments "
                                 f"{', '.join(f'{e:.6g}' for e in ev)})")
-            RR = R @ Ri
-            body.mass, body.com, body.inertia = mass[0], R @ np.array(pos) + p, RR @ tensor @ RR.T
-        self.bound_and_balance(body)
-        largest = float(np.max(np.abs(body.inertia)))
-        if not (math.isfinite(body.mass) and math.isfinite(largest)) or body.mass > MAX_MASS or largest > MAX_INERTIA:
-            raise doc.error(body.elem, f"body {body.name or b!r}: mass {body.mass:g} and inertia entries up to "
+            body.inertia = (mass[0], vec_add(mat_vec(R, (pos[0], pos[1], pos[2])), p),
+                            rotate_symmetric(mat_mul(R, Ri), tensor))
+        if self.bound_and_balance(body):
+            principal = None
+        mass_, _, inertia = body.inertia
+        largest = max(map(abs, inertia))
+        if not (math.isfinite(mass_) and math.isfinite(largest)) or mass_ > MAX_MASS or largest > MAX_INERTIA:
+            raise doc.error(body.elem, f"body {body.name or b!r}: mass {mass_:g} and inertia entries up to "
                             f"{largest:g}: expected at most {MAX_MASS:g} (MAX_MASS, MAX_INERTIA of featherdyn.urdf: "
                             "larger values overflow the dynamics)")
         if body.inertial is not None and not use_geoms:  # MuJoCo checks after bounding and balancing
-            ev = np.linalg.eigvalsh(body.inertia)
+            ev = principal if principal is not None else np.linalg.eigvalsh(np.array(rows(inertia))).tolist()
             if ev[0] + ev[1] < ev[2] * (1 - 1e-10) - MJ_MINVAL:
                 raise doc.error(body.inertial[0], "principal moments violate the triangle inequality A + B >= C "
                                 f"({', '.join(f'{e:.6g}' for e in ev)}); MuJoCo refuses this unless "
                                 "<compiler balanceinertia='true'>")
 
-    def bound_and_balance(self, body: _Body) -> None:
+    def bound_and_balance(self, body: _Body) -> bool:
+        """``boundmass``, ``boundinertia``, ``balanceinertia`` on the body's inertia; whether its tensor was
+        recomposed."""
         comp = self.comp
-        if comp.boundmass > 0 and body.mass < comp.boundmass:
-            body.mass = comp.boundmass
-        if comp.boundinertia > 0 or comp.balanceinertia:
-            ev, V = np.linalg.eigh((body.inertia + body.inertia.T) / 2)
+        m, c, ic = body.inertia
+        if comp.boundmass > 0 and m < comp.boundmass:
+            m = comp.boundmass
+        recomposed = comp.boundinertia > 0 or comp.balanceinertia
+        if recomposed:
+            ev, V = np.linalg.eigh(np.array(rows(ic)))
             ev = np.maximum(ev, comp.boundinertia) if comp.boundinertia > 0 else ev
             if comp.balanceinertia and ev[0] + ev[1] < ev[2]:
                 ev = np.full(3, ev.mean())
-            body.inertia = V @ np.diag(ev) @ V.T
+            out = V @ np.diag(ev) @ V.T
+            ic = tuple(((out + out.T) / 2).ravel().tolist())  # type: ignore[assignment]
+        body.inertia = (m, c, ic)
+        return recomposed
 
-    def geom_inertia(self, elem: Any, cls: str, R: np.ndarray, p: np.ndarray,
-                     moving: bool) -> tuple[float, np.ndarray, np.ndarray] | None:
+    def geom_inertia(self, elem: Any, cls: str, R: Mat, p: Vec, moving: bool) -> Inertia | None:
         """``(m, c, I_c)`` of a geom in body coordinates, or ``None`` when it adds nothing."""
         doc = self.doc
         attrs = doc.attrs(elem, "geom", cls)
@@ -497,15 +566,15 @@ class _Loader:
                                 "asset (<mesh inertia='shell'>), as MuJoCo requires")
             measure, c_mesh, J = self.mesh_properties(elem, attrs)
             m = mass[0] if mass is not None else density * measure
-            Rg, pg = doc.pose(elem, attrs)
-            Rb = R @ Rg
-            return m, R @ (Rg @ c_mesh + pg) + p, Rb @ (J * (m / measure)) @ Rb.T
+            Rg, pg = compose(R, p, *doc.pose(elem, attrs))
+            k = m / measure
+            return m, vec_add(mat_vec(Rg, c_mesh), pg), rotate_symmetric(Rg, tuple(x * k for x in J))  # type: ignore[arg-type]
         size = doc.floats(elem, attrs, "size", (1, 2, 3), [0.0, 0.0, 0.0]) or [0.0, 0.0, 0.0]
         size = size + [0.0] * (3 - len(size))
         Rg, pg = self.geom_pose(elem, attrs)
         if "fromto" in attrs and gtype in ("capsule", "cylinder", "box", "ellipsoid"):
             ft = doc.floats(elem, attrs, "fromto", (6,)) or [0.0] * 6
-            half = float(np.linalg.norm(np.array(ft[3:]) - np.array(ft[:3]))) / 2
+            half = math.hypot(ft[3] - ft[0], ft[4] - ft[1], ft[5] - ft[2]) / 2
             # measured: a capsule/cylinder keeps its radius; a box/ellipsoid is (size[0], size[0], half)
             size = [size[0], half, 0.0] if gtype in ("capsule", "cylinder") else [size[0], size[0], half]
         needed = {"sphere": 1, "capsule": 2, "cylinder": 2, "ellipsoid": 3, "box": 3}[gtype]
@@ -517,10 +586,9 @@ class _Loader:
         if got is None:
             raise doc.error(elem, f"shellinertia='true' of a {gtype} is not supported")
         m, J = got
-        Rb = R @ Rg
-        return m, R @ pg + p, Rb @ np.diag(J) @ Rb.T
+        return m, vec_add(mat_vec(R, pg), p), rotate_symmetric(mat_mul(R, Rg), diagonal(J))
 
-    def mesh_properties(self, geom: Any, attrs: dict[str, str]) -> tuple[float, np.ndarray, np.ndarray]:
+    def mesh_properties(self, geom: Any, attrs: dict[str, str]) -> tuple[float, Vec, Mat]:
         """``(V, c, I_c/ρ)`` of the geom's mesh asset in the geom frame (cached per asset)."""
         doc = self.doc
         name = attrs.get("mesh")
@@ -552,11 +620,12 @@ class _Loader:
             if not F.size or mode == "convex":  # MuJoCo uses the convex hull (its faces are then outward)
                 F = convex_hull(V64)
                 mode = "exact" if mode == "convex" else mode
-            got = mesh_mass_properties(V64, F, mode)
+            measure, c, J = mesh_mass_properties(V64, F, mode)
         except MeshError as exc:
             raise doc.error(elem, str(exc)) from None
-        self.mesh_cache[name] = got
-        return got
+        got = (float(measure), (float(c[0]), float(c[1]), float(c[2])), tuple(np.asarray(J, dtype=float).ravel().tolist()))
+        self.mesh_cache[name] = got  # type: ignore[assignment]
+        return got  # type: ignore[return-value]
 
     def asset_path(self, file: str) -> Path:
         p = Path(file)
@@ -579,12 +648,12 @@ class _Loader:
             if self.moving[b] or self.comp.settotalmass > 0:
                 self.body_inertia(b)
         if self.comp.settotalmass > 0:
-            total = sum(self.bodies[b].mass for b in range(1, nb))
+            total = sum(self.bodies[b].inertia[0] for b in range(1, nb))
             if total > 0:
-                s = self.comp.settotalmass / total
+                k = self.comp.settotalmass / total
                 for b in range(1, nb):
-                    self.bodies[b].mass *= s
-                    self.bodies[b].inertia = self.bodies[b].inertia * s
+                    m, c, ic = self.bodies[b].inertia
+                    self.bodies[b].inertia = (m * k, c, tuple(x * k for x in ic))  # type: ignore[assignment]
         # names (MuJoCo's where given)
         body_names: set[str] = {body.name for body in self.bodies[1:] if body.name}
         for b in range(1, nb):
@@ -604,38 +673,32 @@ class _Loader:
                 if site_name:
                     self.site_names.add(site_name)
         name = doc.root.get("model") or "MuJoCo Model"
-        gravity = np.zeros(3) if self.gravity_disabled else self.gravity
-        builder = ModelBuilder(name, tuple(float(g) for g in gravity))
+        gravity = Z3 if self.gravity_disabled else self.gravity
+        builder = ModelBuilder(name, gravity)
         builder.source = self.path
-        eye3, zero3 = np.eye(3), np.zeros(3)
-        identity = PluckerTransform.identity()  # immutable (read-only arrays): shared by every joint frame
+        identity = PluckerTransform.identity()  # immutable (read-only arrays): shared by every identity frame
         fd_body = [-1] * nb
-        # each MJCF body frame in its featherdyn body as (R, p), composed in numpy, (R1, p1) ∘ (R2, p2) =
-        # (R1 R2, R1 p2 + p1): a PluckerTransform is made only where the builder takes one (building the
-        # intermediate spatial objects cost more than the 3×3 products they hold)
-        pose_fd_mj: list[tuple[np.ndarray, np.ndarray]] = [(eye3, zero3)] * nb
+        # each MJCF body frame in its featherdyn body, (R, p)
+        pose_fd_mj: list[tuple[Mat, Vec]] = [(I3, Z3)] * nb
         taken = set(body_names)
-        # MuJoCo's rule on moving bodies is on the body with its welded descendants (its weld group):
-        # checked once the group is complete
-        composite: dict[int, SpatialInertia] = {}
-        owner: dict[int, _Body] = {}
+        # the featherdyn bodies: (name, parent, joint, joint name, placement, limits, armature) and their inertias,
+        # the welded MJCF bodies folded in; handed to the builder once complete
+        records: list[tuple[str, int, Joint, str, tuple[Mat, Vec], float, float, float]] = []
+        inertias: list[Inertia] = []
+        frames: list[tuple[str, int, tuple[Mat, Vec] | None, str]] = []
+        owner: dict[int, _Body] = {}  # the moving MJCF body of each featherdyn body that carries one
         for b in range(1, nb):
             body = self.bodies[b]
             parent = body.parent
-            R_up, p_up = pose_fd_mj[parent]
-            R, p = R_up @ body.R, R_up @ body.p + p_up
+            R, p = compose(*pose_fd_mj[parent], body.R, body.p)
             self.check_joints(body, b)
             if not body.joints:
                 fd_body[b] = fd_body[parent]
                 pose_fd_mj[b] = (R, p)
-                X = _X(R, p)
                 if fd_body[b] >= 0:
-                    welded = _inertia_in(body, R, p)
-                    builder.add_inertia(fd_body[b], welded)
-                    if fd_body[b] in composite:
-                        composite[fd_body[b]] = composite[fd_body[b]] + welded
-                builder.add_frame(body.name, fd_body[b], X, "link")
-                self.add_sites(builder, body, fd_body[b], X)
+                    inertias[fd_body[b]] = _combined(inertias[fd_body[b]], _moved(body.inertia, R, p))
+                frames.append((body.name, fd_body[b], (R, p), "link"))
+                self.add_sites(frames, body, fd_body[b], R, p)
                 continue
             up = fd_body[parent]
             for k, j in enumerate(body.joints):
@@ -643,45 +706,62 @@ class _Loader:
                 joint: Joint
                 # placement = X ∘ (anchor at pos) ∘ (turn by -ref); the frame after the joint goes back by -pos
                 if j.kind == "free":
-                    placement = identity
-                    joint, after = FreeFlyerJoint(), (eye3, zero3)
+                    placement: tuple[Mat, Vec] = (I3, Z3)
+                    joint, after = self.joint("free", Z3), (I3, Z3)
                 elif j.kind == "slide":
-                    placement = _X(R, R @ (-j.ref * j.axis) + p)
-                    joint, after = PrismaticJoint(j.axis), (eye3, zero3)
+                    a = j.axis
+                    placement = (R, vec_add(mat_vec(R, (-j.ref * a[0], -j.ref * a[1], -j.ref * a[2])), p))
+                    joint, after = self.joint("slide", j.axis), (I3, Z3)
                 else:
                     if j.kind == "hinge":
-                        placement = _X(R @ axis_angle_matrix(j.axis, -j.ref), R @ j.pos + p)
-                        joint = RevoluteJoint(j.axis)
+                        placement = (mat_mul(R, axis_angle_matrix(j.axis, -j.ref)), vec_add(mat_vec(R, j.pos), p))
+                        joint = self.joint("hinge", j.axis)
                     else:
-                        placement = _X(R, R @ j.pos + p)
-                        joint = SphericalJoint()
-                    after = (eye3, -j.pos)
+                        placement = (R, vec_add(mat_vec(R, j.pos), p))
+                        joint = self.joint("ball", Z3)
+                    after = (I3, (-j.pos[0], -j.pos[1], -j.pos[2]))
                 fd_name = body.name if last else _unique(f"{body.name}#{k}", taken)
-                nv = joint.nv
-                up = builder.add_body(
-                    fd_name, up, joint, placement=placement,
-                    inertia=_inertia_in(body, *after) if last else None, joint_name=j.name,
-                    lower=[j.lower] if j.kind in ("hinge", "slide") else None,
-                    upper=[j.upper] if j.kind in ("hinge", "slide") else None,
-                    armature=np.full(nv, j.armature),
-                )
-                builder.add_frame(j.name, up, identity, "joint")
+                limited = j.kind in ("hinge", "slide")
+                records.append((fd_name, up, joint, j.name, placement, j.lower if limited else -math.inf,
+                                j.upper if limited else math.inf, j.armature))
+                inertias.append(_moved(body.inertia, *after) if last else _NO_INERTIA)
+                up = len(records) - 1
+                frames.append((j.name, up, None, "joint"))
                 R, p = after
             fd_body[b] = up
             pose_fd_mj[b] = (R, p)
-            X = _X(R, p)
-            composite[up], owner[up] = _inertia_in(body, R, p), body
-            builder.add_frame(body.name, up, X, "body")
-            self.add_sites(builder, body, up, X)
-        self.add_sites(builder, self.bodies[0], -1, identity)
-        for i, group in composite.items():
-            mass, principal = float(group.mass), np.linalg.eigvalsh(np.asarray(group.inertia_com, dtype=float))
-            if mass < MJ_MINVAL or float(principal.min()) < MJ_MINVAL:
-                body = owner[i]
-                raise doc.error(body.elem, f"body {body.name!r}: mass {mass:g} and principal inertia "
-                                f"{principal.tolist()} with its welded descendants: MuJoCo requires the mass and "
-                                f"inertia of a moving body to exceed mjMINVAL = {MJ_MINVAL:g}")
+            owner[up] = body
+            frames.append((body.name, up, (R, p), "body"))
+            self.add_sites(frames, body, up, R, p)
+        self.add_sites(frames, self.bodies[0], -1, I3, Z3)
+        # MuJoCo's rule on moving bodies is on the body with its welded descendants (its weld group)
+        for i, body in owner.items():
+            mass, _, ic = inertias[i]
+            if mass < MJ_MINVAL or not _smallest_above(ic, MJ_MINVAL):
+                principal = np.linalg.eigvalsh(np.array(rows(ic)))
+                if mass < MJ_MINVAL or float(principal.min()) < MJ_MINVAL:
+                    raise doc.error(body.elem, f"body {body.name!r}: mass {mass:g} and principal inertia "
+                                    f"{principal.tolist()} with its welded descendants: MuJoCo requires the mass and "
+                                    f"inertia of a moving body to exceed mjMINVAL = {MJ_MINVAL:g}")
+        for (fd_name, up, joint, jname, (R, p), lower, upper, armature), (m, c, ic) in zip(records, inertias,
+                                                                                          strict=True):
+            nv, nq = joint.nv, joint.nq
+            inf = [math.inf] * nv
+            builder._append(fd_name, up, joint, jname, rows(R), p, m, c, rows(ic),
+                            [lower] * nq, [upper] * nq, inf, inf, [armature] * nv)
+        for fname, body_index, pose, kind in frames:
+            builder.add_frame(fname, body_index, identity if pose is None or pose == (I3, Z3) else _X(*pose), kind)
         return builder.build(strict=doc.strict)
+
+    def joint(self, kind: str, axis: Vec) -> Joint:
+        """The joint model of a kind and axis (shared: joint models are immutable)."""
+        key = (kind, axis)
+        joint = self.joint_cache.get(key)
+        if joint is None:
+            joint = self.joint_cache[key] = (
+                FreeFlyerJoint() if kind == "free" else SphericalJoint() if kind == "ball"
+                else PrismaticJoint(np.array(axis)) if kind == "slide" else RevoluteJoint(np.array(axis)))
+        return joint
 
     def check_joints(self, body: _Body, b: int) -> None:
         doc = self.doc
@@ -698,10 +778,12 @@ class _Loader:
                 raise doc.error(body.joints[k].elem, f"body {body.name!r}: a ball joint followed by a rotation in the "
                                 "same body (MuJoCo refuses this)")
 
-    def add_sites(self, builder: ModelBuilder, body: _Body, fd: int, X: PluckerTransform) -> None:
-        for k, (name, R, p) in enumerate(body.sites):
+    def add_sites(self, frames: list[tuple[str, int, tuple[Mat, Vec] | None, str]], body: _Body, fd: int,
+                  R: Mat, p: Vec) -> None:
+        """The body's sites as frames of featherdyn body ``fd``, where the MJCF body frame is posed ``(R, p)``."""
+        for k, (name, Rs, ps) in enumerate(body.sites):
             full = name or _unique(f"{body.name}/site{k}", self.site_names)
-            builder.add_frame(full, fd, X @ _X(R, p), "site")
+            frames.append((full, fd, compose(R, p, Rs, ps), "site"))
 
 
 def load_mjcf(path_or_xml: str | os.PathLike[str] | bytes, *, strict: bool = False) -> Model:

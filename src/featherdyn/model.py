@@ -313,8 +313,12 @@ class ModelBuilder:
         self._body_names: list[str] = []
         self._body_set: set[str] = set()  # for O(1) duplicate checks on long chains
         self._joint_set: set[str] = set()
-        self._placements: list[PluckerTransform] = []
-        self._inertias: list[SpatialInertia] = []
+        # each body's placement (R, p) and inertia (m, c, I_c) as arrays or nested sequences, stacked by build()
+        self._rotations: list[Any] = []
+        self._translations: list[Any] = []
+        self._masses: list[float] = []
+        self._coms: list[Any] = []
+        self._inertias_com: list[Any] = []
         self._lower: list[np.ndarray] = []
         self._upper: list[np.ndarray] = []
         self._vel: list[np.ndarray] = []
@@ -400,20 +404,32 @@ class ModelBuilder:
             self._limit_problems.append(
                 f"joint {joint_name!r} (body {name!r}): lower limit {lo.tolist()} above upper limit {hi.tolist()}"
             )
-        self._parents.append(int(parent))
+        return self._append(name, int(parent), joint, joint_name, placement.rotation, placement.translation,
+                            float(inertia.mass), inertia.com, inertia.inertia_com, lo, hi, vel, eff, arm)
+
+    def _append(self, name: str, parent: int, joint: Joint, joint_name: str, rotation: Any, translation: Any,
+                mass: float, com: Any, inertia_com: Any, lower: Any, upper: Any, velocity_limit: Any,
+                effort_limit: Any, armature: Any) -> int:
+        """Record a body whose values are already checked: :meth:`add_body`'s, and a loader's that has checked its
+        own (names unique, numbers finite, `(3, 3)` / `(3,)` shapes as arrays or nested sequences, limits and
+        armature of the joint's sizes, ``inertia_com`` symmetric); returns its index."""
+        self._parents.append(parent)
         self._joints.append(joint)
         self._joint_names.append(joint_name)
         self._body_names.append(name)
         self._joint_set.add(joint_name)
         self._body_set.add(name)
-        self._placements.append(placement)
-        self._inertias.append(inertia)
-        self._lower.append(lo)
-        self._upper.append(hi)
-        self._vel.append(vel)
-        self._eff.append(eff)
-        self._armature.append(arm)
-        return self.nbodies - 1
+        self._rotations.append(rotation)
+        self._translations.append(translation)
+        self._masses.append(mass)
+        self._coms.append(com)
+        self._inertias_com.append(inertia_com)
+        self._lower.append(lower)
+        self._upper.append(upper)
+        self._vel.append(velocity_limit)
+        self._eff.append(effort_limit)
+        self._armature.append(armature)
+        return len(self._parents) - 1
 
     @staticmethod
     def _limit(val: Any, n: int, default: float, name: str, size_name: str) -> np.ndarray:
@@ -435,7 +451,9 @@ class ModelBuilder:
             raise ModelError(f"add_inertia: no body {body!r} (expected 0..{self.nbodies - 1})")
         if not isinstance(inertia, SpatialInertia) or inertia.shape != ():
             raise ModelError("add_inertia: inertia must be a single SpatialInertia")
-        self._inertias[body] = self._inertias[body] + inertia
+        total = SpatialInertia(self._masses[body], self._coms[body], self._inertias_com[body]) + inertia
+        self._masses[body] = float(total.mass)
+        self._coms[body], self._inertias_com[body] = total.com, total.inertia_com
 
     def add_frame(self, name: str, body: int, placement: PluckerTransform | None = None, kind: str = "link") -> None:
         """Add a named frame fixed to ``body`` (``-1`` = world) at ``placement``."""
@@ -474,14 +492,14 @@ class ModelBuilder:
             v0 += j.nv
         if nb:
             placements = PluckerTransform(
-                np.stack([p.rotation for p in self._placements]),
-                np.stack([p.translation for p in self._placements]),
+                np.array(self._rotations, dtype=np.float64).reshape(nb, 3, 3),
+                np.array(self._translations, dtype=np.float64).reshape(nb, 3),
                 validate=False,
             )
             inertias = SpatialInertia(
-                np.array([float(i.mass) for i in self._inertias]),
-                np.stack([i.com for i in self._inertias]),
-                np.stack([i.inertia_com for i in self._inertias]),
+                np.array(self._masses, dtype=np.float64),
+                np.array(self._coms, dtype=np.float64).reshape(nb, 3),
+                np.array(self._inertias_com, dtype=np.float64).reshape(nb, 3, 3),
             )
         else:
             placements = PluckerTransform.identity((0,))
@@ -534,7 +552,11 @@ def massless_subtrees(model: Model) -> list[str]:
     Such a joint makes the joint-space mass matrix singular (ABA would divide by zero).
     """
     nb = model.nbodies
-    has_mass = [bool(model.inertias.mass[i] > 0 or np.any(model.inertias.inertia_com[i] != 0)) for i in range(nb)]
+    mass, ic = model.inertias.mass, model.inertias.inertia_com
+    if mass.dtype.kind == "O":  # symbolic: element by element
+        has_mass = [bool(mass[i] > 0 or np.any(ic[i] != 0)) for i in range(nb)]
+    else:
+        has_mass = ((mass > 0) | np.any(ic != 0, axis=(-2, -1))).tolist()
     sub = list(has_mass)
     for i in range(nb - 1, -1, -1):
         p = model.parents[i]

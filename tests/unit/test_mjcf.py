@@ -296,6 +296,33 @@ def test_error_names_the_file_line_element_and_attribute(tmp_path: Path) -> None
     assert msg.startswith(str(p)) and "line 5" in msg and "<geom name='g'>" in msg and "size" in msg
 
 
+def test_lines_named_by_the_fast_and_the_guarded_xml_paths_agree(tmp_path: Path) -> None:
+    """Without a DTD the document is read by ElementTree's C parser and lines are found only for a message; the
+    guarded parser (defusedxml) takes the rest. Either way the message names the offending element's line, in the
+    file that holds it (here an included one)."""
+    from featherdyn._urdf_xml import ElementLines, parse_elements
+
+    body = "<body name='b'>\n<joint/>\n<!-- a comment -->\n<geom name='g' size='-1'/>\n</body>\n"
+    (tmp_path / "part.xml").write_text(f"<mujoco>\n<worldbody>\n{body}</worldbody>\n</mujoco>\n")
+    main = tmp_path / "main.xml"
+    main.write_text("<mujoco>\n\n<include file='part.xml'/>\n</mujoco>\n")
+    with pytest.raises(MJCFError) as info:
+        fd.load_mjcf(main)
+    assert str(info.value).startswith(f"{tmp_path / 'part.xml'}: line 6: <geom name='g'>")
+    long_name = "n" * 12_000  # a document longer than an attribute may be, with a too long attribute: refused
+    with pytest.raises(MJCFError, match=r"line 3: .*expected at most 10000 characters"):
+        fd.load_mjcf(f"<mujoco>\n<worldbody>\n<body name='{long_name}'/></worldbody></mujoco>")
+    many = "<mujoco><worldbody>" + "<site/>" * 1500 + "\n<body><joint/><geom size='-1'/></body></worldbody></mujoco>"
+    with pytest.raises(MJCFError, match=r"line 2: <geom>: size='-1'"):  # more elements than MAX_DEPTH: guarded
+        fd.load_mjcf(many)
+    text = "<mujoco>\n<worldbody>\n<body>\n<geom/>\n</body>\n</worldbody>\n</mujoco>"
+    root, index, lines = parse_elements(text, "<string>")
+    assert isinstance(lines, ElementLines) and lines._lines is None  # the fast path: no lines until asked
+    assert [lines.line(index[e]) for e in root.iter()] == [1, 2, 3, 4]
+    with pytest.raises(Exception, match="DTD declarations are not allowed in a MJCF"):
+        parse_elements(text.replace("<mujoco>", '<!DOCTYPE mujoco><mujoco>'), "<string>", MJCFError, "MJCF")
+
+
 def test_include_cycle_and_depth(tmp_path: Path) -> None:
     (tmp_path / "a.xml").write_text('<mujoco><include file="b.xml"/></mujoco>')
     (tmp_path / "b.xml").write_text('<mujoco><include file="a.xml"/></mujoco>')
