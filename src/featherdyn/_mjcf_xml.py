@@ -28,7 +28,6 @@ import warnings
 from pathlib import Path
 from typing import Any
 
-
 from ._urdf_xml import ElementLines, _quote, _read_source, _shorten, parse_elements
 from .errors import MJCFError, PhysicalityWarning
 from .urdf import MAX_LENGTH
@@ -44,6 +43,7 @@ _NUMBER = re.compile(r"[+-]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)(?:[eE][+-]?[0-9]+)?
 # a whole attribute of decimals separated by whitespace (one pass instead of a match per number)
 _DECIMALS = re.compile(r"[ \t\r\n]*(?:" + _NUMBER.pattern + r"(?:[ \t\r\n]+|$))*")
 _ORIENTATIONS = ("quat", "axisangle", "euler", "xyaxes", "zaxis")
+_REPLACING = frozenset((*_ORIENTATIONS, "fromto"))  # given on an element, they replace all of its class's
 # element kinds that default classes configure (the rest are accepted and ignored)
 _DEFAULT_KINDS = frozenset({"joint", "geom", "site", "mesh", "inertial", "frame"})
 
@@ -103,8 +103,13 @@ class Doc:
 
     def attrs(self, elem: Any, kind: str, cls: str) -> dict[str, str]:
         """The element's attributes over those of its default class (an orientation given replaces the default's)."""
-        merged = dict(self.class_defaults(cls, kind))
-        _overlay(merged, dict(elem.attrib))
+        defaults = self._resolved.get((cls, kind))
+        if defaults is None:
+            defaults = self.class_defaults(cls, kind)
+        if not defaults:
+            return elem.attrib  # type: ignore[no-any-return]  # read only by the loader
+        merged = dict(defaults)
+        _overlay(merged, elem.attrib)
         return merged
 
     def element_class(self, elem: Any, childclass: str, attr: str = "class") -> str:
@@ -183,6 +188,8 @@ class Doc:
 
     def rotation(self, elem: Any, attrs: dict[str, str]) -> Mat:
         """The element's orientation as a rotation matrix (:data:`I3` itself when none is given)."""
+        if _REPLACING.isdisjoint(attrs):
+            return I3
         given = [k for k in _ORIENTATIONS if k in attrs]
         if not given:
             return I3
@@ -379,6 +386,8 @@ def read_document(path_or_xml: Any, strict: bool) -> Doc:
         raise MJCFError(f"{label}: expected the root element <mujoco>, got <{tag}>{hint}")
     model_dir = Path(path).parent if path is not None else Path(os.getcwd())
     doc = Doc(root, where, label, model_dir, strict)
+    if next(root.iter("include"), None) is None:
+        return doc
     chain_of: dict[Any, tuple[str, ...]] = {root: (str(Path(path).resolve()) if path else label,)}
     included = 0
     seen: set[str] = set()
@@ -460,8 +469,8 @@ def read_defaults(doc: Doc) -> None:
 
 def _overlay(base: dict[str, str], top: dict[str, str]) -> None:
     """``base.update(top)``, where an orientation (or ``fromto``) in ``top`` removes ``base``'s."""
-    if any(k in top for k in (*_ORIENTATIONS, "fromto")):
-        for k in (*_ORIENTATIONS, "fromto"):
+    if not _REPLACING.isdisjoint(top):
+        for k in _REPLACING:
             base.pop(k, None)
     base.update(top)
 

@@ -67,10 +67,14 @@ class SpatialInertia(_SpatialValue):
     )
 
     def __init__(self, mass: ArrayLike, com: ArrayLike, inertia_com: ArrayLike, frame: Frame = None) -> None:
-        m, c, ic = _adopt_dtype(
-            (mass, com, inertia_com),
-            [as_array(mass, "mass"), as_array(com, "com", (3,)), as_array(inertia_com, "inertia_com", (3, 3))],
-        )
+        exact = _exact_float64(mass, com, inertia_com)  # stacked float64 of matching shapes: nothing to convert
+        if exact:
+            m, c, ic = np.array(mass), np.array(com), inertia_com  # type: ignore[assignment]
+        else:
+            m, c, ic = _adopt_dtype(
+                (mass, com, inertia_com),
+                [as_array(mass, "mass"), as_array(com, "com", (3,)), as_array(inertia_com, "inertia_com", (3, 3))],
+            )
         if ic.dtype.kind != "O":
             asym = np.abs(ic - _mT(ic)).max(axis=(-2, -1), initial=0.0)
             scale = np.maximum(np.abs(ic).max(axis=(-2, -1), initial=0.0), 1.0)
@@ -80,7 +84,10 @@ class SpatialInertia(_SpatialValue):
                     f"inertia_com: expected a symmetric 3×3 matrix, max |I − Iᵀ| = {float(np.max(asym)):.3g}"
                 )
             ic = (ic + _mT(ic)) / 2
-        _init_i(self, *_bcast_inertia(m, c, ic), frame)
+        if exact:
+            _init_i(self, m, c, ic, frame)
+        else:
+            _init_i(self, *_bcast_inertia(m, c, ic), frame)
 
     @classmethod
     def _wrap(cls, m: np.ndarray, c: np.ndarray, ic: np.ndarray, frame: Frame) -> SpatialInertia:
@@ -370,6 +377,14 @@ def _sym_from(
 ) -> np.ndarray:
     rows = [np.stack([xx, xy, xz], axis=-1), np.stack([xy, yy, yz], axis=-1), np.stack([xz, yz, zz], axis=-1)]
     return np.stack(rows, axis=-2)
+
+
+def _exact_float64(m: Any, c: Any, ic: Any) -> bool:
+    """Whether ``(m, c, ic)`` are finite float64 arrays of shapes ``S``, ``S + (3,)``, ``S + (3, 3)``."""
+    return (type(m) is np.ndarray and type(c) is np.ndarray and type(ic) is np.ndarray
+            and m.dtype == c.dtype == ic.dtype == np.float64
+            and c.shape == m.shape + (3,) and ic.shape == m.shape + (3, 3)
+            and bool(np.isfinite(m).all() and np.isfinite(c).all() and np.isfinite(ic).all()))
 
 
 def _bcast_inertia(m: np.ndarray, c: np.ndarray, ic: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

@@ -179,11 +179,16 @@ def _combined(a: Inertia, b: Inertia) -> Inertia:
     mb, cb, ib = b
     m = ma + mb
     if m == 0.0:
-        return (0.0, Z3, tuple(x + y for x, y in zip(ia, ib, strict=True)))  # type: ignore[return-value]
+        return (0.0, Z3, _sum9(ia, ib))
     wa, wb = ma / m, mb / m
     c = (wa * ca[0] + wb * cb[0], wa * ca[1] + wb * cb[1], wa * ca[2] + wb * cb[2])
-    return m, c, _parallel(tuple(x + y for x, y in zip(ia, ib, strict=True)), ma * wb,  # type: ignore[arg-type]
-                           (ca[0] - cb[0], ca[1] - cb[1], ca[2] - cb[2]))
+    return m, c, _parallel(_sum9(ia, ib), ma * wb, (ca[0] - cb[0], ca[1] - cb[1], ca[2] - cb[2]))
+
+
+def _sum9(a: Mat, b: Mat) -> Mat:
+    """``a + b``."""
+    return (a[0] + b[0], a[1] + b[1], a[2] + b[2], a[3] + b[3], a[4] + b[4], a[5] + b[5], a[6] + b[6], a[7] + b[7],
+            a[8] + b[8])
 
 
 def _parallel(ic: Mat, m: float, d: Vec) -> Mat:
@@ -463,8 +468,7 @@ class _Loader:
             com: Vec = (first[0] / total, first[1] / total, first[2] / total) if total > 0 else Z3
             second: Mat = (0.0,) * 9  # type: ignore[assignment]
             for m, c, ic in parts:
-                second = _parallel(tuple(x + y for x, y in zip(second, ic, strict=True)), m,  # type: ignore[arg-type]
-                                   (c[0] - com[0], c[1] - com[1], c[2] - com[2]))
+                second = _parallel(_sum9(second, ic), m, (c[0] - com[0], c[1] - com[1], c[2] - com[2]))
             body.inertia = (total, com, second)
         elif body.inertial is not None:
             elem, R, p = body.inertial
@@ -749,8 +753,18 @@ class _Loader:
             inf = [math.inf] * nv
             builder._append(fd_name, up, joint, jname, rows(R), p, m, c, rows(ic),
                             [lower] * nq, [upper] * nq, inf, inf, [armature] * nv)
+        # the frames' placements: one stacked array, each frame a read-only view of its row
+        posed = [pose for _, _, pose, _ in frames if pose is not None and pose != (I3, Z3)]
+        Rs = np.array([rows(R) for R, _ in posed]).reshape(-1, 3, 3)
+        ps = np.array([p for _, p in posed]).reshape(-1, 3)
+        k = 0
         for fname, body_index, pose, kind in frames:
-            builder.add_frame(fname, body_index, identity if pose is None or pose == (I3, Z3) else _X(*pose), kind)
+            if pose is None or pose == (I3, Z3):
+                X = identity
+            else:
+                X = PluckerTransform._wrap(Rs[k], ps[k], None, None)
+                k += 1
+            builder._append_frame(fname, body_index, X, kind)
         return builder.build(strict=doc.strict)
 
     def joint(self, kind: str, axis: Vec) -> Joint:

@@ -463,7 +463,11 @@ class ModelBuilder:
         placement = PluckerTransform.identity() if placement is None else placement
         if not isinstance(placement, PluckerTransform) or placement.shape != ():
             raise ModelError(f"frame {name!r}: placement must be a single PluckerTransform")
-        self._frames.append(FrameInfo(name, int(body), placement, kind))
+        self._append_frame(name, int(body), placement, kind)
+
+    def _append_frame(self, name: str, body: int, placement: PluckerTransform, kind: str) -> None:
+        """Record a frame whose values are already checked (:meth:`add_frame`'s, or a loader's own)."""
+        self._frames.append(FrameInfo(name, body, placement, kind))
 
     def add_mimic(self, mimic: Mimic) -> None:
         """Record a URDF mimic relation (not enforced)."""
@@ -491,10 +495,10 @@ class ModelBuilder:
             q0 += j.nq
             v0 += j.nv
         if nb:
-            placements = PluckerTransform(
+            placements = PluckerTransform._wrap(  # fresh float64 arrays, rotations checked when added
                 np.array(self._rotations, dtype=np.float64).reshape(nb, 3, 3),
                 np.array(self._translations, dtype=np.float64).reshape(nb, 3),
-                validate=False,
+                None, None,
             )
             inertias = SpatialInertia(
                 np.array(self._masses, dtype=np.float64),
@@ -506,9 +510,10 @@ class ModelBuilder:
             inertias = SpatialInertia.zero((0,))
         frames = list(self._frames)
         names = {f.name for f in frames}
+        identity = PluckerTransform.identity()  # immutable: shared
         for i, bname in enumerate(self._body_names):  # every body is a frame, unless one of the same name exists
             if bname not in names:
-                frames.append(FrameInfo(bname, i, PluckerTransform.identity(), "body"))
+                frames.append(FrameInfo(bname, i, identity, "body"))
                 names.add(bname)
         model = Model(
             name=self.name,
