@@ -96,7 +96,7 @@ from ._mjcf_xml import (
 from ._urdf_xml import _quote, _read_source, _shorten_quoted, reissue_warnings
 from .errors import FeatherdynError, MJCFError, PhysicalityWarning
 from .joints import FreeFlyerJoint, Joint, PrismaticJoint, RevoluteJoint, SphericalJoint
-from .model import Model, ModelBuilder
+from .model import _IDENTITY, Model, ModelBuilder
 from .spatial_algebra import PluckerTransform
 from .urdf import MAX_INERTIA, MAX_MASS
 
@@ -109,6 +109,7 @@ _NO_TREE_MEANING = ("contact", "equality", "tendon", "actuator", "sensor", "defo
 _HANDLED_TOP = frozenset({"compiler", "option", "default", "asset", "worldbody"})
 _BODY_REFUSED = ("composite", "flexcomp", "attach")
 _BODY_QUIET = frozenset({"camera", "light"})
+_SIZES_NEEDED = {"sphere": 1, "capsule": 2, "cylinder": 2, "ellipsoid": 3, "box": 3}  # positive sizes of a solid
 
 
 @dataclass(slots=True)
@@ -412,12 +413,12 @@ class _Loader:
         axis: Vec = (0.0, 0.0, 1.0) if given is None else (given[0], given[1], given[2])
         if jtype in ("hinge", "slide") and given is not None:
             axis = doc._direction(elem, attrs, "axis", axis)
-        ref = doc.number(elem, attrs, "ref", 0.0)
-        armature = doc.number(elem, attrs, "armature", 0.0, MAX_MASS)
+        ref = doc.number(elem, attrs, "ref", 0.0) if "ref" in attrs else 0.0
+        armature = doc.number(elem, attrs, "armature", 0.0, MAX_MASS) if "armature" in attrs else 0.0
         if armature < 0:
             raise doc.error(elem, f"armature={_quote(attrs['armature'])}: expected a value >= 0")
         lower, upper = -math.inf, math.inf
-        limited = doc.choice(elem, attrs, "limited", ("true", "false", "auto"), "auto")
+        limited = doc.choice(elem, attrs, "limited", ("true", "false", "auto"), "auto") if "limited" in attrs else "auto"
         has_range = "range" in attrs
         if limited == "auto":
             if has_range and not self.comp.autolimits:
@@ -543,27 +544,29 @@ class _Loader:
         attrs = doc.attrs(elem, "geom", cls)
         gtype = doc.choice(elem, attrs, "type", ("plane", "hfield", "sphere", "capsule", "ellipsoid", "cylinder",
                                                    "box", "mesh", "sdf"), "sphere")
-        group = doc.number(elem, attrs, "group", 0.0)
-        lo, hi = self.comp.group_range
-        if not lo <= group <= hi:
+        if "group" in attrs:  # absent: 0
+            lo, hi = self.comp.group_range
+            if not lo <= doc.number(elem, attrs, "group", 0.0) <= hi:
+                return None
+        elif not self.comp.group_range[0] <= 0 <= self.comp.group_range[1]:
             return None
         if gtype in ("plane", "hfield"):
             if moving:
                 raise doc.error(elem, f"type={gtype!r}: a {gtype} is only allowed in static bodies (MuJoCo)")
             return None
-        mass = doc.floats(elem, attrs, "mass", (1,), None, MAX_MASS)
+        mass = doc.floats(elem, attrs, "mass", (1,), None, MAX_MASS) if "mass" in attrs else None
         if mass is not None and mass[0] < 0:
             raise doc.error(elem, f"mass={_quote(attrs['mass'])}: expected a mass >= 0")
         if mass is not None and mass[0] == 0:
             return None
-        density = doc.number(elem, attrs, "density", 1000.0, MAX_MASS)
+        density = doc.number(elem, attrs, "density", 1000.0, MAX_MASS) if "density" in attrs else 1000.0
         if density < 0:
             raise doc.error(elem, f"density={_quote(attrs['density'])}: expected a density >= 0")
         if gtype == "sdf":
             raise doc.error(elem, "type='sdf': SDF geom inertia is not supported by featherdyn's MJCF loader; give "
                             "the body an <inertial>, or set this geom's mass='0' or a group outside "
                             "inertiagrouprange")
-        shell = doc.boolean(elem, attrs, "shellinertia", False)
+        shell = "shellinertia" in attrs and doc.boolean(elem, attrs, "shellinertia", False)
         if gtype == "mesh":
             if "shellinertia" in attrs:
                 raise doc.error(elem, "shellinertia on a mesh geom: for mesh geoms, inertia is specified in the mesh "
@@ -581,8 +584,7 @@ class _Loader:
             half = math.hypot(ft[3] - ft[0], ft[4] - ft[1], ft[5] - ft[2]) / 2
             # measured: a capsule/cylinder keeps its radius; a box/ellipsoid is (size[0], size[0], half)
             size = [size[0], half, 0.0] if gtype in ("capsule", "cylinder") else [size[0], size[0], half]
-        needed = {"sphere": 1, "capsule": 2, "cylinder": 2, "ellipsoid": 3, "box": 3}[gtype]
-        for k in range(needed):
+        for k in range(_SIZES_NEEDED[gtype]):
             if not size[k] > 0:
                 raise doc.error(elem, f"size={_quote(attrs.get('size', ''))}: size {k} of a {gtype} must be positive "
                                 f"(got {size[k]:g})")
@@ -680,7 +682,7 @@ class _Loader:
         gravity = Z3 if self.gravity_disabled else self.gravity
         builder = ModelBuilder(name, gravity)
         builder.source = self.path
-        identity = PluckerTransform.identity()  # immutable (read-only arrays): shared by every identity frame
+        identity = _IDENTITY  # immutable (read-only arrays): shared by every identity frame
         fd_body = [-1] * nb
         # each MJCF body frame in its featherdyn body, (R, p)
         pose_fd_mj: list[tuple[Mat, Vec]] = [(I3, Z3)] * nb

@@ -74,6 +74,10 @@ class Mimic:
     offset: float = 0.0
 
 
+#: The identity placement, shared by frames that sit at their body's origin (immutable: read-only arrays).
+_IDENTITY = PluckerTransform.identity()
+
+
 def _ro(a: Any, dtype: Any = np.float64) -> np.ndarray:
     out = np.array(a, dtype=dtype)
     out.flags.writeable = False
@@ -147,7 +151,7 @@ class Model:
                 arm = _ro(arm)
             if arm.shape != (nv,):
                 raise ModelError(f"armature: expected shape (nv,) = ({nv},), got {arm.shape}")
-            if arm.dtype.kind == "f" and not (np.all(np.isfinite(arm)) and np.all(arm >= 0)):
+            if arm.dtype.kind == "f" and not (np.isfinite(arm).all() and (arm >= 0).all()):
                 raise ModelError(f"armature: expected finite values >= 0, got {arm.tolist()}")
             object.__setattr__(self, "armature", arm)
 
@@ -510,7 +514,7 @@ class ModelBuilder:
             inertias = SpatialInertia.zero((0,))
         frames = list(self._frames)
         names = {f.name for f in frames}
-        identity = PluckerTransform.identity()  # immutable: shared
+        identity = _IDENTITY
         for i, bname in enumerate(self._body_names):  # every body is a frame, unless one of the same name exists
             if bname not in names:
                 frames.append(FrameInfo(bname, i, identity, "body"))
@@ -561,7 +565,7 @@ def massless_subtrees(model: Model) -> list[str]:
     if mass.dtype.kind == "O":  # symbolic: element by element
         has_mass = [bool(mass[i] > 0 or np.any(ic[i] != 0)) for i in range(nb)]
     else:
-        has_mass = ((mass > 0) | np.any(ic != 0, axis=(-2, -1))).tolist()
+        has_mass = ((mass > 0) | (ic != 0).any(axis=(-2, -1))).tolist()
     sub = list(has_mass)
     for i in range(nb - 1, -1, -1):
         p = model.parents[i]
