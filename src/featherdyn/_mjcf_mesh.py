@@ -134,6 +134,14 @@ def _msh(data: bytes) -> tuple[np.ndarray, np.ndarray]:
     return _check_vertices(V), _check_faces(F, len(V))
 
 
+_NEXT, _PREV = np.array([1, 2, 0]), np.array([2, 0, 1])
+
+
+def _cross_rows(u: np.ndarray, v: np.ndarray) -> np.ndarray:
+    """``u × v`` row by row, `(..., 3)` (``np.cross`` without its axis handling, which costs more on small arrays)."""
+    return u[..., _NEXT] * v[..., _PREV] - u[..., _PREV] * v[..., _NEXT]
+
+
 def mesh_mass_properties(V: np.ndarray, F: np.ndarray, mode: str) -> tuple[float, np.ndarray, np.ndarray]:
     """``(measure, c, I_c / ρ)``: volume (or area), centre, rotational inertia per unit density about ``c``.
 
@@ -150,7 +158,7 @@ def mesh_mass_properties(V: np.ndarray, F: np.ndarray, mode: str) -> tuple[float
 
     def pieces(P: np.ndarray, apex: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         a, b, c = P[F[:, 0]], P[F[:, 1]], P[F[:, 2]]
-        cross = np.cross(b - a, c - a)
+        cross = _cross_rows(b - a, c - a)
         area = np.linalg.norm(cross, axis=1) / 2
         centre = (a + b + c) / 3
         if shell:
@@ -208,22 +216,22 @@ def convex_hull(V: np.ndarray) -> np.ndarray:
     i0 = int(np.argmin(V[:, 0]))
     i1 = int(np.argmax(np.linalg.norm(V - V[i0], axis=1)))
     d = V[i1] - V[i0]
-    i2 = int(np.argmax(np.linalg.norm(np.cross(V - V[i0], d), axis=1)))
-    normal = np.cross(d, V[i2] - V[i0])
+    i2 = int(np.argmax(np.linalg.norm(_cross_rows(V - V[i0], d), axis=1)))
+    normal = _cross_rows(d, V[i2] - V[i0])
     i3 = int(np.argmax(np.abs((V - V[i0]) @ normal)))
     if abs(float((V[i3] - V[i0]) @ normal)) <= eps * scale * scale or len({i0, i1, i2, i3}) < 4:
         raise MeshError("the vertices are coplanar or collinear: their convex hull has no volume")
     inside = V[[i0, i1, i2, i3]].mean(axis=0)
     faces: list[tuple[int, int, int]] = []
     for a, b, c in ((i0, i1, i2), (i0, i1, i3), (i0, i2, i3), (i1, i2, i3)):
-        nrm = np.cross(V[b] - V[a], V[c] - V[a])
+        nrm = _cross_rows(V[b] - V[a], V[c] - V[a])
         faces.append((a, b, c) if float(nrm @ (V[a] - inside)) > 0 else (a, c, b))
     for p in range(n):
         if p in (i0, i1, i2, i3):
             continue
         F = np.array(faces)
         A = V[F[:, 0]]
-        N = np.cross(V[F[:, 1]] - A, V[F[:, 2]] - A)
+        N = _cross_rows(V[F[:, 1]] - A, V[F[:, 2]] - A)
         lengths = np.linalg.norm(N, axis=1)
         visible = np.einsum("ij,ij->i", N, V[p] - A) > eps * lengths
         if not np.any(visible):

@@ -105,7 +105,7 @@ class Doc:
         if defaults is None:
             defaults = self.class_defaults(cls, kind)
         if not defaults:
-            return elem.attrib  # type: ignore[no-any-return]  # read only by the loader
+            return elem.attrib  # read only by the loader
         merged = dict(defaults)
         _overlay(merged, elem.attrib)
         return merged
@@ -121,7 +121,7 @@ class Doc:
         return cls
 
     def floats(self, elem: Any, attrs: dict[str, str], name: str, counts: tuple[int, ...],
-               default: list[float] | None = None, bound: float = MAX_LENGTH) -> list[float] | None:
+               default: tuple[float, ...] | None = None, bound: float = MAX_LENGTH) -> tuple[float, ...] | None:
         """The attribute as finite decimals, ``len`` one of ``counts``; ``default`` when absent.
 
         A text is parsed once per document (the same few texts recur: ``"0 0 0"``, a class's ``size``):
@@ -145,25 +145,25 @@ class Doc:
             bad = next(s for s in text.split() if abs(float(s)) > bound)
             raise self.error(elem, f"{name}={_quote(text)}: expected a magnitude of at most {bound:g} "
                              f"(larger values overflow the dynamics), got {_quote(bad)}")
-        return list(values)
+        return values
 
     def require(self, elem: Any, attrs: dict[str, str], name: str, counts: tuple[int, ...],
-                bound: float = MAX_LENGTH) -> list[float]:
+                bound: float = MAX_LENGTH) -> tuple[float, ...]:
         """:meth:`floats` of an attribute that must be present."""
         got = self.floats(elem, attrs, name, counts, None, bound)
         if got is None:
             raise self.error(elem, f"needs the attribute {name!r}")
         return got
 
-    def float_list(self, elem: Any, attrs: dict[str, str], name: str, multiple_of: int) -> list[float]:
-        """The attribute as finite decimals, a multiple of ``multiple_of`` of them (``[]`` when absent)."""
+    def float_list(self, elem: Any, attrs: dict[str, str], name: str, multiple_of: int) -> tuple[float, ...]:
+        """The attribute as finite decimals, a multiple of ``multiple_of`` of them (``()`` when absent)."""
         text = attrs.get(name)
         if text is None:
-            return []
+            return ()
         n = len(text.split())
         if n % multiple_of:
             raise self.error(elem, f"{name}={_quote(text)}: expected a multiple of {multiple_of} numbers, got {n}")
-        return self.floats(elem, attrs, name, (n,)) or []
+        return self.floats(elem, attrs, name, (n,)) or ()
 
     def number(self, elem: Any, attrs: dict[str, str], name: str, default: float,
                bound: float = MAX_LENGTH) -> float:
@@ -213,14 +213,14 @@ class Doc:
             return R
         if kind == "xyaxes":
             v = self.require(elem, attrs, "xyaxes", (6,))
-            x = self._direction(elem, attrs, "xyaxes", (v[0], v[1], v[2]))
-            d = x[0] * v[3] + x[1] * v[4] + x[2] * v[5]
-            y = self._direction(elem, attrs, "xyaxes", (v[3] - x[0] * d, v[4] - x[1] * d, v[5] - x[2] * d),
-                                "the y axis is parallel to the x axis")
-            zc = cross(x, y)
-            return (x[0], y[0], zc[0], x[1], y[1], zc[1], x[2], y[2], zc[2])
-        z = self.require(elem, attrs, "zaxis", (3,))
-        return z_to_vector(self._direction(elem, attrs, "zaxis", (z[0], z[1], z[2])))
+            ex = self._direction(elem, attrs, "xyaxes", (v[0], v[1], v[2]))
+            d = ex[0] * v[3] + ex[1] * v[4] + ex[2] * v[5]
+            ey = self._direction(elem, attrs, "xyaxes", (v[3] - ex[0] * d, v[4] - ex[1] * d, v[5] - ex[2] * d),
+                                 "the y axis is parallel to the x axis")
+            ez = cross(ex, ey)
+            return (ex[0], ey[0], ez[0], ex[1], ey[1], ez[1], ex[2], ey[2], ez[2])
+        za = self.require(elem, attrs, "zaxis", (3,))
+        return z_to_vector(self._direction(elem, attrs, "zaxis", (za[0], za[1], za[2])))
 
     def _direction(self, elem: Any, attrs: dict[str, str], name: str, v: Vec, why: str = "a zero vector") -> Vec:
         n = math.hypot(*v)  # without overflow or underflow

@@ -69,7 +69,7 @@ class SpatialInertia(_SpatialValue):
     def __init__(self, mass: ArrayLike, com: ArrayLike, inertia_com: ArrayLike, frame: Frame = None) -> None:
         exact = _exact_float64(mass, com, inertia_com)  # stacked float64 of matching shapes: nothing to convert
         if exact:
-            m, c, ic = np.array(mass), np.array(com), inertia_com  # type: ignore[assignment]
+            m, c, ic = np.array(mass), np.array(com), np.asarray(inertia_com)
         else:
             m, c, ic = _adopt_dtype(
                 (mass, com, inertia_com),

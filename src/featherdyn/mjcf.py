@@ -138,7 +138,7 @@ class _JointSpec:
 
 #: ``(m, c, I_c)``: a mass, its centre and its rotational inertia about the centre (symmetric).
 Inertia = tuple[float, Vec, Mat]
-_NO_INERTIA: Inertia = (0.0, Z3, (0.0,) * 9)  # type: ignore[assignment]
+_NO_INERTIA: Inertia = (0.0, Z3, (0.0,) * 9)
 
 
 @dataclass(slots=True)
@@ -426,7 +426,7 @@ class _Loader:
                                 "set limited='true' or 'false')")
             limited = "true" if has_range else "false"
         if limited == "true" and jtype in ("hinge", "slide"):
-            rng = doc.floats(elem, attrs, "range", (2,), [0.0, 0.0]) or [0.0, 0.0]
+            rng = doc.floats(elem, attrs, "range", (2,), (0.0, 0.0)) or (0.0, 0.0)
             lower, upper = rng
             if not lower < upper:
                 raise doc.error(elem, f"range={_quote(attrs.get('range', '0 0'))}: a limited joint needs "
@@ -467,7 +467,7 @@ class _Loader:
                 first[1] += m * c[1]
                 first[2] += m * c[2]
             com: Vec = (first[0] / total, first[1] / total, first[2] / total) if total > 0 else Z3
-            second: Mat = (0.0,) * 9  # type: ignore[assignment]
+            second: Mat = (0.0,) * 9
             for m, c, ic in parts:
                 second = _parallel(_sum9(second, ic), m, (c[0] - com[0], c[1] - com[1], c[2] - com[2]))
             body.inertia = (total, com, second)
@@ -534,7 +534,7 @@ class _Loader:
             if comp.balanceinertia and ev[0] + ev[1] < ev[2]:
                 ev = np.full(3, ev.mean())
             out = V @ np.diag(ev) @ V.T
-            ic = tuple(((out + out.T) / 2).ravel().tolist())  # type: ignore[assignment]
+            ic = tuple(((out + out.T) / 2).ravel().tolist())
         body.inertia = (m, c, ic)
         return recomposed
 
@@ -576,11 +576,11 @@ class _Loader:
             Rg, pg = compose(R, p, *doc.pose(elem, attrs))
             k = m / measure
             return m, vec_add(mat_vec(Rg, c_mesh), pg), rotate_symmetric(Rg, tuple(x * k for x in J))  # type: ignore[arg-type]
-        size = doc.floats(elem, attrs, "size", (1, 2, 3), [0.0, 0.0, 0.0]) or [0.0, 0.0, 0.0]
-        size = size + [0.0] * (3 - len(size))
+        given = doc.floats(elem, attrs, "size", (1, 2, 3))
+        size = [0.0, 0.0, 0.0] if given is None else [*given, 0.0, 0.0][:3]
         Rg, pg = self.geom_pose(elem, attrs)
         if "fromto" in attrs and gtype in ("capsule", "cylinder", "box", "ellipsoid"):
-            ft = doc.floats(elem, attrs, "fromto", (6,)) or [0.0] * 6
+            ft = doc.floats(elem, attrs, "fromto", (6,)) or (0.0,) * 6
             half = math.hypot(ft[3] - ft[0], ft[4] - ft[1], ft[5] - ft[2]) / 2
             # measured: a capsule/cylinder keeps its radius; a box/ellipsoid is (size[0], size[0], half)
             size = [size[0], half, 0.0] if gtype in ("capsule", "cylinder") else [size[0], size[0], half]
@@ -591,8 +591,8 @@ class _Loader:
         got = geom_mass_inertia(gtype, size, density, None if mass is None else mass[0], shell)
         if got is None:
             raise doc.error(elem, f"shellinertia='true' of a {gtype} is not supported")
-        m, J = got
-        return m, vec_add(mat_vec(R, pg), p), rotate_symmetric(mat_mul(R, Rg), diagonal(J))
+        m, principal = got
+        return m, vec_add(mat_vec(R, pg), p), rotate_symmetric(mat_mul(R, Rg), diagonal(principal))
 
     def mesh_properties(self, geom: Any, attrs: dict[str, str]) -> tuple[float, Vec, Mat]:
         """``(V, c, I_c/ρ)`` of the geom's mesh asset in the geom frame (cached per asset)."""
@@ -609,7 +609,7 @@ class _Loader:
         for key in ("refpos", "refquat"):
             if key in mattrs:
                 raise doc.error(elem, f"{key}: mesh reference frames are not supported")
-        scale = np.array(doc.floats(elem, mattrs, "scale", (3,), [1.0, 1.0, 1.0]) or [1.0, 1.0, 1.0])
+        scale = np.array(doc.floats(elem, mattrs, "scale", (3,), (1.0, 1.0, 1.0)) or (1.0, 1.0, 1.0))
         try:
             if "file" in mattrs:
                 V, F = read_mesh_file(self.asset_path(mattrs["file"]))
@@ -630,8 +630,8 @@ class _Loader:
         except MeshError as exc:
             raise doc.error(elem, str(exc)) from None
         got = (float(measure), (float(c[0]), float(c[1]), float(c[2])), tuple(np.asarray(J, dtype=float).ravel().tolist()))
-        self.mesh_cache[name] = got  # type: ignore[assignment]
-        return got  # type: ignore[return-value]
+        self.mesh_cache[name] = got
+        return got
 
     def asset_path(self, file: str) -> Path:
         p = Path(file)
