@@ -306,6 +306,20 @@ def rotate_symmetric(R: Mat, S: Mat) -> Mat:
     return (xx, xy, xz, xy, yy, yz, xz, yz, zz)
 
 
+def rotate_diagonal(R: Mat, d: Vec) -> Mat:
+    """``R diag(d) Rᵀ`` (symmetric exactly)."""
+    if R is I3:
+        return diagonal(d)
+    r0, r1, r2, r3, r4, r5, r6, r7, r8 = R
+    d0, d1, d2 = d
+    a0, a1, a2 = r0 * d0, r1 * d1, r2 * d2  # row 0 of R diag(d)
+    b0, b1, b2 = r3 * d0, r4 * d1, r5 * d2  # row 1
+    xx, xy, xz = a0 * r0 + a1 * r1 + a2 * r2, a0 * r3 + a1 * r4 + a2 * r5, a0 * r6 + a1 * r7 + a2 * r8
+    yy, yz = b0 * r3 + b1 * r4 + b2 * r5, b0 * r6 + b1 * r7 + b2 * r8
+    zz = r6 * d0 * r6 + r7 * d1 * r7 + r8 * d2 * r8
+    return (xx, xy, xz, xy, yy, yz, xz, yz, zz)
+
+
 def diagonal(d: Vec) -> Mat:
     """``diag(d)``."""
     return (d[0], 0.0, 0.0, 0.0, d[1], 0.0, 0.0, 0.0, d[2])

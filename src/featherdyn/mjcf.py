@@ -88,6 +88,7 @@ from ._mjcf_xml import (
     mat_vec,
     read_defaults,
     read_document,
+    rotate_diagonal,
     rotate_symmetric,
     rows,
     vec_add,
@@ -387,9 +388,14 @@ class _Loader:
 
     def geom_pose(self, elem: Any, attrs: dict[str, str]) -> tuple[Mat, Vec]:
         """Pose of a geom or site in its body frame; from ``fromto`` when given: z along ``from − to`` (measured)."""
-        ft = self.doc.floats(elem, attrs, "fromto", (6,))
+        R, p, _ = self.geom_pose_length(elem, attrs)
+        return R, p
+
+    def geom_pose_length(self, elem: Any, attrs: dict[str, str]) -> tuple[Mat, Vec, float]:
+        """:meth:`geom_pose` and the distance between the ``fromto`` points (``0`` without them)."""
+        ft = self.doc.floats(elem, attrs, "fromto", (6,)) if "fromto" in attrs else None
         if ft is None:
-            return self.doc.pose(elem, attrs)
+            return (*self.doc.pose(elem, attrs), 0.0)
         if "pos" in attrs:
             raise self.doc.error(elem, "both pos and fromto given (MuJoCo refuses this)")
         d = (ft[0] - ft[3], ft[1] - ft[4], ft[2] - ft[5])
@@ -397,7 +403,7 @@ class _Loader:
         if n < 1e-10:
             raise self.doc.error(elem, f"fromto={_quote(attrs['fromto'])}: the two points coincide")
         return z_to_vector((d[0] / n, d[1] / n, d[2] / n)), ((ft[0] + ft[3]) / 2, (ft[1] + ft[4]) / 2,
-                                                             (ft[2] + ft[5]) / 2)
+                                                             (ft[2] + ft[5]) / 2), n
 
     def read_joint(self, elem: Any, kind: str, cc: str, R: Mat, p: Vec, index: int) -> _JointSpec:
         doc = self.doc
@@ -458,7 +464,9 @@ class _Loader:
             if not parts and body.inertial is not None:  # measured: inertiafromgeom='true' keeps it then
                 use_geoms = False
         principal: list[float] | None = None  # the principal moments, when known without computing them
-        if use_geoms:
+        if use_geoms and len(parts) == 1:
+            body.inertia = parts[0]
+        elif use_geoms:
             total = 0.0
             first = [0.0, 0.0, 0.0]
             for m, c, _ in parts:
@@ -578,10 +586,9 @@ class _Loader:
             return m, vec_add(mat_vec(Rg, c_mesh), pg), rotate_symmetric(Rg, tuple(x * k for x in J))  # type: ignore[arg-type]
         given = doc.floats(elem, attrs, "size", (1, 2, 3))
         size = [0.0, 0.0, 0.0] if given is None else [*given, 0.0, 0.0][:3]
-        Rg, pg = self.geom_pose(elem, attrs)
-        if "fromto" in attrs and gtype in ("capsule", "cylinder", "box", "ellipsoid"):
-            ft = doc.floats(elem, attrs, "fromto", (6,)) or (0.0,) * 6
-            half = math.hypot(ft[3] - ft[0], ft[4] - ft[1], ft[5] - ft[2]) / 2
+        Rg, pg, length = self.geom_pose_length(elem, attrs)
+        if length and gtype in ("capsule", "cylinder", "box", "ellipsoid"):
+            half = length / 2
             # measured: a capsule/cylinder keeps its radius; a box/ellipsoid is (size[0], size[0], half)
             size = [size[0], half, 0.0] if gtype in ("capsule", "cylinder") else [size[0], size[0], half]
         for k in range(_SIZES_NEEDED[gtype]):
@@ -592,7 +599,7 @@ class _Loader:
         if got is None:
             raise doc.error(elem, f"shellinertia='true' of a {gtype} is not supported")
         m, principal = got
-        return m, vec_add(mat_vec(R, pg), p), rotate_symmetric(mat_mul(R, Rg), diagonal(principal))
+        return m, vec_add(mat_vec(R, pg), p), rotate_diagonal(mat_mul(R, Rg), principal)
 
     def mesh_properties(self, geom: Any, attrs: dict[str, str]) -> tuple[float, Vec, Mat]:
         """``(V, c, I_c/ρ)`` of the geom's mesh asset in the geom frame (cached per asset)."""
@@ -753,7 +760,7 @@ class _Loader:
                                                                                           strict=True):
             nv, nq = joint.nv, joint.nq
             inf = [math.inf] * nv
-            builder._append(fd_name, up, joint, jname, rows(R), p, m, c, rows(ic),
+            builder._append(fd_name, up, joint, jname, R, p, m, c, ic,
                             [lower] * nq, [upper] * nq, inf, inf, [armature] * nv)
         # the frames' placements: one stacked array, each frame a read-only view of its row
         posed = [pose for _, _, pose, _ in frames if pose is not None and pose != (I3, Z3)]

@@ -19,6 +19,7 @@ Source: RBDA (2008) §4.1–4.2; chapter §8.3 and §18.
 from __future__ import annotations
 
 import difflib
+import itertools
 import math
 import warnings
 from collections.abc import Sequence
@@ -317,7 +318,7 @@ class ModelBuilder:
         self._body_names: list[str] = []
         self._body_set: set[str] = set()  # for O(1) duplicate checks on long chains
         self._joint_set: set[str] = set()
-        # each body's placement (R, p) and inertia (m, c, I_c) as arrays or nested sequences, stacked by build()
+        # each body's placement (R, p) and inertia (m, c, I_c), matrices flattened row by row, stacked by build()
         self._rotations: list[Any] = []
         self._translations: list[Any] = []
         self._masses: list[float] = []
@@ -408,15 +409,15 @@ class ModelBuilder:
             self._limit_problems.append(
                 f"joint {joint_name!r} (body {name!r}): lower limit {lo.tolist()} above upper limit {hi.tolist()}"
             )
-        return self._append(name, int(parent), joint, joint_name, placement.rotation, placement.translation,
-                            float(inertia.mass), inertia.com, inertia.inertia_com, lo, hi, vel, eff, arm)
+        return self._append(name, int(parent), joint, joint_name, placement.rotation.ravel(), placement.translation,
+                            float(inertia.mass), inertia.com, inertia.inertia_com.ravel(), lo, hi, vel, eff, arm)
 
     def _append(self, name: str, parent: int, joint: Joint, joint_name: str, rotation: Any, translation: Any,
                 mass: float, com: Any, inertia_com: Any, lower: Any, upper: Any, velocity_limit: Any,
                 effort_limit: Any, armature: Any) -> int:
         """Record a body whose values are already checked: :meth:`add_body`'s, and a loader's that has checked its
-        own (names unique, numbers finite, `(3, 3)` / `(3,)` shapes as arrays or nested sequences, limits and
-        armature of the joint's sizes, ``inertia_com`` symmetric); returns its index."""
+        own (names unique, numbers finite, ``rotation`` and ``inertia_com`` as 9 numbers row by row, 3-vectors as 3,
+        limits and armature of the joint's sizes, ``inertia_com`` symmetric); returns its index."""
         self._parents.append(parent)
         self._joints.append(joint)
         self._joint_names.append(joint_name)
@@ -455,9 +456,10 @@ class ModelBuilder:
             raise ModelError(f"add_inertia: no body {body!r} (expected 0..{self.nbodies - 1})")
         if not isinstance(inertia, SpatialInertia) or inertia.shape != ():
             raise ModelError("add_inertia: inertia must be a single SpatialInertia")
-        total = SpatialInertia(self._masses[body], self._coms[body], self._inertias_com[body]) + inertia
+        total = SpatialInertia(self._masses[body], self._coms[body],
+                               np.reshape(self._inertias_com[body], (3, 3))) + inertia
         self._masses[body] = float(total.mass)
-        self._coms[body], self._inertias_com[body] = total.com, total.inertia_com
+        self._coms[body], self._inertias_com[body] = total.com, total.inertia_com.ravel()
 
     def add_frame(self, name: str, body: int, placement: PluckerTransform | None = None, kind: str = "link") -> None:
         """Add a named frame fixed to ``body`` (``-1`` = world) at ``placement``."""
@@ -500,14 +502,13 @@ class ModelBuilder:
             v0 += j.nv
         if nb:
             placements = PluckerTransform._wrap(  # fresh float64 arrays, rotations checked when added
-                np.array(self._rotations, dtype=np.float64).reshape(nb, 3, 3),
-                np.array(self._translations, dtype=np.float64).reshape(nb, 3),
+                _stacked(self._rotations, 9).reshape(nb, 3, 3), _stacked(self._translations, 3).reshape(nb, 3),
                 None, None,
             )
             inertias = SpatialInertia(
                 np.array(self._masses, dtype=np.float64),
-                np.array(self._coms, dtype=np.float64).reshape(nb, 3),
-                np.array(self._inertias_com, dtype=np.float64).reshape(nb, 3, 3),
+                _stacked(self._coms, 3).reshape(nb, 3),
+                _stacked(self._inertias_com, 9).reshape(nb, 3, 3),
             )
         else:
             placements = PluckerTransform.identity((0,))
@@ -533,13 +534,13 @@ class ModelBuilder:
             nqs=tuple(j.nq for j in self._joints),
             idx_v=tuple(idx_v),
             nvs=tuple(j.nv for j in self._joints),
-            lower=_ro(np.concatenate(self._lower) if nb else np.zeros(0)),
-            upper=_ro(np.concatenate(self._upper) if nb else np.zeros(0)),
-            velocity_limit=_ro(np.concatenate(self._vel) if nb else np.zeros(0)),
-            effort_limit=_ro(np.concatenate(self._eff) if nb else np.zeros(0)),
+            lower=_ro(_stacked(self._lower)),
+            upper=_ro(_stacked(self._upper)),
+            velocity_limit=_ro(_stacked(self._vel)),
+            effort_limit=_ro(_stacked(self._eff)),
             mimics=tuple(self._mimics),
             source=self.source,
-            armature=_ro(np.concatenate(self._armature) if nb else np.zeros(0)),
+            armature=_ro(_stacked(self._armature)),
         )
         for msg in self._limit_problems:
             _complain(msg, strict)
@@ -547,6 +548,13 @@ class ModelBuilder:
             for msg in massless_subtrees(model):
                 _complain(msg, strict)
         return model
+
+
+def _stacked(parts: list[Any], size: int = -1) -> np.ndarray:
+    """The float64 array of the numbers of ``parts`` (sequences or arrays) one after the other; ``size`` each when
+    known (``np.fromiter`` over a chain: cheaper than converting nested sequences)."""
+    count = size * len(parts) if size >= 0 else -1
+    return np.fromiter(itertools.chain.from_iterable(parts), np.float64, count)
 
 
 def _complain(msg: str, strict: bool) -> None:
