@@ -29,7 +29,7 @@ from __future__ import annotations
 
 import warnings
 from dataclasses import dataclass, field
-from typing import Any, ClassVar
+from typing import Any, ClassVar, TypeVar
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -39,6 +39,8 @@ from ._validation import as_array
 from .errors import ModelError, PhysicalityWarning, QuaternionNormError
 from .spatial_algebra import PluckerTransform, SpatialMotion
 from .tolerances import QUATERNION_NORM, SMALL_ANGLE, UNIT_AXIS
+
+_AxisJoint = TypeVar("_AxisJoint", "RevoluteJoint", "PrismaticJoint")
 
 __all__ = [
     "Joint",
@@ -79,6 +81,14 @@ def unit_axis(axis: ArrayLike, name: str = "axis", *, warn: bool = True, stackle
     out = a / n
     out.flags.writeable = False
     return out
+
+
+def _with_unit_axis(cls: type[_AxisJoint], axis: Any) -> _AxisJoint:
+    """``cls(axis)`` for an axis a loader has made unit itself (finite, length 1 within round-off): the
+    constructor's conversion, length check and normalisation skipped."""
+    obj = object.__new__(cls)
+    object.__setattr__(obj, "axis", _frozen(np.array(axis, dtype=np.float64)))
+    return obj
 
 
 def _skew3(w: np.ndarray) -> np.ndarray:

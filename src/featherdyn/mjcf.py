@@ -96,7 +96,7 @@ from ._mjcf_xml import (
 )
 from ._urdf_xml import _quote, _read_source, _shorten_quoted, reissue_warnings
 from .errors import FeatherdynError, MJCFError, PhysicalityWarning
-from .joints import FreeFlyerJoint, Joint, PrismaticJoint, RevoluteJoint, SphericalJoint
+from .joints import FreeFlyerJoint, Joint, PrismaticJoint, RevoluteJoint, SphericalJoint, _with_unit_axis
 from .model import _IDENTITY, Model, ModelBuilder
 from .spatial_algebra import PluckerTransform
 from .urdf import MAX_INERTIA, MAX_MASS
@@ -781,9 +781,15 @@ class _Loader:
         key = (kind, axis)
         joint = self.joint_cache.get(key)
         if joint is None:
-            joint = self.joint_cache[key] = (
-                FreeFlyerJoint() if kind == "free" else SphericalJoint() if kind == "ball"
-                else PrismaticJoint(np.array(axis)) if kind == "slide" else RevoluteJoint(np.array(axis)))
+            if kind == "free":
+                joint = FreeFlyerJoint()
+            elif kind == "ball":
+                joint = SphericalJoint()
+            elif kind == "slide":
+                joint = _with_unit_axis(PrismaticJoint, axis)  # the axis: normalised by read_joint, then rotated
+            else:
+                joint = _with_unit_axis(RevoluteJoint, axis)
+            self.joint_cache[key] = joint
         return joint
 
     def check_joints(self, body: _Body, b: int) -> None:
