@@ -2,12 +2,13 @@
 
 Usage::
 
-    FD_NO_EDITABLE=1 PYTHONPATH=src python benchmarks/bench_mjcf.py [--repeat 7] [--profile MODEL]
+    FD_NO_EDITABLE=1 PYTHONPATH=src python benchmarks/bench_mjcf.py [--repeat 7] [--block 1] [--profile MODEL]
 
 The models: gymnasium's ``envs/mujoco/assets``, mujoco's ``testdata`` and, if
 installed, dm_control's ``suite`` (none is a featherdyn dependency), each
 file both loaders accept. Times are the best of ``--repeat`` runs in one
-process, the two loaders alternating; the ratio is featherdyn / MuJoCo (below
+process, the two loaders alternating (``--block B``: B loads of one, then B of the other, so that each runs
+with the caches its own previous load left); the ratio is featherdyn / MuJoCo (below
 1: featherdyn loads faster). MuJoCo's compile does more than featherdyn's load
 (collision structures, constants, sizes of everything); featherdyn's builds the
 rigid-body ``Model`` only. Both read meshes from disk on every call.
@@ -63,16 +64,20 @@ def _mj_load(path: Path) -> object:
         return mujoco.MjModel.from_xml_path(str(path))
 
 
-def best_pair(path: Path, repeat: int) -> tuple[float, float]:
-    """Best-of-``repeat`` seconds of featherdyn's and MuJoCo's load, alternating."""
+def best_pair(path: Path, repeat: int, block: int = 1) -> tuple[float, float]:
+    """Best-of seconds of featherdyn's and MuJoCo's load: ``repeat`` rounds, each ``block`` loads by featherdyn
+    then ``block`` by MuJoCo (``block=1``: strict alternation, each load right after the other library's, with
+    the caches the other left; larger blocks: both measured warm, after their own previous load)."""
     t_fd, t_mj = float("inf"), float("inf")
     for _ in range(repeat):
-        t0 = time.perf_counter()
-        _fd_load(path)
-        t1 = time.perf_counter()
-        _mj_load(path)
-        t2 = time.perf_counter()
-        t_fd, t_mj = min(t_fd, t1 - t0), min(t_mj, t2 - t1)
+        for _ in range(block):
+            t0 = time.perf_counter()
+            _fd_load(path)
+            t_fd = min(t_fd, time.perf_counter() - t0)
+        for _ in range(block):
+            t0 = time.perf_counter()
+            _mj_load(path)
+            t_mj = min(t_mj, time.perf_counter() - t0)
     return t_fd, t_mj
 
 
@@ -90,18 +95,21 @@ def profile(paths: list[Path], n: int = 25) -> str:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--repeat", type=int, default=7)
+    parser.add_argument("--repeat", type=int, default=7, help="rounds (each: featherdyn's loads, then MuJoCo's)")
+    parser.add_argument("--block", type=int, default=1, help="loads per library per round (1: alternate)")
     parser.add_argument("--profile", default=None)
     args = parser.parse_args()
     paths = models()
     if args.profile is not None:
         print(profile([p for p in paths if args.profile in p.name]))
         return
-    print(f"featherdyn {fd.__version__}, mujoco {mujoco.__version__}; best of {args.repeat}, same process")
+    how = "alternating" if args.block == 1 else f"in blocks of {args.block}"
+    print(f"featherdyn {fd.__version__}, mujoco {mujoco.__version__}; best of {args.repeat * args.block} "
+          f"({how}), same process")
     print(f"{'model':44s} {'fd ms':>9s} {'MuJoCo ms':>10s} {'ratio':>7s}")
     ratios = []
     for path in paths:
-        t_fd, t_mj = best_pair(path, args.repeat)
+        t_fd, t_mj = best_pair(path, args.repeat, args.block)
         ratios.append(t_fd / t_mj)
         name = f"{path.parent.parent.name}/{path.parent.name}/{path.name}"
         print(f"{name:44s} {t_fd * 1e3:9.2f} {t_mj * 1e3:10.2f} {t_fd / t_mj:7.2f}")
