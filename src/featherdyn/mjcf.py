@@ -203,6 +203,14 @@ def _parallel(ic: Mat, m: float, d: Vec) -> Mat:
             ic[6] - xz, ic[7] - yz, ic[8] + xx + yy)
 
 
+def _axisymmetric(lateral: float, axial: float, z: Vec) -> Mat:
+    """``lateral 1 + (axial − lateral) z zᵀ``: the inertia of a body symmetric about the unit axis ``z``."""
+    k = axial - lateral
+    x, y, w = z
+    xy, xz, yz = k * x * y, k * x * w, k * y * w
+    return (lateral + k * x * x, xy, xz, xy, lateral + k * y * y, yz, xz, yz, lateral + k * w * w)
+
+
 def _smallest_above(ic: Mat, floor: float) -> bool:
     """Whether the smallest eigenvalue of the symmetric ``ic`` surely is at least ``floor`` (Gershgorin's lower
     bound, with room for round-off); ``False`` means: compute the eigenvalues."""
@@ -393,17 +401,25 @@ class _Loader:
 
     def geom_pose_length(self, elem: Any, attrs: dict[str, str]) -> tuple[Mat, Vec, float]:
         """:meth:`geom_pose` and the distance between the ``fromto`` points (``0`` without them)."""
+        line = self.fromto(elem, attrs)
+        if line is None:
+            return (*self.doc.pose(elem, attrs), 0.0)
+        z, middle, length = line
+        return z_to_vector(z), middle, length
+
+    def fromto(self, elem: Any, attrs: dict[str, str]) -> tuple[Vec, Vec, float] | None:
+        """``(z, middle, length)`` of a ``fromto`` segment: the unit vector along ``from − to`` (the geom's z axis,
+        measured), the midpoint (its centre) and the distance; ``None`` without ``fromto``."""
         ft = self.doc.floats(elem, attrs, "fromto", (6,)) if "fromto" in attrs else None
         if ft is None:
-            return (*self.doc.pose(elem, attrs), 0.0)
+            return None
         if "pos" in attrs:
             raise self.doc.error(elem, "both pos and fromto given (MuJoCo refuses this)")
         d = (ft[0] - ft[3], ft[1] - ft[4], ft[2] - ft[5])
         n = math.hypot(*d)
         if n < 1e-10:
             raise self.doc.error(elem, f"fromto={_quote(attrs['fromto'])}: the two points coincide")
-        return z_to_vector((d[0] / n, d[1] / n, d[2] / n)), ((ft[0] + ft[3]) / 2, (ft[1] + ft[4]) / 2,
-                                                             (ft[2] + ft[5]) / 2), n
+        return (d[0] / n, d[1] / n, d[2] / n), ((ft[0] + ft[3]) / 2, (ft[1] + ft[4]) / 2, (ft[2] + ft[5]) / 2), n
 
     def read_joint(self, elem: Any, kind: str, cc: str, R: Mat, p: Vec, index: int) -> _JointSpec:
         doc = self.doc
@@ -586,11 +602,19 @@ class _Loader:
             return m, vec_add(mat_vec(Rg, c_mesh), pg), rotate_symmetric(Rg, tuple(x * k for x in J))  # type: ignore[arg-type]
         given = doc.floats(elem, attrs, "size", (1, 2, 3))
         size = [0.0, 0.0, 0.0] if given is None else [*given, 0.0, 0.0][:3]
-        Rg, pg, length = self.geom_pose_length(elem, attrs)
-        if length and gtype in ("capsule", "cylinder", "box", "ellipsoid"):
-            half = length / 2
+        line = self.fromto(elem, attrs)
+        turn: Mat | None  # the geom's rotation in the frame (R, p); from fromto, made below only if needed
+        if line is None:
+            turn, pg = doc.pose(elem, attrs)
+            zg = (turn[2], turn[5], turn[8])  # its z axis
+        else:
+            zg, pg, length = line
+            turn = None  # a sphere's, capsule's or cylinder's inertia needs the z axis only
             # measured: a capsule/cylinder keeps its radius; a box/ellipsoid is (size[0], size[0], half)
-            size = [size[0], half, 0.0] if gtype in ("capsule", "cylinder") else [size[0], size[0], half]
+            if gtype in ("capsule", "cylinder"):
+                size = [size[0], length / 2, 0.0]
+            elif gtype in ("box", "ellipsoid"):
+                size = [size[0], size[0], length / 2]
         for k in range(_SIZES_NEEDED[gtype]):
             if not size[k] > 0:
                 raise doc.error(elem, f"size={_quote(attrs.get('size', ''))}: size {k} of a {gtype} must be positive "
@@ -599,7 +623,12 @@ class _Loader:
         if got is None:
             raise doc.error(elem, f"shellinertia='true' of a {gtype} is not supported")
         m, principal = got
-        return m, vec_add(mat_vec(R, pg), p), rotate_diagonal(mat_mul(R, Rg), principal)
+        c = vec_add(mat_vec(R, pg), p)
+        if gtype == "sphere":
+            return m, c, diagonal(principal)
+        if gtype in ("capsule", "cylinder"):  # I = I_xx 1 + (I_zz − I_xx) z zᵀ, z the axis in body coordinates
+            return m, c, _axisymmetric(principal[0], principal[2], mat_vec(R, zg))
+        return m, c, rotate_diagonal(mat_mul(R, z_to_vector(zg) if turn is None else turn), principal)
 
     def mesh_properties(self, geom: Any, attrs: dict[str, str]) -> tuple[float, Vec, Mat]:
         """``(V, c, I_c/ρ)`` of the geom's mesh asset in the geom frame (cached per asset)."""
