@@ -6,6 +6,9 @@ the parser is defusedxml's with DTDs, entities and XInclude refused, element
 nesting bounded by :data:`MAX_DEPTH` and every attribute by
 :data:`MAX_ATTRIBUTE_LENGTH` (checked while parsing); messages quote at most
 :data:`QUOTE_LENGTH` characters of any value taken from the document.
+:func:`parse_elements` (the MJCF loader's reader) parses a document that
+cannot hold a DTD, an XInclude or too many elements with ElementTree's C
+parser instead, and finds line numbers only for a message.
 """
 
 from __future__ import annotations
