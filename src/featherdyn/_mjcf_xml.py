@@ -21,6 +21,7 @@ extrinsic), ``xyaxes``, ``zaxis``; angles in degrees unless
 
 from __future__ import annotations
 
+import itertools
 import math
 import os
 import re
@@ -40,6 +41,7 @@ MAX_INCLUDES = 1000
 
 # a digit run matches one way only (the fraction needs its dot), so a failed match backtracks in linear time
 _NUMBER = re.compile(r"[+-]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)(?:[eE][+-]?[0-9]+)?")
+_SHORT_CEILING = 1e59  # the magnitude no decimal without an exponent in fewer than 60 characters reaches
 _ORIENTATIONS = ("quat", "axisangle", "euler", "xyaxes", "zaxis")
 _REPLACING = frozenset((*_ORIENTATIONS, "fromto"))  # given on an element, they replace all of its class's
 # element kinds that default classes configure (the rest are accepted and ignored)
@@ -125,7 +127,7 @@ class Doc:
         """The attribute as finite decimals, ``len`` one of ``counts``; ``default`` when absent.
 
         A text is parsed once per document (the same few texts recur: ``"0 0 0"``, a class's ``size``):
-        :attr:`_parsed` keeps its numbers and their largest magnitude, or ``None`` if one is not a decimal.
+        :attr:`_parsed` keeps its numbers and a ceiling of their magnitudes (:func:`_parse_decimals`).
         """
         text = attrs.get(name)
         if text is None:
@@ -133,15 +135,15 @@ class Doc:
         got = self._parsed.get(text)
         if got is None:
             got = self._parsed[text] = _parse_decimals(text)
-        values, largest = got
+        values, ceiling = got
         if len(values) not in counts:
             want = " or ".join(str(c) for c in counts)
             raise self.error(elem, f"{name}={_quote(text)}: expected {want} number{'s' if max(counts) > 1 else ''}, "
                              f"got {len(values)}")
-        if largest < 0:  # a part is not a decimal: name it
+        if ceiling < 0:  # a part is not a decimal: name it
             bad = next(s for s in text.split() if not _NUMBER.fullmatch(s))
             raise self.error(elem, f"{name}={_quote(text)}: {_quote(bad)} is not a decimal number")
-        if largest > bound:  # also +inf: a decimal too long for a double
+        if ceiling > bound and max(map(abs, values)) > bound:  # also +inf: a decimal too long for a double
             bad = next(s for s in text.split() if abs(float(s)) > bound)
             raise self.error(elem, f"{name}={_quote(text)}: expected a magnitude of at most {bound:g} "
                              f"(larger values overflow the dynamics), got {_quote(bad)}")
@@ -331,8 +333,9 @@ def rows(A: Mat) -> tuple[Vec, Vec, Vec]:
 
 
 def _parse_decimals(text: str) -> tuple[tuple[float, ...], float]:
-    """``(numbers, largest magnitude)`` of a whitespace-separated list of decimals; the magnitude is ``-1`` when a
-    part is not a decimal.
+    """``(numbers, ceiling)`` of a whitespace-separated list of decimals: every magnitude is at most the ceiling;
+    ``-1`` when a part is not a decimal. The ceiling is the largest magnitude, or ``1e59`` for a text shorter than
+    60 characters without an exponent (no number there has 60 digits): the magnitudes need not be measured.
 
     ``float`` reads exactly the decimals of :data:`_NUMBER` plus ``inf``, ``infinity`` and ``nan`` (any case),
     digits grouped by ``_`` and non-ASCII digits: an ASCII text without ``_``, ``n`` and ``N`` that ``float``
@@ -347,6 +350,8 @@ def _parse_decimals(text: str) -> tuple[tuple[float, ...], float]:
         values = tuple(map(float, parts))
     else:
         return tuple(0.0 for _ in parts), -1.0
+    if len(text) < 60 and "e" not in text and "E" not in text:
+        return values, _SHORT_CEILING
     return values, max(map(abs, values), default=0.0)
 
 
@@ -391,7 +396,7 @@ def _read(path_or_xml: Any) -> tuple[Any, dict[Any, tuple[ElementLines | None, i
     """``(root, where each element is: its file's lines and its index there, label, path)``."""
     text, label, path = _read_source(path_or_xml, MJCFError, "MJCF", "load_mjcf")
     root, index, lines = parse_elements(text, label, MJCFError, "MJCF")
-    return root, {e: (lines, k) for e, k in index.items()}, label, path
+    return root, dict(zip(index, zip(itertools.repeat(lines), index.values(), strict=False), strict=True)), label, path
 
 
 def read_document(path_or_xml: Any, strict: bool) -> Doc:

@@ -62,6 +62,7 @@ against ``mujoco`` 3.x/4.x compiled models.
 
 from __future__ import annotations
 
+import itertools
 import math
 import os
 import warnings
@@ -97,7 +98,7 @@ from ._mjcf_xml import (
 from ._urdf_xml import _quote, _read_source, _shorten_quoted, reissue_warnings
 from .errors import FeatherdynError, MJCFError, PhysicalityWarning
 from .joints import FreeFlyerJoint, Joint, PrismaticJoint, RevoluteJoint, SphericalJoint, _with_unit_axis
-from .model import _IDENTITY, Model, ModelBuilder
+from .model import _IDENTITY, FrameInfo, Model, ModelBuilder
 from .spatial_algebra import PluckerTransform
 from .urdf import MAX_INERTIA, MAX_MASS
 
@@ -792,17 +793,20 @@ class _Loader:
             builder._append(fd_name, up, joint, jname, R, p, m, c, ic,
                             [lower] * nq, [upper] * nq, inf, inf, [armature] * nv)
         # the frames' placements: one stacked array, each frame a read-only view of its row
-        posed = [pose for _, _, pose, _ in frames if pose is not None and pose != (I3, Z3)]
-        Rs = np.array([rows(R) for R, _ in posed]).reshape(-1, 3, 3)
-        ps = np.array([p for _, p in posed]).reshape(-1, 3)
+        posed = [pose for _, _, pose, _ in frames if pose is not None and not (pose[0] is I3 and pose[1] is Z3)]
+        Rs = np.fromiter(itertools.chain.from_iterable(R for R, _ in posed), np.float64, 9 * len(posed))
+        ps = np.fromiter(itertools.chain.from_iterable(p for _, p in posed), np.float64, 3 * len(posed))
+        Rs, ps = Rs.reshape(-1, 3, 3), ps.reshape(-1, 3)
         k = 0
+        infos = []
         for fname, body_index, pose, kind in frames:
-            if pose is None or pose == (I3, Z3):
+            if pose is None or (pose[0] is I3 and pose[1] is Z3):
                 X = identity
             else:
                 X = PluckerTransform._wrap(Rs[k], ps[k], None, None)
                 k += 1
-            builder._append_frame(fname, body_index, X, kind)
+            infos.append(FrameInfo(fname, body_index, X, kind))
+        builder._append_frames(infos)
         return builder.build(strict=doc.strict)
 
     def joint(self, kind: str, axis: Vec) -> Joint:

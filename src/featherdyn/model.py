@@ -472,8 +472,12 @@ class ModelBuilder:
         self._append_frame(name, int(body), placement, kind)
 
     def _append_frame(self, name: str, body: int, placement: PluckerTransform, kind: str) -> None:
-        """Record a frame whose values are already checked (:meth:`add_frame`'s, or a loader's own)."""
+        """Record a frame whose values are already checked (:meth:`add_frame`'s)."""
         self._frames.append(FrameInfo(name, body, placement, kind))
+
+    def _append_frames(self, frames: list[FrameInfo]) -> None:
+        """Record frames a loader has checked itself (names strings, bodies added or ``-1``, single placements)."""
+        self._frames += frames
 
     def add_mimic(self, mimic: Mimic) -> None:
         """Record a URDF mimic relation (not enforced)."""
