@@ -538,13 +538,13 @@ class ModelBuilder:
             nqs=tuple(j.nq for j in self._joints),
             idx_v=tuple(idx_v),
             nvs=tuple(j.nv for j in self._joints),
-            lower=_ro(_stacked(self._lower)),
-            upper=_ro(_stacked(self._upper)),
-            velocity_limit=_ro(_stacked(self._vel)),
-            effort_limit=_ro(_stacked(self._eff)),
+            lower=_stacked(self._lower, frozen=True),
+            upper=_stacked(self._upper, frozen=True),
+            velocity_limit=_stacked(self._vel, frozen=True),
+            effort_limit=_stacked(self._eff, frozen=True),
             mimics=tuple(self._mimics),
             source=self.source,
-            armature=_ro(_stacked(self._armature)),
+            armature=_stacked(self._armature, frozen=True),
         )
         for msg in self._limit_problems:
             _complain(msg, strict)
@@ -554,11 +554,14 @@ class ModelBuilder:
         return model
 
 
-def _stacked(parts: list[Any], size: int = -1) -> np.ndarray:
+def _stacked(parts: list[Any], size: int = -1, *, frozen: bool = False) -> np.ndarray:
     """The float64 array of the numbers of ``parts`` (sequences or arrays) one after the other; ``size`` each when
-    known (``np.fromiter`` over a chain: cheaper than converting nested sequences)."""
+    known (``np.fromiter`` over a chain: cheaper than converting nested sequences); read-only if ``frozen``."""
     count = size * len(parts) if size >= 0 else -1
-    return np.fromiter(itertools.chain.from_iterable(parts), np.float64, count)
+    out = np.fromiter(itertools.chain.from_iterable(parts), np.float64, count)
+    if frozen:
+        out.flags.writeable = False
+    return out
 
 
 def _complain(msg: str, strict: bool) -> None:
