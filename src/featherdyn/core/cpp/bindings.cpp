@@ -1155,7 +1155,7 @@ std::int64_t contact_dynamics1(const ModelData& md, const F64In& q, const F64In&
   FD_TRY(exact_shape(info, {2}));
   const double* fx = f_ext.is_valid() ? f_ext.data() : nullptr;
   FD_TRY(check_state(mv, q.data(), v.data(), tau.data(), fx));
-  KktResult res;
+  ContactResult<double> res;
   FD_TRY(contact_dynamics(mv, q.data(), v.data(), tau.data(), fx, cs.data(), static_cast<int>(cs.size()), mu,
                           max_iter, tol, singular_tol, qdd.data(), lam.data(), res));
   info.data()[0] = res.iterations;
@@ -1178,7 +1178,8 @@ std::int64_t osi1(const ModelData& md, const F64In& q, const ContactPlan& plan, 
                                    Lambda.data());
 }
 
-// Rows of a batch: q̈ (N, nv), λ (N, m), info (N, 2).
+// Rows of a batch: q̈ (N, nv), λ (N, m), info (N, 2). Full groups of the kernels' width run contacts.hpp's
+// kernel on Packs (simd_groups.hpp: contact_dynamics_group); the tail, and a group with a singular lane, row by row.
 RowStatus contact_dynamics_n(const ModelData& md, const In& q, const In& v, const In& tau, const In& f_ext,
                              const In& specs, double mu, int max_iter, double tol, double singular_tol, Out qdd,
                              Out lam, Out info) {
@@ -1191,15 +1192,21 @@ RowStatus contact_dynamics_n(const ModelData& md, const In& q, const In& v, cons
   int m = 0;
   const std::vector<ContactSpec> cs = contact_specs(mv, specs.data(), specs.shape(0), m);
   FD_TRY_ROWS(dynamics_batch_rows(mv, m, q, v, tau, f_ext, qdd, lam, info, N, Q, V, T, FX));
-  return for_rows(N, [&](std::int64_t r) -> std::int64_t {
-    FD_TRY(check_state(mv, Q.row(r), V.row(r), T.row(r), FX.row(r)));
-    KktResult res;
-    FD_TRY(contact_dynamics(mv, Q.row(r), V.row(r), T.row(r), FX.row(r), cs.data(), static_cast<int>(cs.size()), mu,
-                            max_iter, tol, singular_tol, qdd.data() + r * nv, lam.data() + r * m, res));
-    info.data()[2 * r] = res.iterations;
-    info.data()[2 * r + 1] = res.residual;
-    return OK;
-  });
+  const int nc = static_cast<int>(cs.size());
+  const fdgroup::ContactArgs contacts{cs.data(), nc, m, mu, max_iter, tol, singular_tol, lam.data(), info.data()};
+  fdgroup::GroupArgs args{&mv, Q, V, T, FX, true, qdd.data(), nv};
+  args.contacts = &contacts;
+  return for_row_groups(
+      N, [&](std::int64_t r) { return check_state(mv, Q.row(r), V.row(r), T.row(r), FX.row(r)); },
+      [&](std::int64_t r) -> std::int64_t {
+        ContactResult<double> res;
+        FD_TRY(contact_dynamics(mv, Q.row(r), V.row(r), T.row(r), FX.row(r), cs.data(), nc, mu, max_iter, tol,
+                                singular_tol, qdd.data() + r * nv, lam.data() + r * m, res));
+        info.data()[2 * r] = res.iterations;
+        info.data()[2 * r + 1] = res.residual;
+        return OK;
+      },
+      group_kernels().contact_dynamics, args);
 }
 
 // The core's sin and cos (trig.hpp) of every x, by the one-state path or by Packs (tests: accuracy
