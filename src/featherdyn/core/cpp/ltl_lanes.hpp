@@ -10,11 +10,32 @@
 
 #include <algorithm>
 #include <cmath>
+#if defined(__SSE2__)
+#include <immintrin.h>
+#endif
 
 #include "ltl.hpp"
 #include "pack.hpp"
 
 namespace fdcore {
+
+// √x in one instruction for all lanes: IEEE 754's square root is correctly rounded, so each lane is std::sqrt's
+// (pack.hpp's sqrt calls it lane by lane; here, in the factors, there is one per dof and per contact row).
+inline double lane_sqrt(double x) { return std::sqrt(x); }
+inline Pack lane_sqrt(const Pack& x) {
+#if defined(__AVX512F__)
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"  // GCC 12's avx512fintrin.h: the masked form's unused source
+  return Pack::raw(reinterpret_cast<Pack::V>(_mm512_sqrt_pd(reinterpret_cast<__m512d>(x.v))));
+#pragma GCC diagnostic pop
+#elif defined(__AVX2__)
+  return Pack::raw(reinterpret_cast<Pack::V>(_mm256_sqrt_pd(reinterpret_cast<__m256d>(x.v))));
+#elif defined(__SSE2__)
+  return Pack::raw(reinterpret_cast<Pack::V>(_mm_sqrt_pd(reinterpret_cast<__m128d>(x.v))));
+#else
+  return sqrt(x);
+#endif
+}
 
 // |x|, max(a, b) as std::fabs and std::max ((a < b) ? b : a) lane by lane.
 inline double lane_abs(double x) { return std::fabs(x); }
@@ -63,14 +84,13 @@ inline Pack blend(int mask, const Pack& a, const Pack& b) {
 // ltl.hpp: ltl_factor_packed. Returns −1, or the dof whose pivot is not positive (in some lane, for a Pack).
 template <class S>
 int ltl_factor_packed(const DofTree& t, S* P, S* dinv, const char* rows = nullptr) {
-  using std::sqrt;
   for (int k = t.nv - 1; k >= 0; --k) {
     if (rows && !rows[k]) continue;
     S* __restrict Lk = P + t.off[k];
     const int dk = t.depth[k];
     const S d = Lk[dk];
     if (lanes_le(d, 0.0)) return k;
-    const S r = S(1.0) / d, a = sqrt(d), inv = a * r;  // 1/√d = √d / d: the division and the root overlap
+    const S r = S(1.0) / d, a = lane_sqrt(d), inv = a * r;  // 1/√d = √d / d: the division and the root overlap
     Lk[dk] = a;
     dinv[k] = inv;
     for (int s = 0; s < dk; ++s) Lk[s] = Lk[s] * inv;
@@ -128,7 +148,6 @@ void ltl_solve_Lt_chain_rows(const DofTree& t, const S* P, const S* dinv, int k,
 // ≤ tol·max|A_ii| (0: factored in every lane; a failed lane's entries are not to be read).
 template <class S>
 int dense_cholesky(S* A, int m, double tol) {
-  using std::sqrt;
   S scale(0.0);
   for (int i = 0; i < m; ++i) scale = lane_max(scale, lane_abs(A[i * m + i]));
   for (int j = 0; j < m; ++j) {
@@ -136,7 +155,7 @@ int dense_cholesky(S* A, int m, double tol) {
     for (int k = 0; k < j; ++k) d -= A[j * m + k] * A[j * m + k];
     const int bad = lanes_not_greater(d, S(tol) * scale);
     if (bad) return bad;
-    const S l = sqrt(d);
+    const S l = lane_sqrt(d);
     A[j * m + j] = l;
     for (int i = j + 1; i < m; ++i) {
       S x = A[i * m + j];
