@@ -147,10 +147,10 @@ def test_a_row_with_dependent_contacts_fails_alone() -> None:
 def test_a_bad_row_is_named() -> None:
     """A non-finite row inside a full pack: the error names that row, as the batch's checks do for every kernel."""
     model = _model("solo12")
-    frames, rows = SCENES["solo12"]
+    frames = SCENES["solo12"][0]
     Q, V, T, _ = _states(model, 9, 2 * WIDTH)
     T[WIDTH + 1, 4] = np.nan
-    with pytest.raises(fd.FeatherdynError, match=rf"\[{WIDTH + 1}\]|{WIDTH + 1}"):
+    with pytest.raises(fd.NonFiniteError, match=rf"tau: .* at index \({WIDTH + 1}, 4\)"):
         fd.constrained_dynamics(model, Q, V, T, [fd.PointContact(f) for f in frames])
 
 
@@ -185,3 +185,16 @@ def test_every_simd_build_is_bit_identical_too(isa: str) -> None:
     used, verdict = res.stdout.split()
     assert verdict == "ok"
     assert used == isa or (isa == "avx2" and used == "baseline"), (isa, used)
+
+
+def test_public_batch_that_does_not_converge_raises() -> None:
+    """The public batch path hands a failed row to the general path, which raises the one-state call's error."""
+    model = _model("solo12")
+    frames = SCENES["solo12"][0]
+    Q, V, T, _ = _states(model, 12, WIDTH + 2)
+    cons = [fd.PointContact(f) for f in frames]
+    with pytest.raises(fd.ConstraintError) as one:
+        fd.constrained_dynamics(model, Q[3], V[3], T[3], cons, mu=1e-3, max_iter=1)
+    with pytest.raises(fd.ConstraintError) as batch:
+        fd.constrained_dynamics(model, Q, V, T, cons, mu=1e-3, max_iter=1)
+    assert str(batch.value) == str(one.value)
