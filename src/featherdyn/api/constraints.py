@@ -555,6 +555,14 @@ def operational_space_inertia(model: Model, q: ArrayLike, frames: Sequence[str |
                     return out
             except TypeError:  # arguments the binding does not take as they are: the general path converts
                 pass
+            if type(q) is np.ndarray and q.ndim == 2:  # rows (N, nq): the core's batch, on SIMD packs
+                out = _EMPTY((q.shape[0], *fplan[1]))
+                try:
+                    if 0.0 <= mu < _INF and CORE.operational_space_inertia_batch(
+                            core.cm, q, fplan[0], mu, DELASSUS_PIVOT_RTOL, out)[1] == OK:
+                        return out
+                except TypeError:
+                    pass
     mu = _solver_args(mu, 1, 1.0)[0]
     if _dask.lazy(q):
         return _dask.call(operational_space_inertia, model, {"q": q}, frames=frames, reference=reference, mu=mu,

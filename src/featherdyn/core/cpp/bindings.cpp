@@ -1209,6 +1209,32 @@ RowStatus contact_dynamics_n(const ModelData& md, const In& q, const In& v, cons
       group_kernels().contact_dynamics, args);
 }
 
+// Λ of a batch: q (N, nq) → Λ (N, m, m) for the frames of `plan` (6 rows each); full groups on Packs
+// (simd_groups.hpp: operational_space_inertia_group), the tail and a group with a singular lane row by row.
+RowStatus osi_n(const ModelData& md, const In& q, const ContactPlan& plan, double mu, double singular_tol,
+                Out Lambda) {
+  const ModelView& mv = md.view;
+  const std::vector<ContactSpec>& cs = plan_specs(md, plan);
+  const int m = plan.m, nc = static_cast<int>(cs.size());
+  if (m != 6 * nc) throw nb::value_error("frame specs: 6 rows per frame expected");
+  if (!(mu >= 0.0)) throw nb::value_error("mu must be >= 0");
+  const std::int64_t m2 = static_cast<std::int64_t>(m) * m;
+  std::int64_t N = 0;
+  Rows Q;
+  FD_TRY_ROWS(out_rows(Lambda, m2, N));
+  FD_TRY_ROWS(rows(q, N, mv.nq, ARG_Q, Q));
+  double* out = Lambda.data();
+  const fdgroup::ContactArgs frames{cs.data(), nc, m, mu, 0, 0.0, singular_tol, nullptr, nullptr};
+  fdgroup::GroupArgs args{&mv, Q, {}, {}, {}, true, out, m2};
+  args.contacts = &frames;
+  return for_row_groups(
+      N, [&](std::int64_t r) { return check_state(mv, Q.row(r), nullptr, nullptr, nullptr); },
+      [&](std::int64_t r) {
+        return operational_space_inertia(mv, Q.row(r), cs.data(), nc, mu, singular_tol, out + r * m2);
+      },
+      group_kernels().operational_space_inertia, args);
+}
+
 // The core's sin and cos (trig.hpp) of every x, by the one-state path or by Packs (tests: accuracy
 // against the C library, and lanes bit-identical to one state).
 void sin_cos_n(const In& x, Out s, Out c, bool packs) {
@@ -1330,6 +1356,8 @@ NB_MODULE(_core, m) {
   m.def("contact_dynamics", &contact_dynamics1, nb::arg("model"), A("q"), A("v"), A("tau"), O("f_ext"), nb::arg("plan"),
         nb::arg("mu"), nb::arg("max_iter"), nb::arg("tol"), nb::arg("singular_tol"), A("qdd"), A("lam"), A("info"));
   m.def("operational_space_inertia", &osi1, nb::arg("model"), A("q"), nb::arg("plan"), nb::arg("mu"),
+        nb::arg("singular_tol"), A("out"));
+  m.def("operational_space_inertia_batch", &osi_n, nb::arg("model"), A("q"), nb::arg("plan"), nb::arg("mu"),
         nb::arg("singular_tol"), A("out"));
   m.def("contact_dynamics_batch", &contact_dynamics_n, nb::arg("model"), A("q"), A("v"), A("tau"), O("f_ext"),
         A("specs"), nb::arg("mu"), nb::arg("max_iter"), nb::arg("tol"), nb::arg("singular_tol"), A("qdd"), A("lam"),

@@ -17,7 +17,7 @@ struct Rows {
 };
 
 // (constrained dynamics) the contacts and the solver's settings; λ (rows of m) and info (rows of 2: iterations,
-// residual) next to q̈ (GroupArgs::out).
+// residual) next to q̈ (GroupArgs::out). (Λ of frames: specs, nc, m, mu and singular_tol; Λ in GroupArgs::out.)
 struct ContactArgs {
   const fdcore::ContactSpec* specs;
   int nc, m;
@@ -62,7 +62,7 @@ struct GroupKernels {
   MinverseFn minverse;
   AbaDerivativesFn aba_derivatives;
   GroupFn aba_derivatives_group;
-  GroupFn contact_dynamics;
+  GroupFn contact_dynamics, operational_space_inertia;
 };
 
 }  // namespace fdgroup

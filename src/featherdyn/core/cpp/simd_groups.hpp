@@ -192,10 +192,24 @@ inline std::int64_t contact_dynamics_group(const fdgroup::GroupArgs& g, std::int
   return 0;
 }
 
+// Λ (m, m) of W rows for the frames of g.contacts: contacts.hpp's kernel on Packs; a lane whose M or J M⁻¹ Jᵀ + μ 1
+// is singular fails the group, redone row by row.
+inline std::int64_t operational_space_inertia_group(const fdgroup::GroupArgs& g, std::int64_t r0) {
+  const ModelView& mv = *g.mv;
+  const fdgroup::ContactArgs& c = *g.contacts;
+  const size_t nq = mv.nq, m2 = static_cast<size_t>(c.m) * c.m;
+  Lanes& L = thread_lanes(nq + m2);
+  const Pack* q = L.gather(g.Q, r0, nq, 0);
+  Pack* Lambda = L.space(nq);
+  if (operational_space_inertia(mv, q, c.specs, c.nc, c.mu, c.singular_tol, Lambda) != OK) return 1;
+  scatter(Lambda, m2, g.out + r0 * g.out_stride, g.out_stride);
+  return 0;
+}
+
 inline fdgroup::GroupKernels group_kernels(const char* isa) {
   return {isa, PACK_WIDTH, &rnea_group, &crba_group, &aba_group, &fk_group, &rnea_derivatives_group,
           &rnea_derivatives<double>, &mass_matrix_inverse, &aba_derivatives, &aba_derivatives_group,
-          &contact_dynamics_group};
+          &contact_dynamics_group, &operational_space_inertia_group};
 }
 
 }  // namespace fdcore
