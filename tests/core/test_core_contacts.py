@@ -6,6 +6,7 @@
   lane stopping at its own iteration, or not converging);
 * a row whose contacts are dependent (``mu = 0``: a singular J M⁻¹ Jᵀ) fails alone: its one-state status
   (iterations −1) and the other rows of its group unchanged; a non-finite row is named;
+* Λ of frames (``fd.operational_space_inertia``) on rows: each equal to its one-state call, bit for bit;
 * the same with the baseline and AVX2 kernels (``FEATHERDYN_SIMD``, in a fresh process).
 """
 
@@ -154,6 +155,29 @@ def test_a_bad_row_is_named() -> None:
         fd.constrained_dynamics(model, Q, V, T, [fd.PointContact(f) for f in frames])
 
 
+OSI_SCENES = {"panda": (False, ["panda_hand"]),
+              "talos_full_v2": (True, ["gripper_left_base_link", "gripper_right_base_link"])}
+
+
+def _assert_lambda_rows_are_one_state_calls(name: str, n: int, seed: int) -> None:
+    floating, frames = OSI_SCENES[name]
+    model = _model(name, floating)
+    Q = fd.random_configuration(model, np.random.default_rng(seed), size=n)
+    for ref in (fd.LOCAL, fd.WORLD, fd.LOCAL_WORLD_ALIGNED):
+        for mu in (0.0, 1e-3):
+            batch = fd.operational_space_inertia(model, Q, frames, ref, mu=mu)
+            assert batch.shape == (n, 6 * len(frames), 6 * len(frames))
+            for k in range(n):
+                one = fd.operational_space_inertia(model, Q[k], frames, ref, mu=mu)
+                assert np.array_equal(batch[k], one), f"{name} {ref.name} mu={mu}: row {k} of {n} differs"
+
+
+@pytest.mark.parametrize("name", OSI_SCENES)
+@pytest.mark.parametrize("n", SIZES)
+def test_lambda_rows_equal_one_state_calls_bit_for_bit(name: str, n: int) -> None:
+    _assert_lambda_rows_are_one_state_calls(name, n, 30 + n)
+
+
 _SIMD_SCRIPT = """
 import sys
 sys.path.insert(0, {tests!r})
@@ -170,6 +194,8 @@ for name in t.SCENES:
         t._assert_rows_are_one_state_calls(model, Q, V, T, FX, specs)
         t._assert_rows_are_one_state_calls(model, Q, V, T, None, specs, mu=1e-3, max_iter=6)
 t.test_a_row_with_dependent_contacts_fails_alone()
+for name in t.OSI_SCENES:
+    t._assert_lambda_rows_are_one_state_calls(name, 2 * t.WIDTH + 1, 50)
 print("ok")
 """
 
