@@ -80,7 +80,7 @@ def test_proximal_lanes_stop_at_their_own_iteration(name: str) -> None:
     """mu > 0: the rows of one pack need different numbers of iterations; with too few, some do not converge."""
     model = _model(name)
     frames, rows = SCENES[name]
-    Q, V, T, _ = _states(model, 3, 2 * WIDTH)
+    Q, V, T, _ = _states(model, 3, 3 * WIDTH + 10)
     specs = _specs(model, frames, rows, 2, 0.0)
     its = _assert_rows_are_one_state_calls(model, Q, V, T, None, specs, mu=1e-3, max_iter=50, tol=1e-12)
     assert len(set(its.tolist())) > 1, f"every row took {its[0]} iterations: the test shows nothing"
