@@ -35,7 +35,6 @@
 #include "contact_spec.hpp"
 #include "frames.hpp"
 #include "ltl.hpp"
-#include "ltl_lanes.hpp"
 #include "rnea.hpp"
 #include "scratch.hpp"
 
