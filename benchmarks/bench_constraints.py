@@ -8,7 +8,8 @@ featherdyn is faster):
   control loop would);
 * talos_full_v2 in double support (two 6D soles): the same;
 * Λ at one frame (panda's hand) and at two frames (talos's grippers): ``fd.operational_space_inertia``
-  against Pinocchio's best route from Python, ``computeDelassusMatrix`` then ``np.linalg.inv``;
+  against Pinocchio's best route from Python, ``computeDelassusMatrix`` then ``np.linalg.inv``; and on a batch
+  of 200 states against a Python loop of one-state calls;
 * batched: ``fd.constrained_dynamics`` on N states in one call (the core's thread pool, ``fd.get_num_threads()``
   threads; also on one thread, to show what the pool adds) against a Python loop of one-state calls, both
   warmed up and timed as interleaved medians like the rest.
@@ -99,6 +100,19 @@ def main() -> int:
         t_fd, t_pin = median_pair(lambda: fd.operational_space_inertia(p.model, q, frames, fd.LOCAL),  # noqa: B023
                                   pin_lambda, repeats, budget)
         rows.append((f"{name}: Λ at {len(frames)} frame{'s' if len(frames) > 1 else ''} / Delassus + inv", t_fd, t_pin))
+        n = 200
+        Q = p.states(n)[0]
+
+        def lam_batch() -> None:
+            fd.operational_space_inertia(p.model, Q, frames, fd.LOCAL)  # noqa: B023
+
+        def lam_loop() -> None:
+            for k in range(n):  # noqa: B023
+                fd.operational_space_inertia(p.model, Q[k], frames, fd.LOCAL)  # noqa: B023
+
+        t_batch, t_loop = median_pair(lam_batch, lam_loop, repeats, budget)
+        rows.append((f"{name}: Λ batch of {n} ({fd.get_num_threads()} threads) / Python loop of one-state calls",
+                     t_batch / n, t_loop / n))
 
     print(f"featherdyn {fd.__version__}, pinocchio {pin.__version__}, load average {os.getloadavg()[0]:.2f} "
           f"(1 min) on {os.cpu_count()} cores")

@@ -410,6 +410,30 @@ def _split(lam: np.ndarray, items: list[Constraint]) -> list[np.ndarray]:
     return out
 
 
+def _contact_rows_batch(core: Any, q: np.ndarray, v: Any, tau: Any, plan: _ContactPlan, mu: float, max_iter: int,
+                        tol: float) -> ConstrainedDynamics | None:
+    """A batch of rows `(N, nq)`, `(N | 1, nv)` ×2 handed to the core as it is (its checks run per row inside, and
+    its groups of states run on SIMD packs); ``None`` when the binding refuses an argument or any row fails (a bad
+    state, a singular M, dependent contacts, no convergence): the general path then checks and words the error."""
+    slices, specs, m, _ = plan
+    n = q.shape[0]
+    qdd, lam, info = _EMPTY((n, core.nv)), _EMPTY((n, m)), _EMPTY((n, 2))
+    try:
+        if not (0.0 <= mu < _INF and max_iter >= 1 and 0.0 < tol < _INF) or CORE.contact_dynamics_batch(
+                core.cm, q, v, tau, None, specs, mu, max_iter, tol, DELASSUS_PIVOT_RTOL, qdd, lam, info)[1] != OK:
+            return None
+    except TypeError:
+        return None
+    if not (info[:, 0] > 0.0).all():
+        return None
+    out = _NEW(ConstrainedDynamics)
+    _SET(out, "ddq", qdd)
+    _SET(out, "forces", [lam[:, s] for s in slices])
+    _SET(out, "lagrange", lam)
+    _SET(out, "residual", info[:, 1])
+    return out
+
+
 def constrained_dynamics(model: Model, q: ArrayLike, v: ArrayLike, tau: ArrayLike,
                          constraints: Sequence[Constraint] | Constraint, *, f_ext: ArrayLike | None = None,
                          mu: float = 0.0, max_iter: int = 50, tol: float = 1e-12,
@@ -443,6 +467,10 @@ def constrained_dynamics(model: Model, q: ArrayLike, v: ArrayLike, tau: ArrayLik
                     return out
             except TypeError:  # arguments the binding does not take as they are: the general path converts
                 pass
+            if type(q) is np.ndarray and q.ndim == 2 and f_ext is None:
+                batch = _contact_rows_batch(core, q, v, tau, plan, mu, max_iter, tol)
+                if batch is not None:
+                    return batch
     mu, max_iter, tol = _solver_args(mu, max_iter, tol)
     if _dask.lazy(q, v, tau, f_ext):
         return _dask.call(constrained_dynamics, model, {"q": q, "v": v, "tau": tau, "f_ext": f_ext},
@@ -527,6 +555,14 @@ def operational_space_inertia(model: Model, q: ArrayLike, frames: Sequence[str |
                     return out
             except TypeError:  # arguments the binding does not take as they are: the general path converts
                 pass
+            if type(q) is np.ndarray and q.ndim == 2:  # rows (N, nq): the core's batch, on SIMD packs
+                out = _EMPTY((q.shape[0], *fplan[1]))
+                try:
+                    if 0.0 <= mu < _INF and CORE.operational_space_inertia_batch(
+                            core.cm, q, fplan[0], mu, DELASSUS_PIVOT_RTOL, out)[1] == OK:
+                        return out
+                except TypeError:
+                    pass
     mu = _solver_args(mu, 1, 1.0)[0]
     if _dask.lazy(q):
         return _dask.call(operational_space_inertia, model, {"q": q}, frames=frames, reference=reference, mu=mu,

@@ -1155,7 +1155,7 @@ std::int64_t contact_dynamics1(const ModelData& md, const F64In& q, const F64In&
   FD_TRY(exact_shape(info, {2}));
   const double* fx = f_ext.is_valid() ? f_ext.data() : nullptr;
   FD_TRY(check_state(mv, q.data(), v.data(), tau.data(), fx));
-  KktResult res;
+  ContactResult<double> res;
   FD_TRY(contact_dynamics(mv, q.data(), v.data(), tau.data(), fx, cs.data(), static_cast<int>(cs.size()), mu,
                           max_iter, tol, singular_tol, qdd.data(), lam.data(), res));
   info.data()[0] = res.iterations;
@@ -1178,7 +1178,18 @@ std::int64_t osi1(const ModelData& md, const F64In& q, const ContactPlan& plan, 
                                    Lambda.data());
 }
 
-// Rows of a batch: q̈ (N, nv), λ (N, m), info (N, 2).
+// check_state of a batch row, all_finite's scan first (check_state's early-exit scans do not vectorise: 4 % of a
+// talos row's time on packs); check_state itself only to name a failure.
+inline std::int64_t check_row(const ModelView& mv, const double* q, const double* v, const double* a,
+                              const double* f_ext) {
+  if (all_finite(q, mv.nq) && (!v || all_finite(v, mv.nv)) && (!a || all_finite(a, mv.nv)) &&
+      (!f_ext || all_finite(f_ext, 6 * static_cast<std::int64_t>(mv.nb))) && first_bad_quaternion(mv, q) < 0)
+    return OK;
+  return check_state(mv, q, v, a, f_ext);
+}
+
+// Rows of a batch: q̈ (N, nv), λ (N, m), info (N, 2). Full groups of the kernels' width run contacts.hpp's
+// kernel on Packs (simd_groups.hpp: contact_dynamics_group); the tail, and a group with a singular lane, row by row.
 RowStatus contact_dynamics_n(const ModelData& md, const In& q, const In& v, const In& tau, const In& f_ext,
                              const In& specs, double mu, int max_iter, double tol, double singular_tol, Out qdd,
                              Out lam, Out info) {
@@ -1191,15 +1202,47 @@ RowStatus contact_dynamics_n(const ModelData& md, const In& q, const In& v, cons
   int m = 0;
   const std::vector<ContactSpec> cs = contact_specs(mv, specs.data(), specs.shape(0), m);
   FD_TRY_ROWS(dynamics_batch_rows(mv, m, q, v, tau, f_ext, qdd, lam, info, N, Q, V, T, FX));
-  return for_rows(N, [&](std::int64_t r) -> std::int64_t {
-    FD_TRY(check_state(mv, Q.row(r), V.row(r), T.row(r), FX.row(r)));
-    KktResult res;
-    FD_TRY(contact_dynamics(mv, Q.row(r), V.row(r), T.row(r), FX.row(r), cs.data(), static_cast<int>(cs.size()), mu,
-                            max_iter, tol, singular_tol, qdd.data() + r * nv, lam.data() + r * m, res));
-    info.data()[2 * r] = res.iterations;
-    info.data()[2 * r + 1] = res.residual;
-    return OK;
-  });
+  const int nc = static_cast<int>(cs.size());
+  const fdgroup::ContactArgs contacts{cs.data(), nc, m, mu, max_iter, tol, singular_tol, lam.data(), info.data()};
+  fdgroup::GroupArgs args{&mv, Q, V, T, FX, true, qdd.data(), nv};
+  args.contacts = &contacts;
+  return for_row_groups(
+      N, [&](std::int64_t r) { return check_row(mv, Q.row(r), V.row(r), T.row(r), FX.row(r)); },
+      [&](std::int64_t r) -> std::int64_t {
+        ContactResult<double> res;
+        FD_TRY(contact_dynamics(mv, Q.row(r), V.row(r), T.row(r), FX.row(r), cs.data(), nc, mu, max_iter, tol,
+                                singular_tol, qdd.data() + r * nv, lam.data() + r * m, res));
+        info.data()[2 * r] = res.iterations;
+        info.data()[2 * r + 1] = res.residual;
+        return OK;
+      },
+      group_kernels().contact_dynamics, args);
+}
+
+// Λ of a batch: q (N, nq) → Λ (N, m, m) for the frames of `plan` (6 rows each); full groups on Packs
+// (simd_groups.hpp: operational_space_inertia_group), the tail and a group with a singular lane row by row.
+RowStatus osi_n(const ModelData& md, const In& q, const ContactPlan& plan, double mu, double singular_tol,
+                Out Lambda) {
+  const ModelView& mv = md.view;
+  const std::vector<ContactSpec>& cs = plan_specs(md, plan);
+  const int m = plan.m, nc = static_cast<int>(cs.size());
+  if (m != 6 * nc) throw nb::value_error("frame specs: 6 rows per frame expected");
+  if (!(mu >= 0.0)) throw nb::value_error("mu must be >= 0");
+  const std::int64_t m2 = static_cast<std::int64_t>(m) * m;
+  std::int64_t N = 0;
+  Rows Q;
+  FD_TRY_ROWS(out_rows(Lambda, m2, N));
+  FD_TRY_ROWS(rows(q, N, mv.nq, ARG_Q, Q));
+  double* out = Lambda.data();
+  const fdgroup::ContactArgs frames{cs.data(), nc, m, mu, 0, 0.0, singular_tol, nullptr, nullptr};
+  fdgroup::GroupArgs args{&mv, Q, {}, {}, {}, true, out, m2};
+  args.contacts = &frames;
+  return for_row_groups(
+      N, [&](std::int64_t r) { return check_row(mv, Q.row(r), nullptr, nullptr, nullptr); },
+      [&](std::int64_t r) {
+        return operational_space_inertia(mv, Q.row(r), cs.data(), nc, mu, singular_tol, out + r * m2);
+      },
+      group_kernels().operational_space_inertia, args);
 }
 
 // The core's sin and cos (trig.hpp) of every x, by the one-state path or by Packs (tests: accuracy
@@ -1323,6 +1366,8 @@ NB_MODULE(_core, m) {
   m.def("contact_dynamics", &contact_dynamics1, nb::arg("model"), A("q"), A("v"), A("tau"), O("f_ext"), nb::arg("plan"),
         nb::arg("mu"), nb::arg("max_iter"), nb::arg("tol"), nb::arg("singular_tol"), A("qdd"), A("lam"), A("info"));
   m.def("operational_space_inertia", &osi1, nb::arg("model"), A("q"), nb::arg("plan"), nb::arg("mu"),
+        nb::arg("singular_tol"), A("out"));
+  m.def("operational_space_inertia_batch", &osi_n, nb::arg("model"), A("q"), nb::arg("plan"), nb::arg("mu"),
         nb::arg("singular_tol"), A("out"));
   m.def("contact_dynamics_batch", &contact_dynamics_n, nb::arg("model"), A("q"), A("v"), A("tau"), O("f_ext"),
         A("specs"), nb::arg("mu"), nb::arg("max_iter"), nb::arg("tol"), nb::arg("singular_tol"), A("qdd"), A("lam"),

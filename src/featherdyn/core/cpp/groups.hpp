@@ -4,6 +4,7 @@
 
 #include <cstdint>
 
+#include "contact_spec.hpp"
 #include "model_view.hpp"
 
 namespace fdgroup {
@@ -13,6 +14,18 @@ struct Rows {
   const double* p = nullptr;
   std::int64_t stride = 0;
   const double* row(std::int64_t r) const { return p ? p + r * stride : nullptr; }
+};
+
+// (constrained dynamics) the contacts and the solver's settings; λ (rows of m) and info (rows of 2: iterations,
+// residual) next to q̈ (GroupArgs::out). (Λ of frames: specs, nc, m, mu and singular_tol; Λ in GroupArgs::out.)
+struct ContactArgs {
+  const fdcore::ContactSpec* specs;
+  int nc, m;
+  double mu;
+  int max_iter;
+  double tol, singular_tol;
+  double* lam;
+  double* info;
 };
 
 struct GroupArgs {
@@ -25,9 +38,11 @@ struct GroupArgs {
   double* out3 = nullptr;  // a third (M next to them)
   double* out_qdd = nullptr;        // (ABA derivatives) q̈, rows of nv
   const int* lambda_d = nullptr;   // (ABA derivatives) the dofs' parents (ltl.hpp)
+  const ContactArgs* contacts = nullptr;  // (constrained dynamics)
 };
 
-// One group of `width` rows from row r0: 0, or non-zero when some lane failed (ABA: singular).
+// One group of `width` rows from row r0: 0, or non-zero when some lane failed (ABA: singular; constrained
+// dynamics: M singular, or D with mu = 0).
 using GroupFn = std::int64_t (*)(const GroupArgs&, std::int64_t r0);
 
 // One-state kernels whose inner loops are wide (derivatives.hpp), compiled per instruction set too.
@@ -47,6 +62,7 @@ struct GroupKernels {
   MinverseFn minverse;
   AbaDerivativesFn aba_derivatives;
   GroupFn aba_derivatives_group;
+  GroupFn contact_dynamics, operational_space_inertia;
 };
 
 }  // namespace fdgroup

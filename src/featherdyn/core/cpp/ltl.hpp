@@ -144,34 +144,39 @@ void delassus_from_factor(const ModelView& mv, const int* lambda, const S* L, co
 
 namespace fdcore {
 
-// Dense Cholesky of a symmetric (m, m) A in place (lower triangle): false when a pivot is ≤ tol·max|A_ii|.
-inline bool dense_cholesky(double* A, int m, double tol) {
-  double scale = 0.0;
-  for (int i = 0; i < m; ++i) scale = std::max(scale, std::fabs(A[i * m + i]));
+// Dense Cholesky of a symmetric (m, m) A in place (lower triangle). Returns the lanes whose pivot is ≤ tol·max|A_ii|
+// (S = double: 0 or 1; 0: factored in every lane, a failed lane's entries are not to be read).
+// S: double, or Pack (each line the same operations, comparisons as lane masks: the lanes are bit-identical).
+template <class S>
+int dense_cholesky(S* A, int m, double tol) {
+  S scale(0.0);
+  for (int i = 0; i < m; ++i) scale = lane_max(scale, lane_abs(A[i * m + i]));
   for (int j = 0; j < m; ++j) {
-    double d = A[j * m + j];
+    S d = A[j * m + j];
     for (int k = 0; k < j; ++k) d -= A[j * m + k] * A[j * m + k];
-    if (!(d > tol * scale)) return false;
-    const double l = std::sqrt(d);
+    const int bad = lanes_not_greater(d, S(tol) * scale);
+    if (bad) return bad;
+    const S l = lane_sqrt(d);
     A[j * m + j] = l;
     for (int i = j + 1; i < m; ++i) {
-      double x = A[i * m + j];
+      S x = A[i * m + j];
       for (int k = 0; k < j; ++k) x -= A[i * m + k] * A[j * m + k];
       A[i * m + j] = x / l;
     }
   }
-  return true;
+  return 0;
 }
 
 // x ← A⁻¹ x for the Cholesky factor of dense_cholesky.
-inline void dense_cholesky_solve(const double* L, int m, double* x) {
+template <class S>
+void dense_cholesky_solve(const S* L, int m, S* x) {
   for (int i = 0; i < m; ++i) {
     for (int k = 0; k < i; ++k) x[i] -= L[i * m + k] * x[k];
-    x[i] /= L[i * m + i];
+    x[i] = x[i] / L[i * m + i];
   }
   for (int i = m - 1; i >= 0; --i) {
     for (int k = i + 1; k < m; ++k) x[i] -= L[k * m + i] * x[k];
-    x[i] /= L[i * m + i];
+    x[i] = x[i] / L[i * m + i];
   }
 }
 
@@ -220,7 +225,7 @@ inline KktResult kkt_solve(const ModelView& mv, const int* lambda_d, const doubl
   for (int r = 0; r < m; ++r) rhs_size = std::max(rhs_size, std::fabs(rhs[r]));
   for (int i = 0; i < m; ++i) D[i * m + i] += mu;
   KktResult out;
-  if (!dense_cholesky(D.data(), m, mu > 0.0 ? 0.0 : singular_tol)) {
+  if (dense_cholesky<double>(D.data(), m, mu > 0.0 ? 0.0 : singular_tol) != 0) {
     out.iterations = -1;
     return out;
   }
@@ -228,7 +233,7 @@ inline KktResult kkt_solve(const ModelView& mv, const int* lambda_d, const doubl
   const int iters = mu > 0.0 ? std::max(1, max_iter) : 1;
   for (int it = 1; it <= iters; ++it) {
     for (int r = 0; r < m; ++r) x[r] = rhs[r] + mu * lam[r];
-    dense_cholesky_solve(D.data(), m, x.data());
+    dense_cholesky_solve<double>(D.data(), m, x.data());
     for (int r = 0; r < m; ++r) lam[r] = x[r];
     out.iterations = it;
     if (mu <= 0.0) break;
@@ -309,22 +314,24 @@ inline const DofTree& dof_tree(const ModelView& mv) {
 // In place: P holds M's entries in the packed layout (row k: M_{k, chain_k[t]}, then M_kk) → L, as ltl_factor
 // (each row scaled by the reciprocal of its pivot); dinv (nv,) ← 1 / L_kk for the solves below. With `rows`
 // (nv,) only the rows k with rows[k] != 0 (a set closed under ancestors, holding a Schur complement) are read
-// and factored. Returns −1, or the dof whose pivot is not positive.
-inline int ltl_factor_packed(const DofTree& t, double* P, double* dinv, const char* rows = nullptr) {
+// and factored. Returns −1, or the dof whose pivot is not positive (in some lane).
+// S: double, or Pack (contacts.hpp's batches; the same operations lane by lane: the lanes are bit-identical).
+template <class S>
+int ltl_factor_packed(const DofTree& t, S* P, S* dinv, const char* rows = nullptr) {
   for (int k = t.nv - 1; k >= 0; --k) {
     if (rows && !rows[k]) continue;
-    double* __restrict Lk = P + t.off[k];
+    S* __restrict Lk = P + t.off[k];
     const int dk = t.depth[k];
-    const double d = Lk[dk];
-    if (!(d > 0.0)) return k;
-    const double r = 1.0 / d, a = std::sqrt(d), inv = a * r;  // 1/√d = √d / d: the division and the root overlap
+    const S d = Lk[dk];
+    if (lanes_le(d, 0.0)) return k;
+    const S r = S(1.0) / d, a = lane_sqrt(d), inv = a * r;  // 1/√d = √d / d: the division and the root overlap
     Lk[dk] = a;
     dinv[k] = inv;
     for (int s = 0; s < dk; ++s) Lk[s] = Lk[s] * inv;
     const int* ch = t.chain.data() + t.off[k];
     for (int s = 0; s < dk; ++s) {  // row i = chain_k[s]: L_i[0 .. s] −= L_k[s] · L_k[0 .. s]
-      double* __restrict Li = P + t.off[ch[s]];
-      const double l = Lk[s];
+      S* __restrict Li = P + t.off[ch[s]];
+      const S l = Lk[s];
       for (int u = 0; u <= s; ++u) Li[u] = Li[u] - l * Lk[u];
     }
   }
@@ -332,22 +339,24 @@ inline int ltl_factor_packed(const DofTree& t, double* P, double* dinv, const ch
 }
 
 // x ← L⁻ᵀ x and x ← L⁻¹ x on the packed factor (x (nv,), the whole joint space).
-inline void ltl_solve_Lt_packed(const DofTree& t, const double* P, const double* dinv, double* x) {
+template <class S>
+void ltl_solve_Lt_packed(const DofTree& t, const S* P, const S* dinv, S* x) {
   for (int k = t.nv - 1; k >= 0; --k) {
-    const double* Lk = P + t.off[k];
+    const S* Lk = P + t.off[k];
     const int* ch = t.chain.data() + t.off[k];
     const int dk = t.depth[k];
-    const double xk = x[k] * dinv[k];
+    const S xk = x[k] * dinv[k];
     x[k] = xk;
     for (int s = 0; s < dk; ++s) x[ch[s]] = x[ch[s]] - Lk[s] * xk;
   }
 }
-inline void ltl_solve_L_packed(const DofTree& t, const double* P, const double* dinv, double* x) {
+template <class S>
+void ltl_solve_L_packed(const DofTree& t, const S* P, const S* dinv, S* x) {
   for (int k = 0; k < t.nv; ++k) {
-    const double* Lk = P + t.off[k];
+    const S* Lk = P + t.off[k];
     const int* ch = t.chain.data() + t.off[k];
     const int dk = t.depth[k];
-    double s = x[k];
+    S s = x[k];
     for (int u = 0; u < dk; ++u) s = s - Lk[u] * x[ch[u]];
     x[k] = s * dinv[k];
   }
@@ -357,15 +366,15 @@ inline void ltl_solve_L_packed(const DofTree& t, const double* P, const double* 
 // dof k (root … k), held in chain positions y[0 .. depth_k]. Lᵀ only moves entries to ancestors,
 // so the solve stays on the chain, contiguous; the rows share the chain's rows of L and their independent
 // updates interleave.
-inline void ltl_solve_Lt_chain_rows(const DofTree& t, const double* P, const double* dinv, int k, double* Y, int n,
-                                    int stride) {
+template <class S>
+void ltl_solve_Lt_chain_rows(const DofTree& t, const S* P, const S* dinv, int k, S* Y, int n, int stride) {
   const int* ch = t.chain.data() + t.off[k];
   for (int s = t.depth[k]; s >= 0; --s) {
-    const double* __restrict Li = P + t.off[ch[s]];
-    const double di = dinv[ch[s]];
+    const S* __restrict Li = P + t.off[ch[s]];
+    const S di = dinv[ch[s]];
     for (int r = 0; r < n; ++r) {
-      double* __restrict y = Y + static_cast<size_t>(r) * stride;
-      const double ys = y[s] * di;
+      S* __restrict y = Y + static_cast<size_t>(r) * stride;
+      const S ys = y[s] * di;
       y[s] = ys;
       for (int u = 0; u < s; ++u) y[u] = y[u] - Li[u] * ys;
     }
@@ -375,24 +384,25 @@ inline void ltl_solve_Lt_chain_rows(const DofTree& t, const double* P, const dou
 // A⁻¹ (m, m), full and exactly symmetric, from the Cholesky factor of dense_cholesky (A = C Cᵀ): W = C⁻¹ (lower
 // triangular; its columns kept as the rows of Wt, so every sum below runs over contiguous entries), then
 // A⁻¹ = Wᵀ W. Costs m³/3 multiply-adds and m divisions. Wt: (m, m) scratch.
-inline void dense_cholesky_inverse(const double* C, int m, double* Wt, double* Ainv) {
-  double* r = Ainv;  // the diagonal's reciprocals, in Ainv's first row until it is written
-  for (int i = 0; i < m; ++i) r[i] = 1.0 / C[i * m + i];
+template <class S>
+void dense_cholesky_inverse(const S* C, int m, S* Wt, S* Ainv) {
+  S* r = Ainv;  // the diagonal's reciprocals, in Ainv's first row until it is written
+  for (int i = 0; i < m; ++i) r[i] = S(1.0) / C[i * m + i];
   for (int j = 0; j < m; ++j) {  // column j of W = C⁻¹: forward substitution on e_j
-    double* w = Wt + static_cast<size_t>(j) * m;
+    S* w = Wt + static_cast<size_t>(j) * m;
     w[j] = r[j];
     for (int i = j + 1; i < m; ++i) {
-      const double* Ci = C + static_cast<size_t>(i) * m;
-      double x = 0.0;
+      const S* Ci = C + static_cast<size_t>(i) * m;
+      S x(0.0);
       for (int k = j; k < i; ++k) x -= Ci[k] * w[k];
       w[i] = x * r[i];
     }
   }
   for (int i = 0; i < m; ++i)  // (Wᵀ W)_ij = Σ_{k ≥ i} W_ki W_kj (the reciprocals are no longer read)
     for (int j = 0; j <= i; ++j) {
-      const double* wi = Wt + static_cast<size_t>(i) * m;
-      const double* wj = Wt + static_cast<size_t>(j) * m;
-      double x = 0.0;
+      const S* wi = Wt + static_cast<size_t>(i) * m;
+      const S* wj = Wt + static_cast<size_t>(j) * m;
+      S x(0.0);
       for (int k = i; k < m; ++k) x += wi[k] * wj[k];
       Ainv[i * m + j] = Ainv[j * m + i] = x;
     }

@@ -6,8 +6,12 @@
 // result. Comparisons give a lane mask (see lanes_le).
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
+#if defined(__SSE2__)
+#include <immintrin.h>
+#endif
 
 namespace fdcore {
 
@@ -79,6 +83,68 @@ inline int lanes_le(const Pack& x, double tol) {
   for (int k = 0; k < PACK_WIDTH; ++k)
     if (!(x[k] > tol)) mask |= 1 << k;
   return mask;
+}
+
+// √x in one instruction for all lanes: IEEE 754's square root is correctly rounded, so each lane is std::sqrt's
+// (pack.hpp's sqrt calls it lane by lane; here, in the factors, there is one per dof and per contact row).
+inline double lane_sqrt(double x) { return std::sqrt(x); }
+inline Pack lane_sqrt(const Pack& x) {
+#if defined(__AVX512F__)
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"  // GCC 12's avx512fintrin.h: the masked form's unused source
+  return Pack::raw(reinterpret_cast<Pack::V>(_mm512_sqrt_pd(reinterpret_cast<__m512d>(x.v))));
+#pragma GCC diagnostic pop
+#elif defined(__AVX2__)
+  return Pack::raw(reinterpret_cast<Pack::V>(_mm256_sqrt_pd(reinterpret_cast<__m256d>(x.v))));
+#elif defined(__SSE2__)
+  return Pack::raw(reinterpret_cast<Pack::V>(_mm_sqrt_pd(reinterpret_cast<__m128d>(x.v))));
+#else
+  return sqrt(x);
+#endif
+}
+
+// |x|, max(a, b) as std::fabs and std::max ((a < b) ? b : a) lane by lane.
+inline double lane_abs(double x) { return std::fabs(x); }
+inline Pack lane_abs(const Pack& x) {
+  Pack r;
+  for (int k = 0; k < PACK_WIDTH; ++k) r.set(k, std::fabs(x[k]));
+  return r;
+}
+inline double lane_max(double a, double b) { return std::max(a, b); }
+inline Pack lane_max(const Pack& a, const Pack& b) { return Pack::raw(a.v < b.v ? b.v : a.v); }
+
+// The lanes where !(x > y), as a bit mask (double: 0 or 1); every lane's bit.
+inline int lanes_not_greater(double x, double y) { return !(x > y) ? 1 : 0; }
+inline int lanes_not_greater(const Pack& x, const Pack& y) {
+  int mask = 0;
+  for (int k = 0; k < PACK_WIDTH; ++k)
+    if (!(x[k] > y[k])) mask |= 1 << k;
+  return mask;
+}
+// The lanes where x ≤ y.
+inline int lanes_at_most(double x, double y) { return x <= y ? 1 : 0; }
+inline int lanes_at_most(const Pack& x, const Pack& y) {
+  int mask = 0;
+  for (int k = 0; k < PACK_WIDTH; ++k)
+    if (x[k] <= y[k]) mask |= 1 << k;
+  return mask;
+}
+template <class S>
+constexpr int all_lanes() {
+  return 1;
+}
+template <>
+constexpr int all_lanes<Pack>() {
+  return (1 << PACK_WIDTH) - 1;
+}
+
+// The lanes of `mask` from a, the others from b (double: mask ? a : b).
+inline double blend(int mask, double a, double b) { return mask ? a : b; }
+inline Pack blend(int mask, const Pack& a, const Pack& b) {
+  Pack r = b;
+  for (int k = 0; k < PACK_WIDTH; ++k)
+    if (mask >> k & 1) r.set(k, a[k]);
+  return r;
 }
 
 }  // namespace fdcore

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "aba.hpp"
+#include "contacts.hpp"
 #include "crba.hpp"
 #include "derivatives.hpp"
 #include "groups.hpp"
@@ -165,9 +166,50 @@ inline std::int64_t aba_derivatives_group(const fdgroup::GroupArgs& g, std::int6
   return 0;
 }
 
+// q̈, λ and the KKT result of W rows under the contacts of g.contacts: contacts.hpp's kernel on Packs. A lane whose
+// M or D (mu = 0) is singular fails the group, which is then redone row by row: each row gets the one-state
+// result and status (the other lanes' results are the same bits either way).
+inline std::int64_t contact_dynamics_group(const fdgroup::GroupArgs& g, std::int64_t r0) {
+  const ModelView& mv = *g.mv;
+  const fdgroup::ContactArgs& c = *g.contacts;
+  const size_t nq = mv.nq, nv = mv.nv, nf = 6 * static_cast<size_t>(mv.nb), m = c.m;
+  Lanes& L = thread_lanes(nq + 3 * nv + nf + m);
+  const Pack* q = L.gather(g.Q, r0, nq, 0);
+  const Pack* v = L.gather(g.V, r0, nv, nq);
+  const Pack* tau = L.gather(g.A, r0, nv, nq + nv);
+  const Pack* f = L.gather(g.FX, r0, nf, nq + 2 * nv);
+  Pack* qdd = L.space(nq + 2 * nv + nf);
+  Pack* lam = qdd + nv;
+  ContactResult<Pack> res;
+  int bad_lanes = 0;
+  if (contact_dynamics(mv, q, v, tau, f, c.specs, c.nc, c.mu, c.max_iter, c.tol, c.singular_tol, qdd, lam, res,
+                       &bad_lanes) != OK || bad_lanes != 0)
+    return 1;
+  scatter(qdd, nv, g.out + r0 * g.out_stride, g.out_stride);
+  scatter(lam, m, c.lam + r0 * static_cast<std::int64_t>(m), static_cast<std::int64_t>(m));
+  const Pack info[2] = {res.iterations, res.residual};
+  scatter(info, 2, c.info + 2 * r0, 2);
+  return 0;
+}
+
+// Λ (m, m) of W rows for the frames of g.contacts: contacts.hpp's kernel on Packs; a lane whose M or J M⁻¹ Jᵀ + μ 1
+// is singular fails the group, redone row by row.
+inline std::int64_t operational_space_inertia_group(const fdgroup::GroupArgs& g, std::int64_t r0) {
+  const ModelView& mv = *g.mv;
+  const fdgroup::ContactArgs& c = *g.contacts;
+  const size_t nq = mv.nq, m2 = static_cast<size_t>(c.m) * c.m;
+  Lanes& L = thread_lanes(nq + m2);
+  const Pack* q = L.gather(g.Q, r0, nq, 0);
+  Pack* Lambda = L.space(nq);
+  if (operational_space_inertia(mv, q, c.specs, c.nc, c.mu, c.singular_tol, Lambda) != OK) return 1;
+  scatter(Lambda, m2, g.out + r0 * g.out_stride, g.out_stride);
+  return 0;
+}
+
 inline fdgroup::GroupKernels group_kernels(const char* isa) {
   return {isa, PACK_WIDTH, &rnea_group, &crba_group, &aba_group, &fk_group, &rnea_derivatives_group,
-          &rnea_derivatives<double>, &mass_matrix_inverse, &aba_derivatives, &aba_derivatives_group};
+          &rnea_derivatives<double>, &mass_matrix_inverse, &aba_derivatives, &aba_derivatives_group,
+          &contact_dynamics_group, &operational_space_inertia_group};
 }
 
 }  // namespace fdcore
