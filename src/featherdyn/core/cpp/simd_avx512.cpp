@@ -8,21 +8,6 @@
 
 namespace fdbase = fdcore;
 #define fdcore fdcore_avx512
-namespace fdcore {
-using fdbase::ModelView;
-using fdbase::REVOLUTE;
-using fdbase::PRISMATIC;
-using fdbase::SPHERICAL;
-using fdbase::FREE_FLYER;
-using fdbase::PLANAR;
-using fdbase::ContactSpec;  // contacts.hpp: the checks' status codes and the specs come from the baseline headers
-using fdbase::make_status;
-using fdbase::OK;
-using fdbase::SINGULAR;
-using fdbase::LENGTH;
-using fdbase::ARG_Q;
-using fdbase::ARG_OUT;
-}  // namespace fdcore
-#include "simd_groups.hpp"
+#include "simd_kernels.inc"
 
 fdgroup::GroupKernels featherdyn_avx512_group_kernels() { return fdcore::group_kernels("avx512"); }
