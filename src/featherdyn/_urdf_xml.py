@@ -282,12 +282,12 @@ def parse_elements(text: str, label: str, error: type[ModelError] = URDFError,
             if len(elements) > MAX_DEPTH or (len(text) > MAX_ATTRIBUTE_LENGTH and any(
                     len(v) > MAX_ATTRIBUTE_LENGTH for e in elements for v in e.attrib.values())):
                 root = None
+    lines: list[int] | None = None  # the fast path's: found when a message asks
     if root is None:
-        root, lines = _parse_xml(text, label, error, kind, line_depth=MAX_DEPTH)
+        root, found = _parse_xml(text, label, error, kind, line_depth=MAX_DEPTH)
+        lines = list(found.values())
         elements = list(root.iter())
-        return root, dict(zip(elements, range(len(elements)), strict=True)), ElementLines(text, label,
-                                                                                         list(lines.values()))
-    return root, dict(zip(elements, range(len(elements)), strict=True)), ElementLines(text, label)
+    return root, dict(zip(elements, range(len(elements)), strict=True)), ElementLines(text, label, lines)
 
 
 def _local(tag: Any, ns: str) -> str:

@@ -158,12 +158,6 @@ class _Body:
     inertia: Inertia = _NO_INERTIA  # in the MJCF body frame
 
 
-def _X(R: Mat, p: Vec) -> PluckerTransform:
-    """A placement from the loader's own rotations, proper by construction (normalised quaternions, Rodrigues
-    with unit axes, Gram-Schmidt frames and their products): the constructor's checks are skipped."""
-    return PluckerTransform._wrap(np.array(rows(R)), np.array(p), None, None)
-
-
 def _moved(inertia: Inertia, R: Mat, p: Vec) -> Inertia:
     """The inertia in the frame where the frame it is given in is posed ``(R, p)``::
 
@@ -397,16 +391,10 @@ class _Loader:
 
     def geom_pose(self, elem: Any, attrs: dict[str, str]) -> tuple[Mat, Vec]:
         """Pose of a geom or site in its body frame; from ``fromto`` when given: z along ``from − to`` (measured)."""
-        R, p, _ = self.geom_pose_length(elem, attrs)
-        return R, p
-
-    def geom_pose_length(self, elem: Any, attrs: dict[str, str]) -> tuple[Mat, Vec, float]:
-        """:meth:`geom_pose` and the distance between the ``fromto`` points (``0`` without them)."""
         line = self.fromto(elem, attrs)
         if line is None:
-            return (*self.doc.pose(elem, attrs), 0.0)
-        z, middle, length = line
-        return z_to_vector(z), middle, length
+            return self.doc.pose(elem, attrs)
+        return z_to_vector(line[0]), line[1]
 
     def fromto(self, elem: Any, attrs: dict[str, str]) -> tuple[Vec, Vec, float] | None:
         """``(z, middle, length)`` of a ``fromto`` segment: the unit vector along ``from − to`` (the geom's z axis,
@@ -480,7 +468,7 @@ class _Loader:
                     parts.append(got)
             if not parts and body.inertial is not None:  # measured: inertiafromgeom='true' keeps it then
                 use_geoms = False
-        principal: list[float] | None = None  # the principal moments, when known without computing them
+        principal: list[float] | None = None  # the principal moments when known (bounding or balancing resets them)
         if use_geoms and len(parts) == 1:
             body.inertia = parts[0]
         elif use_geoms:
@@ -518,7 +506,7 @@ class _Loader:
                 xx, yy, zz, xy, xz, yz = full
                 tensor: Mat = (xx, xy, xz, xy, yy, yz, xz, yz, zz)
                 Ri = I3
-                ev = np.linalg.eigvalsh(np.array(rows(tensor))).tolist()
+                ev = principal = np.linalg.eigvalsh(np.array(rows(tensor))).tolist()
             else:
                 assert diag is not None
                 tensor = diagonal((diag[0], diag[1], diag[2]))

@@ -469,11 +469,7 @@ class ModelBuilder:
         placement = PluckerTransform.identity() if placement is None else placement
         if not isinstance(placement, PluckerTransform) or placement.shape != ():
             raise ModelError(f"frame {name!r}: placement must be a single PluckerTransform")
-        self._append_frame(name, int(body), placement, kind)
-
-    def _append_frame(self, name: str, body: int, placement: PluckerTransform, kind: str) -> None:
-        """Record a frame whose values are already checked (:meth:`add_frame`'s)."""
-        self._frames.append(FrameInfo(name, body, placement, kind))
+        self._frames.append(FrameInfo(name, int(body), placement, kind))
 
     def _append_frames(self, frames: list[FrameInfo]) -> None:
         """Record frames a loader has checked itself (names strings, bodies added or ``-1``, single placements)."""

@@ -149,14 +149,15 @@ namespace fdcore {
 // S: double, or Pack (each line the same operations, comparisons as lane masks: the lanes are bit-identical).
 template <class S>
 int dense_cholesky(S* A, int m, double tol) {
+  using std::sqrt;
   S scale(0.0);
   for (int i = 0; i < m; ++i) scale = lane_max(scale, lane_abs(A[i * m + i]));
   for (int j = 0; j < m; ++j) {
     S d = A[j * m + j];
     for (int k = 0; k < j; ++k) d -= A[j * m + k] * A[j * m + k];
-    const int bad = lanes_not_greater(d, S(tol) * scale);
+    const int bad = lanes_le(d, S(tol) * scale);
     if (bad) return bad;
-    const S l = lane_sqrt(d);
+    const S l = sqrt(d);
     A[j * m + j] = l;
     for (int i = j + 1; i < m; ++i) {
       S x = A[i * m + j];
@@ -318,13 +319,14 @@ inline const DofTree& dof_tree(const ModelView& mv) {
 // S: double, or Pack (contacts.hpp's batches; the same operations lane by lane: the lanes are bit-identical).
 template <class S>
 int ltl_factor_packed(const DofTree& t, S* P, S* dinv, const char* rows = nullptr) {
+  using std::sqrt;
   for (int k = t.nv - 1; k >= 0; --k) {
     if (rows && !rows[k]) continue;
     S* __restrict Lk = P + t.off[k];
     const int dk = t.depth[k];
     const S d = Lk[dk];
     if (lanes_le(d, 0.0)) return k;
-    const S r = S(1.0) / d, a = lane_sqrt(d), inv = a * r;  // 1/√d = √d / d: the division and the root overlap
+    const S r = S(1.0) / d, a = sqrt(d), inv = a * r;  // 1/√d = √d / d: the division and the root overlap
     Lk[dk] = a;
     dinv[k] = inv;
     for (int s = 0; s < dk; ++s) Lk[s] = Lk[s] * inv;

@@ -73,22 +73,11 @@ inline Pack load_lanes(const double* const* x, size_t k) {
   }
 FD_PACK_LANEWISE(sin)
 FD_PACK_LANEWISE(cos)
-FD_PACK_LANEWISE(sqrt)
 #undef FD_PACK_LANEWISE
 
-// The lanes where !(x > tol) (a pivot too small, or NaN), as a bit mask; for double 0 or 1.
-inline int lanes_le(double x, double tol) { return !(x > tol) ? 1 : 0; }
-inline int lanes_le(const Pack& x, double tol) {
-  int mask = 0;
-  for (int k = 0; k < PACK_WIDTH; ++k)
-    if (!(x[k] > tol)) mask |= 1 << k;
-  return mask;
-}
-
 // √x in one instruction for all lanes: IEEE 754's square root is correctly rounded, so each lane is std::sqrt's
-// (pack.hpp's sqrt calls it lane by lane; here, in the factors, there is one per dof and per contact row).
-inline double lane_sqrt(double x) { return std::sqrt(x); }
-inline Pack lane_sqrt(const Pack& x) {
+// (the factors of ltl.hpp and aba.hpp take one per dof and per constraint row).
+inline Pack sqrt(const Pack& x) {
 #if defined(__AVX512F__)
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"  // GCC 12's avx512fintrin.h: the masked form's unused source
@@ -99,8 +88,26 @@ inline Pack lane_sqrt(const Pack& x) {
 #elif defined(__SSE2__)
   return Pack::raw(reinterpret_cast<Pack::V>(_mm_sqrt_pd(reinterpret_cast<__m128d>(x.v))));
 #else
-  return sqrt(x);
+  Pack r;
+  for (int k = 0; k < PACK_WIDTH; ++k) r.set(k, std::sqrt(x[k]));
+  return r;
 #endif
+}
+
+// The lanes where !(x > tol) (a pivot too small, or NaN), as a bit mask; for double 0 or 1. tol: one number for
+// every lane, or a Pack of them.
+inline int lanes_le(double x, double tol) { return !(x > tol) ? 1 : 0; }
+inline int lanes_le(const Pack& x, double tol) {
+  int mask = 0;
+  for (int k = 0; k < PACK_WIDTH; ++k)
+    if (!(x[k] > tol)) mask |= 1 << k;
+  return mask;
+}
+inline int lanes_le(const Pack& x, const Pack& tol) {
+  int mask = 0;
+  for (int k = 0; k < PACK_WIDTH; ++k)
+    if (!(x[k] > tol[k])) mask |= 1 << k;
+  return mask;
 }
 
 // |x|, max(a, b) as std::fabs and std::max ((a < b) ? b : a) lane by lane.
@@ -113,14 +120,6 @@ inline Pack lane_abs(const Pack& x) {
 inline double lane_max(double a, double b) { return std::max(a, b); }
 inline Pack lane_max(const Pack& a, const Pack& b) { return Pack::raw(a.v < b.v ? b.v : a.v); }
 
-// The lanes where !(x > y), as a bit mask (double: 0 or 1); every lane's bit.
-inline int lanes_not_greater(double x, double y) { return !(x > y) ? 1 : 0; }
-inline int lanes_not_greater(const Pack& x, const Pack& y) {
-  int mask = 0;
-  for (int k = 0; k < PACK_WIDTH; ++k)
-    if (!(x[k] > y[k])) mask |= 1 << k;
-  return mask;
-}
 // The lanes where x ≤ y.
 inline int lanes_at_most(double x, double y) { return x <= y ? 1 : 0; }
 inline int lanes_at_most(const Pack& x, const Pack& y) {
