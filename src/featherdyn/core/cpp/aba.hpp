@@ -115,7 +115,7 @@ int aba(const ModelView& mv, const S* q, const S* qd, const S* tau, const S* f_e
     v[i] = lam == -1 ? vJ : X_up[i].apply(v[lam]) + vJ;
     c[i] = cross_motion(v[i], vJ);
     const RigidInertia<S> I = body_inertia<S>(mv, i);
-    IA[i] = ArticulatedInertia<S>::from_rigid(I);
+    IA[i].set_rigid(I);
     pA[i] = cross_force(v[i], I * v[i]);
     if (f_ext) {
       const S* fx = f_ext + 6 * i;

@@ -57,6 +57,7 @@ struct ContactWork {
   std::vector<int> first, len, last, common;  // per contact: first row, chain length, last dof; common prefixes
   std::vector<ArticulatedInertia<S>> IA;      // Λ: I^A_i with the dofs off the frames' chains eliminated
   std::vector<char> on_chain;                 // Λ: per dof, on the chain of some frame
+  std::vector<char> started;                  // Λ: per body, I^A_i holds ʳI_i (and the children added so far)
   void resize(size_t nb) {
     if (Rp.size() < nb)
       Rp.resize(nb), Rr.resize(nb), pp.resize(nb), pr.resize(nb), g.resize(nb), root.resize(nb), IC.resize(nb),
@@ -98,10 +99,15 @@ void contact_pass(const ModelView& mv, const S* q, const S* qd, const S* f_ext, 
         w.pr[i] = w.pr[lam] + w.Rr[lam] * w.pp[i];
       }
       w.IC[i] = transform_to_parent(Xform<S>{w.Rr[i].transpose(), w.pr[i]}, I);
-      for (int c = 0; c < ni; ++c) {
-        const Motion<S> s = S_col<S>(mv, i, c);
-        const Vec3<S> wr = w.Rr[i] * s.w;
-        w.Sr[iv + c] = {wr, w.Rr[i] * s.v + cross(w.pr[i], wr)};
+      if (mv.jtype[i] == REVOLUTE) {  // S = [axis; 0]: ʳS = [ʳR a; ʳp × ʳR a]
+        const Vec3<S> wr = w.Rr[i] * load3<S>(mv.axis + 3 * i);
+        w.Sr[iv] = {wr, cross(w.pr[i], wr)};
+      } else {
+        for (int c = 0; c < ni; ++c) {
+          const Motion<S> s = S_col<S>(mv, i, c);
+          const Vec3<S> wr = w.Rr[i] * s.w;
+          w.Sr[iv + c] = {wr, w.Rr[i] * s.v + cross(w.pr[i], wr)};
+        }
       }
     }
     if (qd == nullptr) continue;
@@ -428,10 +434,12 @@ std::int64_t operational_space_inertia(const ModelView& mv, const S* q, const Co
     const int b = mv.frame_body[specs[k].frame], kd = b == -1 ? -1 : last_dof(mv, b);
     for (int i = kd; i != -1 && !w.on_chain[i]; i = t.lambda[i]) w.on_chain[i] = 1;
   }
-  for (int i = 0; i < nb; ++i) w.IA[i] = ArticulatedInertia<S>::from_rigid(w.IC[i]);
+  // I^A_i starts as ʳI_i when its first child adds to it (or, for a leaf, at its own turn), written in place
+  w.started.assign(nb, 0);
   for (int i = nb - 1; i >= 0; --i) {
-    const int iv = mv.idx_v[i];
+    const int iv = mv.idx_v[i], lam = mv.parent[i];
     ArticulatedInertia<S>& IA = w.IA[i];
+    if (!w.started[i]) IA.set_rigid(w.IC[i]);
     for (int c = mv.nv_i[i] - 1; c >= 0 && !w.on_chain[iv + c]; --c) {
       const Motion<S>& Sc = w.Sr[iv + c];
       const Force<S> U = IA * Sc;
@@ -447,7 +455,13 @@ std::int64_t operational_space_inertia(const ModelView& mv, const S* q, const Co
         IA.C(r, 0) -= fr * f.x, IA.C(r, 1) -= fr * f.y, IA.C(r, 2) -= fr * f.z;
       }
     }
-    if (mv.parent[i] != -1) w.IA[mv.parent[i]] += IA;
+    if (lam == -1) continue;
+    if (w.started[lam]) {
+      w.IA[lam] += IA;
+    } else {
+      w.IA[lam].set_rigid_plus(w.IC[lam], IA);
+      w.started[lam] = 1;
+    }
   }
   for (int i = 0; i < nb; ++i) {  // the support rows of M (a body is on the support through its last dof)
     for (int c = 0; c < mv.nv_i[i]; ++c) {

@@ -214,6 +214,25 @@ struct ArticulatedInertia {
     const S z(0.0);
     return {I.I.full(), skew(I.h), {{I.m, z, z, z, I.m, z, z, z, I.m}}};
   }
+  FD_INLINE void set_rigid(const RigidInertia<S>& I) {  // *this = from_rigid(I), in place
+    const S z(0.0);
+    A = I.I.full();
+    B = skew(I.h);
+    C = Mat3<S>{{I.m, z, z, z, I.m, z, z, z, I.m}};
+  }
+  // *this = from_rigid(I) + o, entry by entry in place (the same sums as from_rigid(I) += o, without a copy)
+  FD_INLINE void set_rigid_plus(const RigidInertia<S>& I, const ArticulatedInertia& o) {
+    const S z(0.0);
+    A(0, 0) = I.I.xx + o.A(0, 0), A(0, 1) = I.I.xy + o.A(0, 1), A(0, 2) = I.I.xz + o.A(0, 2);
+    A(1, 0) = I.I.xy + o.A(1, 0), A(1, 1) = I.I.yy + o.A(1, 1), A(1, 2) = I.I.yz + o.A(1, 2);
+    A(2, 0) = I.I.xz + o.A(2, 0), A(2, 1) = I.I.yz + o.A(2, 1), A(2, 2) = I.I.zz + o.A(2, 2);
+    B(0, 0) = z + o.B(0, 0), B(0, 1) = -I.h.z + o.B(0, 1), B(0, 2) = I.h.y + o.B(0, 2);
+    B(1, 0) = I.h.z + o.B(1, 0), B(1, 1) = z + o.B(1, 1), B(1, 2) = -I.h.x + o.B(1, 2);
+    B(2, 0) = -I.h.y + o.B(2, 0), B(2, 1) = I.h.x + o.B(2, 1), B(2, 2) = z + o.B(2, 2);
+    C(0, 0) = I.m + o.C(0, 0), C(0, 1) = z + o.C(0, 1), C(0, 2) = z + o.C(0, 2);
+    C(1, 0) = z + o.C(1, 0), C(1, 1) = I.m + o.C(1, 1), C(1, 2) = z + o.C(1, 2);
+    C(2, 0) = z + o.C(2, 0), C(2, 1) = z + o.C(2, 1), C(2, 2) = I.m + o.C(2, 2);
+  }
   FD_INLINE Force<S> operator*(const Motion<S>& a) const {
     return {A * a.w + B * a.v, mul_transpose(B, a.w) + C * a.v};
   }
