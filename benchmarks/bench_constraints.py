@@ -8,9 +8,9 @@ featherdyn is faster):
   control loop would);
 * talos_full_v2 in double support (two 6D soles): the same;
 * Λ at one frame (panda's hand) and at two frames (talos's grippers): ``fd.operational_space_inertia``
-  against Pinocchio's best route from Python, ``computeDelassusMatrix`` then ``np.linalg.inv``; and on a batch
-  of 200 states against a Python loop of one-state calls;
-* batched: ``fd.constrained_dynamics`` on N states in one call (the core's thread pool, ``fd.get_num_threads()``
+  against Pinocchio's best route from Python, ``computeDelassusMatrix`` then ``np.linalg.inv``; and on batches
+  of 200 and 2000 states against a Python loop of one-state calls;
+* batched: ``fd.constrained_dynamics`` on N = 200 and 2000 states in one call (the core's thread pool, ``fd.get_num_threads()``
   threads; also on one thread, to show what the pool adds) against a Python loop of one-state calls, both
   warmed up and timed as interleaved medians like the rest.
 
@@ -48,6 +48,9 @@ def _pin_constraints(pin, p: Pair, frames: list[str], kind):  # type: ignore[no-
     return cms, cds
 
 
+BATCHES = (200, 2000)  # a short batch (the pool's start-up shows) and a longer one
+
+
 def main() -> int:
     import pinocchio as pin
 
@@ -67,26 +70,27 @@ def main() -> int:
                                   repeats, budget)
         rows.append((f"{name}: constrained_dynamics, {len(frames)} {'3D' if three_d else '6D'} contacts", t_fd, t_pin))
         # batched against a Python loop of one-state calls
-        n = 200
-        Q, V, T = p.states(n)[:3]
+        for n in BATCHES:
+            Q, V, T = p.states(n)[:3]
 
-        def batch() -> None:
-            fd.constrained_dynamics(p.model, Q, V, T, cons)  # noqa: B023
+            def batch() -> None:
+                fd.constrained_dynamics(p.model, Q, V, T, cons)  # noqa: B023
 
-        def loop() -> None:
-            for k in range(n):  # noqa: B023
-                fd.constrained_dynamics(p.model, Q[k], V[k], T[k], cons)  # noqa: B023
+            def loop() -> None:
+                for k in range(n):  # noqa: B023
+                    fd.constrained_dynamics(p.model, Q[k], V[k], T[k], cons)  # noqa: B023
 
-        threads = fd.get_num_threads()
-        t_batch, t_loop = median_pair(batch, loop, repeats, budget)
-        rows.append((f"{name}: batch of {n} ({threads} threads) / Python loop of one-state calls", t_batch / n,
-                     t_loop / n))
-        fd.set_num_threads(1)
-        try:
-            t_batch1, t_loop = median_pair(batch, loop, repeats, budget)
-        finally:
-            fd.set_num_threads(threads)
-        rows.append((f"{name}: batch of {n} (1 thread) / Python loop of one-state calls", t_batch1 / n, t_loop / n))
+            threads = fd.get_num_threads()
+            t_batch, t_loop = median_pair(batch, loop, repeats, budget)
+            rows.append((f"{name}: batch of {n} ({threads} threads) / Python loop of one-state calls", t_batch / n,
+                         t_loop / n))
+            fd.set_num_threads(1)
+            try:
+                t_batch1, t_loop = median_pair(batch, loop, repeats, budget)
+            finally:
+                fd.set_num_threads(threads)
+            rows.append((f"{name}: batch of {n} (1 thread) / Python loop of one-state calls", t_batch1 / n,
+                         t_loop / n))
 
     for name, floating, frames in (("panda", False, ["panda_hand"]),
                                    ("talos_full_v2", True, ["gripper_left_base_link", "gripper_right_base_link"])):
@@ -100,19 +104,19 @@ def main() -> int:
         t_fd, t_pin = median_pair(lambda: fd.operational_space_inertia(p.model, q, frames, fd.LOCAL),  # noqa: B023
                                   pin_lambda, repeats, budget)
         rows.append((f"{name}: Λ at {len(frames)} frame{'s' if len(frames) > 1 else ''} / Delassus + inv", t_fd, t_pin))
-        n = 200
-        Q = p.states(n)[0]
+        for n in BATCHES:
+            Q = p.states(n)[0]
 
-        def lam_batch() -> None:
-            fd.operational_space_inertia(p.model, Q, frames, fd.LOCAL)  # noqa: B023
+            def lam_batch() -> None:
+                fd.operational_space_inertia(p.model, Q, frames, fd.LOCAL)  # noqa: B023
 
-        def lam_loop() -> None:
-            for k in range(n):  # noqa: B023
-                fd.operational_space_inertia(p.model, Q[k], frames, fd.LOCAL)  # noqa: B023
+            def lam_loop() -> None:
+                for k in range(n):  # noqa: B023
+                    fd.operational_space_inertia(p.model, Q[k], frames, fd.LOCAL)  # noqa: B023
 
-        t_batch, t_loop = median_pair(lam_batch, lam_loop, repeats, budget)
-        rows.append((f"{name}: Λ batch of {n} ({fd.get_num_threads()} threads) / Python loop of one-state calls",
-                     t_batch / n, t_loop / n))
+            t_batch, t_loop = median_pair(lam_batch, lam_loop, repeats, budget)
+            rows.append((f"{name}: Λ batch of {n} ({fd.get_num_threads()} threads) / Python loop of one-state calls",
+                         t_batch / n, t_loop / n))
 
     print(f"featherdyn {fd.__version__}, pinocchio {pin.__version__}, load average {os.getloadavg()[0]:.2f} "
           f"(1 min) on {os.cpu_count()} cores")

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import multiprocessing
 import threading
+import time
 
 import numpy as np
 import pytest
@@ -154,6 +155,28 @@ def test_set_num_threads() -> None:
         core.set_num_threads(before)
     with pytest.raises(TypeError):
         core.set_num_threads(2.5)  # type: ignore[arg-type]
+
+
+def test_batches_back_to_back_and_after_the_workers_sleep() -> None:
+    """A worker polls for the next job for ~100 µs, then sleeps: batches right after one another (taken while it
+    polls), after a pause (taken after a wake-up) and with the pool replaced right after a batch (its workers
+    stopped while polling) all give the same numbers, and nothing hangs."""
+    model = tree("free_branch")
+    st = random_state(model, 18, (64,))
+    before = core.get_num_threads()
+    try:
+        core.set_num_threads(2)
+        expected = core.crba_batch(model, st.q)
+        for k in range(200):
+            assert np.array_equal(core.crba_batch(model, st.q), expected), f"back to back, call {k}"
+        for k in range(5):
+            time.sleep(0.002)
+            assert np.array_equal(core.crba_batch(model, st.q), expected), f"after a pause, call {k}"
+        for n in [2, 3, 2, 1, 2] * 4:
+            core.set_num_threads(n)
+            assert np.array_equal(core.crba_batch(model, st.q), expected), f"{n} threads, new pool"
+    finally:
+        core.set_num_threads(before)
 
 
 def test_batch_on_a_library_robot() -> None:

@@ -2,6 +2,9 @@
 //
 // * parallel_for(n, fn) runs fn(begin, end) over chunks of [0, n); the calling thread works too.
 // * Several threads may call parallel_for at once: each call is a job in a shared queue.
+// * A worker that finishes a job polls for the next one for a short while (kSpinMicroseconds) before it sleeps:
+//   waking a sleeping thread costs tens of µs in a VM (a halted virtual CPU must be scheduled again), as much as
+//   a whole short batch, and batched calls usually come back to back (a training loop, a sweep).
 // * fork: the child has none of the parent's threads, so the child drops the pool (leaking it;
 //   its threads are gone) and builds a new one on first use (pthread_atfork, plus a pid check).
 #pragma once
@@ -12,6 +15,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <condition_variable>
 #include <cstdint>
 #include <deque>
@@ -33,6 +37,7 @@ class ThreadPool {
     {
       std::lock_guard<std::mutex> lock(mutex_);
       stop_ = true;
+      stopping_.store(true, std::memory_order_release);
     }
     wake_.notify_all();
     for (auto& t : workers_) t.join();
@@ -53,11 +58,14 @@ class ThreadPool {
       return;
     }
     Job job{fn, n, chunk};
+    bool sleeping;
     {
       std::lock_guard<std::mutex> lock(mutex_);
       queue_.push_back(&job);
+      pending_.store(static_cast<int>(queue_.size()), std::memory_order_release);
+      sleeping = sleepers_ > 0;  // a worker between its poll and its wait takes the lock and sees the job
     }
-    wake_.notify_all();
+    if (sleeping) wake_.notify_all();
     run_chunks(job);
     std::unique_lock<std::mutex> lock(mutex_);
     remove(&job);
@@ -89,12 +97,39 @@ class ThreadPool {
   void remove(Job* job) {  // with mutex_ held
     auto it = std::find(queue_.begin(), queue_.end(), job);
     if (it != queue_.end()) queue_.erase(it);
+    pending_.store(static_cast<int>(queue_.size()), std::memory_order_release);
+  }
+
+  static constexpr int kSpinMicroseconds = 100;
+
+  // Poll (without the lock) until a job is queued, the pool stops, or kSpinMicroseconds have passed. Between
+  // short runs of pauses the worker yields its core, so that on a machine with more runnable threads than cores
+  // it does not take time from the thread still finishing the batch.
+  void poll() {
+    const auto until = std::chrono::steady_clock::now() + std::chrono::microseconds(kSpinMicroseconds);
+    for (;;) {
+      for (int k = 0; k < 32; ++k) {
+        if (pending_.load(std::memory_order_acquire) > 0 || stopping_.load(std::memory_order_acquire)) return;
+#if defined(__x86_64__) || defined(__i386__)
+        __builtin_ia32_pause();
+#endif
+      }
+      if (std::chrono::steady_clock::now() >= until) return;
+      sched_yield();
+    }
   }
 
   void work() {
     std::unique_lock<std::mutex> lock(mutex_);
     for (;;) {
+      if (!stop_ && queue_.empty()) {
+        lock.unlock();
+        poll();
+        lock.lock();
+      }
+      ++sleepers_;
       wake_.wait(lock, [&] { return stop_ || !queue_.empty(); });
+      --sleepers_;
       if (stop_) return;
       Job* job = queue_.front();
       ++job->users;
@@ -113,6 +148,9 @@ class ThreadPool {
   std::condition_variable wake_, done_;
   std::deque<Job*> queue_;
   bool stop_ = false;
+  int sleepers_ = 0;                // workers waiting on wake_ (guarded by mutex_)
+  std::atomic<int> pending_{0};     // queue_.size(), readable without the lock (a polling worker's test)
+  std::atomic<bool> stopping_{false};
 };
 
 // The cores this process may run on (its CPU affinity on Linux).
