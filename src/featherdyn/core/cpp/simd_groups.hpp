@@ -31,9 +31,17 @@ struct Lanes {
   Pack* space(size_t offset) { return buf.data() + offset; }
 };
 
+// In blocks of W entries: the block's W Packs stay in L1 while each lane's W consecutive entries are written
+// (whole cache lines per lane, instead of one pass over all of x per lane).
 inline void scatter(const Pack* x, size_t n, double* out, std::int64_t stride) {
+  size_t k0 = 0;
+  for (; k0 + PACK_WIDTH <= n; k0 += PACK_WIDTH)
+    for (int lane = 0; lane < PACK_WIDTH; ++lane) {
+      double* o = out + lane * stride + k0;
+      for (int j = 0; j < PACK_WIDTH; ++j) o[j] = x[k0 + j][lane];
+    }
   for (int lane = 0; lane < PACK_WIDTH; ++lane)
-    for (size_t k = 0; k < n; ++k) out[lane * stride + k] = x[k][lane];
+    for (size_t k = k0; k < n; ++k) out[lane * stride + k] = x[k][lane];
 }
 
 inline Lanes& thread_lanes(size_t total) {
