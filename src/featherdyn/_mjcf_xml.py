@@ -234,7 +234,7 @@ class Doc:
         """``(R, p)``: the element's orientation and ``pos`` in its parent's frame (:data:`I3`, :data:`Z3` when
         absent)."""
         p = self.floats(elem, attrs, "pos", (3,))
-        return self.rotation(elem, attrs), Z3 if p is None else (p[0], p[1], p[2])
+        return self.rotation(elem, attrs), Z3 if p is None else p  # type: ignore[return-value]  # three floats
 
 
 # ---------------------------------------------------------------------------
@@ -289,6 +289,8 @@ def cross(a: Vec, b: Vec) -> Vec:
 
 def compose(R1: Mat, p1: Vec, R2: Mat, p2: Vec) -> tuple[Mat, Vec]:
     """``(R1, p1) ∘ (R2, p2) = (R1 R2, R1 p2 + p1)``: the pose ``(R2, p2)`` given in the frame posed ``(R1, p1)``."""
+    if R1 is I3:  # most frames: the product and the rotation skipped
+        return R2, (p2 if p1 is Z3 else vec_add(p2, p1))
     return mat_mul(R1, R2), vec_add(mat_vec(R1, p2), p1)
 
 

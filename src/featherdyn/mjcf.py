@@ -112,6 +112,8 @@ _HANDLED_TOP = frozenset({"compiler", "option", "default", "asset", "worldbody"}
 _BODY_REFUSED = ("composite", "flexcomp", "attach")
 _BODY_QUIET = frozenset({"camera", "light"})
 _SIZES_NEEDED = {"sphere": 1, "capsule": 2, "cylinder": 2, "ellipsoid": 3, "box": 3}  # positive sizes of a solid
+_Z_AXIS: Vec = (0.0, 0.0, 1.0)
+_GEOM_TYPES = ("plane", "hfield", "sphere", "capsule", "ellipsoid", "cylinder", "box", "mesh", "sdf")
 
 
 @dataclass(slots=True)
@@ -330,7 +332,8 @@ class _Loader:
         pending.reverse()
         while pending:
             elem, parent, R, p, childclass = pending.pop()
-            childclass = doc.element_class(elem, childclass, "childclass")
+            if "childclass" in elem.attrib:
+                childclass = doc.element_class(elem, childclass, "childclass")
             Rb, pb = doc.pose(elem, elem.attrib)
             body = _Body(elem, elem.get("name") or "", parent, *compose(R, p, Rb, pb), childclass)
             self.bodies.append(body)
@@ -345,12 +348,15 @@ class _Loader:
         # (element, frame rotation, frame position in body coordinates, childclass), document order
         stack: list[tuple[Any, Mat, Vec, str]] = [(c, I3, Z3, childclass) for c in reversed(list(elem))]
         is_world = b == 0
+        geoms = self.bodies[b].geoms
         while stack:
             child, R, p, cc = stack.pop()
-            kind = _local(child.tag)
-            if not kind:
+            kind = child.tag
+            if not isinstance(kind, str):  # a comment or a processing instruction
                 continue
-            if kind == "body":
+            if kind == "geom":
+                geoms.append((child, cc if "class" not in child.attrib else doc.element_class(child, cc), R, p))
+            elif kind == "body":
                 children.append((child, b, R, p, cc))
             elif kind == "frame":
                 cls = doc.element_class(child, cc)
@@ -359,9 +365,6 @@ class _Loader:
                 sub_cc = doc.element_class(child, cc, "childclass")
                 R2, p2 = compose(R, p, Rf, pf)
                 stack += [(c, R2, p2, sub_cc) for c in reversed(list(child))]
-            elif kind == "geom":
-                cls = doc.element_class(child, cc)
-                self.bodies[b].geoms.append((child, cls, R, p))
             elif kind == "site":
                 cls = doc.element_class(child, cc)
                 attrs = doc.attrs(child, "site", cls)
@@ -416,13 +419,15 @@ class _Loader:
             attrs = dict(elem.attrib)  # a <freejoint> takes no default class (measured: MuJoCo ignores them)
             jtype = "free"
         else:
-            attrs = doc.attrs(elem, "joint", doc.element_class(elem, cc))
-            jtype = doc.choice(elem, attrs, "type", ("hinge", "slide", "ball", "free"), "hinge")
+            attrs = doc.attrs(elem, "joint", cc if "class" not in elem.attrib else doc.element_class(elem, cc))
+            jtype = attrs.get("type", "hinge")
+            if jtype not in ("hinge", "slide", "ball", "free"):
+                doc.choice(elem, attrs, "type", ("hinge", "slide", "ball", "free"), "hinge")  # the message
         given = doc.floats(elem, attrs, "pos", (3,))
-        pos: Vec = Z3 if given is None else (given[0], given[1], given[2])
+        pos: Vec = Z3 if given is None else given  # type: ignore[assignment]  # three floats
         given = doc.floats(elem, attrs, "axis", (3,))
-        axis: Vec = (0.0, 0.0, 1.0) if given is None else (given[0], given[1], given[2])
-        if jtype in ("hinge", "slide") and given is not None:
+        axis: Vec = _Z_AXIS if given is None else given  # type: ignore[assignment]
+        if given is not None and jtype in ("hinge", "slide"):
             axis = doc._direction(elem, attrs, "axis", axis)
         ref = doc.number(elem, attrs, "ref", 0.0) if "ref" in attrs else 0.0
         armature = doc.number(elem, attrs, "armature", 0.0, MAX_MASS) if "armature" in attrs else 0.0
@@ -442,15 +447,17 @@ class _Loader:
             if not lower < upper:
                 raise doc.error(elem, f"range={_quote(attrs.get('range', '0 0'))}: a limited joint needs "
                                 "range[0] < range[1] (MuJoCo)")
-            if jtype == "hinge":
-                lower, upper = doc.angle(lower), doc.angle(upper)
+            if jtype == "hinge" and doc.degree:
+                lower, upper = math.radians(lower), math.radians(upper)
         if jtype == "hinge":
             ref = doc.angle(ref)
-        if jtype in ("ball", "free"):
+        elif jtype in ("ball", "free"):
             ref = 0.0
         name = elem.get("name") or ""
-        return _JointSpec(elem, name, jtype, vec_add(mat_vec(R, pos), p) if jtype != "free" else mat_vec(R, pos),
-                          mat_vec(R, axis), ref, armature, lower, upper)
+        if R is not I3:
+            pos, axis = mat_vec(R, pos), mat_vec(R, axis)
+        return _JointSpec(elem, name, jtype, vec_add(pos, p) if jtype != "free" else pos, axis, ref, armature, lower,
+                          upper)
 
     # -- inertia --------------------------------------------------------------
 
@@ -555,23 +562,23 @@ class _Loader:
         """``(m, c, I_c)`` of a geom in body coordinates, or ``None`` when it adds nothing."""
         doc = self.doc
         attrs = doc.attrs(elem, "geom", cls)
-        gtype = doc.choice(elem, attrs, "type", ("plane", "hfield", "sphere", "capsule", "ellipsoid", "cylinder",
-                                                   "box", "mesh", "sdf"), "sphere")
-        if "group" in attrs:  # absent: 0
-            lo, hi = self.comp.group_range
-            if not lo <= doc.number(elem, attrs, "group", 0.0) <= hi:
-                return None
-        elif not self.comp.group_range[0] <= 0 <= self.comp.group_range[1]:
+        gtype = attrs.get("type", "sphere")
+        if gtype not in _SIZES_NEEDED:  # not a solid primitive: one of the others, or a message
+            gtype = doc.choice(elem, attrs, "type", _GEOM_TYPES, "sphere")
+        lo, hi = self.comp.group_range
+        if not lo <= (doc.number(elem, attrs, "group", 0.0) if "group" in attrs else 0) <= hi:  # absent: 0
             return None
         if gtype in ("plane", "hfield"):
             if moving:
                 raise doc.error(elem, f"type={gtype!r}: a {gtype} is only allowed in static bodies (MuJoCo)")
             return None
-        mass = doc.floats(elem, attrs, "mass", (1,), None, MAX_MASS) if "mass" in attrs else None
-        if mass is not None and mass[0] < 0:
-            raise doc.error(elem, f"mass={_quote(attrs['mass'])}: expected a mass >= 0")
-        if mass is not None and mass[0] == 0:
-            return None
+        mass: float | None = None
+        if "mass" in attrs:
+            mass = doc.number(elem, attrs, "mass", 0.0, MAX_MASS)
+            if mass < 0:
+                raise doc.error(elem, f"mass={_quote(attrs['mass'])}: expected a mass >= 0")
+            if mass == 0:
+                return None
         density = doc.number(elem, attrs, "density", 1000.0, MAX_MASS) if "density" in attrs else 1000.0
         if density < 0:
             raise doc.error(elem, f"density={_quote(attrs['density'])}: expected a density >= 0")
@@ -585,13 +592,13 @@ class _Loader:
                 raise doc.error(elem, "shellinertia on a mesh geom: for mesh geoms, inertia is specified in the mesh "
                                 "asset (<mesh inertia='shell'>), as MuJoCo requires")
             measure, c_mesh, J = self.mesh_properties(elem, attrs)
-            m = mass[0] if mass is not None else density * measure
+            m = mass if mass is not None else density * measure
             Rg, pg = compose(R, p, *doc.pose(elem, attrs))
             k = m / measure
             return m, vec_add(mat_vec(Rg, c_mesh), pg), rotate_symmetric(Rg, tuple(x * k for x in J))  # type: ignore[arg-type]
         given = doc.floats(elem, attrs, "size", (1, 2, 3))
         size = [0.0, 0.0, 0.0] if given is None else [*given, 0.0, 0.0][:3]
-        line = self.fromto(elem, attrs)
+        line = self.fromto(elem, attrs) if "fromto" in attrs else None
         turn: Mat | None  # the geom's rotation in the frame (R, p); from fromto, made below only if needed
         if line is None:
             turn, pg = doc.pose(elem, attrs)
@@ -608,7 +615,7 @@ class _Loader:
             if not size[k] > 0:
                 raise doc.error(elem, f"size={_quote(attrs.get('size', ''))}: size {k} of a {gtype} must be positive "
                                 f"(got {size[k]:g})")
-        got = geom_mass_inertia(gtype, size, density, None if mass is None else mass[0], shell)
+        got = geom_mass_inertia(gtype, size, density, mass, shell)
         if got is None:
             raise doc.error(elem, f"shellinertia='true' of a {gtype} is not supported")
         m, principal = got

@@ -152,7 +152,8 @@ class Model:
                 arm = _ro(arm)
             if arm.shape != (nv,):
                 raise ModelError(f"armature: expected shape (nv,) = ({nv},), got {arm.shape}")
-            if arm.dtype.kind == "f" and not (np.isfinite(arm).all() and (arm >= 0).all()):
+            # min ≥ 0 and max < ∞ (a NaN fails both): finite values ≥ 0
+            if arm.dtype.kind == "f" and arm.size and not (arm.min() >= 0 and arm.max() < math.inf):
                 raise ModelError(f"armature: expected finite values >= 0, got {arm.tolist()}")
             object.__setattr__(self, "armature", arm)
 
@@ -308,10 +309,14 @@ class ModelBuilder:
 
     def __init__(self, name: str = "model", gravity: Sequence[float] = DEFAULT_GRAVITY) -> None:
         self.name = name
-        g = as_array(gravity, "gravity", (3,))
-        if g.shape != (3,):
-            raise ModelError(f"gravity: expected shape (3,), got {g.shape}")
-        self.gravity = g.astype(np.float64)
+        if type(gravity) is tuple and len(gravity) == 3 and all(type(x) is float for x in gravity) and math.isfinite(
+                gravity[0] + gravity[1] + gravity[2]):  # three finite floats (a loader's): nothing to convert
+            self.gravity = np.array(gravity)
+        else:
+            g = as_array(gravity, "gravity", (3,))
+            if g.shape != (3,):
+                raise ModelError(f"gravity: expected shape (3,), got {g.shape}")
+            self.gravity = g.astype(np.float64)
         self._parents: list[int] = []
         self._joints: list[Joint] = []
         self._joint_names: list[str] = []
@@ -494,12 +499,15 @@ class ModelBuilder:
                     raise ModelError(f"{what} name {n!r} is used twice")
                 seen.add(n)
         nb = self.nbodies
-        idx_q, idx_v, q0, v0 = [], [], 0, 0
+        idx_q, idx_v, nqs, nvs, q0, v0 = [], [], [], [], 0, 0
         for j in self._joints:
+            nq, nv = j.nq, j.nv
             idx_q.append(q0)
             idx_v.append(v0)
-            q0 += j.nq
-            v0 += j.nv
+            nqs.append(nq)
+            nvs.append(nv)
+            q0 += nq
+            v0 += nv
         if nb:
             placements = PluckerTransform._wrap(  # fresh float64 arrays, rotations checked when added
                 _stacked(self._rotations, 9).reshape(nb, 3, 3), _stacked(self._translations, 3).reshape(nb, 3),
@@ -531,9 +539,9 @@ class ModelBuilder:
             gravity=_ro(self.gravity),
             frames=tuple(frames),
             idx_q=tuple(idx_q),
-            nqs=tuple(j.nq for j in self._joints),
+            nqs=tuple(nqs),
             idx_v=tuple(idx_v),
-            nvs=tuple(j.nv for j in self._joints),
+            nvs=tuple(nvs),
             lower=_stacked(self._lower, frozen=True),
             upper=_stacked(self._upper, frozen=True),
             velocity_limit=_stacked(self._vel, frozen=True),
@@ -575,8 +583,8 @@ def massless_subtrees(model: Model) -> list[str]:
     mass, ic = model.inertias.mass, model.inertias.inertia_com
     if mass.dtype.kind == "O":  # symbolic: element by element
         has_mass = [bool(mass[i] > 0 or np.any(ic[i] != 0)) for i in range(nb)]
-    else:
-        has_mass = ((mass > 0) | (ic != 0).any(axis=(-2, -1))).tolist()
+    else:  # as Python floats: cheaper than numpy's comparisons for the few bodies of a model
+        has_mass = [m > 0 or any(row) for m, row in zip(mass.tolist(), ic.reshape(nb, 9).tolist(), strict=True)]
     sub = list(has_mass)
     for i in range(nb - 1, -1, -1):
         p = model.parents[i]
