@@ -63,6 +63,8 @@ class Doc:
         self.own_defaults: dict[str, dict[str, dict[str, str]]] = {}
         self.default_parent: dict[str, str | None] = {}
         self._resolved: dict[tuple[str, str], dict[str, str]] = {}
+        # attrs' defaults of a class and kind: all, and without orientations and fromto (for an element giving one)
+        self._resolved_pair: dict[tuple[str, str], tuple[dict[str, str], dict[str, str]]] = {}
         self._parsed: dict[str, tuple[tuple[float, ...], float]] = {}
 
     # -- messages -------------------------------------------------------------
@@ -103,13 +105,17 @@ class Doc:
 
     def attrs(self, elem: Any, kind: str, cls: str) -> dict[str, str]:
         """The element's attributes over those of its default class (an orientation given replaces the default's)."""
-        defaults = self._resolved.get((cls, kind))
-        if defaults is None:
+        try:
+            defaults, unposed = self._resolved_pair[cls, kind]
+        except KeyError:
             defaults = self.class_defaults(cls, kind)
+            unposed = {k: v for k, v in defaults.items() if k not in _REPLACING}
+            self._resolved_pair[cls, kind] = defaults, unposed
+        own = elem.attrib
         if not defaults:
-            return elem.attrib  # read only by the loader
-        merged = dict(defaults)
-        _overlay(merged, elem.attrib)
+            return own  # read only by the loader
+        merged = defaults.copy() if _REPLACING.isdisjoint(own) else unposed.copy()  # (as _overlay)
+        merged.update(own)
         return merged
 
     def element_class(self, elem: Any, childclass: str, attr: str = "class") -> str:
@@ -132,10 +138,12 @@ class Doc:
         text = attrs.get(name)
         if text is None:
             return default
-        got = self._parsed.get(text)
-        if got is None:
-            got = self._parsed[text] = _parse_decimals(text)
-        values, ceiling = got
+        try:
+            values, ceiling = self._parsed[text]
+        except KeyError:
+            values, ceiling = self._parsed[text] = _parse_decimals(text)
+        if 0 <= ceiling <= bound and len(values) in counts:  # the usual case: decimals, small enough, as many
+            return values
         if len(values) not in counts:
             want = " or ".join(str(c) for c in counts)
             raise self.error(elem, f"{name}={_quote(text)}: expected {want} number{'s' if max(counts) > 1 else ''}, "
@@ -352,6 +360,8 @@ def _parse_decimals(text: str) -> tuple[tuple[float, ...], float]:
         values = tuple(map(float, parts))
     else:
         return tuple(0.0 for _ in parts), -1.0
+    if len(values) == 3 and not any(values) and "-" not in text:  # "0 0 0": the zero vector, skipped as such
+        values = Z3
     if len(text) < 60 and "e" not in text and "E" not in text:
         return values, _SHORT_CEILING
     return values, max(map(abs, values), default=0.0)

@@ -675,103 +675,112 @@ class _Loader:
     # -- the featherdyn model -------------------------------------------------
 
     def build(self) -> Model:
-        doc = self.doc
-        nb = len(self.bodies)
+        doc, bodies, comp = self.doc, self.bodies, self.comp
+        nb = len(bodies)
         # a body moves if it or an ancestor has a joint (its inertia then matters: plane/mesh checks)
-        self.moving = [False] * nb
+        moving = self.moving = [False] * nb
         for b in range(1, nb):
-            self.moving[b] = bool(self.bodies[b].joints) or self.moving[self.bodies[b].parent]
-        for b in range(1, nb):
+            moving[b] = bool(bodies[b].joints) or moving[bodies[b].parent]
             # a static body's inertia matters only to settotalmass (its meshes are not even read otherwise)
-            if self.moving[b] or self.comp.settotalmass > 0:
+            if moving[b] or comp.settotalmass > 0:
                 self.body_inertia(b)
-        if self.comp.settotalmass > 0:
-            total = sum(self.bodies[b].inertia[0] for b in range(1, nb))
+        if comp.settotalmass > 0:
+            total = sum(bodies[b].inertia[0] for b in range(1, nb))
             if total > 0:
-                k = self.comp.settotalmass / total
+                k = comp.settotalmass / total
                 for b in range(1, nb):
-                    m, c, ic = self.bodies[b].inertia
-                    self.bodies[b].inertia = (m * k, c, tuple(x * k for x in ic))  # type: ignore[assignment]
+                    m, c, ic = bodies[b].inertia
+                    bodies[b].inertia = (m * k, c, tuple(x * k for x in ic))  # type: ignore[assignment]
         # names (MuJoCo's where given)
-        body_names: set[str] = {body.name for body in self.bodies[1:] if body.name}
-        for b in range(1, nb):
-            if not self.bodies[b].name:
-                self.bodies[b].name = _unique(f"body{b}", body_names)
-        joint_names: set[str] = {j.name for body in self.bodies for j in body.joints if j.name}
-        for body in self.bodies[1:]:
+        body_names: set[str] = {body.name for body in bodies[1:] if body.name}
+        if len(body_names) < nb - 1:
+            for b in range(1, nb):
+                if not bodies[b].name:
+                    bodies[b].name = _unique(f"body{b}", body_names)
+        joint_names: set[str] = {j.name for body in bodies for j in body.joints if j.name}
+        for body in bodies[1:]:
             for k, j in enumerate(body.joints):
                 if not j.name:
                     j.name = _unique(f"{body.name}/free" if _local(j.elem.tag) == "freejoint" and j.kind == "free"
                                      else f"{body.name}/joint{k}", joint_names)
 
-        for body in self.bodies:  # named sites first, so that generated names avoid them
+        for body in bodies:  # named sites first, so that generated names avoid them
             for site_name, _, _ in body.sites:
                 if site_name in self.site_names:
                     raise MJCFError(f"{doc.label}: site name {site_name!r} is used twice (MuJoCo: repeated name)")
                 if site_name:
                     self.site_names.add(site_name)
-        name = doc.root.get("model") or "MuJoCo Model"
-        gravity = Z3 if self.gravity_disabled else self.gravity
-        builder = ModelBuilder(name, gravity)
-        builder.source = self.path
-        identity = _IDENTITY  # immutable (read-only arrays): shared by every identity frame
         fd_body = [-1] * nb
         # each MJCF body frame in its featherdyn body, (R, p)
         pose_fd_mj: list[tuple[Mat, Vec]] = [(I3, Z3)] * nb
         taken = set(body_names)
-        # the featherdyn bodies: (name, parent, joint, joint name, placement, limits, armature) and their inertias,
-        # the welded MJCF bodies folded in; handed to the builder once complete
-        records: list[tuple[str, int, Joint, str, tuple[Mat, Vec], float, float, float]] = []
+        # the featherdyn bodies, column by column (the builder's order), and their inertias with the welded MJCF bodies
+        # folded in; handed to the builder once complete
+        names: list[str] = []
+        ups: list[int] = []
+        joints: list[Joint] = []
+        jnames: list[str] = []
+        placements: list[tuple[Mat, Vec]] = []
+        limits: list[tuple[float, float, float, int]] = []  # lower, upper, armature, of a hinge or slide: nq = nv = 1
         inertias: list[Inertia] = []
         frames: list[tuple[str, int, tuple[Mat, Vec] | None, str]] = []
         owner: dict[int, _Body] = {}  # the moving MJCF body of each featherdyn body that carries one
         for b in range(1, nb):
-            body = self.bodies[b]
+            body = bodies[b]
             parent = body.parent
             R, p = compose(*pose_fd_mj[parent], body.R, body.p)
-            self.check_joints(body, b)
-            if not body.joints:
-                fd_body[b] = fd_body[parent]
+            js = body.joints
+            if not js:
+                up = fd_body[b] = fd_body[parent]
                 pose_fd_mj[b] = (R, p)
-                if fd_body[b] >= 0:
-                    inertias[fd_body[b]] = _combined(inertias[fd_body[b]], _moved(body.inertia, R, p))
-                frames.append((body.name, fd_body[b], (R, p), "link"))
-                self.add_sites(frames, body, fd_body[b], R, p)
+                if up >= 0:
+                    inertias[up] = _combined(inertias[up], _moved(body.inertia, R, p))
+                frames.append((body.name, up, (R, p), "link"))
+                if body.sites:
+                    self.add_sites(frames, body, up, R, p)
                 continue
+            if len(js) > 1 or js[0].kind == "free":
+                self.check_joints(body, b)
             up = fd_body[parent]
-            for k, j in enumerate(body.joints):
-                last = k == len(body.joints) - 1
+            last = len(js) - 1
+            for k, j in enumerate(js):
                 joint: Joint
+                kind = j.kind
                 # placement = X ∘ (anchor at pos) ∘ (turn by -ref); the frame after the joint goes back by -pos
-                if j.kind == "free":
-                    placement: tuple[Mat, Vec] = (I3, Z3)
-                    joint, after = self.joint("free", Z3), (I3, Z3)
-                elif j.kind == "slide":
+                if kind == "hinge":
+                    placements.append((mat_mul(R, axis_angle_matrix(j.axis, -j.ref)), vec_add(mat_vec(R, j.pos), p)))
+                    joint = self.joint("hinge", j.axis)
+                elif kind == "slide":
                     a = j.axis
-                    placement = (R, vec_add(mat_vec(R, (-j.ref * a[0], -j.ref * a[1], -j.ref * a[2])), p))
-                    joint, after = self.joint("slide", j.axis), (I3, Z3)
+                    placements.append((R, vec_add(mat_vec(R, (-j.ref * a[0], -j.ref * a[1], -j.ref * a[2])), p)))
+                    joint = self.joint("slide", a)
+                elif kind == "free":
+                    placements.append((I3, Z3))
+                    joint = self.joint("free", Z3)
                 else:
-                    if j.kind == "hinge":
-                        placement = (mat_mul(R, axis_angle_matrix(j.axis, -j.ref)), vec_add(mat_vec(R, j.pos), p))
-                        joint = self.joint("hinge", j.axis)
-                    else:
-                        placement = (R, vec_add(mat_vec(R, j.pos), p))
-                        joint = self.joint("ball", Z3)
-                    after = (I3, (-j.pos[0], -j.pos[1], -j.pos[2]))
-                fd_name = body.name if last else _unique(f"{body.name}#{k}", taken)
-                limited = j.kind in ("hinge", "slide")
-                records.append((fd_name, up, joint, j.name, placement, j.lower if limited else -math.inf,
-                                j.upper if limited else math.inf, j.armature))
-                inertias.append(_moved(body.inertia, *after) if last else _NO_INERTIA)
-                up = len(records) - 1
+                    placements.append((R, vec_add(mat_vec(R, j.pos), p)))
+                    joint = self.joint("ball", Z3)
+                names.append(body.name if k == last else _unique(f"{body.name}#{k}", taken))
+                ups.append(up)
+                joints.append(joint)
+                jnames.append(j.name)
+                limits.append((j.lower, j.upper, j.armature, 1) if kind in ("hinge", "slide")
+                              else (-math.inf, math.inf, j.armature, 0))
+                up = len(names) - 1
                 frames.append((j.name, up, None, "joint"))
-                R, p = after
+                if kind in ("slide", "free") or j.pos is Z3:
+                    R, p = I3, Z3
+                else:
+                    R, p = I3, (-j.pos[0], -j.pos[1], -j.pos[2])
+                inertias.append(_moved(body.inertia, R, p) if k == last else _NO_INERTIA)
             fd_body[b] = up
             pose_fd_mj[b] = (R, p)
             owner[up] = body
             frames.append((body.name, up, (R, p), "body"))
-            self.add_sites(frames, body, up, R, p)
-        self.add_sites(frames, self.bodies[0], -1, I3, Z3)
+            if body.sites:
+                self.add_sites(frames, body, up, R, p)
+        if bodies[0].sites:
+            self.add_sites(frames, bodies[0], -1, I3, Z3)
         # MuJoCo's rule on moving bodies is on the body with its welded descendants (its weld group)
         for i, body in owner.items():
             mass, _, ic = inertias[i]
@@ -781,12 +790,25 @@ class _Loader:
                     raise doc.error(body.elem, f"body {body.name!r}: mass {mass:g} and principal inertia "
                                     f"{principal.tolist()} with its welded descendants: MuJoCo requires the mass and "
                                     f"inertia of a moving body to exceed mjMINVAL = {MJ_MINVAL:g}")
-        for (fd_name, up, joint, jname, (R, p), lower, upper, armature), (m, c, ic) in zip(records, inertias,
-                                                                                          strict=True):
-            nv, nq = joint.nv, joint.nq
-            inf = [math.inf] * nv
-            builder._append(fd_name, up, joint, jname, R, p, m, c, ic,
-                            [lower] * nq, [upper] * nq, inf, inf, [armature] * nv)
+        builder = ModelBuilder(doc.root.get("model") or "MuJoCo Model", Z3 if self.gravity_disabled else self.gravity)
+        builder.source = self.path
+        lower: list[tuple[float, ...]] = []
+        upper: list[tuple[float, ...]] = []
+        armature: list[tuple[float, ...]] = []
+        unbounded: list[tuple[float, ...]] = []
+        for joint, (lo, hi, arm, limited) in zip(joints, limits, strict=True):
+            nv = joint.nv
+            if limited:
+                lower.append((lo,))
+                upper.append((hi,))
+            else:
+                lower.append((-math.inf,) * joint.nq)
+                upper.append((math.inf,) * joint.nq)
+            armature.append((arm,) * nv)
+            unbounded.append((math.inf,) * nv)
+        builder._extend(names, ups, joints, jnames, [R for R, _ in placements], [p for _, p in placements],
+                        [m for m, _, _ in inertias], [c for _, c, _ in inertias], [ic for _, _, ic in inertias],
+                        lower, upper, unbounded, unbounded, armature)
         # the frames' placements: one stacked array, each frame a read-only view of its row
         posed = [pose for _, _, pose, _ in frames if pose is not None and not (pose[0] is I3 and pose[1] is Z3)]
         Rs = np.fromiter(itertools.chain.from_iterable(R for R, _ in posed), np.float64, 9 * len(posed))
@@ -794,13 +816,13 @@ class _Loader:
         Rs, ps = Rs.reshape(-1, 3, 3), ps.reshape(-1, 3)
         k = 0
         infos = []
-        for fname, body_index, pose, kind in frames:
+        for fname, body_index, pose, fkind in frames:
             if pose is None or (pose[0] is I3 and pose[1] is Z3):
-                X = identity
+                X = _IDENTITY  # immutable (read-only arrays): shared by every identity frame
             else:
                 X = PluckerTransform._wrap(Rs[k], ps[k], None, None)
                 k += 1
-            infos.append(FrameInfo(fname, body_index, X, kind))
+            infos.append(FrameInfo(fname, body_index, X, fkind))
         builder._append_frames(infos)
         return builder.build(strict=doc.strict)
 

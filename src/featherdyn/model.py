@@ -338,6 +338,9 @@ class ModelBuilder:
         self._mimics: list[Mimic] = []
         self._limit_problems: list[str] = []
         self.source: str | None = None
+        # whether every body came through _extend, whose inertias are exactly symmetric (a loader's): then build()
+        # checks only that they are finite
+        self._symmetric = True
 
     @property
     def nbodies(self) -> int:
@@ -423,6 +426,7 @@ class ModelBuilder:
         """Record a body whose values are already checked: :meth:`add_body`'s, and a loader's that has checked its
         own (names unique, numbers finite, ``rotation`` and ``inertia_com`` as 9 numbers row by row, 3-vectors as 3,
         limits and armature of the joint's sizes, ``inertia_com`` symmetric); returns its index."""
+        self._symmetric = False  # symmetric to round-off: build() checks and averages
         self._parents.append(parent)
         self._joints.append(joint)
         self._joint_names.append(joint_name)
@@ -440,6 +444,29 @@ class ModelBuilder:
         self._eff.append(effort_limit)
         self._armature.append(armature)
         return len(self._parents) - 1
+
+    def _extend(self, names: list[str], parents: list[int], joints: list[Joint], joint_names: list[str],
+                rotations: list[Any], translations: list[Any], masses: list[float], coms: list[Any],
+                inertias_com: list[Any], lower: list[Any], upper: list[Any], velocity_limit: list[Any],
+                effort_limit: list[Any], armature: list[Any]) -> None:
+        """:meth:`_append` of several bodies at once: each argument lists one entry per body, in body order; each
+        ``inertia_com`` exactly symmetric (a loader's own, mirrored), the others as :meth:`_append` requires."""
+        self._parents += parents
+        self._joints += joints
+        self._joint_names += joint_names
+        self._body_names += names
+        self._joint_set.update(joint_names)
+        self._body_set.update(names)
+        self._rotations += rotations
+        self._translations += translations
+        self._masses += masses
+        self._coms += coms
+        self._inertias_com += inertias_com
+        self._lower += lower
+        self._upper += upper
+        self._vel += velocity_limit
+        self._eff += effort_limit
+        self._armature += armature
 
     @staticmethod
     def _limit(val: Any, n: int, default: float, name: str, size_name: str) -> np.ndarray:
@@ -461,6 +488,7 @@ class ModelBuilder:
             raise ModelError(f"add_inertia: no body {body!r} (expected 0..{self.nbodies - 1})")
         if not isinstance(inertia, SpatialInertia) or inertia.shape != ():
             raise ModelError("add_inertia: inertia must be a single SpatialInertia")
+        self._symmetric = False
         total = SpatialInertia(self._masses[body], self._coms[body],
                                np.reshape(self._inertias_com[body], (3, 3))) + inertia
         self._masses[body] = float(total.mass)
@@ -513,14 +541,23 @@ class ModelBuilder:
                 _stacked(self._rotations, 9).reshape(nb, 3, 3), _stacked(self._translations, 3).reshape(nb, 3),
                 None, None,
             )
-            inertias = SpatialInertia(
-                np.array(self._masses, dtype=np.float64),
-                _stacked(self._coms, 3).reshape(nb, 3),
-                _stacked(self._inertias_com, 9).reshape(nb, 3, 3),
-            )
+            masses = np.array(self._masses, dtype=np.float64)
+            coms = _stacked(self._coms, 3).reshape(nb, 3)
+            ics = _stacked(self._inertias_com, 9).reshape(nb, 3, 3)
+            if self._symmetric and math.isfinite(sum(self._masses) + sum(map(sum, self._coms))
+                                                 + sum(map(sum, self._inertias_com))):
+                # only a loader's numbers (_extend: exactly symmetric), all finite: what SpatialInertia checks
+                inertias = SpatialInertia._wrap(masses, coms, ics, None)
+            else:
+                inertias = SpatialInertia(masses, coms, ics)
         else:
             placements = PluckerTransform.identity((0,))
             inertias = SpatialInertia.zero((0,))
+        # the limits, one read-only array of which lower, upper, velocity_limit and effort_limit are parts
+        chain = itertools.chain.from_iterable
+        limits = np.fromiter(itertools.chain(chain(self._lower), chain(self._upper), chain(self._vel), chain(self._eff)),
+                             np.float64, 2 * q0 + 2 * v0)
+        limits.setflags(write=False)
         frames = list(self._frames)
         names = {f.name for f in frames}
         identity = _IDENTITY
@@ -542,30 +579,32 @@ class ModelBuilder:
             nqs=tuple(nqs),
             idx_v=tuple(idx_v),
             nvs=tuple(nvs),
-            lower=_stacked(self._lower, frozen=True),
-            upper=_stacked(self._upper, frozen=True),
-            velocity_limit=_stacked(self._vel, frozen=True),
-            effort_limit=_stacked(self._eff, frozen=True),
+            lower=limits[:q0],
+            upper=limits[q0:2 * q0],
+            velocity_limit=limits[2 * q0:2 * q0 + v0],
+            effort_limit=limits[2 * q0 + v0:],
             mimics=tuple(self._mimics),
             source=self.source,
-            armature=_stacked(self._armature, frozen=True),
+            armature=_stacked(self._armature),  # (copied read-only by Model)
         )
         for msg in self._limit_problems:
             _complain(msg, strict)
         if check_inertias:
-            for msg in massless_subtrees(model):
+            if self._symmetric:  # the inertias are the builder's numbers, unchanged: tested without numpy
+                has_mass = [m > 0 or any(ic) for m, ic in zip(self._masses, self._inertias_com, strict=True)]
+                messages = _massless(model, has_mass)
+            else:
+                messages = massless_subtrees(model)
+            for msg in messages:
                 _complain(msg, strict)
         return model
 
 
-def _stacked(parts: list[Any], size: int = -1, *, frozen: bool = False) -> np.ndarray:
+def _stacked(parts: list[Any], size: int = -1) -> np.ndarray:
     """The float64 array of the numbers of ``parts`` (sequences or arrays) one after the other; ``size`` each when
-    known (``np.fromiter`` over a chain: cheaper than converting nested sequences); read-only if ``frozen``."""
+    known (``np.fromiter`` over a chain: cheaper than converting nested sequences)."""
     count = size * len(parts) if size >= 0 else -1
-    out = np.fromiter(itertools.chain.from_iterable(parts), np.float64, count)
-    if frozen:
-        out.flags.writeable = False
-    return out
+    return np.fromiter(itertools.chain.from_iterable(parts), np.float64, count)
 
 
 def _complain(msg: str, strict: bool) -> None:
@@ -585,6 +624,12 @@ def massless_subtrees(model: Model) -> list[str]:
         has_mass = [bool(mass[i] > 0 or np.any(ic[i] != 0)) for i in range(nb)]
     else:  # as Python floats: cheaper than numpy's comparisons for the few bodies of a model
         has_mass = [m > 0 or any(row) for m, row in zip(mass.tolist(), ic.reshape(nb, 9).tolist(), strict=True)]
+    return _massless(model, has_mass)
+
+
+def _massless(model: Model, has_mass: list[Any]) -> list[str]:
+    """:func:`massless_subtrees` given whether each body has a mass or a rotational inertia."""
+    nb = model.nbodies
     sub = list(has_mass)
     for i in range(nb - 1, -1, -1):
         p = model.parents[i]
