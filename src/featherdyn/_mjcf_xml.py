@@ -51,12 +51,12 @@ _DEFAULT_KINDS = frozenset({"joint", "geom", "site", "mesh", "inertial", "frame"
 class Doc:
     """The parsed document: where each element came from, the compiler settings, the default classes."""
 
-    def __init__(self, root: Any, where: dict[Any, tuple[ElementLines | None, int]], label: str, model_dir: Path,
+    def __init__(self, root: Any, where: dict[Any, tuple[ElementLines | None, int]], label: str, path: str | None,
                  strict: bool) -> None:
         self.root = root
         self.where_of = where
         self.label = label
-        self.model_dir = model_dir
+        self.path = path
         self.strict = strict
         self.degree = True
         self.eulerseq = "xyz"
@@ -66,6 +66,11 @@ class Doc:
         # attrs' defaults of a class and kind: all, and without orientations and fromto (for an element giving one)
         self._resolved_pair: dict[tuple[str, str], tuple[dict[str, str], dict[str, str]]] = {}
         self._parsed: dict[str, tuple[tuple[float, ...], float]] = {}
+
+    @property
+    def model_dir(self) -> Path:
+        """The main file's directory (the current directory for a string): where includes and assets are found."""
+        return Path(self.path).parent if self.path is not None else Path(os.getcwd())
 
     # -- messages -------------------------------------------------------------
 
@@ -423,8 +428,7 @@ def read_document(path_or_xml: Any, strict: bool) -> Doc:
         tag = _shorten(_local(root.tag) or "?")
         hint = " (a URDF: use featherdyn.load_urdf or load_model)" if tag == "robot" else ""
         raise MJCFError(f"{label}: expected the root element <mujoco>, got <{tag}>{hint}")
-    model_dir = Path(path).parent if path is not None else Path(os.getcwd())
-    doc = Doc(root, where, label, model_dir, strict)
+    doc = Doc(root, where, label, path, strict)
     if next(root.iter("include"), None) is None:
         return doc
     chain_of: dict[Any, tuple[str, ...]] = {root: (str(Path(path).resolve()) if path else label,)}

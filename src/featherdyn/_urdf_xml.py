@@ -91,11 +91,24 @@ def _read_source(path_or_xml: Any, error: type[ModelError] = URDFError, kind: st
     path = Path(path_or_xml)
     label = str(path)
     try:
-        data = path.read_bytes()
+        data = _read_bytes(label)
     except (OSError, ValueError) as exc:
         reason = exc.strerror if isinstance(exc, OSError) and exc.strerror else str(exc)
         raise error(f"{label}: cannot read the {kind} file: {reason}") from None
     return _decode(data, label, error), label, label
+
+
+def _read_bytes(path: str) -> bytes:
+    """The file's bytes, read with the operating system's calls alone (``Path.read_bytes`` makes three more system
+    calls, ``io``'s buffering and terminal checks, which cost a model's load ~30 µs after other work)."""
+    fd = os.open(path, os.O_RDONLY | getattr(os, "O_BINARY", 0))
+    try:
+        chunks = []
+        while chunk := os.read(fd, 1 << 20):
+            chunks.append(chunk)
+    finally:
+        os.close(fd)
+    return b"".join(chunks)
 
 
 def _decode(data: bytes, label: str, error: type[ModelError] = URDFError) -> str:
