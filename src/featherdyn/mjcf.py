@@ -95,7 +95,7 @@ from ._mjcf_xml import (
     vec_add,
     z_to_vector,
 )
-from ._urdf_xml import _quote, _read_source, _shorten_quoted, reissue_warnings
+from ._urdf_xml import _quote, _read_source, _shorten_quoted
 from .errors import FeatherdynError, MJCFError, PhysicalityWarning
 from .joints import FreeFlyerJoint, Joint, PrismaticJoint, RevoluteJoint, SphericalJoint, _with_unit_axis
 from .model import _IDENTITY, FrameInfo, Model, ModelBuilder
@@ -674,7 +674,8 @@ class _Loader:
 
     # -- the featherdyn model -------------------------------------------------
 
-    def build(self) -> Model:
+    def build(self) -> tuple[Model, list[str]]:
+        """The featherdyn model and the model builder's warnings (messages, not yet issued)."""
         doc, bodies, comp = self.doc, self.bodies, self.comp
         nb = len(bodies)
         # a body moves if it or an ancestor has a joint (its inertia then matters: plane/mesh checks)
@@ -824,7 +825,7 @@ class _Loader:
                 k += 1
             infos.append(FrameInfo(fname, body_index, X, fkind))
         builder._append_frames(infos)
-        return builder.build(strict=doc.strict)
+        return builder._build(doc.strict, True)
 
     def joint(self, kind: str, axis: Vec) -> Joint:
         """The joint model of a kind and axis (shared: joint models are immutable)."""
@@ -898,12 +899,10 @@ def load_mjcf(path_or_xml: str | os.PathLike[str] | bytes, *, strict: bool = Fal
         isinstance(path_or_xml, str) and path_or_xml.lstrip("\ufeff \t\r\n").startswith("<")) else str(path_or_xml)
     loader = _Loader(doc, path)
     try:
-        with warnings.catch_warnings(record=True) as caught:
-            warnings.simplefilter("always")
-            loader.read_top()
-            expand_replicates(doc)
-            loader.read_bodies()
-            model = loader.build()
+        loader.read_top()
+        expand_replicates(doc)
+        loader.read_bodies()
+        model, complaints = loader.build()
     except MJCFError:
         raise
     except FeatherdynError as exc:  # a check of the spatial types or the model builder: name the file
@@ -911,7 +910,8 @@ def load_mjcf(path_or_xml: str | os.PathLike[str] | bytes, *, strict: bool = Fal
     if loader.ignored:
         warnings.warn(f"{doc.label}: ignored MJCF elements without rigid-tree meaning: {', '.join(loader.ignored)}",
                       PhysicalityWarning, stacklevel=2)
-    reissue_warnings(caught, doc.label)
+    for msg in complaints:  # the model builder's warnings, named by the file
+        warnings.warn(f"{doc.label}: {_shorten_quoted(msg)}", PhysicalityWarning, stacklevel=2)
     return model
 
 

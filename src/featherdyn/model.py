@@ -520,6 +520,14 @@ class ModelBuilder:
         :class:`PhysicalityWarning`, or raise :class:`ModelError` with
         ``strict=True``.
         """
+        model, complaints = self._build(strict, check_inertias)
+        for msg in complaints:
+            warnings.warn(msg, PhysicalityWarning, stacklevel=3)  # attributed as before: the caller's caller
+        return model
+
+    def _build(self, strict: bool, check_inertias: bool) -> tuple[Model, list[str]]:
+        """:meth:`build`, its warnings returned as messages (a loader names its file in them); with ``strict``
+        the first is raised."""
         for what, listed in (("body", self._body_names), ("joint", self._joint_names)):
             seen: set[str] = set()
             for n in listed:
@@ -587,17 +595,16 @@ class ModelBuilder:
             source=self.source,
             armature=_stacked(self._armature),  # (copied read-only by Model)
         )
-        for msg in self._limit_problems:
-            _complain(msg, strict)
+        complaints = list(self._limit_problems)
         if check_inertias:
             if self._symmetric:  # the inertias are the builder's numbers, unchanged: tested without numpy
                 has_mass = [m > 0 or any(ic) for m, ic in zip(self._masses, self._inertias_com, strict=True)]
-                messages = _massless(model, has_mass)
+                complaints += _massless(model, has_mass)
             else:
-                messages = massless_subtrees(model)
-            for msg in messages:
-                _complain(msg, strict)
-        return model
+                complaints += massless_subtrees(model)
+        if strict and complaints:
+            raise ModelError(complaints[0] + " (strict=True)")
+        return model, complaints
 
 
 def _stacked(parts: list[Any], size: int = -1) -> np.ndarray:
@@ -605,12 +612,6 @@ def _stacked(parts: list[Any], size: int = -1) -> np.ndarray:
     known (``np.fromiter`` over a chain: cheaper than converting nested sequences)."""
     count = size * len(parts) if size >= 0 else -1
     return np.fromiter(itertools.chain.from_iterable(parts), np.float64, count)
-
-
-def _complain(msg: str, strict: bool) -> None:
-    if strict:
-        raise ModelError(msg + " (strict=True)")
-    warnings.warn(msg, PhysicalityWarning, stacklevel=4)
 
 
 def massless_subtrees(model: Model) -> list[str]:
