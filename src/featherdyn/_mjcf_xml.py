@@ -21,7 +21,6 @@ extrinsic), ``xyaxes``, ``zaxis``; angles in degrees unless
 
 from __future__ import annotations
 
-import itertools
 import math
 import os
 import re
@@ -29,7 +28,7 @@ import warnings
 from pathlib import Path
 from typing import Any
 
-from ._urdf_xml import ElementLines, _quote, _read_source, _shorten, parse_elements
+from ._urdf_xml import ElementIndex, ElementLines, _quote, _read_source, _shorten, parse_elements
 from .errors import MJCFError, PhysicalityWarning
 from .urdf import MAX_LENGTH
 
@@ -51,10 +50,13 @@ _DEFAULT_KINDS = frozenset({"joint", "geom", "site", "mesh", "inertial", "frame"
 class Doc:
     """The parsed document: where each element came from, the compiler settings, the default classes."""
 
-    def __init__(self, root: Any, where: dict[Any, tuple[ElementLines | None, int]], label: str, path: str | None,
+    def __init__(self, root: Any, where: tuple[ElementIndex, ElementLines], label: str, path: str | None,
                  strict: bool) -> None:
         self.root = root
-        self.where_of = where
+        # where each element came from: each parsed file's document-order index of its elements and their lines,
+        # and the file and index of the elements made or moved later (replicates)
+        self.sources = [where]
+        self.where_of: dict[Any, tuple[ElementLines | None, int]] = {}
         self.label = label
         self.path = path
         self.strict = strict
@@ -74,8 +76,19 @@ class Doc:
 
     # -- messages -------------------------------------------------------------
 
+    def locate(self, elem: Any) -> tuple[ElementLines | None, int]:
+        """The lines of the file an element came from and its document-order index there (``(None, -1)``: unknown)."""
+        got = self.where_of.get(elem)
+        if got is not None:
+            return got
+        for index, lines in self.sources:
+            k = index.get(elem)
+            if k is not None:
+                return lines, k
+        return None, -1
+
     def where(self, elem: Any) -> str:
-        source, index = self.where_of.get(elem, (None, -1))
+        source, index = self.locate(elem)
         label, line = (self.label, 0) if source is None else (source.label, source.line(index))
         tag = _shorten(str(elem.tag)) if isinstance(elem.tag, str) else "?"
         name = elem.get("name")
@@ -409,11 +422,11 @@ def _local(tag: Any) -> str:
     return tag if isinstance(tag, str) else ""
 
 
-def _read(path_or_xml: Any) -> tuple[Any, dict[Any, tuple[ElementLines | None, int]], str, str | None]:
-    """``(root, where each element is: its file's lines and its index there, label, path)``."""
+def _read(path_or_xml: Any) -> tuple[Any, tuple[ElementIndex, ElementLines], str, str | None]:
+    """``(root, (each element's index in document order, the file's lines), label, path)``."""
     text, label, path = _read_source(path_or_xml, MJCFError, "MJCF", "load_mjcf")
     root, index, lines = parse_elements(text, label, MJCFError, "MJCF")
-    return root, dict(zip(index, zip(itertools.repeat(lines), index.values(), strict=False), strict=True)), label, path
+    return root, (index, lines), label, path
 
 
 def read_document(path_or_xml: Any, strict: bool) -> Doc:
@@ -465,7 +478,7 @@ def read_document(path_or_xml: Any, strict: bool) -> Doc:
             if _local(sub.tag) not in ("mujoco", "mujocoinclude"):  # <mujocoinclude>: MuJoCo's older root, still read
                 raise doc.error(inc, f"file={_quote(file)}: an included file's root must be <mujoco>, got "
                                 f"<{_shorten(_local(sub.tag) or '?')}>")
-            doc.where_of.update(sub_where)
+            doc.sources.append(sub_where)
             parent = parent_of[inc]
             k = list(parent).index(inc)
             parent.remove(inc)
@@ -573,12 +586,13 @@ def expand_replicates(doc: Doc) -> None:
                     "pos": " ".join(repr(float(x)) for x in p),
                     "xyaxes": " ".join(repr(float(x)) for x in (R[0], R[3], R[6], R[1], R[4], R[7])),
                 })
-                doc.where_of[frame] = doc.where_of.get(rep, (None, -1))
+                doc.where_of[frame] = doc.locate(rep)
                 suffix = f"{sep}{k:0{digits}d}"
                 for child in rep:
                     clone = copy.deepcopy(child)
                     for orig, new in zip(child.iter(), clone.iter(), strict=True):
-                        doc.where_of[new] = doc.where_of.get(orig, doc.where_of.get(rep, (None, -1)))
+                        found = doc.locate(orig)
+                        doc.where_of[new] = found if found[0] is not None else doc.locate(rep)
                         if new.get("name") is not None:
                             new.set("name", new.get("name") + suffix)
                     frame.append(clone)

@@ -289,8 +289,28 @@ class ElementLines:
         return self._lines[index] if 0 <= index < len(self._lines) else 0
 
 
+class ElementIndex:
+    """Each element's index in document order (``index[elem]``, ``index.get(elem)``), made from the parsed list when
+    first asked for: only a message asks."""
+
+    def __init__(self, elements: list[Any]) -> None:
+        self._elements = elements
+        self._index: dict[Any, int] | None = None
+
+    def get(self, elem: Any, default: int | None = None) -> int | None:
+        if self._index is None:
+            self._index = dict(zip(self._elements, range(len(self._elements)), strict=True))
+        return self._index.get(elem, default)
+
+    def __getitem__(self, elem: Any) -> int:
+        k = self.get(elem)
+        if k is None:
+            raise KeyError(elem)
+        return k
+
+
 def parse_elements(text: str, label: str, error: type[ModelError] = URDFError,
-                   kind: str = "URDF") -> tuple[Any, dict[Any, int], ElementLines]:
+                   kind: str = "URDF") -> tuple[Any, ElementIndex, ElementLines]:
     """``(root, document-order index of each element, their lines)``: :func:`_parse_xml` with lines on demand.
 
     A text without a DTD cannot declare an entity (undefined ones are expat's own error), so it is parsed by
@@ -318,7 +338,7 @@ def parse_elements(text: str, label: str, error: type[ModelError] = URDFError,
         root, found = _parse_xml(text, label, error, kind, line_depth=MAX_DEPTH)
         lines = list(found.values())
         elements = list(root.iter())
-    return root, dict(zip(elements, range(len(elements)), strict=True)), ElementLines(text, label, lines)
+    return root, ElementIndex(elements), ElementLines(text, label, lines)
 
 
 def _local(tag: Any, ns: str) -> str:

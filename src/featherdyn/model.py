@@ -81,7 +81,7 @@ _IDENTITY = PluckerTransform.identity()
 
 def _ro(a: Any, dtype: Any = np.float64) -> np.ndarray:
     out = np.array(a, dtype=dtype)
-    out.flags.writeable = False
+    out.setflags(write=False)
     return out
 
 
@@ -152,9 +152,10 @@ class Model:
                 arm = _ro(arm)
             if arm.shape != (nv,):
                 raise ModelError(f"armature: expected shape (nv,) = ({nv},), got {arm.shape}")
-            # min ≥ 0 and max < ∞ (a NaN fails both): finite values ≥ 0
-            if arm.dtype.kind == "f" and arm.size and not (arm.min() >= 0 and arm.max() < math.inf):
-                raise ModelError(f"armature: expected finite values >= 0, got {arm.tolist()}")
+            if arm.dtype.kind == "f":
+                values = arm.tolist()  # a few numbers: Python's comparisons cost less than numpy's reductions
+                if not all(0 <= v < math.inf for v in values):  # (a NaN fails)
+                    raise ModelError(f"armature: expected finite values >= 0, got {values}")
             object.__setattr__(self, "armature", arm)
 
     # pickling leaves out the caches of the compiled engines (rebuilt on first use)
