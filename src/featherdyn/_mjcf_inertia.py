@@ -27,13 +27,14 @@ against MuJoCo's compiled ``body_mass`` / ``body_inertia``.
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 
 __all__ = ["SOLID_TYPES", "geom_mass_inertia"]
 
 SOLID_TYPES = ("sphere", "capsule", "ellipsoid", "cylinder", "box")
 
 
-def _solid(kind: str, s: list[float]) -> tuple[float, tuple[float, float, float]]:
+def _solid(kind: str, s: Sequence[float]) -> tuple[float, tuple[float, float, float]]:
     """``(V, I/ρ)``: the volume and the inertia per unit density (diagonal, geom frame)."""
     pi = math.pi
     if kind == "sphere":
@@ -62,7 +63,7 @@ def _solid(kind: str, s: list[float]) -> tuple[float, tuple[float, float, float]
     return Vc + Vs, (lateral, lateral, axial)
 
 
-def _shell(kind: str, s: list[float]) -> tuple[float, tuple[float, float, float]] | None:
+def _shell(kind: str, s: Sequence[float]) -> tuple[float, tuple[float, float, float]] | None:
     """``(A, I/ρ)`` of the surface (area density ``ρ``), or ``None`` where unsupported (ellipsoid)."""
     pi = math.pi
     if kind == "sphere":
@@ -98,7 +99,7 @@ def _shell(kind: str, s: list[float]) -> tuple[float, tuple[float, float, float]
     return None
 
 
-def geom_mass_inertia(kind: str, size: list[float], density: float, mass: float | None,
+def geom_mass_inertia(kind: str, size: Sequence[float], density: float, mass: float | None,
                       shell: bool) -> tuple[float, tuple[float, float, float]] | None:
     """``(m, I)`` of a primitive geom: its mass and diagonal inertia (three floats) about its centre, geom axes.
 

@@ -429,8 +429,8 @@ class _Loader:
         axis: Vec = _Z_AXIS if given is None else given  # type: ignore[assignment]
         if given is not None and jtype in ("hinge", "slide"):
             axis = doc._direction(elem, attrs, "axis", axis)
-        ref = doc.number(elem, attrs, "ref", 0.0) if "ref" in attrs else 0.0
-        armature = doc.number(elem, attrs, "armature", 0.0, MAX_MASS) if "armature" in attrs else 0.0
+        ref = doc.floats(elem, attrs, "ref", (1,))[0] if "ref" in attrs else 0.0  # type: ignore[index]
+        armature = doc.floats(elem, attrs, "armature", (1,), (0.0,), MAX_MASS)[0]  # type: ignore[index]
         if armature < 0:
             raise doc.error(elem, f"armature={_quote(attrs['armature'])}: expected a value >= 0")
         lower, upper = -math.inf, math.inf
@@ -450,7 +450,8 @@ class _Loader:
             if jtype == "hinge" and doc.degree:
                 lower, upper = math.radians(lower), math.radians(upper)
         if jtype == "hinge":
-            ref = doc.angle(ref)
+            if ref and doc.degree:
+                ref = math.radians(ref)
         elif jtype in ("ball", "free"):
             ref = 0.0
         name = elem.get("name") or ""
@@ -579,7 +580,7 @@ class _Loader:
                 raise doc.error(elem, f"mass={_quote(attrs['mass'])}: expected a mass >= 0")
             if mass == 0:
                 return None
-        density = doc.number(elem, attrs, "density", 1000.0, MAX_MASS) if "density" in attrs else 1000.0
+        density = doc.floats(elem, attrs, "density", (1,), (1000.0,), MAX_MASS)[0]  # type: ignore[index]
         if density < 0:
             raise doc.error(elem, f"density={_quote(attrs['density'])}: expected a density >= 0")
         if gtype == "sdf":
@@ -596,34 +597,34 @@ class _Loader:
             Rg, pg = compose(R, p, *doc.pose(elem, attrs))
             k = m / measure
             return m, vec_add(mat_vec(Rg, c_mesh), pg), rotate_symmetric(Rg, tuple(x * k for x in J))  # type: ignore[arg-type]
-        given = doc.floats(elem, attrs, "size", (1, 2, 3))
-        size = [0.0, 0.0, 0.0] if given is None else [*given, 0.0, 0.0][:3]
-        line = self.fromto(elem, attrs) if "fromto" in attrs else None
+        given = doc.floats(elem, attrs, "size", (1, 2, 3)) or (0.0,)
+        size = given + (0.0, 0.0)[: 3 - len(given)]  # three sizes, the missing ones 0
         turn: Mat | None  # the geom's rotation in the frame (R, p); from fromto, made below only if needed
-        if line is None:
-            turn, pg = doc.pose(elem, attrs)
-            zg = (turn[2], turn[5], turn[8])  # its z axis
-        else:
-            zg, pg, length = line
+        if "fromto" in attrs:
+            zg, pg, length = self.fromto(elem, attrs)  # type: ignore[misc]
             turn = None  # a sphere's, capsule's or cylinder's inertia needs the z axis only
             # measured: a capsule/cylinder keeps its radius; a box/ellipsoid is (size[0], size[0], half)
             if gtype in ("capsule", "cylinder"):
-                size = [size[0], length / 2, 0.0]
+                size = (size[0], length / 2, 0.0)
             elif gtype in ("box", "ellipsoid"):
-                size = [size[0], size[0], length / 2]
-        for k in range(_SIZES_NEEDED[gtype]):
-            if not size[k] > 0:
-                raise doc.error(elem, f"size={_quote(attrs.get('size', ''))}: size {k} of a {gtype} must be positive "
-                                f"(got {size[k]:g})")
+                size = (size[0], size[0], length / 2)
+        else:
+            turn, pg = doc.pose(elem, attrs)
+            zg = (turn[2], turn[5], turn[8])  # its z axis
+        needed = _SIZES_NEEDED[gtype]
+        if not (size[0] > 0 and (needed < 2 or size[1] > 0) and (needed < 3 or size[2] > 0)):
+            k = next(k for k in range(needed) if not size[k] > 0)
+            raise doc.error(elem, f"size={_quote(attrs.get('size', ''))}: size {k} of a {gtype} must be positive "
+                            f"(got {size[k]:g})")
         got = geom_mass_inertia(gtype, size, density, mass, shell)
         if got is None:
             raise doc.error(elem, f"shellinertia='true' of a {gtype} is not supported")
         m, principal = got
-        c = vec_add(mat_vec(R, pg), p)
+        c = vec_add(pg if R is I3 else mat_vec(R, pg), p)
         if gtype == "sphere":
             return m, c, diagonal(principal)
         if gtype in ("capsule", "cylinder"):  # I = I_xx 1 + (I_zz − I_xx) z zᵀ, z the axis in body coordinates
-            return m, c, _axisymmetric(principal[0], principal[2], mat_vec(R, zg))
+            return m, c, _axisymmetric(principal[0], principal[2], zg if R is I3 else mat_vec(R, zg))
         return m, c, rotate_diagonal(mat_mul(R, z_to_vector(zg) if turn is None else turn), principal)
 
     def mesh_properties(self, geom: Any, attrs: dict[str, str]) -> tuple[float, Vec, Mat]:
