@@ -526,7 +526,7 @@ class _Loader:
                                 f"{', '.join(f'{e:.6g}' for e in ev)})")
             body.inertia = (mass[0], vec_add(mat_vec(R, (pos[0], pos[1], pos[2])), p),
                             rotate_symmetric(mat_mul(R, Ri), tensor))
-        if self.bound_and_balance(body):
+        if (comp.boundmass > 0 or comp.boundinertia > 0 or comp.balanceinertia) and self.bound_and_balance(body):
             principal = None
         mass_, _, inertia = body.inertia
         largest = max(map(abs, inertia))

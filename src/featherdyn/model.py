@@ -136,9 +136,9 @@ class Model:
 
     def __post_init__(self) -> None:
         # derived from frames (first of a name wins), so dataclasses.replace(model, frames=...) stays consistent
-        index: dict[str, int] = {}
-        for k, f in enumerate(self.frames):
-            index.setdefault(f.name, k)
+        names = [f.name for f in self.frames]
+        # the first frame of a name wins: inserted last, from the end backwards
+        index = dict(zip(reversed(names), range(len(names) - 1, -1, -1)))
         object.__setattr__(self, "_frame_index", index)
         nv = sum(self.nvs)
         if self.armature is None:
