@@ -138,7 +138,7 @@ class Model:
         # derived from frames (first of a name wins), so dataclasses.replace(model, frames=...) stays consistent
         names = [f.name for f in self.frames]
         # the first frame of a name wins: inserted last, from the end backwards
-        index = dict(zip(reversed(names), range(len(names) - 1, -1, -1)))
+        index = dict(zip(reversed(names), range(len(names) - 1, -1, -1), strict=True))
         object.__setattr__(self, "_frame_index", index)
         nv = sum(self.nvs)
         if self.armature is None:
@@ -545,14 +545,23 @@ class ModelBuilder:
             nvs.append(nv)
             q0 += nq
             v0 += nv
+        # every number of the bodies in one read-only array (one conversion): placements, inertias, limits and
+        # armature are its parts
+        chain = itertools.chain.from_iterable
+        sizes = (9 * nb, 3 * nb, nb, 3 * nb, 9 * nb, q0, q0, v0, v0, v0)
+        flat = np.fromiter(itertools.chain(
+            chain(self._rotations), chain(self._translations), self._masses, chain(self._coms),
+            chain(self._inertias_com), chain(self._lower), chain(self._upper), chain(self._vel), chain(self._eff),
+            chain(self._armature)), np.float64, sum(sizes))
+        flat.setflags(write=False)
+        parts, at = [], 0
+        for size in sizes:
+            parts.append(flat[at:at + size])
+            at += size
+        rotations, translations, masses, coms, ics, lower, upper, velocity_limit, effort_limit, armature = parts
         if nb:
-            placements = PluckerTransform._wrap(  # fresh float64 arrays, rotations checked when added
-                _stacked(self._rotations, 9).reshape(nb, 3, 3), _stacked(self._translations, 3).reshape(nb, 3),
-                None, None,
-            )
-            masses = np.array(self._masses, dtype=np.float64)
-            coms = _stacked(self._coms, 3).reshape(nb, 3)
-            ics = _stacked(self._inertias_com, 9).reshape(nb, 3, 3)
+            placements = PluckerTransform._wrap(rotations.reshape(nb, 3, 3), translations.reshape(nb, 3), None, None)
+            coms, ics = coms.reshape(nb, 3), ics.reshape(nb, 3, 3)
             if self._symmetric and math.isfinite(sum(self._masses) + sum(map(sum, self._coms))
                                                  + sum(map(sum, self._inertias_com))):
                 # only a loader's numbers (_extend: exactly symmetric), all finite: what SpatialInertia checks
@@ -562,11 +571,6 @@ class ModelBuilder:
         else:
             placements = PluckerTransform.identity((0,))
             inertias = SpatialInertia.zero((0,))
-        # the limits, one read-only array of which lower, upper, velocity_limit and effort_limit are parts
-        chain = itertools.chain.from_iterable
-        limits = np.fromiter(itertools.chain(chain(self._lower), chain(self._upper), chain(self._vel), chain(self._eff)),
-                             np.float64, 2 * q0 + 2 * v0)
-        limits.setflags(write=False)
         frames = list(self._frames)
         names = {f.name for f in frames}
         identity = _IDENTITY
@@ -588,13 +592,13 @@ class ModelBuilder:
             nqs=tuple(nqs),
             idx_v=tuple(idx_v),
             nvs=tuple(nvs),
-            lower=limits[:q0],
-            upper=limits[q0:2 * q0],
-            velocity_limit=limits[2 * q0:2 * q0 + v0],
-            effort_limit=limits[2 * q0 + v0:],
+            lower=lower,
+            upper=upper,
+            velocity_limit=velocity_limit,
+            effort_limit=effort_limit,
             mimics=tuple(self._mimics),
             source=self.source,
-            armature=_stacked(self._armature),  # (copied read-only by Model)
+            armature=armature,  # (copied by Model)
         )
         complaints = list(self._limit_problems)
         if check_inertias:
@@ -606,13 +610,6 @@ class ModelBuilder:
         if strict and complaints:
             raise ModelError(complaints[0] + " (strict=True)")
         return model, complaints
-
-
-def _stacked(parts: list[Any], size: int = -1) -> np.ndarray:
-    """The float64 array of the numbers of ``parts`` (sequences or arrays) one after the other; ``size`` each when
-    known (``np.fromiter`` over a chain: cheaper than converting nested sequences)."""
-    count = size * len(parts) if size >= 0 else -1
-    return np.fromiter(itertools.chain.from_iterable(parts), np.float64, count)
 
 
 def massless_subtrees(model: Model) -> list[str]:
