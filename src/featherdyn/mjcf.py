@@ -66,6 +66,7 @@ import itertools
 import math
 import os
 import warnings
+from collections.abc import Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -345,51 +346,55 @@ class _Loader:
         doc = self.doc
         body = self.bodies[b] if b < len(self.bodies) else None
         children: list[tuple[Any, int, Mat, Vec, str]] = []
-        # (element, frame rotation, frame position in body coordinates, childclass), document order
-        stack: list[tuple[Any, Mat, Vec, str]] = [(c, I3, Z3, childclass) for c in reversed(list(elem))]
         is_world = b == 0
         geoms = self.bodies[b].geoms
-        while stack:
-            child, R, p, cc = stack.pop()
-            kind = child.tag
-            if not isinstance(kind, str):  # a comment or a processing instruction
-                continue
-            if kind == "geom":
-                geoms.append((child, cc if "class" not in child.attrib else doc.element_class(child, cc), R, p))
-            elif kind == "body":
-                children.append((child, b, R, p, cc))
-            elif kind == "frame":
-                cls = doc.element_class(child, cc)
-                attrs = doc.attrs(child, "frame", cls)
-                Rf, pf = doc.pose(child, attrs)
-                sub_cc = doc.element_class(child, cc, "childclass")
-                R2, p2 = compose(R, p, Rf, pf)
-                stack += [(c, R2, p2, sub_cc) for c in reversed(list(child))]
-            elif kind == "site":
-                cls = doc.element_class(child, cc)
-                attrs = doc.attrs(child, "site", cls)
-                Rs, ps = self.geom_pose(child, attrs)
-                self.bodies[b].sites.append((child.get("name") or "", *compose(R, p, Rs, ps)))
-            elif kind in ("joint", "freejoint"):
-                if is_world or body is None:
-                    raise doc.error(child, "a joint of the world body: joints belong in a <body>")
-                body.joints.append(self.read_joint(child, kind, cc, R, p, len(body.joints)))
-            elif kind == "inertial":
-                if is_world or body is None:
-                    raise doc.error(child, "<inertial> of the world body")
-                if body.inertial is not None:
-                    raise doc.error(child, "a second <inertial> in one body")
-                body.inertial = (child, R, p)
-            elif kind in _BODY_REFUSED:
-                raise doc.error(child, f"<{kind}> is not supported by featherdyn's MJCF loader (it adds bodies or "
-                                "joints featherdyn cannot reproduce); expand it into plain bodies first")
-            elif kind == "plugin":
-                if doc.strict:
-                    raise doc.error(child, "<plugin> has no rigid-tree meaning and is refused with strict=True")
-                if "plugin" not in self.ignored:
-                    self.ignored.append("plugin")
-            elif kind not in _BODY_QUIET:
-                raise doc.error(child, f"unknown MJCF element <{kind}> in a body")
+        # the children in document order, a <frame>'s read in its place: for the element and each open frame, (its
+        # children not yet read, the frame's rotation and position in body coordinates, childclass)
+        open_frames: list[tuple[Iterator[Any], Mat, Vec, str]] = [(iter(elem), I3, Z3, childclass)]
+        while open_frames:
+            left, R, p, cc = open_frames[-1]
+            for child in left:
+                kind = child.tag
+                if not isinstance(kind, str):  # a comment or a processing instruction
+                    continue
+                if kind == "geom":
+                    geoms.append((child, cc if "class" not in child.attrib else doc.element_class(child, cc), R, p))
+                elif kind == "body":
+                    children.append((child, b, R, p, cc))
+                elif kind == "frame":
+                    cls = doc.element_class(child, cc)
+                    attrs = doc.attrs(child, "frame", cls)
+                    Rf, pf = doc.pose(child, attrs)
+                    sub_cc = doc.element_class(child, cc, "childclass")
+                    open_frames.append((iter(child), *compose(R, p, Rf, pf), sub_cc))
+                    break  # its children next, then this element's again
+                elif kind == "site":
+                    cls = doc.element_class(child, cc)
+                    attrs = doc.attrs(child, "site", cls)
+                    Rs, ps = self.geom_pose(child, attrs)
+                    self.bodies[b].sites.append((child.get("name") or "", *compose(R, p, Rs, ps)))
+                elif kind in ("joint", "freejoint"):
+                    if is_world or body is None:
+                        raise doc.error(child, "a joint of the world body: joints belong in a <body>")
+                    body.joints.append(self.read_joint(child, kind, cc, R, p, len(body.joints)))
+                elif kind == "inertial":
+                    if is_world or body is None:
+                        raise doc.error(child, "<inertial> of the world body")
+                    if body.inertial is not None:
+                        raise doc.error(child, "a second <inertial> in one body")
+                    body.inertial = (child, R, p)
+                elif kind in _BODY_REFUSED:
+                    raise doc.error(child, f"<{kind}> is not supported by featherdyn's MJCF loader (it adds bodies or "
+                                    "joints featherdyn cannot reproduce); expand it into plain bodies first")
+                elif kind == "plugin":
+                    if doc.strict:
+                        raise doc.error(child, "<plugin> has no rigid-tree meaning and is refused with strict=True")
+                    if "plugin" not in self.ignored:
+                        self.ignored.append("plugin")
+                elif kind not in _BODY_QUIET:
+                    raise doc.error(child, f"unknown MJCF element <{kind}> in a body")
+            else:
+                open_frames.pop()
         return children
 
     def geom_pose(self, elem: Any, attrs: dict[str, str]) -> tuple[Mat, Vec]:
