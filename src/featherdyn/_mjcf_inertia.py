@@ -36,6 +36,8 @@ SOLID_TYPES = ("sphere", "capsule", "ellipsoid", "cylinder", "box")
 
 def _solid(kind: str, s: Sequence[float]) -> tuple[float, tuple[float, float, float]]:
     """``(V, I/ρ)``: the volume and the inertia per unit density (diagonal, geom frame)."""
+    if kind == "capsule":  # the commonest first
+        return _capsule(s)
     pi = math.pi
     if kind == "sphere":
         r = s[0]
@@ -55,9 +57,13 @@ def _solid(kind: str, s: Sequence[float]) -> tuple[float, tuple[float, float, fl
         a, b, c = s[:3]
         V = 8 * a * b * c
         return V, (V / 3 * (b * b + c * c), V / 3 * (a * a + c * c), V / 3 * (a * a + b * b))
-    # capsule
+    return _capsule(s)
+
+
+def _capsule(s: Sequence[float]) -> tuple[float, tuple[float, float, float]]:
+    """:func:`_solid` of a capsule."""
     r, H = s[0], 2 * s[1]
-    Vc, Vs = pi * r * r * H, 4 / 3 * pi * r**3
+    Vc, Vs = math.pi * r * r * H, 4 / 3 * math.pi * r**3
     axial = Vc * r * r / 2 + Vs * 2 * r * r / 5
     lateral = Vc * (3 * r * r + H * H) / 12 + Vs * (2 * r * r / 5 + H * H / 4 + 3 * H * r / 8)
     return Vc + Vs, (lateral, lateral, axial)

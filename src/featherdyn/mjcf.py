@@ -727,8 +727,12 @@ class _Loader:
         ups: list[int] = []
         joints: list[Joint] = []
         jnames: list[str] = []
-        placements: list[tuple[Mat, Vec]] = []
-        limits: list[tuple[float, float, float, int]] = []  # lower, upper, armature, of a hinge or slide: nq = nv = 1
+        rotations: list[Mat] = []  # the placements
+        translations: list[Vec] = []
+        lower: list[tuple[float, ...]] = []
+        upper: list[tuple[float, ...]] = []
+        armature: list[tuple[float, ...]] = []
+        unbounded: list[tuple[float, ...]] = []  # velocity and effort limits
         inertias: list[Inertia] = []
         frames: list[tuple[str, int, tuple[Mat, Vec] | None, str]] = []
         owner: dict[int, _Body] = {}  # the moving MJCF body of each featherdyn body that carries one
@@ -755,24 +759,36 @@ class _Loader:
                 kind = j.kind
                 # placement = X ∘ (anchor at pos) ∘ (turn by -ref); the frame after the joint goes back by -pos
                 if kind == "hinge":
-                    placements.append((mat_mul(R, axis_angle_matrix(j.axis, -j.ref)), vec_add(mat_vec(R, j.pos), p)))
+                    rotations.append(mat_mul(R, axis_angle_matrix(j.axis, -j.ref)))
+                    translations.append(vec_add(mat_vec(R, j.pos), p))
                     joint = self.joint("hinge", j.axis)
                 elif kind == "slide":
                     a = j.axis
-                    placements.append((R, vec_add(mat_vec(R, (-j.ref * a[0], -j.ref * a[1], -j.ref * a[2])), p)))
+                    rotations.append(R)
+                    translations.append(vec_add(mat_vec(R, (-j.ref * a[0], -j.ref * a[1], -j.ref * a[2])), p))
                     joint = self.joint("slide", a)
                 elif kind == "free":
-                    placements.append((I3, Z3))
+                    rotations.append(I3)
+                    translations.append(Z3)
                     joint = self.joint("free", Z3)
                 else:
-                    placements.append((R, vec_add(mat_vec(R, j.pos), p)))
+                    rotations.append(R)
+                    translations.append(vec_add(mat_vec(R, j.pos), p))
                     joint = self.joint("ball", Z3)
                 names.append(body.name if k == last else _unique(f"{body.name}#{k}", taken))
                 ups.append(up)
                 joints.append(joint)
                 jnames.append(j.name)
-                limits.append((j.lower, j.upper, j.armature, 1) if kind in ("hinge", "slide")
-                              else (-math.inf, math.inf, j.armature, 0))
+                if kind in ("hinge", "slide"):  # one coordinate, its limits
+                    lower.append((j.lower,))
+                    upper.append((j.upper,))
+                    armature.append((j.armature,))
+                    unbounded.append((math.inf,))
+                else:
+                    lower.append((-math.inf,) * joint.nq)
+                    upper.append((math.inf,) * joint.nq)
+                    armature.append((j.armature,) * joint.nv)
+                    unbounded.append((math.inf,) * joint.nv)
                 up = len(names) - 1
                 frames.append((j.name, up, None, "joint"))
                 if kind in ("slide", "free") or j.pos is Z3:
@@ -799,23 +815,9 @@ class _Loader:
                                     f"inertia of a moving body to exceed mjMINVAL = {MJ_MINVAL:g}")
         builder = ModelBuilder(doc.root.get("model") or "MuJoCo Model", Z3 if self.gravity_disabled else self.gravity)
         builder.source = self.path
-        lower: list[tuple[float, ...]] = []
-        upper: list[tuple[float, ...]] = []
-        armature: list[tuple[float, ...]] = []
-        unbounded: list[tuple[float, ...]] = []
-        for joint, (lo, hi, arm, limited) in zip(joints, limits, strict=True):
-            nv = joint.nv
-            if limited:
-                lower.append((lo,))
-                upper.append((hi,))
-            else:
-                lower.append((-math.inf,) * joint.nq)
-                upper.append((math.inf,) * joint.nq)
-            armature.append((arm,) * nv)
-            unbounded.append((math.inf,) * nv)
-        builder._extend(names, ups, joints, jnames, [R for R, _ in placements], [p for _, p in placements],
-                        [m for m, _, _ in inertias], [c for _, c, _ in inertias], [ic for _, _, ic in inertias],
-                        lower, upper, unbounded, unbounded, armature)
+        builder._extend(names, ups, joints, jnames, rotations, translations, [m for m, _, _ in inertias],
+                        [c for _, c, _ in inertias], [ic for _, _, ic in inertias], lower, upper, unbounded, unbounded,
+                        armature)
         # the frames' placements: one stacked array, each frame a read-only view of its row
         posed = [pose for _, _, pose, _ in frames if pose is not None and not (pose[0] is I3 and pose[1] is Z3)]
         chain = itertools.chain.from_iterable

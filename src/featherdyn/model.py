@@ -529,12 +529,14 @@ class ModelBuilder:
     def _build(self, strict: bool, check_inertias: bool) -> tuple[Model, list[str]]:
         """:meth:`build`, its warnings returned as messages (a loader names its file in them); with ``strict``
         the first is raised."""
-        for what, listed in (("body", self._body_names), ("joint", self._joint_names)):
-            seen: set[str] = set()
-            for n in listed:
-                if n in seen:
-                    raise ModelError(f"{what} name {n!r} is used twice")
-                seen.add(n)
+        for what, listed, distinct in (("body", self._body_names, self._body_set),
+                                       ("joint", self._joint_names, self._joint_set)):
+            if len(distinct) != len(listed):  # a name used twice: find the first
+                seen: set[str] = set()
+                for n in listed:
+                    if n in seen:
+                        raise ModelError(f"{what} name {n!r} is used twice")
+                    seen.add(n)
         nb = self.nbodies
         idx_q, idx_v, nqs, nvs, q0, v0 = [], [], [], [], 0, 0
         for j in self._joints:
