@@ -166,6 +166,8 @@ def _moved(inertia: Inertia, R: Mat, p: Vec) -> Inertia:
 
         m' = m,   c' = R c + p,   I_c' = R I_c Rᵀ      (X* I X⁻¹, RBDA §2.13)
     """
+    if R is I3 and p is Z3:
+        return inertia
     m, c, ic = inertia
     return m, vec_add(mat_vec(R, c), p), rotate_symmetric(R, ic)
 
