@@ -60,6 +60,7 @@ class Doc:
         self.label = label
         self.path = path
         self.strict = strict
+        self.may_replicate = True  # False: surely no <replicate> (read_document)
         self.degree = True
         self.eulerseq = "xyz"
         self.own_defaults: dict[str, dict[str, dict[str, str]]] = {}
@@ -252,6 +253,8 @@ class Doc:
 
     def _direction(self, elem: Any, attrs: dict[str, str], name: str, v: Vec, why: str = "a zero vector") -> Vec:
         n = math.hypot(*v)  # without overflow or underflow
+        if n == 1.0:  # ("0 0 1"): v / n is v
+            return v
         if n < 1e-10:
             raise self.error(elem, f"{name}={_quote(attrs[name])}: {why} is not a direction")
         return (v[0] / n, v[1] / n, v[2] / n)
@@ -260,7 +263,8 @@ class Doc:
         """``(R, p)``: the element's orientation and ``pos`` in its parent's frame (:data:`I3`, :data:`Z3` when
         absent)."""
         p = self.floats(elem, attrs, "pos", (3,))
-        return self.rotation(elem, attrs), Z3 if p is None else p  # type: ignore[return-value]  # three floats
+        R = I3 if _REPLACING.isdisjoint(attrs) else self.rotation(elem, attrs)  # (most elements: no orientation)
+        return R, Z3 if p is None else p  # type: ignore[return-value]  # three floats
 
 
 # ---------------------------------------------------------------------------
@@ -442,8 +446,12 @@ def read_document(path_or_xml: Any, strict: bool) -> Doc:
         hint = " (a URDF: use featherdyn.load_urdf or load_model)" if tag == "robot" else ""
         raise MJCFError(f"{label}: expected the root element <mujoco>, got <{tag}>{hint}")
     doc = Doc(root, where, label, path, strict)
-    if next(root.iter("include"), None) is None:
+    # an element's tag is in the text after "<": a text without "<include" has none (a scan instead of a tree walk)
+    text = where[1].text
+    doc.may_replicate = "<replicate" in text
+    if "<include" not in text or next(root.iter("include"), None) is None:
         return doc
+    doc.may_replicate = True  # (the included files' elements: expand_replicates looks)
     chain_of: dict[Any, tuple[str, ...]] = {root: (str(Path(path).resolve()) if path else label,)}
     included = 0
     seen: set[str] = set()
@@ -552,7 +560,7 @@ def expand_replicates(doc: Doc) -> None:
 
     created = 0
     while True:
-        if next(doc.root.iter("replicate"), None) is None:
+        if not doc.may_replicate or next(doc.root.iter("replicate"), None) is None:
             return
         parent_of = {c: p for p in doc.root.iter() for c in p}
         innermost = [e for e in doc.root.iter() if _local(e.tag) == "replicate"
