@@ -822,12 +822,13 @@ class _Loader:
                         armature)
         # the frames' placements: one stacked array, each frame a read-only view of its row
         posed = [pose for _, _, pose, _ in frames if pose is not None and not (pose[0] is I3 and pose[1] is Z3)]
-        chain = itertools.chain.from_iterable
-        n = len(posed)
-        stacked = np.fromiter(itertools.chain(chain(R for R, _ in posed), chain(p for _, p in posed)), np.float64,
-                              12 * n)
-        stacked.setflags(write=False)
-        Rs, ps = stacked[:9 * n].reshape(n, 3, 3), stacked[9 * n:].reshape(n, 3)
+        if posed:
+            chain = itertools.chain.from_iterable
+            n = len(posed)
+            stacked = np.fromiter(itertools.chain(chain(R for R, _ in posed), chain(p for _, p in posed)),
+                                  np.float64, 12 * n)
+            stacked.setflags(write=False)
+            Rs, ps = stacked[:9 * n].reshape(n, 3, 3), stacked[9 * n:].reshape(n, 3)
         k = 0
         infos = []
         for fname, body_index, pose, fkind in frames:

@@ -310,8 +310,8 @@ class ModelBuilder:
 
     def __init__(self, name: str = "model", gravity: Sequence[float] = DEFAULT_GRAVITY) -> None:
         self.name = name
-        if type(gravity) is tuple and len(gravity) == 3 and all(type(x) is float for x in gravity) and math.isfinite(
-                gravity[0] + gravity[1] + gravity[2]):  # three finite floats (a loader's): nothing to convert
+        if (type(gravity) is tuple and len(gravity) == 3 and type(gravity[0]) is type(gravity[1]) is type(gravity[2])
+                is float and math.isfinite(gravity[0] + gravity[1] + gravity[2])):  # three finite floats: no conversion
             self.gravity = np.array(gravity)
         else:
             g = as_array(gravity, "gravity", (3,))
@@ -550,17 +550,18 @@ class ModelBuilder:
         # every number of the bodies in one read-only array (one conversion): placements, inertias, limits and
         # armature are its parts
         chain = itertools.chain.from_iterable
-        sizes = (9 * nb, 3 * nb, nb, 3 * nb, 9 * nb, q0, q0, v0, v0, v0)
+        sizes = (9 * nb, 3 * nb, nb, 3 * nb, 9 * nb, q0, q0, v0, v0, v0, 3)
         flat = np.fromiter(itertools.chain(
             chain(self._rotations), chain(self._translations), self._masses, chain(self._coms),
             chain(self._inertias_com), chain(self._lower), chain(self._upper), chain(self._vel), chain(self._eff),
-            chain(self._armature)), np.float64, sum(sizes))
+            chain(self._armature), self.gravity), np.float64, sum(sizes))
         flat.setflags(write=False)
         parts, at = [], 0
         for size in sizes:
             parts.append(flat[at:at + size])
             at += size
-        rotations, translations, masses, coms, ics, lower, upper, velocity_limit, effort_limit, armature = parts
+        (rotations, translations, masses, coms, ics, lower, upper, velocity_limit, effort_limit, armature,
+         gravity) = parts
         if nb:
             placements = PluckerTransform._wrap(rotations.reshape(nb, 3, 3), translations.reshape(nb, 3), None, None)
             coms, ics = coms.reshape(nb, 3), ics.reshape(nb, 3, 3)
@@ -588,7 +589,7 @@ class ModelBuilder:
             body_names=tuple(self._body_names),
             joint_placements=placements,
             inertias=inertias,
-            gravity=_ro(self.gravity),
+            gravity=gravity,
             frames=tuple(frames),
             idx_q=tuple(idx_q),
             nqs=tuple(nqs),
