@@ -338,7 +338,9 @@ class _Loader:
             if "childclass" in elem.attrib:
                 childclass = doc.element_class(elem, childclass, "childclass")
             Rb, pb = doc.pose(elem, elem.attrib)
-            body = _Body(elem, elem.get("name") or "", parent, *compose(R, p, Rb, pb), childclass)
+            if R is not I3 or p is not Z3:  # in a <frame>
+                Rb, pb = compose(R, p, Rb, pb)
+            body = _Body(elem, elem.get("name") or "", parent, Rb, pb, childclass)
             self.bodies.append(body)
             children = self.read_content(len(self.bodies) - 1, elem, childclass)
             pending += reversed(children)
@@ -441,7 +443,9 @@ class _Loader:
         if armature < 0:
             raise doc.error(elem, f"armature={_quote(attrs['armature'])}: expected a value >= 0")
         lower, upper = -math.inf, math.inf
-        limited = doc.choice(elem, attrs, "limited", ("true", "false", "auto"), "auto") if "limited" in attrs else "auto"
+        limited = attrs.get("limited", "auto")
+        if limited not in ("true", "false", "auto"):
+            doc.choice(elem, attrs, "limited", ("true", "false", "auto"), "auto")  # the message
         has_range = "range" in attrs
         if limited == "auto":
             if has_range and not self.comp.autolimits:
