@@ -124,12 +124,11 @@ class Doc:
 
     def attrs(self, elem: Any, kind: str, cls: str) -> dict[str, str]:
         """The element's attributes over those of its default class (an orientation given replaces the default's)."""
-        try:
-            defaults, unposed = self._resolved_pair[cls, kind]
-        except KeyError:
+        pair = self._resolved_pair.get((cls, kind))
+        if pair is None:
             defaults = self.class_defaults(cls, kind)
-            unposed = {k: v for k, v in defaults.items() if k not in _REPLACING}
-            self._resolved_pair[cls, kind] = defaults, unposed
+            pair = self._resolved_pair[cls, kind] = defaults, {k: v for k, v in defaults.items() if k not in _REPLACING}
+        defaults, unposed = pair
         own = elem.attrib
         if not defaults:
             return own  # read only by the loader
@@ -157,10 +156,10 @@ class Doc:
         text = attrs.get(name)
         if text is None:
             return default
-        try:
-            values, ceiling = self._parsed[text]
-        except KeyError:
-            values, ceiling = self._parsed[text] = _parse_decimals(text)
+        got = self._parsed.get(text)
+        if got is None:
+            got = self._parsed[text] = _parse_decimals(text)
+        values, ceiling = got
         if 0 <= ceiling <= bound and len(values) in counts:  # the usual case: decimals, small enough, as many
             return values
         if len(values) not in counts:
