@@ -36,9 +36,13 @@ SOLID_TYPES = ("sphere", "capsule", "ellipsoid", "cylinder", "box")
 
 def _solid(kind: str, s: Sequence[float]) -> tuple[float, tuple[float, float, float]]:
     """``(V, I/ρ)``: the volume and the inertia per unit density (diagonal, geom frame)."""
-    if kind == "capsule":  # the commonest first
-        return _capsule(s)
     pi = math.pi
+    if kind == "capsule":  # cylinder + two hemispheres; the commonest first
+        r, H = s[0], 2 * s[1]
+        Vc, Vs = pi * r * r * H, 4 / 3 * pi * r**3
+        axial = Vc * r * r / 2 + Vs * 2 * r * r / 5
+        lateral = Vc * (3 * r * r + H * H) / 12 + Vs * (2 * r * r / 5 + H * H / 4 + 3 * H * r / 8)
+        return Vc + Vs, (lateral, lateral, axial)
     if kind == "sphere":
         r = s[0]
         V = 4 / 3 * pi * r**3
@@ -53,20 +57,10 @@ def _solid(kind: str, s: Sequence[float]) -> tuple[float, tuple[float, float, fl
         V = pi * r * r * 2 * h
         lateral = V * ((3 * r * r + 4 * h * h) / 12)
         return V, (lateral, lateral, V * (r * r / 2))
-    if kind == "box":
-        a, b, c = s[:3]
-        V = 8 * a * b * c
-        return V, (V / 3 * (b * b + c * c), V / 3 * (a * a + c * c), V / 3 * (a * a + b * b))
-    return _capsule(s)
-
-
-def _capsule(s: Sequence[float]) -> tuple[float, tuple[float, float, float]]:
-    """:func:`_solid` of a capsule."""
-    r, H = s[0], 2 * s[1]
-    Vc, Vs = math.pi * r * r * H, 4 / 3 * math.pi * r**3
-    axial = Vc * r * r / 2 + Vs * 2 * r * r / 5
-    lateral = Vc * (3 * r * r + H * H) / 12 + Vs * (2 * r * r / 5 + H * H / 4 + 3 * H * r / 8)
-    return Vc + Vs, (lateral, lateral, axial)
+    # box
+    a, b, c = s[:3]
+    V = 8 * a * b * c
+    return V, (V / 3 * (b * b + c * c), V / 3 * (a * a + c * c), V / 3 * (a * a + b * b))
 
 
 def _shell(kind: str, s: Sequence[float]) -> tuple[float, tuple[float, float, float]] | None:

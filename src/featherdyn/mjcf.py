@@ -303,9 +303,9 @@ class _Loader:
             if g is None or any(x != int(x) for x in g):
                 raise doc.error(elem, f"inertiagrouprange={_quote(a['inertiagrouprange'])}: expected two integers")
             c.group_range = (int(g[0]), int(g[1]))
-        c.boundmass = doc.number(elem, a, "boundmass", c.boundmass, MAX_MASS)
-        c.boundinertia = doc.number(elem, a, "boundinertia", c.boundinertia, MAX_MASS)
-        c.settotalmass = doc.number(elem, a, "settotalmass", c.settotalmass, MAX_MASS)
+        for key in ("boundmass", "boundinertia", "settotalmass"):
+            if key in a:
+                setattr(c, key, doc.number(elem, a, key, 0.0, MAX_MASS))
         if "balanceinertia" in a:
             c.balanceinertia = doc.boolean(elem, a, "balanceinertia", False)
         if "autolimits" in a:
