@@ -219,6 +219,16 @@ def _smallest_above(ic: Mat, floor: float) -> bool:
     return bound > 2 * floor + 1e-12 * max(a, e, i)
 
 
+def _add_frame(frames: list[Any], posed: list[int], name: str, body: int, R: Mat, p: Vec, kind: str) -> None:
+    """A frame at ``(R, p)`` in body ``body``: at once when at its origin (the shared identity placement), else as
+    ``(name, body, (R, p), kind)`` with its index in ``posed`` (placed once all are stacked)."""
+    if R is I3 and p is Z3:
+        frames.append(FrameInfo(name, body, _IDENTITY, kind))
+    else:
+        posed.append(len(frames))
+        frames.append((name, body, (R, p), kind))
+
+
 def _unique(name: str, taken: set[str]) -> str:
     out, k = name, 1
     while out in taken:
@@ -740,7 +750,9 @@ class _Loader:
         armature: list[tuple[float, ...]] = []
         unbounded: list[tuple[float, ...]] = []  # velocity and effort limits
         inertias: list[Inertia] = []
-        frames: list[tuple[str, int, tuple[Mat, Vec] | None, str]] = []
+        # the frames, each a FrameInfo, or (name, body, (R, p), kind) until the placements are stacked (posed: where)
+        frames: list[Any] = []
+        posed: list[int] = []
         owner: dict[int, _Body] = {}  # the moving MJCF body of each featherdyn body that carries one
         for b in range(1, nb):
             body = bodies[b]
@@ -752,9 +764,9 @@ class _Loader:
                 pose_fd_mj[b] = (R, p)
                 if up >= 0:
                     inertias[up] = _combined(inertias[up], _moved(body.inertia, R, p))
-                frames.append((body.name, up, (R, p), "link"))
+                _add_frame(frames, posed, body.name, up, R, p, "link")
                 if body.sites:
-                    self.add_sites(frames, body, up, R, p)
+                    self.add_sites(frames, posed, body, up, R, p)
                 continue
             if len(js) > 1 or js[0].kind == "free":
                 self.check_joints(body, b)
@@ -796,7 +808,7 @@ class _Loader:
                     armature.append((j.armature,) * joint.nv)
                     unbounded.append((math.inf,) * joint.nv)
                 up = len(names) - 1
-                frames.append((j.name, up, None, "joint"))
+                frames.append(FrameInfo(j.name, up, _IDENTITY, "joint"))  # at its body's origin
                 if kind in ("slide", "free") or j.pos is Z3:
                     R, p = I3, Z3
                 else:
@@ -805,11 +817,11 @@ class _Loader:
             fd_body[b] = up
             pose_fd_mj[b] = (R, p)
             owner[up] = body
-            frames.append((body.name, up, (R, p), "body"))
+            _add_frame(frames, posed, body.name, up, R, p, "body")
             if body.sites:
-                self.add_sites(frames, body, up, R, p)
+                self.add_sites(frames, posed, body, up, R, p)
         if bodies[0].sites:
-            self.add_sites(frames, bodies[0], -1, I3, Z3)
+            self.add_sites(frames, posed, bodies[0], -1, I3, Z3)
         # MuJoCo's rule on moving bodies is on the body with its welded descendants (its weld group)
         for i, body in owner.items():
             mass, _, ic = inertias[i]
@@ -824,25 +836,17 @@ class _Loader:
         builder._extend(names, ups, joints, jnames, rotations, translations, [m for m, _, _ in inertias],
                         [c for _, c, _ in inertias], [ic for _, _, ic in inertias], lower, upper, unbounded, unbounded,
                         armature)
-        # the frames' placements: one stacked array, each frame a read-only view of its row
-        posed = [pose for _, _, pose, _ in frames if pose is not None and not (pose[0] is I3 and pose[1] is Z3)]
-        if posed:
+        if posed:  # their placements: one stacked read-only array, each frame's a view of its row
             chain = itertools.chain.from_iterable
             n = len(posed)
-            stacked = np.fromiter(itertools.chain(chain(R for R, _ in posed), chain(p for _, p in posed)),
-                                  np.float64, 12 * n)
+            stacked = np.fromiter(itertools.chain(chain(frames[i][2][0] for i in posed),
+                                                  chain(frames[i][2][1] for i in posed)), np.float64, 12 * n)
             stacked.setflags(write=False)
             Rs, ps = stacked[:9 * n].reshape(n, 3, 3), stacked[9 * n:].reshape(n, 3)
-        k = 0
-        infos = []
-        for fname, body_index, pose, fkind in frames:
-            if pose is None or (pose[0] is I3 and pose[1] is Z3):
-                X = _IDENTITY  # immutable (read-only arrays): shared by every identity frame
-            else:
-                X = PluckerTransform._wrap(Rs[k], ps[k], None, None)
-                k += 1
-            infos.append(FrameInfo(fname, body_index, X, fkind))
-        builder._append_frames(infos)
+            for k, i in enumerate(posed):
+                fname, body_index, _, fkind = frames[i]
+                frames[i] = FrameInfo(fname, body_index, PluckerTransform._wrap(Rs[k], ps[k], None, None), fkind)
+        builder._append_frames(frames)
         return builder._build(doc.strict, True)
 
     def joint(self, kind: str, axis: Vec) -> Joint:
@@ -876,12 +880,11 @@ class _Loader:
                 raise doc.error(body.joints[k].elem, f"body {body.name!r}: a ball joint followed by a rotation in the "
                                 "same body (MuJoCo refuses this)")
 
-    def add_sites(self, frames: list[tuple[str, int, tuple[Mat, Vec] | None, str]], body: _Body, fd: int,
-                  R: Mat, p: Vec) -> None:
+    def add_sites(self, frames: list[Any], posed: list[int], body: _Body, fd: int, R: Mat, p: Vec) -> None:
         """The body's sites as frames of featherdyn body ``fd``, where the MJCF body frame is posed ``(R, p)``."""
         for k, (name, Rs, ps) in enumerate(body.sites):
             full = name or _unique(f"{body.name}/site{k}", self.site_names)
-            frames.append((full, fd, compose(R, p, Rs, ps), "site"))
+            _add_frame(frames, posed, full, fd, *compose(R, p, Rs, ps), "site")
 
 
 def load_mjcf(path_or_xml: str | os.PathLike[str] | bytes, *, strict: bool = False) -> Model:
