@@ -27,15 +27,22 @@ against MuJoCo's compiled ``body_mass`` / ``body_inertia``.
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 
 __all__ = ["SOLID_TYPES", "geom_mass_inertia"]
 
 SOLID_TYPES = ("sphere", "capsule", "ellipsoid", "cylinder", "box")
 
 
-def _solid(kind: str, s: list[float]) -> tuple[float, tuple[float, float, float]]:
+def _solid(kind: str, s: Sequence[float]) -> tuple[float, tuple[float, float, float]]:
     """``(V, I/ρ)``: the volume and the inertia per unit density (diagonal, geom frame)."""
     pi = math.pi
+    if kind == "capsule":  # cylinder + two hemispheres; the commonest first
+        r, H = s[0], 2 * s[1]
+        Vc, Vs = pi * r * r * H, 4 / 3 * pi * r**3
+        axial = Vc * r * r / 2 + Vs * 2 * r * r / 5
+        lateral = Vc * (3 * r * r + H * H) / 12 + Vs * (2 * r * r / 5 + H * H / 4 + 3 * H * r / 8)
+        return Vc + Vs, (lateral, lateral, axial)
     if kind == "sphere":
         r = s[0]
         V = 4 / 3 * pi * r**3
@@ -50,19 +57,13 @@ def _solid(kind: str, s: list[float]) -> tuple[float, tuple[float, float, float]
         V = pi * r * r * 2 * h
         lateral = V * ((3 * r * r + 4 * h * h) / 12)
         return V, (lateral, lateral, V * (r * r / 2))
-    if kind == "box":
-        a, b, c = s[:3]
-        V = 8 * a * b * c
-        return V, (V / 3 * (b * b + c * c), V / 3 * (a * a + c * c), V / 3 * (a * a + b * b))
-    # capsule
-    r, H = s[0], 2 * s[1]
-    Vc, Vs = pi * r * r * H, 4 / 3 * pi * r**3
-    axial = Vc * r * r / 2 + Vs * 2 * r * r / 5
-    lateral = Vc * (3 * r * r + H * H) / 12 + Vs * (2 * r * r / 5 + H * H / 4 + 3 * H * r / 8)
-    return Vc + Vs, (lateral, lateral, axial)
+    # box
+    a, b, c = s[:3]
+    V = 8 * a * b * c
+    return V, (V / 3 * (b * b + c * c), V / 3 * (a * a + c * c), V / 3 * (a * a + b * b))
 
 
-def _shell(kind: str, s: list[float]) -> tuple[float, tuple[float, float, float]] | None:
+def _shell(kind: str, s: Sequence[float]) -> tuple[float, tuple[float, float, float]] | None:
     """``(A, I/ρ)`` of the surface (area density ``ρ``), or ``None`` where unsupported (ellipsoid)."""
     pi = math.pi
     if kind == "sphere":
@@ -98,7 +99,7 @@ def _shell(kind: str, s: list[float]) -> tuple[float, tuple[float, float, float]
     return None
 
 
-def geom_mass_inertia(kind: str, size: list[float], density: float, mass: float | None,
+def geom_mass_inertia(kind: str, size: Sequence[float], density: float, mass: float | None,
                       shell: bool) -> tuple[float, tuple[float, float, float]] | None:
     """``(m, I)`` of a primitive geom: its mass and diagonal inertia (three floats) about its centre, geom axes.
 

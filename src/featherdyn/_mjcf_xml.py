@@ -21,7 +21,6 @@ extrinsic), ``xyaxes``, ``zaxis``; angles in degrees unless
 
 from __future__ import annotations
 
-import itertools
 import math
 import os
 import re
@@ -29,7 +28,7 @@ import warnings
 from pathlib import Path
 from typing import Any
 
-from ._urdf_xml import ElementLines, _quote, _read_source, _shorten, parse_elements
+from ._urdf_xml import ElementIndex, ElementLines, _quote, _read_source, _shorten, parse_elements
 from .errors import MJCFError, PhysicalityWarning
 from .urdf import MAX_LENGTH
 
@@ -51,24 +50,46 @@ _DEFAULT_KINDS = frozenset({"joint", "geom", "site", "mesh", "inertial", "frame"
 class Doc:
     """The parsed document: where each element came from, the compiler settings, the default classes."""
 
-    def __init__(self, root: Any, where: dict[Any, tuple[ElementLines | None, int]], label: str, model_dir: Path,
+    def __init__(self, root: Any, where: tuple[ElementIndex, ElementLines], label: str, path: str | None,
                  strict: bool) -> None:
         self.root = root
-        self.where_of = where
+        # where each element came from: each parsed file's document-order index of its elements and their lines,
+        # and the file and index of the elements made or moved later (replicates)
+        self.sources = [where]
+        self.where_of: dict[Any, tuple[ElementLines | None, int]] = {}
         self.label = label
-        self.model_dir = model_dir
+        self.path = path
         self.strict = strict
+        self.may_replicate = True  # False: surely no <replicate> (read_document)
         self.degree = True
         self.eulerseq = "xyz"
         self.own_defaults: dict[str, dict[str, dict[str, str]]] = {}
         self.default_parent: dict[str, str | None] = {}
         self._resolved: dict[tuple[str, str], dict[str, str]] = {}
+        # attrs' defaults of a class and kind: all, and without orientations and fromto (for an element giving one)
+        self._resolved_pair: dict[tuple[str, str], tuple[dict[str, str], dict[str, str]]] = {}
         self._parsed: dict[str, tuple[tuple[float, ...], float]] = {}
+
+    @property
+    def model_dir(self) -> Path:
+        """The main file's directory (the current directory for a string): where includes and assets are found."""
+        return Path(self.path).parent if self.path is not None else Path(os.getcwd())
 
     # -- messages -------------------------------------------------------------
 
+    def locate(self, elem: Any) -> tuple[ElementLines | None, int]:
+        """The lines of the file an element came from and its document-order index there (``(None, -1)``: unknown)."""
+        got = self.where_of.get(elem)
+        if got is not None:
+            return got
+        for index, lines in self.sources:
+            k = index.get(elem)
+            if k is not None:
+                return lines, k
+        return None, -1
+
     def where(self, elem: Any) -> str:
-        source, index = self.where_of.get(elem, (None, -1))
+        source, index = self.locate(elem)
         label, line = (self.label, 0) if source is None else (source.label, source.line(index))
         tag = _shorten(str(elem.tag)) if isinstance(elem.tag, str) else "?"
         name = elem.get("name")
@@ -103,13 +124,16 @@ class Doc:
 
     def attrs(self, elem: Any, kind: str, cls: str) -> dict[str, str]:
         """The element's attributes over those of its default class (an orientation given replaces the default's)."""
-        defaults = self._resolved.get((cls, kind))
-        if defaults is None:
+        pair = self._resolved_pair.get((cls, kind))
+        if pair is None:
             defaults = self.class_defaults(cls, kind)
+            pair = self._resolved_pair[cls, kind] = defaults, {k: v for k, v in defaults.items() if k not in _REPLACING}
+        defaults, unposed = pair
+        own = elem.attrib
         if not defaults:
-            return elem.attrib  # read only by the loader
-        merged = dict(defaults)
-        _overlay(merged, elem.attrib)
+            return own  # read only by the loader
+        merged = defaults.copy() if _REPLACING.isdisjoint(own) else unposed.copy()  # (as _overlay)
+        merged.update(own)
         return merged
 
     def element_class(self, elem: Any, childclass: str, attr: str = "class") -> str:
@@ -136,6 +160,8 @@ class Doc:
         if got is None:
             got = self._parsed[text] = _parse_decimals(text)
         values, ceiling = got
+        if 0 <= ceiling <= bound and len(values) in counts:  # the usual case: decimals, small enough, as many
+            return values
         if len(values) not in counts:
             want = " or ".join(str(c) for c in counts)
             raise self.error(elem, f"{name}={_quote(text)}: expected {want} number{'s' if max(counts) > 1 else ''}, "
@@ -226,6 +252,8 @@ class Doc:
 
     def _direction(self, elem: Any, attrs: dict[str, str], name: str, v: Vec, why: str = "a zero vector") -> Vec:
         n = math.hypot(*v)  # without overflow or underflow
+        if n == 1.0:  # ("0 0 1"): v / n is v
+            return v
         if n < 1e-10:
             raise self.error(elem, f"{name}={_quote(attrs[name])}: {why} is not a direction")
         return (v[0] / n, v[1] / n, v[2] / n)
@@ -234,7 +262,8 @@ class Doc:
         """``(R, p)``: the element's orientation and ``pos`` in its parent's frame (:data:`I3`, :data:`Z3` when
         absent)."""
         p = self.floats(elem, attrs, "pos", (3,))
-        return self.rotation(elem, attrs), Z3 if p is None else (p[0], p[1], p[2])
+        R = I3 if _REPLACING.isdisjoint(attrs) else self.rotation(elem, attrs)  # (most elements: no orientation)
+        return R, Z3 if p is None else p  # type: ignore[return-value]  # three floats
 
 
 # ---------------------------------------------------------------------------
@@ -289,6 +318,8 @@ def cross(a: Vec, b: Vec) -> Vec:
 
 def compose(R1: Mat, p1: Vec, R2: Mat, p2: Vec) -> tuple[Mat, Vec]:
     """``(R1, p1) ∘ (R2, p2) = (R1 R2, R1 p2 + p1)``: the pose ``(R2, p2)`` given in the frame posed ``(R1, p1)``."""
+    if R1 is I3:  # most frames: the product and the rotation skipped
+        return R2, (p2 if p1 is Z3 else vec_add(p2, p1))
     return mat_mul(R1, R2), vec_add(mat_vec(R1, p2), p1)
 
 
@@ -350,6 +381,8 @@ def _parse_decimals(text: str) -> tuple[tuple[float, ...], float]:
         values = tuple(map(float, parts))
     else:
         return tuple(0.0 for _ in parts), -1.0
+    if len(values) == 3 and not any(values) and "-" not in text:  # "0 0 0": the zero vector, skipped as such
+        values = Z3
     if len(text) < 60 and "e" not in text and "E" not in text:
         return values, _SHORT_CEILING
     return values, max(map(abs, values), default=0.0)
@@ -392,11 +425,11 @@ def _local(tag: Any) -> str:
     return tag if isinstance(tag, str) else ""
 
 
-def _read(path_or_xml: Any) -> tuple[Any, dict[Any, tuple[ElementLines | None, int]], str, str | None]:
-    """``(root, where each element is: its file's lines and its index there, label, path)``."""
+def _read(path_or_xml: Any) -> tuple[Any, tuple[ElementIndex, ElementLines], str, str | None]:
+    """``(root, (each element's index in document order, the file's lines), label, path)``."""
     text, label, path = _read_source(path_or_xml, MJCFError, "MJCF", "load_mjcf")
     root, index, lines = parse_elements(text, label, MJCFError, "MJCF")
-    return root, dict(zip(index, zip(itertools.repeat(lines), index.values(), strict=False), strict=True)), label, path
+    return root, (index, lines), label, path
 
 
 def read_document(path_or_xml: Any, strict: bool) -> Doc:
@@ -411,10 +444,13 @@ def read_document(path_or_xml: Any, strict: bool) -> Doc:
         tag = _shorten(_local(root.tag) or "?")
         hint = " (a URDF: use featherdyn.load_urdf or load_model)" if tag == "robot" else ""
         raise MJCFError(f"{label}: expected the root element <mujoco>, got <{tag}>{hint}")
-    model_dir = Path(path).parent if path is not None else Path(os.getcwd())
-    doc = Doc(root, where, label, model_dir, strict)
-    if next(root.iter("include"), None) is None:
+    doc = Doc(root, where, label, path, strict)
+    # an element's tag is in the text after "<": a text without "<include" has none (a scan instead of a tree walk)
+    text = where[1].text
+    doc.may_replicate = "<replicate" in text
+    if "<include" not in text or next(root.iter("include"), None) is None:
         return doc
+    doc.may_replicate = True  # (the included files' elements: expand_replicates looks)
     chain_of: dict[Any, tuple[str, ...]] = {root: (str(Path(path).resolve()) if path else label,)}
     included = 0
     seen: set[str] = set()
@@ -449,7 +485,7 @@ def read_document(path_or_xml: Any, strict: bool) -> Doc:
             if _local(sub.tag) not in ("mujoco", "mujocoinclude"):  # <mujocoinclude>: MuJoCo's older root, still read
                 raise doc.error(inc, f"file={_quote(file)}: an included file's root must be <mujoco>, got "
                                 f"<{_shorten(_local(sub.tag) or '?')}>")
-            doc.where_of.update(sub_where)
+            doc.sources.append(sub_where)
             parent = parent_of[inc]
             k = list(parent).index(inc)
             parent.remove(inc)
@@ -523,7 +559,7 @@ def expand_replicates(doc: Doc) -> None:
 
     created = 0
     while True:
-        if next(doc.root.iter("replicate"), None) is None:
+        if not doc.may_replicate or next(doc.root.iter("replicate"), None) is None:
             return
         parent_of = {c: p for p in doc.root.iter() for c in p}
         innermost = [e for e in doc.root.iter() if _local(e.tag) == "replicate"
@@ -557,12 +593,13 @@ def expand_replicates(doc: Doc) -> None:
                     "pos": " ".join(repr(float(x)) for x in p),
                     "xyaxes": " ".join(repr(float(x)) for x in (R[0], R[3], R[6], R[1], R[4], R[7])),
                 })
-                doc.where_of[frame] = doc.where_of.get(rep, (None, -1))
+                doc.where_of[frame] = doc.locate(rep)
                 suffix = f"{sep}{k:0{digits}d}"
                 for child in rep:
                     clone = copy.deepcopy(child)
                     for orig, new in zip(child.iter(), clone.iter(), strict=True):
-                        doc.where_of[new] = doc.where_of.get(orig, doc.where_of.get(rep, (None, -1)))
+                        found = doc.locate(orig)
+                        doc.where_of[new] = found if found[0] is not None else doc.locate(rep)
                         if new.get("name") is not None:
                             new.set("name", new.get("name") + suffix)
                     frame.append(clone)

@@ -70,6 +70,9 @@ class SpatialInertia(_SpatialValue):
         exact = _exact_float64(mass, com, inertia_com)  # stacked float64 of matching shapes: nothing to convert
         if exact:
             m, c, ic = np.array(mass), np.array(com), np.asarray(inertia_com)
+            if bool((ic == _mT(ic)).all()):  # exactly symmetric (a loader's): nothing to check or average
+                _init_i(self, m, c, np.array(ic), frame)
+                return
         else:
             m, c, ic = _adopt_dtype(
                 (mass, com, inertia_com),

@@ -79,7 +79,7 @@ def unit_axis(axis: ArrayLike, name: str = "axis", *, warn: bool = True, stackle
             f"{name}: axis {a.tolist()} has length {n:.6g}; normalised", PhysicalityWarning, stacklevel=stacklevel
         )
     out = a / n
-    out.flags.writeable = False
+    out.setflags(write=False)
     return out
 
 
@@ -97,7 +97,7 @@ def _skew3(w: np.ndarray) -> np.ndarray:
 
 
 def _frozen(a: np.ndarray) -> np.ndarray:
-    a.flags.writeable = False
+    a.setflags(write=False)
     return a
 
 

@@ -66,6 +66,7 @@ import itertools
 import math
 import os
 import warnings
+from collections.abc import Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -95,7 +96,7 @@ from ._mjcf_xml import (
     vec_add,
     z_to_vector,
 )
-from ._urdf_xml import _quote, _read_source, _shorten_quoted, reissue_warnings
+from ._urdf_xml import _quote, _read_source, _shorten_quoted
 from .errors import FeatherdynError, MJCFError, PhysicalityWarning
 from .joints import FreeFlyerJoint, Joint, PrismaticJoint, RevoluteJoint, SphericalJoint, _with_unit_axis
 from .model import _IDENTITY, FrameInfo, Model, ModelBuilder
@@ -112,6 +113,8 @@ _HANDLED_TOP = frozenset({"compiler", "option", "default", "asset", "worldbody"}
 _BODY_REFUSED = ("composite", "flexcomp", "attach")
 _BODY_QUIET = frozenset({"camera", "light"})
 _SIZES_NEEDED = {"sphere": 1, "capsule": 2, "cylinder": 2, "ellipsoid": 3, "box": 3}  # positive sizes of a solid
+_Z_AXIS: Vec = (0.0, 0.0, 1.0)
+_GEOM_TYPES = ("plane", "hfield", "sphere", "capsule", "ellipsoid", "cylinder", "box", "mesh", "sdf")
 
 
 @dataclass(slots=True)
@@ -163,6 +166,8 @@ def _moved(inertia: Inertia, R: Mat, p: Vec) -> Inertia:
 
         m' = m,   c' = R c + p,   I_c' = R I_c Rᵀ      (X* I X⁻¹, RBDA §2.13)
     """
+    if R is I3 and p is Z3:
+        return inertia
     m, c, ic = inertia
     return m, vec_add(mat_vec(R, c), p), rotate_symmetric(R, ic)
 
@@ -212,6 +217,16 @@ def _smallest_above(ic: Mat, floor: float) -> bool:
     a, b, c, e, f, i = ic[0], abs(ic[1]), abs(ic[2]), ic[4], abs(ic[5]), ic[8]
     bound = min(a - b - c, e - b - f, i - c - f)
     return bound > 2 * floor + 1e-12 * max(a, e, i)
+
+
+def _add_frame(frames: list[Any], posed: list[int], name: str, body: int, R: Mat, p: Vec, kind: str) -> None:
+    """A frame at ``(R, p)`` in body ``body``: at once when at its origin (the shared identity placement), else as
+    ``(name, body, (R, p), kind)`` with its index in ``posed`` (placed once all are stacked)."""
+    if R is I3 and p is Z3:
+        frames.append(FrameInfo(name, body, _IDENTITY, kind))
+    else:
+        posed.append(len(frames))
+        frames.append((name, body, (R, p), kind))
 
 
 def _unique(name: str, taken: set[str]) -> str:
@@ -298,9 +313,9 @@ class _Loader:
             if g is None or any(x != int(x) for x in g):
                 raise doc.error(elem, f"inertiagrouprange={_quote(a['inertiagrouprange'])}: expected two integers")
             c.group_range = (int(g[0]), int(g[1]))
-        c.boundmass = doc.number(elem, a, "boundmass", c.boundmass, MAX_MASS)
-        c.boundinertia = doc.number(elem, a, "boundinertia", c.boundinertia, MAX_MASS)
-        c.settotalmass = doc.number(elem, a, "settotalmass", c.settotalmass, MAX_MASS)
+        for key in ("boundmass", "boundinertia", "settotalmass"):
+            if key in a:
+                setattr(c, key, doc.number(elem, a, key, 0.0, MAX_MASS))
         if "balanceinertia" in a:
             c.balanceinertia = doc.boolean(elem, a, "balanceinertia", False)
         if "autolimits" in a:
@@ -330,9 +345,12 @@ class _Loader:
         pending.reverse()
         while pending:
             elem, parent, R, p, childclass = pending.pop()
-            childclass = doc.element_class(elem, childclass, "childclass")
+            if "childclass" in elem.attrib:
+                childclass = doc.element_class(elem, childclass, "childclass")
             Rb, pb = doc.pose(elem, elem.attrib)
-            body = _Body(elem, elem.get("name") or "", parent, *compose(R, p, Rb, pb), childclass)
+            if R is not I3 or p is not Z3:  # in a <frame>
+                Rb, pb = compose(R, p, Rb, pb)
+            body = _Body(elem, elem.get("name") or "", parent, Rb, pb, childclass)
             self.bodies.append(body)
             children = self.read_content(len(self.bodies) - 1, elem, childclass)
             pending += reversed(children)
@@ -342,51 +360,55 @@ class _Loader:
         doc = self.doc
         body = self.bodies[b] if b < len(self.bodies) else None
         children: list[tuple[Any, int, Mat, Vec, str]] = []
-        # (element, frame rotation, frame position in body coordinates, childclass), document order
-        stack: list[tuple[Any, Mat, Vec, str]] = [(c, I3, Z3, childclass) for c in reversed(list(elem))]
         is_world = b == 0
-        while stack:
-            child, R, p, cc = stack.pop()
-            kind = _local(child.tag)
-            if not kind:
-                continue
-            if kind == "body":
-                children.append((child, b, R, p, cc))
-            elif kind == "frame":
-                cls = doc.element_class(child, cc)
-                attrs = doc.attrs(child, "frame", cls)
-                Rf, pf = doc.pose(child, attrs)
-                sub_cc = doc.element_class(child, cc, "childclass")
-                R2, p2 = compose(R, p, Rf, pf)
-                stack += [(c, R2, p2, sub_cc) for c in reversed(list(child))]
-            elif kind == "geom":
-                cls = doc.element_class(child, cc)
-                self.bodies[b].geoms.append((child, cls, R, p))
-            elif kind == "site":
-                cls = doc.element_class(child, cc)
-                attrs = doc.attrs(child, "site", cls)
-                Rs, ps = self.geom_pose(child, attrs)
-                self.bodies[b].sites.append((child.get("name") or "", *compose(R, p, Rs, ps)))
-            elif kind in ("joint", "freejoint"):
-                if is_world or body is None:
-                    raise doc.error(child, "a joint of the world body: joints belong in a <body>")
-                body.joints.append(self.read_joint(child, kind, cc, R, p, len(body.joints)))
-            elif kind == "inertial":
-                if is_world or body is None:
-                    raise doc.error(child, "<inertial> of the world body")
-                if body.inertial is not None:
-                    raise doc.error(child, "a second <inertial> in one body")
-                body.inertial = (child, R, p)
-            elif kind in _BODY_REFUSED:
-                raise doc.error(child, f"<{kind}> is not supported by featherdyn's MJCF loader (it adds bodies or "
-                                "joints featherdyn cannot reproduce); expand it into plain bodies first")
-            elif kind == "plugin":
-                if doc.strict:
-                    raise doc.error(child, "<plugin> has no rigid-tree meaning and is refused with strict=True")
-                if "plugin" not in self.ignored:
-                    self.ignored.append("plugin")
-            elif kind not in _BODY_QUIET:
-                raise doc.error(child, f"unknown MJCF element <{kind}> in a body")
+        geoms = self.bodies[b].geoms
+        # the children in document order, a <frame>'s read in its place: for the element and each open frame, (its
+        # children not yet read, the frame's rotation and position in body coordinates, childclass)
+        open_frames: list[tuple[Iterator[Any], Mat, Vec, str]] = [(iter(elem), I3, Z3, childclass)]
+        while open_frames:
+            left, R, p, cc = open_frames[-1]
+            for child in left:
+                kind = child.tag
+                if not isinstance(kind, str):  # a comment or a processing instruction
+                    continue
+                if kind == "geom":
+                    geoms.append((child, cc if "class" not in child.attrib else doc.element_class(child, cc), R, p))
+                elif kind == "body":
+                    children.append((child, b, R, p, cc))
+                elif kind == "frame":
+                    cls = doc.element_class(child, cc)
+                    attrs = doc.attrs(child, "frame", cls)
+                    Rf, pf = doc.pose(child, attrs)
+                    sub_cc = doc.element_class(child, cc, "childclass")
+                    open_frames.append((iter(child), *compose(R, p, Rf, pf), sub_cc))
+                    break  # its children next, then this element's again
+                elif kind == "site":
+                    cls = doc.element_class(child, cc)
+                    attrs = doc.attrs(child, "site", cls)
+                    Rs, ps = self.geom_pose(child, attrs)
+                    self.bodies[b].sites.append((child.get("name") or "", *compose(R, p, Rs, ps)))
+                elif kind in ("joint", "freejoint"):
+                    if is_world or body is None:
+                        raise doc.error(child, "a joint of the world body: joints belong in a <body>")
+                    body.joints.append(self.read_joint(child, kind, cc, R, p, len(body.joints)))
+                elif kind == "inertial":
+                    if is_world or body is None:
+                        raise doc.error(child, "<inertial> of the world body")
+                    if body.inertial is not None:
+                        raise doc.error(child, "a second <inertial> in one body")
+                    body.inertial = (child, R, p)
+                elif kind in _BODY_REFUSED:
+                    raise doc.error(child, f"<{kind}> is not supported by featherdyn's MJCF loader (it adds bodies or "
+                                    "joints featherdyn cannot reproduce); expand it into plain bodies first")
+                elif kind == "plugin":
+                    if doc.strict:
+                        raise doc.error(child, "<plugin> has no rigid-tree meaning and is refused with strict=True")
+                    if "plugin" not in self.ignored:
+                        self.ignored.append("plugin")
+                elif kind not in _BODY_QUIET:
+                    raise doc.error(child, f"unknown MJCF element <{kind}> in a body")
+            else:
+                open_frames.pop()
         return children
 
     def geom_pose(self, elem: Any, attrs: dict[str, str]) -> tuple[Mat, Vec]:
@@ -416,20 +438,24 @@ class _Loader:
             attrs = dict(elem.attrib)  # a <freejoint> takes no default class (measured: MuJoCo ignores them)
             jtype = "free"
         else:
-            attrs = doc.attrs(elem, "joint", doc.element_class(elem, cc))
-            jtype = doc.choice(elem, attrs, "type", ("hinge", "slide", "ball", "free"), "hinge")
+            attrs = doc.attrs(elem, "joint", cc if "class" not in elem.attrib else doc.element_class(elem, cc))
+            jtype = attrs.get("type", "hinge")
+            if jtype not in ("hinge", "slide", "ball", "free"):
+                doc.choice(elem, attrs, "type", ("hinge", "slide", "ball", "free"), "hinge")  # the message
         given = doc.floats(elem, attrs, "pos", (3,))
-        pos: Vec = Z3 if given is None else (given[0], given[1], given[2])
+        pos: Vec = Z3 if given is None else given  # type: ignore[assignment]  # three floats
         given = doc.floats(elem, attrs, "axis", (3,))
-        axis: Vec = (0.0, 0.0, 1.0) if given is None else (given[0], given[1], given[2])
-        if jtype in ("hinge", "slide") and given is not None:
+        axis: Vec = _Z_AXIS if given is None else given  # type: ignore[assignment]
+        if given is not None and jtype in ("hinge", "slide"):
             axis = doc._direction(elem, attrs, "axis", axis)
-        ref = doc.number(elem, attrs, "ref", 0.0) if "ref" in attrs else 0.0
-        armature = doc.number(elem, attrs, "armature", 0.0, MAX_MASS) if "armature" in attrs else 0.0
+        ref = doc.floats(elem, attrs, "ref", (1,))[0] if "ref" in attrs else 0.0  # type: ignore[index]
+        armature = doc.floats(elem, attrs, "armature", (1,), (0.0,), MAX_MASS)[0]  # type: ignore[index]
         if armature < 0:
             raise doc.error(elem, f"armature={_quote(attrs['armature'])}: expected a value >= 0")
         lower, upper = -math.inf, math.inf
-        limited = doc.choice(elem, attrs, "limited", ("true", "false", "auto"), "auto") if "limited" in attrs else "auto"
+        limited = attrs.get("limited", "auto")
+        if limited not in ("true", "false", "auto"):
+            doc.choice(elem, attrs, "limited", ("true", "false", "auto"), "auto")  # the message
         has_range = "range" in attrs
         if limited == "auto":
             if has_range and not self.comp.autolimits:
@@ -442,15 +468,18 @@ class _Loader:
             if not lower < upper:
                 raise doc.error(elem, f"range={_quote(attrs.get('range', '0 0'))}: a limited joint needs "
                                 "range[0] < range[1] (MuJoCo)")
-            if jtype == "hinge":
-                lower, upper = doc.angle(lower), doc.angle(upper)
+            if jtype == "hinge" and doc.degree:
+                lower, upper = math.radians(lower), math.radians(upper)
         if jtype == "hinge":
-            ref = doc.angle(ref)
-        if jtype in ("ball", "free"):
+            if ref and doc.degree:
+                ref = math.radians(ref)
+        elif jtype in ("ball", "free"):
             ref = 0.0
         name = elem.get("name") or ""
-        return _JointSpec(elem, name, jtype, vec_add(mat_vec(R, pos), p) if jtype != "free" else mat_vec(R, pos),
-                          mat_vec(R, axis), ref, armature, lower, upper)
+        if R is not I3:
+            pos, axis = mat_vec(R, pos), mat_vec(R, axis)
+        return _JointSpec(elem, name, jtype, vec_add(pos, p) if jtype != "free" else pos, axis, ref, armature, lower,
+                          upper)
 
     # -- inertia --------------------------------------------------------------
 
@@ -518,7 +547,7 @@ class _Loader:
                                 f"{', '.join(f'{e:.6g}' for e in ev)})")
             body.inertia = (mass[0], vec_add(mat_vec(R, (pos[0], pos[1], pos[2])), p),
                             rotate_symmetric(mat_mul(R, Ri), tensor))
-        if self.bound_and_balance(body):
+        if (comp.boundmass > 0 or comp.boundinertia > 0 or comp.balanceinertia) and self.bound_and_balance(body):
             principal = None
         mass_, _, inertia = body.inertia
         largest = max(map(abs, inertia))
@@ -555,24 +584,24 @@ class _Loader:
         """``(m, c, I_c)`` of a geom in body coordinates, or ``None`` when it adds nothing."""
         doc = self.doc
         attrs = doc.attrs(elem, "geom", cls)
-        gtype = doc.choice(elem, attrs, "type", ("plane", "hfield", "sphere", "capsule", "ellipsoid", "cylinder",
-                                                   "box", "mesh", "sdf"), "sphere")
-        if "group" in attrs:  # absent: 0
-            lo, hi = self.comp.group_range
-            if not lo <= doc.number(elem, attrs, "group", 0.0) <= hi:
-                return None
-        elif not self.comp.group_range[0] <= 0 <= self.comp.group_range[1]:
+        gtype = attrs.get("type", "sphere")
+        if gtype not in _SIZES_NEEDED:  # not a solid primitive: one of the others, or a message
+            gtype = doc.choice(elem, attrs, "type", _GEOM_TYPES, "sphere")
+        lo, hi = self.comp.group_range
+        if not lo <= (doc.number(elem, attrs, "group", 0.0) if "group" in attrs else 0) <= hi:  # absent: 0
             return None
         if gtype in ("plane", "hfield"):
             if moving:
                 raise doc.error(elem, f"type={gtype!r}: a {gtype} is only allowed in static bodies (MuJoCo)")
             return None
-        mass = doc.floats(elem, attrs, "mass", (1,), None, MAX_MASS) if "mass" in attrs else None
-        if mass is not None and mass[0] < 0:
-            raise doc.error(elem, f"mass={_quote(attrs['mass'])}: expected a mass >= 0")
-        if mass is not None and mass[0] == 0:
-            return None
-        density = doc.number(elem, attrs, "density", 1000.0, MAX_MASS) if "density" in attrs else 1000.0
+        mass: float | None = None
+        if "mass" in attrs:
+            mass = doc.number(elem, attrs, "mass", 0.0, MAX_MASS)
+            if mass < 0:
+                raise doc.error(elem, f"mass={_quote(attrs['mass'])}: expected a mass >= 0")
+            if mass == 0:
+                return None
+        density = doc.floats(elem, attrs, "density", (1,), (1000.0,), MAX_MASS)[0]  # type: ignore[index]
         if density < 0:
             raise doc.error(elem, f"density={_quote(attrs['density'])}: expected a density >= 0")
         if gtype == "sdf":
@@ -585,38 +614,38 @@ class _Loader:
                 raise doc.error(elem, "shellinertia on a mesh geom: for mesh geoms, inertia is specified in the mesh "
                                 "asset (<mesh inertia='shell'>), as MuJoCo requires")
             measure, c_mesh, J = self.mesh_properties(elem, attrs)
-            m = mass[0] if mass is not None else density * measure
+            m = mass if mass is not None else density * measure
             Rg, pg = compose(R, p, *doc.pose(elem, attrs))
             k = m / measure
             return m, vec_add(mat_vec(Rg, c_mesh), pg), rotate_symmetric(Rg, tuple(x * k for x in J))  # type: ignore[arg-type]
-        given = doc.floats(elem, attrs, "size", (1, 2, 3))
-        size = [0.0, 0.0, 0.0] if given is None else [*given, 0.0, 0.0][:3]
-        line = self.fromto(elem, attrs)
+        given = doc.floats(elem, attrs, "size", (1, 2, 3)) or (0.0,)
+        size = given + (0.0, 0.0)[: 3 - len(given)]  # three sizes, the missing ones 0
         turn: Mat | None  # the geom's rotation in the frame (R, p); from fromto, made below only if needed
-        if line is None:
-            turn, pg = doc.pose(elem, attrs)
-            zg = (turn[2], turn[5], turn[8])  # its z axis
-        else:
-            zg, pg, length = line
+        if "fromto" in attrs:
+            zg, pg, length = self.fromto(elem, attrs)  # type: ignore[misc]
             turn = None  # a sphere's, capsule's or cylinder's inertia needs the z axis only
             # measured: a capsule/cylinder keeps its radius; a box/ellipsoid is (size[0], size[0], half)
             if gtype in ("capsule", "cylinder"):
-                size = [size[0], length / 2, 0.0]
+                size = (size[0], length / 2, 0.0)
             elif gtype in ("box", "ellipsoid"):
-                size = [size[0], size[0], length / 2]
-        for k in range(_SIZES_NEEDED[gtype]):
-            if not size[k] > 0:
-                raise doc.error(elem, f"size={_quote(attrs.get('size', ''))}: size {k} of a {gtype} must be positive "
-                                f"(got {size[k]:g})")
-        got = geom_mass_inertia(gtype, size, density, None if mass is None else mass[0], shell)
+                size = (size[0], size[0], length / 2)
+        else:
+            turn, pg = doc.pose(elem, attrs)
+            zg = (turn[2], turn[5], turn[8])  # its z axis
+        needed = _SIZES_NEEDED[gtype]
+        if not (size[0] > 0 and (needed < 2 or size[1] > 0) and (needed < 3 or size[2] > 0)):
+            k = next(k for k in range(needed) if not size[k] > 0)
+            raise doc.error(elem, f"size={_quote(attrs.get('size', ''))}: size {k} of a {gtype} must be positive "
+                            f"(got {size[k]:g})")
+        got = geom_mass_inertia(gtype, size, density, mass, shell)
         if got is None:
             raise doc.error(elem, f"shellinertia='true' of a {gtype} is not supported")
         m, principal = got
-        c = vec_add(mat_vec(R, pg), p)
+        c = vec_add(pg if R is I3 else mat_vec(R, pg), p)
         if gtype == "sphere":
             return m, c, diagonal(principal)
         if gtype in ("capsule", "cylinder"):  # I = I_xx 1 + (I_zz − I_xx) z zᵀ, z the axis in body coordinates
-            return m, c, _axisymmetric(principal[0], principal[2], mat_vec(R, zg))
+            return m, c, _axisymmetric(principal[0], principal[2], zg if R is I3 else mat_vec(R, zg))
         return m, c, rotate_diagonal(mat_mul(R, z_to_vector(zg) if turn is None else turn), principal)
 
     def mesh_properties(self, geom: Any, attrs: dict[str, str]) -> tuple[float, Vec, Mat]:
@@ -667,104 +696,132 @@ class _Loader:
 
     # -- the featherdyn model -------------------------------------------------
 
-    def build(self) -> Model:
-        doc = self.doc
-        nb = len(self.bodies)
+    def build(self) -> tuple[Model, list[str]]:
+        """The featherdyn model and the model builder's warnings (messages, not yet issued)."""
+        doc, bodies, comp = self.doc, self.bodies, self.comp
+        nb = len(bodies)
         # a body moves if it or an ancestor has a joint (its inertia then matters: plane/mesh checks)
-        self.moving = [False] * nb
+        moving = self.moving = [False] * nb
         for b in range(1, nb):
-            self.moving[b] = bool(self.bodies[b].joints) or self.moving[self.bodies[b].parent]
-        for b in range(1, nb):
+            moving[b] = bool(bodies[b].joints) or moving[bodies[b].parent]
             # a static body's inertia matters only to settotalmass (its meshes are not even read otherwise)
-            if self.moving[b] or self.comp.settotalmass > 0:
+            if moving[b] or comp.settotalmass > 0:
                 self.body_inertia(b)
-        if self.comp.settotalmass > 0:
-            total = sum(self.bodies[b].inertia[0] for b in range(1, nb))
+        if comp.settotalmass > 0:
+            total = sum(bodies[b].inertia[0] for b in range(1, nb))
             if total > 0:
-                k = self.comp.settotalmass / total
+                k = comp.settotalmass / total
                 for b in range(1, nb):
-                    m, c, ic = self.bodies[b].inertia
-                    self.bodies[b].inertia = (m * k, c, tuple(x * k for x in ic))  # type: ignore[assignment]
+                    m, c, ic = bodies[b].inertia
+                    bodies[b].inertia = (m * k, c, tuple(x * k for x in ic))  # type: ignore[assignment]
         # names (MuJoCo's where given)
-        body_names: set[str] = {body.name for body in self.bodies[1:] if body.name}
-        for b in range(1, nb):
-            if not self.bodies[b].name:
-                self.bodies[b].name = _unique(f"body{b}", body_names)
-        joint_names: set[str] = {j.name for body in self.bodies for j in body.joints if j.name}
-        for body in self.bodies[1:]:
+        body_names: set[str] = {body.name for body in bodies[1:] if body.name}
+        if len(body_names) < nb - 1:
+            for b in range(1, nb):
+                if not bodies[b].name:
+                    bodies[b].name = _unique(f"body{b}", body_names)
+        joint_names: set[str] = {j.name for body in bodies for j in body.joints if j.name}
+        for body in bodies[1:]:
             for k, j in enumerate(body.joints):
                 if not j.name:
                     j.name = _unique(f"{body.name}/free" if _local(j.elem.tag) == "freejoint" and j.kind == "free"
                                      else f"{body.name}/joint{k}", joint_names)
 
-        for body in self.bodies:  # named sites first, so that generated names avoid them
+        for body in bodies:  # named sites first, so that generated names avoid them
             for site_name, _, _ in body.sites:
                 if site_name in self.site_names:
                     raise MJCFError(f"{doc.label}: site name {site_name!r} is used twice (MuJoCo: repeated name)")
                 if site_name:
                     self.site_names.add(site_name)
-        name = doc.root.get("model") or "MuJoCo Model"
-        gravity = Z3 if self.gravity_disabled else self.gravity
-        builder = ModelBuilder(name, gravity)
-        builder.source = self.path
-        identity = _IDENTITY  # immutable (read-only arrays): shared by every identity frame
         fd_body = [-1] * nb
         # each MJCF body frame in its featherdyn body, (R, p)
         pose_fd_mj: list[tuple[Mat, Vec]] = [(I3, Z3)] * nb
         taken = set(body_names)
-        # the featherdyn bodies: (name, parent, joint, joint name, placement, limits, armature) and their inertias,
-        # the welded MJCF bodies folded in; handed to the builder once complete
-        records: list[tuple[str, int, Joint, str, tuple[Mat, Vec], float, float, float]] = []
+        # the featherdyn bodies, column by column (the builder's order), and their inertias with the welded MJCF bodies
+        # folded in; handed to the builder once complete
+        names: list[str] = []
+        ups: list[int] = []
+        joints: list[Joint] = []
+        jnames: list[str] = []
+        rotations: list[Mat] = []  # the placements
+        translations: list[Vec] = []
+        lower: list[tuple[float, ...]] = []
+        upper: list[tuple[float, ...]] = []
+        armature: list[tuple[float, ...]] = []
+        unbounded: list[tuple[float, ...]] = []  # velocity and effort limits
         inertias: list[Inertia] = []
-        frames: list[tuple[str, int, tuple[Mat, Vec] | None, str]] = []
+        # the frames, each a FrameInfo, or (name, body, (R, p), kind) until the placements are stacked (posed: where)
+        frames: list[Any] = []
+        posed: list[int] = []
         owner: dict[int, _Body] = {}  # the moving MJCF body of each featherdyn body that carries one
         for b in range(1, nb):
-            body = self.bodies[b]
+            body = bodies[b]
             parent = body.parent
             R, p = compose(*pose_fd_mj[parent], body.R, body.p)
-            self.check_joints(body, b)
-            if not body.joints:
-                fd_body[b] = fd_body[parent]
+            js = body.joints
+            if not js:
+                up = fd_body[b] = fd_body[parent]
                 pose_fd_mj[b] = (R, p)
-                if fd_body[b] >= 0:
-                    inertias[fd_body[b]] = _combined(inertias[fd_body[b]], _moved(body.inertia, R, p))
-                frames.append((body.name, fd_body[b], (R, p), "link"))
-                self.add_sites(frames, body, fd_body[b], R, p)
+                if up >= 0:
+                    inertias[up] = _combined(inertias[up], _moved(body.inertia, R, p))
+                _add_frame(frames, posed, body.name, up, R, p, "link")
+                if body.sites:
+                    self.add_sites(frames, posed, body, up, R, p)
                 continue
+            if len(js) > 1 or js[0].kind == "free":
+                self.check_joints(body, b)
             up = fd_body[parent]
-            for k, j in enumerate(body.joints):
-                last = k == len(body.joints) - 1
+            last = len(js) - 1
+            for k, j in enumerate(js):
                 joint: Joint
+                kind = j.kind
                 # placement = X ∘ (anchor at pos) ∘ (turn by -ref); the frame after the joint goes back by -pos
-                if j.kind == "free":
-                    placement: tuple[Mat, Vec] = (I3, Z3)
-                    joint, after = self.joint("free", Z3), (I3, Z3)
-                elif j.kind == "slide":
+                if kind == "hinge":
+                    rotations.append(mat_mul(R, axis_angle_matrix(j.axis, -j.ref)))
+                    translations.append(vec_add(mat_vec(R, j.pos), p))
+                    joint = self.joint("hinge", j.axis)
+                elif kind == "slide":
                     a = j.axis
-                    placement = (R, vec_add(mat_vec(R, (-j.ref * a[0], -j.ref * a[1], -j.ref * a[2])), p))
-                    joint, after = self.joint("slide", j.axis), (I3, Z3)
+                    rotations.append(R)
+                    translations.append(vec_add(mat_vec(R, (-j.ref * a[0], -j.ref * a[1], -j.ref * a[2])), p))
+                    joint = self.joint("slide", a)
+                elif kind == "free":
+                    rotations.append(I3)
+                    translations.append(Z3)
+                    joint = self.joint("free", Z3)
                 else:
-                    if j.kind == "hinge":
-                        placement = (mat_mul(R, axis_angle_matrix(j.axis, -j.ref)), vec_add(mat_vec(R, j.pos), p))
-                        joint = self.joint("hinge", j.axis)
-                    else:
-                        placement = (R, vec_add(mat_vec(R, j.pos), p))
-                        joint = self.joint("ball", Z3)
-                    after = (I3, (-j.pos[0], -j.pos[1], -j.pos[2]))
-                fd_name = body.name if last else _unique(f"{body.name}#{k}", taken)
-                limited = j.kind in ("hinge", "slide")
-                records.append((fd_name, up, joint, j.name, placement, j.lower if limited else -math.inf,
-                                j.upper if limited else math.inf, j.armature))
-                inertias.append(_moved(body.inertia, *after) if last else _NO_INERTIA)
-                up = len(records) - 1
-                frames.append((j.name, up, None, "joint"))
-                R, p = after
+                    rotations.append(R)
+                    translations.append(vec_add(mat_vec(R, j.pos), p))
+                    joint = self.joint("ball", Z3)
+                names.append(body.name if k == last else _unique(f"{body.name}#{k}", taken))
+                ups.append(up)
+                joints.append(joint)
+                jnames.append(j.name)
+                if kind in ("hinge", "slide"):  # one coordinate, its limits
+                    lower.append((j.lower,))
+                    upper.append((j.upper,))
+                    armature.append((j.armature,))
+                    unbounded.append((math.inf,))
+                else:
+                    lower.append((-math.inf,) * joint.nq)
+                    upper.append((math.inf,) * joint.nq)
+                    armature.append((j.armature,) * joint.nv)
+                    unbounded.append((math.inf,) * joint.nv)
+                up = len(names) - 1
+                frames.append(FrameInfo(j.name, up, _IDENTITY, "joint"))  # at its body's origin
+                if kind in ("slide", "free") or j.pos is Z3:
+                    R, p = I3, Z3
+                else:
+                    R, p = I3, (-j.pos[0], -j.pos[1], -j.pos[2])
+                inertias.append(_moved(body.inertia, R, p) if k == last else _NO_INERTIA)
             fd_body[b] = up
             pose_fd_mj[b] = (R, p)
             owner[up] = body
-            frames.append((body.name, up, (R, p), "body"))
-            self.add_sites(frames, body, up, R, p)
-        self.add_sites(frames, self.bodies[0], -1, I3, Z3)
+            _add_frame(frames, posed, body.name, up, R, p, "body")
+            if body.sites:
+                self.add_sites(frames, posed, body, up, R, p)
+        if bodies[0].sites:
+            self.add_sites(frames, posed, bodies[0], -1, I3, Z3)
         # MuJoCo's rule on moving bodies is on the body with its welded descendants (its weld group)
         for i, body in owner.items():
             mass, _, ic = inertias[i]
@@ -774,28 +831,23 @@ class _Loader:
                     raise doc.error(body.elem, f"body {body.name!r}: mass {mass:g} and principal inertia "
                                     f"{principal.tolist()} with its welded descendants: MuJoCo requires the mass and "
                                     f"inertia of a moving body to exceed mjMINVAL = {MJ_MINVAL:g}")
-        for (fd_name, up, joint, jname, (R, p), lower, upper, armature), (m, c, ic) in zip(records, inertias,
-                                                                                          strict=True):
-            nv, nq = joint.nv, joint.nq
-            inf = [math.inf] * nv
-            builder._append(fd_name, up, joint, jname, R, p, m, c, ic,
-                            [lower] * nq, [upper] * nq, inf, inf, [armature] * nv)
-        # the frames' placements: one stacked array, each frame a read-only view of its row
-        posed = [pose for _, _, pose, _ in frames if pose is not None and not (pose[0] is I3 and pose[1] is Z3)]
-        Rs = np.fromiter(itertools.chain.from_iterable(R for R, _ in posed), np.float64, 9 * len(posed))
-        ps = np.fromiter(itertools.chain.from_iterable(p for _, p in posed), np.float64, 3 * len(posed))
-        Rs, ps = Rs.reshape(-1, 3, 3), ps.reshape(-1, 3)
-        k = 0
-        infos = []
-        for fname, body_index, pose, kind in frames:
-            if pose is None or (pose[0] is I3 and pose[1] is Z3):
-                X = identity
-            else:
-                X = PluckerTransform._wrap(Rs[k], ps[k], None, None)
-                k += 1
-            infos.append(FrameInfo(fname, body_index, X, kind))
-        builder._append_frames(infos)
-        return builder.build(strict=doc.strict)
+        builder = ModelBuilder(doc.root.get("model") or "MuJoCo Model", Z3 if self.gravity_disabled else self.gravity)
+        builder.source = self.path
+        builder._extend(names, ups, joints, jnames, rotations, translations, [m for m, _, _ in inertias],
+                        [c for _, c, _ in inertias], [ic for _, _, ic in inertias], lower, upper, unbounded, unbounded,
+                        armature)
+        if posed:  # their placements: one stacked read-only array, each frame's a view of its row
+            chain = itertools.chain.from_iterable
+            n = len(posed)
+            stacked = np.fromiter(itertools.chain(chain(frames[i][2][0] for i in posed),
+                                                  chain(frames[i][2][1] for i in posed)), np.float64, 12 * n)
+            stacked.setflags(write=False)
+            Rs, ps = stacked[:9 * n].reshape(n, 3, 3), stacked[9 * n:].reshape(n, 3)
+            for k, i in enumerate(posed):
+                fname, body_index, _, fkind = frames[i]
+                frames[i] = FrameInfo(fname, body_index, PluckerTransform._wrap(Rs[k], ps[k], None, None), fkind)
+        builder._append_frames(frames)
+        return builder._build(doc.strict, True)
 
     def joint(self, kind: str, axis: Vec) -> Joint:
         """The joint model of a kind and axis (shared: joint models are immutable)."""
@@ -828,12 +880,11 @@ class _Loader:
                 raise doc.error(body.joints[k].elem, f"body {body.name!r}: a ball joint followed by a rotation in the "
                                 "same body (MuJoCo refuses this)")
 
-    def add_sites(self, frames: list[tuple[str, int, tuple[Mat, Vec] | None, str]], body: _Body, fd: int,
-                  R: Mat, p: Vec) -> None:
+    def add_sites(self, frames: list[Any], posed: list[int], body: _Body, fd: int, R: Mat, p: Vec) -> None:
         """The body's sites as frames of featherdyn body ``fd``, where the MJCF body frame is posed ``(R, p)``."""
         for k, (name, Rs, ps) in enumerate(body.sites):
             full = name or _unique(f"{body.name}/site{k}", self.site_names)
-            frames.append((full, fd, compose(R, p, Rs, ps), "site"))
+            _add_frame(frames, posed, full, fd, *compose(R, p, Rs, ps), "site")
 
 
 def load_mjcf(path_or_xml: str | os.PathLike[str] | bytes, *, strict: bool = False) -> Model:
@@ -869,12 +920,10 @@ def load_mjcf(path_or_xml: str | os.PathLike[str] | bytes, *, strict: bool = Fal
         isinstance(path_or_xml, str) and path_or_xml.lstrip("\ufeff \t\r\n").startswith("<")) else str(path_or_xml)
     loader = _Loader(doc, path)
     try:
-        with warnings.catch_warnings(record=True) as caught:
-            warnings.simplefilter("always")
-            loader.read_top()
-            expand_replicates(doc)
-            loader.read_bodies()
-            model = loader.build()
+        loader.read_top()
+        expand_replicates(doc)
+        loader.read_bodies()
+        model, complaints = loader.build()
     except MJCFError:
         raise
     except FeatherdynError as exc:  # a check of the spatial types or the model builder: name the file
@@ -882,7 +931,8 @@ def load_mjcf(path_or_xml: str | os.PathLike[str] | bytes, *, strict: bool = Fal
     if loader.ignored:
         warnings.warn(f"{doc.label}: ignored MJCF elements without rigid-tree meaning: {', '.join(loader.ignored)}",
                       PhysicalityWarning, stacklevel=2)
-    reissue_warnings(caught, doc.label)
+    for msg in complaints:  # the model builder's warnings, named by the file
+        warnings.warn(f"{doc.label}: {_shorten_quoted(msg)}", PhysicalityWarning, stacklevel=2)
     return model
 
 

@@ -81,7 +81,7 @@ _IDENTITY = PluckerTransform.identity()
 
 def _ro(a: Any, dtype: Any = np.float64) -> np.ndarray:
     out = np.array(a, dtype=dtype)
-    out.flags.writeable = False
+    out.setflags(write=False)
     return out
 
 
@@ -136,9 +136,9 @@ class Model:
 
     def __post_init__(self) -> None:
         # derived from frames (first of a name wins), so dataclasses.replace(model, frames=...) stays consistent
-        index: dict[str, int] = {}
-        for k, f in enumerate(self.frames):
-            index.setdefault(f.name, k)
+        names = [f.name for f in self.frames]
+        # the first frame of a name wins: inserted last, from the end backwards
+        index = dict(zip(reversed(names), range(len(names) - 1, -1, -1), strict=True))
         object.__setattr__(self, "_frame_index", index)
         nv = sum(self.nvs)
         if self.armature is None:
@@ -152,8 +152,10 @@ class Model:
                 arm = _ro(arm)
             if arm.shape != (nv,):
                 raise ModelError(f"armature: expected shape (nv,) = ({nv},), got {arm.shape}")
-            if arm.dtype.kind == "f" and not (np.isfinite(arm).all() and (arm >= 0).all()):
-                raise ModelError(f"armature: expected finite values >= 0, got {arm.tolist()}")
+            if arm.dtype.kind == "f":
+                values = arm.tolist()  # a few numbers: Python's comparisons cost less than numpy's reductions
+                if not all(0 <= v < math.inf for v in values):  # (a NaN fails)
+                    raise ModelError(f"armature: expected finite values >= 0, got {values}")
             object.__setattr__(self, "armature", arm)
 
     # pickling leaves out the caches of the compiled engines (rebuilt on first use)
@@ -308,10 +310,14 @@ class ModelBuilder:
 
     def __init__(self, name: str = "model", gravity: Sequence[float] = DEFAULT_GRAVITY) -> None:
         self.name = name
-        g = as_array(gravity, "gravity", (3,))
-        if g.shape != (3,):
-            raise ModelError(f"gravity: expected shape (3,), got {g.shape}")
-        self.gravity = g.astype(np.float64)
+        if (type(gravity) is tuple and len(gravity) == 3 and type(gravity[0]) is type(gravity[1]) is type(gravity[2])
+                is float and math.isfinite(gravity[0] + gravity[1] + gravity[2])):  # three finite floats: no conversion
+            self.gravity = np.array(gravity)
+        else:
+            g = as_array(gravity, "gravity", (3,))
+            if g.shape != (3,):
+                raise ModelError(f"gravity: expected shape (3,), got {g.shape}")
+            self.gravity = g.astype(np.float64)
         self._parents: list[int] = []
         self._joints: list[Joint] = []
         self._joint_names: list[str] = []
@@ -333,6 +339,9 @@ class ModelBuilder:
         self._mimics: list[Mimic] = []
         self._limit_problems: list[str] = []
         self.source: str | None = None
+        # whether every body came through _extend, whose inertias are exactly symmetric (a loader's): then build()
+        # checks only that they are finite
+        self._symmetric = True
 
     @property
     def nbodies(self) -> int:
@@ -418,6 +427,7 @@ class ModelBuilder:
         """Record a body whose values are already checked: :meth:`add_body`'s, and a loader's that has checked its
         own (names unique, numbers finite, ``rotation`` and ``inertia_com`` as 9 numbers row by row, 3-vectors as 3,
         limits and armature of the joint's sizes, ``inertia_com`` symmetric); returns its index."""
+        self._symmetric = False  # symmetric to round-off: build() checks and averages
         self._parents.append(parent)
         self._joints.append(joint)
         self._joint_names.append(joint_name)
@@ -435,6 +445,29 @@ class ModelBuilder:
         self._eff.append(effort_limit)
         self._armature.append(armature)
         return len(self._parents) - 1
+
+    def _extend(self, names: list[str], parents: list[int], joints: list[Joint], joint_names: list[str],
+                rotations: list[Any], translations: list[Any], masses: list[float], coms: list[Any],
+                inertias_com: list[Any], lower: list[Any], upper: list[Any], velocity_limit: list[Any],
+                effort_limit: list[Any], armature: list[Any]) -> None:
+        """:meth:`_append` of several bodies at once: each argument lists one entry per body, in body order; each
+        ``inertia_com`` exactly symmetric (a loader's own, mirrored), the others as :meth:`_append` requires."""
+        self._parents += parents
+        self._joints += joints
+        self._joint_names += joint_names
+        self._body_names += names
+        self._joint_set.update(joint_names)
+        self._body_set.update(names)
+        self._rotations += rotations
+        self._translations += translations
+        self._masses += masses
+        self._coms += coms
+        self._inertias_com += inertias_com
+        self._lower += lower
+        self._upper += upper
+        self._vel += velocity_limit
+        self._eff += effort_limit
+        self._armature += armature
 
     @staticmethod
     def _limit(val: Any, n: int, default: float, name: str, size_name: str) -> np.ndarray:
@@ -456,6 +489,7 @@ class ModelBuilder:
             raise ModelError(f"add_inertia: no body {body!r} (expected 0..{self.nbodies - 1})")
         if not isinstance(inertia, SpatialInertia) or inertia.shape != ():
             raise ModelError("add_inertia: inertia must be a single SpatialInertia")
+        self._symmetric = False
         total = SpatialInertia(self._masses[body], self._coms[body],
                                np.reshape(self._inertias_com[body], (3, 3))) + inertia
         self._masses[body] = float(total.mass)
@@ -487,29 +521,56 @@ class ModelBuilder:
         :class:`PhysicalityWarning`, or raise :class:`ModelError` with
         ``strict=True``.
         """
-        for what, listed in (("body", self._body_names), ("joint", self._joint_names)):
-            seen: set[str] = set()
-            for n in listed:
-                if n in seen:
-                    raise ModelError(f"{what} name {n!r} is used twice")
-                seen.add(n)
+        model, complaints = self._build(strict, check_inertias)
+        for msg in complaints:
+            warnings.warn(msg, PhysicalityWarning, stacklevel=3)  # attributed as before: the caller's caller
+        return model
+
+    def _build(self, strict: bool, check_inertias: bool) -> tuple[Model, list[str]]:
+        """:meth:`build`, its warnings returned as messages (a loader names its file in them); with ``strict``
+        the first is raised."""
+        for what, listed, distinct in (("body", self._body_names, self._body_set),
+                                       ("joint", self._joint_names, self._joint_set)):
+            if len(distinct) != len(listed):  # a name used twice: find the first
+                seen: set[str] = set()
+                for n in listed:
+                    if n in seen:
+                        raise ModelError(f"{what} name {n!r} is used twice")
+                    seen.add(n)
         nb = self.nbodies
-        idx_q, idx_v, q0, v0 = [], [], 0, 0
+        idx_q, idx_v, nqs, nvs, q0, v0 = [], [], [], [], 0, 0
         for j in self._joints:
+            nq, nv = j.nq, j.nv
             idx_q.append(q0)
             idx_v.append(v0)
-            q0 += j.nq
-            v0 += j.nv
+            nqs.append(nq)
+            nvs.append(nv)
+            q0 += nq
+            v0 += nv
+        # every number of the bodies in one read-only array (one conversion): placements, inertias, limits and
+        # armature are its parts
+        chain = itertools.chain.from_iterable
+        sizes = (9 * nb, 3 * nb, nb, 3 * nb, 9 * nb, q0, q0, v0, v0, v0, 3)
+        flat = np.fromiter(itertools.chain(
+            chain(self._rotations), chain(self._translations), self._masses, chain(self._coms),
+            chain(self._inertias_com), chain(self._lower), chain(self._upper), chain(self._vel), chain(self._eff),
+            chain(self._armature), self.gravity), np.float64, sum(sizes))
+        flat.setflags(write=False)
+        parts, at = [], 0
+        for size in sizes:
+            parts.append(flat[at:at + size])
+            at += size
+        (rotations, translations, masses, coms, ics, lower, upper, velocity_limit, effort_limit, armature,
+         gravity) = parts
         if nb:
-            placements = PluckerTransform._wrap(  # fresh float64 arrays, rotations checked when added
-                _stacked(self._rotations, 9).reshape(nb, 3, 3), _stacked(self._translations, 3).reshape(nb, 3),
-                None, None,
-            )
-            inertias = SpatialInertia(
-                np.array(self._masses, dtype=np.float64),
-                _stacked(self._coms, 3).reshape(nb, 3),
-                _stacked(self._inertias_com, 9).reshape(nb, 3, 3),
-            )
+            placements = PluckerTransform._wrap(rotations.reshape(nb, 3, 3), translations.reshape(nb, 3), None, None)
+            coms, ics = coms.reshape(nb, 3), ics.reshape(nb, 3, 3)
+            if self._symmetric and math.isfinite(sum(self._masses) + sum(map(sum, self._coms))
+                                                 + sum(map(sum, self._inertias_com))):
+                # only a loader's numbers (_extend: exactly symmetric), all finite: what SpatialInertia checks
+                inertias = SpatialInertia._wrap(masses, coms, ics, None)
+            else:
+                inertias = SpatialInertia(masses, coms, ics)
         else:
             placements = PluckerTransform.identity((0,))
             inertias = SpatialInertia.zero((0,))
@@ -528,42 +589,30 @@ class ModelBuilder:
             body_names=tuple(self._body_names),
             joint_placements=placements,
             inertias=inertias,
-            gravity=_ro(self.gravity),
+            gravity=gravity,
             frames=tuple(frames),
             idx_q=tuple(idx_q),
-            nqs=tuple(j.nq for j in self._joints),
+            nqs=tuple(nqs),
             idx_v=tuple(idx_v),
-            nvs=tuple(j.nv for j in self._joints),
-            lower=_stacked(self._lower, frozen=True),
-            upper=_stacked(self._upper, frozen=True),
-            velocity_limit=_stacked(self._vel, frozen=True),
-            effort_limit=_stacked(self._eff, frozen=True),
+            nvs=tuple(nvs),
+            lower=lower,
+            upper=upper,
+            velocity_limit=velocity_limit,
+            effort_limit=effort_limit,
             mimics=tuple(self._mimics),
             source=self.source,
-            armature=_stacked(self._armature, frozen=True),
+            armature=armature,  # (copied by Model)
         )
-        for msg in self._limit_problems:
-            _complain(msg, strict)
+        complaints = list(self._limit_problems)
         if check_inertias:
-            for msg in massless_subtrees(model):
-                _complain(msg, strict)
-        return model
-
-
-def _stacked(parts: list[Any], size: int = -1, *, frozen: bool = False) -> np.ndarray:
-    """The float64 array of the numbers of ``parts`` (sequences or arrays) one after the other; ``size`` each when
-    known (``np.fromiter`` over a chain: cheaper than converting nested sequences); read-only if ``frozen``."""
-    count = size * len(parts) if size >= 0 else -1
-    out = np.fromiter(itertools.chain.from_iterable(parts), np.float64, count)
-    if frozen:
-        out.flags.writeable = False
-    return out
-
-
-def _complain(msg: str, strict: bool) -> None:
-    if strict:
-        raise ModelError(msg + " (strict=True)")
-    warnings.warn(msg, PhysicalityWarning, stacklevel=4)
+            if self._symmetric:  # the inertias are the builder's numbers, unchanged: tested without numpy
+                has_mass = [m > 0 or any(ic) for m, ic in zip(self._masses, self._inertias_com, strict=True)]
+                complaints += _massless(model, has_mass)
+            else:
+                complaints += massless_subtrees(model)
+        if strict and complaints:
+            raise ModelError(complaints[0] + " (strict=True)")
+        return model, complaints
 
 
 def massless_subtrees(model: Model) -> list[str]:
@@ -575,8 +624,14 @@ def massless_subtrees(model: Model) -> list[str]:
     mass, ic = model.inertias.mass, model.inertias.inertia_com
     if mass.dtype.kind == "O":  # symbolic: element by element
         has_mass = [bool(mass[i] > 0 or np.any(ic[i] != 0)) for i in range(nb)]
-    else:
-        has_mass = ((mass > 0) | (ic != 0).any(axis=(-2, -1))).tolist()
+    else:  # as Python floats: cheaper than numpy's comparisons for the few bodies of a model
+        has_mass = [m > 0 or any(row) for m, row in zip(mass.tolist(), ic.reshape(nb, 9).tolist(), strict=True)]
+    return _massless(model, has_mass)
+
+
+def _massless(model: Model, has_mass: list[Any]) -> list[str]:
+    """:func:`massless_subtrees` given whether each body has a mass or a rotational inertia."""
+    nb = model.nbodies
     sub = list(has_mass)
     for i in range(nb - 1, -1, -1):
         p = model.parents[i]

@@ -386,3 +386,43 @@ def test_a_file_included_twice_is_refused(tmp_path: Path) -> None:
     (tmp_path / "d.xml").write_text('<mujoco><include file="c.xml"/><include file="c.xml"/></mujoco>')
     with pytest.raises(MJCFError, match="already included"):
         fd.load_mjcf(tmp_path / "d.xml")
+
+
+# --------------------------------------------------------------------------- the loader's shortcuts agree with the long way
+
+
+def test_plain_paths_and_usual_bytes_take_shortcuts_with_the_long_ways_result() -> None:
+    """A plain path is its own label (no ``Path``), the usual file's bytes are UTF-8 (no regular expressions):
+    both only where the long way gives the same."""
+    import codecs
+    import itertools
+
+    from featherdyn._urdf_xml import _decode, _normal_path, _sniffed_encoding
+
+    for n in range(1, 7):
+        for parts in itertools.product("a/.", repeat=n):
+            path = "".join(parts)
+            if _normal_path(path):
+                assert str(Path(path)) == path, path
+    samples = [b"<a/>", b"<!-- c --><a/>", b"<?xml version='1.0'?><a/>", b"<?xml version='1.0' encoding='latin-1'?><a/>",
+               b"<?xml version='1.0'?><a encoding='x'/>", b"  <a/>", codecs.BOM_UTF8 + b"<a/>", "<a/>".encode("utf-16"),
+               "<a/>".encode("utf-16-le"), "<r/>".encode("utf-16-be"), b"<", b"<?xml"]
+    for data in samples:
+        assert _decode(data, "x", MJCFError) == data.decode(_sniffed_encoding(data, "x", MJCFError)), data
+
+
+def test_a_loaded_model_is_read_only_and_zero_vectors_change_nothing() -> None:
+    """The builder's numbers are parts of one read-only array; ``"0 0 0"`` (the zero-vector constant, skipped)
+    loads the same model as no ``pos``."""
+    model = _load(ARM)
+    arrays = [model.lower, model.upper, model.velocity_limit, model.effort_limit, model.armature, model.gravity,
+              model.inertias.mass, model.inertias.com, model.inertias.inertia_com, model.joint_placements.rotation,
+              model.joint_placements.translation]
+    for a in arrays:
+        assert a.dtype == np.float64 and a.flags.c_contiguous and not a.flags.writeable
+    zeros = _load(ARM.replace('<joint type="ball"/>', '<joint type="ball" pos="0 0 0"/>')
+                  .replace('<site pos="0 0 -0.5"/>', '<site pos="0 0 -0.5"/><geom size=".01" pos="0 0 0"/>'))
+    plain = _load(ARM.replace('<site pos="0 0 -0.5"/>', '<site pos="0 0 -0.5"/><geom size=".01"/>'))
+    for name in ("joint_placements", "inertias"):
+        np.testing.assert_array_equal(getattr(zeros, name).matrix(), getattr(plain, name).matrix())
+    assert pickle.loads(pickle.dumps(model)).joint_names == model.joint_names
