@@ -133,8 +133,11 @@ def __getattr__(name: str) -> object:
         raise AttributeError(f"module 'featherdyn' has no attribute {name!r}")
     module_name = _LAZY[name]
     if module_name is None:
-        return importlib.import_module(f".{name}", __name__)
-    return getattr(importlib.import_module(f".{module_name}", __name__), name)
+        value = importlib.import_module(f".{name}", __name__)
+    else:
+        value = getattr(importlib.import_module(f".{module_name}", __name__), name)
+    globals()[name] = value  # resolved once: later uses are a plain module attribute (no import machinery)
+    return value
 
 
 def __dir__() -> list[str]:

@@ -2,9 +2,10 @@
 //
 // * parallel_for(n, fn) runs fn(begin, end) over chunks of [0, n); the calling thread works too.
 // * Several threads may call parallel_for at once: each call is a job in a shared queue.
-// * A worker that finishes a job polls for the next one for a short while (kSpinMicroseconds) before it sleeps:
-//   waking a sleeping thread costs tens of µs in a VM (a halted virtual CPU must be scheduled again), as much as
-//   a whole short batch, and batched calls usually come back to back (a training loop, a sweep).
+// * A worker that finishes a job polls for the next one for a short while (kSpinMicroseconds) before it sleeps,
+//   and the caller polls for the workers' last chunks before it sleeps: waking a sleeping thread costs tens of µs
+//   in a VM (a halted virtual CPU must be scheduled again), as much as a whole short batch, and batched calls
+//   usually come back to back (a training loop, a sweep).
 // * fork: the child has none of the parent's threads, so the child drops the pool (leaking it;
 //   its threads are gone) and builds a new one on first use (pthread_atfork, plus a pid check).
 #pragma once
@@ -67,9 +68,14 @@ class ThreadPool {
     }
     if (sleeping) wake_.notify_all();
     run_chunks(job);
+    // the workers' last chunks: polled for a while too (a sleeping caller is as slow to wake as a worker)
+    auto done = [&] {
+      return job.finished.load(std::memory_order_acquire) == job.nchunks() && job.users.load() == 0;
+    };
+    spin_until(done);
     std::unique_lock<std::mutex> lock(mutex_);
     remove(&job);
-    done_.wait(lock, [&] { return job.users == 0 && job.finished.load() == job.nchunks(); });
+    done_.wait(lock, done);  // (users changes under the lock: a worker that took the job meanwhile is waited for)
   }
 
  private:
@@ -78,7 +84,7 @@ class ThreadPool {
     std::int64_t n, chunk;
     std::atomic<std::int64_t> next{0};
     std::atomic<std::int64_t> finished{0};
-    int users = 0;  // workers inside run_chunks (guarded by mutex_)
+    std::atomic<int> users{0};  // workers inside run_chunks (changed with mutex_ held; read by the polling caller)
     Job(const std::function<void(std::int64_t, std::int64_t)>& f, std::int64_t n_, std::int64_t c)
         : fn(f), n(n_), chunk(c) {}
     std::int64_t nchunks() const { return (n + chunk - 1) / chunk; }
@@ -102,14 +108,15 @@ class ThreadPool {
 
   static constexpr int kSpinMicroseconds = 100;
 
-  // Poll (without the lock) until a job is queued, the pool stops, or kSpinMicroseconds have passed. Between
-  // short runs of pauses the worker yields its core, so that on a machine with more runnable threads than cores
-  // it does not take time from the thread still finishing the batch.
-  void poll() {
+  // Poll `ready` (without the lock) until it holds or kSpinMicroseconds have passed. Between short runs of pauses
+  // the thread yields its core, so that on a machine with more runnable threads than cores it does not take time
+  // from a thread with work to do.
+  template <class Ready>
+  static void spin_until(const Ready& ready) {
     const auto until = std::chrono::steady_clock::now() + std::chrono::microseconds(kSpinMicroseconds);
     for (;;) {
       for (int k = 0; k < 32; ++k) {
-        if (pending_.load(std::memory_order_acquire) > 0 || stopping_.load(std::memory_order_acquire)) return;
+        if (ready()) return;
 #if defined(__x86_64__) || defined(__i386__)
         __builtin_ia32_pause();
 #endif
@@ -124,7 +131,9 @@ class ThreadPool {
     for (;;) {
       if (!stop_ && queue_.empty()) {
         lock.unlock();
-        poll();
+        spin_until([&] {
+          return pending_.load(std::memory_order_acquire) > 0 || stopping_.load(std::memory_order_acquire);
+        });
         lock.lock();
       }
       ++sleepers_;
