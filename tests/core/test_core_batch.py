@@ -179,6 +179,33 @@ def test_batches_back_to_back_and_after_the_workers_sleep() -> None:
         core.set_num_threads(before)
 
 
+def test_large_batches_stream_their_results_bit_for_bit() -> None:
+    """A batch whose result passes 8 MB is written with non-temporal stores in whole 64-byte lines, ordinary
+    stores for the partial lines at both ends of each row: every row (rows start at every alignment, here also
+    in an output that starts 8 bytes into its buffer) equals one state's result bit for bit."""
+    from _models import random_tree
+
+    model = random_tree(19, 40, root="free_flyer", kinds=("revolute",), branching=True)
+    nv = model.nv
+    n = (1 << 20) // (nv * nv) + 3  # M alone just over 8 MB
+    st = random_state(model, 19, (n,))
+    rows = sorted({0, 1, 2, 7, 8, 9, n // 2, n - 2, n - 1})
+    buffer = np.full(n * nv * nv + 1, np.nan)
+    shifted = buffer[1:].reshape(n, nv, nv)  # 8 bytes past the buffer's start
+    for out in (None, shifted):
+        M = core.crba_batch(model, st.q, out=out)
+        for k in rows:
+            assert np.array_equal(M[k], core.crba(model, st.q[k])), f"crba row {k}"
+    assert not np.isnan(shifted).any()
+    batch = core.rnea_derivatives(model, st.q, st.v, st.a)
+    aba_batch = core.aba_derivatives(model, st.q, st.v, st.tau)
+    for k in rows:
+        one = core.rnea_derivatives(model, st.q[k], st.v[k], st.a[k])
+        assert all(np.array_equal(x[k], y) for x, y in zip(batch, one, strict=True)), f"rnea_derivatives row {k}"
+        one = core.aba_derivatives(model, st.q[k], st.v[k], st.tau[k])
+        assert all(np.array_equal(x[k], y) for x, y in zip(aba_batch, one, strict=True)), f"aba_derivatives row {k}"
+
+
 def test_batch_on_a_library_robot() -> None:
     """Batched rnea on solo12 (floating) equals the loop of one-state calls exactly."""
     from _core_helpers import robot

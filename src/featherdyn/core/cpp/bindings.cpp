@@ -519,13 +519,15 @@ RowStatus crba_n(const ModelData& md, const In& q, Out M) {
   FD_TRY_ROWS(out_rows(M, nv2, N));
   FD_TRY_ROWS(rows(q, N, mv.nq, ARG_Q, Q));
   double* out = M.data();
+  fdgroup::GroupArgs crba_args{&mv, Q, {}, {}, {}, true, out, nv2};
+  crba_args.stream = fdgroup::stream_result(N, nv2);
   return for_row_groups(
       N, [&](std::int64_t r) { return check_state(mv, Q.row(r), nullptr, nullptr, nullptr); },
       [&](std::int64_t r) -> std::int64_t {
         crba(mv, Q.row(r), out + r * nv2);
         return OK;
       },
-      group_kernels().crba, {&mv, Q, {}, {}, {}, true, out, nv2});
+      group_kernels().crba, crba_args);
 }
 
 RowStatus aba_n(const ModelData& md, const In& q, const In& v, const In& tau, const In& f_ext, bool gravity,
@@ -783,6 +785,7 @@ RowStatus rnea_derivatives_n(const ModelData& md, const In& q, const In& v, cons
   fdgroup::GroupArgs args{&mv, Q, V, A, FX, gravity, DQ, n2};
   args.out2 = DV;
   args.out3 = MM;
+  args.stream = fdgroup::stream_result(N, (MM ? 3 : 2) * n2);
   const RowStatus st = for_row_groups(
       N, [&](std::int64_t r) { return check_state(mv, Q.row(r), V.row(r), A.row(r), FX.row(r)); },
       [&](std::int64_t r) -> std::int64_t {
@@ -903,6 +906,7 @@ RowStatus aba_derivatives_n(const ModelData& md, const In& q, const In& v, const
   args.out3 = MI;
   args.out_qdd = QDD;
   args.lambda_d = lambda.data();
+  args.stream = fdgroup::stream_result(N, 3 * n2);
   const RowStatus st = for_row_groups(
       N, [&](std::int64_t r) { return check_state(mv, Q.row(r), V.row(r), T.row(r), FX.row(r)); },
       [&](std::int64_t r) -> std::int64_t {

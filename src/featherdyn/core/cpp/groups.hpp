@@ -39,7 +39,14 @@ struct GroupArgs {
   double* out_qdd = nullptr;        // (ABA derivatives) q̈, rows of nv
   const int* lambda_d = nullptr;   // (ABA derivatives) the dofs' parents (ltl.hpp)
   const ContactArgs* contacts = nullptr;  // (constrained dynamics)
+  bool stream = false;  // write the result with non-temporal stores (stream_result)
 };
+
+// Whether a batch's result is too large to be read back from the caches: then writing it with non-temporal
+// stores (simd_groups.hpp's scatter_lines) saves reading every output line from memory first.
+inline bool stream_result(std::int64_t rows, std::int64_t doubles_per_row) {
+  return rows * doubles_per_row >= (std::int64_t{1} << 20);  // 8 MB
+}
 
 // One group of `width` rows from row r0: 0, or non-zero when some lane failed (ABA: singular; constrained
 // dynamics: M singular, or D with mu = 0).

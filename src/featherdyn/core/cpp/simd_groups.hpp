@@ -3,7 +3,12 @@
 // (the x86-64 baseline) and by simd_avx2.cpp (compiled with -mavx2 in its own namespace).
 #pragma once
 
+#include <algorithm>
+#include <cstdint>
 #include <vector>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 #include "aba.hpp"
 #include "contacts.hpp"
@@ -44,6 +49,36 @@ inline void scatter(const Pack* x, size_t n, double* out, std::int64_t stride) {
     for (size_t k = k0; k < n; ++k) out[lane * stride + k] = x[k][lane];
 }
 
+// The same for a result too large for the caches: each lane's row written in whole 64-byte lines with
+// non-temporal stores (no read of the line first: half the memory traffic), the partial lines at both ends
+// with ordinary stores; the fence orders the stores before the pool reports the chunk done.
+inline void scatter_lines(const Pack* x, size_t n, double* out, std::int64_t stride) {
+#if defined(__SSE2__)
+  size_t head[PACK_WIDTH];  // entries before the lane's first whole line
+  for (int lane = 0; lane < PACK_WIDTH; ++lane) {
+    const std::uintptr_t at = reinterpret_cast<std::uintptr_t>(out + lane * stride);
+    head[lane] = std::min(n, static_cast<size_t>((8 - (at / 8) % 8) % 8));
+    for (size_t k = 0; k < head[lane]; ++k) out[lane * stride + k] = x[k][lane];
+  }
+  for (size_t k0 = 0;; k0 += 8) {
+    bool any = false;
+    for (int lane = 0; lane < PACK_WIDTH; ++lane) {
+      const size_t s = head[lane] + k0;
+      if (s + 8 > n) continue;
+      any = true;
+      double* o = out + lane * stride + s;
+      for (int j = 0; j < 8; j += 2) _mm_stream_pd(o + j, _mm_set_pd(x[s + j + 1][lane], x[s + j][lane]));
+    }
+    if (!any) break;
+  }
+  for (int lane = 0; lane < PACK_WIDTH; ++lane)
+    for (size_t k = head[lane] + (n - head[lane]) / 8 * 8; k < n; ++k) out[lane * stride + k] = x[k][lane];
+  _mm_sfence();
+#else
+  scatter(x, n, out, stride);
+#endif
+}
+
 inline Lanes& thread_lanes(size_t total) {
   thread_local Lanes lanes;
   if (lanes.buf.size() < total) lanes.buf.resize(total);
@@ -71,7 +106,7 @@ inline std::int64_t crba_group(const fdgroup::GroupArgs& g, std::int64_t r0) {
   const Pack* q = L.gather(g.Q, r0, nq, 0);
   Pack* M = L.space(nq);
   crba(mv, q, M);
-  scatter(M, nv2, g.out + r0 * g.out_stride, g.out_stride);
+  (g.stream ? scatter_lines : scatter)(M, nv2, g.out + r0 * g.out_stride, g.out_stride);
   return 0;
 }
 
@@ -100,26 +135,38 @@ inline std::int64_t fk_group(const fdgroup::GroupArgs& g, std::int64_t r0) {
   return 0;
 }
 
-// ∂τ/∂q, ∂τ/∂q̇ and M of W rows: the analytical RNEA derivatives instantiated for Pack.
-inline std::int64_t rnea_derivatives_group(const fdgroup::GroupArgs& g, std::int64_t r0) {
-  const ModelView& mv = *g.mv;
-  const size_t nq = mv.nq, nv = mv.nv, nf = 6 * static_cast<size_t>(mv.nb);
-  Lanes& L = thread_lanes(nq + 2 * nv + nf);
-  const Pack* q = L.gather(g.Q, r0, nq, 0);
-  const Pack* v = L.gather(g.V, r0, nv, nq);
-  const Pack* a = L.gather(g.A, r0, nv, nq + nv);
-  const Pack* f = L.gather(g.FX, r0, nf, nq + 2 * nv);
-  const std::int64_t at = r0 * g.out_stride;
-  rnea_derivatives_to(mv, q, v, a, f, g.gravity,
-                      LanesOut{{g.out + at, g.out2 + at, g.out3 ? g.out3 + at : nullptr}, g.out_stride});
-  return 0;
-}
-
 // Up to this many dofs, the forward-dynamics derivatives' factor and solves run on Packs too (W lanes per
 // operation on contiguous rows of Packs; measured per state on one thread: panda 1.97 → 1.06 µs, solo12
 // 5.1 → 3.4, talos (nv = 50) 44 → 30); above it, lane by lane on each row's own nv² blocks (the packed
 // 6 nv² scratch, 1.5 MB at nv = 64 with 8 lanes, would outgrow the caches).
 constexpr int PACKED_SOLVES_MAX_NV = 64;
+
+// ∂τ/∂q, ∂τ/∂q̇ and M of W rows: the analytical RNEA derivatives instantiated for Pack.
+inline std::int64_t rnea_derivatives_group(const fdgroup::GroupArgs& g, std::int64_t r0) {
+  const ModelView& mv = *g.mv;
+  const size_t nq = mv.nq, nv = mv.nv, nf = 6 * static_cast<size_t>(mv.nb), n2 = nv * nv;
+  // a large batch: into Packs (3 nv² of them), then streamed out in whole lines; else straight into the rows
+  const bool stream = g.stream && mv.nv <= PACKED_SOLVES_MAX_NV;
+  Lanes& L = thread_lanes(nq + 2 * nv + nf + (stream ? 3 * n2 : 0));
+  const Pack* q = L.gather(g.Q, r0, nq, 0);
+  const Pack* v = L.gather(g.V, r0, nv, nq);
+  const Pack* a = L.gather(g.A, r0, nv, nq + nv);
+  const Pack* f = L.gather(g.FX, r0, nf, nq + 2 * nv);
+  const std::int64_t at = r0 * g.out_stride;
+  if (stream) {
+    Pack* dq = L.space(nq + 2 * nv + nf);
+    Pack* dv = dq + n2;
+    Pack* M = g.out3 ? dv + n2 : nullptr;
+    rnea_derivatives_to(mv, q, v, a, f, g.gravity, StateOut<Pack>{{dq, dv, M}});
+    scatter_lines(dq, n2, g.out + at, g.out_stride);
+    scatter_lines(dv, n2, g.out2 + at, g.out_stride);
+    if (M) scatter_lines(M, n2, g.out3 + at, g.out_stride);
+    return 0;
+  }
+  rnea_derivatives_to(mv, q, v, a, f, g.gravity,
+                      LanesOut{{g.out + at, g.out2 + at, g.out3 ? g.out3 + at : nullptr}, g.out_stride});
+  return 0;
+}
 
 // q̈, ∂q̈/∂q, ∂q̈/∂q̇ and M⁻¹ of W rows: the derivative kernel on Packs, then the factor and solves on Packs
 // (small nv) or lane by lane, with the same templates as one state (bit-identical lanes).
@@ -146,9 +193,10 @@ inline std::int64_t aba_derivatives_group(const fdgroup::GroupArgs& g, std::int6
       return 1;  // singular in some lane: redone row by row, which names it
     aba_derivatives_solves(mv, g.lambda_d, M, dq, dv, Minv, X);
     scatter(qdd, nv, g.out_qdd + r0 * static_cast<std::int64_t>(nv), static_cast<std::int64_t>(nv));
-    scatter(dq, n2, g.out + at, g.out_stride);
-    scatter(dv, n2, g.out2 + at, g.out_stride);
-    scatter(Minv, n2, g.out3 + at, g.out_stride);
+    auto put = g.stream ? scatter_lines : scatter;
+    put(dq, n2, g.out + at, g.out_stride);
+    put(dv, n2, g.out2 + at, g.out_stride);
+    put(Minv, n2, g.out3 + at, g.out_stride);
     return 0;
   }
   thread_local std::vector<double> M, X, x, t, hl;
