@@ -25,12 +25,19 @@ Sections:
   threads × clock × lanes of the batched kernels × 2 (one add and one multiply per
   cycle and lane: the kernels are built without fused multiply-adds; a CPU with
   two FMA pipes has twice that peak for code that fuses).
+
+Pinocchio's batched calls run on OpenMP, whose idle threads spin for a while after each parallel call; in an
+interleaved benchmark they spin on the cores while the core's own batch runs next (its rows moved by up to
+1.7× between runs). The script therefore sets ``OMP_WAIT_POLICY=passive`` unless the environment sets it (the
+threads then sleep between calls: a few µs on calls of milliseconds); it prints the policy used.
 """
 
 from __future__ import annotations
 
 import argparse
 import os
+
+os.environ.setdefault("OMP_WAIT_POLICY", "passive")  # before Pinocchio loads OpenMP (see the module docstring)
 import platform
 import statistics
 import sys
@@ -244,7 +251,8 @@ def main(argv: list[str]) -> int:
     import pinocchio
 
     print(f"featherdyn.core vs Pinocchio {pinocchio.__version__}; numpy {np.__version__}; Python "
-          f"{platform.python_version()}; {os.cpu_count()} logical cores; core threads {core.get_num_threads()}")
+          f"{platform.python_version()}; {os.cpu_count()} logical cores; core threads {core.get_num_threads()}; "
+          f"OMP_WAIT_POLICY={os.environ.get('OMP_WAIT_POLICY')}")
     print("ratio = core / Pinocchio (median of interleaved samples; < 1: the core is faster)\n")
     for name, floating, frame in ROBOTS:
         if name == "panda":
