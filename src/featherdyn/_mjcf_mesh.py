@@ -97,10 +97,46 @@ def _stl(data: bytes) -> tuple[np.ndarray, np.ndarray]:
     return _check_vertices(V), np.arange(len(V)).reshape(-1, 3)
 
 
+def _obj_fast(text: str) -> tuple[np.ndarray, np.ndarray] | None:
+    """:func:`_obj_lines`' arrays for the usual file, with the numbers of all lines converted at once: no tab and
+    no line that starts with white space (so a line's first word is `v` exactly when it starts with "v "), every
+    vertex line `v x y z`, every face a triangle `f a b c` of indices ≥ 1 (`k`, `k/t`, `k//n` or `k/t/n`).
+    None for anything else: read line by line, which also words the errors."""
+    if "\t" in text or "\n " in text or text[:1] == " ":
+        return None
+    lines = text.split("\n")
+    vlines = [line for line in lines if line[:2] == "v "]
+    flines = [line for line in lines if line[:2] == "f "]
+    if "v" in lines or "f" in lines:  # a bare keyword: an error, worded line by line
+        return None
+    vt, ft = " ".join(vlines).split(), " ".join(flines).split()
+    if (len(vt) != 4 * len(vlines) or vt[0::4].count("v") != len(vlines)
+            or len(ft) != 4 * len(flines) or ft[0::4].count("f") != len(flines)):
+        return None
+    del vt[0::4], ft[0::4]
+    if "/" in text:
+        ft = [k.partition("/")[0] for k in ft]
+    try:
+        V = np.array(list(map(float, vt)), dtype=np.float64).reshape(-1, 3)
+        F = np.array(list(map(int, ft)), dtype=np.int64).reshape(-1, 3)
+    except ValueError:
+        return None
+    if F.size and int(F.min()) < 1:  # 0 is out of range, negative indices count back from the last vertex read
+        return None
+    return _check_vertices(V), _check_faces(F - 1, len(V))
+
+
 def _obj(data: bytes) -> tuple[np.ndarray, np.ndarray]:
+    text = "\n".join(data.decode("utf-8", errors="replace").splitlines())  # the line ends splitlines() sees
+    fast = _obj_fast(text)
+    return fast if fast is not None else _obj_lines(text)
+
+
+def _obj_lines(text: str) -> tuple[np.ndarray, np.ndarray]:
+    """An OBJ text's vertices and triangles (polygons as fans), line by line."""
     verts: list[list[float]] = []
     faces: list[list[int]] = []
-    for lineno, raw in enumerate(data.decode("utf-8", errors="replace").splitlines(), 1):
+    for lineno, raw in enumerate(text.split("\n"), 1):
         parts = raw.split()
         if not parts:
             continue
