@@ -2,7 +2,7 @@
 
 Usage::
 
-    FD_NO_EDITABLE=1 PYTHONPATH=src python benchmarks/bench_mjcf.py [--repeat 7] [--block 1] [--profile MODEL]
+    FD_NO_EDITABLE=1 PYTHONPATH=src python benchmarks/bench_mjcf.py [--repeat 7] [--block 1] [--all] [--profile MODEL]
 
 The models: gymnasium's ``envs/mujoco/assets``, mujoco's ``testdata`` and, if
 installed, dm_control's ``suite`` (none is a featherdyn dependency), each
@@ -11,7 +11,11 @@ process, the two loaders alternating (``--block B``: B loads of one, then B of t
 with the caches its own previous load left); the ratio is featherdyn / MuJoCo (below
 1: featherdyn loads faster). MuJoCo's compile does more than featherdyn's load
 (collision structures, constants, sizes of everything); featherdyn's builds the
-rigid-body ``Model`` only. Both read meshes from disk on every call.
+rigid-body ``Model`` only. MuJoCo keeps the meshes it has read in an in-process cache, so its best time on a
+model with large meshes is a load from that cache; featherdyn reads and integrates them on every call.
+
+``--all``: every standalone model of the MJCF survey (``scripts/mjcf_survey.py``: gymnasium,
+gymnasium-robotics, dm_control, robosuite, metaworld and mujoco, whichever are installed) instead.
 
 ``--profile NAME`` runs cProfile on ``fd.load_mjcf`` of the models whose file
 name contains NAME and prints the top entries.
@@ -25,6 +29,7 @@ import importlib.util
 import io
 import pstats
 import statistics
+import sys
 import time
 import warnings
 from pathlib import Path
@@ -34,11 +39,16 @@ import featherdyn as fd
 mujoco = __import__("mujoco")
 
 
-def models() -> list[Path]:
+def models(every: bool = False) -> list[Path]:
     found: list[Path] = []
+    if every:
+        sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "scripts"))
+        import mjcf_survey
+
+        found = [path for _, _, path in mjcf_survey.find_models()]
     for package, sub in (("gymnasium", "envs/mujoco/assets"), ("mujoco", "testdata"), ("dm_control", "suite")):
         spec = importlib.util.find_spec(package)
-        if spec is None or spec.origin is None:
+        if every or spec is None or spec.origin is None:
             continue
         found += sorted((Path(spec.origin).parent / sub).glob("*.xml"))
     out = []
@@ -97,9 +107,10 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeat", type=int, default=7, help="rounds (each: featherdyn's loads, then MuJoCo's)")
     parser.add_argument("--block", type=int, default=1, help="loads per library per round (1: alternate)")
+    parser.add_argument("--all", action="store_true", help="every standalone model of the MJCF survey")
     parser.add_argument("--profile", default=None)
     args = parser.parse_args()
-    paths = models()
+    paths = models(args.all)
     if args.profile is not None:
         print(profile([p for p in paths if args.profile in p.name]))
         return
@@ -114,7 +125,7 @@ def main() -> None:
         name = f"{path.parent.parent.name}/{path.parent.name}/{path.name}"
         print(f"{name:44s} {t_fd * 1e3:9.2f} {t_mj * 1e3:10.2f} {t_fd / t_mj:7.2f}")
     print(f"median ratio fd / MuJoCo over {len(ratios)} models: {statistics.median(ratios):.2f} "
-          f"(min {min(ratios):.2f}, max {max(ratios):.2f})")
+          f"(min {min(ratios):.2f}, max {max(ratios):.2f}); slower than MuJoCo: {sum(r > 1 for r in ratios)}")
 
 
 if __name__ == "__main__":
