@@ -209,18 +209,14 @@ template <class S>
 struct ArticulatedInertia {
   Mat3<S> A, B, C;
 
-  FD_INLINE static ArticulatedInertia from_rigid(const RigidInertia<S>& I) {
-    // [[Ī, [h]×], [[h]×ᵀ, m 1]]
-    const S z(0.0);
-    return {I.I.full(), skew(I.h), {{I.m, z, z, z, I.m, z, z, z, I.m}}};
-  }
-  FD_INLINE void set_rigid(const RigidInertia<S>& I) {  // *this = from_rigid(I), in place
+  // *this = a rigid body's inertia as an articulated one, [[Ī, [h]×], [[h]×ᵀ, m 1]], written in place
+  FD_INLINE void set_rigid(const RigidInertia<S>& I) {
     const S z(0.0);
     A = I.I.full();
     B = skew(I.h);
     C = Mat3<S>{{I.m, z, z, z, I.m, z, z, z, I.m}};
   }
-  // *this = from_rigid(I) + o, entry by entry in place (the same sums as from_rigid(I) += o, without a copy)
+  // *this = set_rigid(I)'s value + o, entry by entry in place (the same sums as set_rigid(I) then += o, no copy)
   FD_INLINE void set_rigid_plus(const RigidInertia<S>& I, const ArticulatedInertia& o) {
     const S z(0.0);
     A(0, 0) = I.I.xx + o.A(0, 0), A(0, 1) = I.I.xy + o.A(0, 1), A(0, 2) = I.I.xz + o.A(0, 2);
