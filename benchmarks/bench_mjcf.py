@@ -46,11 +46,11 @@ def models(every: bool = False) -> list[Path]:
         import mjcf_survey
 
         found = [path for _, _, path in mjcf_survey.find_models()]
-    for package, sub in (("gymnasium", "envs/mujoco/assets"), ("mujoco", "testdata"), ("dm_control", "suite")):
-        spec = importlib.util.find_spec(package)
-        if every or spec is None or spec.origin is None:
-            continue
-        found += sorted((Path(spec.origin).parent / sub).glob("*.xml"))
+    else:
+        for package, sub in (("gymnasium", "envs/mujoco/assets"), ("mujoco", "testdata"), ("dm_control", "suite")):
+            spec = importlib.util.find_spec(package)
+            if spec is not None and spec.origin is not None:
+                found += sorted((Path(spec.origin).parent / sub).glob("*.xml"))
     out = []
     for path in found:
         try:
