@@ -24,15 +24,27 @@ the ``legacy`` rule as MuJoCo's compiler (``user_mesh.cc``) uses them.
 from __future__ import annotations
 
 import math
+import os
 import re
 import struct
+import threading
+import time
+import warnings
+from collections import OrderedDict
 from pathlib import Path
+from typing import cast
 
 import numpy as np
 
+from ._mjcf_xml import Mat, Vec
+from ._urdf_xml import read_regular_file
 from .urdf import MAX_LENGTH as _MAX_LENGTH
 
-__all__ = ["MAX_MESH_BYTES", "MeshError", "read_mesh_file", "mesh_mass_properties"]
+#: ``(measure, centre, I_c / ρ row by row)`` of a mesh (:func:`mass_properties`).
+MassProperties = tuple[float, Vec, Mat]
+
+__all__ = ["MAX_MESH_BYTES", "MESH_CACHE_SIZE", "MeshError", "clear_mesh_cache", "file_mass_properties",
+           "mass_properties", "mesh_mass_properties", "read_mesh_file"]
 
 #: Largest mesh file read, in bytes.
 MAX_MESH_BYTES = 200_000_000
@@ -56,16 +68,17 @@ def _check_faces(F: np.ndarray, nv: int) -> np.ndarray:
 
 def read_mesh_file(path: Path) -> tuple[np.ndarray, np.ndarray]:
     """``(V (n, 3), F (m, 3))`` of an STL, OBJ or MSH file."""
+    return _parse(path, _read(path)[0])
+
+
+def _read(path: Path) -> tuple[bytes, os.stat_result]:
     try:
-        size = path.stat().st_size
+        return read_regular_file(path, MAX_MESH_BYTES)
     except OSError as exc:
         raise MeshError(f"cannot read the mesh file {str(path)[:200]!r}: {exc.strerror or exc}") from None
-    if size > MAX_MESH_BYTES:
-        raise MeshError(f"mesh file of {size} bytes, more than MAX_MESH_BYTES = {MAX_MESH_BYTES}")
-    try:
-        data = path.read_bytes()
-    except OSError as exc:
-        raise MeshError(f"cannot read the mesh file {str(path)[:200]!r}: {exc.strerror or exc}") from None
+
+
+def _parse(path: Path, data: bytes) -> tuple[np.ndarray, np.ndarray]:
     ext = path.suffix.lower()
     if ext == ".stl":
         return _stl(data)
@@ -74,6 +87,73 @@ def read_mesh_file(path: Path) -> tuple[np.ndarray, np.ndarray]:
     if ext == ".msh":
         return _msh(data)
     raise MeshError(f"unsupported mesh format {path.suffix[:20]!r} (STL, OBJ and MSH are read)")
+
+
+#: Mass properties of mesh files kept between loads (the most recently used; see :func:`file_mass_properties`).
+MESH_CACHE_SIZE = 1024
+#: A mesh file is kept only if it was last written at least this long (ns) before it was read.
+MESH_CACHE_SETTLE_NS = 1_000_000_000
+_cache: OrderedDict[tuple[object, ...], MassProperties] = OrderedDict()
+_cache_lock = threading.Lock()
+
+
+def clear_mesh_cache() -> None:
+    """Forget every mesh file's mass properties kept between loads (the next load reads the files again)."""
+    with _cache_lock:
+        _cache.clear()
+
+
+def file_mass_properties(path: Path, scale: Vec, mode: str) -> MassProperties:
+    """:func:`mass_properties` of a mesh file, kept between loads as MuJoCo keeps the meshes it has read.
+
+    A file's entry is found again only while its device, inode, size and
+    modification and change times (``os.fstat``, nanoseconds) are those it
+    was read with: a file written since, replaced or renamed over is read
+    again (the change time moves on every write, even one that restores the
+    modification time). File times advance in ticks of the kernel's coarse
+    clock (milliseconds), so a file written again within the tick of its
+    last write could keep its times: a file is therefore kept only if it was
+    last written :data:`MESH_CACHE_SETTLE_NS` (1 s) or more before it was
+    read (Git's rule for "racily clean" files). The key also holds ``scale``
+    and ``mode``. Failures are not kept. At most :data:`MESH_CACHE_SIZE`
+    entries (the least recently used leaves first); :func:`clear_mesh_cache`
+    empties it.
+    """
+    try:
+        status = os.stat(path)
+    except OSError as exc:
+        raise MeshError(f"cannot read the mesh file {str(path)[:200]!r}: {exc.strerror or exc}") from None
+    key = (status.st_dev, status.st_ino, status.st_size, status.st_mtime_ns, status.st_ctime_ns, scale, mode)
+    with _cache_lock:
+        got = _cache.get(key)
+        if got is not None:
+            _cache.move_to_end(key)
+            return got
+    now = time.time_ns()
+    data, status = _read(path)  # the status of what was read: the key of what is kept
+    V, F = _parse(path, data)
+    got = mass_properties(V, F, scale, mode)
+    settled = now - max(status.st_mtime_ns, status.st_ctime_ns) >= MESH_CACHE_SETTLE_NS
+    if settled and status.st_ino:  # file systems without inode numbers: nothing kept
+        key = (status.st_dev, status.st_ino, status.st_size, status.st_mtime_ns, status.st_ctime_ns, scale, mode)
+        with _cache_lock:
+            _cache[key] = got
+            while len(_cache) > MESH_CACHE_SIZE:
+                _cache.popitem(last=False)
+    return got
+
+
+def mass_properties(V: np.ndarray, F: np.ndarray, scale: Vec, mode: str) -> MassProperties:
+    """``(measure, c, I_c / ρ)`` of a mesh asset, as tuples: vertices ``V`` `(n, 3)` read as float32 (as MuJoCo
+    reads them) and scaled in double; the convex hull for ``mode="convex"`` (then ``exact``) or when ``F`` is
+    empty; :func:`mesh_mass_properties` of the result."""
+    V64 = np.asarray(V).astype(np.float32).astype(np.float64) * np.array(scale)  # then masses agree exactly
+    if not F.size or mode == "convex":  # MuJoCo uses the convex hull (its faces are then outward)
+        F = convex_hull(V64)
+        mode = "exact" if mode == "convex" else mode
+    measure, c, J = mesh_mass_properties(V64, F, mode)
+    rows = cast(Mat, tuple(np.asarray(J, dtype=float).ravel().tolist()))
+    return float(measure), (float(c[0]), float(c[1]), float(c[2])), rows
 
 
 def _stl(data: bytes) -> tuple[np.ndarray, np.ndarray]:
@@ -97,39 +177,109 @@ def _stl(data: bytes) -> tuple[np.ndarray, np.ndarray]:
     return _check_vertices(V), np.arange(len(V)).reshape(-1, 3)
 
 
-def _obj_fast(text: str) -> tuple[np.ndarray, np.ndarray] | None:
-    """:func:`_obj_lines`' arrays for the usual file, with the numbers of all lines converted at once: no tab and
-    no line that starts with white space (so a line's first word is `v` exactly when it starts with "v "), every
-    vertex line `v x y z`, every face a triangle `f a b c` of indices ≥ 1 (`k`, `k/t`, `k//n` or `k/t/n`).
-    None for anything else: read line by line, which also words the errors."""
-    if "\t" in text or "\n " in text or text[:1] == " ":
+_SPACE, _NEWLINE = 32, 10
+_NOT_READ_AT_ONCE = (b"\t", b"\r", b"\v", b"\f", b"\x1c", b"\x1d", b"\x1e", b"\n ")
+_VERTEX_CHARS, _FACE_CHARS = b"0123456789+-.eE \nv", b"0123456789/ \nf"
+_KEYWORD_TO_SPACE = bytes.maketrans(b"vf", b"  ")
+_INDEX_TO_SPACE = bytes.maketrans(b"f/", b"  ")
+
+
+def _lines_of(data: bytes, starts: np.ndarray, ends: np.ndarray, keep: np.ndarray) -> tuple[bytes, int]:
+    """The lines ``keep`` marks, joined (runs of consecutive lines as one slice), and how many there are."""
+    edges = np.flatnonzero(np.diff(np.concatenate(([False], keep, [False])).view(np.int8)))
+    first, last = edges[0::2].tolist(), edges[1::2].tolist()
+    return b"".join([data[starts[a]:ends[b - 1]] for a, b in zip(first, last, strict=True)]), int(np.count_nonzero(keep))
+
+
+def _token_starts(b: np.ndarray) -> np.ndarray:
+    """Positions of the words after the first on each line of ``b`` (bytes that are neither space nor newline,
+    right after a space)."""
+    return np.flatnonzero((b[1:] != _SPACE) & (b[1:] != _NEWLINE) & (b[:-1] == _SPACE)) + 1
+
+
+def _three_per_line(b: np.ndarray, keyword: int, n: int) -> np.ndarray | None:
+    """The word starts of ``b``, lines ``keyword w1 w2 w3``, if every one of the ``n`` lines has exactly three."""
+    line_starts = np.flatnonzero(b == keyword)
+    words = _token_starts(b)
+    if len(line_starts) != n or len(words) != 3 * n:
         return None
-    lines = text.split("\n")
-    vlines = [line for line in lines if line[:2] == "v "]
-    flines = [line for line in lines if line[:2] == "f "]
-    if "v" in lines or "f" in lines:  # a bare keyword: an error, worded line by line
+    if not np.array_equal(np.searchsorted(words, line_starts), np.arange(0, 3 * n, 3)):
         return None
-    vt, ft = " ".join(vlines).split(), " ".join(flines).split()
-    if (len(vt) != 4 * len(vlines) or vt[0::4].count("v") != len(vlines)
-            or len(ft) != 4 * len(flines) or ft[0::4].count("f") != len(flines)):
-        return None
-    del vt[0::4], ft[0::4]
-    if "/" in text:
-        ft = [k.partition("/")[0] for k in ft]
+    return words
+
+
+def _numbers(text: bytes, dtype: type, count: int) -> np.ndarray | None:
+    """The ``count`` numbers of a text of numbers and white space, or None if it holds anything else."""
     try:
-        V = np.array(list(map(float, vt)), dtype=np.float64).reshape(-1, 3)
-        F = np.array(list(map(int, ft)), dtype=np.int64).reshape(-1, 3)
-    except ValueError:
+        with warnings.catch_warnings():
+            warnings.simplefilter("error")
+            got: np.ndarray = np.fromstring(text, dtype=dtype, sep=" ")
+    except (ValueError, DeprecationWarning):
         return None
+    return got if len(got) == count else None
+
+
+def _obj_fast(data: bytes) -> tuple[np.ndarray, np.ndarray] | None:
+    """:func:`_obj_lines`' arrays for the usual file, its numbers converted all at once: ASCII, Unix or Windows
+    line ends, no tab and no line that starts with white space (a line's first word is `v` exactly when it
+    starts with "v "), every vertex line `v x y z`, every face a triangle `f a b c` of indices ≥ 1 (`k`, `k/t`,
+    `k//n` or `k/t/n`). None for anything else: read line by line, which also words the errors.
+
+    Why it is exact: the vertex (face) lines hold only the characters of numbers (of indices and "/"), one
+    keyword each and three words after it (counted per line); each word then gives at least one number or
+    stops the conversion, so `3 n` numbers means one per word. A face's first index is the number that starts
+    its word."""
+    if not data:
+        return None
+    if b"\r" in data:
+        data = data.replace(b"\r\n", b"\n")
+    if not data.isascii() or data[:1] == b" " or any(c in data for c in _NOT_READ_AT_ONCE):
+        return None
+    arr = np.frombuffer(data, np.uint8)
+    ends = np.flatnonzero(arr == _NEWLINE) + 1
+    starts = np.concatenate(([0], ends[:-1] if len(ends) and ends[-1] == len(arr) else ends))
+    ends = np.concatenate((ends, [len(arr)]))[:len(starts)]
+    first = arr[starts]
+    second = np.frombuffer(data + b"\n", np.uint8)[starts + 1]
+    bare = (second == _NEWLINE) & ((first == ord("v")) | (first == ord("f")))
+    if bare.any():  # a bare keyword: an error, worded line by line
+        return None
+    is_v, is_f = (first == ord("v")) & (second == _SPACE), (first == ord("f")) & (second == _SPACE)
+    if not is_v.any():
+        return None
+    vtext, nv = _lines_of(data, starts, ends, is_v)
+    ftext, nf = _lines_of(data, starts, ends, is_f) if is_f.any() else (b"", 0)
+    if vtext.translate(None, _VERTEX_CHARS) or ftext.translate(None, _FACE_CHARS):
+        return None
+    vb, fb = np.frombuffer(vtext, np.uint8), np.frombuffer(ftext, np.uint8)
+    if _three_per_line(vb, ord("v"), nv) is None:
+        return None
+    V = _numbers(vtext.translate(_KEYWORD_TO_SPACE), np.float64, 3 * nv)
+    if V is None:
+        return None
+    if nf:
+        words = _three_per_line(fb, ord("f"), nf)
+        if words is None or not np.all((fb[words] >= ord("0")) & (fb[words] <= ord("9"))):
+            return None
+        digit = (fb >= ord("0")) & (fb <= ord("9"))
+        number_starts = np.flatnonzero(digit[1:] & ~digit[:-1]) + 1
+        every = _numbers(ftext.translate(_INDEX_TO_SPACE), np.int64, len(number_starts))
+        if every is None:
+            return None
+        F = every[fb[number_starts - 1] == _SPACE]
+    else:
+        F = np.zeros(0, dtype=np.int64)
     if F.size and int(F.min()) < 1:  # 0 is out of range, negative indices count back from the last vertex read
         return None
-    return _check_vertices(V), _check_faces(F - 1, len(V))
+    V = V.reshape(-1, 3)
+    return _check_vertices(V), _check_faces(F.reshape(-1, 3) - 1, len(V))
 
 
 def _obj(data: bytes) -> tuple[np.ndarray, np.ndarray]:
-    text = "\n".join(data.decode("utf-8", errors="replace").splitlines())  # the line ends splitlines() sees
-    fast = _obj_fast(text)
-    return fast if fast is not None else _obj_lines(text)
+    fast = _obj_fast(data)
+    if fast is not None:
+        return fast
+    return _obj_lines("\n".join(data.decode("utf-8", errors="replace").splitlines()))  # the line ends splitlines() sees
 
 
 def _obj_lines(text: str) -> tuple[np.ndarray, np.ndarray]:
@@ -156,7 +306,11 @@ def _obj_lines(text: str) -> tuple[np.ndarray, np.ndarray]:
         except ValueError:
             raise MeshError(f"OBJ line {lineno}: cannot read {raw[:100]!r}") from None
     V = _check_vertices(np.array(verts, dtype=np.float64).reshape(-1, 3))
-    return V, _check_faces(np.array(faces, dtype=np.int64).reshape(-1, 3), len(V))
+    try:
+        F = np.array(faces, dtype=np.int64).reshape(-1, 3)
+    except OverflowError:  # an index beyond int64
+        raise MeshError(f"a face index is outside 0..{len(V) - 1}") from None
+    return V, _check_faces(F, len(V))
 
 
 def _msh(data: bytes) -> tuple[np.ndarray, np.ndarray]:

@@ -14,8 +14,10 @@ parser instead, and finds line numbers only for a message.
 from __future__ import annotations
 
 import codecs
+import errno
 import os
 import re
+import stat
 import warnings
 from pathlib import Path
 from typing import Any
@@ -90,7 +92,7 @@ def _read_source(path_or_xml: Any, error: type[ModelError] = URDFError, kind: st
         )
     label = path_or_xml if type(path_or_xml) is str and _normal_path(path_or_xml) else str(Path(path_or_xml))
     try:
-        data = _read_bytes(label)
+        data = read_regular_file(label)[0]
     except (OSError, ValueError) as exc:
         reason = exc.strerror if isinstance(exc, OSError) and exc.strerror else str(exc)
         raise error(f"{label}: cannot read the {kind} file: {reason}") from None
@@ -104,17 +106,35 @@ def _normal_path(path: str) -> bool:
             and not path.startswith("./") and not path.endswith(("/", "/.")))
 
 
-def _read_bytes(path: str) -> bytes:
-    """The file's bytes, read with the operating system's calls alone (``Path.read_bytes`` makes three more system
-    calls, ``io``'s buffering and terminal checks, which cost a model's load ~30 µs after other work)."""
-    fd = os.open(path, os.O_RDONLY | getattr(os, "O_BINARY", 0))
+#: Largest model file read, in bytes.
+MAX_FILE_BYTES = 200_000_000
+
+
+def read_regular_file(path: str | os.PathLike[str], limit: int = MAX_FILE_BYTES) -> tuple[bytes, os.stat_result]:
+    """The bytes of a regular file of at most ``limit`` bytes, and its status (``os.fstat`` of what was read).
+
+    Read with the operating system's calls alone (``Path.read_bytes`` makes
+    more system calls, ``io``'s buffering and terminal checks, which cost a
+    model's load ~30 µs after other work). Opened without blocking, so a named
+    pipe or a device (``/dev/zero``, ``/dev/stdin``) is refused at once rather
+    than read forever: ``OSError`` (``strerror`` says why) for those and for a
+    larger file.
+    """
+    fd = os.open(path, os.O_RDONLY | getattr(os, "O_BINARY", 0) | getattr(os, "O_NONBLOCK", 0))
     try:
+        status = os.fstat(fd)
+        if not stat.S_ISREG(status.st_mode):
+            raise OSError(errno.EINVAL, "not a regular file (a directory, device or pipe)")
+        if status.st_size > limit:
+            raise OSError(errno.EFBIG, f"{status.st_size} bytes, more than the {limit} read")
         chunks = []
-        while chunk := os.read(fd, 1 << 20):
+        left = status.st_size
+        while left > 0 and (chunk := os.read(fd, left)):  # a file that grows meanwhile is read to its first size
             chunks.append(chunk)
+            left -= len(chunk)
     finally:
         os.close(fd)
-    return b"".join(chunks)
+    return b"".join(chunks), status
 
 
 def _decode(data: bytes, label: str, error: type[ModelError] = URDFError) -> str:

@@ -69,12 +69,12 @@ import warnings
 from collections.abc import Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import Any, cast
 
 import numpy as np
 
 from ._mjcf_inertia import geom_mass_inertia
-from ._mjcf_mesh import MeshError, convex_hull, mesh_mass_properties, read_mesh_file
+from ._mjcf_mesh import MeshError, clear_mesh_cache, file_mass_properties, mass_properties
 from ._mjcf_xml import (
     I3,
     Z3,
@@ -103,7 +103,7 @@ from .model import _IDENTITY, FrameInfo, Model, ModelBuilder
 from .spatial_algebra import PluckerTransform
 from .urdf import MAX_INERTIA, MAX_MASS
 
-__all__ = ["load_mjcf", "load_model", "model_format"]
+__all__ = ["clear_mesh_cache", "load_mjcf", "load_model", "model_format"]
 
 #: MuJoCo's ``mjMINVAL``: a moving body's mass and principal inertia must exceed it.
 MJ_MINVAL = 1e-15
@@ -663,10 +663,10 @@ class _Loader:
         for key in ("refpos", "refquat"):
             if key in mattrs:
                 raise doc.error(elem, f"{key}: mesh reference frames are not supported")
-        scale = np.array(doc.floats(elem, mattrs, "scale", (3,), (1.0, 1.0, 1.0)) or (1.0, 1.0, 1.0))
+        scale = cast(Vec, doc.floats(elem, mattrs, "scale", (3,), (1.0, 1.0, 1.0)))
         try:
             if "file" in mattrs:
-                V, F = read_mesh_file(self.asset_path(mattrs["file"]))
+                got = file_mass_properties(self.asset_path(mattrs["file"]), scale, mode)
             else:
                 V = np.array(doc.float_list(elem, mattrs, "vertex", 3), dtype=np.float64).reshape(-1, 3)
                 face = doc.float_list(elem, mattrs, "face", 3)
@@ -675,15 +675,9 @@ class _Loader:
                 F = np.array(face, dtype=np.int64).reshape(-1, 3)
                 if F.size and (F.min() < 0 or F.max() >= len(V)):
                     raise MeshError(f"a face index is outside 0..{len(V) - 1}")
-            # MuJoCo reads vertices as float32 and scales them in double (measured: masses then agree exactly)
-            V64 = V.astype(np.float32).astype(np.float64) * scale
-            if not F.size or mode == "convex":  # MuJoCo uses the convex hull (its faces are then outward)
-                F = convex_hull(V64)
-                mode = "exact" if mode == "convex" else mode
-            measure, c, J = mesh_mass_properties(V64, F, mode)
+                got = mass_properties(V, F, scale, mode)
         except MeshError as exc:
             raise doc.error(elem, str(exc)) from None
-        got = (float(measure), (float(c[0]), float(c[1]), float(c[2])), tuple(np.asarray(J, dtype=float).ravel().tolist()))
         self.mesh_cache[name] = got
         return got
 
@@ -901,6 +895,12 @@ def load_mjcf(path_or_xml: str | os.PathLike[str] | bytes, *, strict: bool = Fal
         The :class:`~featherdyn.Model`; ``q`` has MuJoCo's ``qpos`` layout (convert
         with :func:`featherdyn.conventions.q_from_mujoco` & co.), ``armature``
         MuJoCo's ``dof_armature``.
+
+    Mesh files: the mass properties of each are kept for later loads in the
+    same process, as MuJoCo keeps the meshes it has read, while the file is
+    unchanged (device, inode, size, modification and change times; files
+    written in the last second are read every time); :func:`clear_mesh_cache`
+    forgets them.
 
     Raises:
         MJCFError: bad XML, hostile input (entities, include cycles, depth),
