@@ -350,7 +350,9 @@ def parse_elements(text: str, label: str, error: type[ModelError] = URDFError,
             root = None  # the guarded parse words the message
         if root is not None:
             elements = list(root.iter())
-            if len(elements) > MAX_DEPTH or (len(text) > MAX_ATTRIBUTE_LENGTH and any(
+            # an attribute value holds no "<": a longer one needs as long a stretch of text without "<"
+            if len(elements) > MAX_DEPTH or (len(text) > MAX_ATTRIBUTE_LENGTH
+                                             and max(map(len, text.split("<"))) > MAX_ATTRIBUTE_LENGTH and any(
                     len(v) > MAX_ATTRIBUTE_LENGTH for e in elements for v in e.attrib.values())):
                 root = None
     lines: list[int] | None = None  # the fast path's: found when a message asks

@@ -584,6 +584,9 @@ def test_attribute_length_is_bounded(size: int) -> None:
     # any attribute, also of an element the loader ignores, and the element's name is said
     with pytest.raises(URDFError, match=r"line 2: <gazebo name='g'>: plugin='xxx.*got 20000$"):
         fd.load_urdf(robot('<gazebo name="g" plugin="' + "x" * 20_000 + '"/>', link("a")))
+    # quotes and ">" inside the value do not hide its length (only "<" cannot be in a value)
+    with pytest.raises(URDFError, match=r"plugin=.*got 20000$"):
+        fd.load_urdf(robot('<gazebo name="g" plugin="' + "x>'" * 6_666 + 'xx"/>', link("a")))
 
 
 LONG = "n" * 5000
