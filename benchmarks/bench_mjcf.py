@@ -2,7 +2,8 @@
 
 Usage::
 
-    FD_NO_EDITABLE=1 PYTHONPATH=src python benchmarks/bench_mjcf.py [--repeat 7] [--block 1] [--all] [--profile MODEL]
+    FD_NO_EDITABLE=1 PYTHONPATH=src python benchmarks/bench_mjcf.py [--repeat 7] [--block 1] [--all] [--filter TEXT]
+        [--cold] [--profile MODEL]
 
 The models: gymnasium's ``envs/mujoco/assets``, mujoco's ``testdata`` and, if
 installed, dm_control's ``suite`` (none is a featherdyn dependency), each
@@ -11,8 +12,14 @@ process, the two loaders alternating (``--block B``: B loads of one, then B of t
 with the caches its own previous load left); the ratio is featherdyn / MuJoCo (below
 1: featherdyn loads faster). MuJoCo's compile does more than featherdyn's load
 (collision structures, constants, sizes of everything); featherdyn's builds the
-rigid-body ``Model`` only. MuJoCo keeps the meshes it has read in an in-process cache, so its best time on a
-model with large meshes is a load from that cache; featherdyn reads and integrates them on every call.
+rigid-body ``Model`` only. Both keep what they computed from mesh files in an in-process cache (MuJoCo the
+meshes, featherdyn their mass properties, while the file is unchanged), so the best time on a model with large
+meshes is a load from that cache.
+
+``--cold``: instead, each model's first load in a fresh process (the libraries imported, nothing loaded yet),
+featherdyn's and MuJoCo's in separate processes: the time with the mesh files read and integrated.
+
+``--filter TEXT``: only the models whose path contains TEXT.
 
 ``--all``: every standalone model of the MJCF survey (``scripts/mjcf_survey.py``: gymnasium,
 gymnasium-robotics, dm_control, robosuite, metaworld and mujoco, whichever are installed) instead.
@@ -29,6 +36,7 @@ import importlib.util
 import io
 import pstats
 import statistics
+import subprocess
 import sys
 import time
 import warnings
@@ -91,6 +99,25 @@ def best_pair(path: Path, repeat: int, block: int = 1) -> tuple[float, float]:
     return t_fd, t_mj
 
 
+_FIRST_LOAD = """
+import sys, time, warnings
+warnings.simplefilter("ignore")
+import featherdyn as fd, mujoco
+fd.load_mjcf  # resolved before the clock starts, as mujoco.MjModel is
+load = fd.load_mjcf if sys.argv[1] == "fd" else mujoco.MjModel.from_xml_path
+t0 = time.perf_counter()
+load(sys.argv[2])
+print(time.perf_counter() - t0)
+"""
+
+
+def first_load(path: Path, which: str) -> float:
+    """Seconds of the first load of ``path`` in a fresh process by ``which`` (``"fd"`` or ``"mj"``)."""
+    out = subprocess.run([sys.executable, "-c", _FIRST_LOAD, which, str(path)], capture_output=True, text=True,
+                         check=True)
+    return float(out.stdout.split()[-1])
+
+
 def profile(paths: list[Path], n: int = 25) -> str:
     prof = cProfile.Profile()
     prof.enable()
@@ -108,11 +135,25 @@ def main() -> None:
     parser.add_argument("--repeat", type=int, default=7, help="rounds (each: featherdyn's loads, then MuJoCo's)")
     parser.add_argument("--block", type=int, default=1, help="loads per library per round (1: alternate)")
     parser.add_argument("--all", action="store_true", help="every standalone model of the MJCF survey")
+    parser.add_argument("--filter", default="", help="only models whose path contains this")
+    parser.add_argument("--cold", action="store_true", help="first loads in fresh processes")
     parser.add_argument("--profile", default=None)
     args = parser.parse_args()
-    paths = models(args.all)
+    paths = [p for p in models(args.all) if args.filter in str(p)]
     if args.profile is not None:
         print(profile([p for p in paths if args.profile in p.name]))
+        return
+    if args.cold:
+        print(f"featherdyn {fd.__version__}, mujoco {mujoco.__version__}; first load in a fresh process")
+        print(f"{'model':44s} {'fd ms':>9s} {'MuJoCo ms':>10s} {'ratio':>7s}")
+        ratios = []
+        for path in paths:
+            t_fd, t_mj = first_load(path, "fd"), first_load(path, "mj")
+            ratios.append(t_fd / t_mj)
+            name = f"{path.parent.parent.name}/{path.parent.name}/{path.name}"
+            print(f"{name:44s} {t_fd * 1e3:9.2f} {t_mj * 1e3:10.2f} {t_fd / t_mj:7.2f}", flush=True)
+        print(f"median ratio fd / MuJoCo over {len(ratios)} models: {statistics.median(ratios):.2f} "
+              f"(min {min(ratios):.2f}, max {max(ratios):.2f}); slower than MuJoCo: {sum(r > 1 for r in ratios)}")
         return
     how = "alternating" if args.block == 1 else f"in blocks of {args.block}"
     print(f"featherdyn {fd.__version__}, mujoco {mujoco.__version__}; best of {args.repeat * args.block} "

@@ -10,8 +10,11 @@ comparison must pass; noise above the tolerance must fail with no diagnosis.
 
 from __future__ import annotations
 
+import io
 import json
+import os
 import warnings
+import zipfile
 from collections.abc import Callable
 from functools import cache
 from typing import Any
@@ -520,6 +523,34 @@ def test_bad_arguments(tmp_path: Any) -> None:
         check_values(_vals(), "panda", tol=0.0)
     with pytest.raises(fd.ModelError):
         check_values(_vals(), "no_such_robot_anywhere")
+
+
+def _npz_declaring(path: Any, shape: tuple[int, ...], data: bytes) -> Any:
+    """An .npz whose member q.npy declares ``shape`` (float64) and holds ``data`` after its header."""
+    header = io.BytesIO()
+    np.lib.format.write_array_header_1_0(header, {"descr": "<f8", "fortran_order": False, "shape": shape})
+    with zipfile.ZipFile(path, "w") as z:
+        z.writestr("q.npy", header.getvalue() + data)
+    return path
+
+
+@pytest.mark.parametrize("shape", [(10**12,), (1000,), (10**5, 10**5)])
+def test_values_declaring_more_than_they_hold_are_refused_before_allocation(tmp_path: Any, shape: Any) -> None:
+    path = _npz_declaring(tmp_path / "v.npz", shape, b"\0" * 80)
+    with pytest.raises(ValuesError, match=r"array 'q' declares shape .* bytes\), more than its"):
+        check_values(path, "panda")
+    # the same header over enough data is read (and then checked as values: q alone is nothing to check)
+    path = _npz_declaring(tmp_path / "w.npz", (10,), b"\0" * 80)
+    with pytest.raises(ValuesError, match=r"nothing to check: .*\(given: q\)"):
+        check_values(path, "panda")
+
+
+@pytest.mark.skipif(not hasattr(os, "mkfifo") or not os.path.exists("/dev/zero"), reason="POSIX special files")
+def test_values_from_a_pipe_or_a_device_are_refused_not_read_forever(tmp_path: Any) -> None:
+    os.mkfifo(tmp_path / "pipe.npz")
+    for path in (tmp_path / "pipe.npz", "/dev/zero"):
+        with pytest.raises(ValuesError, match="not a regular file"):
+            check_values(path, "panda")
 
 
 def test_a_tolerance_below_round_off_is_named_as_such() -> None:

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import os
+import stat
 import zipfile
 from collections.abc import Mapping
 from dataclasses import dataclass, field
@@ -25,33 +26,83 @@ class ValuesError(FeatherdynError, ValueError):
     """The values to check are unusable: no such file, not an ``.npz`` archive, or keys missing."""
 
 
+#: Largest array read from a values file, in bytes (its declared size; a zip member's too).
+MAX_VALUES_BYTES = 4_000_000_000
+
+
 def load_npz(path: str | os.PathLike[str]) -> dict[str, np.ndarray]:
+    """The named arrays of an ``.npz`` archive (``numpy.savez``), checked before they are read.
+
+    Only a regular file is opened (a named pipe or a device is refused at once, not read forever); each member
+    must be a ``.npy`` array of numbers whose declared size is at most :data:`MAX_VALUES_BYTES` and fits in the
+    member (a header declaring terabytes is refused before anything is allocated). ``ValuesError`` otherwise.
+    """
     label = os.fspath(path)
     p = Path(label)
     if not p.exists():
         raise ValuesError(f"{label}: file not found")
     if p.is_dir():
         raise ValuesError(f"{label}: is a directory, expected an .npz file")
+    not_npz = (f"{label}: not an .npz archive of named arrays (save one with numpy.savez(file, q=..., v=..., a=..., "
+               "tau=...))")
     try:
-        loaded = np.load(p, allow_pickle=False)
+        fd = os.open(label, os.O_RDONLY | getattr(os, "O_BINARY", 0) | getattr(os, "O_NONBLOCK", 0))
     except PermissionError as exc:
         raise ValuesError(f"{label}: cannot read ({exc.strerror})") from None
-    except (ValueError, OSError, EOFError, zipfile.BadZipFile):
-        raise ValuesError(f"{label}: not an .npz archive of named arrays (save one with numpy.savez(file, q=..., "
-                          "v=..., a=..., tau=...))") from None
-    if not isinstance(loaded, np.lib.npyio.NpzFile):
-        raise ValuesError(f"{label}: holds a single .npy array, expected an .npz archive of named arrays "
-                          "(numpy.savez(file, q=..., v=..., a=..., tau=...))")
-    out = {}
-    with loaded:
-        for key in loaded.files:
-            try:
-                out[key] = loaded[key]
-            except ValueError:
-                raise ValuesError(f"{label}: array {key!r} holds Python objects, expected numbers") from None
-            except (OSError, EOFError, zipfile.BadZipFile):
-                raise ValuesError(f"{label}: array {key!r} is corrupt") from None
+    except OSError as exc:
+        raise ValuesError(f"{label}: cannot read ({exc.strerror or exc})") from None
+    with os.fdopen(fd, "rb") as file:
+        if not stat.S_ISREG(os.fstat(fd).st_mode):
+            raise ValuesError(f"{label}: not a regular file (a device or a pipe), expected an .npz file")
+        try:
+            loaded = np.load(file, allow_pickle=False)
+        except (ValueError, OSError, EOFError, zipfile.BadZipFile):
+            raise ValuesError(not_npz) from None
+        if not isinstance(loaded, np.lib.npyio.NpzFile):
+            raise ValuesError(f"{label}: holds a single .npy array, expected an .npz archive of named arrays "
+                              "(numpy.savez(file, q=..., v=..., a=..., tau=...))")
+        out = {}
+        with loaded:
+            for key in loaded.files:
+                _check_member(loaded, key, label)
+                try:
+                    out[key] = loaded[key]
+                except ValueError:
+                    raise ValuesError(f"{label}: array {key!r} holds Python objects, expected numbers") from None
+                except (OSError, EOFError, zipfile.BadZipFile):
+                    raise ValuesError(f"{label}: array {key!r} is corrupt") from None
     return out
+
+
+def _check_member(loaded: np.lib.npyio.NpzFile, key: str, label: str) -> None:
+    """Refuse a member whose ``.npy`` header declares more bytes than :data:`MAX_VALUES_BYTES` or than it holds."""
+    archive = loaded.zip
+    if archive is None:  # closed (it is open while load_npz reads it)
+        raise ValuesError(f"{label}: array {key!r} cannot be read (archive closed)")
+    name = key if key in archive.namelist() else key + ".npy"
+    try:
+        info = archive.getinfo(name)
+        with archive.open(name) as member:
+            if member.read(6) != b"\x93NUMPY":
+                return  # not an .npy member: numpy's own reading words it
+            member.seek(0)
+            version = np.lib.format.read_magic(member)
+            if version == (1, 0):
+                shape, _, dtype = np.lib.format.read_array_header_1_0(member)
+            elif version == (2, 0):
+                shape, _, dtype = np.lib.format.read_array_header_2_0(member)
+            else:
+                raise ValuesError(f"{label}: array {key!r} is in .npy format {version}, expected 1.0 or 2.0 "
+                                  "(numpy.savez)")
+    except ValuesError:
+        raise
+    except (ValueError, OSError, EOFError, zipfile.BadZipFile, KeyError):
+        raise ValuesError(f"{label}: array {key!r} is corrupt") from None
+    declared = int(np.prod(shape, dtype=object)) * dtype.itemsize
+    if declared > MAX_VALUES_BYTES or declared > info.file_size:
+        raise ValuesError(f"{label}: array {key!r} declares shape {tuple(shape)} of {dtype} ({declared} bytes), "
+                          f"more than its {info.file_size} bytes in the archive or MAX_VALUES_BYTES = "
+                          f"{MAX_VALUES_BYTES}")
 
 
 @dataclass(frozen=True)
