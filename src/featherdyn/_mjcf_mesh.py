@@ -147,11 +147,19 @@ def mass_properties(V: np.ndarray, F: np.ndarray, scale: Vec, mode: str) -> Mass
     """``(measure, c, I_c / ρ)`` of a mesh asset, as tuples: vertices ``V`` `(n, 3)` read as float32 (as MuJoCo
     reads them) and scaled in double; the convex hull for ``mode="convex"`` (then ``exact``) or when ``F`` is
     empty; :func:`mesh_mass_properties` of the result."""
-    V64 = np.asarray(V).astype(np.float32).astype(np.float64) * np.array(scale)  # then masses agree exactly
+    with np.errstate(over="ignore"):
+        V32 = np.asarray(V).astype(np.float32)
+    if not np.all(np.isfinite(V32)):
+        raise MeshError(f"a vertex coordinate is beyond float32's range ({float(np.finfo(np.float32).max):.4g}), in "
+                        "which MuJoCo stores vertices")
+    V64 = V32.astype(np.float64) * np.array(scale)  # then masses agree exactly
     if not F.size or mode == "convex":  # MuJoCo uses the convex hull (its faces are then outward)
         F = convex_hull(V64)
         mode = "exact" if mode == "convex" else mode
-    measure, c, J = mesh_mass_properties(V64, F, mode)
+    with np.errstate(over="ignore", invalid="ignore"):  # huge scaled vertices: the finiteness checks say so
+        measure, c, J = mesh_mass_properties(V64, F, mode)
+    if not (np.all(np.isfinite(c)) and np.all(np.isfinite(J))):
+        raise MeshError("the mesh's mass properties overflow (its scaled vertices are too large)")
     rows = cast(Mat, tuple(np.asarray(J, dtype=float).ravel().tolist()))
     return float(measure), (float(c[0]), float(c[1]), float(c[2])), rows
 
@@ -162,7 +170,8 @@ def _stl(data: bytes) -> tuple[np.ndarray, np.ndarray]:
         if 84 + 50 * n == len(data):
             rec = np.frombuffer(data, dtype=np.dtype([("n", "<f4", 3), ("v", "<f4", (3, 3)), ("a", "<u2")]),
                                 count=n, offset=84)
-            V = rec["v"].reshape(-1, 3).astype(np.float64)
+            with np.errstate(invalid="ignore"):  # a signalling NaN: refused by the check
+                V = rec["v"].reshape(-1, 3).astype(np.float64)
             return _check_vertices(V), np.arange(3 * n).reshape(n, 3)
     text = data.decode("ascii", errors="replace")
     if not text.lstrip().startswith("solid"):
@@ -319,7 +328,8 @@ def _msh(data: bytes) -> tuple[np.ndarray, np.ndarray]:
     nv, nn, nt, nf = struct.unpack_from("<4i", data, 0)
     if min(nv, nn, nt, nf) < 0 or 16 + 4 * (3 * nv + 3 * nn + 2 * nt + 3 * nf) != len(data):
         raise MeshError("MSH: the header's counts disagree with the file length")
-    V = np.frombuffer(data, "<f4", 3 * nv, 16).reshape(-1, 3).astype(np.float64)
+    with np.errstate(invalid="ignore"):  # a signalling NaN: refused by the check
+        V = np.frombuffer(data, "<f4", 3 * nv, 16).reshape(-1, 3).astype(np.float64)
     F = np.frombuffer(data, "<i4", 3 * nf, 16 + 4 * (3 * nv + 3 * nn + 2 * nt)).reshape(-1, 3).astype(np.int64)
     return _check_vertices(V), _check_faces(F, len(V))
 

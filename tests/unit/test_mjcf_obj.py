@@ -89,3 +89,16 @@ def test_line_ends_are_those_splitlines_sees() -> None:
     text = USUAL[0]
     crlf = text.replace("\n", "\r\n").encode()
     assert _same(_obj(crlf), _obj(text.encode()))
+
+
+@pytest.mark.filterwarnings("error")
+def test_vertices_beyond_float32_and_overflowing_scales_are_mesh_errors() -> None:
+    from featherdyn._mjcf_mesh import mass_properties
+
+    V, F = _obj((CUBE_V + "\n" + TRIS).encode())
+    with pytest.raises(MeshError, match="beyond float32's range"):
+        mass_properties(V * 1e39, F, (1.0, 1.0, 1.0), "legacy")  # finite in double, inf in float32
+    with pytest.raises(MeshError, match="overflow|not positive"):
+        mass_properties(V * 1e30, F, (1e60, 1e60, 1e60), "legacy")  # (|x| ~ 1e90)⁵ overflows
+    measure, c, J = mass_properties(V, F, (2.0, 1.0, 1.0), "legacy")  # an ordinary scale: finite numbers
+    assert measure > 0 and np.all(np.isfinite(c)) and np.all(np.isfinite(J))
