@@ -44,7 +44,7 @@ _SHORT_CEILING = 1e59  # the magnitude no decimal without an exponent in fewer t
 _ORIENTATIONS = ("quat", "axisangle", "euler", "xyaxes", "zaxis")
 _REPLACING = frozenset((*_ORIENTATIONS, "fromto"))  # given on an element, they replace all of its class's
 # element kinds that default classes configure (the rest are accepted and ignored)
-_DEFAULT_KINDS = frozenset({"joint", "geom", "site", "mesh", "inertial", "frame"})
+_DEFAULT_KINDS = frozenset({"joint", "geom", "site", "mesh", "inertial", "frame", "tendon"})
 
 
 class Doc:
@@ -134,6 +134,10 @@ class Doc:
             return own  # read only by the loader
         merged = defaults.copy() if _REPLACING.isdisjoint(own) else unposed.copy()  # (as _overlay)
         merged.update(own)
+        if "" in own.values():  # measured: an empty number is not read, the class's value stays (an empty
+            for k, v in own.items():  # orientation still replaces the class's, and is then the identity)
+                if v == "" and k in defaults and k not in _REPLACING:
+                    merged[k] = defaults[k]
         return merged
 
     def element_class(self, elem: Any, childclass: str, attr: str = "class") -> str:
@@ -162,6 +166,8 @@ class Doc:
         values, ceiling = got
         if 0 <= ceiling <= bound and len(values) in counts:  # the usual case: decimals, small enough, as many
             return values
+        if not values:  # measured: MuJoCo reads an empty (or blank) number as not given
+            return default
         if len(values) not in counts:
             want = " or ".join(str(c) for c in counts)
             raise self.error(elem, f"{name}={_quote(text)}: expected {want} number{'s' if max(counts) > 1 else ''}, "
@@ -222,6 +228,8 @@ class Doc:
         if len(given) > 1:
             raise self.error(elem, f"several orientations given ({', '.join(given)}); MuJoCo accepts one")
         kind = given[0]
+        if not given_value(attrs, kind):  # measured: given but empty, it is the identity
+            return I3
         if kind == "quat":
             w, x, y, z = self.require(elem, attrs, "quat", (4,))
             n = math.hypot(w, x, y, z)
@@ -361,6 +369,12 @@ def diagonal(d: Vec) -> Mat:
 def rows(A: Mat) -> tuple[Vec, Vec, Vec]:
     """The three rows of ``A`` (a `(3, 3)` nested sequence for numpy)."""
     return (A[0], A[1], A[2]), (A[3], A[4], A[5]), (A[6], A[7], A[8])
+
+
+def given_value(attrs: dict[str, str], name: str) -> bool:
+    """Whether the attribute is given with a value: MuJoCo reads an empty or blank number as not given."""
+    text = attrs.get(name)
+    return text is not None and text != "" and not text.isspace()
 
 
 def _parse_decimals(text: str) -> tuple[tuple[float, ...], float]:

@@ -86,6 +86,7 @@ from ._mjcf_xml import (
     compose,
     diagonal,
     expand_replicates,
+    given_value,
     mat_mul,
     mat_vec,
     read_defaults,
@@ -280,6 +281,8 @@ class _Loader:
             elif kind not in _HANDLED_TOP and kind not in _IGNORED_QUIETLY:
                 raise doc.error(elem, f"unknown MJCF element <{kind}> in <mujoco>")
         read_defaults(doc)
+        for tendons in (e for e in doc.root if _local(e.tag) == "tendon"):
+            self.check_tendons(tendons)
         for asset in (e for e in doc.root if _local(e.tag) == "asset"):
             for m in asset:
                 if _local(m.tag) == "mesh":
@@ -290,6 +293,20 @@ class _Loader:
                     if file is not None and not self.asset_path(file).is_file():  # MuJoCo reads every asset
                         raise doc.error(m, f"file={_quote(file)}: cannot read the mesh file "
                                         f"{_quote(str(self.asset_path(file)))}: no such file")
+
+    def check_tendons(self, tendons: Any) -> None:
+        """Refuse a tendon with armature: MuJoCo adds ``armature · Jᵀ J`` (J the tendon's Jacobian, `(1, nv)`) to
+        the mass matrix (measured: a fixed tendon of coefficients c adds ``armature · c cᵀ``), which couples
+        joints in different branches and has no place in the tree algorithms; the rest of a tendon (stiffness,
+        damping, limits) is a force and is ignored with the other elements without rigid-tree meaning."""
+        doc = self.doc
+        for t in tendons:
+            if _local(t.tag) in ("fixed", "spatial"):
+                attrs = doc.attrs(t, "tendon", doc.element_class(t, "main"))
+                if doc.number(t, attrs, "armature", 0.0, MAX_MASS) != 0:
+                    raise doc.error(t, f"armature={_quote(attrs['armature'])}: a tendon's armature adds "
+                                    "armature·JᵀJ to the mass matrix (MuJoCo), coupling the tendon's joints, which "
+                                    "featherdyn's tree algorithms do not model (set it to 0 or remove the tendon)")
 
     def read_compiler(self, elem: Any) -> None:
         doc, a, c = self.doc, elem.attrib, self.comp
@@ -424,8 +441,9 @@ class _Loader:
         ft = self.doc.floats(elem, attrs, "fromto", (6,)) if "fromto" in attrs else None
         if ft is None:
             return None
-        if "pos" in attrs:
-            raise self.doc.error(elem, "both pos and fromto given (MuJoCo refuses this)")
+        if "pos" in attrs and any(self.doc.floats(elem, attrs, "pos", (3,)) or ()):  # measured: "0 0 0" is allowed
+            raise self.doc.error(elem, f"pos={_quote(attrs['pos'])} and fromto both given (MuJoCo refuses a "
+                                 "non-zero pos with fromto)")
         d = (ft[0] - ft[3], ft[1] - ft[4], ft[2] - ft[5])
         n = math.hypot(*d)
         if n < 1e-10:
@@ -448,7 +466,7 @@ class _Loader:
         axis: Vec = _Z_AXIS if given is None else given  # type: ignore[assignment]
         if given is not None and jtype in ("hinge", "slide"):
             axis = doc._direction(elem, attrs, "axis", axis)
-        ref = doc.floats(elem, attrs, "ref", (1,))[0] if "ref" in attrs else 0.0  # type: ignore[index]
+        ref = doc.number(elem, attrs, "ref", 0.0)
         armature = doc.floats(elem, attrs, "armature", (1,), (0.0,), MAX_MASS)[0]  # type: ignore[index]
         if armature < 0:
             raise doc.error(elem, f"armature={_quote(attrs['armature'])}: expected a value >= 0")
@@ -456,7 +474,7 @@ class _Loader:
         limited = attrs.get("limited", "auto")
         if limited not in ("true", "false", "auto"):
             doc.choice(elem, attrs, "limited", ("true", "false", "auto"), "auto")  # the message
-        has_range = "range" in attrs
+        has_range = given_value(attrs, "range")
         if limited == "auto":
             if has_range and not self.comp.autolimits:
                 raise doc.error(elem, "range given but not limited, with autolimits='false' (MuJoCo refuses this: "
@@ -595,7 +613,7 @@ class _Loader:
                 raise doc.error(elem, f"type={gtype!r}: a {gtype} is only allowed in static bodies (MuJoCo)")
             return None
         mass: float | None = None
-        if "mass" in attrs:
+        if given_value(attrs, "mass"):
             mass = doc.number(elem, attrs, "mass", 0.0, MAX_MASS)
             if mass < 0:
                 raise doc.error(elem, f"mass={_quote(attrs['mass'])}: expected a mass >= 0")
@@ -621,7 +639,7 @@ class _Loader:
         given = doc.floats(elem, attrs, "size", (1, 2, 3)) or (0.0,)
         size = given + (0.0, 0.0)[: 3 - len(given)]  # three sizes, the missing ones 0
         turn: Mat | None  # the geom's rotation in the frame (R, p); from fromto, made below only if needed
-        if "fromto" in attrs:
+        if given_value(attrs, "fromto"):
             zg, pg, length = self.fromto(elem, attrs)  # type: ignore[misc]
             turn = None  # a sphere's, capsule's or cylinder's inertia needs the z axis only
             # measured: a capsule/cylinder keeps its radius; a box/ellipsoid is (size[0], size[0], half)

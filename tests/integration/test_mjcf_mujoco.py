@@ -19,7 +19,7 @@ import pytest
 import featherdyn as fd
 
 mujoco = pytest.importorskip("mujoco")
-from _mjcf_oracle import compare  # noqa: E402
+from _mjcf_oracle import compare, full_mass_matrix  # noqa: E402
 
 RTOL = 1e-9
 
@@ -134,6 +134,17 @@ SNIPPETS: dict[str, str] = {
           </replicate>
         </body>
       </replicate>""",
+    # measured: an empty number is not read (the class's value stays: armature 0.05 / 0.2, density 5000), an
+    # empty orientation is the identity, and a zero pos may accompany fromto (brax's test models)
+    "empty numbers, zero pos with fromto": """
+      <body name="a" pos=""><joint axis="0 1 0" ref="" armature=""/>
+        <geom type="capsule" fromto="0 0 0 .3 0 0" pos="0 0 0" size=".05"/>
+        <geom type="box" size=".1 .1 .1" mass="" pos=".2 0 0" quat=""/>
+        <body name="b" pos=".5 0 0" euler="" childclass="heavier"><joint axis="1 0 0" armature="" range=""/>
+          <geom type="sphere" size=".1" density=""/>
+          <geom type="cylinder" size=".05 .1" fromto="0 0 0 0 0 .2" pos="-0 0 0"/>
+        </body>
+      </body>""",
 }
 
 _COMPILERS = {
@@ -147,6 +158,7 @@ _COMPILERS = {
     "default classes and childclass": "",
     "frames": "",
     "geom mass, density, shellinertia, groups, contype": "",
+    "empty numbers, zero pos with fromto": "",
 }
 
 COMPILER_VARIANTS = {
@@ -372,7 +384,6 @@ def test_free_joint_armature_differs_from_mujoco_exactly_as_documented() -> None
     qpos, qvel, qacc = conv.q_to_mujoco(model, q), rng.normal(size=6), rng.normal(size=6)
     d.qpos[:], d.qvel[:] = qpos, qvel
     mujoco.mj_forward(m, d)
-    from _mjcf_oracle import full_mass_matrix
 
     tau_mj = d.qfrc_bias + full_mass_matrix(m, d) @ qacc
     v, a = conv.v_from_mujoco(model, qpos, qvel), conv.a_from_mujoco(model, qpos, qvel, qacc)
@@ -414,3 +425,27 @@ def test_a_massless_moving_body_is_judged_with_its_welded_descendants(child: str
         mujoco.MjModel.from_xml_string(xml)
     with pytest.raises(fd.MJCFError, match="mjMINVAL"):
         fd.load_mjcf(xml)
+
+
+def test_tendon_armature_is_refused_because_mujoco_adds_it_to_m_with_couplings() -> None:
+    """The measurement behind the refusal: a fixed tendon of coefficients c adds ``armature · c cᵀ`` to MuJoCo's
+    M (off-diagonal terms, no joint armature can stand for it); without armature the tendon changes nothing."""
+    xml = """<mujoco><worldbody><body><joint name="j1" type="slide" axis="0 0 1"/><joint name="j2" axis="0 1 0"/>
+      <geom type="box" size=".1 .1 .1" mass="1" pos="1 0 0"/></body></worldbody>
+      <tendon><fixed armature="{a}"><joint joint="j1" coef="1"/><joint joint="j2" coef="0.5"/></fixed></tendon>
+    </mujoco>"""
+    with_arm, without = (mujoco.MjModel.from_xml_string(xml.format(a=a)) for a in (2, 0))
+    Ms = []
+    for m in (with_arm, without):
+        d = mujoco.MjData(m)
+        mujoco.mj_forward(m, d)
+        Ms.append(full_mass_matrix(m, d))
+    c = np.array([1.0, 0.5])
+    np.testing.assert_allclose(Ms[0] - Ms[1], 2 * np.outer(c, c), rtol=0, atol=1e-12)
+    with pytest.raises(fd.errors.MJCFError, match="tendon's armature"):
+        fd.load_mjcf(xml.format(a=2))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        model = fd.load_mjcf(xml.format(a=0))
+    errs = compare(model, without, samples=2)
+    assert all(v <= RTOL for v in errs.worst.values()), errs.worst

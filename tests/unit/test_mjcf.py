@@ -249,7 +249,13 @@ BAD: dict[str, tuple[str, str]] = {
                                    'fullinertia="1 1 1 0 0 0"/></body>'), "fullinertia and an orientation"),
     "limited without range": (_wrap('<body><joint limited="true"/><geom size=".1"/></body>'), r"range\[0\] < range"),
     "pos and fromto": (_wrap('<body><joint/><geom type="capsule" size=".1" pos="1 0 0" fromto="0 0 0 0 0 1"/></body>'),
-                       "both pos and fromto"),
+                       "fromto both given"),
+    "tendon armature": (_wrap('<body><joint name="j"/><geom size=".1"/></body>') .replace(
+        "</mujoco>", '<tendon><fixed armature="2"><joint joint="j" coef="1"/></fixed></tendon></mujoco>'),
+        r"<fixed>: armature='2': a tendon's armature adds armature·JᵀJ to the mass matrix"),
+    "tendon armature from a class": (_wrap('<body><joint name="j"/><geom size=".1"/></body>').replace(
+        "</mujoco>", '<default><default class="t"><tendon armature=".5"/></default></default>'
+        '<tendon><fixed class="t"><joint joint="j" coef="1"/></fixed></tendon></mujoco>'), r"armature='.5'"),
     "duplicate site": (_wrap('<body><joint/><geom size=".1"/><site name="s"/><site name="s"/></body>'),
                        "site name 's' is used twice"),
     "duplicate body": (_wrap('<body name="b"><joint/><geom size=".1"/></body><body name="b"><joint/>'
