@@ -5,6 +5,7 @@ Usage (from the repository root, featherdyn installed: ``pip install -e ".[test]
     python scripts/mjcf_survey.py            # writes docs/mjcf-models.md
     python scripts/mjcf_survey.py --out -    # the table on stdout
     python scripts/mjcf_survey.py --one PATH # one model, JSON (a worker's job)
+    python scripts/mjcf_survey.py --root DIR --out -   # the MJCF files under DIR (e.g. unpacked wheels)
 
 Finds every ``*.xml`` whose root element is ``<mujoco>`` among the files of
 the installed distributions (``importlib.metadata``: mujoco's test data,
@@ -80,6 +81,18 @@ def find_models() -> list[tuple[str, str, Path]]:
             seen.add(path)
             out.append((name, str(f), path))
     return sorted(out, key=lambda t: (t[0].lower(), t[1]))
+
+
+def find_models_under(roots: list[Path]) -> list[tuple[str, str, Path]]:
+    """The same for the MJCF files under folders (``--root``): the distribution is the first folder below a
+    root, e.g. wheels not installed here, unpacked: ``pip download --no-deps brax`` then ``unzip``."""
+    out = []
+    for root in roots:
+        for path in sorted(root.resolve().rglob("*.xml")):
+            if path.is_file() and _root_tag(path) == "mujoco":
+                rel = path.relative_to(root.resolve())
+                out.append((rel.parts[0] if len(rel.parts) > 1 else root.name, str(rel), path))
+    return out
 
 
 # --------------------------------------------------------------------------- MuJoCo's side
@@ -656,7 +669,8 @@ def _md_escape(s: str) -> str:
     return s.replace("|", "\\|").replace("\n", " ")
 
 
-def write_markdown(rows: list[tuple[str, str, dict[str, Any]]], elapsed: float) -> str:
+def write_markdown(rows: list[tuple[str, str, dict[str, Any]]], elapsed: float,
+                   where: str = "in the installed distributions") -> str:
     compiled = [r for r in rows if r[2].get("mujoco", {}).get("status") == "compiled"]
     jointless = [r for r in compiled if r[2]["mujoco"]["nv"] == 0]
     fd_ok = sum(1 for r in compiled if r[2]["featherdyn"].get("agrees"))
@@ -671,7 +685,7 @@ def write_markdown(rows: list[tuple[str, str, dict[str, Any]]], elapsed: float) 
         f"{platform.python_version()}; {_featherdyn_source()}, {_backend()}; {vers}). Do not edit by hand: "
         "re-run the script.",
         "",
-        f"Every `*.xml` whose root element is `<mujoco>` in the installed distributions. For each model MuJoCo "
+        f"Every `*.xml` whose root element is `<mujoco>` {where}. For each model MuJoCo "
         f"compiles, featherdyn (`fd.load_mjcf`) and Pinocchio (`pinocchio.buildModelFromMJCF`) are compared with "
         f"MuJoCo's compiled model at {SAMPLES} seeded random configurations: total mass of the moving bodies, "
         f"`M(q)` (`mj_fullM`) and the gravity torques (`qfrc_bias` at `qvel = 0`), as the largest relative error "
@@ -722,16 +736,21 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--jobs", type=int, default=max(1, min(4, os.cpu_count() or 1)))
     parser.add_argument("--timeout", type=float, default=TIMEOUT, help="seconds per model")
     parser.add_argument("--filter", default="", help="only files whose path contains this")
+    parser.add_argument("--root", type=Path, action="append", default=[],
+                        help="survey the MJCF files under this folder instead of the installed ones (repeatable)")
     args = parser.parse_args(argv)
     if args.one is not None:
         print(json.dumps(survey_one(args.one)))
         return 0
     t0 = time.perf_counter()
-    models = [t for t in find_models() if args.filter in str(t[2])]
+    found = find_models_under(args.root) if args.root else find_models()
+    models = [t for t in found if args.filter in str(t[2])]
     with ThreadPoolExecutor(args.jobs) as pool:
         results = list(pool.map(lambda t: _run_worker(t[2], args.timeout), models))
     rows = [(dist, rel, res) for (dist, rel, _), res in zip(models, results, strict=True)]
-    text = write_markdown(rows, time.perf_counter() - t0)
+    where = ("under " + ", ".join(f"`{r.name}/`" for r in args.root) + " (`--root`: the first folder below is the "
+             "distribution)") if args.root else "in the installed distributions"
+    text = write_markdown(rows, time.perf_counter() - t0, where)
     if args.out == "-":
         sys.stdout.write(text)
     else:
