@@ -98,7 +98,7 @@ from ._mjcf_xml import (
     z_to_vector,
 )
 from ._urdf_xml import _quote, _read_source, _shorten_quoted
-from .errors import FeatherdynError, MJCFError, PhysicalityWarning
+from .errors import FeatherdynError, MJCFError, ModelError, PhysicalityWarning
 from .joints import FreeFlyerJoint, Joint, PrismaticJoint, RevoluteJoint, SphericalJoint, _with_unit_axis
 from .model import _IDENTITY, FrameInfo, Model, ModelBuilder
 from .spatial_algebra import PluckerTransform
@@ -958,18 +958,22 @@ def model_format(path_or_xml: str | os.PathLike[str] | bytes) -> str:
     """``"urdf"`` or ``"mjcf"``: the format of a model file or text, by its root element (``<robot>`` / ``<mujoco>``).
 
     Raises:
-        MJCFError: unreadable, not XML, or another root element.
+        MJCFError: unreadable, not XML, or another root element; a ``URDFError`` instead for a file named
+            ``*.urdf`` (a malformed URDF is a URDF error to its reader).
     """
     from ._urdf_xml import _parse_xml
+    from .errors import URDFError
 
-    text, label, _ = _read_source(path_or_xml, MJCFError, "model", "load_model")
-    root, _ = _parse_xml(text, label, MJCFError, "model", line_depth=1)
+    named_urdf = isinstance(path_or_xml, (str, os.PathLike)) and os.fspath(path_or_xml).lower().endswith(".urdf")
+    error: type[ModelError] = URDFError if named_urdf else MJCFError
+    text, label, _ = _read_source(path_or_xml, error, "model", "load_model")
+    root, _ = _parse_xml(text, label, error, "model", line_depth=1)
     tag = _local(root.tag).split("}", 1)[-1]
     if tag == "robot":
         return "urdf"
     if tag == "mujoco":
         return "mjcf"
-    raise MJCFError(f"{label}: expected the root element <robot> (URDF) or <mujoco> (MJCF), got <{tag[:100]}>")
+    raise error(f"{label}: expected the root element <robot> (URDF) or <mujoco> (MJCF), got <{tag[:100]}>")
 
 
 def load_model(path_or_xml: str | os.PathLike[str] | bytes, *, strict: bool = False) -> Model:

@@ -161,6 +161,14 @@ def test_load_model_tells_urdf_from_mjcf(tmp_path: Path) -> None:
     assert mj.joint_names[0] == "upper/joint0"
     with pytest.raises(MJCFError, match=r"<robot> \(URDF\) or <mujoco> \(MJCF\)"):
         fd.load_model("<sdf version='1.6'/>")
+    # a malformed file named *.urdf is a URDF error (pybullet's humanoid.urdf ends with a NUL byte)
+    bad = tmp_path / "robot.URDF"
+    bad.write_bytes(b'<robot name="r"><link name="a"/></robot>\n\x00')
+    with pytest.raises(fd.errors.URDFError, match=r"robot.URDF: line 2: malformed XML"):
+        fd.load_model(bad)
+    (tmp_path / "x.urdf").write_text("<sdf/>")
+    with pytest.raises(fd.errors.URDFError, match=r"got <sdf>"):
+        fd.load_model(tmp_path / "x.urdf")
 
 
 # --------------------------------------------------------------------------- elements without tree meaning
