@@ -206,6 +206,37 @@ def test_large_batches_stream_their_results_bit_for_bit() -> None:
         assert all(np.array_equal(x[k], y) for x, y in zip(aba_batch, one, strict=True)), f"aba_derivatives row {k}"
 
 
+@pytest.mark.parametrize("n", [37, "large"])
+def test_a_batch_whose_finite_input_overflows_names_the_row_whatever_its_group(n: int | str) -> None:
+    """The derivative batches check each group's results while they are in the caches (a group that overflowed
+    is redone row by row, whose status says which row): an overflowing row in a full group, in the remainder,
+    in a small batch (results written straight into the rows) and in a streamed one (8 MB and more) raises
+    the same NonFiniteError as the row alone; every other batch is the one-state results bit for bit."""
+    from _models import random_tree
+
+    model = random_tree(23, 30, root="free_flyer", kinds=("revolute",), branching=True)
+    rows = 37 if n == 37 else (1 << 20) // (model.nv * model.nv) + 5
+    st = random_state(model, 23, (rows,))
+    width = core._core.simd()[1]
+    for bad in (1, width + 1, rows - 1):  # in the first group, in the second, in the remainder (or last group)
+        v = st.v.copy()
+        v[bad] = 1e200  # v × I v overflows
+        with pytest.raises(fd.NonFiniteError, match="rnea_derivatives: the result overflowed") as batch:
+            core.rnea_derivatives(model, st.q, v, st.a)
+        with pytest.raises(fd.NonFiniteError) as alone:
+            core.rnea_derivatives(model, st.q[bad], v[bad], st.a[bad])
+        assert str(batch.value).split(" (a non-finite")[0] == str(alone.value).split(" (a non-finite")[0]
+        with pytest.raises(fd.NonFiniteError, match="aba_derivatives: the result overflowed"):
+            core.aba_derivatives(model, st.q, v, st.tau)
+    batch = core.rnea_derivatives(model, st.q, st.v, st.a)
+    aba_batch = core.aba_derivatives(model, st.q, st.v, st.tau)
+    for k in (0, width, rows - 1):
+        one = core.rnea_derivatives(model, st.q[k], st.v[k], st.a[k])
+        assert all(np.array_equal(x[k], y) for x, y in zip(batch, one, strict=True))
+        one = core.aba_derivatives(model, st.q[k], st.v[k], st.tau[k])
+        assert all(np.array_equal(x[k], y) for x, y in zip(aba_batch, one, strict=True))
+
+
 def test_batch_on_a_library_robot() -> None:
     """Batched rnea on solo12 (floating) equals the loop of one-state calls exactly."""
     from _core_helpers import robot

@@ -141,6 +141,16 @@ inline std::int64_t fk_group(const fdgroup::GroupArgs& g, std::int64_t r0) {
 // 6 nv² scratch, 1.5 MB at nv = 64 with 8 lanes, would outgrow the caches).
 constexpr int PACKED_SOLVES_MAX_NV = 64;
 
+// Whether the group's rows of the first two outputs (∂/∂q and ∂/∂q̇), just written and still in the caches, are
+// finite: a group whose finite input overflowed is redone row by row, and the row's status says where.
+inline bool rows_finite(const fdgroup::GroupArgs& g, std::int64_t at, size_t n2) {
+  for (int lane = 0; lane < PACK_WIDTH; ++lane) {
+    const std::int64_t row = at + lane * g.out_stride;
+    if (!all_finite(g.out + row, n2) || !all_finite(g.out2 + row, n2)) return false;
+  }
+  return true;
+}
+
 // ∂τ/∂q, ∂τ/∂q̇ and M of W rows: the analytical RNEA derivatives instantiated for Pack.
 inline std::int64_t rnea_derivatives_group(const fdgroup::GroupArgs& g, std::int64_t r0) {
   const ModelView& mv = *g.mv;
@@ -158,6 +168,7 @@ inline std::int64_t rnea_derivatives_group(const fdgroup::GroupArgs& g, std::int
     Pack* dv = dq + n2;
     Pack* M = g.out3 ? dv + n2 : nullptr;
     rnea_derivatives_to(mv, q, v, a, f, g.gravity, StateOut<Pack>{{dq, dv, M}});
+    if (!all_finite(dq, 2 * n2)) return 1;  // finite input overflowed in some lane: redone row by row, which says where
     scatter_lines(dq, n2, g.out + at, g.out_stride);
     scatter_lines(dv, n2, g.out2 + at, g.out_stride);
     if (M) scatter_lines(M, n2, g.out3 + at, g.out_stride);
@@ -165,7 +176,7 @@ inline std::int64_t rnea_derivatives_group(const fdgroup::GroupArgs& g, std::int
   }
   rnea_derivatives_to(mv, q, v, a, f, g.gravity,
                       LanesOut{{g.out + at, g.out2 + at, g.out3 ? g.out3 + at : nullptr}, g.out_stride});
-  return 0;
+  return rows_finite(g, at, n2) ? 0 : 1;
 }
 
 // q̈, ∂q̈/∂q, ∂q̈/∂q̇ and M⁻¹ of W rows: the derivative kernel on Packs, then the factor and solves on Packs
@@ -192,6 +203,7 @@ inline std::int64_t aba_derivatives_group(const fdgroup::GroupArgs& g, std::int6
     if (forward_dynamics_derivatives_to(mv, q, v, f, g.gravity, StateOut<Pack>{{dq, dv, M}}, h, qdd, solve) >= 0)
       return 1;  // singular in some lane: redone row by row, which names it
     aba_derivatives_solves(mv, g.lambda_d, M, dq, dv, Minv, X);
+    if (!all_finite(dq, 2 * n2)) return 1;  // finite input overflowed in some lane: redone row by row
     scatter(qdd, nv, g.out_qdd + r0 * static_cast<std::int64_t>(nv), static_cast<std::int64_t>(nv));
     auto put = g.stream ? scatter_lines : scatter;
     put(dq, n2, g.out + at, g.out_stride);
@@ -219,7 +231,7 @@ inline std::int64_t aba_derivatives_group(const fdgroup::GroupArgs& g, std::int6
     const std::int64_t row = at + lane * g.out_stride;
     aba_derivatives_solves(mv, g.lambda_d, M.data() + lane * n2, g.out + row, g.out2 + row, g.out3 + row, X.data());
   }
-  return 0;
+  return rows_finite(g, at, n2) ? 0 : 1;
 }
 
 // q̈, λ and the KKT result of W rows under the contacts of g.contacts: contacts.hpp's kernel on Packs. A lane whose
