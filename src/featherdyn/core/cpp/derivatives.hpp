@@ -564,7 +564,7 @@ void aba_derivatives_solves(const ModelView& mv, const int* lambda_d, const S* L
     const S* tv = dv + static_cast<size_t>(r) * nv;
     for (int c = 0; c < nv; ++c) x[c] = -tq[c], x[nv + c] = -tv[c];
   }
-  ltl_solve_rows(mv, lambda_d, L, X, 2 * nv);
+  ltl_solve_rows_tree_pattern(mv, lambda_d, L, X, 2);  // ∂τ/∂q and ∂τ/∂q̇: zero off each row's paths
   for (int r = 0; r < nv; ++r) {
     const S* x = X + 2 * static_cast<size_t>(r) * nv;
     S* oq = dq + static_cast<size_t>(r) * nv;

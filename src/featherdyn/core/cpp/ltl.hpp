@@ -100,6 +100,50 @@ void ltl_solve_rows(const ModelView& mv, const int* lambda, const S* L, S* X, in
   }
 }
 
+// ltl_solve_rows on X = [B_1 … B_blocks], nv columns each, whose row k is zero outside the columns of k's
+// ancestors and subtree in every block — ∂τ/∂q and ∂τ/∂q̇, since τ_k depends only on the coordinates of the
+// dofs on k's paths. With the dofs in depth-first order (each subtree the range [k, end_k), ancestors before
+// k), row k is zero beyond column end_k, and the first sweep keeps that (a row adds into its ancestors, whose
+// range holds its own): it runs on the columns [0, end_k) of each block only — contiguous, so it vectorises
+// for one state as for Packs — and the operations it skips would subtract products with zero (talos: about
+// half of the first sweep). The second sweep fills the rows from the root down, on every column. Another dof
+// order: ltl_solve_rows.
+template <class S>
+void ltl_solve_rows_tree_pattern(const ModelView& mv, const int* lambda, const S* L, S* X, int blocks) {
+  const int nv = mv.nv, ncols = blocks * nv;
+  thread_local std::vector<int> end, count;
+  end.resize(static_cast<size_t>(nv));
+  count.assign(static_cast<size_t>(nv), 1);
+  for (int k = 0; k < nv; ++k) end[k] = k + 1;
+  for (int k = nv - 1; k >= 0; --k)
+    if (lambda[k] >= 0) end[lambda[k]] = std::max(end[lambda[k]], end[k]), count[lambda[k]] += count[k];
+  for (int k = 0; k < nv; ++k)
+    if (count[k] != end[k] - k || lambda[k] >= k) return ltl_solve_rows(mv, lambda, L, X, ncols);
+  for (int k = nv - 1; k >= 0; --k) {
+    S* xk = X + static_cast<size_t>(k) * ncols;
+    const S inv = S(1.0) / L[k * nv + k];
+    const int e = end[k];
+    for (int b = 0; b < ncols; b += nv)
+      for (int c = b; c < b + e; ++c) xk[c] *= inv;
+    for (int i = lambda[k]; i != -1; i = lambda[i]) {
+      S* xi = X + static_cast<size_t>(i) * ncols;
+      const S l = L[k * nv + i];
+      for (int b = 0; b < ncols; b += nv)
+        for (int c = b; c < b + e; ++c) xi[c] -= l * xk[c];
+    }
+  }
+  for (int k = 0; k < nv; ++k) {
+    S* xk = X + static_cast<size_t>(k) * ncols;
+    for (int i = lambda[k]; i != -1; i = lambda[i]) {
+      const S* xi = X + static_cast<size_t>(i) * ncols;
+      const S l = L[k * nv + i];
+      for (int c = 0; c < ncols; ++c) xk[c] -= l * xi[c];
+    }
+    const S inv = S(1.0) / L[k * nv + k];
+    for (int c = 0; c < ncols; ++c) xk[c] *= inv;
+  }
+}
+
 template <class S>
 struct LtlWork {
   std::vector<int> lambda;
