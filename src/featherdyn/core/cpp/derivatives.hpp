@@ -41,6 +41,7 @@
 #pragma once
 
 #include <algorithm>
+#include <type_traits>
 #include <vector>
 
 #include "aba.hpp"
@@ -554,22 +555,31 @@ int factor_and_solve(const ModelView& mv, const int* lambda, S* L, const S* tau,
 }
 
 // The second half of aba_derivatives, once L holds M's factor and dq, dv hold ∂τ/∂q, ∂τ/∂q̇:
-// dq ← −M⁻¹ dq, dv ← −M⁻¹ dv, Minv ← M⁻¹. X: 2 nv² scratch.
+// dq ← −M⁻¹ dq, dv ← −M⁻¹ dv, Minv ← M⁻¹. X: 2 nv² scratch. M⁻¹ dq and M⁻¹ dv are solved, then negated (IEEE
+// arithmetic is symmetric in sign: this is M⁻¹ (−dq) operation for operation, up to the sign of a zero). The
+// columns are independent, so the layout is free: Packs solve each matrix in place (no copy of 2 nv² Packs
+// into a scratch and back); one state solves [dq dv] side by side in X (rows twice as long run faster there).
 template <class S>
 void aba_derivatives_solves(const ModelView& mv, const int* lambda_d, const S* L, S* dq, S* dv, S* Minv, S* X) {
   const int nv = mv.nv;
-  for (int r = 0; r < nv; ++r) {  // [∂τ/∂q  ∂τ/∂q̇] (nv, 2 nv), then −M⁻¹ times it
-    S* x = X + 2 * static_cast<size_t>(r) * nv;
-    const S* tq = dq + static_cast<size_t>(r) * nv;
-    const S* tv = dv + static_cast<size_t>(r) * nv;
-    for (int c = 0; c < nv; ++c) x[c] = -tq[c], x[nv + c] = -tv[c];
-  }
-  ltl_solve_rows_tree_pattern(mv, lambda_d, L, X, 2);  // ∂τ/∂q and ∂τ/∂q̇: zero off each row's paths
-  for (int r = 0; r < nv; ++r) {
-    const S* x = X + 2 * static_cast<size_t>(r) * nv;
-    S* oq = dq + static_cast<size_t>(r) * nv;
-    S* ov = dv + static_cast<size_t>(r) * nv;
-    for (int c = 0; c < nv; ++c) oq[c] = x[c], ov[c] = x[nv + c];
+  const size_t n2 = static_cast<size_t>(nv) * nv;
+  if constexpr (std::is_same_v<S, double>) {
+    for (int r = 0; r < nv; ++r) {
+      std::copy_n(dq + static_cast<size_t>(r) * nv, nv, X + 2 * static_cast<size_t>(r) * nv);
+      std::copy_n(dv + static_cast<size_t>(r) * nv, nv, X + (2 * static_cast<size_t>(r) + 1) * nv);
+    }
+    ltl_solve_rows_tree_pattern(mv, lambda_d, L, X, 2);  // ∂τ/∂q and ∂τ/∂q̇: zero off each row's paths
+    for (int r = 0; r < nv; ++r) {
+      const S* x = X + 2 * static_cast<size_t>(r) * nv;
+      S* oq = dq + static_cast<size_t>(r) * nv;
+      S* ov = dv + static_cast<size_t>(r) * nv;
+      for (int c = 0; c < nv; ++c) oq[c] = -x[c], ov[c] = -x[nv + c];
+    }
+  } else {
+    for (S* B : {dq, dv}) {
+      ltl_solve_rows_tree_pattern(mv, lambda_d, L, B, 1);
+      for (size_t k = 0; k < n2; ++k) B[k] = -B[k];
+    }
   }
   minv_from_factor(mv, lambda_d, L, Minv, X);  // Z in X
 }
