@@ -74,6 +74,16 @@ class PluckerTransform(_SpatialValue):
         return obj
 
     @classmethod
+    def _wrap_read_only(cls, rot: np.ndarray, p: np.ndarray) -> PluckerTransform:
+        """:meth:`_wrap` of arrays that are already read-only (views of a read-only buffer), frames ``None``."""
+        obj = object.__new__(cls)
+        _SET_ROTATION(obj, rot)
+        _SET_TRANSLATION(obj, p)
+        _SET_SOURCE(obj, None)
+        _SET_TARGET(obj, None)
+        return obj
+
+    @classmethod
     def identity(
         cls, shape: tuple[int, ...] = (), dtype: DTypeLike = np.float64, source: Frame = None, target: Frame = None
     ) -> PluckerTransform:

@@ -855,9 +855,10 @@ class _Loader:
                                                   chain(frames[i][2][1] for i in posed)), np.float64, 12 * n)
             stacked.setflags(write=False)
             Rs, ps = stacked[:9 * n].reshape(n, 3, 3), stacked[9 * n:].reshape(n, 3)
-            for k, i in enumerate(posed):
+            wrap = PluckerTransform._wrap_read_only  # (views of the read-only buffer)
+            for i, R_k, p_k in zip(posed, Rs, ps, strict=True):
                 fname, body_index, _, fkind = frames[i]
-                frames[i] = FrameInfo(fname, body_index, PluckerTransform._wrap(Rs[k], ps[k], None, None), fkind)
+                frames[i] = FrameInfo(fname, body_index, wrap(R_k, p_k), fkind)
         builder._append_frames(frames)
         return builder._build(doc.strict, True)
 

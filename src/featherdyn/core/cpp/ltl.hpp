@@ -72,20 +72,24 @@ void ltl_solve_L(const ModelView& mv, const int* lambda, const S* L, S* x) {
   }
 }
 
-// X ← M⁻¹ X = L⁻¹ L⁻ᵀ X on the ncols columns of X (nv, ncols) row-major at once: the two sweeps of
-// ltl_solve_Lt / ltl_solve_L on contiguous rows, each pivot's reciprocal taken once (a row is scaled by
-// multiplications, not ncols divisions).
+// The two sweeps of ltl_solve_Lt / ltl_solve_L on the rows of X (nv, ncols) row-major, each pivot's reciprocal
+// taken once (a row is scaled by multiplications, not ncols divisions). The first sweep runs, in each block of
+// `width` columns, on the block's first first[k] columns of row k (all of them when first is null); the second
+// on every column.
 template <class S>
-void ltl_solve_rows(const ModelView& mv, const int* lambda, const S* L, S* X, int ncols) {
+void ltl_sweeps(const ModelView& mv, const int* lambda, const S* L, S* X, int ncols, int width, const int* first) {
   const int nv = mv.nv;
   for (int k = nv - 1; k >= 0; --k) {
     S* xk = X + static_cast<size_t>(k) * ncols;
     const S inv = S(1.0) / L[k * nv + k];
-    for (int c = 0; c < ncols; ++c) xk[c] *= inv;
+    const int e = first ? first[k] : width;
+    for (int b = 0; b < ncols; b += width)
+      for (int c = b; c < b + e; ++c) xk[c] *= inv;
     for (int i = lambda[k]; i != -1; i = lambda[i]) {
       S* xi = X + static_cast<size_t>(i) * ncols;
       const S l = L[k * nv + i];
-      for (int c = 0; c < ncols; ++c) xi[c] -= l * xk[c];
+      for (int b = 0; b < ncols; b += width)
+        for (int c = b; c < b + e; ++c) xi[c] -= l * xk[c];
     }
   }
   for (int k = 0; k < nv; ++k) {
@@ -98,6 +102,12 @@ void ltl_solve_rows(const ModelView& mv, const int* lambda, const S* L, S* X, in
     const S inv = S(1.0) / L[k * nv + k];
     for (int c = 0; c < ncols; ++c) xk[c] *= inv;
   }
+}
+
+// X ← M⁻¹ X = L⁻¹ L⁻ᵀ X on the ncols columns of X (nv, ncols) row-major at once.
+template <class S>
+void ltl_solve_rows(const ModelView& mv, const int* lambda, const S* L, S* X, int ncols) {
+  ltl_sweeps(mv, lambda, L, X, ncols, ncols, static_cast<const int*>(nullptr));
 }
 
 // ltl_solve_rows on X = [B_1 … B_blocks], nv columns each, whose row k is zero outside the columns of k's
@@ -119,29 +129,7 @@ void ltl_solve_rows_tree_pattern(const ModelView& mv, const int* lambda, const S
     if (lambda[k] >= 0) end[lambda[k]] = std::max(end[lambda[k]], end[k]), count[lambda[k]] += count[k];
   for (int k = 0; k < nv; ++k)
     if (count[k] != end[k] - k || lambda[k] >= k) return ltl_solve_rows(mv, lambda, L, X, ncols);
-  for (int k = nv - 1; k >= 0; --k) {
-    S* xk = X + static_cast<size_t>(k) * ncols;
-    const S inv = S(1.0) / L[k * nv + k];
-    const int e = end[k];
-    for (int b = 0; b < ncols; b += nv)
-      for (int c = b; c < b + e; ++c) xk[c] *= inv;
-    for (int i = lambda[k]; i != -1; i = lambda[i]) {
-      S* xi = X + static_cast<size_t>(i) * ncols;
-      const S l = L[k * nv + i];
-      for (int b = 0; b < ncols; b += nv)
-        for (int c = b; c < b + e; ++c) xi[c] -= l * xk[c];
-    }
-  }
-  for (int k = 0; k < nv; ++k) {
-    S* xk = X + static_cast<size_t>(k) * ncols;
-    for (int i = lambda[k]; i != -1; i = lambda[i]) {
-      const S* xi = X + static_cast<size_t>(i) * ncols;
-      const S l = L[k * nv + i];
-      for (int c = 0; c < ncols; ++c) xk[c] -= l * xi[c];
-    }
-    const S inv = S(1.0) / L[k * nv + k];
-    for (int c = 0; c < ncols; ++c) xk[c] *= inv;
-  }
+  ltl_sweeps(mv, lambda, L, X, ncols, nv, end.data());
 }
 
 template <class S>
