@@ -72,6 +72,20 @@ void ltl_solve_L(const ModelView& mv, const int* lambda, const S* L, S* x) {
   }
 }
 
+// One past the last dof of each dof's subtree (the calling thread's array), when every subtree is the
+// contiguous range [k, end_k) of a depth-first numbering (λ(k) < k); nullptr for any other numbering.
+inline const int* subtree_ends(const int* lambda, int nv) {
+  thread_local std::vector<int> end, count;
+  end.resize(static_cast<size_t>(nv));
+  count.assign(static_cast<size_t>(nv), 1);
+  for (int k = 0; k < nv; ++k) end[k] = k + 1;
+  for (int k = nv - 1; k >= 0; --k)
+    if (lambda[k] >= 0) end[lambda[k]] = std::max(end[lambda[k]], end[k]), count[lambda[k]] += count[k];
+  for (int k = 0; k < nv; ++k)
+    if (count[k] != end[k] - k || lambda[k] >= k) return nullptr;
+  return end.data();
+}
+
 // The two sweeps of ltl_solve_Lt / ltl_solve_L on the rows of X (nv, ncols) row-major, each pivot's reciprocal
 // taken once (a row is scaled by multiplications, not ncols divisions). The first sweep runs, in each block of
 // `width` columns, on the block's first first[k] columns of row k (all of them when first is null); the second
@@ -120,16 +134,9 @@ void ltl_solve_rows(const ModelView& mv, const int* lambda, const S* L, S* X, in
 // order: ltl_solve_rows.
 template <class S>
 void ltl_solve_rows_tree_pattern(const ModelView& mv, const int* lambda, const S* L, S* X, int blocks) {
-  const int nv = mv.nv, ncols = blocks * nv;
-  thread_local std::vector<int> end, count;
-  end.resize(static_cast<size_t>(nv));
-  count.assign(static_cast<size_t>(nv), 1);
-  for (int k = 0; k < nv; ++k) end[k] = k + 1;
-  for (int k = nv - 1; k >= 0; --k)
-    if (lambda[k] >= 0) end[lambda[k]] = std::max(end[lambda[k]], end[k]), count[lambda[k]] += count[k];
-  for (int k = 0; k < nv; ++k)
-    if (count[k] != end[k] - k || lambda[k] >= k) return ltl_solve_rows(mv, lambda, L, X, ncols);
-  ltl_sweeps(mv, lambda, L, X, ncols, nv, end.data());
+  const int* end = subtree_ends(lambda, mv.nv);
+  if (end == nullptr) return ltl_solve_rows(mv, lambda, L, X, blocks * mv.nv);
+  ltl_sweeps(mv, lambda, L, X, blocks * mv.nv, mv.nv, end);
 }
 
 template <class S>
