@@ -68,6 +68,7 @@ def test_same_seed_same_report(tmp_path: Path) -> None:
         (("verify", "no_such_robot_xyz"), "unknown robot"),
         (("verify", "pandaa"), "did you mean"),
         (("verify", "/nonexistent/robot.urdf"), "not found"),
+        (("verify", "/dev/zero"), "'/dev/zero' is not a regular file (a device or a pipe)"),
         (("frobnicate",), "invalid choice"),
         (("verify", "panda", "--all"), "either"),
         (("verify", "panda", "--scheduler", "local"), "give --all as well"),

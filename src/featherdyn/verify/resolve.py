@@ -29,7 +29,8 @@ def resolve_robot(robot: str | os.PathLike[str] | None) -> tuple[str, Path]:
                          "(see `featherdyn list`)")
     if text.lower().endswith((".urdf", ".xml")) or (os.sep in text and path.exists()) or path.is_file():
         if not path.is_file():
-            raise ModelError(f"{'URDF' if text.lower().endswith('.urdf') else 'model'} file {text!r} not found")
+            what = "is not a regular file (a device or a pipe)" if path.exists() else "not found"
+            raise ModelError(f"{'URDF' if text.lower().endswith('.urdf') else 'model'} file {text!r} {what}")
         return path.stem, path
     return text, robot_path(text)
 
