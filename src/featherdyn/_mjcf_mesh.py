@@ -103,6 +103,10 @@ def clear_mesh_cache() -> None:
         _cache.clear()
 
 
+def _cache_key(status: os.stat_result, scale: Vec, mode: str) -> tuple[object, ...]:
+    return status.st_dev, status.st_ino, status.st_size, status.st_mtime_ns, status.st_ctime_ns, scale, mode
+
+
 def file_mass_properties(path: Path, scale: Vec, mode: str) -> MassProperties:
     """:func:`mass_properties` of a mesh file, kept between loads as MuJoCo keeps the meshes it has read.
 
@@ -123,11 +127,10 @@ def file_mass_properties(path: Path, scale: Vec, mode: str) -> MassProperties:
         status = os.stat(path)
     except OSError as exc:
         raise MeshError(f"cannot read the mesh file {str(path)[:200]!r}: {exc.strerror or exc}") from None
-    key = (status.st_dev, status.st_ino, status.st_size, status.st_mtime_ns, status.st_ctime_ns, scale, mode)
     with _cache_lock:
-        got = _cache.get(key)
+        got = _cache.get(_cache_key(status, scale, mode))
         if got is not None:
-            _cache.move_to_end(key)
+            _cache.move_to_end(_cache_key(status, scale, mode))
             return got
     now = time.time_ns()
     data, status = _read(path)  # the status of what was read: the key of what is kept
@@ -135,9 +138,8 @@ def file_mass_properties(path: Path, scale: Vec, mode: str) -> MassProperties:
     got = mass_properties(V, F, scale, mode)
     settled = now - max(status.st_mtime_ns, status.st_ctime_ns) >= MESH_CACHE_SETTLE_NS
     if settled and status.st_ino:  # file systems without inode numbers: nothing kept
-        key = (status.st_dev, status.st_ino, status.st_size, status.st_mtime_ns, status.st_ctime_ns, scale, mode)
         with _cache_lock:
-            _cache[key] = got
+            _cache[_cache_key(status, scale, mode)] = got
             while len(_cache) > MESH_CACHE_SIZE:
                 _cache.popitem(last=False)
     return got

@@ -110,21 +110,30 @@ def _normal_path(path: str) -> bool:
 MAX_FILE_BYTES = 200_000_000
 
 
-def read_regular_file(path: str | os.PathLike[str], limit: int = MAX_FILE_BYTES) -> tuple[bytes, os.stat_result]:
-    """The bytes of a regular file of at most ``limit`` bytes, and its status (``os.fstat`` of what was read).
-
-    Read with the operating system's calls alone (``Path.read_bytes`` makes
-    more system calls, ``io``'s buffering and terminal checks, which cost a
-    model's load ~30 µs after other work). Opened without blocking, so a named
-    pipe or a device (``/dev/zero``, ``/dev/stdin``) is refused at once rather
-    than read forever: ``OSError`` (``strerror`` says why) for those and for a
-    larger file.
-    """
+def open_regular_file(path: str | os.PathLike[str]) -> tuple[int, os.stat_result]:
+    """``(file descriptor, os.fstat)`` of a regular file opened for reading, without blocking: a named pipe or a
+    device (``/dev/zero``, ``/dev/stdin``) is refused at once with an ``OSError`` rather than read forever."""
     fd = os.open(path, os.O_RDONLY | getattr(os, "O_BINARY", 0) | getattr(os, "O_NONBLOCK", 0))
     try:
         status = os.fstat(fd)
         if not stat.S_ISREG(status.st_mode):
             raise OSError(errno.EINVAL, "not a regular file (a directory, device or pipe)")
+    except OSError:
+        os.close(fd)
+        raise
+    return fd, status
+
+
+def read_regular_file(path: str | os.PathLike[str], limit: int = MAX_FILE_BYTES) -> tuple[bytes, os.stat_result]:
+    """The bytes of a regular file of at most ``limit`` bytes, and its status (``os.fstat`` of what was read).
+
+    Read with the operating system's calls alone (``Path.read_bytes`` makes
+    more system calls, ``io``'s buffering and terminal checks, which cost a
+    model's load ~30 µs after other work). Opened by :func:`open_regular_file`:
+    ``OSError`` (``strerror`` says why) for a pipe, a device or a larger file.
+    """
+    fd, status = open_regular_file(path)
+    try:
         if status.st_size > limit:
             raise OSError(errno.EFBIG, f"{status.st_size} bytes, more than the {limit} read")
         chunks = []

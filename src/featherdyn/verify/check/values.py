@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import os
-import stat
 import zipfile
 from collections.abc import Mapping
 from dataclasses import dataclass, field
@@ -12,6 +11,7 @@ from pathlib import Path
 import numpy as np
 from numpy.typing import ArrayLike
 
+from ..._urdf_xml import open_regular_file
 from ...errors import DTypeError, FeatherdynError, NonFiniteError, ShapeError
 
 __all__ = ["ValuesError", "KEYS", "VECTOR_KEYS", "DERIVATIVE_KEYS", "Given", "load_npz", "validate"]
@@ -46,14 +46,10 @@ def load_npz(path: str | os.PathLike[str]) -> dict[str, np.ndarray]:
     not_npz = (f"{label}: not an .npz archive of named arrays (save one with numpy.savez(file, q=..., v=..., a=..., "
                "tau=...))")
     try:
-        fd = os.open(label, os.O_RDONLY | getattr(os, "O_BINARY", 0) | getattr(os, "O_NONBLOCK", 0))
-    except PermissionError as exc:
-        raise ValuesError(f"{label}: cannot read ({exc.strerror})") from None
+        fd, _ = open_regular_file(label)
     except OSError as exc:
-        raise ValuesError(f"{label}: cannot read ({exc.strerror or exc})") from None
+        raise ValuesError(f"{label}: cannot read: {exc.strerror or exc}; expected an .npz file") from None
     with os.fdopen(fd, "rb") as file:
-        if not stat.S_ISREG(os.fstat(fd).st_mode):
-            raise ValuesError(f"{label}: not a regular file (a device or a pipe), expected an .npz file")
         try:
             loaded = np.load(file, allow_pickle=False)
         except (ValueError, OSError, EOFError, zipfile.BadZipFile):
