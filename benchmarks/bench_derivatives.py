@@ -7,7 +7,9 @@ featherdyn is faster), on panda (fixed base), solo12 and talos_full_v2 (floating
   ``pin.computeRNEADerivatives(model, data, q, v, a)`` (which fills ``data``); ``fd.aba_derivatives`` against
   ``pin.computeABADerivatives``;
 * batched: ``fd.compile(model).rnea_derivatives_batch`` / ``aba_derivatives_batch`` on N states in one call
-  (the same kernels as ``fd.rnea_derivatives`` on a batch), into fresh arrays and into reused ``out=`` arrays,
+  (the same kernels as ``fd.rnea_derivatives`` on a batch), returning new results (whose memory is that of the
+  results dropped before: ``fd.set_result_cache_size``), the same with that cache off (fresh pages), and into
+  reused ``out=`` arrays,
   against a Python loop of ``pin.computeRNEADerivatives`` / ``computeABADerivatives`` (which fill ``data``:
   nothing allocated); the issue's target: ≥ 8×.
 * for comparison, ∂τ/∂q and ∂τ/∂q̇ by central finite differences (4 nv perturbed states in one batched
@@ -69,12 +71,19 @@ def main() -> int:
                 ("rnea_derivatives", cm.rnea_derivatives_batch, pin.computeRNEADerivatives, A, AP),
                 ("aba_derivatives", cm.aba_derivatives_batch, pin.computeABADerivatives, T, TP)):
             fd_call(Q[:8], V[:8], X[:8])
-            best_fresh = best_out = best_pin = float("inf")
+            best_fresh = best_nocache = best_out = best_pin = float("inf")
             for _ in range(3):  # rounds: the batch call 3 times back to back (best), then the loop once
                 for _ in range(3):
                     t0 = time.perf_counter()
                     fd_call(Q, V, X)
                     best_fresh = min(best_fresh, time.perf_counter() - t0)
+                limit = fd.result_cache_info()["limit"]
+                fd.set_result_cache_size(0)
+                for _ in range(3):
+                    t0 = time.perf_counter()
+                    fd_call(Q, V, X)
+                    best_nocache = min(best_nocache, time.perf_counter() - t0)
+                fd.set_result_cache_size(limit)
                 for _ in range(3):
                     t0 = time.perf_counter()
                     fd_call(Q, V, X, out=outs)
@@ -83,7 +92,9 @@ def main() -> int:
                 for k in range(n):
                     pin_call(p.pm, p.pd, QP[k], VP[k], XP[k])
                 best_pin = min(best_pin, time.perf_counter() - t0)
-            rows.append((f"{name}: {what} batch of {n}, fresh arrays / loop", best_fresh / n, best_pin / n))
+            rows.append((f"{name}: {what} batch of {n}, new results / loop", best_fresh / n, best_pin / n))
+            rows.append((f"{name}: {what} batch of {n}, new results, no result cache / loop", best_nocache / n,
+                         best_pin / n))
             rows.append((f"{name}: {what} batch of {n}, out= / loop", best_out / n, best_pin / n))
     print(f"featherdyn {fd.__version__}, pinocchio {pin.__version__}, core threads {fd.get_num_threads()}")
     print_ratios(rows)

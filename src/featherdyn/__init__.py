@@ -52,10 +52,12 @@ from .api import (
     operational_space,
     operational_space_inertia,
     potential_energy,
+    result_cache_info,
     rnea,
     rnea_derivatives,
     set_default_backend,
     set_num_threads,
+    set_result_cache_size,
 )
 from .constraints import FrameContact, LoopConstraint, PointContact
 from .errors import (
@@ -246,6 +248,8 @@ __all__ = [
     "default_backend",
     "set_num_threads",
     "get_num_threads",
+    "set_result_cache_size",
+    "result_cache_info",
     "__version__",
     *_LAZY,
 ]

@@ -174,4 +174,5 @@ class DatasetError(FeatherdynError, ValueError):
 
 
 class BackendError(FeatherdynError, ValueError):
-    """An unknown or unavailable ``backend=`` was requested."""
+    """An unknown or unavailable ``backend=`` was requested, or a setting of the batched calls is out of range
+    (``fd.set_result_cache_size``)."""

@@ -15,7 +15,14 @@ from typing import TYPE_CHECKING
 from ..frames import LOCAL, LOCAL_WORLD_ALIGNED, WORLD, ReferenceFrame
 from ..model import Model
 from ..results import CenterOfMass, Kinematics
-from ._backend import default_backend, get_num_threads, set_default_backend, set_num_threads
+from ._backend import (
+    default_backend,
+    get_num_threads,
+    result_cache_info,
+    set_default_backend,
+    set_num_threads,
+    set_result_cache_size,
+)
 from .constraints import (
     ConstrainedDynamics,
     ImpulseDynamics,
@@ -101,6 +108,8 @@ __all__ = [
     "set_default_backend",
     "set_num_threads",
     "get_num_threads",
+    "set_result_cache_size",
+    "result_cache_info",
 ]
 
 

@@ -28,6 +28,7 @@ from typing import Any
 import numpy as np
 
 from ..core import _core
+from ..core._result_pool import result_cache_info, set_result_cache_size
 from ..errors import BackendError
 from ..model import Model
 
@@ -39,6 +40,8 @@ __all__ = [
     "CORE",
     "set_num_threads",
     "get_num_threads",
+    "set_result_cache_size",
+    "result_cache_info",
     "OK",
 ]
 

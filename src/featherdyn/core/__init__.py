@@ -36,6 +36,7 @@ from ..frames import LOCAL, ReferenceFrame, as_reference_frame
 from ..model import Model
 from . import _errors
 from ._model_view import CoreHandle, model_view
+from ._result_pool import result_array
 
 _core: Any
 try:
@@ -133,10 +134,15 @@ def _out(out: Any, shape: tuple[int, ...]) -> np.ndarray:
     return out
 
 
+def _batch_out(out: Any, shape: tuple[int, ...]) -> np.ndarray:
+    """A batch's result: ``out`` after :func:`_out`'s checks, or a fresh array (reused memory when large)."""
+    return result_array(shape) if out is None else _out(out, shape)
+
+
 def _outs(out: Any, n: int, shape: tuple[int, ...]) -> tuple[np.ndarray, ...]:
     """``n`` result arrays of ``shape``: fresh, or the ``n`` arrays of ``out`` after :func:`_out`'s checks."""
     if out is None:
-        return tuple(np.empty(shape) for _ in range(n))
+        return tuple(result_array(shape) for _ in range(n))
     if not isinstance(out, (tuple, list)) or len(out) != n:
         raise TypeError(f"out: expected a tuple of {n} arrays")
     arrays = tuple(_out(o, shape) for o in out)
@@ -236,7 +242,7 @@ def rnea_batch(model: Model, q: Any, v: Any, a: Any, f_ext: Any = None, gravity:
     parts = [(q_, 1), (v_, 1), (a_, 1)] + ([] if fx is None else [(fx, 2)])
     batch = _batch_shape(model, parts, q, vectors, f_ext)
     N = math.prod(batch)
-    result = _out(out, batch + (h.nv,))
+    result = _batch_out(out, batch + (h.nv,))
     st = _core.rnea_batch(h.cm, _rows(q_, batch, (h.nq,)), _rows(v_, batch, (h.nv,)), _rows(a_, batch, (h.nv,)),
                           _rows(fx, batch, (h.nb, 6)), bool(gravity), result.reshape(N, h.nv))
     _check_batch(st, model, q, vectors, f_ext, what="rnea")
@@ -355,7 +361,7 @@ def crba_batch(model: Model, q: Any, out: Any = None) -> np.ndarray:
     h = _view(model)
     q_ = _f64(q, "q")
     batch = _batch_shape(model, [(q_, 1)], q, [], None)
-    result = _out(out, batch + (h.nv, h.nv))
+    result = _batch_out(out, batch + (h.nv, h.nv))
     st = _core.crba_batch(h.cm, _rows(q_, batch, (h.nq,)), result.reshape(math.prod(batch), h.nv * h.nv))
     _check_batch(st, model, q, [], what="crba")
     return result
@@ -411,7 +417,7 @@ def aba_batch(model: Model, q: Any, v: Any, tau: Any, f_ext: Any = None, gravity
     vectors = [("v", v), ("tau", tau)]
     parts = [(q_, 1), (v_, 1), (t_, 1)] + ([] if fx is None else [(fx, 2)])
     batch = _batch_shape(model, parts, q, vectors, f_ext)
-    result = _out(out, batch + (h.nv,))
+    result = _batch_out(out, batch + (h.nv,))
     Q, V, T = _rows(q_, batch, (h.nq,)), _rows(v_, batch, (h.nv,)), _rows(t_, batch, (h.nv,))
     FX = _rows(fx, batch, (h.nb, 6))
     _, s = _core.aba_batch(h.cm, Q, V, T, FX, bool(gravity), result.reshape(math.prod(batch), h.nv))
@@ -530,7 +536,7 @@ def fk_batch(model: Model, q: Any, out: Any = None) -> np.ndarray:
     h = _view(model)
     q_ = _f64(q, "q")
     batch = _batch_shape(model, [(q_, 1)], q, [], None)
-    result = _out(out, batch + (h.nb, 4, 4))
+    result = _batch_out(out, batch + (h.nb, 4, 4))
     st = _core.fk_batch(h.cm, _rows(q_, batch, (h.nq,)), result.reshape(math.prod(batch), 16 * h.nb))
     _check_batch(st, model, q, [], what="forward kinematics")
     return result
@@ -568,7 +574,7 @@ def frame_placement_batch(model: Model, q: Any, frame: Any, out: Any = None) -> 
     fid = model.resolve_frame(frame)
     q_ = _f64(q, "q")
     batch = _batch_shape(model, [(q_, 1)], q, [], None)
-    H = _out(out, batch + (4, 4))
+    H = _batch_out(out, batch + (4, 4))
     st = _core.frame_placement_batch(h.cm, _rows(q_, batch, (h.nq,)), fid, H.reshape(math.prod(batch), 16))
     _check_batch(st, model, q, [], what="frame_placement")
     return H
@@ -612,7 +618,7 @@ def frame_jacobian_batch(model: Model, q: Any, frame: Any, reference: Any = LOCA
     ref = _reference_code(reference)
     q_ = _f64(q, "q")
     batch = _batch_shape(model, [(q_, 1)], q, [], None)
-    J = _out(out, batch + (6, h.nv))
+    J = _batch_out(out, batch + (6, h.nv))
     st = _core.frame_jacobian_batch(h.cm, _rows(q_, batch, (h.nq,)), fid, ref, J.reshape(math.prod(batch), 6 * h.nv))
     _check_batch(st, model, q, [], what="frame_jacobian")
     return J
@@ -804,7 +810,7 @@ def mass_matrix_inverse(model: Model, q: Any) -> np.ndarray:
     q_ = _f64(q, "q")
     batch = _batch_shape(model, [(q_, 1)], q, [], None)
     Q = _rows(q_, batch, (h.nq,))
-    out = np.empty(batch + (h.nv, h.nv))
+    out = result_array(batch + (h.nv, h.nv))
     st = _core.minverse_batch(h.cm, Q, out.reshape(math.prod(batch), h.nv * h.nv))
     _raise_derivative_status(st, model, q, [], None, [Q, None, None, None], False, "mass_matrix_inverse")
     return out
@@ -838,7 +844,7 @@ def joint_torque_regressor(model: Model, q: Any, v: Any, a: Any) -> np.ndarray:
     vectors = [("v", v), ("a", a)]
     batch = _batch_shape(model, [(q_, 1), (v_, 1), (a_, 1)], q, vectors, None)
     N, ncol = math.prod(batch), 10 * h.nb
-    Y = np.empty(batch + (h.nv, ncol))
+    Y = result_array(batch + (h.nv, ncol))
     st = _core.regressor_batch(h.cm, _rows(q_, batch, (h.nq,)), _rows(v_, batch, (h.nv,)),
                                _rows(a_, batch, (h.nv,)), Y.reshape(N, h.nv * ncol))
     _check_batch(st, model, q, vectors, what="joint_torque_regressor")
