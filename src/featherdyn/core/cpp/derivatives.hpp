@@ -498,8 +498,12 @@ inline void rnea_derivatives_dual(const ModelView& mv, const double* q, const do
 template <class S>
 void minv_from_factor(const ModelView& mv, const int* lambda, const S* L, S* Minv, S* Z) {
   const int nv = mv.nv;
-  const size_t n2 = static_cast<size_t>(nv) * nv;
-  for (size_t k = 0; k < n2; ++k) Z[k] = S(0.0), Minv[k] = S(0.0);
+  // Row i of Z is nonzero only on i's subtree, the columns [i, end_i) when the numbering is depth-first:
+  // only those are cleared and read (the products skipped would add zero).
+  const int* end = subtree_ends(lambda, nv);
+  auto row_end = [&](int i) { return end ? end[i] : nv; };
+  for (int i = 0; i < nv; ++i)
+    std::fill(Z + static_cast<size_t>(i) * nv + (end ? i : 0), Z + static_cast<size_t>(i) * nv + row_end(i), S(0.0));
   for (int a = 0; a < nv; ++a) {  // column a of Z: Lᵀ z = e_a
     Z[static_cast<size_t>(a) * nv + a] = S(1.0);
     for (int k = a; k != -1; k = lambda[k]) {
@@ -510,10 +514,12 @@ void minv_from_factor(const ModelView& mv, const int* lambda, const S* L, S* Min
   }
   for (int a = 0; a < nv; ++a) {  // the upper triangle b ≥ a, mirrored
     S* row = Minv + static_cast<size_t>(a) * nv;
+    std::fill(row + a, row + nv, S(0.0));
     for (int i = a; i != -1; i = lambda[i]) {
       const S zia = Z[static_cast<size_t>(i) * nv + a];
       const S* zi = Z + static_cast<size_t>(i) * nv;
-      for (int b = a; b < nv; ++b) row[b] += zia * zi[b];
+      const int e = row_end(i);
+      for (int b = a; b < e; ++b) row[b] += zia * zi[b];
     }
     for (int b = a + 1; b < nv; ++b) Minv[static_cast<size_t>(b) * nv + a] = row[b];
   }
@@ -555,31 +561,26 @@ int factor_and_solve(const ModelView& mv, const int* lambda, S* L, const S* tau,
 }
 
 // The second half of aba_derivatives, once L holds M's factor and dq, dv hold ∂τ/∂q, ∂τ/∂q̇:
-// dq ← −M⁻¹ dq, dv ← −M⁻¹ dv, Minv ← M⁻¹. X: 2 nv² scratch. M⁻¹ dq and M⁻¹ dv are solved, then negated (IEEE
-// arithmetic is symmetric in sign: this is M⁻¹ (−dq) operation for operation, up to the sign of a zero). The
-// columns are independent, so the layout is free: Packs solve each matrix in place (no copy of 2 nv² Packs
-// into a scratch and back); one state solves [dq dv] side by side in X (rows twice as long run faster there).
+// dq ← −M⁻¹ dq, dv ← −M⁻¹ dv, Minv ← M⁻¹. X: 2 nv² scratch. The solves negate as they go (ltl_sweeps'
+// negate: M⁻¹ (−dq) operation for operation, up to the sign of a zero). The columns are independent, so the
+// layout is free: Packs solve each matrix in place; one state solves [dq dv] side by side in X (rows twice
+// as long run faster there).
 template <class S>
 void aba_derivatives_solves(const ModelView& mv, const int* lambda_d, const S* L, S* dq, S* dv, S* Minv, S* X) {
   const int nv = mv.nv;
-  const size_t n2 = static_cast<size_t>(nv) * nv;
   if constexpr (std::is_same_v<S, double>) {
     for (int r = 0; r < nv; ++r) {
       std::copy_n(dq + static_cast<size_t>(r) * nv, nv, X + 2 * static_cast<size_t>(r) * nv);
       std::copy_n(dv + static_cast<size_t>(r) * nv, nv, X + (2 * static_cast<size_t>(r) + 1) * nv);
     }
-    ltl_solve_rows_tree_pattern(mv, lambda_d, L, X, 2);  // ∂τ/∂q and ∂τ/∂q̇: zero off each row's paths
+    ltl_solve_rows_tree_pattern(mv, lambda_d, L, X, 2, true);  // ∂τ/∂q and ∂τ/∂q̇: zero off each row's paths
     for (int r = 0; r < nv; ++r) {
-      const S* x = X + 2 * static_cast<size_t>(r) * nv;
-      S* oq = dq + static_cast<size_t>(r) * nv;
-      S* ov = dv + static_cast<size_t>(r) * nv;
-      for (int c = 0; c < nv; ++c) oq[c] = -x[c], ov[c] = -x[nv + c];
+      std::copy_n(X + 2 * static_cast<size_t>(r) * nv, nv, dq + static_cast<size_t>(r) * nv);
+      std::copy_n(X + (2 * static_cast<size_t>(r) + 1) * nv, nv, dv + static_cast<size_t>(r) * nv);
     }
   } else {
-    for (S* B : {dq, dv}) {
-      ltl_solve_rows_tree_pattern(mv, lambda_d, L, B, 1);
-      for (size_t k = 0; k < n2; ++k) B[k] = -B[k];
-    }
+    ltl_solve_rows_tree_pattern(mv, lambda_d, L, dq, 1, true);
+    ltl_solve_rows_tree_pattern(mv, lambda_d, L, dv, 1, true);
   }
   minv_from_factor(mv, lambda_d, L, Minv, X);  // Z in X
 }
