@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <type_traits>
 #include <vector>
 
 #include "crba.hpp"
@@ -72,18 +73,29 @@ void ltl_solve_L(const ModelView& mv, const int* lambda, const S* L, S* x) {
   }
 }
 
+// Whether `key` holds λ_d (nv,) already; if not, it does after the call (the per-thread caches below are
+// rebuilt only when a call brings another tree).
+inline bool same_tree(std::vector<int>& key, const int* lambda, int nv) {
+  if (key.size() == static_cast<size_t>(nv) && std::equal(lambda, lambda + nv, key.begin())) return true;
+  key.assign(lambda, lambda + nv);
+  return false;
+}
+
 // One past the last dof of each dof's subtree (the calling thread's array), when every subtree is the
 // contiguous range [k, end_k) of a depth-first numbering (λ(k) < k); nullptr for any other numbering.
 inline const int* subtree_ends(const int* lambda, int nv) {
-  thread_local std::vector<int> end, count;
+  thread_local std::vector<int> key, end, count;
+  thread_local bool depth_first = false;
+  if (same_tree(key, lambda, nv)) return depth_first ? end.data() : nullptr;
   end.resize(static_cast<size_t>(nv));
   count.assign(static_cast<size_t>(nv), 1);
   for (int k = 0; k < nv; ++k) end[k] = k + 1;
   for (int k = nv - 1; k >= 0; --k)
     if (lambda[k] >= 0) end[lambda[k]] = std::max(end[lambda[k]], end[k]), count[lambda[k]] += count[k];
+  depth_first = true;
   for (int k = 0; k < nv; ++k)
-    if (count[k] != end[k] - k || lambda[k] >= k) return nullptr;
-  return end.data();
+    if (count[k] != end[k] - k || lambda[k] >= k) depth_first = false;
+  return depth_first ? end.data() : nullptr;
 }
 
 // The columns where row k of ∂τ/∂q or ∂τ/∂q̇ may be nonzero — k's ancestor dofs and k's subtree, since τ_k
@@ -100,7 +112,11 @@ struct RowSupport {
 inline bool row_supports(const int* lambda, int nv, RowSupport& out) {
   const int* end = subtree_ends(lambda, nv);
   if (end == nullptr) return false;
-  thread_local std::vector<int> off, seg, anc;
+  thread_local std::vector<int> key, off, seg, anc;
+  if (same_tree(key, lambda, nv)) {
+    out = {off.data(), seg.data()};
+    return true;
+  }
   off.assign(1, 0);
   seg.clear();
   for (int k = 0; k < nv; ++k) {
@@ -117,6 +133,16 @@ inline bool row_supports(const int* lambda, int nv, RowSupport& out) {
   }
   out = {off.data(), seg.data()};
   return true;
+}
+
+// [c0, c1) as blocks of 8 columns, then at most one of 4, of 2 and of 1: op(std::integral_constant<int, B>, c).
+template <class Op>
+inline void blocks_of(int c0, int c1, const Op& op) {
+  int c = c0;
+  for (; c + 8 <= c1; c += 8) op(std::integral_constant<int, 8>{}, c);
+  if (c + 4 <= c1) op(std::integral_constant<int, 4>{}, c), c += 4;
+  if (c + 2 <= c1) op(std::integral_constant<int, 2>{}, c), c += 2;
+  if (c < c1) op(std::integral_constant<int, 1>{}, c);
 }
 
 // B entries x of row k (from column c) in the second sweep: x ← (x − Σ_t l_t · rows[t][c ..]) · inv over the
@@ -175,24 +201,41 @@ void ltl_sweeps(const ModelView& mv, const int* lambda, const S* L, S* X, int nc
       rows[n] = X + static_cast<size_t>(i) * ncols, ls[n] = neg ? -L[k * nv + i] : L[k * nv + i];
     return n;
   };
+  // Packs: a few columns at a time, kept in registers through all of the row's ancestors (sweep_*_block);
+  // doubles: a whole run of a row per ancestor, which the compiler vectorises across the columns. Each entry
+  // sees the same operations in the same order either way (the lanes stay bit-identical to one state).
+  constexpr bool blocked = !std::is_same_v<S, double>;
   for (int k = nv - 1; k >= 0; --k) {
     S* xk = X + static_cast<size_t>(k) * ncols;
     const int n = ancestors(k, negate);
     const S inv = S(negate ? -1.0 : 1.0) / L[k * nv + k];
     runs(k, [&](int c0, int c1) {
-      int c = c0;
-      for (; c + 8 <= c1; c += 8) sweep_up_block<8>(xk + c, rows.data(), ls.data(), n, inv, c);
-      for (; c < c1; ++c) sweep_up_block<1>(xk + c, rows.data(), ls.data(), n, inv, c);
+      if constexpr (blocked) {
+        blocks_of(c0, c1, [&](auto B, int c) { sweep_up_block<B()>(xk + c, rows.data(), ls.data(), n, inv, c); });
+      } else {
+        for (int c = c0; c < c1; ++c) xk[c] *= inv;
+        for (int t = 0; t < n; ++t) {
+          S* __restrict xi = rows[t];
+          const S l = ls[t];
+          for (int c = c0; c < c1; ++c) xi[c] -= l * xk[c];
+        }
+      }
     });
   }
   for (int k = 0; k < nv; ++k) {
     S* xk = X + static_cast<size_t>(k) * ncols;
-    int n = 0;
-    for (int i = lambda[k]; i != -1; i = lambda[i], ++n) rows[n] = X + static_cast<size_t>(i) * ncols, ls[n] = L[k * nv + i];
+    const int n = ancestors(k, false);
     const S inv = S(1.0) / L[k * nv + k];
-    int c = 0;
-    for (; c + 8 <= ncols; c += 8) sweep_down_block<8>(xk + c, rows.data(), ls.data(), n, inv, c);
-    for (; c < ncols; ++c) sweep_down_block<1>(xk + c, rows.data(), ls.data(), n, inv, c);
+    if constexpr (blocked) {
+      blocks_of(0, ncols, [&](auto B, int c) { sweep_down_block<B()>(xk + c, rows.data(), ls.data(), n, inv, c); });
+    } else {
+      for (int t = 0; t < n; ++t) {
+        const S* __restrict xi = rows[t];
+        const S l = ls[t];
+        for (int c = 0; c < ncols; ++c) xk[c] -= l * xi[c];
+      }
+      for (int c = 0; c < ncols; ++c) xk[c] *= inv;
+    }
   }
 }
 
