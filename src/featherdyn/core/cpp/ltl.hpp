@@ -193,8 +193,9 @@ void ltl_sweeps(const ModelView& mv, const int* lambda, const S* L, S* X, int nc
       for (int s = support->off[k]; s < support->off[k + 1]; ++s) op(b + support->seg[2 * s], b + support->seg[2 * s + 1]);
     }
   };
-  std::vector<S*> rows(static_cast<size_t>(nv));  // row k's ancestors and their factors, deepest first
-  std::vector<S> ls(static_cast<size_t>(nv));
+  thread_local std::vector<S*> rows;  // row k's ancestors and their factors, deepest first
+  thread_local std::vector<S> ls;
+  if (rows.size() < static_cast<size_t>(nv)) rows.resize(static_cast<size_t>(nv)), ls.resize(static_cast<size_t>(nv));
   auto ancestors = [&](int k, bool neg) {
     int n = 0;
     for (int i = lambda[k]; i != -1; i = lambda[i], ++n)
