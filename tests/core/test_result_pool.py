@@ -153,7 +153,7 @@ def test_reused_memory_is_written_entirely(name: str) -> None:
 
 def test_threads_get_their_own_results() -> None:
     st = _state()
-    expected = [fd.crba(MODEL, st.q, backend="reference") for _ in range(1)][0]
+    expected = fd.crba(MODEL, st.q, backend="reference")
     errors: list[BaseException] = []
 
     def work(k: int) -> None:
@@ -164,7 +164,7 @@ def test_threads_get_their_own_results() -> None:
                 assert not np.shares_memory(M, M2)
                 np.testing.assert_allclose(M, expected, rtol=1e-12, atol=1e-12)
                 np.testing.assert_allclose(M2[::-1], expected, rtol=1e-12, atol=1e-12)
-        except BaseException as exc:  # noqa: BLE001 — reported below
+        except BaseException as exc:  # reported below
             errors.append(exc)
 
     threads = [threading.Thread(target=work, args=(k,)) for k in range(8)]
@@ -173,3 +173,36 @@ def test_threads_get_their_own_results() -> None:
     for t in threads:
         t.join()
     assert not errors, errors[0]
+
+
+def test_a_forked_child_reuses_and_computes() -> None:
+    """A fork while another thread holds the pool's lock: the child's batches still run (a fresh lock)."""
+    import multiprocessing
+
+    st = _state()
+    expected = fd.crba(MODEL, st.q, backend="reference")
+    held = threading.Event()
+    release = threading.Event()
+
+    def hold() -> None:
+        with _result_pool._lock:
+            held.set()
+            release.wait(10)
+
+    t = threading.Thread(target=hold)
+    t.start()
+    held.wait(10)
+    try:
+        ctx = multiprocessing.get_context("fork")
+        with ctx.Pool(1) as pool:
+            got = pool.apply_async(_crba_in_child, (st.q,)).get(timeout=60)
+    finally:
+        release.set()
+        t.join()
+    np.testing.assert_allclose(got, expected, rtol=1e-12, atol=1e-12)
+
+
+def _crba_in_child(q: np.ndarray) -> np.ndarray:
+    first = fd.crba(MODEL, q)  # the pool's lock in the child: not the one the parent's thread holds
+    del first
+    return np.array(fd.crba(MODEL, q))

@@ -17,6 +17,7 @@ shows through. See docs/architecture.md, "Results of batched calls".
 from __future__ import annotations
 
 import math
+import os
 import sys
 import threading
 
@@ -30,6 +31,16 @@ _buffers: list[np.ndarray] = []  # least recently handed out first
 _limit = DEFAULT_BYTES
 _getrefcount = sys.getrefcount
 _empty = np.empty
+
+
+def _after_fork_in_child() -> None:
+    # another thread of the parent may have held the lock at the fork: the child gets a fresh one
+    global _lock
+    _lock = threading.Lock()
+
+
+if hasattr(os, "register_at_fork"):
+    os.register_at_fork(after_in_child=_after_fork_in_child)
 
 
 def _free(i: int) -> bool:
