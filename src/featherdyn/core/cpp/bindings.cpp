@@ -818,11 +818,10 @@ std::int64_t aba_derivatives1(const ModelData& md, const F64In& q, const F64In& 
   for (const F64Out* o : {&dq, &dv, &Minv}) FD_TRY(exact_shape(*o, {nv, nv}));
   const double* fx = f_ext.is_valid() ? f_ext.data() : nullptr;
   FD_TRY(check_state(mv, q.data(), v.data(), tau.data(), fx));
-  thread_local std::vector<double> scratch;
-  scratch.resize(aba_derivatives_scratch(mv.nv));
   const int* lambda = dof_tree(mv).lambda.data();
   const int bad = group_kernels().aba_derivatives(mv, lambda, q.data(), v.data(), tau.data(), fx, true,
-                                                  qdd.data(), dq.data(), dv.data(), Minv.data(), scratch.data());
+                                                  qdd.data(), dq.data(), dv.data(), Minv.data(),
+                                                  aligned_scratch(aba_derivatives_scratch(mv.nv)));
   if (bad >= 0) return make_status(SINGULAR, ARG_Q, bad);
   FD_TRY(finite_result(dq.data(), static_cast<std::int64_t>(nv * nv)));
   return finite_result(dv.data(), static_cast<std::int64_t>(nv * nv));
@@ -896,11 +895,9 @@ RowStatus aba_derivatives_n(const ModelData& md, const In& q, const In& v, const
   return for_row_groups(
       N, [&](std::int64_t r) { return check_state(mv, Q.row(r), V.row(r), T.row(r), FX.row(r)); },
       [&](std::int64_t r) -> std::int64_t {
-        thread_local std::vector<double> scratch;
-        scratch.resize(aba_derivatives_scratch(mv.nv));
         const int bad = group_kernels().aba_derivatives(mv, lambda.data(), Q.row(r), V.row(r), T.row(r), FX.row(r),
                                                         gravity, QDD + r * mv.nv, DQ + r * n2, DV + r * n2,
-                                                        MI + r * n2, scratch.data());
+                                                        MI + r * n2, aligned_scratch(aba_derivatives_scratch(mv.nv)));
         if (bad >= 0) return make_status(SINGULAR, ARG_Q, bad);
         FD_TRY(finite_result(DQ + r * n2, n2));  // results that finite input overflowed
         return finite_result(DV + r * n2, n2);

@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <type_traits>
 #include <vector>
 
@@ -173,6 +174,59 @@ inline void sweep_up_block(S* x, S* const* rows, const S* ls, int n, S inv, int 
   }
 }
 
+// One state (doubles): B consecutive columns of a row as one vector (GCC/Clang vector extensions: a zmm, ymm or
+// xmm register where the instruction set has one, pairs of xmm otherwise), loaded and stored with memcpy (any
+// alignment); B = 1: a double. The vectors stay local (no vector crosses a call: no ABI dependence).
+template <int B>
+struct Cols;
+template <>
+struct Cols<8> {
+  typedef double V __attribute__((vector_size(64)));
+};
+template <>
+struct Cols<4> {
+  typedef double V __attribute__((vector_size(32)));
+};
+template <>
+struct Cols<2> {
+  typedef double V __attribute__((vector_size(16)));
+};
+template <>
+struct Cols<1> {
+  typedef double V;
+};
+
+// sweep_up_block on B columns of doubles held in one vector: the same operations entry by entry.
+template <int B>
+inline void sweep_up_cols(double* x, double* const* rows, const double* ls, int n, double inv, int c) {
+  using V = typename Cols<B>::V;
+  V a;
+  std::memcpy(&a, x, sizeof a);
+  a = a * inv;
+  std::memcpy(x, &a, sizeof a);
+  for (int t = 0; t < n; ++t) {
+    V y;
+    std::memcpy(&y, rows[t] + c, sizeof y);
+    y = y - ls[t] * a;
+    std::memcpy(rows[t] + c, &y, sizeof y);
+  }
+}
+
+// sweep_down_block on B columns of doubles held in one vector: the same operations entry by entry.
+template <int B>
+inline void sweep_down_cols(double* x, double* const* rows, const double* ls, int n, double inv, int c) {
+  using V = typename Cols<B>::V;
+  V acc;
+  std::memcpy(&acc, x, sizeof acc);
+  for (int t = 0; t < n; ++t) {
+    V y;
+    std::memcpy(&y, rows[t] + c, sizeof y);
+    acc = acc - ls[t] * y;
+  }
+  acc = acc * inv;
+  std::memcpy(x, &acc, sizeof acc);
+}
+
 // The two sweeps of ltl_solve_Lt / ltl_solve_L on the rows of X (nv, ncols) row-major, each pivot's reciprocal
 // taken once (a row is scaled by multiplications, not ncols divisions). The first sweep runs, in each block of
 // `width` columns, on the runs of `support` in row k (every column when support is null); the second on every
@@ -202,41 +256,32 @@ void ltl_sweeps(const ModelView& mv, const int* lambda, const S* L, S* X, int nc
       rows[n] = X + static_cast<size_t>(i) * ncols, ls[n] = neg ? -L[k * nv + i] : L[k * nv + i];
     return n;
   };
-  // Packs: a few columns at a time, kept in registers through all of the row's ancestors (sweep_*_block);
-  // doubles: a whole run of a row per ancestor, which the compiler vectorises across the columns. Each entry
-  // sees the same operations in the same order either way (the lanes stay bit-identical to one state).
-  constexpr bool blocked = !std::is_same_v<S, double>;
+  // A few columns at a time, kept in registers through all of the row's ancestors: B Packs (sweep_*_block),
+  // or for one state B doubles as one vector (sweep_*_cols). Each entry sees the same operations in the same
+  // order either way (the lanes stay bit-identical to one state).
   for (int k = nv - 1; k >= 0; --k) {
     S* xk = X + static_cast<size_t>(k) * ncols;
     const int n = ancestors(k, negate);
     const S inv = S(negate ? -1.0 : 1.0) / L[k * nv + k];
     runs(k, [&](int c0, int c1) {
-      if constexpr (blocked) {
-        blocks_of(c0, c1, [&](auto B, int c) { sweep_up_block<B()>(xk + c, rows.data(), ls.data(), n, inv, c); });
-      } else {
-        for (int c = c0; c < c1; ++c) xk[c] *= inv;
-        for (int t = 0; t < n; ++t) {
-          S* __restrict xi = rows[t];
-          const S l = ls[t];
-          for (int c = c0; c < c1; ++c) xi[c] -= l * xk[c];
-        }
-      }
+      blocks_of(c0, c1, [&](auto B, int c) {
+        if constexpr (std::is_same_v<S, double>)
+          sweep_up_cols<B()>(xk + c, rows.data(), ls.data(), n, inv, c);
+        else
+          sweep_up_block<B()>(xk + c, rows.data(), ls.data(), n, inv, c);
+      });
     });
   }
   for (int k = 0; k < nv; ++k) {
     S* xk = X + static_cast<size_t>(k) * ncols;
     const int n = ancestors(k, false);
     const S inv = S(1.0) / L[k * nv + k];
-    if constexpr (blocked) {
-      blocks_of(0, ncols, [&](auto B, int c) { sweep_down_block<B()>(xk + c, rows.data(), ls.data(), n, inv, c); });
-    } else {
-      for (int t = 0; t < n; ++t) {
-        const S* __restrict xi = rows[t];
-        const S l = ls[t];
-        for (int c = 0; c < ncols; ++c) xk[c] -= l * xi[c];
-      }
-      for (int c = 0; c < ncols; ++c) xk[c] *= inv;
-    }
+    blocks_of(0, ncols, [&](auto B, int c) {
+      if constexpr (std::is_same_v<S, double>)
+        sweep_down_cols<B()>(xk + c, rows.data(), ls.data(), n, inv, c);
+      else
+        sweep_down_block<B()>(xk + c, rows.data(), ls.data(), n, inv, c);
+    });
   }
 }
 
