@@ -175,7 +175,7 @@ def test_threads_get_their_own_results() -> None:
     assert not errors, errors[0]
 
 
-def test_a_forked_child_reuses_and_computes() -> None:
+def test_a_forked_child_gets_a_fresh_lock() -> None:
     """A fork while another thread holds the pool's lock: the child's batches still run (a fresh lock)."""
     import multiprocessing
 
