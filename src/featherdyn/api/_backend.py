@@ -22,8 +22,10 @@ Every public function (``fd.rnea`` & co.) takes ``backend=None | "reference" |
 
 from __future__ import annotations
 
+import functools
 import os
-from typing import Any
+from collections.abc import Callable
+from typing import Any, TypeVar, cast
 
 import numpy as np
 
@@ -37,6 +39,7 @@ __all__ = [
     "default_backend",
     "select_backend",
     "core_path",
+    "public_call",
     "CORE",
     "set_num_threads",
     "get_num_threads",
@@ -71,6 +74,34 @@ def set_default_backend(backend: str | None) -> None:
         raise BackendError(f"backend: expected None, 'reference' or 'compiled', got {backend!r}")
     global _DEFAULT
     _DEFAULT = None if backend == "compiled" else backend
+    if CORE is not None:
+        CORE.set_public_calls(_DEFAULT is None)
+
+
+if CORE is not None:
+    CORE.set_public_calls(_DEFAULT is None)
+
+_F = TypeVar("_F", bound=Callable[..., Any])
+
+
+def public_call(name: str, general: _F, constants: tuple[Any, ...]) -> _F:
+    """The public function ``name``: ``general`` with its common one-state call finished in the compiled core.
+
+    The core's ``public_call`` object binds the arguments and, for an exact
+    ``numpy.ndarray`` of native float64, a frame name or index and a reference
+    enum, computes the result in C (``core/cpp/public_calls.hpp``); every
+    other call — other keywords, conversions, a bad state, the reference as
+    the default backend — goes to ``general`` with the same arguments. It
+    carries ``general``'s docstring and signature (``__wrapped__``) under
+    ``name``, the module attribute it is assigned to (it pickles by that name).
+    Without the core, ``general`` itself is returned.
+    """
+    if CORE is None:
+        return general
+    fast = CORE.public_call(name, general, constants, None)
+    functools.update_wrapper(fast, general)
+    fast.__name__ = fast.__qualname__ = name
+    return cast(_F, fast)
 
 
 def default_backend() -> str | None:

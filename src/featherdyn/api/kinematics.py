@@ -15,12 +15,13 @@ from .. import _dask
 from .. import core as _compiled
 from ..algorithms import jacobians as _jac
 from ..algorithms import kinematics as _kin
+from ..core._model_view import CoreHandle
 from ..errors import ShapeError
 from ..frames import LOCAL, LOCAL_WORLD_ALIGNED, WORLD, ReferenceFrame, as_reference_frame
 from ..model import Model
 from ..results import Kinematics
 from ..spatial_algebra import PluckerTransform, SpatialMotion
-from ._backend import CORE, OK, core_path, select_backend
+from ._backend import CORE, OK, core_path, public_call, select_backend
 from ._checks import State, as_dtype, check_state, finite_result, quiet
 
 __all__ = [
@@ -37,7 +38,6 @@ __all__ = [
 
 _EMPTY = np.empty
 _F64 = np.dtype(np.float64)
-_SHAPE_R = (3, 3)
 
 
 def _kinematics(model: Model, H: np.ndarray, Hp: np.ndarray, vel: np.ndarray | None, acc: np.ndarray | None,
@@ -104,20 +104,11 @@ def forward_kinematics(model: Model, q: ArrayLike, v: ArrayLike | None = None, a
     return kinematics_of(model, st, st.arrays.get("v"), st.arrays.get("a"), backend)
 
 
-def frame_placement(model: Model, q: ArrayLike, frame: str | int, *, backend: str | None = None) -> PluckerTransform:
+def _frame_placement(model: Model, q: ArrayLike, frame: str | int, *, backend: str | None = None) -> PluckerTransform:
     """The world placement ``⁰M_f`` of a frame (name or index), batch shape `(...)`::
 
         ⁰M_f = ⁰M_body(f) · placement_f
     """
-    core = core_path(model, backend)
-    if core is not None:
-        fid_ = core.frames.get(frame, -1) if frame.__class__ is str else frame
-        R, p = _EMPTY(_SHAPE_R), _EMPTY(3)
-        try:
-            if CORE.frame_pose(core.cm, q, fid_, R, p) == OK:
-                return PluckerTransform._wrap(R, p, None, None)
-        except TypeError:  # arguments the binding does not take as they are: the general path converts
-            pass
     if _dask.lazy(q):
         return _dask.call(frame_placement, model, {"q": q}, frame=frame, backend=backend)
     fid = _frame(model, frame)
@@ -125,6 +116,11 @@ def frame_placement(model: Model, q: ArrayLike, frame: str | int, *, backend: st
     oMf = quiet(_kin.frame_pose, model, kinematics_of(model, st, None, None, backend), fid)
     finite_result(oMf.translation, "frame_placement")
     return oMf
+
+
+#: one float64 state finished in the compiled core (``_backend.public_call``)
+frame_placement = public_call("frame_placement", _frame_placement, (
+    CoreHandle, PluckerTransform, *(PluckerTransform.__dict__[f] for f in ("rotation", "translation", "source", "target"))))
 
 
 def frame_velocity(model: Model, q: ArrayLike, v: ArrayLike, frame: str | int, reference: ReferenceFrame | str = LOCAL, *,
@@ -199,7 +195,7 @@ def joint_jacobians(model: Model, q: ArrayLike, *, backend: str | None = None) -
     return finite_result(quiet(_jac.joint_jacobians, model, kinematics_of(model, st, None, None, backend)), "joint_jacobians")
 
 
-def frame_jacobian(model: Model, q: ArrayLike, frame: str | int, reference: ReferenceFrame | str = LOCAL, *,
+def _frame_jacobian(model: Model, q: ArrayLike, frame: str | int, reference: ReferenceFrame | str = LOCAL, *,
                    backend: str | None = None) -> np.ndarray:
     """The geometric Jacobian of a frame, `(..., 6, nv)`, rows ``[ω; v]`` (``getFrameJacobian``).
 
@@ -207,19 +203,6 @@ def frame_jacobian(model: Model, q: ArrayLike, frame: str | int, reference: Refe
 
         frame_velocity(model, q, v, frame, reference) = J v
     """
-    core = core_path(model, backend)
-    if core is not None:
-        # identity tests: an Enum's __hash__ runs in Python, a dict lookup would cost more
-        ref_code = (0 if reference is LOCAL else 1 if reference is WORLD
-                    else 2 if reference is LOCAL_WORLD_ALIGNED else -1)
-        fid_ = core.frames.get(frame, -1) if frame.__class__ is str else frame
-        if ref_code >= 0:
-            try:
-                J_ = CORE.frame_jacobian_new(core.cm, q, fid_, ref_code)  # the result, or None
-                if J_ is not None:
-                    return J_
-            except TypeError:  # arguments the binding does not take as they are: the general path converts
-                pass
     if _dask.lazy(q):
         return _dask.call(frame_jacobian, model, {"q": q}, frame=frame, reference=reference, backend=backend)
     fid, ref = _frame(model, frame), as_reference_frame(reference)
@@ -227,6 +210,10 @@ def frame_jacobian(model: Model, q: ArrayLike, frame: str | int, reference: Refe
     if select_backend(backend, st.dtype) == "compiled":
         return as_dtype(_compiled.frame_jacobian(model, st.q, fid, ref.code), st.dtype)
     return finite_result(quiet(_jac.frame_jacobian, model, quiet(_kin.forward_kinematics, model, st.q), fid, ref), "frame_jacobian")
+
+
+#: one float64 state finished in the compiled core (``_backend.public_call``)
+frame_jacobian = public_call("frame_jacobian", _frame_jacobian, (CoreHandle, LOCAL, WORLD, LOCAL_WORLD_ALIGNED))
 
 
 def frame_jacobian_time_variation(model: Model, q: ArrayLike, v: ArrayLike, frame: str | int, reference: ReferenceFrame | str = LOCAL, *,

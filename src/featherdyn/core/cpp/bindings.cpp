@@ -21,6 +21,8 @@
 #include <cstdlib>
 #include <cstring>
 #include <mutex>
+#include <new>
+#include <exception>
 #include <string>
 #include <utility>
 
@@ -40,6 +42,7 @@
 #include "ltl.hpp"
 #include "model_view.hpp"
 #include "pack.hpp"
+#include "public_calls.hpp"
 #include "regressor.hpp"
 #include "rnea.hpp"
 #include "simd_groups.hpp"
@@ -165,7 +168,7 @@ RowStatus for_rows(std::int64_t items, const F& body, std::int64_t group = 1) {
 
 // A result that finite input overflowed (products beyond float64's range): NONFINITE on the output,
 // so the caller words it instead of returning inf or NaN.
-// (all_finite (pack.hpp) first: a talos mass matrix's 2 500 entries cost 1.3 µs through first_nonfinite's
+// (all_finite (checks.hpp) first: a talos mass matrix's 2 500 entries cost 1.3 µs through first_nonfinite's
 // early exit, which does not vectorise, and 0.1 µs there)
 
 inline std::int64_t finite_result(const double* x, std::int64_t n) {
@@ -182,6 +185,14 @@ inline std::int64_t finite_placements(const double* H, std::int64_t nb) {
     for (const std::int64_t k : {16 * i + 3, 16 * i + 7, 16 * i + 11})
       if (!std::isfinite(H[k])) return make_status(NONFINITE, ARG_OUT, k);
   return OK;
+}
+
+// The same for a frame Jacobian J (6, nv): only the linear rows 3..5 can overflow (the angular rows are
+// rotated unit axes, within ±1), so the first non-finite element is there whenever there is one.
+inline std::int64_t finite_jacobian(const double* J, std::int64_t nv) {
+  if (all_finite(J + 3 * nv, 3 * nv)) return OK;
+  const std::int64_t k = first_nonfinite(J + 3 * nv, 3 * nv);
+  return k < 0 ? OK : make_status(NONFINITE, ARG_OUT, k + 3 * nv);
 }
 
 std::int64_t rnea1(const ModelData& md, const F64In& q, const F64In& v, const F64In& a, const F64In& f_ext,
@@ -344,7 +355,7 @@ nb::object frame_jacobian_new(const ModelData& md, const F64In& q, int frame, in
   if (check_state(mv, q.data(), nullptr, nullptr, nullptr) != OK) return nb::none();
   nb::object J = numpy_alloc({6, mv.nv});
   frame_jacobian(mv, q.data(), frame, ref, array_data(J));
-  return finite_result(array_data(J), 6 * std::int64_t(mv.nv)) == OK ? J : nb::none();
+  return finite_jacobian(array_data(J), mv.nv) == OK ? J : nb::none();
 }
 
 // D_singular (36,) receives the singular joint's D_i (row stride 6) when the status is SINGULAR.
@@ -419,7 +430,7 @@ std::int64_t frame_jacobian1(const ModelData& md, const F64In& q, int frame, int
   FD_TRY(exact_shape(J, {6, size_t(mv.nv)}));
   FD_TRY(check_state(mv, q.data(), nullptr, nullptr, nullptr));
   frame_jacobian(mv, q.data(), frame, ref, J.data());
-  return finite_result(J.data(), 6 * std::int64_t(mv.nv));
+  return finite_jacobian(J.data(), mv.nv);
 }
 
 // RNEA on complex input (complex-step checks); no finiteness or quaternion checks.
@@ -550,6 +561,211 @@ std::int64_t placements1(const ModelData& md, const F64In& q, const F64Out& H) {
   forward_kinematics<double>(mv, q.data(), nullptr, nullptr, H.data(), nullptr, nullptr);
   return finite_placements(H.data(), mv.nb);
 }
+
+// ---------------------------------------------------------------------------
+// the public functions' one-state calls, finished in C (public_calls.hpp)
+// ---------------------------------------------------------------------------
+
+// Each fast path returns the result, or nullptr without an exception to decline: the Python
+// function then takes the same arguments (and converts, computes, or words the error).
+namespace pc {
+
+PyObject* s_core = nullptr;    // "_core": a Model's CoreHandle (featherdyn/core/_model_view.py)
+PyObject* s_cm = nullptr;      // CoreHandle.cm: the core's Model
+PyObject* s_frames = nullptr;  // CoreHandle.frames: frame name → index
+bool clear_writeable_directly = false;  // NumPy's PyArray_CLEARFLAGS on arrays numpy_alloc made (checked at import)
+
+// A C++ exception in a fast path: Python's error as an exception, a refused argument as a decline.
+template <class F>
+PyObject* guarded(F&& body) {
+  try {
+    return body();
+  } catch (nb::python_error& e) {
+    e.restore();
+  } catch (const nb::builtin_exception&) {
+    // TypeError of an argument the binding does not take as it is: decline
+  } catch (const std::bad_alloc&) {
+    PyErr_NoMemory();
+  } catch (const std::exception& e) {
+    PyErr_SetString(PyExc_RuntimeError, e.what());
+  }
+  return nullptr;
+}
+
+// The core model and frame table of a featherdyn Model (its cached CoreHandle: extra[0] is the
+// CoreHandle class); false if it has none yet (the Python function builds it) or is not a Model.
+bool model_of(PublicCall* f, PyObject* model, const ModelData*& md, PyObject*& frames) {
+  PyObject* h = PyObject_GetAttr(model, s_core);
+  if (h == nullptr) {
+    PyErr_Clear();
+    return false;
+  }
+  if (h == f->last_handle) {
+    Py_DECREF(h);
+  } else {
+    if (reinterpret_cast<PyObject*>(Py_TYPE(h)) != PyTuple_GET_ITEM(f->extra, 0)) {
+      Py_DECREF(h);
+      return false;
+    }
+    PyObject* cm = PyObject_GetAttr(h, s_cm);
+    PyObject* fr = cm != nullptr ? PyObject_GetAttr(h, s_frames) : nullptr;
+    if (fr == nullptr || !nb::isinstance<ModelData>(nb::handle(cm)) || !PyDict_CheckExact(fr)) {
+      PyErr_Clear();
+      Py_XDECREF(cm);
+      Py_XDECREF(fr);
+      Py_DECREF(h);
+      return false;
+    }
+    Py_XSETREF(f->last_handle, h);
+    Py_XSETREF(f->last_model, cm);
+    Py_XSETREF(f->last_frames, fr);
+  }
+  md = nb::inst_ptr<ModelData>(nb::handle(f->last_model));
+  frames = f->last_frames;
+  return true;
+}
+
+// A frame given by name (exact str) or index (exact int) within [0, nf).
+bool frame_of(PyObject* frame, PyObject* frames, int nf, int& fid) {
+  PyObject* index = frame;
+  if (PyUnicode_CheckExact(frame)) {
+    index = PyDict_GetItemWithError(frames, frame);  // borrowed
+    if (index == nullptr) {
+      PyErr_Clear();
+      return false;
+    }
+  }
+  if (!PyLong_CheckExact(index)) return false;
+  int overflow = 0;
+  const long k = PyLong_AsLongAndOverflow(index, &overflow);
+  if (overflow != 0 || k < 0 || k >= nf) {
+    PyErr_Clear();
+    return false;
+  }
+  fid = static_cast<int>(k);
+  return true;
+}
+
+// fd.frame_jacobian(model, q, frame, reference=LOCAL); extra = (CoreHandle, LOCAL, WORLD, LOCAL_WORLD_ALIGNED).
+PyObject* frame_jacobian_path(PublicCall* f, PyObject* const* a) {
+  const ModelData* md = nullptr;
+  PyObject* frames = nullptr;
+  int fid = 0, ref = LOCAL;
+  if (!model_of(f, a[0], md, frames) || !frame_of(a[2], frames, md->view.nf, fid)) return nullptr;
+  if (a[3] != nullptr) {
+    ref = a[3] == PyTuple_GET_ITEM(f->extra, 1) ? LOCAL
+          : a[3] == PyTuple_GET_ITEM(f->extra, 2) ? WORLD
+          : a[3] == PyTuple_GET_ITEM(f->extra, 3) ? LOCAL_WORLD_ALIGNED : -1;
+    if (ref < 0) return nullptr;  // a name such as "WORLD": the Python function reads it
+  }
+  F64In q;
+  if (!q.acquire(a[1])) return nullptr;
+  return guarded([&]() -> PyObject* {
+    nb::object J = frame_jacobian_new(*md, q, fid, ref);
+    return J.is_none() ? nullptr : J.release().ptr();
+  });
+}
+
+// A read-only array, as PluckerTransform's fields are.
+bool set_read_only(PyObject* a) {
+  if (clear_writeable_directly) {
+    reinterpret_cast<NdarrayFields*>(a)->flags &= ~NdarrayFast::WRITEABLE;
+    return true;
+  }
+  PyObject* r = PyObject_CallMethod(a, "setflags", "O", Py_False);
+  Py_XDECREF(r);
+  return r != nullptr;
+}
+
+// fd.frame_placement(model, q, frame) → PluckerTransform(R, p) of ⁰M_f; extra = (CoreHandle,
+// PluckerTransform, and its slots' descriptors rotation, translation, source, target).
+PyObject* frame_placement_path(PublicCall* f, PyObject* const* a) {
+  const ModelData* md = nullptr;
+  PyObject* frames = nullptr;
+  int fid = 0;
+  if (!model_of(f, a[0], md, frames) || !frame_of(a[2], frames, md->view.nf, fid)) return nullptr;
+  F64In q;
+  if (!q.acquire(a[1])) return nullptr;
+  const ModelView& mv = md->view;
+  if (q.ndim() != 1 || q.shape(0) != static_cast<size_t>(mv.nq)) return nullptr;
+  if (check_state(mv, q.data(), nullptr, nullptr, nullptr) != OK) return nullptr;
+  Mat3<double> Rf;
+  Vec3<double> pf;
+  frame_pose(mv, q.data(), fid, Rf, pf);
+  const double p3[3] = {pf.x, pf.y, pf.z};
+  if (finite_result(p3, 3) != OK) return nullptr;  // (a rotation's entries stay within ±1)
+  return guarded([&]() -> PyObject* {
+    nb::object R = numpy_alloc({3, 3}), p = numpy_alloc({3});
+    std::memcpy(array_data(R), Rf.m, sizeof(double) * 9);
+    std::memcpy(array_data(p), p3, sizeof p3);
+    if (!set_read_only(R.ptr()) || !set_read_only(p.ptr())) throw nb::python_error();
+    PyTypeObject* cls = reinterpret_cast<PyTypeObject*>(PyTuple_GET_ITEM(f->extra, 1));
+    nb::object empty = nb::steal(PyTuple_New(0));
+    nb::object x = nb::steal(PyBaseObject_Type.tp_new(cls, empty.ptr(), nullptr));  // object.__new__(cls)
+    if (!x.is_valid()) throw nb::python_error();
+    PyObject* fields[4] = {R.ptr(), p.ptr(), Py_None, Py_None};
+    for (int i = 0; i < 4; ++i) {
+      PyObject* slot = PyTuple_GET_ITEM(f->extra, 2 + i);
+      if (Py_TYPE(slot)->tp_descr_set(slot, x.ptr(), fields[i]) != 0) throw nb::python_error();
+    }
+    return x.release().ptr();
+  });
+}
+
+// CompiledModel.fk(q, out=None) → H (nb, 4, 4); bound = the core's Model.
+PyObject* fk_path(PublicCall* f, PyObject* const* a) {
+  const ModelData& md = *nb::inst_ptr<ModelData>(nb::handle(f->bound));
+  F64In q;
+  if (!q.acquire(a[0])) return nullptr;
+  return guarded([&]() -> PyObject* {
+    const bool fresh = a[1] == nullptr || a[1] == Py_None;
+    nb::object H = fresh ? numpy_alloc({md.view.nb, 4, 4}) : nb::borrow(a[1]);
+    F64Out h;
+    if (!h.acquire(H.ptr())) return nullptr;
+    return placements1(md, q, h) == OK ? H.release().ptr() : nullptr;
+  });
+}
+
+const PublicCallKind FRAME_JACOBIAN{{"model", "q", "frame", "reference"}, 4, 3, frame_jacobian_path};
+const PublicCallKind FRAME_PLACEMENT{{"model", "q", "frame", nullptr}, 3, 3, frame_placement_path};
+const PublicCallKind FK{{"q", "out", nullptr, nullptr}, 2, 1, fk_path};
+
+nb::object make(const std::string& kind, nb::handle general, nb::handle extra, nb::handle bound) {
+  const PublicCallKind* k = kind == "frame_jacobian" ? &FRAME_JACOBIAN
+                            : kind == "frame_placement" ? &FRAME_PLACEMENT
+                            : kind == "fk" ? &FK : nullptr;
+  if (k == nullptr) throw nb::value_error("public_call: unknown kind");
+  const std::size_t need = k == &FRAME_JACOBIAN ? 4 : k == &FRAME_PLACEMENT ? 6 : 0;
+  if (!PyTuple_Check(extra.ptr()) || static_cast<std::size_t>(PyTuple_GET_SIZE(extra.ptr())) != need)
+    throw nb::value_error("public_call: wrong constants for this kind");
+  if (k == &FK && !nb::isinstance<ModelData>(bound)) throw nb::type_error("public_call: fk needs the core's Model");
+  if (k == &FRAME_PLACEMENT) {
+    if (!PyType_Check(PyTuple_GET_ITEM(extra.ptr(), 1))) throw nb::type_error("public_call: a class expected");
+    for (int i = 2; i < 6; ++i)
+      if (Py_TYPE(PyTuple_GET_ITEM(extra.ptr(), i))->tp_descr_set == nullptr)
+        throw nb::type_error("public_call: slot descriptors expected");
+  }
+  PyObject* r = make_public_call(k, general.ptr(), extra.ptr(), k == &FK ? bound.ptr() : nullptr);
+  if (r == nullptr) throw nb::python_error();
+  return nb::steal(r);
+}
+
+// At import: the interned names, and whether clearing NumPy's WRITEABLE flag in place works on an
+// array numpy_alloc made (it must then read back as read-only).
+void init() {
+  s_core = PyUnicode_InternFromString("_core");
+  s_cm = PyUnicode_InternFromString("cm");
+  s_frames = PyUnicode_InternFromString("frames");
+  if (s_core == nullptr || s_cm == nullptr || s_frames == nullptr) throw nb::python_error();
+  if (public_call_type() == nullptr) throw nb::python_error();
+  if (ndarray_fast.type != nullptr && numpy_alloc.new_from_descr != nullptr) {
+    nb::object a = numpy_alloc({3});
+    reinterpret_cast<NdarrayFields*>(a.ptr())->flags &= ~NdarrayFast::WRITEABLE;
+    clear_writeable_directly = !nb::cast<bool>(a.attr("flags").attr("writeable"));
+  }
+}
+
+}  // namespace pc
 
 RowStatus fk_n(const ModelData& md, const In& q, Out H) {
   const ModelView& mv = md.view;
@@ -1162,16 +1378,6 @@ std::int64_t osi1(const ModelData& md, const F64In& q, const ContactPlan& plan, 
                                    Lambda.data());
 }
 
-// check_state of a batch row, all_finite's scan first (check_state's early-exit scans do not vectorise: 4 % of a
-// talos row's time on packs); check_state itself only to name a failure.
-inline std::int64_t check_row(const ModelView& mv, const double* q, const double* v, const double* a,
-                              const double* f_ext) {
-  if (all_finite(q, mv.nq) && (!v || all_finite(v, mv.nv)) && (!a || all_finite(a, mv.nv)) &&
-      (!f_ext || all_finite(f_ext, 6 * static_cast<std::int64_t>(mv.nb))) && first_bad_quaternion(mv, q) < 0)
-    return OK;
-  return check_state(mv, q, v, a, f_ext);
-}
-
 // Rows of a batch: q̈ (N, nv), λ (N, m), info (N, 2). Full groups of the kernels' width run contacts.hpp's
 // kernel on Packs (simd_groups.hpp: contact_dynamics_group); the tail, and a group with a singular lane, row by row.
 RowStatus contact_dynamics_n(const ModelData& md, const In& q, const In& v, const In& tau, const In& f_ext,
@@ -1191,7 +1397,7 @@ RowStatus contact_dynamics_n(const ModelData& md, const In& q, const In& v, cons
   fdgroup::GroupArgs args{&mv, Q, V, T, FX, true, qdd.data(), nv};
   args.contacts = &contacts;
   return for_row_groups(
-      N, [&](std::int64_t r) { return check_row(mv, Q.row(r), V.row(r), T.row(r), FX.row(r)); },
+      N, [&](std::int64_t r) { return check_state(mv, Q.row(r), V.row(r), T.row(r), FX.row(r)); },
       [&](std::int64_t r) -> std::int64_t {
         ContactResult<double> res;
         FD_TRY(contact_dynamics(mv, Q.row(r), V.row(r), T.row(r), FX.row(r), cs.data(), nc, mu, max_iter, tol,
@@ -1222,7 +1428,7 @@ RowStatus osi_n(const ModelData& md, const In& q, const ContactPlan& plan, doubl
   fdgroup::GroupArgs args{&mv, Q, {}, {}, {}, true, out, m2};
   args.contacts = &frames;
   return for_row_groups(
-      N, [&](std::int64_t r) { return check_row(mv, Q.row(r), nullptr, nullptr, nullptr); },
+      N, [&](std::int64_t r) { return check_state(mv, Q.row(r), nullptr, nullptr, nullptr); },
       [&](std::int64_t r) {
         return operational_space_inertia(mv, Q.row(r), cs.data(), nc, mu, singular_tol, out + r * m2);
       },
@@ -1273,6 +1479,7 @@ NB_MODULE(_core, m) {
   nb::set_leak_warnings(false);
   init_ndarray_fields();  // buffer.hpp: the one-state entry points' direct path to NumPy's arrays
   init_numpy_alloc();     // the results of the *_new entry points
+  pc::init();             // the public functions' one-state calls in C (public_calls.hpp)
 
   nb::class_<ModelData>(m, "Model")
       .def(nb::new_(&make_model), nb::arg("nb"), nb::arg("nq"), nb::arg("nv"), nb::arg("body_ints"),
@@ -1306,6 +1513,10 @@ NB_MODULE(_core, m) {
   m.def("crba_new", &crba_new, nb::arg("model"), A("q"));
   m.def("aba_new", &aba_new, nb::arg("model"), A("q"), A("v"), A("tau"), O("f_ext"), nb::arg("gravity"));
   m.def("frame_jacobian_new", &frame_jacobian_new, nb::arg("model"), A("q"), nb::arg("frame"), nb::arg("reference"));
+  // a public function (or a compiled model's method) whose one-state calls run here (public_calls.hpp)
+  m.def("public_call", &pc::make, nb::arg("kind"), nb::arg("general"), nb::arg("extra"), nb::arg("bound").none());
+  m.def("set_public_calls", [](bool on) { public_calls_enabled = on; }, nb::arg("enabled"),
+        "off: every call of a public_call goes to its Python function (the default backend is 'reference')");
   m.def("rnea_complex", &rnea_complex1, nb::arg("model"), A("q"), A("v"), A("a"), O("f_ext"), nb::arg("gravity"),
         A("out"));
 

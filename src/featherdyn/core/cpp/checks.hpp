@@ -10,6 +10,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 
 #include "model_view.hpp"
 
@@ -23,7 +24,20 @@ inline std::int64_t make_status(std::int64_t code, std::int64_t arg, std::int64_
   return code | (arg << 3) | ((index < 0 ? 0 : index) << 8);
 }
 
-// The index of the first non-finite x[k], or −1.
+// Whether x[0 .. n) are all finite: an OR over the exponent fields, where (bits & exponent) + one reaches bit 63
+// only for the all-ones exponent of inf and NaN (no early exit: the loop vectorises).
+inline bool all_finite(const double* x, std::int64_t n) {
+  constexpr std::uint64_t EXPONENT = 0x7FF0000000000000ull, ONE = 0x0010000000000000ull;
+  std::uint64_t carry = 0;
+  for (std::int64_t k = 0; k < n; ++k) {
+    std::uint64_t u;
+    std::memcpy(&u, x + k, sizeof u);
+    carry |= (u & EXPONENT) + ONE;
+  }
+  return (carry >> 63) == 0;
+}
+
+// The index of the first non-finite x[k], or −1 (an early-exit scan: only to name a failure all_finite found).
 inline std::int64_t first_nonfinite(const double* x, std::int64_t n) {
   for (std::int64_t k = 0; k < n; ++k)
     if (!std::isfinite(x[k])) return k;
@@ -33,23 +47,22 @@ inline std::int64_t first_nonfinite(const double* x, std::int64_t n) {
 // The first body whose joint quaternion (spherical q_i, free-flyer q_i[3:7]) is off unit norm by more
 // than mv.quat_tol (featherdyn.tolerances.QUATERNION_NORM for float64), or −1.
 inline int first_bad_quaternion(const ModelView& mv, const double* q) {
-  for (int i = 0; i < mv.nb; ++i) {
-    const double* quat;
-    if (mv.jtype[i] == SPHERICAL)
-      quat = q + mv.idx_q[i];
-    else if (mv.jtype[i] == FREE_FLYER)
-      quat = q + mv.idx_q[i] + 3;
-    else
-      continue;
+  for (int k = 0; k < mv.nquat; ++k) {
+    const double* quat = q + mv.quat_q[k];
     const double norm = std::sqrt(quat[0] * quat[0] + quat[1] * quat[1] + quat[2] * quat[2] + quat[3] * quat[3]);
-    if (!(std::fabs(norm - 1.0) <= mv.quat_tol)) return i;
+    if (!(std::fabs(norm - 1.0) <= mv.quat_tol)) return mv.quat_body[k];
   }
   return -1;
 }
 
 // Finiteness of q and of each vector (nullptr skipped), then unit quaternions: OK or the first failure.
+// all_finite's scans first (the early-exit scans that name a failure do not vectorise: 40 ns of a talos
+// call, 4 % of a talos batch row on packs).
 inline std::int64_t check_state(const ModelView& mv, const double* q, const double* v, const double* a,
                                 const double* f_ext) {
+  if (all_finite(q, mv.nq) && (!v || all_finite(v, mv.nv)) && (!a || all_finite(a, mv.nv)) &&
+      (!f_ext || all_finite(f_ext, 6 * static_cast<std::int64_t>(mv.nb))) && first_bad_quaternion(mv, q) < 0)
+    return OK;
   std::int64_t k = first_nonfinite(q, mv.nq);
   if (k >= 0) return make_status(NONFINITE, ARG_Q, k);
   if (v && (k = first_nonfinite(v, mv.nv)) >= 0) return make_status(NONFINITE, ARG_V, k);

@@ -37,6 +37,10 @@ struct ModelView {
   const std::int32_t* frame_body = nullptr;  // (nf,) −1 = the world
   const double* frame_R = nullptr;           // (nf, 9) placement in the body
   const double* frame_p = nullptr;           // (nf, 3)
+  // unit quaternions in q (spherical q_i, free-flyer q_i[3:7]): where each starts, and its body
+  const std::int32_t* quat_q = nullptr;     // (nquat,)
+  const std::int32_t* quat_body = nullptr;  // (nquat,)
+  int nquat = 0;
   // per degree of freedom
   const double* armature = nullptr;  // (nv,) reflected rotor inertia added to M's diagonal; nullptr when all zero
 };
@@ -47,6 +51,7 @@ constexpr size_t BODY_REALS = 52;
 // The storage behind a ModelView (owned by the Python object featherdyn.core._core.Model).
 struct ModelData {
   std::vector<std::int32_t> ints;  // parent, jtype, idx_q, idx_v, nv_i (nb each), frame_body (nf)
+  std::vector<std::int32_t> quats;  // quat_q then quat_body (nquat each)
   std::vector<double> reals;       // Xtree_R, Xtree_p, mass, h, Ibar, axis, basis, RK, RK2, gravity, frame_R, frame_p,
                                    // armature
   ModelView view;
@@ -97,6 +102,18 @@ struct ModelData {
     m.frame_R = R + nbr + 3;
     m.frame_p = R + nbr + 3 + 9 * static_cast<size_t>(nf);
     m.armature = any_armature ? R + arm : nullptr;
+    std::vector<std::int32_t> at, of;
+    for (int i = 0; i < nb; ++i) {
+      if (m.jtype[i] == SPHERICAL || m.jtype[i] == FREE_FLYER) {
+        at.push_back(m.idx_q[i] + (m.jtype[i] == FREE_FLYER ? 3 : 0));
+        of.push_back(i);
+      }
+    }
+    quats = at;
+    quats.insert(quats.end(), of.begin(), of.end());
+    m.nquat = static_cast<int>(at.size());
+    m.quat_q = quats.data();
+    m.quat_body = quats.data() + m.nquat;
   }
 };
 

@@ -55,19 +55,7 @@ inline Pack operator*(const Pack& a, const Pack& b) { return Pack::raw(a.v * b.v
 inline Pack operator/(const Pack& a, const Pack& b) { return Pack::raw(a.v / b.v); }
 inline Pack operator-(const Pack& a) { return Pack::raw(-a.v); }
 
-// Whether x[0 .. n) are all finite: an OR over the exponent fields, where (bits & exponent) + one reaches bit 63
-// only for the all-ones exponent of inf and NaN (no early exit: the loop vectorises).
-inline bool all_finite(const double* x, std::int64_t n) {
-  constexpr std::uint64_t EXPONENT = 0x7FF0000000000000ull, ONE = 0x0010000000000000ull;
-  std::uint64_t carry = 0;
-  for (std::int64_t k = 0; k < n; ++k) {
-    std::uint64_t u;
-    std::memcpy(&u, x + k, sizeof u);
-    carry |= (u & EXPONENT) + ONE;
-  }
-  return (carry >> 63) == 0;
-}
-
+// (all_finite over doubles: checks.hpp)
 // The same over Packs, every lane (no dependency chain, one pass in L1/L2).
 inline bool all_finite(const Pack* x, size_t n) {
   typedef unsigned long long U __attribute__((vector_size(8 * PACK_WIDTH)));

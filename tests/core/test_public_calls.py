@@ -1,0 +1,322 @@
+"""The public functions whose one-state calls are finished in C (``_core.public_call``).
+
+``fd.frame_jacobian``, ``fd.frame_placement`` and ``fd.compile(model).fk`` bind their arguments in
+the core, compute an exact native float64 ``numpy.ndarray`` state there, and hand every other call
+to the Python function they wrap, unchanged. Checked here:
+
+* the fast path returns the numbers of the core's entry points bit for bit, and the reference's
+  to round-off, on every test tree;
+* every call it declines (keywords it does not bind, lists, float32, strided or big-endian arrays,
+  a reference given by name, a bad state, an unknown frame, a wrong ``out=``) gives the result or
+  the featherdyn error of the Python function — observed with a spy as the general function;
+* the default backend ``"reference"`` sends every call to the Python function;
+* the objects look like their functions (name, docstring, signature, pickling by name);
+* the per-function cache of the last model's handle: alternating models, a model dropped and
+  another made, 8 threads on different models; no reference leaks.
+"""
+
+from __future__ import annotations
+
+import inspect
+import pickle
+import sys
+import threading
+
+import numpy as np
+import pytest
+from _models import TREES, random_state, tool_frames, tree
+
+import featherdyn as fd
+from featherdyn import core
+from featherdyn.api import _backend
+from featherdyn.api.kinematics import _frame_jacobian, _frame_placement
+from featherdyn.core import _core
+from featherdyn.core._model_view import CoreHandle
+from featherdyn.errors import ModelError, NonFiniteError, ShapeError
+
+TREE_NAMES = [s.name for s in TREES]
+REFERENCES = (fd.LOCAL, fd.WORLD, fd.LOCAL_WORLD_ALIGNED)
+SLOTS = tuple(fd.PluckerTransform.__dict__[f] for f in ("rotation", "translation", "source", "target"))
+
+
+def _frame(model: fd.Model) -> str:
+    return tool_frames(model)[-1]
+
+
+@pytest.mark.parametrize("name", TREE_NAMES)
+def test_fast_path_equals_the_core_entry_points_bit_for_bit_and_the_reference(name: str) -> None:
+    model = tree(name)
+    cm = core._view(model).cm
+    frame = _frame(model)
+    fid = model.frame_id(frame)
+    for seed in range(3):
+        q = random_state(model, seed).q
+        for code, ref in enumerate(REFERENCES):
+            J = fd.frame_jacobian(model, q, frame, ref)
+            expected = np.empty((6, model.nv))
+            assert _core.frame_jacobian(cm, q, fid, code, expected) == 0
+            assert type(J) is np.ndarray and J.flags.c_contiguous and J.flags.writeable and J.flags.owndata
+            np.testing.assert_array_equal(J, expected)
+            np.testing.assert_allclose(J, fd.frame_jacobian(model, q, frame, ref, backend="reference"),
+                                       rtol=0, atol=1e-12)
+        X = fd.frame_placement(model, q, frame)
+        R, p = np.empty((3, 3)), np.empty(3)
+        assert _core.frame_pose(cm, q, fid, R, p) == 0
+        assert type(X) is fd.PluckerTransform and X.source is None and X.target is None
+        np.testing.assert_array_equal(X.rotation, R)
+        np.testing.assert_array_equal(X.translation, p)
+        assert not X.rotation.flags.writeable and not X.translation.flags.writeable
+        assert X.rotation.shape == (3, 3) and X.translation.shape == (3,)
+        ref_X = fd.frame_placement(model, q, frame, backend="reference")
+        np.testing.assert_allclose(X.rotation, ref_X.rotation, rtol=0, atol=1e-12)
+        np.testing.assert_allclose(X.translation, ref_X.translation, rtol=0, atol=1e-12)
+        H = np.empty((model.nbodies, 4, 4))
+        assert _core.placements(cm, q, H) == 0
+        np.testing.assert_array_equal(fd.compile(model).fk(q), H)
+
+
+class Spy:
+    """A general function that records its calls and returns a marker."""
+
+    def __init__(self) -> None:
+        self.calls: list[tuple[tuple[object, ...], dict[str, object]]] = []
+
+    def __call__(self, *args: object, **kwargs: object) -> str:
+        self.calls.append((args, kwargs))
+        return "general"
+
+
+def _spied(kind: str) -> tuple[object, Spy]:
+    spy = Spy()
+    if kind == "frame_jacobian":
+        return _backend.public_call(kind, spy, (CoreHandle, *REFERENCES)), spy
+    return _backend.public_call(kind, spy, (CoreHandle, fd.PluckerTransform, *SLOTS)), spy
+
+
+def test_declined_calls_reach_the_general_function_with_the_same_arguments() -> None:
+    model = tree(TREE_NAMES[0])
+    frame = _frame(model)
+    q = random_state(model, 3).q
+    fd.frame_jacobian(model, q, frame)  # the model's core handle exists
+    jac, spy = _spied("frame_jacobian")
+    assert isinstance(jac(model, q, frame), np.ndarray) and not spy.calls
+    assert isinstance(jac(model, q, frame, fd.WORLD), np.ndarray) and not spy.calls
+    assert isinstance(jac(model, q, frame, reference=fd.WORLD), np.ndarray) and not spy.calls
+    assert isinstance(jac(model, q=q, frame=frame), np.ndarray) and not spy.calls
+    assert isinstance(jac(model, q, model.frame_id(frame)), np.ndarray) and not spy.calls
+    qn = q.copy()
+    qn[0] = np.nan
+    big_endian = q.astype(">f8")
+    strided = np.repeat(q, 2)[::2]
+    declined = [
+        ((model, q.tolist(), frame), {}),
+        ((model, q.astype(np.float32), frame), {}),
+        ((model, big_endian, frame), {}),
+        ((model, strided, frame), {}),
+        ((model, q, frame, "WORLD"), {}),
+        ((model, q, frame), {"backend": "compiled"}),
+        ((model, q, frame), {"unknown": 1}),
+        ((model, q, frame, fd.LOCAL, 5), {}),
+        ((model, q), {}),
+        ((model, q, frame), {"frame": frame}),
+        ((model, q, "no such frame"), {}),
+        ((model, q, -1), {}),
+        ((model, q, 10**30), {}),
+        ((model, q, True), {}),
+        ((model, q[:-1], frame), {}),
+        ((model, q[None], frame), {}),
+        ((model, qn, frame), {}),
+        (("not a model", q, frame), {}),
+    ]
+    for args, kwargs in declined:
+        spy.calls.clear()
+        assert jac(*args, **kwargs) == "general", (args, kwargs)
+        assert len(spy.calls) == 1
+        got_args, got_kwargs = spy.calls[0]
+        assert got_kwargs == kwargs and len(got_args) == len(args)
+        assert all(a is b for a, b in zip(got_args, args, strict=True))
+    place, spy = _spied("frame_placement")
+    assert isinstance(place(model, q, frame), fd.PluckerTransform) and not spy.calls
+    for args in [(model, qn, frame), (model, q, "no such frame"), (model, q.tolist(), frame)]:
+        assert place(*args) == "general" and len(spy.calls) == 1
+        spy.calls.clear()
+
+
+def test_the_public_functions_word_the_errors_of_declined_calls() -> None:
+    model = tree(TREE_NAMES[1])
+    frame = _frame(model)
+    q = random_state(model, 4).q
+    qn = q.copy()
+    qn[-1] = np.inf
+    for f in (lambda *a, **k: fd.frame_jacobian(*a, **k), lambda *a, **k: fd.frame_placement(*a, **k)):
+        with pytest.raises(ModelError, match="not found"):
+            f(model, q, "no such frame")
+        with pytest.raises(ShapeError, match="nq="):
+            f(model, q[:2], frame)
+        with pytest.raises(NonFiniteError, match="q"):
+            f(model, qn, frame)
+        with pytest.raises(TypeError):
+            f(model, q, frame, nonsense=1)
+    # declined inputs that the Python function converts: the same numbers
+    J = fd.frame_jacobian(model, q, frame, fd.WORLD)
+    np.testing.assert_array_equal(fd.frame_jacobian(model, q.tolist(), frame, "WORLD"), J)
+    np.testing.assert_array_equal(fd.frame_jacobian(model, q.astype(">f8"), frame, reference="world"), J)
+
+
+def test_the_reference_default_backend_sends_every_call_to_the_general_function() -> None:
+    model = tree(TREE_NAMES[0])
+    frame = _frame(model)
+    q = random_state(model, 5).q
+    jac, spy = _spied("frame_jacobian")
+    assert isinstance(jac(model, q, frame), np.ndarray) and not spy.calls
+    fd.set_default_backend("reference")
+    try:
+        assert jac(model, q, frame) == "general" and len(spy.calls) == 1
+    finally:
+        fd.set_default_backend(None)
+    assert isinstance(jac(model, q, frame), np.ndarray) and len(spy.calls) == 1
+
+
+def test_the_objects_look_like_their_functions() -> None:
+    for f, general in ((fd.frame_jacobian, _frame_jacobian), (fd.frame_placement, _frame_placement)):
+        name = f.__name__
+        assert getattr(fd, name) is f and f.__qualname__ == name
+        assert f.__module__ == "featherdyn.api.kinematics" and f.__wrapped__ is general
+        assert f.__doc__ == general.__doc__ and "`(" in f.__doc__
+        assert inspect.signature(f) == inspect.signature(general)
+        assert pickle.loads(pickle.dumps(f)) is f
+        assert repr(f) == f"<function featherdyn.api.kinematics.{name} (one-state calls in the compiled core)>"
+    cm = fd.compile(tree(TREE_NAMES[0]))
+    assert cm.fk.__qualname__ == "CompiledModel.fk" and "(nb, 4, 4)" in cm.fk.__doc__
+    assert list(inspect.signature(cm.fk).parameters) == ["q", "out"]
+
+
+def test_public_call_refuses_wrong_constants() -> None:
+    with pytest.raises(ValueError, match="unknown kind"):
+        _core.public_call("rnea", print, (), None)
+    with pytest.raises(ValueError, match="wrong constants"):
+        _core.public_call("frame_jacobian", print, (CoreHandle,), None)
+    with pytest.raises(TypeError, match="slot descriptors"):
+        _core.public_call("frame_placement", print, (CoreHandle, fd.PluckerTransform, 1, 2, 3, 4), None)
+    with pytest.raises(TypeError, match="core's Model"):
+        _core.public_call("fk", print, (), "not a core model")
+
+
+def test_compiled_fk_writes_out_or_declines() -> None:
+    model = tree(TREE_NAMES[2])
+    cm = fd.compile(model)
+    q = random_state(model, 6).q
+    H = np.empty((model.nbodies, 4, 4))
+    assert cm.fk(q, out=H) is H
+    assert cm.fk(q, H) is H
+    fresh = cm.fk(q)
+    assert fresh is not H and type(fresh) is np.ndarray and fresh.flags.writeable
+    np.testing.assert_array_equal(fresh, H)
+    np.testing.assert_array_equal(cm.fk(q.tolist()), H)
+    np.testing.assert_array_equal(cm.fk(q=q), H)
+    with pytest.raises(ShapeError):
+        cm.fk(q, out=np.empty((model.nbodies + 1, 4, 4)))
+    ro = np.empty((model.nbodies, 4, 4))
+    ro.setflags(write=False)
+    with pytest.raises((ValueError, TypeError)):
+        cm.fk(q, out=ro)
+    with pytest.raises(TypeError):
+        cm.fk(q, out=H, extra=1)
+    with pytest.raises(ShapeError):
+        cm.fk(q[:-1])
+
+
+def test_alternating_and_replaced_models_use_their_own_handles() -> None:
+    a, b = tree(TREE_NAMES[0]), tree(TREE_NAMES[3])
+    fa, fb = _frame(a), _frame(b)
+    qa, qb = random_state(a, 7).q, random_state(b, 7).q
+    Ja, Jb = fd.frame_jacobian(a, qa, fa, backend="compiled"), fd.frame_jacobian(b, qb, fb, backend="compiled")
+    for _ in range(3):
+        np.testing.assert_array_equal(fd.frame_jacobian(a, qa, fa), Ja)
+        np.testing.assert_array_equal(fd.frame_jacobian(b, qb, fb), Jb)
+    del a
+    for seed in range(4):  # new models, possibly at the dropped one's address
+        c = tree(TREE_NAMES[seed % len(TREE_NAMES)])
+        fc, qc = _frame(c), random_state(c, seed).q
+        np.testing.assert_array_equal(fd.frame_jacobian(c, qc, fc), fd.frame_jacobian(c, qc, fc, backend="compiled"))
+        Xc, Xr = fd.frame_placement(c, qc, fc), fd.frame_placement(c, qc, fc, backend="reference")
+        np.testing.assert_allclose(Xc.translation, Xr.translation, rtol=0, atol=1e-12)
+
+
+def test_eight_threads_on_different_models_get_their_results() -> None:
+    models = [tree(TREE_NAMES[k % len(TREE_NAMES)]) for k in range(8)]
+    states = [random_state(m, 10 + k).q for k, m in enumerate(models)]
+    expected = [fd.frame_jacobian(m, q, _frame(m), fd.WORLD, backend="compiled") for m, q in zip(models, states, strict=True)]
+    errors: list[str] = []
+
+    def work(k: int) -> None:
+        m, q, frame = models[k], states[k], _frame(models[k])
+        for _ in range(300):
+            if not np.array_equal(fd.frame_jacobian(m, q, frame, fd.WORLD), expected[k]):
+                errors.append(f"thread {k}")
+                return
+
+    threads = [threading.Thread(target=work, args=(k,)) for k in range(8)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    assert not errors
+
+
+def test_no_reference_leaks_on_fast_declined_and_failing_calls() -> None:
+    model = tree(TREE_NAMES[1])
+    frame = _frame(model)
+    q = random_state(model, 8).q
+    qn = q.copy()
+    qn[0] = np.nan
+    cm = fd.compile(model)
+    H = np.empty((model.nbodies, 4, 4))
+
+    def calls() -> None:
+        fd.frame_jacobian(model, q, frame)
+        fd.frame_jacobian(model, q, frame, reference=fd.WORLD)
+        fd.frame_placement(model, q, frame)
+        cm.fk(q, out=H)
+        cm.fk(q)
+        fd.frame_jacobian(model, q.tolist(), frame)
+        for bad in (qn, q[:1]):
+            with pytest.raises((NonFiniteError, ShapeError)):
+                fd.frame_jacobian(model, bad, frame)
+            with pytest.raises((NonFiniteError, ShapeError)):
+                fd.frame_placement(model, bad, frame)
+
+    calls()
+    watched = (model, q, qn, frame, H, fd.LOCAL, fd.WORLD)
+    before = [sys.getrefcount(x) for x in watched]
+    for _ in range(200):
+        calls()
+    assert [sys.getrefcount(x) for x in watched] == before
+
+
+def _prismatic_pair() -> fd.Model:
+    b = fd.ModelBuilder("slides")
+    inertia = fd.SpatialInertia(1.0, [0.0, 0.0, 0.05], np.eye(3) * 0.01)
+    for i in range(2):
+        b.add_body(f"s{i}", parent=i - 1, joint=fd.PrismaticJoint(np.array([1.0, 0.0, 0.0])),
+                   placement=fd.PluckerTransform(np.eye(3), [0.0, 0.1, 0.0]), inertia=inertia)
+    return b.build()
+
+
+def test_an_overflowing_jacobian_is_a_non_finite_error_at_its_first_element() -> None:
+    model = _prismatic_pair()  # two slides of 1e308 along x: the frame's origin overflows
+    q = np.array([1e308, 1e308])
+    cm = core._view(model).cm
+    frame = model.frames[-1].name
+    for code, ref in enumerate(REFERENCES):
+        J = np.empty((6, model.nv))
+        status = _core.frame_jacobian(cm, q, model.frame_id(frame), code, J)
+        assert status & 7 == 2 and status >> 8 == np.flatnonzero(~np.isfinite(J))[0]  # NONFINITE, first element
+        for backend in (None, "reference", "compiled"):
+            with pytest.raises(NonFiniteError, match="overflowed"):
+                fd.frame_jacobian(model, q, frame, ref, backend=backend)
+    for backend in (None, "reference", "compiled"):
+        with pytest.raises(NonFiniteError, match="overflowed"):
+            fd.frame_placement(model, q, frame, backend=backend)
+    np.testing.assert_array_equal(fd.frame_jacobian(model, np.array([1e300, 1e300]), frame),
+                                  fd.frame_jacobian(model, np.array([1e300, 1e300]), frame, backend="compiled"))
