@@ -152,18 +152,31 @@ def floor_rows(p: Pair, frame: str, repeats: int, budget: float) -> list[tuple[s
     q, v, a, qp, vp, ap = Q[0], V[0], A[0], np.ascontiguousarray(Qp[0]), np.ascontiguousarray(Vp[0]), np.ascontiguousarray(Ap[0])
     cm, short = core._view(m).cm, np.zeros(1)
     fid, fid_pin = m.frame_id(frame), pm.getFrameId(frame)
-    H = np.empty((m.nbodies, 4, 4))
+    H, R, p3 = np.empty((m.nbodies, 4, 4)), np.empty((3, 3)), np.empty(3)
     cmodel = fd.compile(m)
     calls: list[tuple[str, Callable[[], Any], Callable[[], Any], Callable[[], Any], Callable[[], Any]]] = [
         ("fd.rnea", lambda: fd.rnea(m, q, v, a), lambda: _core.rnea_new(cm, q, v, a, None, True),
          lambda: _core.rnea_new(cm, short, v, a, None, True), lambda: pin.rnea(pm, pd, qp, vp, ap)),
         ("fd.crba", lambda: fd.crba(m, q), lambda: _core.crba_new(cm, q), lambda: _core.crba_new(cm, short),
          lambda: pin.crba(pm, pd, qp)),
+        ("fd.aba", lambda: fd.aba(m, q, v, a), lambda: _core.aba_new(cm, q, v, a, None, True),
+         lambda: _core.aba_new(cm, short, v, a, None, True), lambda: pin.aba(pm, pd, qp, vp, ap)),
+        ("fd.nonlinear_effects", lambda: fd.nonlinear_effects(m, q, v), lambda: _core.nle_new(cm, q, v),
+         lambda: _core.nle_new(cm, short, v), lambda: pin.nonLinearEffects(pm, pd, qp, vp)),
         ("fd.generalized_gravity", lambda: fd.generalized_gravity(m, q), lambda: _core.gravity_new(cm, q),
          lambda: _core.gravity_new(cm, short), lambda: pin.computeGeneralizedGravity(pm, pd, qp)),
         ("fd.frame_jacobian LOCAL", lambda: fd.frame_jacobian(m, q, frame, fd.LOCAL),
          lambda: _core.frame_jacobian_new(cm, q, fid, 0), lambda: _core.frame_jacobian_new(cm, short, fid, 0),
          lambda: pin.computeFrameJacobian(pm, pd, qp, fid_pin, pin.LOCAL)),
+        ("fd.frame_jacobian WORLD", lambda: fd.frame_jacobian(m, q, frame, fd.WORLD),
+         lambda: _core.frame_jacobian_new(cm, q, fid, 1), lambda: _core.frame_jacobian_new(cm, short, fid, 1),
+         lambda: pin.computeFrameJacobian(pm, pd, qp, fid_pin, pin.WORLD)),
+        ("fd.frame_jacobian LOCAL_WORLD_ALIGNED", lambda: fd.frame_jacobian(m, q, frame, fd.LOCAL_WORLD_ALIGNED),
+         lambda: _core.frame_jacobian_new(cm, q, fid, 2), lambda: _core.frame_jacobian_new(cm, short, fid, 2),
+         lambda: pin.computeFrameJacobian(pm, pd, qp, fid_pin, pin.LOCAL_WORLD_ALIGNED)),
+        ("fd.frame_placement", lambda: fd.frame_placement(m, q, frame), lambda: _core.frame_pose(cm, q, fid, R, p3),
+         lambda: _core.frame_pose(cm, short, fid, R, p3),
+         lambda: pin.updateFramePlacement(pm, pd, fid_pin) if pin.forwardKinematics(pm, pd, qp) is None else None),
         ("fd.compile(model).fk(q, out=H)", lambda: cmodel.fk(q, out=H), lambda: _core.placements(cm, q, H),
          lambda: _core.placements(cm, short, H), lambda: pin.forwardKinematics(pm, pd, qp)),
     ]
@@ -265,9 +278,9 @@ def main(argv: list[str]) -> int:
                                                                                     max(3, repeats // 3), budget * 10):
             print(f"{row:40s} {t_core * 1e6:9.2f} {t_pin * 1e6:9.2f} {t_core / t_pin:7.2f}")
         print(f"\nwhere the time goes (µs; floor = the binding call on a state it refuses at once)\n"
-              f"{'call':32s} {'public':>8s} {'binding':>8s} {'floor':>8s} {'pin':>8s} {'ratio':>7s}")
+              f"{'call':38s} {'public':>8s} {'binding':>8s} {'floor':>8s} {'pin':>8s} {'ratio':>7s}")
         for row, t_public, t_binding, t_floor, t_pin in floor_rows(p, frame, repeats, budget):
-            print(f"{row:32s} {t_public * 1e6:8.2f} {t_binding * 1e6:8.2f} {t_floor * 1e6:8.2f} {t_pin * 1e6:8.2f} "
+            print(f"{row:38s} {t_public * 1e6:8.2f} {t_binding * 1e6:8.2f} {t_floor * 1e6:8.2f} {t_pin * 1e6:8.2f} "
                   f"{t_public / t_pin:7.2f}")
         print()
     return 0

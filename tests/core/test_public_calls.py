@@ -1,5 +1,6 @@
 """The public functions whose one-state calls are finished in C (``_core.public_call``).
 
+``fd.rnea``, ``fd.nonlinear_effects``, ``fd.generalized_gravity``, ``fd.crba``, ``fd.aba``,
 ``fd.frame_jacobian``, ``fd.frame_placement`` and ``fd.compile(model).fk`` bind their arguments in
 the core, compute an exact native float64 ``numpy.ndarray`` state there, and hand every other call
 to the Python function they wrap, unchanged. Checked here:
@@ -29,7 +30,7 @@ from _models import TREES, random_state, tool_frames, tree
 import featherdyn as fd
 from featherdyn import core
 from featherdyn.api import _backend
-from featherdyn.api.kinematics import _frame_jacobian, _frame_placement
+from featherdyn.api.kinematics import _general_frame_jacobian, _general_frame_placement
 from featherdyn.core import _core
 from featherdyn.core._model_view import CoreHandle
 from featherdyn.errors import ModelError, NonFiniteError, ShapeError
@@ -90,7 +91,73 @@ def _spied(kind: str) -> tuple[object, Spy]:
     spy = Spy()
     if kind == "frame_jacobian":
         return _backend.public_call(kind, spy, (CoreHandle, *REFERENCES)), spy
-    return _backend.public_call(kind, spy, (CoreHandle, fd.PluckerTransform, *SLOTS)), spy
+    if kind == "frame_placement":
+        return _backend.public_call(kind, spy, (CoreHandle, fd.PluckerTransform, *SLOTS)), spy
+    return _backend.public_call(kind, spy, (CoreHandle,)), spy
+
+
+DYNAMICS = ("rnea", "aba", "nonlinear_effects", "generalized_gravity", "crba")
+
+
+@pytest.mark.parametrize("name", TREE_NAMES)
+def test_dynamics_fast_paths_equal_the_new_entry_points_bit_for_bit(name: str) -> None:
+    model = tree(name)
+    cm = core._view(model).cm
+    for seed in range(2):
+        st = random_state(model, seed)
+        q, v, a, fx = st.q, st.v, st.a, st.f_ext
+        pairs = [
+            (fd.rnea(model, q, v, a), _core.rnea_new(cm, q, v, a, None, True)),
+            (fd.rnea(model, q, v, a, fx), _core.rnea_new(cm, q, v, a, fx, True)),
+            (fd.rnea(model, q, v, a, f_ext=fx, gravity=False), _core.rnea_new(cm, q, v, a, fx, False)),
+            (fd.aba(model, q, v, a), _core.aba_new(cm, q, v, a, None, True)),
+            (fd.aba(model, q, v, a, fx, gravity=False), _core.aba_new(cm, q, v, a, fx, False)),
+            (fd.nonlinear_effects(model, q, v), _core.nle_new(cm, q, v)),
+            (fd.generalized_gravity(model, q), _core.gravity_new(cm, q)),
+            (fd.crba(model, q), _core.crba_new(cm, q)),
+        ]
+        for got, expected in pairs:
+            assert type(got) is np.ndarray and got.flags.writeable
+            np.testing.assert_array_equal(got, expected)
+        np.testing.assert_allclose(fd.rnea(model, q, v, a, fx), fd.rnea(model, q, v, a, fx, backend="reference"),
+                                   rtol=1e-10, atol=1e-10)
+
+
+def test_dynamics_declined_calls_reach_the_general_function() -> None:
+    model = tree(TREE_NAMES[2])
+    st = random_state(model, 9)
+    q, v, a, fx = st.q, st.v, st.a, st.f_ext
+    fd.rnea(model, q, v, a)  # the model's core handle exists
+    rnea, spy = _spied("rnea")
+    for args, kwargs in [((model, q, v, a), {}), ((model, q, v, a, fx), {}), ((model, q, v, a, None), {}),
+                         ((model, q, v, a), {"gravity": False}), ((model, q, v, a), {"f_ext": fx, "gravity": True})]:
+        assert isinstance(rnea(*args, **kwargs), np.ndarray), (args, kwargs)
+    assert not spy.calls
+    declined = [
+        ((model, q, v, a, fx, False), {}),  # gravity is keyword-only: Python's TypeError
+        ((model, q, v, a), {"gravity": 1}),  # not exactly a bool
+        ((model, q, v, a), {"backend": "compiled"}),
+        ((model, q, v, a, fx.tolist()), {}),
+        ((model, q, v, a, fx[:-1]), {}),
+        ((model, q, v.astype(np.float32), a), {}),
+        ((model, q, v), {}),
+        ((model, q, v, a[:-1]), {}),
+    ]
+    for args, kwargs in declined:
+        spy.calls.clear()
+        assert rnea(*args, **kwargs) == "general", (args, kwargs)
+        assert len(spy.calls) == 1 and spy.calls[0][1] == kwargs
+        assert all(x is y for x, y in zip(spy.calls[0][0], args, strict=True))
+    for kind, args in [("aba", (model, q, v, a)), ("nonlinear_effects", (model, q, v)),
+                       ("generalized_gravity", (model, q)), ("crba", (model, q))]:
+        f, spy = _spied(kind)
+        assert isinstance(f(*args), np.ndarray) and not spy.calls, kind
+        assert f(*args, backend=None) == "general" and len(spy.calls) == 1, kind
+        assert f(args[0], args[1].tolist(), *args[2:]) == "general" and len(spy.calls) == 2, kind
+    with pytest.raises(TypeError):
+        fd.rnea(model, q, v, a, fx, False)
+    with pytest.raises(ShapeError):
+        fd.aba(model, q, v, a[:-1])
 
 
 def test_declined_calls_reach_the_general_function_with_the_same_arguments() -> None:
@@ -178,14 +245,19 @@ def test_the_reference_default_backend_sends_every_call_to_the_general_function(
 
 
 def test_the_objects_look_like_their_functions() -> None:
-    for f, general in ((fd.frame_jacobian, _frame_jacobian), (fd.frame_placement, _frame_placement)):
+    from featherdyn.api import dynamics
+
+    pairs = [(fd.frame_jacobian, _general_frame_jacobian), (fd.frame_placement, _general_frame_placement)]
+    pairs += [(getattr(fd, name), getattr(dynamics, f"_general_{name}")) for name in DYNAMICS]
+    for f, general in pairs:
         name = f.__name__
+        module = "featherdyn.api.kinematics" if name.startswith("frame") else "featherdyn.api.dynamics"
         assert getattr(fd, name) is f and f.__qualname__ == name
-        assert f.__module__ == "featherdyn.api.kinematics" and f.__wrapped__ is general
+        assert f.__module__ == module and f.__wrapped__ is general
         assert f.__doc__ == general.__doc__ and "`(" in f.__doc__
         assert inspect.signature(f) == inspect.signature(general)
         assert pickle.loads(pickle.dumps(f)) is f
-        assert repr(f) == f"<function featherdyn.api.kinematics.{name} (one-state calls in the compiled core)>"
+        assert repr(f) == f"<function {module}.{name} (one-state calls in the compiled core)>"
     cm = fd.compile(tree(TREE_NAMES[0]))
     assert cm.fk.__qualname__ == "CompiledModel.fk" and "(nb, 4, 4)" in cm.fk.__doc__
     assert list(inspect.signature(cm.fk).parameters) == ["q", "out"]
@@ -193,6 +265,8 @@ def test_the_objects_look_like_their_functions() -> None:
 
 def test_public_call_refuses_wrong_constants() -> None:
     with pytest.raises(ValueError, match="unknown kind"):
+        _core.public_call("rnea_derivatives", print, (), None)
+    with pytest.raises(ValueError, match="wrong constants"):
         _core.public_call("rnea", print, (), None)
     with pytest.raises(ValueError, match="wrong constants"):
         _core.public_call("frame_jacobian", print, (CoreHandle,), None)
@@ -273,7 +347,14 @@ def test_no_reference_leaks_on_fast_declined_and_failing_calls() -> None:
     cm = fd.compile(model)
     H = np.empty((model.nbodies, 4, 4))
 
+    v = np.ones(model.nv)
+
     def calls() -> None:
+        fd.rnea(model, q, v, v)
+        fd.aba(model, q, v, v, gravity=False)
+        fd.crba(model, q)
+        with pytest.raises(NonFiniteError):
+            fd.rnea(model, qn, v, v)
         fd.frame_jacobian(model, q, frame)
         fd.frame_jacobian(model, q, frame, reference=fd.WORLD)
         fd.frame_placement(model, q, frame)
@@ -287,7 +368,7 @@ def test_no_reference_leaks_on_fast_declined_and_failing_calls() -> None:
                 fd.frame_placement(model, bad, frame)
 
     calls()
-    watched = (model, q, qn, frame, H, fd.LOCAL, fd.WORLD)
+    watched = (model, q, qn, v, frame, H, fd.LOCAL, fd.WORLD)
     before = [sys.getrefcount(x) for x in watched]
     for _ in range(200):
         calls()

@@ -3,7 +3,9 @@
 Each function checks its input (:mod:`._checks`), picks a backend
 (:mod:`._backend`) and calls the reference recursion in
 :mod:`featherdyn.algorithms` or the compiled core (:mod:`featherdyn.core`); one
-float64 state first hands its arguments to the core's binding as they are. The equations are in the
+float64 state is finished in the core (``_backend.public_call``: the
+public names are objects that hand every other call to the ``_general_*``
+function). The equations are in the
 docstrings; the recursions are in ``algorithms/rnea.py``, ``crba.py``,
 ``aba.py`` and ``coriolis.py``.
 """
@@ -19,8 +21,9 @@ from ..algorithms import aba as _aba
 from ..algorithms import coriolis as _coriolis
 from ..algorithms import crba as _crba
 from ..algorithms import rnea as _rnea
+from ..core._model_view import CoreHandle
 from ..model import Model
-from ._backend import CORE, core_path, select_backend
+from ._backend import public_call, select_backend
 from ._checks import State, as_dtype, batch_with_f_ext, check_f_ext, check_state, finite_result, quiet
 from .kinematics import kinematics_of
 
@@ -35,7 +38,7 @@ def _inverse_dynamics(model: Model, st: State, v: np.ndarray, a: np.ndarray, fx:
     return finite_result(quiet(_rnea.rnea, model, st.q, v, a, fx, gravity), "rnea")
 
 
-def rnea(model: Model, q: ArrayLike, v: ArrayLike, a: ArrayLike, f_ext: ArrayLike | None = None, *, gravity: bool = True,
+def _general_rnea(model: Model, q: ArrayLike, v: ArrayLike, a: ArrayLike, f_ext: ArrayLike | None = None, *, gravity: bool = True,
          backend: str | None = None) -> np.ndarray:
     """Joint forces ``τ`` `(..., nv)` that produce accelerations ``a`` in state ``(q, v)`` (RNEA).
 
@@ -51,14 +54,6 @@ def rnea(model: Model, q: ArrayLike, v: ArrayLike, a: ArrayLike, f_ext: ArrayLik
 
         τ = M(q) q̈ + C(q, q̇) q̇ + g(q) − Σ_i J_iᵀ f_i^ext
     """
-    core = core_path(model, backend)
-    if core is not None:
-        try:
-            tau = CORE.rnea_new(core.cm, q, v, a, f_ext, gravity)  # the result, or None: the general path words why
-            if tau is not None:
-                return tau
-        except TypeError:  # arguments the binding does not take as they are: the general path converts
-            pass
     if _dask.lazy(q, v, a, f_ext):
         return _dask.call(rnea, model, {"q": q, "v": v, "a": a, "f_ext": f_ext}, gravity=gravity, backend=backend)
     fx = check_f_ext(model, f_ext)
@@ -66,19 +61,15 @@ def rnea(model: Model, q: ArrayLike, v: ArrayLike, a: ArrayLike, f_ext: ArrayLik
     return _inverse_dynamics(model, st, st.arrays["v"], st.arrays["a"], fx, gravity, backend)
 
 
-def nonlinear_effects(model: Model, q: ArrayLike, v: ArrayLike, *, backend: str | None = None) -> np.ndarray:
+#: one float64 state finished in the compiled core (``_backend.public_call``)
+rnea = public_call("rnea", _general_rnea, (CoreHandle,))
+
+
+def _general_nonlinear_effects(model: Model, q: ArrayLike, v: ArrayLike, *, backend: str | None = None) -> np.ndarray:
     """Coriolis, centrifugal and gravity forces `(..., nv)`::
 
         h(q, q̇) = C(q, q̇) q̇ + g(q) = RNEA(q, q̇, 0)
     """
-    core = core_path(model, backend)
-    if core is not None:
-        try:
-            h = CORE.nle_new(core.cm, q, v)
-            if h is not None:
-                return h
-        except TypeError:  # arguments the binding does not take as they are: the general path converts
-            pass
     if _dask.lazy(q, v):
         return _dask.call(nonlinear_effects, model, {"q": q, "v": v}, backend=backend)
     st = check_state(model, q, v=v)
@@ -86,19 +77,15 @@ def nonlinear_effects(model: Model, q: ArrayLike, v: ArrayLike, *, backend: str 
     return _inverse_dynamics(model, st, qd, np.zeros(qd.shape, dtype=qd.dtype), None, True, backend)
 
 
-def generalized_gravity(model: Model, q: ArrayLike, *, backend: str | None = None) -> np.ndarray:
+#: one float64 state finished in the compiled core (``_backend.public_call``)
+nonlinear_effects = public_call("nonlinear_effects", _general_nonlinear_effects, (CoreHandle,))
+
+
+def _general_generalized_gravity(model: Model, q: ArrayLike, *, backend: str | None = None) -> np.ndarray:
     """Gravity forces `(..., nv)`::
 
         g(q) = RNEA(q, 0, 0)
     """
-    core = core_path(model, backend)
-    if core is not None:
-        try:
-            g = CORE.gravity_new(core.cm, q)
-            if g is not None:
-                return g
-        except TypeError:  # arguments the binding does not take as they are: the general path converts
-            pass
     if _dask.lazy(q):
         return _dask.call(generalized_gravity, model, {"q": q}, backend=backend)
     st = check_state(model, q)
@@ -106,21 +93,17 @@ def generalized_gravity(model: Model, q: ArrayLike, *, backend: str | None = Non
     return _inverse_dynamics(model, st, zero, zero, None, True, backend)
 
 
-def crba(model: Model, q: ArrayLike, *, backend: str | None = None) -> np.ndarray:
+#: one float64 state finished in the compiled core (``_backend.public_call``)
+generalized_gravity = public_call("generalized_gravity", _general_generalized_gravity, (CoreHandle,))
+
+
+def _general_crba(model: Model, q: ArrayLike, *, backend: str | None = None) -> np.ndarray:
     """The joint-space mass matrix ``M(q)`` `(..., nv, nv)`, full and symmetric (CRBA).
 
     ::
 
         T = ½ q̇ᵀ M(q) q̇,    M_ij = S_iᵀ ⁱX_j^* I^C_j S_j   (j in the subtree of i)
     """
-    core = core_path(model, backend)
-    if core is not None:
-        try:
-            M = CORE.crba_new(core.cm, q)
-            if M is not None:
-                return M
-        except TypeError:  # arguments the binding does not take as they are: the general path converts
-            pass
     if _dask.lazy(q):
         return _dask.call(crba, model, {"q": q}, backend=backend)
     st = check_state(model, q)
@@ -129,7 +112,11 @@ def crba(model: Model, q: ArrayLike, *, backend: str | None = None) -> np.ndarra
     return finite_result(quiet(_crba.crba, model, st.q), "crba")
 
 
-def aba(model: Model, q: ArrayLike, v: ArrayLike, tau: ArrayLike, f_ext: ArrayLike | None = None, *, gravity: bool = True,
+#: one float64 state finished in the compiled core (``_backend.public_call``)
+crba = public_call("crba", _general_crba, (CoreHandle,))
+
+
+def _general_aba(model: Model, q: ArrayLike, v: ArrayLike, tau: ArrayLike, f_ext: ArrayLike | None = None, *, gravity: bool = True,
         backend: str | None = None) -> np.ndarray:
     """Joint accelerations ``q̈`` `(..., nv)` produced by joint forces ``τ`` in state ``(q, v)`` (ABA).
 
@@ -147,14 +134,6 @@ def aba(model: Model, q: ArrayLike, v: ArrayLike, tau: ArrayLike, f_ext: ArrayLi
     Raises:
         SingularMassMatrixError: naming the joint, when ``M(q)`` is singular.
     """
-    core = core_path(model, backend)
-    if core is not None:
-        try:
-            qdd = CORE.aba_new(core.cm, q, v, tau, f_ext, gravity)
-            if qdd is not None:
-                return qdd
-        except TypeError:  # arguments the binding does not take as they are: the general path converts
-            pass
     if _dask.lazy(q, v, tau, f_ext):
         return _dask.call(aba, model, {"q": q, "v": v, "tau": tau, "f_ext": f_ext}, gravity=gravity, backend=backend)
     fx = check_f_ext(model, f_ext)
@@ -164,6 +143,10 @@ def aba(model: Model, q: ArrayLike, v: ArrayLike, tau: ArrayLike, f_ext: ArrayLi
         qdd = _compiled.aba(model, st.q, st.arrays["v"], st.arrays["tau"], fx, gravity)
         return finite_result(as_dtype(qdd, dtype), "aba")
     return finite_result(quiet(_aba.aba, model, st.q, st.arrays["v"], st.arrays["tau"], fx, gravity), "aba")
+
+
+#: one float64 state finished in the compiled core (``_backend.public_call``)
+aba = public_call("aba", _general_aba, (CoreHandle,))
 
 
 def coriolis_matrix(model: Model, q: ArrayLike, v: ArrayLike, *, backend: str | None = None) -> np.ndarray:

@@ -104,7 +104,7 @@ def forward_kinematics(model: Model, q: ArrayLike, v: ArrayLike | None = None, a
     return kinematics_of(model, st, st.arrays.get("v"), st.arrays.get("a"), backend)
 
 
-def _frame_placement(model: Model, q: ArrayLike, frame: str | int, *, backend: str | None = None) -> PluckerTransform:
+def _general_frame_placement(model: Model, q: ArrayLike, frame: str | int, *, backend: str | None = None) -> PluckerTransform:
     """The world placement ``⁰M_f`` of a frame (name or index), batch shape `(...)`::
 
         ⁰M_f = ⁰M_body(f) · placement_f
@@ -119,7 +119,7 @@ def _frame_placement(model: Model, q: ArrayLike, frame: str | int, *, backend: s
 
 
 #: one float64 state finished in the compiled core (``_backend.public_call``)
-frame_placement = public_call("frame_placement", _frame_placement, (
+frame_placement = public_call("frame_placement", _general_frame_placement, (
     CoreHandle, PluckerTransform, *(PluckerTransform.__dict__[f] for f in ("rotation", "translation", "source", "target"))))
 
 
@@ -195,7 +195,7 @@ def joint_jacobians(model: Model, q: ArrayLike, *, backend: str | None = None) -
     return finite_result(quiet(_jac.joint_jacobians, model, kinematics_of(model, st, None, None, backend)), "joint_jacobians")
 
 
-def _frame_jacobian(model: Model, q: ArrayLike, frame: str | int, reference: ReferenceFrame | str = LOCAL, *,
+def _general_frame_jacobian(model: Model, q: ArrayLike, frame: str | int, reference: ReferenceFrame | str = LOCAL, *,
                    backend: str | None = None) -> np.ndarray:
     """The geometric Jacobian of a frame, `(..., 6, nv)`, rows ``[ω; v]`` (``getFrameJacobian``).
 
@@ -213,7 +213,7 @@ def _frame_jacobian(model: Model, q: ArrayLike, frame: str | int, reference: Ref
 
 
 #: one float64 state finished in the compiled core (``_backend.public_call``)
-frame_jacobian = public_call("frame_jacobian", _frame_jacobian, (CoreHandle, LOCAL, WORLD, LOCAL_WORLD_ALIGNED))
+frame_jacobian = public_call("frame_jacobian", _general_frame_jacobian, (CoreHandle, LOCAL, WORLD, LOCAL_WORLD_ALIGNED))
 
 
 def frame_jacobian_time_variation(model: Model, q: ArrayLike, v: ArrayLike, frame: str | int, reference: ReferenceFrame | str = LOCAL, *,

@@ -726,26 +726,102 @@ PyObject* fk_path(PublicCall* f, PyObject* const* a) {
   });
 }
 
-const PublicCallKind FRAME_JACOBIAN{{"model", "q", "frame", "reference"}, 4, 3, frame_jacobian_path};
-const PublicCallKind FRAME_PLACEMENT{{"model", "q", "frame", nullptr}, 3, 3, frame_placement_path};
-const PublicCallKind FK{{"q", "out", nullptr, nullptr}, 2, 1, fk_path};
+// The dynamics: an array argument (absent: nullptr or None) and the gravity flag (absent: True; exactly
+// True or False, anything else declines).
+bool array_arg(PyObject* x, F64In& out) { return x == nullptr || x == Py_None || out.acquire(x); }
+bool flag_arg(PyObject* x, bool& out) {
+  out = x == nullptr || x == Py_True;
+  return x == nullptr || x == Py_True || x == Py_False;
+}
+PyObject* result_or_decline(nb::object r) { return r.is_none() ? nullptr : r.release().ptr(); }
+
+// fd.rnea(model, q, v, a, f_ext=None, *, gravity=True); extra = (CoreHandle,) for all five
+PyObject* rnea_path(PublicCall* f, PyObject* const* a) {
+  const ModelData* md = nullptr;
+  PyObject* frames = nullptr;
+  F64In q, v, acc, fx;
+  bool g = true;
+  if (!model_of(f, a[0], md, frames) || !q.acquire(a[1]) || !v.acquire(a[2]) || !acc.acquire(a[3]) ||
+      !array_arg(a[4], fx) || !flag_arg(a[5], g))
+    return nullptr;
+  return guarded([&] { return result_or_decline(rnea_new(*md, q, v, acc, fx, g)); });
+}
+
+// fd.aba(model, q, v, tau, f_ext=None, *, gravity=True)
+PyObject* aba_path(PublicCall* f, PyObject* const* a) {
+  const ModelData* md = nullptr;
+  PyObject* frames = nullptr;
+  F64In q, v, tau, fx;
+  bool g = true;
+  if (!model_of(f, a[0], md, frames) || !q.acquire(a[1]) || !v.acquire(a[2]) || !tau.acquire(a[3]) ||
+      !array_arg(a[4], fx) || !flag_arg(a[5], g))
+    return nullptr;
+  return guarded([&] { return result_or_decline(aba_new(*md, q, v, tau, fx, g)); });
+}
+
+// fd.nonlinear_effects(model, q, v)
+PyObject* nle_path(PublicCall* f, PyObject* const* a) {
+  const ModelData* md = nullptr;
+  PyObject* frames = nullptr;
+  F64In q, v;
+  if (!model_of(f, a[0], md, frames) || !q.acquire(a[1]) || !v.acquire(a[2])) return nullptr;
+  return guarded([&] { return result_or_decline(nle_new(*md, q, v)); });
+}
+
+// fd.generalized_gravity(model, q)
+PyObject* gravity_path(PublicCall* f, PyObject* const* a) {
+  const ModelData* md = nullptr;
+  PyObject* frames = nullptr;
+  F64In q;
+  if (!model_of(f, a[0], md, frames) || !q.acquire(a[1])) return nullptr;
+  return guarded([&] { return result_or_decline(gravity_new(*md, q)); });
+}
+
+// fd.crba(model, q)
+PyObject* crba_path(PublicCall* f, PyObject* const* a) {
+  const ModelData* md = nullptr;
+  PyObject* frames = nullptr;
+  F64In q;
+  if (!model_of(f, a[0], md, frames) || !q.acquire(a[1])) return nullptr;
+  return guarded([&] { return result_or_decline(crba_new(*md, q)); });
+}
+
+// {names}, parameters, positional, required, path; and how many constants its `extra` holds
+struct NamedKind {
+  const char* name;
+  PublicCallKind kind;
+  std::size_t constants;
+};
+const NamedKind KINDS[] = {
+    {"frame_jacobian", {{"model", "q", "frame", "reference"}, 4, 4, 3, frame_jacobian_path}, 4},
+    {"frame_placement", {{"model", "q", "frame"}, 3, 3, 3, frame_placement_path}, 6},
+    {"fk", {{"q", "out"}, 2, 2, 1, fk_path}, 0},
+    {"rnea", {{"model", "q", "v", "a", "f_ext", "gravity"}, 6, 5, 4, rnea_path}, 1},
+    {"aba", {{"model", "q", "v", "tau", "f_ext", "gravity"}, 6, 5, 4, aba_path}, 1},
+    {"nonlinear_effects", {{"model", "q", "v"}, 3, 3, 3, nle_path}, 1},
+    {"generalized_gravity", {{"model", "q"}, 2, 2, 2, gravity_path}, 1},
+    {"crba", {{"model", "q"}, 2, 2, 2, crba_path}, 1},
+};
 
 nb::object make(const std::string& kind, nb::handle general, nb::handle extra, nb::handle bound) {
-  const PublicCallKind* k = kind == "frame_jacobian" ? &FRAME_JACOBIAN
-                            : kind == "frame_placement" ? &FRAME_PLACEMENT
-                            : kind == "fk" ? &FK : nullptr;
-  if (k == nullptr) throw nb::value_error("public_call: unknown kind");
-  const std::size_t need = k == &FRAME_JACOBIAN ? 4 : k == &FRAME_PLACEMENT ? 6 : 0;
+  const NamedKind* named = nullptr;
+  for (const NamedKind& n : KINDS)
+    if (kind == n.name) named = &n;
+  if (named == nullptr) throw nb::value_error("public_call: unknown kind");
+  const PublicCallKind* k = &named->kind;
+  const PublicCallKind* const FK = &KINDS[2].kind;
+  const PublicCallKind* const FRAME_PLACEMENT = &KINDS[1].kind;
+  const std::size_t need = named->constants;
   if (!PyTuple_Check(extra.ptr()) || static_cast<std::size_t>(PyTuple_GET_SIZE(extra.ptr())) != need)
     throw nb::value_error("public_call: wrong constants for this kind");
-  if (k == &FK && !nb::isinstance<ModelData>(bound)) throw nb::type_error("public_call: fk needs the core's Model");
-  if (k == &FRAME_PLACEMENT) {
+  if (k == FK && !nb::isinstance<ModelData>(bound)) throw nb::type_error("public_call: fk needs the core's Model");
+  if (k == FRAME_PLACEMENT) {
     if (!PyType_Check(PyTuple_GET_ITEM(extra.ptr(), 1))) throw nb::type_error("public_call: a class expected");
     for (int i = 2; i < 6; ++i)
       if (Py_TYPE(PyTuple_GET_ITEM(extra.ptr(), i))->tp_descr_set == nullptr)
         throw nb::type_error("public_call: slot descriptors expected");
   }
-  PyObject* r = make_public_call(k, general.ptr(), extra.ptr(), k == &FK ? bound.ptr() : nullptr);
+  PyObject* r = make_public_call(k, general.ptr(), extra.ptr(), k == FK ? bound.ptr() : nullptr);
   if (r == nullptr) throw nb::python_error();
   return nb::steal(r);
 }

@@ -29,12 +29,13 @@ struct PublicCall;
 // new reference, or nullptr with no exception set to decline, or nullptr with an exception set.
 using FastPath = PyObject* (*)(PublicCall* self, PyObject* const* args);
 
-constexpr int PUBLIC_CALL_MAX_ARGS = 4;
+constexpr int PUBLIC_CALL_MAX_ARGS = 6;
 
 struct PublicCallKind {
   const char* names[PUBLIC_CALL_MAX_ARGS];  // the parameters the fast path binds, in order
   int nparams;
-  int required;
+  int positional;  // how many may be given by position (the rest are keyword-only)
+  int required;    // the first `required` must be given
   FastPath path;
 };
 
@@ -65,7 +66,7 @@ inline bool bind(const PublicCall* f, PyObject* const* args, size_t nargsf, PyOb
                  PyObject** out) {
   const PublicCallKind& k = *f->kind;
   const Py_ssize_t npos = PyVectorcall_NARGS(nargsf);
-  if (npos > k.nparams) return false;
+  if (npos > k.positional) return false;
   for (int i = 0; i < k.nparams; ++i) out[i] = i < npos ? args[i] : nullptr;
   if (kwnames != nullptr) {
     const Py_ssize_t nkw = PyTuple_GET_SIZE(kwnames);
