@@ -272,6 +272,11 @@ def test_public_call_refuses_wrong_constants() -> None:
         _core.public_call("frame_jacobian", print, (CoreHandle,), None)
     with pytest.raises(TypeError, match="slot descriptors"):
         _core.public_call("frame_placement", print, (CoreHandle, fd.PluckerTransform, 1, 2, 3, 4), None)
+    other = tuple(fd.FrameInfo.__dict__[f] for f in ("name", "body", "placement", "kind"))  # another class's slots
+    with pytest.raises(TypeError, match="slot descriptors"):
+        _core.public_call("frame_placement", print, (CoreHandle, fd.PluckerTransform, *other), None)
+    with pytest.raises(TypeError, match="a class expected"):
+        _core.public_call("frame_placement", print, (CoreHandle, "PluckerTransform", *SLOTS), None)
     with pytest.raises(TypeError, match="core's Model"):
         _core.public_call("fk", print, (), "not a core model")
 

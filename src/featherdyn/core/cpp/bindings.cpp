@@ -9,6 +9,8 @@
 // return it, or None where the status would not be OK (the general path then words the error).
 // Batched entry points release the GIL and run rows on the core's thread pool; they return
 // (row, status) of the first failing row, or (−1, 0).
+#include <Python.h>
+#include <structmember.h>  // T_OBJECT_EX, READONLY: the slots frame_placement_path fills
 #include <nanobind/nanobind.h>
 #include <nanobind/ndarray.h>
 #include <nanobind/stl/complex.h>
@@ -699,14 +701,15 @@ PyObject* frame_placement_path(PublicCall* f, PyObject* const* a) {
     std::memcpy(array_data(R), Rf.m, sizeof(double) * 9);
     std::memcpy(array_data(p), p3, sizeof p3);
     if (!set_read_only(R.ptr()) || !set_read_only(p.ptr())) throw nb::python_error();
+    // object.__new__(cls) and its four object slots filled, as the slots' descriptors would (checked at
+    // construction: `make`): a fresh instance's slots are empty
     PyTypeObject* cls = reinterpret_cast<PyTypeObject*>(PyTuple_GET_ITEM(f->extra, 1));
-    nb::object empty = nb::steal(PyTuple_New(0));
-    nb::object x = nb::steal(PyBaseObject_Type.tp_new(cls, empty.ptr(), nullptr));  // object.__new__(cls)
+    nb::object x = nb::steal(cls->tp_alloc(cls, 0));
     if (!x.is_valid()) throw nb::python_error();
     PyObject* fields[4] = {R.ptr(), p.ptr(), Py_None, Py_None};
     for (int i = 0; i < 4; ++i) {
-      PyObject* slot = PyTuple_GET_ITEM(f->extra, 2 + i);
-      if (Py_TYPE(slot)->tp_descr_set(slot, x.ptr(), fields[i]) != 0) throw nb::python_error();
+      const PyMemberDef* member = reinterpret_cast<PyMemberDescrObject*>(PyTuple_GET_ITEM(f->extra, 2 + i))->d_member;
+      *reinterpret_cast<PyObject**>(reinterpret_cast<char*>(x.ptr()) + member->offset) = Py_NewRef(fields[i]);
     }
     return x.release().ptr();
   });
@@ -816,10 +819,20 @@ nb::object make(const std::string& kind, nb::handle general, nb::handle extra, n
     throw nb::value_error("public_call: wrong constants for this kind");
   if (k == FK && !nb::isinstance<ModelData>(bound)) throw nb::type_error("public_call: fk needs the core's Model");
   if (k == FRAME_PLACEMENT) {
-    if (!PyType_Check(PyTuple_GET_ITEM(extra.ptr(), 1))) throw nb::type_error("public_call: a class expected");
-    for (int i = 2; i < 6; ++i)
-      if (Py_TYPE(PyTuple_GET_ITEM(extra.ptr(), i))->tp_descr_set == nullptr)
+    // the class, and the member descriptors of four writable object slots of that class (frame_placement_path
+    // fills them at their offsets in a fresh instance)
+    PyObject* cls = PyTuple_GET_ITEM(extra.ptr(), 1);
+    if (!PyType_Check(cls) || reinterpret_cast<PyTypeObject*>(cls)->tp_alloc == nullptr)
+      throw nb::type_error("public_call: a class expected");
+    for (int i = 2; i < 6; ++i) {
+      PyObject* d = PyTuple_GET_ITEM(extra.ptr(), i);
+      const PyMemberDef* member =
+          Py_IS_TYPE(d, &PyMemberDescr_Type) ? reinterpret_cast<PyMemberDescrObject*>(d)->d_member : nullptr;
+      if (member == nullptr || reinterpret_cast<PyDescrObject*>(d)->d_type != reinterpret_cast<PyTypeObject*>(cls) ||
+          member->type != T_OBJECT_EX || (member->flags & READONLY) != 0 || member->offset < Py_ssize_t(sizeof(PyObject)) ||
+          member->offset + Py_ssize_t(sizeof(PyObject*)) > reinterpret_cast<PyTypeObject*>(cls)->tp_basicsize)
         throw nb::type_error("public_call: slot descriptors expected");
+    }
   }
   PyObject* r = make_public_call(k, general.ptr(), extra.ptr(), k == FK ? bound.ptr() : nullptr);
   if (r == nullptr) throw nb::python_error();
