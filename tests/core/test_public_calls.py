@@ -406,3 +406,40 @@ def test_an_overflowing_jacobian_is_a_non_finite_error_at_its_first_element() ->
             fd.frame_placement(model, q, frame, backend=backend)
     np.testing.assert_array_equal(fd.frame_jacobian(model, np.array([1e300, 1e300]), frame),
                                   fd.frame_jacobian(model, np.array([1e300, 1e300]), frame, backend="compiled"))
+
+
+class _Name(str):
+    """A str subclass (its hash and equality could run Python code): declined, the general path reads it."""
+
+
+def test_unusual_frame_and_reference_objects_are_declined_and_read_by_the_general_path() -> None:
+    model = tree(TREE_NAMES[0])
+    frame = _frame(model)
+    fid = model.frame_id(frame)
+    q = random_state(model, 11).q
+    J = fd.frame_jacobian(model, q, frame, fd.WORLD)
+    np.testing.assert_array_equal(fd.frame_jacobian(model, q, _Name(frame), fd.WORLD), J)
+    np.testing.assert_array_equal(fd.frame_jacobian(model, q, np.int64(fid), fd.WORLD), J)
+    np.testing.assert_array_equal(fd.frame_jacobian(model, q, fid, fd.WORLD), J)
+    X = fd.frame_placement(model, q, _Name(frame))
+    np.testing.assert_array_equal(X.translation, fd.frame_placement(model, q, frame).translation)
+    with pytest.raises((TypeError, ValueError)):
+        fd.frame_jacobian(model, q, frame, True)
+    with pytest.raises((TypeError, ValueError, ModelError)):
+        fd.frame_jacobian(model, q, 2.0)
+
+
+class _Raising:
+    """A model stand-in whose ``_core`` raises: the fast path declines, the general path words it."""
+
+    @property
+    def _core(self) -> object:
+        raise RuntimeError("not a model")
+
+
+def test_a_model_stand_in_whose_core_attribute_raises_gets_the_general_error() -> None:
+    q = np.zeros(3)
+    for call in (lambda: fd.frame_jacobian(_Raising(), q, "f"), lambda: fd.crba(_Raising(), q),
+                 lambda: fd.rnea(_Raising(), q, q, q), lambda: fd.frame_placement(_Raising(), q, 0)):
+        with pytest.raises(fd.errors.FeatherdynError, match="expected a featherdyn Model, got _Raising"):
+            call()
