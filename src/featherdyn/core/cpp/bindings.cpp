@@ -253,6 +253,9 @@ struct NumpyAlloc {
   PyTypeObject* ndarray = nullptr;
   PyObject* float64 = nullptr;
   PyObject* empty = nullptr;  // numpy.empty, the fallback
+  // PyArray_SetBaseObject (entry 282 of the same table; steals the base), for arrays over memory of ours
+  using SetBase = int (*)(PyObject*, PyObject*);
+  SetBase set_base = nullptr;
 
   nb::object operator()(std::initializer_list<Py_ssize_t> shape) const {
     const Py_ssize_t* dims = shape.begin();
@@ -278,7 +281,7 @@ void init_numpy_alloc() {
     void** api = static_cast<void**>(PyCapsule_GetPointer(capsule.ptr(), nullptr));
     if (api == nullptr) throw nb::python_error();
     NumpyAlloc trial{reinterpret_cast<NumpyAlloc::NewFromDescr>(api[94]), reinterpret_cast<PyTypeObject*>(api[2]),
-                     np.attr("dtype")("float64").ptr(), nullptr};
+                     np.attr("dtype")("float64").ptr(), nullptr, reinterpret_cast<NumpyAlloc::SetBase>(api[282])};
     if (trial.ndarray != reinterpret_cast<PyTypeObject*>(np.attr("ndarray").ptr())) return;
     nb::object a = trial({2, 3});
     const bool ok = a.type().ptr() == np.attr("ndarray").ptr() && nb::object(a.attr("dtype")).ptr() == trial.float64 && nb::cast<bool>(a.attr("shape").equal(nb::make_tuple(2, 3))) &&
@@ -289,6 +292,7 @@ void init_numpy_alloc() {
       numpy_alloc.new_from_descr = trial.new_from_descr;
       numpy_alloc.ndarray = trial.ndarray;
       numpy_alloc.float64 = trial.float64;
+      numpy_alloc.set_base = trial.set_base;
     }
   } catch (const nb::python_error&) {
     // NumPy 1.x names the module numpy.core._multiarray_umath: numpy.empty serves
@@ -679,6 +683,39 @@ bool set_read_only(PyObject* a) {
   return r != nullptr;
 }
 
+// R (3, 3) and p (3,), read-only, as a PluckerTransform holds them. With NumPy's API table: two arrays over one
+// 96-byte bytes object (one allocation, outside NumPy's memory handler, which looks itself up in a context
+// variable and checks a capsule's name for every array; immutable, so NumPy refuses to make them writeable);
+// else two arrays of numpy_alloc made read-only.
+void read_only_pose(const double* R9, const double* p3, nb::object& R, nb::object& p) {
+  if (numpy_alloc.set_base != nullptr) {
+    nb::object owner = nb::steal(PyBytes_FromStringAndSize(nullptr, 12 * sizeof(double)));
+    if (!owner.is_valid()) throw nb::python_error();
+    char* d = PyBytes_AS_STRING(owner.ptr());
+    if (reinterpret_cast<std::uintptr_t>(d) % alignof(double) == 0) {
+      std::memcpy(d, R9, 9 * sizeof(double));
+      std::memcpy(d + 9 * sizeof(double), p3, 3 * sizeof(double));
+      constexpr int C_RO = NdarrayFast::C_CONTIGUOUS | NdarrayFast::ALIGNED;  // NumPy's NPY_ARRAY_CARRAY_RO
+      const Py_ssize_t d33[2] = {3, 3}, d3[1] = {3};
+      auto view = [&](int nd, const Py_ssize_t* dims, char* data) {
+        Py_INCREF(numpy_alloc.float64);  // (stolen)
+        nb::object a = nb::steal(
+            numpy_alloc.new_from_descr(numpy_alloc.ndarray, numpy_alloc.float64, nd, dims, nullptr, data, C_RO, nullptr));
+        if (!a.is_valid() || numpy_alloc.set_base(a.ptr(), owner.inc_ref().ptr()) != 0) throw nb::python_error();
+        return a;
+      };
+      R = view(2, d33, d);
+      p = view(1, d3, d + 9 * sizeof(double));
+      return;
+    }
+  }
+  R = numpy_alloc({3, 3});
+  p = numpy_alloc({3});
+  std::memcpy(array_data(R), R9, sizeof(double) * 9);
+  std::memcpy(array_data(p), p3, sizeof(double) * 3);
+  if (!set_read_only(R.ptr()) || !set_read_only(p.ptr())) throw nb::python_error();
+}
+
 // fd.frame_placement(model, q, frame) → PluckerTransform(R, p) of ⁰M_f; extra = (CoreHandle,
 // PluckerTransform, and its slots' descriptors rotation, translation, source, target).
 PyObject* frame_placement_path(PublicCall* f, PyObject* const* a) {
@@ -697,10 +734,8 @@ PyObject* frame_placement_path(PublicCall* f, PyObject* const* a) {
   const double p3[3] = {pf.x, pf.y, pf.z};
   if (finite_result(p3, 3) != OK) return nullptr;  // (a rotation's entries stay within ±1)
   return guarded([&]() -> PyObject* {
-    nb::object R = numpy_alloc({3, 3}), p = numpy_alloc({3});
-    std::memcpy(array_data(R), Rf.m, sizeof(double) * 9);
-    std::memcpy(array_data(p), p3, sizeof p3);
-    if (!set_read_only(R.ptr()) || !set_read_only(p.ptr())) throw nb::python_error();
+    nb::object R, p;
+    read_only_pose(Rf.m, p3, R, p);
     // object.__new__(cls) and its four object slots filled, as the slots' descriptors would (checked at
     // construction: `make`): a fresh instance's slots are empty
     PyTypeObject* cls = reinterpret_cast<PyTypeObject*>(PyTuple_GET_ITEM(f->extra, 1));
@@ -851,6 +886,17 @@ void init() {
     nb::object a = numpy_alloc({3});
     reinterpret_cast<NdarrayFields*>(a.ptr())->flags &= ~NdarrayFast::WRITEABLE;
     clear_writeable_directly = !nb::cast<bool>(a.attr("flags").attr("writeable"));
+  }
+  if (numpy_alloc.set_base != nullptr) {  // read_only_pose's arrays over a bytes object, as NumPy sees them
+    const double R9[9] = {1, 2, 3, 4, 5, 6, 7, 8, 9}, p3[3] = {10, 11, 12};
+    nb::object R, p;
+    read_only_pose(R9, p3, R, p);
+    nb::object base = R.attr("base");
+    const bool ok = PyBytes_CheckExact(base.ptr()) && base.ptr() == nb::object(p.attr("base")).ptr() &&
+                    nb::cast<double>(R.attr("item")(2, 1)) == 8.0 && nb::cast<double>(p.attr("item")(2)) == 12.0 &&
+                    !nb::cast<bool>(R.attr("flags").attr("writeable")) && nb::cast<bool>(R.attr("flags").attr("c_contiguous")) &&
+                    !nb::cast<bool>(p.attr("flags").attr("writeable")) && nb::cast<bool>(p.attr("flags").attr("aligned"));
+    if (!ok) numpy_alloc.set_base = nullptr;
   }
 }
 
