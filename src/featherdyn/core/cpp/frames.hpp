@@ -81,10 +81,29 @@ FD_INLINE void put_frame_columns(const ModelView& mv, int k, const Mat3<S>& R, c
                               const Mat3<S>& Rf, int ref, S* J) {
   const int nv = mv.nv;
   const Vec3<S> d = p - origin;
+  const S z(0.0);
+  const int jt = mv.jtype[k];
   for (int c = 0; c < mv.nv_i[k]; ++c) {
-    const Motion<S> Sc = S_col<S>(mv, k, c);
-    Vec3<S> om = R * Sc.w;
-    Vec3<S> vel = R * Sc.v + cross(d, om);
+    // ω = R S_ω, v = R S_v + d × ω; S's columns are unit vectors or an axis with a zero half, whose products
+    // are written out (a free flyer's six columns are R's columns: no matrix-vector products of zeros). d × ω
+    // stays where ω = 0: with an overflowed d it is NaN, as in the reference, which then names the overflow.
+    Vec3<S> om, vel;
+    if (jt == REVOLUTE) {
+      om = R * load3<S>(mv.axis + 3 * k);
+      vel = cross(d, om);
+    } else if (jt == PRISMATIC) {
+      om = {z, z, z};
+      vel = R * load3<S>(mv.axis + 3 * k) + cross(d, om);
+    } else if (jt == SPHERICAL || jt == FREE_FLYER) {
+      const int e = c % 3;
+      const Vec3<S> Re{R(0, e), R(1, e), R(2, e)};
+      om = c < 3 ? Re : Vec3<S>{z, z, z};
+      vel = c < 3 ? cross(d, om) : Re + cross(d, om);
+    } else {
+      const Motion<S> Sc = S_col<S>(mv, k, c);
+      om = R * Sc.w;
+      vel = R * Sc.v + cross(d, om);
+    }
     if (ref == LOCAL) {
       om = mul_transpose(Rf, om);
       vel = mul_transpose(Rf, vel);
