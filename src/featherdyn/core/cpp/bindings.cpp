@@ -773,28 +773,18 @@ bool flag_arg(PyObject* x, bool& out) {
 }
 PyObject* result_or_decline(nb::object r) { return r.is_none() ? nullptr : r.release().ptr(); }
 
-// fd.rnea(model, q, v, a, f_ext=None, *, gravity=True); extra = (CoreHandle,) for all five
-PyObject* rnea_path(PublicCall* f, PyObject* const* a) {
+// fd.rnea(model, q, v, a, f_ext=None, *, gravity=True) and fd.aba(model, q, v, tau, f_ext=None, *, gravity=True)
+// through rnea_new / aba_new; extra = (CoreHandle,) for the five dynamics calls
+template <nb::object (*New)(const ModelData&, const F64In&, const F64In&, const F64In&, const F64In&, bool)>
+PyObject* state_path(PublicCall* f, PyObject* const* a) {
   const ModelData* md = nullptr;
   PyObject* frames = nullptr;
-  F64In q, v, acc, fx;
+  F64In q, v, x, fx;
   bool g = true;
-  if (!model_of(f, a[0], md, frames) || !q.acquire(a[1]) || !v.acquire(a[2]) || !acc.acquire(a[3]) ||
+  if (!model_of(f, a[0], md, frames) || !q.acquire(a[1]) || !v.acquire(a[2]) || !x.acquire(a[3]) ||
       !array_arg(a[4], fx) || !flag_arg(a[5], g))
     return nullptr;
-  return guarded([&] { return result_or_decline(rnea_new(*md, q, v, acc, fx, g)); });
-}
-
-// fd.aba(model, q, v, tau, f_ext=None, *, gravity=True)
-PyObject* aba_path(PublicCall* f, PyObject* const* a) {
-  const ModelData* md = nullptr;
-  PyObject* frames = nullptr;
-  F64In q, v, tau, fx;
-  bool g = true;
-  if (!model_of(f, a[0], md, frames) || !q.acquire(a[1]) || !v.acquire(a[2]) || !tau.acquire(a[3]) ||
-      !array_arg(a[4], fx) || !flag_arg(a[5], g))
-    return nullptr;
-  return guarded([&] { return result_or_decline(aba_new(*md, q, v, tau, fx, g)); });
+  return guarded([&] { return result_or_decline(New(*md, q, v, x, fx, g)); });
 }
 
 // fd.nonlinear_effects(model, q, v)
@@ -806,22 +796,14 @@ PyObject* nle_path(PublicCall* f, PyObject* const* a) {
   return guarded([&] { return result_or_decline(nle_new(*md, q, v)); });
 }
 
-// fd.generalized_gravity(model, q)
-PyObject* gravity_path(PublicCall* f, PyObject* const* a) {
+// fd.generalized_gravity(model, q) and fd.crba(model, q) through gravity_new / crba_new
+template <nb::object (*New)(const ModelData&, const F64In&)>
+PyObject* configuration_path(PublicCall* f, PyObject* const* a) {
   const ModelData* md = nullptr;
   PyObject* frames = nullptr;
   F64In q;
   if (!model_of(f, a[0], md, frames) || !q.acquire(a[1])) return nullptr;
-  return guarded([&] { return result_or_decline(gravity_new(*md, q)); });
-}
-
-// fd.crba(model, q)
-PyObject* crba_path(PublicCall* f, PyObject* const* a) {
-  const ModelData* md = nullptr;
-  PyObject* frames = nullptr;
-  F64In q;
-  if (!model_of(f, a[0], md, frames) || !q.acquire(a[1])) return nullptr;
-  return guarded([&] { return result_or_decline(crba_new(*md, q)); });
+  return guarded([&] { return result_or_decline(New(*md, q)); });
 }
 
 // {names}, parameters, positional, required, path; and how many constants its `extra` holds
@@ -834,11 +816,11 @@ const NamedKind KINDS[] = {
     {"frame_jacobian", {{"model", "q", "frame", "reference"}, 4, 4, 3, frame_jacobian_path}, 4},
     {"frame_placement", {{"model", "q", "frame"}, 3, 3, 3, frame_placement_path}, 6},
     {"fk", {{"q", "out"}, 2, 2, 1, fk_path}, 0},
-    {"rnea", {{"model", "q", "v", "a", "f_ext", "gravity"}, 6, 5, 4, rnea_path}, 1},
-    {"aba", {{"model", "q", "v", "tau", "f_ext", "gravity"}, 6, 5, 4, aba_path}, 1},
+    {"rnea", {{"model", "q", "v", "a", "f_ext", "gravity"}, 6, 5, 4, state_path<rnea_new>}, 1},
+    {"aba", {{"model", "q", "v", "tau", "f_ext", "gravity"}, 6, 5, 4, state_path<aba_new>}, 1},
     {"nonlinear_effects", {{"model", "q", "v"}, 3, 3, 3, nle_path}, 1},
-    {"generalized_gravity", {{"model", "q"}, 2, 2, 2, gravity_path}, 1},
-    {"crba", {{"model", "q"}, 2, 2, 2, crba_path}, 1},
+    {"generalized_gravity", {{"model", "q"}, 2, 2, 2, configuration_path<gravity_new>}, 1},
+    {"crba", {{"model", "q"}, 2, 2, 2, configuration_path<crba_new>}, 1},
 };
 
 nb::object make(const std::string& kind, nb::handle general, nb::handle extra, nb::handle bound) {
