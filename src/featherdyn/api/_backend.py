@@ -6,7 +6,11 @@ Every public function (``fd.rnea`` & co.) takes ``backend=None | "reference" |
 * :func:`select_backend` picks the compiled core (:mod:`featherdyn.core`,
   C++ built at install) for float64 input when it is built, the reference
   algorithms (:mod:`featherdyn.algorithms`) otherwise (float32, SymPy object arrays);
-* :func:`core_path` gives the core's handle of a model when a one-state call
+* :func:`public_call` makes the public object of ``fd.rnea``, ``fd.crba``,
+  ``fd.aba``, ``fd.nonlinear_effects``, ``fd.generalized_gravity``,
+  ``fd.frame_jacobian`` and ``fd.frame_placement``: one float64 state is
+  finished in the core's C code, everything else goes to the Python function;
+* :func:`core_path` gives the core's handle of a model when another one-state call
   may hand its arguments to the binding as they are. The binding refuses
   (``TypeError``) anything but native-endian, aligned, C-contiguous float64
   arrays of the exact shapes and returns ``None`` (or a non-zero status) for a bad state;
@@ -141,10 +145,9 @@ def select_backend(backend: str | None, dtype: np.dtype) -> str:
 def core_path(model: Any, backend: str | None) -> Any:
     """The compiled core's handle of ``model`` (``model._core``) when a one-state call may take it, else ``None``.
 
-    The one-state calls of ``fd.rnea``, ``fd.nonlinear_effects``,
-    ``fd.generalized_gravity``, ``fd.aba``, ``fd.frame_jacobian`` and
-    ``fd.frame_placement`` hand their arguments to the core's binding as
-    they are; it takes only native-endian, aligned, C-contiguous float64 arrays
+    The one-state calls of ``fd.forward_kinematics``, the derivatives and the
+    constrained dynamics hand their arguments to the core's binding as they
+    are (``fd.rnea`` & co. do the same in C: :func:`public_call`); it takes only native-endian, aligned, C-contiguous float64 arrays
     of the exact lengths (exact ``numpy.ndarray``, so a masked array is never
     read through its mask) and raises ``TypeError`` for anything else. The
     ``_core.<alg>_new`` entry points return the freshly allocated result, or
