@@ -1,0 +1,159 @@
+"""Argument fuzzing of the public functions finished in C (``_core.public_call``).
+
+Each example (400 per function, seeded) draws a call of ``fd.rnea``, ``fd.aba``, ``fd.nonlinear_effects``,
+``fd.generalized_gravity``, ``fd.crba``, ``fd.frame_jacobian`` or ``fd.frame_placement`` —
+arguments by position or by keyword, each one a right array or something else (a list, float32,
+big-endian, strided, a wrong length, NaN, an off-unit quaternion, ``None``, a string, a number, an
+unknown keyword) — and makes it twice: through the public object and through the Python function
+it wraps (``__wrapped__``), which is what every declined call runs; the public object is rebuilt
+around a counting copy of that function, so the test also knows which calls were finished in C (at least a
+fifth must be, and some declined). Both must end alike: the same
+exception type and message, or results equal (bit for bit for the arrays the core computes either
+way; to 1e-12 for a frame placement, which the Python function composes from the whole forward
+kinematics).
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+import pytest
+
+import featherdyn as fd
+
+MODEL = fd.load_robot("solo12")  # a floating base: q holds a quaternion
+FRAME = "HR_FOOT"
+RNG = np.random.default_rng(5)
+Q = fd.neutral(MODEL) + 0.0
+Q[7:] = RNG.uniform(-1, 1, MODEL.nq - 7)
+V = RNG.uniform(-1, 1, MODEL.nv)
+A = RNG.uniform(-1, 1, MODEL.nv)
+FX = RNG.uniform(-1, 1, (MODEL.nbodies, 6))
+
+
+def _variants(x: np.ndarray) -> list[Any]:
+    """Things that are not quite the array x."""
+    bad = x.copy()
+    bad.flat[min(2, x.size - 1)] = np.nan
+    return [x.tolist(), x.astype(np.float32), x.astype(">f8"), np.repeat(x, 2, axis=-1)[..., ::2], x[..., :-1], bad,
+            x[None], None, "q", 3.0]
+
+
+def _quaternion_off(q: np.ndarray) -> np.ndarray:
+    out = q.copy()
+    out[3:7] *= 1.1
+    return out
+
+
+#: per parameter: (the values the fast path takes, the others)
+ARGS: dict[str, tuple[list[Any], list[Any]]] = {
+    "q": ([Q], [*_variants(Q), _quaternion_off(Q)]),
+    "v": ([V], _variants(V)),
+    "a": ([A], _variants(A)),
+    "tau": ([A], _variants(A)),
+    "f_ext": ([None, FX], [FX.tolist(), FX[:-1], FX.astype(np.float32)]),
+    "gravity": ([True, False], [1, None]),
+    "frame": ([FRAME, MODEL.frame_id(FRAME)], ["nope", -1, 10**6, 2.5, np.int64(3)]),
+    "reference": ([fd.LOCAL, fd.WORLD, fd.LOCAL_WORLD_ALIGNED], ["world", "LOCAL", 0, None]),
+    "backend": ([None], ["compiled", "reference", "bogus"]),  # any backend= is declined: the Python function reads it
+}
+SIGNATURES = {
+    "rnea": (["q", "v", "a", "f_ext"], ["gravity", "backend"]),
+    "aba": (["q", "v", "tau", "f_ext"], ["gravity", "backend"]),
+    "nonlinear_effects": (["q", "v"], ["backend"]),
+    "generalized_gravity": (["q"], ["backend"]),
+    "crba": (["q"], ["backend"]),
+    "frame_jacobian": (["q", "frame", "reference"], ["backend"]),
+    "frame_placement": (["q", "frame"], ["backend"]),
+}
+
+
+EXAMPLES = 400
+REQUIRED = {"q", "v", "a", "tau", "frame"}
+
+
+def _outcome(f: Any, args: tuple[Any, ...], kwargs: dict[str, Any]) -> tuple[str, Any]:
+    try:
+        return "value", f(*args, **kwargs)
+    except Exception as exc:  # the kind and the words are what is compared
+        return "error", (type(exc), str(exc))
+
+
+def _same(name: str, got: tuple[str, Any], expected: tuple[str, Any]) -> None:
+    assert got[0] == expected[0], (got, expected)
+    if got[0] == "error":
+        assert got[1] == expected[1]
+        return
+    a, b = got[1], expected[1]
+    if isinstance(b, fd.PluckerTransform):
+        assert isinstance(a, fd.PluckerTransform)
+        np.testing.assert_allclose(a.rotation, b.rotation, rtol=0, atol=1e-12)
+        np.testing.assert_allclose(a.translation, b.translation, rtol=0, atol=1e-12)
+        return
+    assert type(a) is type(b) and a.dtype == b.dtype and a.shape == b.shape, name
+    if name == "frame_placement":
+        np.testing.assert_allclose(a, b, rtol=0, atol=1e-12)
+    else:
+        np.testing.assert_array_equal(a, b)
+
+
+class _Counting:
+    """The Python function, counting its calls: a call of the public object that does not reach it was finished
+    in C."""
+
+    def __init__(self, f: Any) -> None:
+        self.f, self.calls = f, 0
+
+    def __call__(self, *args: Any, **kwargs: Any) -> Any:
+        self.calls += 1
+        return self.f(*args, **kwargs)
+
+
+def _constants(name: str) -> tuple[Any, ...]:
+    from featherdyn.core._model_view import CoreHandle
+
+    if name == "frame_jacobian":
+        return (CoreHandle, fd.LOCAL, fd.WORLD, fd.LOCAL_WORLD_ALIGNED)
+    if name == "frame_placement":
+        slots = (fd.PluckerTransform.__dict__[k] for k in ("rotation", "translation", "source", "target"))
+        return (CoreHandle, fd.PluckerTransform, *slots)
+    return (CoreHandle,)
+
+
+@pytest.mark.parametrize("name", sorted(SIGNATURES))
+def test_the_public_object_ends_a_call_as_its_python_function_does(name: str) -> None:
+    from featherdyn.api._backend import public_call
+
+    general = getattr(fd, name).__wrapped__
+    counting = _Counting(general)
+    f = public_call(name, counting, _constants(name))  # the public object's kind around a counting function
+    positional, keyword_only = SIGNATURES[name]
+    fd.crba(MODEL, Q)  # the model's core handle exists (a first call may build it on either side)
+    rng = np.random.default_rng(sum(map(ord, name)))
+    finished_in_c = 0
+    for _ in range(EXAMPLES):
+        args: list[Any] = [MODEL]
+        kwargs: dict[str, Any] = {}
+        for p in positional + keyword_only:
+            if rng.random() < (0.05 if p in REQUIRED else 0.85 if p == "backend" else 0.4):
+                continue  # left to its default, or missing: a TypeError on both sides
+            taken, others = ARGS[p]
+            pool = taken if rng.random() < 0.8 else others
+            value = pool[rng.integers(len(pool))]
+            # by position while the positional ones are given in order, else by keyword
+            if p in positional and positional.index(p) == len(args) - 1 and not kwargs and rng.random() < 0.7:
+                args.append(value)
+            else:
+                kwargs[p] = value
+        if rng.random() < 0.05:
+            kwargs["unknown"] = 1
+        before = counting.calls
+        with np.errstate(all="ignore"):
+            got = _outcome(f, tuple(args), kwargs)
+        finished_in_c += counting.calls == before
+        with np.errstate(all="ignore"):
+            expected = _outcome(general, tuple(args), kwargs)
+        _same(name, got, expected)
+    assert finished_in_c >= EXAMPLES // 5, f"{name}: only {finished_in_c} of {EXAMPLES} calls were finished in C"
+    assert finished_in_c < EXAMPLES, f"{name}: no call was declined"
