@@ -19,7 +19,9 @@ to the Python function they wrap, unchanged. Checked here:
 from __future__ import annotations
 
 import inspect
+import os
 import pickle
+import subprocess
 import sys
 import threading
 
@@ -443,3 +445,23 @@ def test_a_model_stand_in_whose_core_attribute_raises_gets_the_general_error() -
                  lambda: fd.rnea(_Raising(), q, q, q), lambda: fd.frame_placement(_Raising(), q, 0)):
         with pytest.raises(fd.errors.FeatherdynError, match="expected a featherdyn Model, got _Raising"):
             call()
+
+
+def test_the_reference_backend_from_the_environment_switches_the_objects_off() -> None:
+    script = (
+        "import featherdyn as fd, numpy as np\n"
+        "from featherdyn import core\n"
+        "from featherdyn.api import _backend\n"
+        "from featherdyn.core._model_view import CoreHandle\n"
+        "calls = []\n"
+        "crba = _backend.public_call('crba', lambda *a, **k: calls.append(a) or 'general', (CoreHandle,))\n"
+        "m = fd.load_robot('panda'); core._view(m)  # the core handle exists\n"
+        "q = fd.neutral(m)\n"
+        "r = crba(m, q)\n"
+        "print(fd.default_backend(), isinstance(r, str), len(calls))\n"
+    )
+    env = dict(os.environ)
+    for value, expected in (("reference", "reference True 1"), ("", "None False 0")):
+        env["FEATHERDYN_BACKEND"] = value
+        out = subprocess.run([sys.executable, "-c", script], env=env, capture_output=True, text=True, check=True)
+        assert out.stdout.split() == expected.split(), out.stdout + out.stderr
