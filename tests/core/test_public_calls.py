@@ -465,3 +465,41 @@ def test_the_reference_backend_from_the_environment_switches_the_objects_off() -
         env["FEATHERDYN_BACKEND"] = value
         out = subprocess.run([sys.executable, "-c", script], env=env, capture_output=True, text=True, check=True)
         assert out.stdout.split() == expected.split(), out.stdout + out.stderr
+
+
+@pytest.mark.parametrize("name", TREE_NAMES)
+def test_compiled_methods_equal_their_entry_points_and_write_into_out(name: str) -> None:
+    model = tree(name)
+    cm = fd.compile(model)
+    h = core._view(model).cm
+    st = random_state(model, 12)
+    q, v, a, fx = st.q, st.v, st.a, st.f_ext
+    frame = _frame(model)
+    fid = model.frame_id(frame)
+    nv = model.nv
+    cases = [
+        (lambda out=None: cm.rnea(q, v, a, out=out), _core.rnea_new(h, q, v, a, None, True), (nv,)),
+        (lambda out=None: cm.rnea(q, v, a, fx, out), _core.rnea_new(h, q, v, a, fx, True), (nv,)),
+        (lambda out=None: cm.aba(q, v, a, f_ext=fx, out=out), _core.aba_new(h, q, v, a, fx, True), (nv,)),
+        (lambda out=None: cm.nle(q, v, out=out), _core.nle_new(h, q, v), (nv,)),
+        (lambda out=None: cm.gravity(q, out), _core.gravity_new(h, q), (nv,)),
+        (lambda out=None: cm.crba(q, out=out), _core.crba_new(h, q), (nv, nv)),
+        (lambda out=None: cm.frame_jacobian(q, frame, fd.WORLD, out), _core.frame_jacobian_new(h, q, fid, 1), (6, nv)),
+        (lambda out=None: cm.frame_jacobian(q, fid, out=out), _core.frame_jacobian_new(h, q, fid, 0), (6, nv)),
+    ]
+    for call, expected, shape in cases:
+        got = call()
+        assert type(got) is np.ndarray and got.flags.owndata
+        np.testing.assert_array_equal(got, expected)
+        out = np.full(shape, np.nan)
+        assert call(out) is out
+        np.testing.assert_array_equal(out, expected)
+        with pytest.raises(ShapeError):
+            call(np.empty(shape[:-1] + (shape[-1] + 1,)))
+    np.testing.assert_array_equal(cm.rnea(q.tolist(), v, a), cm.rnea(q, v, a))  # declined: converted
+    np.testing.assert_array_equal(cm.frame_jacobian(q, frame, "WORLD"), cm.frame_jacobian(q, frame, fd.WORLD))
+    with pytest.raises(TypeError):
+        cm.rnea(q, v, a, None, None, True)  # a sixth positional argument: the closure's TypeError
+    for method in ("rnea", "nle", "gravity", "crba", "aba", "fk", "frame_jacobian"):
+        f = getattr(cm, method)
+        assert f.__qualname__ == f"CompiledModel.{method}" and f.__doc__ and f.__wrapped__.__name__ == method

@@ -157,3 +157,75 @@ def test_the_public_object_ends_a_call_as_its_python_function_does(name: str) ->
         _same(name, got, expected)
     assert finished_in_c >= EXAMPLES // 5, f"{name}: only {finished_in_c} of {EXAMPLES} calls were finished in C"
     assert finished_in_c < EXAMPLES, f"{name}: no call was declined"
+
+
+CM = fd.compile(MODEL)
+CM_SIGNATURES = {  # fd.compile(model)'s methods: (parameters, the required ones); all positional-or-keyword
+    "rnea": ["q", "v", "a", "f_ext", "out"],
+    "aba": ["q", "v", "tau", "f_ext", "out"],
+    "nle": ["q", "v", "out"],
+    "gravity": ["q", "out"],
+    "crba": ["q", "out"],
+    "frame_jacobian": ["q", "frame", "reference", "out"],
+    "fk": ["q", "out"],
+}
+OUT = object()  # where the out= value goes in a drawn call
+OUT_SHAPES = {"crba": (MODEL.nv, MODEL.nv), "frame_jacobian": (6, MODEL.nv), "fk": (MODEL.nbodies, 4, 4)}
+
+
+def _read_only(shape: tuple[int, ...]) -> np.ndarray:
+    a = np.empty(shape)
+    a.setflags(write=False)
+    return a
+
+
+def _outs(name: str) -> tuple[list[Any], list[Any]]:
+    """Makers of out= values (each side of a comparison gets its own): taken, and others."""
+    shape = OUT_SHAPES.get(name, (MODEL.nv,))
+    wider = shape[:-1] + (shape[-1] + 1,)
+    return ([lambda: None, lambda: np.full(shape, np.nan)],
+            [lambda: np.empty(wider), lambda: np.empty(shape, dtype=np.float32), lambda: _read_only(shape),
+             lambda: np.empty(shape[::-1]).T, lambda: np.zeros(shape).tolist()])
+
+
+@pytest.mark.parametrize("name", sorted(CM_SIGNATURES))
+def test_compiled_methods_end_a_call_as_their_closures_do(name: str) -> None:
+    closure = getattr(CM, name).__wrapped__
+    counting = _Counting(closure)
+    kind = "fk" if name == "fk" else f"cm_{name}"
+    constants = (MODEL._frame_index, fd.LOCAL, fd.WORLD, fd.LOCAL_WORLD_ALIGNED) if name == "frame_jacobian" else ()
+    f = fd.core._core.public_call(kind, counting, constants, fd.core._view(MODEL).cm)
+    params = CM_SIGNATURES[name]
+    rng = np.random.default_rng(sum(map(ord, name)) + 1)
+    finished_in_c = 0
+    for _ in range(EXAMPLES):
+        args: list[Any] = []
+        kwargs: dict[str, Any] = {}
+        make_out = None  # the out= maker, called once for each side
+        for p in params:
+            if rng.random() < (0.05 if p in REQUIRED else 0.4):
+                continue
+            taken, others = _outs(name) if p == "out" else ARGS[p]
+            pool = taken if rng.random() < 0.8 else others
+            value = pool[rng.integers(len(pool))]
+            if p == "out":
+                make_out, value = value, OUT
+            if len(args) == params.index(p) and not kwargs and rng.random() < 0.7:
+                args.append(value)
+            else:
+                kwargs[p] = value
+
+        def side(args: list[Any] = args, kwargs: dict[str, Any] = kwargs, make: Any = make_out) -> tuple[Any, Any]:
+            out = make() if make is not None else None
+            return (tuple(out if x is OUT else x for x in args), {k: out if x is OUT else x for k, x in kwargs.items()})
+
+        (args_f, kwargs_f), (twin_args, twin_kwargs) = side(), side()
+        before = counting.calls
+        with np.errstate(all="ignore"):
+            got = _outcome(f, args_f, kwargs_f)
+        finished_in_c += counting.calls == before
+        with np.errstate(all="ignore"):
+            expected = _outcome(closure, twin_args, twin_kwargs)
+        _same(name, got, expected)
+    assert finished_in_c >= EXAMPLES // 5, f"{name}: only {finished_in_c} of {EXAMPLES} calls were finished in C"
+    assert finished_in_c < EXAMPLES, f"{name}: no call was declined"

@@ -179,17 +179,17 @@ class CompiledModel:
                     pass
             return _frame_jacobian(model, q, frame, reference, _one_state_out(out, shape_J))
 
-        self.rnea = rnea
-        self.nle = nle
-        self.gravity = gravity
-        self.crba = crba
-        self.aba = aba
-        # fk finished in C when the arguments are as the binding takes them (core/cpp/public_calls.hpp): its
-        # kernel is short enough (0.2 µs on panda) that this closure's own call was 15 % of the whole
-        self.fk = core.public_call("fk", fk, (), cm)
-        functools.update_wrapper(self.fk, fk)
-        self.fk.__qualname__ = "CompiledModel.fk"
-        self.frame_jacobian = frame_jacobian
+        # Each method is the closure above with its one-state call finished in C when the arguments are as the
+        # binding takes them (core/cpp/public_calls.hpp; anything else goes to the closure): on kernels of
+        # 0.2–2 µs the closure's own call was 10–15 % of the whole, and made fd.compile's methods slower than
+        # fd.rnea & co., which are finished in C too.
+        constants = {"frame_jacobian": (frames, LOCAL, WORLD, LOCAL_WORLD_ALIGNED)}
+        for name, closure in (("rnea", rnea), ("nle", nle), ("gravity", gravity), ("crba", crba), ("aba", aba),
+                              ("fk", fk), ("frame_jacobian", frame_jacobian)):
+            method = core.public_call("fk" if name == "fk" else f"cm_{name}", closure, constants.get(name, ()), cm)
+            functools.update_wrapper(method, closure)
+            method.__qualname__ = f"CompiledModel.{name}"
+            setattr(self, name, method)
 
     # batched forms: any batch shape (leading axes broadcast), on the core's threads
 

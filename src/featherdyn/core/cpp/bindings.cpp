@@ -806,6 +806,68 @@ PyObject* configuration_path(PublicCall* f, PyObject* const* a) {
   return guarded([&] { return result_or_decline(New(*md, q)); });
 }
 
+// fd.compile(model)'s one-state methods, bound to the core's Model (f->bound); out= given: the out= entry
+// point writes into it (status OK: out is returned), else the _new entry point allocates.
+const ModelData& bound_model(const PublicCall* f) { return *nb::inst_ptr<ModelData>(nb::handle(f->bound)); }
+
+template <class New, class Into>
+PyObject* new_or_into(PyObject* out, New&& make_new, Into&& into) {
+  return guarded([&]() -> PyObject* {
+    if (out == nullptr || out == Py_None) return result_or_decline(make_new());
+    F64Out o;
+    if (!o.acquire(out)) return nullptr;
+    return into(o) == OK ? Py_NewRef(out) : nullptr;
+  });
+}
+
+// cm.rnea(q, v, a, f_ext=None, out=None) and cm.aba(q, v, tau, f_ext=None, out=None), with gravity
+template <bool Aba>
+PyObject* cm_state_path(PublicCall* f, PyObject* const* a) {
+  const ModelData& md = bound_model(f);
+  F64In q, v, x, fx;
+  if (!q.acquire(a[0]) || !v.acquire(a[1]) || !x.acquire(a[2]) || !array_arg(a[3], fx)) return nullptr;
+  if constexpr (Aba)
+    return new_or_into(a[4], [&] { return aba_new(md, q, v, x, fx, true); },
+                       [&](const F64Out& o) { return aba1(md, q, v, x, fx, true, o, F64Out()); });
+  else
+    return new_or_into(a[4], [&] { return rnea_new(md, q, v, x, fx, true); },
+                       [&](const F64Out& o) { return rnea1(md, q, v, x, fx, true, o); });
+}
+
+// cm.nle(q, v, out=None)
+PyObject* cm_nle_path(PublicCall* f, PyObject* const* a) {
+  const ModelData& md = bound_model(f);
+  F64In q, v;
+  if (!q.acquire(a[0]) || !v.acquire(a[1])) return nullptr;
+  return new_or_into(a[2], [&] { return nle_new(md, q, v); }, [&](const F64Out& o) { return nle1(md, q, v, o); });
+}
+
+// cm.gravity(q, out=None) and cm.crba(q, out=None)
+template <nb::object (*New)(const ModelData&, const F64In&), std::int64_t (*Into)(const ModelData&, const F64In&, const F64Out&)>
+PyObject* cm_configuration_path(PublicCall* f, PyObject* const* a) {
+  const ModelData& md = bound_model(f);
+  F64In q;
+  if (!q.acquire(a[0])) return nullptr;
+  return new_or_into(a[1], [&] { return New(md, q); }, [&](const F64Out& o) { return Into(md, q, o); });
+}
+
+// cm.frame_jacobian(q, frame, reference=LOCAL, out=None); extra = (frame name → index, LOCAL, WORLD, LOCAL_WORLD_ALIGNED)
+PyObject* cm_frame_jacobian_path(PublicCall* f, PyObject* const* a) {
+  const ModelData& md = bound_model(f);
+  int fid = 0, ref = LOCAL;
+  if (!frame_of(a[1], PyTuple_GET_ITEM(f->extra, 0), md.view.nf, fid)) return nullptr;
+  if (a[2] != nullptr) {
+    ref = a[2] == PyTuple_GET_ITEM(f->extra, 1) ? LOCAL
+          : a[2] == PyTuple_GET_ITEM(f->extra, 2) ? WORLD
+          : a[2] == PyTuple_GET_ITEM(f->extra, 3) ? LOCAL_WORLD_ALIGNED : -1;
+    if (ref < 0) return nullptr;
+  }
+  F64In q;
+  if (!q.acquire(a[0])) return nullptr;
+  return new_or_into(a[3], [&] { return frame_jacobian_new(md, q, fid, ref); },
+                     [&](const F64Out& o) { return frame_jacobian1(md, q, fid, ref, o); });
+}
+
 // {names}, parameters, positional, required, path; and how many constants its `extra` holds
 struct NamedKind {
   const char* name;
@@ -821,6 +883,13 @@ const NamedKind KINDS[] = {
     {"nonlinear_effects", {{"model", "q", "v"}, 3, 3, 3, nle_path}, 1},
     {"generalized_gravity", {{"model", "q"}, 2, 2, 2, configuration_path<gravity_new>}, 1},
     {"crba", {{"model", "q"}, 2, 2, 2, configuration_path<crba_new>}, 1},
+    // a compiled model's methods (bound to the core's Model)
+    {"cm_rnea", {{"q", "v", "a", "f_ext", "out"}, 5, 5, 3, cm_state_path<false>}, 0},
+    {"cm_aba", {{"q", "v", "tau", "f_ext", "out"}, 5, 5, 3, cm_state_path<true>}, 0},
+    {"cm_nle", {{"q", "v", "out"}, 3, 3, 2, cm_nle_path}, 0},
+    {"cm_gravity", {{"q", "out"}, 2, 2, 1, cm_configuration_path<gravity_new, gravity1>}, 0},
+    {"cm_crba", {{"q", "out"}, 2, 2, 1, cm_configuration_path<crba_new, crba1>}, 0},
+    {"cm_frame_jacobian", {{"q", "frame", "reference", "out"}, 4, 4, 2, cm_frame_jacobian_path}, 4},
 };
 
 nb::object make(const std::string& kind, nb::handle general, nb::handle extra, nb::handle bound) {
@@ -834,7 +903,11 @@ nb::object make(const std::string& kind, nb::handle general, nb::handle extra, n
   const std::size_t need = named->constants;
   if (!PyTuple_Check(extra.ptr()) || static_cast<std::size_t>(PyTuple_GET_SIZE(extra.ptr())) != need)
     throw nb::value_error("public_call: wrong constants for this kind");
-  if (k == FK && !nb::isinstance<ModelData>(bound)) throw nb::type_error("public_call: fk needs the core's Model");
+  const bool is_bound = k == FK || kind.rfind("cm_", 0) == 0;  // a compiled model's method
+  if (is_bound && !nb::isinstance<ModelData>(bound))
+    throw nb::type_error("public_call: a compiled model's method needs the core's Model");
+  if (kind == "cm_frame_jacobian" && !PyDict_CheckExact(PyTuple_GET_ITEM(extra.ptr(), 0)))
+    throw nb::type_error("public_call: the frame table (a dict) expected");
   if (k == FRAME_PLACEMENT) {
     // the class, and the member descriptors of four writable object slots of that class (frame_placement_path
     // fills them at their offsets in a fresh instance)
@@ -851,7 +924,7 @@ nb::object make(const std::string& kind, nb::handle general, nb::handle extra, n
         throw nb::type_error("public_call: slot descriptors expected");
     }
   }
-  PyObject* r = make_public_call(k, general.ptr(), extra.ptr(), k == FK ? bound.ptr() : nullptr);
+  PyObject* r = make_public_call(k, general.ptr(), extra.ptr(), is_bound ? bound.ptr() : nullptr);
   if (r == nullptr) throw nb::python_error();
   return nb::steal(r);
 }
