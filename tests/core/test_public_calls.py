@@ -21,6 +21,7 @@ from __future__ import annotations
 import inspect
 import os
 import pickle
+import pydoc
 import subprocess
 import sys
 import threading
@@ -260,6 +261,13 @@ def test_the_objects_look_like_their_functions() -> None:
         assert inspect.signature(f) == inspect.signature(general)
         assert pickle.loads(pickle.dumps(f)) is f
         assert repr(f) == f"<function {module}.{name} (one-state calls in the compiled core)>"
+        assert inspect.isroutine(f)  # help() documents it as a function, with its signature
+        assert f"{name}(model: 'Model', q: " in pydoc.render_doc(f, renderer=pydoc.plaintext)
+
+        class Holder:
+            method = f
+
+        assert Holder.method is f and Holder().method is f  # it does not bind, as a builtin function
     cm = fd.compile(tree(TREE_NAMES[0]))
     assert cm.fk.__qualname__ == "CompiledModel.fk" and "(nb, 4, 4)" in cm.fk.__doc__
     assert list(inspect.signature(cm.fk).parameters) == ["q", "out"]

@@ -142,6 +142,11 @@ inline PyObject* repr(PyObject* self) {
   return r;
 }
 
+// Read as an attribute of a class or an instance, the object itself (as a builtin function: it does not bind).
+// Having __get__ (and no __set__) also makes inspect.isroutine true, so help() documents it as a function,
+// with the signature of __wrapped__.
+inline PyObject* descr_get(PyObject* self, PyObject*, PyObject*) { return Py_NewRef(self); }
+
 // Pickled by name, like a function: the module attribute of the name __qualname__ (set by
 // functools.update_wrapper) is this object.
 inline PyObject* reduce(PyObject* self, PyObject*) {
@@ -187,6 +192,7 @@ inline PyTypeObject* public_call_type() {
   d::type.tp_clear = d::clear;
   d::type.tp_dealloc = d::dealloc;
   d::type.tp_repr = d::repr;
+  d::type.tp_descr_get = d::descr_get;
   d::type.tp_methods = d::methods;
   d::type.tp_getset = d::getset;
   if (PyType_Ready(&d::type) != 0) return nullptr;
