@@ -183,13 +183,19 @@ class CompiledModel:
         # binding takes them (core/cpp/public_calls.hpp; anything else goes to the closure): on kernels of
         # 0.2–2 µs the closure's own call was 10–15 % of the whole, and made fd.compile's methods slower than
         # fd.rnea & co., which are finished in C too.
-        constants = {"frame_jacobian": (frames, LOCAL, WORLD, LOCAL_WORLD_ALIGNED)}
-        for name, closure in (("rnea", rnea), ("nle", nle), ("gravity", gravity), ("crba", crba), ("aba", aba),
-                              ("fk", fk), ("frame_jacobian", frame_jacobian)):
-            method = core.public_call("fk" if name == "fk" else f"cm_{name}", closure, constants.get(name, ()), cm)
+        def finished_in_c(name: str, closure: Any, constants: tuple[Any, ...] = ()) -> Any:
+            method = core.public_call("fk" if name == "fk" else f"cm_{name}", closure, constants, cm)
             functools.update_wrapper(method, closure)
             method.__qualname__ = f"CompiledModel.{name}"
-            setattr(self, name, method)
+            return method
+
+        self.rnea = finished_in_c("rnea", rnea)
+        self.nle = finished_in_c("nle", nle)
+        self.gravity = finished_in_c("gravity", gravity)
+        self.crba = finished_in_c("crba", crba)
+        self.aba = finished_in_c("aba", aba)
+        self.fk = finished_in_c("fk", fk)
+        self.frame_jacobian = finished_in_c("frame_jacobian", frame_jacobian, (frames, LOCAL, WORLD, LOCAL_WORLD_ALIGNED))
 
     # batched forms: any batch shape (leading axes broadcast), on the core's threads
 
