@@ -74,115 +74,42 @@ class CompiledModel:
         self.nq, self.nv, self.nb = model.nq, model.nv, model.nbodies
         self.compile_seconds = compile_seconds
         cm, nv, nb = handle.cm, self.nv, self.nb
-        empty = np.empty
         shape_M, shape_H, shape_J = (nv, nv), (nb, 4, 4), (6, nv)  # built once, not per call
         frames = handle.frames
-        k_rnea, k_nle, k_gravity, k_crba, k_aba, k_fk, k_jac = (
-            core.rnea, core.nle, core.gravity, core.crba, core.aba, core.placements, core.frame_jacobian)
-        # without out=: the entry points that allocate the result themselves (or return None)
-        n_rnea, n_nle, n_gravity, n_crba, n_aba, n_jac = (
-            core.rnea_new, core.nle_new, core.gravity_new, core.crba_new, core.aba_new, core.frame_jacobian_new)
-        codes = {id(LOCAL): 0, id(WORLD): 1, id(LOCAL_WORLD_ALIGNED): 2}
 
-        # The methods are closures stored on the instance: no bound-method object, few lookups.
-        # The binding returns 0, or raises TypeError / returns a status for anything it does not take
-        # as it is: the general path (featherdyn.core's wrappers) converts or words the error.
+        # The methods' general paths: featherdyn.core's wrappers, which convert, compute or word the error. A
+        # native float64 state never reaches them: it is finished in C (below).
 
         def rnea(q: Any, v: Any, a: Any, f_ext: Any = None, out: Any = None) -> np.ndarray:
             """``τ = RNEA(q, v, a)`` `(nv,)` with gravity, optional body-frame ``f_ext`` `(nb, 6)`."""
-            try:
-                if out is None:
-                    tau = n_rnea(cm, q, v, a, f_ext, True)
-                    if tau is not None:
-                        return tau
-                elif k_rnea(cm, q, v, a, f_ext, True, out) == 0:
-                    return out
-            except TypeError:
-                pass
             return _rnea(model, q, v, a, f_ext, True, _one_state_out(out, (nv,)))
 
         def nle(q: Any, v: Any, out: Any = None) -> np.ndarray:
             """``h(q, v) = RNEA(q, v, 0)`` `(nv,)`."""
-            try:
-                if out is None:
-                    h = n_nle(cm, q, v)
-                    if h is not None:
-                        return h
-                elif k_nle(cm, q, v, out) == 0:
-                    return out
-            except TypeError:
-                pass
             return _nle(model, q, v, _one_state_out(out, (nv,)))
 
         def gravity(q: Any, out: Any = None) -> np.ndarray:
             """``g(q) = RNEA(q, 0, 0)`` `(nv,)`."""
-            try:
-                if out is None:
-                    g = n_gravity(cm, q)
-                    if g is not None:
-                        return g
-                elif k_gravity(cm, q, out) == 0:
-                    return out
-            except TypeError:
-                pass
             return _gravity(model, q, _one_state_out(out, (nv,)))
 
         def crba(q: Any, out: Any = None) -> np.ndarray:
             """The mass matrix ``M(q)`` `(nv, nv)`, full and symmetric."""
-            try:
-                if out is None:
-                    M = n_crba(cm, q)
-                    if M is not None:
-                        return M
-                elif k_crba(cm, q, out) == 0:
-                    return out
-            except TypeError:
-                pass
             return _crba(model, q, _one_state_out(out, shape_M))
 
         def aba(q: Any, v: Any, tau: Any, f_ext: Any = None, out: Any = None) -> np.ndarray:
             """``q̈ = ABA(q, v, τ)`` `(nv,)`; ``SingularMassMatrixError`` naming the joint."""
-            try:
-                if out is None:
-                    qdd = n_aba(cm, q, v, tau, f_ext, True)
-                    if qdd is not None:
-                        return qdd
-                elif k_aba(cm, q, v, tau, f_ext, True, out, None) == 0:
-                    return out
-            except TypeError:
-                pass
             return _aba(model, q, v, tau, f_ext, True, _one_state_out(out, (nv,)))
 
         def fk(q: Any, out: Any = None) -> np.ndarray:
             """World placements of the bodies, homogeneous `(nb, 4, 4)`."""
-            H = empty(shape_H) if out is None else out
-            try:
-                if k_fk(cm, q, H) == 0:
-                    return H
-            except TypeError:
-                pass
             return _fk(model, q, out=_one_state_out(out, shape_H))
 
         def frame_jacobian(q: Any, frame: Any, reference: Any = LOCAL, out: Any = None) -> np.ndarray:
             """The Jacobian `(6, nv)` of ``frame`` (name or index) in ``reference`` (``fd.LOCAL``, ...)."""
-            fid = frames.get(frame, -1) if frame.__class__ is str else frame
-            ref = codes.get(id(reference), -1)
-            if ref >= 0:
-                try:
-                    if out is None:
-                        J = n_jac(cm, q, fid, ref)
-                        if J is not None:
-                            return J
-                    elif k_jac(cm, q, fid, ref, out) == 0:
-                        return out
-                except TypeError:
-                    pass
             return _frame_jacobian(model, q, frame, reference, _one_state_out(out, shape_J))
 
-        # Each method is the closure above with its one-state call finished in C when the arguments are as the
-        # binding takes them (core/cpp/public_calls.hpp; anything else goes to the closure): on kernels of
-        # 0.2–2 µs the closure's own call was 10–15 % of the whole, and made fd.compile's methods slower than
-        # fd.rnea & co., which are finished in C too.
+        # Each method: the closure above, with its one-state call finished in C when the arguments are as the
+        # binding takes them (core/cpp/public_calls.hpp); anything else goes to the closure unchanged.
         def finished_in_c(name: str, closure: Any, constants: tuple[Any, ...] = ()) -> Any:
             method = core.public_call("fk" if name == "fk" else f"cm_{name}", closure, constants, cm)
             functools.update_wrapper(method, closure)

@@ -579,7 +579,6 @@ namespace pc {
 PyObject* s_core = nullptr;    // "_core": a Model's CoreHandle (featherdyn/core/_model_view.py)
 PyObject* s_cm = nullptr;      // CoreHandle.cm: the core's Model
 PyObject* s_frames = nullptr;  // CoreHandle.frames: frame name → index
-bool clear_writeable_directly = false;  // NumPy's PyArray_CLEARFLAGS on arrays numpy_alloc made (checked at import)
 
 // A C++ exception in a fast path: Python's error as an exception, a refused argument as a decline.
 template <class F>
@@ -631,6 +630,12 @@ bool model_of(PublicCall* f, PyObject* model, const ModelData*& md, PyObject*& f
   return true;
 }
 
+// The same where the frame table is not needed.
+bool model_of(PublicCall* f, PyObject* model, const ModelData*& md) {
+  PyObject* frames = nullptr;
+  return model_of(f, model, md, frames);
+}
+
 // A frame given by name (exact str) or index (exact int) within [0, nf).
 bool frame_of(PyObject* frame, PyObject* frames, int nf, int& fid) {
   PyObject* index = frame;
@@ -652,18 +657,26 @@ bool frame_of(PyObject* frame, PyObject* frames, int nf, int& fid) {
   return true;
 }
 
+// The reference code of `given` (absent: LOCAL) by identity with the enums at extra[at .. at + 3); false for
+// anything else (a name such as "WORLD": the Python function reads it).
+bool reference_of(const PublicCall* f, PyObject* given, int at, int& ref) {
+  ref = LOCAL;
+  if (given == nullptr) return true;
+  for (const int code : {LOCAL, WORLD, LOCAL_WORLD_ALIGNED})
+    if (given == PyTuple_GET_ITEM(f->extra, at + code)) {
+      ref = code;
+      return true;
+    }
+  return false;
+}
+
 // fd.frame_jacobian(model, q, frame, reference=LOCAL); extra = (CoreHandle, LOCAL, WORLD, LOCAL_WORLD_ALIGNED).
 PyObject* frame_jacobian_path(PublicCall* f, PyObject* const* a) {
   const ModelData* md = nullptr;
   PyObject* frames = nullptr;
   int fid = 0, ref = LOCAL;
-  if (!model_of(f, a[0], md, frames) || !frame_of(a[2], frames, md->view.nf, fid)) return nullptr;
-  if (a[3] != nullptr) {
-    ref = a[3] == PyTuple_GET_ITEM(f->extra, 1) ? LOCAL
-          : a[3] == PyTuple_GET_ITEM(f->extra, 2) ? WORLD
-          : a[3] == PyTuple_GET_ITEM(f->extra, 3) ? LOCAL_WORLD_ALIGNED : -1;
-    if (ref < 0) return nullptr;  // a name such as "WORLD": the Python function reads it
-  }
+  if (!model_of(f, a[0], md, frames) || !frame_of(a[2], frames, md->view.nf, fid) || !reference_of(f, a[3], 1, ref))
+    return nullptr;
   F64In q;
   if (!q.acquire(a[1])) return nullptr;
   return guarded([&]() -> PyObject* {
@@ -672,12 +685,8 @@ PyObject* frame_jacobian_path(PublicCall* f, PyObject* const* a) {
   });
 }
 
-// A read-only array, as PluckerTransform's fields are.
+// A read-only array, as PluckerTransform's fields are (read_only_pose's fallback).
 bool set_read_only(PyObject* a) {
-  if (clear_writeable_directly) {
-    reinterpret_cast<NdarrayFields*>(a)->flags &= ~NdarrayFast::WRITEABLE;
-    return true;
-  }
   PyObject* r = PyObject_CallMethod(a, "setflags", "O", Py_False);
   Py_XDECREF(r);
   return r != nullptr;
@@ -778,10 +787,9 @@ PyObject* result_or_decline(nb::object r) { return r.is_none() ? nullptr : r.rel
 template <nb::object (*New)(const ModelData&, const F64In&, const F64In&, const F64In&, const F64In&, bool)>
 PyObject* state_path(PublicCall* f, PyObject* const* a) {
   const ModelData* md = nullptr;
-  PyObject* frames = nullptr;
   F64In q, v, x, fx;
   bool g = true;
-  if (!model_of(f, a[0], md, frames) || !q.acquire(a[1]) || !v.acquire(a[2]) || !x.acquire(a[3]) ||
+  if (!model_of(f, a[0], md) || !q.acquire(a[1]) || !v.acquire(a[2]) || !x.acquire(a[3]) ||
       !array_arg(a[4], fx) || !flag_arg(a[5], g))
     return nullptr;
   return guarded([&] { return result_or_decline(New(*md, q, v, x, fx, g)); });
@@ -790,9 +798,8 @@ PyObject* state_path(PublicCall* f, PyObject* const* a) {
 // fd.nonlinear_effects(model, q, v)
 PyObject* nle_path(PublicCall* f, PyObject* const* a) {
   const ModelData* md = nullptr;
-  PyObject* frames = nullptr;
   F64In q, v;
-  if (!model_of(f, a[0], md, frames) || !q.acquire(a[1]) || !v.acquire(a[2])) return nullptr;
+  if (!model_of(f, a[0], md) || !q.acquire(a[1]) || !v.acquire(a[2])) return nullptr;
   return guarded([&] { return result_or_decline(nle_new(*md, q, v)); });
 }
 
@@ -800,9 +807,8 @@ PyObject* nle_path(PublicCall* f, PyObject* const* a) {
 template <nb::object (*New)(const ModelData&, const F64In&)>
 PyObject* configuration_path(PublicCall* f, PyObject* const* a) {
   const ModelData* md = nullptr;
-  PyObject* frames = nullptr;
   F64In q;
-  if (!model_of(f, a[0], md, frames) || !q.acquire(a[1])) return nullptr;
+  if (!model_of(f, a[0], md) || !q.acquire(a[1])) return nullptr;
   return guarded([&] { return result_or_decline(New(*md, q)); });
 }
 
@@ -855,13 +861,8 @@ PyObject* cm_configuration_path(PublicCall* f, PyObject* const* a) {
 PyObject* cm_frame_jacobian_path(PublicCall* f, PyObject* const* a) {
   const ModelData& md = bound_model(f);
   int fid = 0, ref = LOCAL;
-  if (!frame_of(a[1], PyTuple_GET_ITEM(f->extra, 0), md.view.nf, fid)) return nullptr;
-  if (a[2] != nullptr) {
-    ref = a[2] == PyTuple_GET_ITEM(f->extra, 1) ? LOCAL
-          : a[2] == PyTuple_GET_ITEM(f->extra, 2) ? WORLD
-          : a[2] == PyTuple_GET_ITEM(f->extra, 3) ? LOCAL_WORLD_ALIGNED : -1;
-    if (ref < 0) return nullptr;
-  }
+  if (!frame_of(a[1], PyTuple_GET_ITEM(f->extra, 0), md.view.nf, fid) || !reference_of(f, a[2], 1, ref))
+    return nullptr;
   F64In q;
   if (!q.acquire(a[0])) return nullptr;
   return new_or_into(a[3], [&] { return frame_jacobian_new(md, q, fid, ref); },
@@ -929,19 +930,14 @@ nb::object make(const std::string& kind, nb::handle general, nb::handle extra, n
   return nb::steal(r);
 }
 
-// At import: the interned names, and whether clearing NumPy's WRITEABLE flag in place works on an
-// array numpy_alloc made (it must then read back as read-only).
+// At import: the interned names, and whether read_only_pose's arrays over a bytes object read back as NumPy
+// must see them (else its fallback serves).
 void init() {
   s_core = PyUnicode_InternFromString("_core");
   s_cm = PyUnicode_InternFromString("cm");
   s_frames = PyUnicode_InternFromString("frames");
   if (s_core == nullptr || s_cm == nullptr || s_frames == nullptr) throw nb::python_error();
   if (public_call_type() == nullptr) throw nb::python_error();
-  if (ndarray_fast.type != nullptr && numpy_alloc.new_from_descr != nullptr) {
-    nb::object a = numpy_alloc({3});
-    reinterpret_cast<NdarrayFields*>(a.ptr())->flags &= ~NdarrayFast::WRITEABLE;
-    clear_writeable_directly = !nb::cast<bool>(a.attr("flags").attr("writeable"));
-  }
   if (numpy_alloc.set_base != nullptr) {  // read_only_pose's arrays over a bytes object, as NumPy sees them
     const double R9[9] = {1, 2, 3, 4, 5, 6, 7, 8, 9}, p3[3] = {10, 11, 12};
     nb::object R, p;
