@@ -439,21 +439,29 @@ def _local(tag: Any) -> str:
     return tag if isinstance(tag, str) else ""
 
 
-def _read(path_or_xml: Any) -> tuple[Any, tuple[ElementIndex, ElementLines], str, str | None]:
-    """``(root, (each element's index in document order, the file's lines), label, path)``."""
-    text, label, path = _read_source(path_or_xml, MJCFError, "MJCF", "load_mjcf")
+def read_source(path_or_xml: Any) -> tuple[str, str, str | None]:
+    """``(text, label for messages, path or None)`` of a file path, an XML string or XML bytes."""
+    return _read_source(path_or_xml, MJCFError, "MJCF", "load_mjcf")
+
+
+def _read(path_or_xml: Any, source: tuple[str, str, str | None] | None = None,
+          ) -> tuple[Any, tuple[ElementIndex, ElementLines], str, str | None]:
+    """``(root, (each element's index in document order, the file's lines), label, path)`` (``source``: what
+    :func:`read_source` gave, if already read)."""
+    text, label, path = read_source(path_or_xml) if source is None else source
     root, index, lines = parse_elements(text, label, MJCFError, "MJCF")
     return root, (index, lines), label, path
 
 
-def read_document(path_or_xml: Any, strict: bool) -> Doc:
+def read_document(path_or_xml: Any, strict: bool, source: tuple[str, str, str | None] | None = None) -> Doc:
     """Parse the main file, check its root is ``<mujoco>``, expand every ``<include>``.
 
     Each pass replaces every ``<include>`` present by its file's content, so
     the passes are bounded by the include depth; each element remembers the
-    chain of files that brought it (for cycles).
+    chain of files that brought it (for cycles). ``source``: the main file's
+    :func:`read_source`, if already read.
     """
-    root, where, label, path = _read(path_or_xml)
+    root, where, label, path = _read(path_or_xml, source)
     if _local(root.tag) != "mujoco":
         tag = _shorten(_local(root.tag) or "?")
         hint = " (a URDF: use featherdyn.load_urdf or load_model)" if tag == "robot" else ""

@@ -91,18 +91,26 @@ from ._mjcf_xml import (
     mat_vec,
     read_defaults,
     read_document,
+    read_source,
     rotate_diagonal,
     rotate_symmetric,
     rows,
     vec_add,
     z_to_vector,
 )
-from ._urdf_xml import _quote, _read_source, _shorten_quoted
+from ._urdf_xml import MAX_ATTRIBUTE_LENGTH, MAX_DEPTH, _declaration_first, _quote, _read_source, _shorten_quoted
 from .errors import FeatherdynError, MJCFError, ModelError, PhysicalityWarning
 from .joints import FreeFlyerJoint, Joint, PrismaticJoint, RevoluteJoint, SphericalJoint, _with_unit_axis
 from .model import _IDENTITY, FrameInfo, Model, ModelBuilder
 from .spatial_algebra import PluckerTransform
-from .urdf import MAX_INERTIA, MAX_MASS
+from .urdf import MAX_INERTIA, MAX_LENGTH, MAX_MASS
+
+try:  # the fast path (mjcf_cpp/mjcf_native.cpp), built with the package
+    from . import _mjcf_native
+except ImportError:  # a source tree without the build: the Python reader alone
+    _mjcf_native = None  # type: ignore[assignment]
+else:
+    _mjcf_native.configure(MAX_DEPTH, MAX_ATTRIBUTE_LENGTH, MAX_LENGTH, MAX_MASS, MAX_INERTIA, math.hypot)
 
 __all__ = ["clear_mesh_cache", "load_mjcf", "load_model", "model_format"]
 
@@ -140,6 +148,7 @@ class _JointSpec:
     armature: float
     lower: float
     upper: float
+    freejoint: bool = False  # written <freejoint/> (its default name: BODY/free)
 
 
 #: ``(m, c, I_c)``: a mass, its centre and its rotational inertia about the centre (symmetric).
@@ -254,11 +263,14 @@ class _Loader:
         self.bodies: list[_Body] = []
         self.ignored: list[str] = []
         self.site_names: set[str] = set()
+        self.model_name: str | None = None
+        self.inertia_done = False  # the fast path computed the bodies' inertias
 
     # -- top level ------------------------------------------------------------
 
     def read_top(self) -> None:
         doc = self.doc
+        self.model_name = doc.root.get("model")
         for elem in doc.root:
             kind = _local(elem.tag)
             if not kind:
@@ -497,7 +509,7 @@ class _Loader:
         if R is not I3:
             pos, axis = mat_vec(R, pos), mat_vec(R, axis)
         return _JointSpec(elem, name, jtype, vec_add(pos, p) if jtype != "free" else pos, axis, ref, armature, lower,
-                          upper)
+                          upper, kind == "freejoint")
 
     # -- inertia --------------------------------------------------------------
 
@@ -717,7 +729,7 @@ class _Loader:
         for b in range(1, nb):
             moving[b] = bool(bodies[b].joints) or moving[bodies[b].parent]
             # a static body's inertia matters only to settotalmass (its meshes are not even read otherwise)
-            if moving[b] or comp.settotalmass > 0:
+            if (moving[b] or comp.settotalmass > 0) and not self.inertia_done:
                 self.body_inertia(b)
         if comp.settotalmass > 0:
             total = sum(bodies[b].inertia[0] for b in range(1, nb))
@@ -736,7 +748,7 @@ class _Loader:
         for body in bodies[1:]:
             for k, j in enumerate(body.joints):
                 if not j.name:
-                    j.name = _unique(f"{body.name}/free" if _local(j.elem.tag) == "freejoint" and j.kind == "free"
+                    j.name = _unique(f"{body.name}/free" if j.freejoint and j.kind == "free"
                                      else f"{body.name}/joint{k}", joint_names)
 
         for body in bodies:  # named sites first, so that generated names avoid them
@@ -843,7 +855,7 @@ class _Loader:
                     raise doc.error(body.elem, f"body {body.name!r}: mass {mass:g} and principal inertia "
                                     f"{principal.tolist()} with its welded descendants: MuJoCo requires the mass and "
                                     f"inertia of a moving body to exceed mjMINVAL = {MJ_MINVAL:g}")
-        builder = ModelBuilder(doc.root.get("model") or "MuJoCo Model", Z3 if self.gravity_disabled else self.gravity)
+        builder = ModelBuilder(self.model_name or "MuJoCo Model", Z3 if self.gravity_disabled else self.gravity)
         builder.source = self.path
         builder._extend(names, ups, joints, jnames, rotations, translations, [m for m, _, _ in inertias],
                         [c for _, c, _ in inertias], [ic for _, _, ic in inertias], lower, upper, unbounded, unbounded,
@@ -934,9 +946,25 @@ def load_mjcf(path_or_xml: str | os.PathLike[str] | bytes, *, strict: bool = Fal
         PhysicalityWarning: once, listing the ignored elements without
             rigid-tree meaning.
     """
-    doc = read_document(path_or_xml, strict)
+    source = read_source(path_or_xml)
     path = None if isinstance(path_or_xml, (bytes, bytearray, memoryview)) or (
         isinstance(path_or_xml, str) and path_or_xml.lstrip("\ufeff \t\r\n").startswith("<")) else str(path_or_xml)
+    got = _load_fast(source, path, strict)
+    if got is None:
+        got = _load(path_or_xml, source, path, strict)
+    model, label, ignored, complaints = got
+    if ignored:
+        warnings.warn(f"{label}: ignored MJCF elements without rigid-tree meaning: {', '.join(ignored)}",
+                      PhysicalityWarning, stacklevel=2)
+    for msg in complaints:  # the model builder's warnings, named by the file
+        warnings.warn(f"{label}: {_shorten_quoted(msg)}", PhysicalityWarning, stacklevel=2)
+    return model
+
+
+def _load(path_or_xml: Any, source: tuple[str, str, str | None], path: str | None,
+          strict: bool) -> tuple[Model, str, list[str], list[str]]:
+    """The Python reader: ``(model, label, ignored elements, the model builder's warnings)``."""
+    doc = read_document(path_or_xml, strict, source)
     loader = _Loader(doc, path)
     try:
         loader.read_top()
@@ -947,12 +975,62 @@ def load_mjcf(path_or_xml: str | os.PathLike[str] | bytes, *, strict: bool = Fal
         raise
     except FeatherdynError as exc:  # a check of the spatial types or the model builder: name the file
         raise MJCFError(f"{doc.label}: {_shorten_quoted(str(exc))}") from None
-    if loader.ignored:
-        warnings.warn(f"{doc.label}: ignored MJCF elements without rigid-tree meaning: {', '.join(loader.ignored)}",
-                      PhysicalityWarning, stacklevel=2)
-    for msg in complaints:  # the model builder's warnings, named by the file
-        warnings.warn(f"{doc.label}: {_shorten_quoted(msg)}", PhysicalityWarning, stacklevel=2)
-    return model
+    return model, doc.label, loader.ignored, complaints
+
+
+class _FastDoc:
+    """What :meth:`_Loader.build` reads of the document on the fast path: the label, ``strict``, and errors
+    without a place (a failing build is done again by the Python reader, which words the message)."""
+
+    def __init__(self, label: str, strict: bool) -> None:
+        self.label = label
+        self.strict = strict
+
+    def error(self, elem: Any, msg: str) -> MJCFError:
+        return MJCFError(f"{self.label}: {msg}")
+
+
+def _load_fast(source: tuple[str, str, str | None], path: str | None,
+               strict: bool) -> tuple[Model, str, list[str], list[str]] | None:
+    """:func:`_load` by the fast path (``featherdyn._mjcf_native``), or ``None`` where it declines.
+
+    The C++ reader takes the usual document — one file of plain XML with bodies, joints, primitive geoms,
+    inertials, sites, frames and default classes — and gives its bodies in MuJoCo's order, each with its pose,
+    joints, sites and inertia, computed with this module's arithmetic operation for operation; the model is then
+    built here as on the Python path. Anything else (includes, ``<replicate>``, meshes, shells, ``fullinertia``,
+    every error) it declines, and a model the builder refuses is read again by the Python reader: the messages are
+    always the Python reader's.
+    """
+    if _mjcf_native is None:
+        return None
+    text, label, _ = source
+    read = _mjcf_native.read(_declaration_first(text), strict)
+    if read is None:
+        return None
+    model_name, gravity, gravity_disabled, ignored, settotalmass, bodies = read
+    loader = _Loader(cast(Doc, _FastDoc(label, strict)), path)
+    loader.model_name = model_name
+    loader.gravity = gravity
+    loader.gravity_disabled = gravity_disabled
+    loader.ignored = ignored
+    loader.comp.settotalmass = settotalmass
+    loader.inertia_done = True
+    made = loader.bodies
+    for name, parent, R, p, joints, sites, inertia in bodies:
+        body = _Body(None, name, parent, I3 if R is None else R, Z3 if p is None else p, "main")
+        body.joints = [_JointSpec(None, jname, kind, Z3 if pos is None else pos, Z3 if axis is None else axis, ref,
+                                  armature, lower, upper, freejoint)
+                       for jname, kind, freejoint, pos, axis, ref, armature, lower, upper in joints]
+        body.sites = [(sname, I3 if Rs is None else Rs, Z3 if ps is None else ps) for sname, Rs, ps in sites]
+        if inertia is not None:
+            m, c, ic = inertia
+            body.inertia = (m, Z3 if c is None else c, ic)
+        made.append(body)
+    try:
+        model, complaints = loader.build()
+    except FeatherdynError:  # a model the builder refuses: the Python reader words why
+        return None
+    return model, label, ignored, complaints
 
 
 def model_format(path_or_xml: str | os.PathLike[str] | bytes) -> str:
