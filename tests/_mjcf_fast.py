@@ -1,0 +1,73 @@
+"""The MJCF loader's two readers side by side: the fast path (``featherdyn._mjcf_native``) and the Python reader.
+
+:func:`outcome` loads a document one way and records everything a user sees:
+the model's every array and name (bit for bit: the bytes of each array), its
+frames with their placements, the warnings, or the exception's type and
+message. The fast path must give the Python reader's outcome exactly.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import warnings
+from collections.abc import Iterator
+from typing import Any
+
+import numpy as np
+
+import featherdyn as fd
+from featherdyn import mjcf
+
+
+@contextlib.contextmanager
+def python_reader_only() -> Iterator[None]:
+    """Within: ``load_mjcf`` reads with the Python reader alone (as a source tree without the build)."""
+    saved = mjcf._mjcf_native
+    mjcf._mjcf_native = None
+    try:
+        yield
+    finally:
+        mjcf._mjcf_native = saved
+
+
+def snapshot(model: fd.Model) -> dict[str, Any]:
+    """Every attribute of a model, arrays as ``(shape, dtype, bytes)``: equal snapshots mean the same model."""
+
+    def arr(x: Any) -> tuple[Any, ...]:
+        a = np.asarray(x)
+        return a.shape, str(a.dtype), a.tobytes()
+
+    out: dict[str, Any] = {k: getattr(model, k) for k in ("name", "parents", "joint_names", "body_names", "idx_q",
+                                                             "nqs", "idx_v", "nvs", "source")}
+    out["joints"] = [(type(j).__name__, arr(getattr(j, "axis", ()))) for j in model.joints]
+    X, inertia = model.joint_placements, model.inertias
+    out["placements"] = arr(X.rotation), arr(X.translation)
+    out["inertias"] = arr(inertia.mass), arr(inertia.com), arr(inertia.inertia_com)
+    for k in ("gravity", "lower", "upper", "velocity_limit", "effort_limit", "armature"):
+        out[k] = arr(getattr(model, k))
+    out["frames"] = [(f.name, f.body, f.kind, arr(f.placement.rotation), arr(f.placement.translation))
+                     for f in model.frames]
+    return out
+
+
+def outcome(source: Any, *, fast: bool, strict: bool = False) -> tuple[Any, ...]:
+    """``("model", snapshot, warnings)`` or ``("error", type name, message)`` of ``fd.load_mjcf(source)``, by the
+    fast path (``fast=True``, the default reader) or by the Python reader alone."""
+    with contextlib.ExitStack() as stack:
+        if not fast:
+            stack.enter_context(python_reader_only())
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            try:
+                model = fd.load_mjcf(source, strict=strict)
+            except Exception as exc:  # noqa: BLE001  (compared, whatever it is)
+                return "error", type(exc).__name__, str(exc)
+        return "model", snapshot(model), [(w.category.__name__, str(w.message)) for w in caught]
+
+
+def taken(text: str, strict: bool = False) -> bool:
+    """Whether the fast path reads ``text`` itself (rather than declining it to the Python reader)."""
+    from featherdyn._urdf_xml import _declaration_first
+
+    assert mjcf._mjcf_native is not None
+    return mjcf._mjcf_native.read(_declaration_first(text), strict) is not None
