@@ -2,7 +2,7 @@
 from collections.abc import Callable
 from typing import Any
 
-def configure(max_elements: int, max_attribute_length: int, max_length: float, max_mass: float, max_inertia: float,
+def configure(max_depth: int, max_attribute_length: int, max_length: float, max_mass: float, max_inertia: float,
               hypot: Callable[..., float], /) -> None: ...
 def read(text: str, strict: bool, /) -> tuple[str | None, tuple[float, float, float], bool, list[str], float,
                                                list[tuple[Any, ...]]] | None: ...

@@ -102,6 +102,10 @@ TAKEN = {
         tail='<actuator><motor joint="j"/></actuator><sensor><jointpos joint="j"/></sensor>'
              '<tendon><fixed><joint joint="j" coef="1"/></fixed></tendon><contact/><equality/><keyframe/>'
              '<custom/>'),
+    "more elements than the C parser of ElementTree takes": _wrap(
+        '<body><joint/>' + '<geom size=".1"/>' * 1200 + '</body>'),
+    "a body outside worldbody (ignored)": _wrap('<body><joint/><geom size=".1"/></body>',
+                                                tail='<body name="x"><geom type="mesh" mesh="nowhere"/></body>'),
     "tendon armature zero, empty values": _wrap(
         '<body pos="" euler=""><joint name="j" axis="" armature=""/><geom size=".1" mass=""/></body>',
         tail='<tendon><fixed armature="0"><joint joint="j" coef="1"/></fixed></tendon>'),
@@ -135,7 +139,6 @@ DECLINED = {
     "namespace": '<mujoco xmlns:x="urn:x"><worldbody><x:body/></worldbody></mujoco>',
     "non-ASCII": _wrap('<body name="é"><joint/><geom size=".1"/></body>'),
     "text": _wrap('<body>text<joint/><geom size=".1"/></body>'),
-    "body outside worldbody": "<mujoco><body/></mujoco>",
     "unknown element": _wrap('<body><joint/><geom size=".1"/><gizmo/></body>'),
     "malformed": "<mujoco><worldbody></mujoco>",
     "unclosed": "<mujoco><worldbody>",
@@ -150,6 +153,8 @@ DECLINED = {
     "a number it does not read": _wrap('<body pos="1e-400 0 0"><joint/><geom size=".1"/></body>'),
     "not a number": _wrap('<body pos="1 2 x"><joint/><geom size=".1"/></body>'),
     "a massless moving body": _wrap("<body><joint/></body>"),
+    "nesting deeper than MAX_DEPTH": "<mujoco><worldbody>" + "<frame>" * 1000 + "</frame>" * 1000 + "</worldbody></mujoco>",
+    "an attribute longer than MAX_ATTRIBUTE_LENGTH": _wrap('<body name="' + "a" * 10_001 + '"><joint/><geom size=".1"/></body>'),
 }
 
 

@@ -39,7 +39,8 @@ struct Decline {};  // thrown for anything the fast path does not take
 // limits shared with the Python reader (featherdyn._urdf_xml, featherdyn.urdf); set at import
 // ---------------------------------------------------------------------------------------------------------------
 
-Py_ssize_t max_elements = 1000;         // _urdf_xml.MAX_DEPTH: most elements of the fast C parse
+Py_ssize_t max_depth = 1000;            // _urdf_xml.MAX_DEPTH: deepest nesting of elements
+constexpr size_t MAX_ELEMENTS = 1000000;  // most elements read (a larger document: the Python reader)
 Py_ssize_t max_attribute_length = 10000;  // _urdf_xml.MAX_ATTRIBUTE_LENGTH
 double max_length = 1e60;              // urdf.MAX_LENGTH
 double max_mass = 1e100;               // urdf.MAX_MASS
@@ -207,7 +208,7 @@ class Xml {
       // at '<' of a start tag
       ++i_;
       int e = static_cast<int>(elems.size());
-      if (static_cast<Py_ssize_t>(e) >= max_elements) decline();
+      if (elems.size() >= MAX_ELEMENTS || static_cast<Py_ssize_t>(open.size()) + 1 >= max_depth) decline();
       elems.emplace_back();
       elems[e].tag = name();
       elems[e].attr_begin = static_cast<int>(attrs.size());
@@ -756,10 +757,12 @@ class Loader {
       } else if (k == "contact" || k == "equality" || k == "tendon" || k == "actuator" || k == "sensor" ||
                  k == "deformable" || k == "extension" || k == "plugin") {
         ignore(std::string(k));
+      } else if (k == "body") {  // MuJoCo's schema takes it and its compiler ignores it
+        ignore("body (outside <worldbody>)");
       } else if (k == "default" || k == "asset" || k == "worldbody" || k == "visual" || k == "statistic" ||
                  k == "size" || k == "custom" || k == "keyframe") {
       } else {
-        decline();  // <body> outside <worldbody>, <include>, unknown elements: the Python reader
+        decline();  // <include>, unknown elements: the Python reader
       }
     }
     read_defaults(tops);
@@ -1342,7 +1345,7 @@ PyObject* read(PyObject*, PyObject* const* args, Py_ssize_t nargs) {
 
 PyObject* configure(PyObject*, PyObject* const* args, Py_ssize_t nargs) {
   if (nargs != 6) {
-    PyErr_SetString(PyExc_TypeError, "configure(max_elements, max_attribute_length, max_length, max_mass, "
+    PyErr_SetString(PyExc_TypeError, "configure(max_depth, max_attribute_length, max_length, max_mass, "
                                      "max_inertia, hypot)");
     return nullptr;
   }
@@ -1353,7 +1356,7 @@ PyObject* configure(PyObject*, PyObject* const* args, Py_ssize_t nargs) {
     PyErr_SetString(PyExc_TypeError, "configure: hypot must be callable");
     return nullptr;
   }
-  max_elements = e;
+  max_depth = e;
   max_attribute_length = a;
   max_length = l;
   max_mass = m;
@@ -1366,7 +1369,7 @@ PyMethodDef methods[] = {
     {"read", reinterpret_cast<PyCFunction>(reinterpret_cast<void (*)()>(read)), METH_FASTCALL,
      "read(text, strict) -> the body list of a usual MJCF document, or None (declined: the Python reader reads it)"},
     {"configure", reinterpret_cast<PyCFunction>(reinterpret_cast<void (*)()>(configure)), METH_FASTCALL,
-     "configure(max_elements, max_attribute_length, max_length, max_mass, max_inertia, hypot): the Python reader's "
+     "configure(max_depth, max_attribute_length, max_length, max_mass, max_inertia, hypot): the Python reader's "
      "limits"},
     {nullptr, nullptr, 0, nullptr}};
 
