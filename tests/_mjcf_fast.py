@@ -10,7 +10,8 @@ from __future__ import annotations
 
 import contextlib
 import warnings
-from collections.abc import Iterator
+import xml.etree.ElementTree as ET
+from collections.abc import Callable, Iterator
 from typing import Any
 
 import numpy as np
@@ -60,7 +61,7 @@ def outcome(source: Any, *, fast: bool, strict: bool = False) -> tuple[Any, ...]
             warnings.simplefilter("always")
             try:
                 model = fd.load_mjcf(source, strict=strict)
-            except Exception as exc:  # noqa: BLE001  (compared, whatever it is)
+            except Exception as exc:
                 return "error", type(exc).__name__, str(exc)
         return "model", snapshot(model), [(w.category.__name__, str(w.message)) for w in caught]
 
@@ -71,3 +72,22 @@ def taken(text: str, strict: bool = False) -> bool:
 
     assert mjcf._mjcf_native is not None
     return mjcf._mjcf_native.read(_declaration_first(text), strict) is not None
+
+
+def restructure(root: ET.Element, e: ET.Element, kind: str, pick: Callable[[list[Any]], Any],
+                tags: list[str]) -> None:
+    """A mutation fuzzer's structural edit of element ``e`` (not the root) of the tree ``root``: ``kind`` is
+    ``"delete"``, ``"duplicate"`` (a copy appended to its parent), ``"move"`` (into another element chosen by
+    ``pick``, unless that is inside ``e``) or ``"rename"`` (to a tag chosen by ``pick`` from ``tags``)."""
+    parent = next(p for p in root.iter() if any(c is e for c in p))
+    if kind == "delete":
+        parent.remove(e)
+    elif kind == "duplicate":
+        parent.append(ET.fromstring(ET.tostring(e)))
+    elif kind == "move":
+        target = pick(list(root.iter()))
+        if all(target is not d for d in e.iter()):
+            parent.remove(e)
+            target.append(e)
+    else:
+        e.tag = pick(tags)

@@ -19,7 +19,7 @@ import xml.etree.ElementTree as ET
 
 import numpy as np
 import pytest
-from _mjcf_fast import outcome, taken
+from _mjcf_fast import outcome, restructure, taken
 
 SEEDS = [
     """<mujoco model="fuzz"><compiler angle="degree" eulerseq="xyz" autolimits="true" settotalmass="12"/>
@@ -82,27 +82,16 @@ SNIPPETS = ["<", ">", "&", "&amp;", "&#65;", '"', "'", "/", "=", " ", "\x00", "\
 def _tree_edit(root: ET.Element, rng: np.random.Generator) -> None:
     elems = list(root.iter())
     e = elems[rng.integers(len(elems))]
-    parent_of = {c: p for p in root.iter() for c in p}
-    kind = rng.choice(["attr", "attr", "attr", "delete", "duplicate", "move", "rename", "class"])
+    kind = str(rng.choice(["attr", "attr", "attr", "delete", "duplicate", "move", "rename", "class"]))
     if kind == "attr":
         keys = [*e.attrib, *KEYS]
         e.set(str(rng.choice(keys)), str(rng.choice(HOSTILE)))
     elif kind == "class":
         e.set(str(rng.choice(["class", "childclass"])), str(rng.choice(["c1", "c2", "c3", "main", "nope"])))
     elif e is not root:
-        parent = parent_of[e]
-        if kind == "delete":
-            parent.remove(e)
-        elif kind == "duplicate":
-            parent.append(ET.fromstring(ET.tostring(e)))
-        elif kind == "move":
-            target = elems[rng.integers(len(elems))]
-            if e not in list(target.iter()):
-                parent.remove(e)
-                target.append(e)
-        else:
-            e.tag = str(rng.choice(["gizmo", "frame", "body", "geom", "site", "joint", "freejoint", "inertial",
-                                    "camera", "plugin", "composite", "replicate", "include", "default"]))
+        restructure(root, e, kind, lambda xs: xs[rng.integers(len(xs))],
+                    ["gizmo", "frame", "body", "geom", "site", "joint", "freejoint", "inertial", "camera", "plugin",
+                     "composite", "replicate", "include", "default"])
 
 
 def _text_edit(text: str, rng: np.random.Generator) -> str:

@@ -22,6 +22,7 @@ import xml.etree.ElementTree as ET
 
 import numpy as np
 import pytest
+from _mjcf_fast import restructure
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
@@ -69,29 +70,16 @@ PROLOGUES = ['<!DOCTYPE mujoco [<!ENTITY x "y">]>', '<!DOCTYPE mujoco SYSTEM "fi
 
 def _mutate(text: str, data: st.DataObject) -> str:
     root = ET.fromstring(text)
-    elems = list(root.iter())
     for _ in range(data.draw(st.integers(1, 3))):
         kind = data.draw(st.sampled_from(["attr", "delete", "duplicate", "move", "unknown", "class"]))
-        elems = list(root.iter())
-        e = data.draw(st.sampled_from(elems))
-        parent_of = {c: p for p in root.iter() for c in p}
+        e = data.draw(st.sampled_from(list(root.iter())))
         if kind == "attr":
             keys = [*e.attrib, "pos", "quat", "euler", "size", "mass", "axis", "range", "class", "type", "fromto",
                     "diaginertia", "count", "file", "mesh", "ref", "armature", "density", "group"]
             e.set(data.draw(st.sampled_from(keys)), data.draw(st.sampled_from(HOSTILE)))
         elif e is not root and kind in ("delete", "duplicate", "move", "unknown"):
-            parent = parent_of[e]
-            if kind == "delete":
-                parent.remove(e)
-            elif kind == "duplicate":
-                parent.append(ET.fromstring(ET.tostring(e)))
-            elif kind == "move":
-                target = data.draw(st.sampled_from(elems))
-                if e not in list(target.iter()):
-                    parent.remove(e)
-                    target.append(e)
-            else:
-                e.tag = data.draw(st.sampled_from(["gizmo", "composite", "flexcomp", "include", "body", "frame"]))
+            restructure(root, e, "rename" if kind == "unknown" else kind, lambda xs: data.draw(st.sampled_from(xs)),
+                        ["gizmo", "composite", "flexcomp", "include", "body", "frame"])
         elif kind == "class":
             e.set("childclass" if data.draw(st.booleans()) else "class", data.draw(st.sampled_from(["c1", "main",
                                                                                                       "nope"])))

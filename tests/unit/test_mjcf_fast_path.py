@@ -21,7 +21,7 @@ from test_mjcf import BAD
 from featherdyn import mjcf
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "scripts"))
-import mjcf_survey  # noqa: E402
+import mjcf_survey
 
 
 def _wrap(body: str, head: str = "", tail: str = "") -> str:
