@@ -66,12 +66,14 @@ def outcome(source: Any, *, fast: bool, strict: bool = False) -> tuple[Any, ...]
         return "model", snapshot(model), [(w.category.__name__, str(w.message)) for w in caught]
 
 
-def taken(text: str, strict: bool = False) -> bool:
-    """Whether the fast path reads ``text`` itself (rather than declining it to the Python reader)."""
+def taken(text: str, strict: bool = False, path: Any = None) -> bool:
+    """Whether the fast path reads ``text`` (of the file ``path``, if one) itself, rather than declining it to the
+    Python reader."""
     from featherdyn._urdf_xml import _declaration_first
 
     assert mjcf._mjcf_native is not None
-    return mjcf._mjcf_native.read(_declaration_first(text), strict) is not None
+    meshes = mjcf._FastMeshes(None if path is None else str(path))
+    return mjcf._mjcf_native.read(_declaration_first(text), strict, meshes.exists, meshes.properties) is not None
 
 
 def restructure(root: ET.Element, e: ET.Element, kind: str, pick: Callable[[list[Any]], Any],

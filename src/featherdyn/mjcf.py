@@ -88,6 +88,7 @@ from ._mjcf_xml import (
     Mat,
     Vec,
     _local,
+    _parse_decimals,
     axis_angle_matrix,
     compose,
     diagonal,
@@ -996,6 +997,45 @@ class _FastDoc:
         return MJCFError(f"{self.label}: {msg}")
 
 
+class _FastMeshes:
+    """The fast path's mesh assets, read by the Python reader's functions: where a file is (``asset_path``), and a
+    mesh's mass properties (:meth:`_Loader.mesh_properties`); anything they refuse raises, and the fast path then
+    declines the document."""
+
+    def __init__(self, path: str | None) -> None:
+        self.model_dir = Path(path).parent if path is not None else Path(os.getcwd())
+
+    def file(self, file: str, meshdir: str | None, assetdir: str | None) -> Path:
+        p = Path(file)
+        return p if p.is_absolute() else self.model_dir / (meshdir or assetdir or "") / p
+
+    def exists(self, file: str, meshdir: str | None, assetdir: str | None) -> bool:
+        return self.file(file, meshdir, assetdir).is_file()
+
+    def properties(self, file: str | None, meshdir: str | None, assetdir: str | None, scale: Vec, mode: str,
+                   vertex: str | None, face: str | None) -> tuple[float, Vec, Mat]:
+        if file is not None:
+            return file_mass_properties(self.file(file, meshdir, assetdir), scale, mode)
+        V = np.array(_decimal_list(vertex), dtype=np.float64).reshape(-1, 3)
+        faces = _decimal_list(face)
+        if any(f != int(f) for f in faces):
+            raise MeshError("face indices must be integers")
+        F = np.array(faces, dtype=np.int64).reshape(-1, 3)
+        if F.size and (F.min() < 0 or F.max() >= len(V)):
+            raise MeshError(f"a face index is outside 0..{len(V) - 1}")
+        return mass_properties(V, F, scale, mode)
+
+
+def _decimal_list(text: str | None) -> tuple[float, ...]:
+    """``Doc.float_list(..., 3)`` of a mesh's ``vertex`` or ``face`` text, raising where that would refuse it."""
+    if text is None:
+        return ()
+    values, ceiling = _parse_decimals(text)
+    if len(values) % 3 or ceiling < 0 or (ceiling > MAX_LENGTH and max(map(abs, values)) > MAX_LENGTH):
+        raise MeshError("not a list of decimals by threes")
+    return values
+
+
 def _load_fast(source: tuple[str, str, str | None], path: str | None,
                strict: bool) -> tuple[Model, str, list[str], list[str]] | None:
     """:func:`_load` by the fast path (``featherdyn._mjcf_native``), or ``None`` where it declines.
@@ -1010,7 +1050,8 @@ def _load_fast(source: tuple[str, str, str | None], path: str | None,
     if _mjcf_native is None:
         return None
     text, label, _ = source
-    read = _mjcf_native.read(_declaration_first(text), strict)
+    meshes = _FastMeshes(path)
+    read = _mjcf_native.read(_declaration_first(text), strict, meshes.exists, meshes.properties)
     if read is None:
         return None
     model_name, gravity, gravity_disabled, ignored, settotalmass, bodies = read

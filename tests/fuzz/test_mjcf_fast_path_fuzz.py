@@ -1,6 +1,6 @@
 """Seeded mutation fuzz of the MJCF loader's fast path against the Python reader.
 
-Seeds: documents the fast path reads; 1 000 mutants of each (defaults and classes, frames, every
+Seeds: documents the fast path reads (the third with inline meshes); 1 000 mutants of each (defaults and classes, frames, every
 orientation, fromto, inertials, every joint and primitive geom, compiler and
 option settings, ignored elements). Each mutant applies one to three edits,
 either to the tree (an attribute set to a hostile or plausible value, an
@@ -63,17 +63,32 @@ SEEDS = [
   </worldbody>
   <tendon><fixed armature='0'><joint joint='a' coef='1'/></fixed></tendon>
 </mujoco>""",
+    """<mujoco model="three"><compiler meshdir="."/>
+  <default><mesh scale="1 1 1"/>
+    <default class="m2"><mesh scale=".5 .5 .5" inertia="exact"/><geom type="mesh" mesh="tet" density="500"/></default>
+  </default>
+  <asset><mesh name="tet" vertex="0 0 0 1 0 0 0 1 0 0 0 1" face="0 2 1 0 1 3 0 3 2 1 2 3"/>
+    <mesh name="pts" class="m2" inertia="convex" vertex="0 0 0 1 0 0 0 1 0 0 0 1 1 1 1"/></asset>
+  <worldbody>
+    <body name="a" pos="0 0 1"><joint axis="0 1 0"/><geom type="mesh" mesh="tet"/><geom class="m2"/>
+      <body name="b" quat="1 0 1 0"><joint type="slide" axis="1 0 0"/><geom type="mesh" mesh="pts" mass="1" euler="10 20 30"/>
+        <site name="s" pos=".1 .1 .1"/></body>
+    </body>
+  </worldbody>
+</mujoco>""",
 ]
 
 HOSTILE = ["nan", "inf", "-inf", "1e308", "1e999", "-1e308", "5e-324", "1e-320", "1e-400", "0", "-1", "", " ",
            "abc", "0x10", "1" * 400, "1 2", "1 2 3 4 5 6 7", "1e61", "1e101", "-0", "+1", "1.", ".5", "1e5", "1E-5",
            "true", "false", "auto", "degree", "radian", "c1", "c2", "nope", "hinge", "ball", "free", "slide", "mesh",
            "plane", "hfield", "sdf", "box", "0 0 0", "-0 0 0", "0 0 1", "1 0 0 0", "0 0 0 0", "1 2 3", "1 2 3 4",
-           "0 0 0 1 0 0", "1 0 0 0 1 0", "-1 1", "1 -1", "0.5 0.5 0.5 0.5", "1_0", "١", "1\t2\n3"]
+           "0 0 0 1 0 0", "1 0 0 0 1 0", "-1 1", "1 -1", "0.5 0.5 0.5 0.5", "1_0", "١", "1\t2\n3", "tet", "pts",
+           "legacy", "exact", "convex", "shell", "0 1 2", "0 0 0 1 0 0 0 1 0 0 0 1"]
 KEYS = ["pos", "quat", "euler", "axisangle", "xyaxes", "zaxis", "size", "mass", "axis", "range", "class",
         "childclass", "type", "fromto", "diaginertia", "ref", "armature", "density", "group", "limited", "name",
         "angle", "eulerseq", "inertiafromgeom", "inertiagrouprange", "boundmass", "settotalmass", "autolimits",
-        "gravity", "shellinertia", "fullinertia", "coordinate"]
+        "gravity", "shellinertia", "fullinertia", "coordinate", "mesh", "inertia", "scale", "vertex", "face",
+        "meshdir", "file"]
 SNIPPETS = ["<", ">", "&", "&amp;", "&#65;", '"', "'", "/", "=", " ", "\x00", "\x01", "é", "<!--", "-->", "--",
             "<!-- c -->", "<![CDATA[x]]>", "\r\n", "\r", "\t", "<?pi x?>", "</body>", "<body>", "<geom/>",
             ' xmlns:x="u"', "x:y", "<!DOCTYPE m>", '<?xml version="1.0"?>', "\ufeff", "<include file='x.xml'/>"]

@@ -39,7 +39,7 @@ def test_every_installed_model_it_takes_loads_as_the_python_reader_loads_it() ->
     read = 0
     for path in models:
         text = mjcf.read_source(path)[0]
-        if not taken(text):
+        if not taken(text, path=path):
             continue
         read += 1
         fast, slow = outcome(path, fast=True), outcome(path, fast=False)
@@ -102,6 +102,15 @@ TAKEN = {
         tail='<actuator><motor joint="j"/></actuator><sensor><jointpos joint="j"/></sensor>'
              '<tendon><fixed><joint joint="j" coef="1"/></fixed></tendon><contact/><equality/><keyframe/>'
              '<custom/>'),
+    "inline meshes, by faces and by their hull; a mesh class": _wrap(
+        '<body pos="0 0 1"><joint/><geom type="mesh" mesh="tet" pos=".1 0 0" euler="0 30 0"/>'
+        '<geom type="mesh" mesh="hull" mass="2"/><geom type="mesh" mesh="hull" class="big"/>'
+        '<body><joint/><frame quat="0 1 0 0"><geom type="mesh" mesh="tet" density="10"/></frame></body></body>'
+        '<geom type="mesh" mesh="unused"/>',
+        head='<default><default class="big"><mesh scale="2 2 2"/><geom density="50"/></default></default>'
+             '<asset><mesh name="tet" vertex="0 0 0 1 0 0 0 1 0 0 0 1" face="0 2 1 0 1 3 0 3 2 1 2 3"/>'
+             '<mesh name="hull" inertia="convex" vertex="0 0 0 1 0 0 0 1 0 0 0 1 1 1 1"/>'
+             '<mesh name="unused" class="big" vertex="0 0 0 1 0 0 0 1 0 0 0 2"/></asset>'),
     "more elements than the C parser of ElementTree takes": _wrap(
         '<body><joint/>' + '<geom size=".1"/>' * 1200 + '</body>'),
     "a body outside worldbody (ignored)": _wrap('<body><joint/><geom size=".1"/></body>',
@@ -125,8 +134,15 @@ def test_documents_it_reads_load_as_the_python_reader_loads_them(case: str) -> N
 DECLINED = {
     "include": '<mujoco><include file="/nonexistent/x.xml"/></mujoco>',
     "replicate": _wrap('<replicate count="2"><body><joint/><geom size=".1"/></body></replicate>'),
-    "mesh asset": _wrap('<body><joint/><geom size=".1"/></body>',
-                        head='<asset><mesh name="m" vertex="0 0 0 1 0 0 0 1 0 0 0 1"/></asset>'),
+    "a missing mesh file": _wrap('<body><joint/><geom size=".1"/></body>',
+                                 head='<asset><mesh name="m" file="/nonexistent/m.stl"/></asset>'),
+    "a mesh face index out of range": _wrap('<body><joint/><geom type="mesh" mesh="m"/></body>',
+                                            head='<asset><mesh name="m" vertex="0 0 0 1 0 0 0 1 0 0 0 1" '
+                                                 'face="0 2 1 0 1 3 0 3 2 1 2 9"/></asset>'),
+    "an unknown mesh": _wrap('<body><joint/><geom type="mesh" mesh="x"/></body>'),
+    "a mesh reference frame": _wrap('<body><joint/><geom type="mesh" mesh="m"/></body>',
+                                    head='<asset><mesh name="m" refpos="0 0 1" vertex="0 0 0 1 0 0 0 1 0 0 0 1"/>'
+                                         '</asset>'),
     "shell": _wrap('<body><joint/><geom size=".1" shellinertia="true"/></body>'),
     "fullinertia": _wrap('<body><joint/><inertial pos="0 0 0" mass="1" fullinertia="1 1 1 0 0 0"/></body>'),
     "boundinertia": _wrap('<body><joint/><geom size=".1"/></body>', head='<compiler boundinertia="0.1"/>'),
@@ -192,6 +208,24 @@ def test_a_file_path_bytes_and_a_string_give_the_same_model(tmp_path: Path) -> N
     assert by_path == outcome(path, fast=False)
     assert by_path[1]["source"] == str(path)
     assert outcome(text.encode(), fast=True) == outcome(text.encode(), fast=False)
+
+
+def test_mesh_files_found_as_the_python_reader_finds_them(tmp_path: Path) -> None:
+    (tmp_path / "parts").mkdir()
+    cube = "".join(f"v {x} {y} {z}\n" for x in (0, 1) for y in (0, 2) for z in (0, 3))
+    cube += "f 1 3 4\nf 1 4 2\nf 5 6 8\nf 5 8 7\nf 1 2 6\nf 1 6 5\nf 3 7 8\nf 3 8 4\nf 1 5 7\nf 1 7 3\n" \
+            "f 2 4 8\nf 2 8 6\n"
+    (tmp_path / "parts" / "cube.obj").write_text(cube)
+    text = _wrap('<body><joint/><geom type="mesh" mesh="cube"/><geom type="mesh" mesh="other" pos="1 0 0"/></body>',
+                 head='<compiler meshdir="parts"/><asset><mesh file="cube.obj"/>'
+                      '<mesh name="other" file="cube.obj" scale="1 1 .5" inertia="shell"/></asset>')
+    path = tmp_path / "model.xml"
+    path.write_text(text)
+    assert taken(text, path=path)
+    fast = outcome(path, fast=True)
+    assert fast[0] == "model" and fast == outcome(path, fast=False)
+    assert not taken(text)  # from another folder: the mesh file is not there, and the Python reader says so
+    assert outcome(text, fast=True) == outcome(text, fast=False)
 
 
 def test_errors_found_while_building_are_worded_with_the_line() -> None:

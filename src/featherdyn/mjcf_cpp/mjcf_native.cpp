@@ -1,11 +1,12 @@
-// featherdyn._mjcf_native: the MJCF loader's fast path (docs/architecture.md, "The MJCF loader's fast path").
+// featherdyn._mjcf_native: the MJCF loader's fast path (docs/architecture.md, "MJCF models", "The fast path").
 //
-// read(text, strict) reads the usual MJCF document — one file, plain XML, bodies, joints, primitive geoms,
-// inertials, sites, frames, default classes — into the body list featherdyn.mjcf builds its model from, with
-// the Python loader's arithmetic operation for operation (same results bit for bit). Anything else it
-// *declines*: it returns None and the Python loader reads the document (includes, <replicate>, meshes, shells,
-// fullinertia, boundinertia, balanceinertia, every error and its message). So this file never words an error
-// and never accepts what the Python loader refuses: where in doubt, it declines.
+// read(text, strict, mesh_exists, mesh_properties) reads the usual MJCF document — one file, plain XML,
+// bodies, joints, geoms, inertials, sites, frames, default classes — into the body list featherdyn.mjcf builds
+// its model from, with the Python loader's arithmetic operation for operation (same results bit for bit). Mesh
+// assets are left to the Python loader's own functions, called back (their files, mass properties and cache).
+// Anything else it *declines*: it returns None and the Python loader reads the document (includes,
+// <replicate>, shells, fullinertia, boundinertia, balanceinertia, every error and its message). So this file
+// never words an error and never accepts what the Python loader refuses: where in doubt, it declines.
 //
 // The XML it reads is a strict subset of XML 1.0 (declined otherwise): ASCII outside comments; an optional
 // XML declaration first; elements, attributes in quotes, comments and white space; no DTD, entity or
@@ -722,7 +723,8 @@ const V3 Z_AXIS{{0.0, 0.0, 1.0}, false};
 
 class Loader {
  public:
-  Loader(const Xml& xml, bool strict) : xml_(xml), doc_(xml), strict_(strict) {}
+  Loader(const Xml& xml, bool strict, PyObject* mesh_exists, PyObject* mesh_properties)
+      : xml_(xml), doc_(xml), strict_(strict), mesh_exists_(mesh_exists), mesh_properties_(mesh_properties) {}
 
   const Xml& xml_;
   Doc doc_;
@@ -732,6 +734,18 @@ class Loader {
   long group_lo = 0, group_hi = 5;
   double boundmass = 0.0, settotalmass = -1.0;
   bool autolimits = true;
+  const string_view* meshdir = nullptr;
+  const string_view* assetdir = nullptr;
+  // mesh assets by name; the mass properties of those read, per name: (V, c, I_c / rho)
+  PyObject* mesh_exists_;
+  PyObject* mesh_properties_;
+  std::unordered_map<string_view, int> meshes;
+  struct MeshProperties {
+    double measure;
+    double c[3];
+    double J[9];
+  };
+  std::unordered_map<string_view, MeshProperties> mesh_cache;
   // <option>
   double gravity[3] = {0.0, 0.0, -9.81};
   bool gravity_disabled = false;
@@ -771,7 +785,7 @@ class Loader {
     for (int c : tops)
       if (x[c].tag == "asset")
         x[c].each_child(x.elems, [&](int m) {
-          if (x[m].tag == "mesh") decline();  // meshes: the Python reader (files, mass properties, cache)
+          if (x[m].tag == "mesh") read_mesh_asset(m);
         });
     // no <replicate> or <include> anywhere
     for (const Elem& e : x.elems)
@@ -818,6 +832,8 @@ class Loader {
     if (a.has("settotalmass")) settotalmass = doc_.number(a, "settotalmass", 0.0, max_mass);
     if (a.has("balanceinertia") && doc_.boolean(a, "balanceinertia", false)) decline();
     if (a.has("autolimits")) autolimits = doc_.boolean(a, "autolimits", true);
+    if (const string_view* t = a.get("meshdir")) meshdir = t;
+    if (const string_view* t = a.get("assetdir")) assetdir = t;
   }
 
   void read_option(int e) {
@@ -1037,6 +1053,89 @@ class Loader {
     return Joint{name ? *name : string_view(), kind, freejoint, placed, axis, ref, armature, lower, upper};
   }
 
+  // ---- mesh assets (read_top, mesh_properties) ----
+
+  static PyObject* str_or_none(const string_view* t) {
+    if (t == nullptr) return Py_NewRef(Py_None);
+    return PyUnicode_FromStringAndSize(t->data(), static_cast<Py_ssize_t>(t->size()));
+  }
+
+  // a Python reader's function called back; its result (a new reference), or decline if it raised
+  static PyObject* call(PyObject* f, PyObject* args) {
+    if (args == nullptr) throw Decline{};
+    PyObject* r = PyObject_CallObject(f, args);
+    Py_DECREF(args);
+    if (r == nullptr) {
+      PyErr_Clear();  // a mesh the Python reader refuses: it words why
+      decline();
+    }
+    return r;
+  }
+
+  // Path(file).stem of a plain relative or absolute path (anything unusual declines)
+  static string_view stem(string_view file) {
+    if (file.empty() || file.find("//") != string_view::npos || file.find("/./") != string_view::npos ||
+        file.substr(0, 2) == "./" || file.back() == '/' ||
+        (file.size() >= 2 && file.substr(file.size() - 2) == "/.") || file == "." || file == "..")
+      decline();
+    size_t slash = file.rfind('/');
+    string_view name = slash == string_view::npos ? file : file.substr(slash + 1);
+    if (name == "..") decline();
+    size_t dot = name.rfind('.');
+    if (dot != string_view::npos && dot > 0 && dot + 1 < name.size()) return name.substr(0, dot);
+    return name;
+  }
+
+  void read_mesh_asset(int m) {
+    if (mesh_exists_ == nullptr) decline();
+    const string_view* name = xml_.get(m, "name");
+    const string_view* file = xml_.get(m, "file");
+    string_view key = name != nullptr && !name->empty() ? *name : file != nullptr ? stem(*file) : string_view();
+    if (!key.empty()) meshes[key] = m;
+    if (file != nullptr) {  // MuJoCo reads every asset: a missing file is refused
+      PyObject* r = call(mesh_exists_, Py_BuildValue("(NNN)", str_or_none(file), str_or_none(meshdir),
+                                                      str_or_none(assetdir)));
+      int exists = PyObject_IsTrue(r);
+      Py_DECREF(r);
+      if (exists != 1) {
+        PyErr_Clear();
+        decline();
+      }
+    }
+  }
+
+  const MeshProperties& mesh_properties(const Attrs& geom) {
+    const string_view* name = geom.get("mesh");
+    if (name == nullptr) decline();
+    auto found = meshes.find(*name);
+    if (found == meshes.end()) decline();
+    auto cached = mesh_cache.find(*name);
+    if (cached != mesh_cache.end()) return cached->second;
+    int m = found->second;
+    Attrs a = doc_.attrs(m, K_MESH, doc_.element_class(m, 0));
+    const string_view* mode = a.get("inertia");
+    string_view how = mode != nullptr ? *mode : "legacy";
+    if (how != "legacy" && how != "exact" && how != "convex" && how != "shell") decline();
+    if (a.has("refpos") || a.has("refquat")) decline();
+    Numbers sc;
+    double scale[3] = {1.0, 1.0, 1.0};
+    if (numbers(a.get("scale"), {3}, max_length, sc)) std::copy(sc.v, sc.v + 3, scale);
+    PyObject* r = call(mesh_properties_,
+                       Py_BuildValue("(NNN(ddd)s#NN)", str_or_none(a.get("file")), str_or_none(meshdir),
+                                     str_or_none(assetdir), scale[0], scale[1], scale[2], how.data(),
+                                     static_cast<Py_ssize_t>(how.size()), str_or_none(a.get("vertex")),
+                                     str_or_none(a.get("face"))));
+    MeshProperties got{};
+    int ok = PyArg_ParseTuple(r, "d(ddd)(ddddddddd)", &got.measure, &got.c[0], &got.c[1], &got.c[2], &got.J[0],
+                              &got.J[1], &got.J[2], &got.J[3], &got.J[4], &got.J[5], &got.J[6], &got.J[7], &got.J[8]);
+    Py_DECREF(r);
+    if (!ok) {
+      PyErr_Clear();
+      decline();
+    }
+    return mesh_cache.emplace(*name, got).first->second;
+  }
+
   // ---- inertia ----
 
   static bool solid(string_view type, const double* s, double& V, double J[3]) {  // _mjcf_inertia._solid
@@ -1114,10 +1213,11 @@ class Loader {
     int needed = type == "sphere" ? 1 : type == "capsule" || type == "cylinder" ? 2
                                    : type == "ellipsoid" || type == "box"      ? 3
                                                                                 : 0;
-    if (needed == 0 && type != "plane" && type != "hfield") decline();  // mesh, sdf, unknown: the Python reader
+    bool mesh = type == "mesh";
+    if (needed == 0 && !mesh && type != "plane" && type != "hfield") decline();  // sdf, unknown: the Python reader
     double group = a.has("group") ? doc_.number(a, "group", 0.0) : 0.0;
     if (!(group_lo <= group && group <= group_hi)) return false;
-    if (needed == 0) {
+    if (needed == 0 && !mesh) {
       if (moving) decline();
       return false;
     }
@@ -1131,6 +1231,18 @@ class Loader {
     double density = doc_.number(a, "density", 1000.0, max_mass);
     if (density < 0) decline();
     if (a.has("shellinertia") && doc_.boolean(a, "shellinertia", false)) decline();  // shells: the Python reader
+    if (mesh) {
+      if (a.has("shellinertia")) decline();  // (set on the mesh asset instead)
+      const MeshProperties& got = mesh_properties(a);
+      double m = has_mass ? mass : density * got.measure;
+      Pose gp = doc_.pose(a);
+      Pose placed = compose(g.frame.R, g.frame.p, gp.R, gp.p);
+      double k = m / got.measure;
+      M3 J = mat(0, 0, 0, 0, 0, 0, 0, 0, 0);
+      for (int i = 0; i < 9; ++i) J.a[i] = got.J[i] * k;
+      out = {m, vec_add(mat_vec(placed.R, vec(got.c[0], got.c[1], got.c[2])), placed.p), rotate_symmetric(placed.R, J)};
+      return true;
+    }
     Numbers sz;
     double size[3] = {0.0, 0.0, 0.0};
     if (numbers(a.get("size"), {1, 2, 3}, max_length, sz)) std::copy(sz.v, sz.v + sz.n, size);
@@ -1317,10 +1429,13 @@ PyObject* result(const Loader& L) {
 }
 
 PyObject* read(PyObject*, PyObject* const* args, Py_ssize_t nargs) {
-  if (nargs != 2 || !PyUnicode_Check(args[0])) {
-    PyErr_SetString(PyExc_TypeError, "read(text: str, strict: bool)");
+  if ((nargs != 2 && nargs != 4) || !PyUnicode_Check(args[0]) ||
+      (nargs == 4 && !(PyCallable_Check(args[2]) && PyCallable_Check(args[3])))) {
+    PyErr_SetString(PyExc_TypeError, "read(text: str, strict: bool[, mesh_exists, mesh_properties])");
     return nullptr;
   }
+  PyObject* mesh_exists = nargs == 4 ? args[2] : nullptr;  // without them: a mesh asset declines
+  PyObject* mesh_properties = nargs == 4 ? args[3] : nullptr;
   int strict = PyObject_IsTrue(args[1]);
   if (strict < 0) return nullptr;
   if (!PyUnicode_IS_ASCII(args[0])) {  // (comments with other characters: the Python reader)
@@ -1331,7 +1446,7 @@ PyObject* read(PyObject*, PyObject* const* args, Py_ssize_t nargs) {
   if (s == nullptr) return nullptr;
   try {
     Xml xml(string_view(s, static_cast<size_t>(n)));
-    Loader loader(xml, strict != 0);
+    Loader loader(xml, strict != 0, mesh_exists, mesh_properties);
     loader.read();
     loader.inertias();
     return result(loader);
@@ -1367,7 +1482,8 @@ PyObject* configure(PyObject*, PyObject* const* args, Py_ssize_t nargs) {
 
 PyMethodDef methods[] = {
     {"read", reinterpret_cast<PyCFunction>(reinterpret_cast<void (*)()>(read)), METH_FASTCALL,
-     "read(text, strict) -> the body list of a usual MJCF document, or None (declined: the Python reader reads it)"},
+     "read(text, strict[, mesh_exists, mesh_properties]) -> the body list of a usual MJCF document, or None "
+     "(declined: the Python reader reads it)"},
     {"configure", reinterpret_cast<PyCFunction>(reinterpret_cast<void (*)()>(configure)), METH_FASTCALL,
      "configure(max_depth, max_attribute_length, max_length, max_mass, max_inertia, hypot): the Python reader's "
      "limits"},
