@@ -97,7 +97,9 @@ def _imports(path: Path) -> set[str]:
             for alias in node.names:
                 candidate = f"{target}.{alias.name}"
                 rel = Path(*candidate.split(".")[1:])
-                if (SRC / rel).with_suffix(".py").exists() or (SRC / rel / "__init__.py").exists():
+                # (a compiled module is known by its type stub, ``.pyi``)
+                if any((SRC / rel).with_suffix(ext).exists() for ext in (".py", ".pyi")) or (
+                        SRC / rel / "__init__.py").exists():
                     out.add(candidate)
                 else:
                     out.add(target)
