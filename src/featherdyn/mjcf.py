@@ -56,11 +56,11 @@ ignored with one :class:`~featherdyn.PhysicalityWarning` listing them
 that would add bodies featherdyn cannot reproduce (``composite``,
 ``flexcomp``, ``attach``, ``replicate``) are refused.
 
-The usual document (one file of plain XML, primitive geoms, no ``<replicate>``)
-is read by a compiled fast path, ``featherdyn._mjcf_native``, with this
-module's arithmetic (the same model bit for bit); it declines everything else,
-and every error, to the Python reader (``docs/architecture.md``, "The fast
-path").
+The usual document (one file of plain XML without ``<replicate>``) is read by
+a compiled fast path, ``featherdyn._mjcf_native``, with this module's
+arithmetic (the same model bit for bit; mesh files by this module's
+functions); it declines everything else, and every error, to the Python
+reader (``docs/architecture.md``, "The fast path").
 
 Source: MuJoCo documentation, XML reference and "Modeling" chapter; checked
 against ``mujoco`` 3.x/4.x compiled models.

@@ -1,8 +1,9 @@
 """Seeded mutation fuzz of the MJCF loader's fast path against the Python reader.
 
-Seeds: documents the fast path reads (the third with inline meshes); 1 000 mutants of each (defaults and classes, frames, every
-orientation, fromto, inertials, every joint and primitive geom, compiler and
-option settings, ignored elements). Each mutant applies one to three edits,
+Seeds: three documents the fast path reads (default classes, frames, every
+orientation, fromto, inertials, every joint and primitive geom, inline meshes,
+compiler and option settings, ignored elements); 1 000 mutants of each. Each
+mutant applies one to three edits,
 either to the tree (an attribute set to a hostile or plausible value, an
 element deleted, duplicated, moved or renamed, a class changed) or to the text
 (a character, entity, comment, CDATA, namespace, declaration or line end
