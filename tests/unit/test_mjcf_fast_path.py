@@ -243,3 +243,43 @@ def test_the_reader_refuses_a_wrong_call() -> None:
         mjcf._mjcf_native.read(b"<mujoco/>", False)  # type: ignore[arg-type]
     with pytest.raises(TypeError):
         mjcf._mjcf_native.read("<mujoco/>")  # type: ignore[call-arg]
+
+
+def test_reading_again_and_again_keeps_no_memory() -> None:
+    import gc
+    import tracemalloc
+
+    assert mjcf._mjcf_native is not None
+    text = TAKEN["inline meshes, by faces and by their hull; a mesh class"]
+    meshes = mjcf._FastMeshes(None)
+    declined = DECLINED["a mesh face index out of range"]  # a callback that raises, then a decline
+
+    def rounds(n: int) -> None:
+        for _ in range(n):
+            assert mjcf._mjcf_native.read(text, False, meshes.exists, meshes.properties) is not None
+            assert mjcf._mjcf_native.read(declined, False, meshes.exists, meshes.properties) is None
+
+    rounds(20)
+    gc.collect()
+    tracemalloc.start()
+    try:
+        rounds(20)
+        gc.collect()
+        before = tracemalloc.get_traced_memory()[0]
+        rounds(300)
+        gc.collect()
+        grown = tracemalloc.get_traced_memory()[0] - before
+    finally:
+        tracemalloc.stop()
+    assert grown < 20_000, f"{grown} bytes kept after 300 rounds"
+
+
+def test_threads_loading_at_once_get_each_their_model() -> None:
+    from concurrent.futures import ThreadPoolExecutor
+
+    texts = [TAKEN[k] for k in ("every orientation, degrees", "default classes, childclass, frames",
+                                "inline meshes, by faces and by their hull; a mesh class", "fromto geoms and sites")]
+    expected = [outcome(t, fast=True) for t in texts]
+    with ThreadPoolExecutor(4) as pool:
+        got = list(pool.map(lambda k: outcome(texts[k % 4], fast=True), range(64)))
+    assert all(g == expected[k % 4] for k, g in enumerate(got))
