@@ -72,8 +72,8 @@ def taken(text: str, strict: bool = False, path: Any = None) -> bool:
     from featherdyn._urdf_xml import _declaration_first
 
     assert mjcf._mjcf_native is not None
-    meshes = mjcf._FastMeshes(None if path is None else str(path))
-    return mjcf._mjcf_native.read(_declaration_first(text), strict, meshes.exists, meshes.properties) is not None
+    files = mjcf._FastFiles(None if path is None else str(path))
+    return mjcf._mjcf_native.read(_declaration_first(text), strict, files) is not None
 
 
 def restructure(root: ET.Element, e: ET.Element, kind: str, pick: Callable[[list[Any]], Any],

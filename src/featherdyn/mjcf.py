@@ -83,6 +83,8 @@ from ._mjcf_inertia import geom_mass_inertia
 from ._mjcf_mesh import MeshError, clear_mesh_cache, file_mass_properties, mass_properties
 from ._mjcf_xml import (
     I3,
+    MAX_INCLUDE_DEPTH,
+    MAX_INCLUDES,
     Z3,
     Doc,
     Mat,
@@ -117,7 +119,8 @@ try:  # the fast path (mjcf_cpp/mjcf_native.cpp), built with the package
 except ImportError:  # a source tree without the build: the Python reader alone
     _mjcf_native = None  # type: ignore[assignment]
 else:
-    _mjcf_native.configure(MAX_DEPTH, MAX_ATTRIBUTE_LENGTH, MAX_LENGTH, MAX_MASS, MAX_INERTIA, math.hypot)
+    _mjcf_native.configure(MAX_DEPTH, MAX_ATTRIBUTE_LENGTH, MAX_LENGTH, MAX_MASS, MAX_INERTIA, math.hypot,
+                           MAX_INCLUDE_DEPTH, MAX_INCLUDES)
 
 __all__ = ["clear_mesh_cache", "load_mjcf", "load_model", "model_format"]
 
@@ -997,25 +1000,34 @@ class _FastDoc:
         return MJCFError(f"{self.label}: {msg}")
 
 
-class _FastMeshes:
-    """The fast path's mesh assets, read by the Python reader's functions: where a file is (``asset_path``), and a
-    mesh's mass properties (:meth:`_Loader.mesh_properties`); anything they refuse raises, and the fast path then
-    declines the document."""
+class _FastFiles:
+    """The fast path's files, read by the Python reader's functions: an included file (``read_document``), where a
+    mesh file is (``asset_path``), a mesh's mass properties (:meth:`_Loader.mesh_properties`). Anything they
+    refuse raises, and the fast path then declines the document (the Python reader words why)."""
 
     def __init__(self, path: str | None) -> None:
         self.model_dir = Path(path).parent if path is not None else Path(os.getcwd())
+        #: the main file, resolved (an include of it is a cycle); ``None`` for a string
+        self.main = str(Path(path).resolve()) if path is not None else None
 
-    def file(self, file: str, meshdir: str | None, assetdir: str | None) -> Path:
+    def include(self, file: str) -> tuple[str, str]:
+        """``(resolved path, text)`` of an included file (found from the main file's folder, as MuJoCo)."""
+        target = (self.model_dir / file).resolve()
+        if not target.is_file():
+            raise FileNotFoundError(target)
+        return str(target), _declaration_first(read_source(target)[0])
+
+    def mesh_file(self, file: str, meshdir: str | None, assetdir: str | None) -> Path:
         p = Path(file)
         return p if p.is_absolute() else self.model_dir / (meshdir or assetdir or "") / p
 
-    def exists(self, file: str, meshdir: str | None, assetdir: str | None) -> bool:
-        return self.file(file, meshdir, assetdir).is_file()
+    def mesh_exists(self, file: str, meshdir: str | None, assetdir: str | None) -> bool:
+        return self.mesh_file(file, meshdir, assetdir).is_file()
 
-    def properties(self, file: str | None, meshdir: str | None, assetdir: str | None, scale: Vec, mode: str,
-                   vertex: str | None, face: str | None) -> tuple[float, Vec, Mat]:
+    def mesh_properties(self, file: str | None, meshdir: str | None, assetdir: str | None, scale: Vec, mode: str,
+                        vertex: str | None, face: str | None) -> tuple[float, Vec, Mat]:
         if file is not None:
-            return file_mass_properties(self.file(file, meshdir, assetdir), scale, mode)
+            return file_mass_properties(self.mesh_file(file, meshdir, assetdir), scale, mode)
         V = np.array(_decimal_list(vertex), dtype=np.float64).reshape(-1, 3)
         faces = _decimal_list(face)
         if any(f != int(f) for f in faces):
@@ -1050,8 +1062,7 @@ def _load_fast(source: tuple[str, str, str | None], path: str | None,
     if _mjcf_native is None:
         return None
     text, label, _ = source
-    meshes = _FastMeshes(path)
-    read = _mjcf_native.read(_declaration_first(text), strict, meshes.exists, meshes.properties)
+    read = _mjcf_native.read(_declaration_first(text), strict, _FastFiles(path))
     if read is None:
         return None
     model_name, gravity, gravity_disabled, ignored, settotalmass, bodies = read

@@ -2,8 +2,10 @@
 
 Seeds: three documents the fast path reads (default classes, frames, every
 orientation, fromto, inertials, every joint and primitive geom, inline meshes,
-compiler and option settings, ignored elements); 1 000 mutants of each. Each
-mutant applies one to three edits,
+compiler and option settings, ignored elements), 1 000 mutants of each; and a
+document including four files (nested includes, ``<mujocoinclude>``, default
+classes, meshes and bodies from included files), 500 mutants. Each mutant
+applies one to three edits,
 either to the tree (an attribute set to a hostile or plausible value, an
 element deleted, duplicated, moved or renamed, a class changed) or to the text
 (a character, entity, comment, CDATA, namespace, declaration or line end
@@ -17,6 +19,7 @@ mutants itself, and decline some.
 from __future__ import annotations
 
 import xml.etree.ElementTree as ET
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -123,9 +126,10 @@ def _text_edit(text: str, rng: np.random.Generator) -> str:
     return text[:at] + text[at:].replace('"', "'", 1)
 
 
-def mutant(seed: int, k: int) -> str:
+def mutant(seed: int, k: int, text: str | None = None) -> str:
+    """Mutant ``k`` of ``SEEDS[seed]`` (or of ``text``, with the random stream of ``seed``)."""
     rng = np.random.default_rng([seed, k])
-    text = SEEDS[seed]
+    text = SEEDS[seed] if text is None else text
     for _ in range(int(rng.integers(1, 4))):
         if rng.random() < 0.6:
             try:
@@ -154,3 +158,34 @@ def test_mutants_give_the_python_readers_outcome(seed: int) -> None:
     assert read >= n // 5, read
     assert read <= n - n // 20, read
     assert models >= n // 10, models
+
+
+INCLUDED = {
+    "defaults.xml": "<mujocoinclude><default><geom density='700'/><default class='c1'><joint axis='0 1 0'/>"
+                    "</default></default></mujocoinclude>",
+    "legs.xml": "<mujoco><body name='leg' childclass='c1'><joint/><geom size='.1'/><include file='foot.xml'/></body>"
+                "</mujoco>",
+    "foot.xml": "<mujoco><body name='foot' pos='0 0 -.3'><joint/><geom type='mesh' mesh='tet'/></body></mujoco>",
+    "assets.xml": "<mujoco><asset><mesh name='tet' vertex='0 0 0 1 0 0 0 1 0 0 0 1' face='0 2 1 0 1 3 0 3 2 1 2 3'/>"
+                  "</asset></mujoco>",
+}
+INCLUDING = """<mujoco model="four"><include file="defaults.xml"/><include file="assets.xml"/>
+  <worldbody><body name="torso" pos="0 0 1"><freejoint/><geom size=".2"/><include file="legs.xml"/></body>
+  </worldbody>
+</mujoco>"""
+
+
+def test_mutants_of_a_document_with_includes_give_the_python_readers_outcome(tmp_path: Path) -> None:
+    for name, text in INCLUDED.items():
+        (tmp_path / name).write_text(text)
+    path = tmp_path / "main.xml"
+    path.write_text(INCLUDING)
+    assert taken(INCLUDING, path=path)
+    n, read = 500, 0
+    for k in range(n):
+        text = mutant(len(SEEDS), k, INCLUDING)
+        path.write_text(text)
+        fast, slow = outcome(path, fast=True), outcome(path, fast=False)
+        assert fast == slow, (k, text)
+        read += taken(text, path=path)
+    assert n // 10 <= read <= n - n // 20, read

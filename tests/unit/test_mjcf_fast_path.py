@@ -252,13 +252,13 @@ def test_reading_again_and_again_keeps_no_memory() -> None:
 
     assert mjcf._mjcf_native is not None
     text = TAKEN["inline meshes, by faces and by their hull; a mesh class"]
-    meshes = mjcf._FastMeshes(None)
+    files = mjcf._FastFiles(None)
     declined = DECLINED["a mesh face index out of range"]  # a callback that raises, then a decline
 
     def rounds(n: int) -> None:
         for _ in range(n):
-            assert mjcf._mjcf_native.read(text, False, meshes.exists, meshes.properties) is not None
-            assert mjcf._mjcf_native.read(declined, False, meshes.exists, meshes.properties) is None
+            assert mjcf._mjcf_native.read(text, False, files) is not None
+            assert mjcf._mjcf_native.read(declined, False, files) is None
 
     rounds(20)
     gc.collect()
@@ -285,3 +285,65 @@ def test_threads_loading_at_once_get_each_their_model() -> None:
     with ThreadPoolExecutor(4) as pool:
         got = list(pool.map(lambda k: snapshot(fd.load_mjcf(texts[k % 4])), range(64)))
     assert all(g == expected[k % 4] for k, g in enumerate(got))
+
+
+def _files(folder: Path, files: dict[str, str]) -> None:
+    for name, text in files.items():
+        (folder / name).parent.mkdir(parents=True, exist_ok=True)
+        (folder / name).write_text(text)
+
+
+INCLUDED = {
+    "defaults.xml": "<mujocoinclude><default><geom density='700'/><default class='leg'><joint axis='0 1 0'/>"
+                    "</default></default></mujocoinclude>",
+    "sub/legs.xml": "<mujoco model='ignored'><body name='leg' childclass='leg'><joint/><geom size='.1'/>"
+                    "<include file='sub/foot.xml'/></body></mujoco>",
+    "sub/foot.xml": "<?xml version='1.0'?>\n<!-- c --><mujoco><body name='foot' pos='0 0 -.3'><joint/>"
+                    "<geom type='mesh' mesh='tet'/></body></mujoco>",
+    "assets.xml": "<mujoco><asset><mesh name='tet' vertex='0 0 0 1 0 0 0 1 0 0 0 1' face='0 2 1 0 1 3 0 3 2 1 2 3'/>"
+                  "</asset></mujoco>",
+}
+
+
+def test_included_files_are_read_as_the_python_reader_reads_them(tmp_path: Path) -> None:
+    _files(tmp_path, INCLUDED)
+    text = ("<mujoco model='m'><include file='defaults.xml'/><include file='assets.xml'/>"
+            "<worldbody><body name='torso'><freejoint/><geom size='.2'/><include file='sub/legs.xml'/></body>"
+            "<include file='empty.xml'/></worldbody></mujoco>")
+    _files(tmp_path, {"main.xml": text, "empty.xml": "<mujoco/>"})
+    path = tmp_path / "main.xml"
+    assert taken(text, path=path)
+    fast = outcome(path, fast=True)
+    assert fast[0] == "model" and fast == outcome(path, fast=False)
+    assert fast[1]["body_names"] == ("torso", "leg", "foot")
+
+
+INCLUDE_DECLINED = {
+    "a cycle": {"main.xml": "<mujoco><include file='a.xml'/></mujoco>",
+                "a.xml": "<mujoco><include file='main.xml'/></mujoco>"},
+    "a file included twice": {"main.xml": "<mujoco><include file='a.xml'/><include file='b.xml'/></mujoco>",
+                              "a.xml": "<mujoco><include file='b.xml'/></mujoco>", "b.xml": "<mujoco/>"},
+    "a missing file": {"main.xml": "<mujoco><include file='nowhere.xml'/></mujoco>"},
+    "no file attribute": {"main.xml": "<mujoco><include file=' '/></mujoco>"},
+    "an include with children": {"main.xml": "<mujoco><include file='a.xml'><size/></include></mujoco>",
+                                 "a.xml": "<mujoco/>"},
+    "another root": {"main.xml": "<mujoco><include file='a.xml'/></mujoco>", "a.xml": "<robot name='r'/>"},
+    "a malformed included file": {"main.xml": "<mujoco><include file='a.xml'/></mujoco>", "a.xml": "<mujoco>"},
+    "a non-ASCII included file": {"main.xml": "<mujoco><include file='a.xml'/></mujoco>",
+                                  "a.xml": "<mujoco><!-- é --></mujoco>"},
+    "too deep": {"main.xml": "<mujoco><include file='f0.xml'/></mujoco>",
+                 **{f"f{k}.xml": f"<mujoco><include file='f{k + 1}.xml'/></mujoco>" for k in range(25)},
+                 "f25.xml": "<mujoco/>"},
+    "a replicate in an included file": {"main.xml": "<mujoco><worldbody><include file='a.xml'/></worldbody></mujoco>",
+                                        "a.xml": "<mujoco><replicate count='2'><body><joint/><geom size='.1'/></body>"
+                                                 "</replicate></mujoco>"},
+}
+
+
+@pytest.mark.parametrize("case", list(INCLUDE_DECLINED))
+def test_includes_it_declines_are_read_by_the_python_reader(case: str, tmp_path: Path) -> None:
+    files = INCLUDE_DECLINED[case]
+    _files(tmp_path, files)
+    path = tmp_path / "main.xml"
+    assert not taken(files["main.xml"], path=path), "taken"
+    assert outcome(path, fast=True) == outcome(path, fast=False)

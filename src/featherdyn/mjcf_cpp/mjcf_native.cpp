@@ -1,12 +1,12 @@
 // featherdyn._mjcf_native: the MJCF loader's fast path (docs/architecture.md, "MJCF models", "The fast path").
 //
-// read(text, strict, mesh_exists, mesh_properties) reads the usual MJCF document — one file, plain XML,
-// bodies, joints, geoms, inertials, sites, frames, default classes — into the body list featherdyn.mjcf builds
-// its model from, with the Python loader's arithmetic operation for operation (same results bit for bit). Mesh
-// assets are left to the Python loader's own functions, called back (their files, mass properties and cache).
-// Anything else it *declines*: it returns None and the Python loader reads the document (includes,
-// <replicate>, shells, fullinertia, boundinertia, balanceinertia, every error and its message). So this file
-// never words an error and never accepts what the Python loader refuses: where in doubt, it declines.
+// read(text, strict, files) reads the usual MJCF document — plain XML, its includes, bodies, joints, geoms,
+// inertials, sites, frames, default classes — into the body list featherdyn.mjcf builds its model from, with
+// the Python loader's arithmetic operation for operation (same results bit for bit). Files are left to the
+// Python loader's own functions, called back (included files, mesh files, mass properties and their cache).
+// Anything else it *declines*: it returns None and the Python loader reads the document (<replicate>, shells,
+// fullinertia, boundinertia, balanceinertia, every error and its message). So this file never words an error
+// and never accepts what the Python loader refuses: where in doubt, it declines.
 //
 // The XML it reads is a strict subset of XML 1.0 (declined otherwise): ASCII outside comments; an optional
 // XML declaration first; elements, attributes in quotes, comments and white space; no DTD, entity or
@@ -48,6 +48,9 @@ double max_mass = 1e100;               // urdf.MAX_MASS
 double max_inertia = 1e100;            // urdf.MAX_INERTIA
 PyObject* py_hypot = nullptr;          // math.hypot: its n-argument norm, called where the Python loader calls it
 
+Py_ssize_t max_include_depth = 20;     // _mjcf_xml.MAX_INCLUDE_DEPTH
+Py_ssize_t max_includes = 1000;        // _mjcf_xml.MAX_INCLUDES
+
 constexpr double MJ_MINVAL = 1e-15;
 
 // ---------------------------------------------------------------------------------------------------------------
@@ -62,6 +65,7 @@ struct Elem {
   string_view tag;
   int attr_begin = 0, attr_end = 0;  // in Doc::attrs
   int first_child = -1, next_sibling = -1;
+  int parent = -1;
 
   template <class F>
   void each_child(const std::vector<Elem>& all, F f) const {
@@ -78,7 +82,15 @@ class Xml {
   std::vector<Elem> elems;
   std::vector<Attr> attrs;
 
-  explicit Xml(string_view text) : s_(text) { parse(); }
+  // Parse one text (the main file's, then each included file's) into elems and attrs; its root's index. The
+  // text must outlive the Xml (the names and values are views of it).
+  int parse(string_view text) {
+    s_ = text;
+    i_ = 0;
+    int root = static_cast<int>(elems.size());
+    parse_elements();
+    return root;
+  }
 
   const Elem& operator[](int i) const { return elems[i]; }
 
@@ -199,7 +211,7 @@ class Xml {
     if (k != got.size()) decline();
   }
 
-  void parse() {
+  void parse_elements() {
     if (at("<?xml") && i_ + 5 < s_.size() && is_space(s_[i_ + 5])) declaration();
     skip_misc();
     if (i_ >= s_.size() || s_[i_] != '<') decline();
@@ -243,6 +255,7 @@ class Xml {
       elems[e].attr_end = static_cast<int>(attrs.size());
       if (!open.empty()) {
         auto& [parent, last] = open.back();
+        elems[e].parent = parent;
         if (last < 0) {
           elems[parent].first_child = e;
         } else {
@@ -723,12 +736,20 @@ const V3 Z_AXIS{{0.0, 0.0, 1.0}, false};
 
 class Loader {
  public:
-  Loader(const Xml& xml, bool strict, PyObject* mesh_exists, PyObject* mesh_properties)
-      : xml_(xml), doc_(xml), strict_(strict), mesh_exists_(mesh_exists), mesh_properties_(mesh_properties) {}
+  Loader(Xml& xml, bool strict, PyObject* files) : xml_(xml), doc_(xml), strict_(strict), files_(files) {}
+  Loader(const Loader&) = delete;
+  Loader& operator=(const Loader&) = delete;
+  ~Loader() {
+    for (PyObject* t : texts_) Py_DECREF(t);
+  }
 
-  const Xml& xml_;
+  Xml& xml_;
   Doc doc_;
   bool strict_;
+  PyObject* files_;  // the Python reader's file functions (mjcf._FastFiles), or nullptr: no files read
+  std::vector<PyObject*> texts_;  // the included files' texts, alive while their views are
+  std::vector<std::string> seen_;  // the files included (resolved paths)
+  Py_ssize_t included_ = 0;
   // <compiler>
   std::string inertiafromgeom = "auto";
   long group_lo = 0, group_hi = 5;
@@ -737,8 +758,6 @@ class Loader {
   const string_view* meshdir = nullptr;
   const string_view* assetdir = nullptr;
   // mesh assets by name; the mass properties of those read, per name: (V, c, I_c / rho)
-  PyObject* mesh_exists_;
-  PyObject* mesh_properties_;
   std::unordered_map<string_view, int> meshes;
   struct MeshProperties {
     double measure;
@@ -760,6 +779,7 @@ class Loader {
   void read() {
     const Xml& x = xml_;
     if (x[0].tag != "mujoco") decline();
+    expand_includes(0, static_cast<int>(x.elems.size()), 1);
     std::vector<int> tops;
     x[0].each_child(x.elems, [&](int c) { tops.push_back(c); });
     for (int c : tops) {
@@ -776,7 +796,7 @@ class Loader {
       } else if (k == "default" || k == "asset" || k == "worldbody" || k == "visual" || k == "statistic" ||
                  k == "size" || k == "custom" || k == "keyframe") {
       } else {
-        decline();  // <include>, unknown elements: the Python reader
+        decline();  // unknown elements: the Python reader
       }
     }
     read_defaults(tops);
@@ -787,9 +807,14 @@ class Loader {
         x[c].each_child(x.elems, [&](int m) {
           if (x[m].tag == "mesh") read_mesh_asset(m);
         });
-    // no <replicate> or <include> anywhere
-    for (const Elem& e : x.elems)
-      if (e.tag == "replicate" || e.tag == "include") decline();
+    // no <replicate> anywhere (the included files' elements too)
+    std::vector<int> walk{0};
+    while (!walk.empty()) {
+      int e = walk.back();
+      walk.pop_back();
+      if (x[e].tag == "replicate") decline();
+      x[e].each_child(x.elems, [&](int c) { walk.push_back(c); });
+    }
     read_bodies(tops);
   }
 
@@ -1060,16 +1085,90 @@ class Loader {
     return PyUnicode_FromStringAndSize(t->data(), static_cast<Py_ssize_t>(t->size()));
   }
 
-  // a Python reader's function called back; its result (a new reference), or decline if it raised
-  static PyObject* call(PyObject* f, PyObject* args) {
+  // a Python reader's file function called back (a method of files_); its result (a new reference), or decline
+  // if it raised
+  PyObject* call_method(const char* name, PyObject* args) {
     if (args == nullptr) throw Decline{};
-    PyObject* r = PyObject_CallObject(f, args);
+    PyObject* f = PyObject_GetAttrString(files_, name);
+    PyObject* r = f == nullptr ? nullptr : PyObject_CallObject(f, args);
+    Py_XDECREF(f);
     Py_DECREF(args);
     if (r == nullptr) {
-      PyErr_Clear();  // a mesh the Python reader refuses: it words why
+      PyErr_Clear();  // a file the Python reader refuses: it words why
       decline();
     }
     return r;
+  }
+
+  // ---- <include> (read_document): each replaced by its file's root's children, the files read by the Python
+  // reader's function; a file included twice, a cycle, too deep or too many: the Python reader words why ----
+
+  void expand_includes(int begin, int end, Py_ssize_t depth) {  // the elements [begin, end) of one file
+    for (int e = begin; e < end; ++e) {
+      if (xml_[e].tag != "include") continue;
+      if (files_ == nullptr || xml_[e].first_child >= 0 || depth > max_include_depth ||
+          ++included_ > max_includes)
+        decline();
+      const string_view* file = xml_.get(e, "file");
+      if (!given_value(file)) decline();
+      PyObject* r = call_method("include", Py_BuildValue("(N)", str_or_none(file)));
+      PyObject* path = nullptr;
+      PyObject* text = nullptr;
+      if (!PyArg_ParseTuple(r, "UU", &path, &text)) {
+        Py_DECREF(r);
+        PyErr_Clear();
+        decline();
+      }
+      Py_INCREF(text);
+      texts_.push_back(text);  // (kept before anything else can decline)
+      Py_ssize_t n = 0;
+      const char* p = PyUnicode_AsUTF8AndSize(path, &n);
+      std::string resolved = p != nullptr ? std::string(p, static_cast<size_t>(n)) : std::string();
+      Py_DECREF(r);
+      if (p == nullptr) {
+        PyErr_Clear();
+        decline();
+      }
+      PyObject* main = PyObject_GetAttrString(files_, "main");
+      bool cycle = main == nullptr || (main != Py_None && (!PyUnicode_Check(main) ||
+                                                            PyUnicode_CompareWithASCIIString(main, resolved.c_str()) == 0));
+      Py_XDECREF(main);
+      if (cycle || std::find(seen_.begin(), seen_.end(), resolved) != seen_.end()) {
+        PyErr_Clear();
+        decline();
+      }
+      seen_.push_back(resolved);
+      if (!PyUnicode_IS_ASCII(text)) decline();
+      const char* t = PyUnicode_AsUTF8AndSize(text, &n);
+      if (t == nullptr) {
+        PyErr_Clear();
+        decline();
+      }
+      int sub = xml_.parse(string_view(t, static_cast<size_t>(n)));
+      if (xml_[sub].tag != "mujoco" && xml_[sub].tag != "mujocoinclude") decline();
+      expand_includes(sub, static_cast<int>(xml_.elems.size()), depth + 1);
+      splice(e, sub);
+    }
+  }
+
+  // the element e replaced in its parent by the children of sub
+  void splice(int e, int sub) {
+    std::vector<Elem>& el = xml_.elems;
+    int parent = el[e].parent, after = el[e].next_sibling;
+    int first = el[sub].first_child, last = -1;
+    for (int c = first; c >= 0; c = el[c].next_sibling) {
+      el[c].parent = parent;
+      last = c;
+    }
+    int head = first >= 0 ? first : after;
+    if (last >= 0) el[last].next_sibling = after;
+    if (el[parent].first_child == e) {
+      el[parent].first_child = head;
+    } else {
+      int prev = el[parent].first_child;
+      while (el[prev].next_sibling != e) prev = el[prev].next_sibling;
+      el[prev].next_sibling = head;
+    }
   }
 
   // Path(file).stem of a plain relative or absolute path (anything unusual declines)
@@ -1087,14 +1186,14 @@ class Loader {
   }
 
   void read_mesh_asset(int m) {
-    if (mesh_exists_ == nullptr) decline();
+    if (files_ == nullptr) decline();
     const string_view* name = xml_.get(m, "name");
     const string_view* file = xml_.get(m, "file");
     string_view key = name != nullptr && !name->empty() ? *name : file != nullptr ? stem(*file) : string_view();
     if (!key.empty()) meshes[key] = m;
     if (file != nullptr) {  // MuJoCo reads every asset: a missing file is refused
-      PyObject* r = call(mesh_exists_, Py_BuildValue("(NNN)", str_or_none(file), str_or_none(meshdir),
-                                                      str_or_none(assetdir)));
+      PyObject* r = call_method("mesh_exists", Py_BuildValue("(NNN)", str_or_none(file), str_or_none(meshdir),
+                                                             str_or_none(assetdir)));
       int exists = PyObject_IsTrue(r);
       Py_DECREF(r);
       if (exists != 1) {
@@ -1120,8 +1219,8 @@ class Loader {
     Numbers sc;
     double scale[3] = {1.0, 1.0, 1.0};
     if (numbers(a.get("scale"), {3}, max_length, sc)) std::copy(sc.v, sc.v + 3, scale);
-    PyObject* r = call(mesh_properties_,
-                       Py_BuildValue("(NNN(ddd)s#NN)", str_or_none(a.get("file")), str_or_none(meshdir),
+    PyObject* r = call_method("mesh_properties",
+                              Py_BuildValue("(NNN(ddd)s#NN)", str_or_none(a.get("file")), str_or_none(meshdir),
                                      str_or_none(assetdir), scale[0], scale[1], scale[2], how.data(),
                                      static_cast<Py_ssize_t>(how.size()), str_or_none(a.get("vertex")),
                                      str_or_none(a.get("face"))));
@@ -1429,13 +1528,11 @@ PyObject* result(const Loader& L) {
 }
 
 PyObject* read(PyObject*, PyObject* const* args, Py_ssize_t nargs) {
-  if ((nargs != 2 && nargs != 4) || !PyUnicode_Check(args[0]) ||
-      (nargs == 4 && !(PyCallable_Check(args[2]) && PyCallable_Check(args[3])))) {
-    PyErr_SetString(PyExc_TypeError, "read(text: str, strict: bool[, mesh_exists, mesh_properties])");
+  if ((nargs != 2 && nargs != 3) || !PyUnicode_Check(args[0])) {
+    PyErr_SetString(PyExc_TypeError, "read(text: str, strict: bool[, files])");
     return nullptr;
   }
-  PyObject* mesh_exists = nargs == 4 ? args[2] : nullptr;  // without them: a mesh asset declines
-  PyObject* mesh_properties = nargs == 4 ? args[3] : nullptr;
+  PyObject* files = nargs == 3 && args[2] != Py_None ? args[2] : nullptr;  // without: a mesh or an include declines
   int strict = PyObject_IsTrue(args[1]);
   if (strict < 0) return nullptr;
   if (!PyUnicode_IS_ASCII(args[0])) {  // (comments with other characters: the Python reader)
@@ -1445,8 +1542,9 @@ PyObject* read(PyObject*, PyObject* const* args, Py_ssize_t nargs) {
   const char* s = PyUnicode_AsUTF8AndSize(args[0], &n);
   if (s == nullptr) return nullptr;
   try {
-    Xml xml(string_view(s, static_cast<size_t>(n)));
-    Loader loader(xml, strict != 0, mesh_exists, mesh_properties);
+    Xml xml;
+    xml.parse(string_view(s, static_cast<size_t>(n)));
+    Loader loader(xml, strict != 0, files);
     loader.read();
     loader.inertias();
     return result(loader);
@@ -1459,13 +1557,14 @@ PyObject* read(PyObject*, PyObject* const* args, Py_ssize_t nargs) {
 }
 
 PyObject* configure(PyObject*, PyObject* const* args, Py_ssize_t nargs) {
-  if (nargs != 6) {
+  if (nargs != 8) {
     PyErr_SetString(PyExc_TypeError, "configure(max_depth, max_attribute_length, max_length, max_mass, "
-                                     "max_inertia, hypot)");
+                                     "max_inertia, hypot, max_include_depth, max_includes)");
     return nullptr;
   }
   Py_ssize_t e = PyLong_AsSsize_t(args[0]), a = PyLong_AsSsize_t(args[1]);
   double l = PyFloat_AsDouble(args[2]), m = PyFloat_AsDouble(args[3]), i = PyFloat_AsDouble(args[4]);
+  Py_ssize_t d = PyLong_AsSsize_t(args[6]), c = PyLong_AsSsize_t(args[7]);
   if (PyErr_Occurred()) return nullptr;
   if (!PyCallable_Check(args[5])) {
     PyErr_SetString(PyExc_TypeError, "configure: hypot must be callable");
@@ -1476,17 +1575,19 @@ PyObject* configure(PyObject*, PyObject* const* args, Py_ssize_t nargs) {
   max_length = l;
   max_mass = m;
   max_inertia = i;
+  max_include_depth = d;
+  max_includes = c;
   Py_XSETREF(py_hypot, Py_NewRef(args[5]));
   Py_RETURN_NONE;
 }
 
 PyMethodDef methods[] = {
     {"read", reinterpret_cast<PyCFunction>(reinterpret_cast<void (*)()>(read)), METH_FASTCALL,
-     "read(text, strict[, mesh_exists, mesh_properties]) -> the body list of a usual MJCF document, or None "
-     "(declined: the Python reader reads it)"},
+     "read(text, strict[, files]) -> the body list of a usual MJCF document, or None (declined: the Python reader "
+     "reads it); files: the Python reader's file functions (mesh_exists, mesh_properties, include, main)"},
     {"configure", reinterpret_cast<PyCFunction>(reinterpret_cast<void (*)()>(configure)), METH_FASTCALL,
-     "configure(max_depth, max_attribute_length, max_length, max_mass, max_inertia, hypot): the Python reader's "
-     "limits"},
+     "configure(max_depth, max_attribute_length, max_length, max_mass, max_inertia, hypot, max_include_depth, "
+     "max_includes): the Python reader's limits"},
     {nullptr, nullptr, 0, nullptr}};
 
 PyModuleDef module_def = {PyModuleDef_HEAD_INIT, "_mjcf_native",
