@@ -112,6 +112,8 @@ TAKEN = {
              '<asset><mesh name="tet" vertex="0 0 0 1 0 0 0 1 0 0 0 1" face="0 2 1 0 1 3 0 3 2 1 2 3"/>'
              '<mesh name="hull" inertia="convex" vertex="0 0 0 1 0 0 0 1 0 0 0 1 1 1 1"/>'
              '<mesh name="unused" class="big" vertex="0 0 0 1 0 0 0 1 0 0 0 2"/></asset>'),
+    "text inside elements (a stray '>', a '-' after a tag)": _wrap(
+        '<body>><joint/>-\n<geom size=".1"/>] ]]<!-- -->></body>text'),
     "more elements than the C parser of ElementTree takes": _wrap(
         '<body><joint/>' + '<geom size=".1"/>' * 1200 + '</body>'),
     "a body outside worldbody (ignored)": _wrap('<body><joint/><geom size=".1"/></body>',
@@ -155,7 +157,10 @@ DECLINED = {
     "processing instruction": _wrap('<?pi x?><body><joint/><geom size=".1"/></body>'),
     "namespace": '<mujoco xmlns:x="urn:x"><worldbody><x:body/></worldbody></mujoco>',
     "non-ASCII": _wrap('<body name="é"><joint/><geom size=".1"/></body>'),
-    "text": _wrap('<body>text<joint/><geom size=".1"/></body>'),
+    "text outside the root": _wrap('<body><joint/><geom size=".1"/></body>') + "x",
+    "a reference in text": _wrap('<body>a &amp; b<joint/><geom size=".1"/></body>'),
+    "]]> in text": _wrap('<body>a ]]> b<joint/><geom size=".1"/></body>'),
+    "a control character in text": _wrap('<body>a \x02 b<joint/><geom size=".1"/></body>'),
     "unknown element": _wrap('<body><joint/><geom size=".1"/><gizmo/></body>'),
     "malformed": "<mujoco><worldbody></mujoco>",
     "unclosed": "<mujoco><worldbody>",

@@ -9,9 +9,9 @@
 // and never accepts what the Python loader refuses: where in doubt, it declines.
 //
 // The XML it reads is a strict subset of XML 1.0 (declined otherwise): ASCII outside comments; an optional
-// XML declaration first; elements, attributes in quotes, comments and white space; no DTD, entity or
-// character reference, CDATA, processing instruction, namespace or text. Attribute values are normalised as
-// XML requires (CR LF, CR, LF and tab each become one space).
+// XML declaration first; elements, attributes in quotes, comments, white space and text inside the root (read
+// over); no DTD, entity or character reference, CDATA, processing instruction or namespace. Attribute values
+// are normalised as XML requires (CR LF, CR, LF and tab each become one space).
 
 #define PY_SSIZE_T_CLEAN
 #include <Python.h>
@@ -143,6 +143,15 @@ class Xml {
       ++i_;
     }
   }
+  // character data up to the next '<': no reference, no control character, no "]]>"
+  void text() {
+    for (; i_ < s_.size() && s_[i_] != '<'; ++i_) {
+      char c = s_[i_];
+      auto u = static_cast<unsigned char>(c);
+      if (c == '&' || (u < 0x20 && !is_space(c))) decline();
+      if (c == '>' && i_ >= 2 && s_[i_ - 1] == ']' && s_[i_ - 2] == ']') decline();
+    }
+  }
   string_view name() {
     size_t b = i_;
     if (i_ >= s_.size() || !name_start(s_[i_])) decline();
@@ -272,7 +281,11 @@ class Xml {
           return;
         }
         skip_misc();
-        if (i_ >= s_.size() || s_[i_] != '<') decline();  // text, or the end without closing
+        if (i_ >= s_.size()) decline();  // the end without closing
+        if (s_[i_] != '<') {  // text (a stray ">" after a tag, say): read over, as the Python reader ignores it
+          text();
+          continue;
+        }
         if (i_ + 1 < s_.size() && s_[i_ + 1] == '/') {
           i_ += 2;
           string_view n = name();
