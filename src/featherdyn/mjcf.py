@@ -56,11 +56,11 @@ ignored with one :class:`~featherdyn.PhysicalityWarning` listing them
 that would add bodies featherdyn cannot reproduce (``composite``,
 ``flexcomp``, ``attach``, ``replicate``) are refused.
 
-The usual document (one file of plain XML without ``<replicate>``) is read by
-a compiled fast path, ``featherdyn._mjcf_native``, with this module's
-arithmetic (the same model bit for bit; mesh files by this module's
-functions); it declines everything else, and every error, to the Python
-reader (``docs/architecture.md``, "The fast path").
+The usual document (plain XML and its includes, without ``<replicate>``) is
+read by a compiled fast path, ``featherdyn._mjcf_native``, with this module's
+arithmetic (the same model bit for bit; included and mesh files by this
+module's functions); it declines everything else, and every error, to the
+Python reader (``docs/architecture.md``, "The fast path").
 
 Source: MuJoCo documentation, XML reference and "Modeling" chapter; checked
 against ``mujoco`` 3.x/4.x compiled models.
@@ -708,25 +708,15 @@ class _Loader:
             if "file" in mattrs:
                 got = file_mass_properties(self.asset_path(mattrs["file"]), scale, mode)
             else:
-                V = np.array(doc.float_list(elem, mattrs, "vertex", 3), dtype=np.float64).reshape(-1, 3)
-                face = doc.float_list(elem, mattrs, "face", 3)
-                if any(f != int(f) for f in face):
-                    raise MeshError("face indices must be integers")
-                F = np.array(face, dtype=np.int64).reshape(-1, 3)
-                if F.size and (F.min() < 0 or F.max() >= len(V)):
-                    raise MeshError(f"a face index is outside 0..{len(V) - 1}")
-                got = mass_properties(V, F, scale, mode)
+                got = _inline_mass_properties(doc.float_list(elem, mattrs, "vertex", 3),
+                                              doc.float_list(elem, mattrs, "face", 3), scale, mode)
         except MeshError as exc:
             raise doc.error(elem, str(exc)) from None
         self.mesh_cache[name] = got
         return got
 
     def asset_path(self, file: str) -> Path:
-        p = Path(file)
-        if p.is_absolute():
-            return p
-        folder = self.meshdir or self.assetdir or ""
-        return self.doc.model_dir / folder / p
+        return _asset_file(self.doc.model_dir, file, self.meshdir, self.assetdir)
 
     # -- the featherdyn model -------------------------------------------------
 
@@ -922,6 +912,24 @@ class _Loader:
             _add_frame(frames, posed, full, fd, *compose(R, p, Rs, ps), "site")
 
 
+def _asset_file(model_dir: Path, file: str, meshdir: str | None, assetdir: str | None) -> Path:
+    """An asset's file: an absolute path as is, else under ``meshdir`` (else ``assetdir``) in the model's folder."""
+    p = Path(file)
+    return p if p.is_absolute() else model_dir / (meshdir or assetdir or "") / p
+
+
+def _inline_mass_properties(vertex: tuple[float, ...], face: tuple[float, ...], scale: Vec,
+                            mode: str) -> tuple[float, Vec, Mat]:
+    """:func:`mass_properties` of a mesh given in the document (``vertex``, ``face``: the numbers, by threes)."""
+    V = np.array(vertex, dtype=np.float64).reshape(-1, 3)
+    if any(f != int(f) for f in face):
+        raise MeshError("face indices must be integers")
+    F = np.array(face, dtype=np.int64).reshape(-1, 3)
+    if F.size and (F.min() < 0 or F.max() >= len(V)):
+        raise MeshError(f"a face index is outside 0..{len(V) - 1}")
+    return mass_properties(V, F, scale, mode)
+
+
 def load_mjcf(path_or_xml: str | os.PathLike[str] | bytes, *, strict: bool = False) -> Model:
     """Load an MJCF (MuJoCo XML) model with MuJoCo's compiler semantics (module doc: what is supported).
 
@@ -1017,25 +1025,14 @@ class _FastFiles:
             raise FileNotFoundError(target)
         return str(target), _declaration_first(read_source(target)[0])
 
-    def mesh_file(self, file: str, meshdir: str | None, assetdir: str | None) -> Path:
-        p = Path(file)
-        return p if p.is_absolute() else self.model_dir / (meshdir or assetdir or "") / p
-
     def mesh_exists(self, file: str, meshdir: str | None, assetdir: str | None) -> bool:
-        return self.mesh_file(file, meshdir, assetdir).is_file()
+        return _asset_file(self.model_dir, file, meshdir, assetdir).is_file()
 
     def mesh_properties(self, file: str | None, meshdir: str | None, assetdir: str | None, scale: Vec, mode: str,
                         vertex: str | None, face: str | None) -> tuple[float, Vec, Mat]:
         if file is not None:
-            return file_mass_properties(self.mesh_file(file, meshdir, assetdir), scale, mode)
-        V = np.array(_decimal_list(vertex), dtype=np.float64).reshape(-1, 3)
-        faces = _decimal_list(face)
-        if any(f != int(f) for f in faces):
-            raise MeshError("face indices must be integers")
-        F = np.array(faces, dtype=np.int64).reshape(-1, 3)
-        if F.size and (F.min() < 0 or F.max() >= len(V)):
-            raise MeshError(f"a face index is outside 0..{len(V) - 1}")
-        return mass_properties(V, F, scale, mode)
+            return file_mass_properties(_asset_file(self.model_dir, file, meshdir, assetdir), scale, mode)
+        return _inline_mass_properties(_decimal_list(vertex), _decimal_list(face), scale, mode)
 
 
 def _decimal_list(text: str | None) -> tuple[float, ...]:
@@ -1052,12 +1049,12 @@ def _load_fast(source: tuple[str, str, str | None], path: str | None,
                strict: bool) -> tuple[Model, str, list[str], list[str]] | None:
     """:func:`_load` by the fast path (``featherdyn._mjcf_native``), or ``None`` where it declines.
 
-    The C++ reader takes the usual document — one file of plain XML with bodies, joints, primitive geoms,
+    The C++ reader takes the usual document — plain XML and its included files, with bodies, joints, geoms,
     inertials, sites, frames and default classes — and gives its bodies in MuJoCo's order, each with its pose,
-    joints, sites and inertia, computed with this module's arithmetic operation for operation; the model is then
-    built here as on the Python path. Anything else (includes, ``<replicate>``, meshes, shells, ``fullinertia``,
-    every error) it declines, and a model the builder refuses is read again by the Python reader: the messages are
-    always the Python reader's.
+    joints, sites and inertia, computed with this module's arithmetic operation for operation (files read by
+    :class:`_FastFiles`); the model is then built here as on the Python path. Anything else (``<replicate>``,
+    shells, ``fullinertia``, every error) it declines, and a model the builder refuses is read again by the Python
+    reader: the messages are always the Python reader's.
     """
     if _mjcf_native is None:
         return None
