@@ -1014,9 +1014,14 @@ class _FastFiles:
     refuse raises, and the fast path then declines the document (the Python reader words why)."""
 
     def __init__(self, path: str | None) -> None:
+        self.path = path
         self.model_dir = Path(path).parent if path is not None else Path(os.getcwd())
-        #: the main file, resolved (an include of it is a cycle); ``None`` for a string
-        self.main = str(Path(path).resolve()) if path is not None else None
+
+    @property
+    def main(self) -> str | None:
+        """The main file, resolved (an include of it is a cycle); ``None`` for a string. Asked for only by a
+        document with includes (resolving costs a system call per folder)."""
+        return str(Path(self.path).resolve()) if self.path is not None else None
 
     def include(self, file: str) -> tuple[str, str]:
         """``(resolved path, text)`` of an included file (found from the main file's folder, as MuJoCo)."""
