@@ -42,6 +42,7 @@ from .api import (
     frame_velocity,
     frame_velocity_derivatives,
     generalized_gravity,
+    generalized_gravity_derivatives,
     get_num_threads,
     impulse_dynamics,
     joint_jacobians,
@@ -58,6 +59,7 @@ from .api import (
     set_default_backend,
     set_num_threads,
     set_result_cache_size,
+    static_torque_derivatives,
 )
 from .constraints import FrameContact, LoopConstraint, PointContact
 from .errors import (
@@ -225,6 +227,8 @@ __all__ = [
     "potential_energy",
     "rnea",
     "rnea_derivatives",
+    "generalized_gravity_derivatives",
+    "static_torque_derivatives",
     "PointContact",
     "FrameContact",
     "LoopConstraint",

@@ -40,7 +40,7 @@ from featherdyn.errors import ModelError, NonFiniteError, ShapeError
 
 TREE_NAMES = [s.name for s in TREES]
 REFERENCES = (fd.LOCAL, fd.WORLD, fd.LOCAL_WORLD_ALIGNED)
-SLOTS = tuple(fd.PluckerTransform.__dict__[f] for f in ("rotation", "translation", "source", "target"))
+SLOTS = ("rotation", "translation", "source", "target")
 
 
 def _frame(model: fd.Model) -> str:
@@ -280,10 +280,13 @@ def test_public_call_refuses_wrong_constants() -> None:
         _core.public_call("rnea", print, (), None)
     with pytest.raises(ValueError, match="wrong constants"):
         _core.public_call("frame_jacobian", print, (CoreHandle,), None)
-    with pytest.raises(TypeError, match="slot descriptors"):
+    with pytest.raises(TypeError, match="slot names"):
         _core.public_call("frame_placement", print, (CoreHandle, fd.PluckerTransform, 1, 2, 3, 4), None)
-    other = tuple(fd.FrameInfo.__dict__[f] for f in ("name", "body", "placement", "kind"))  # another class's slots
-    with pytest.raises(TypeError, match="slot descriptors"):
+    with pytest.raises(TypeError, match="slot names"):  # not slots of the class
+        _core.public_call("frame_placement", print, (CoreHandle, fd.PluckerTransform, "rotation", "translation",
+                                                     "source", "inverse"), None)
+    other = ("name", "body", "placement", "kind")  # another class's slots
+    with pytest.raises(TypeError, match="slot names"):
         _core.public_call("frame_placement", print, (CoreHandle, fd.PluckerTransform, *other), None)
     with pytest.raises(TypeError, match="a class expected"):
         _core.public_call("frame_placement", print, (CoreHandle, "PluckerTransform", *SLOTS), None)

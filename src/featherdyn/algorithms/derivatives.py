@@ -44,7 +44,7 @@ from . import aba as _aba
 from ._common import TreeData, batch_dtype, expand, zeros
 from .rnea import forward_pass
 
-__all__ = ["rnea_derivatives", "mass_matrix_inverse", "aba_derivatives", "joint_torque_regressor",
+__all__ = ["rnea_derivatives", "generalized_gravity_derivatives", "static_torque_derivatives", "mass_matrix_inverse", "aba_derivatives", "joint_torque_regressor",
            "dynamic_parameters", "frame_motion_derivatives"]
 
 
@@ -142,6 +142,32 @@ def rnea_derivatives(model: Model, q: np.ndarray, qd: np.ndarray, qdd: np.ndarra
         hc[lam] = hc[lam] + hc[i]
         Fc[lam] = Fc[lam] + Fc[i]
     return dq, dv
+
+
+def generalized_gravity_derivatives(model: Model, q: np.ndarray) -> np.ndarray:
+    """``∂g/∂q`` `(..., nv, nv)` of the generalized gravity ``g(q) = RNEA(q, 0, 0)`` on a checked ``q``::
+
+        ∂g/∂q = ∂τ/∂q |_{q̇ = q̈ = 0}
+
+    (Pinocchio's ``computeGeneralizedGravityDerivatives``; the analytical algorithm of the module
+    docstring at rest, where only the base acceleration −g drives the bodies.)
+    """
+    zero = np.zeros(q.shape[:-1] + (model.nv,), dtype=q.dtype)
+    return rnea_derivatives(model, q, zero, zero)[0]
+
+
+def static_torque_derivatives(model: Model, q: np.ndarray, f_ext: np.ndarray) -> np.ndarray:
+    """``∂τ_s/∂q`` `(..., nv, nv)` of the static torque ``τ_s(q) = g(q) − Σ_i J_iᵀ f_i`` on checked arrays::
+
+        τ_s(q) = RNEA(q, 0, 0, f_ext),    ∂τ_s/∂q = ∂τ/∂q |_{q̇ = q̈ = 0}
+
+    ``f_ext`` `(..., nb, 6)`: body-frame forces ``[n; f]``, held fixed in their bodies as q moves
+    (Pinocchio's ``computeStaticTorqueDerivatives`` with forces in the joint frames).
+    """
+    batch = np.broadcast_shapes(q.shape[:-1], f_ext.shape[:-2])
+    dtype = np.result_type(q, f_ext)
+    zero = np.zeros(batch + (model.nv,), dtype=dtype)
+    return rnea_derivatives(model, q, zero, zero, f_ext)[0]
 
 
 def mass_matrix_inverse(model: Model, q: np.ndarray) -> np.ndarray:

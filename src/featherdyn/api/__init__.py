@@ -15,6 +15,7 @@ from typing import TYPE_CHECKING
 from ..frames import LOCAL, LOCAL_WORLD_ALIGNED, WORLD, ReferenceFrame
 from ..model import Model
 from ..results import CenterOfMass, Kinematics
+from . import declarations as _declarations
 from ._backend import (
     default_backend,
     get_num_threads,
@@ -35,6 +36,8 @@ from .constraints import (
     operational_space,
     operational_space_inertia,
 )
+from .declarations import *  # noqa: F403  (the declared algorithms: api/declarations.py's __all__)
+from .declared import compiled_method
 from .derivatives import (
     aba_derivatives,
     dynamic_parameters,
@@ -110,6 +113,7 @@ __all__ = [
     "get_num_threads",
     "set_result_cache_size",
     "result_cache_info",
+    *_declarations.__all__,
 ]
 
 
@@ -121,4 +125,7 @@ def compile(model: Model, *, warmup: bool = True) -> CompiledModel:
     """
     from ..core.compiled import compile_model
 
-    return compile_model(model, warmup=warmup)
+    cm = compile_model(model, warmup=warmup)
+    for decl in _declarations.DECLARATIONS.values():  # the declared algorithms' methods (api/declared.py)
+        setattr(cm, decl.name, compiled_method(decl, model))
+    return cm

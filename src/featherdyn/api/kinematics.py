@@ -120,7 +120,7 @@ def _general_frame_placement(model: Model, q: ArrayLike, frame: str | int, *, ba
 
 #: one float64 state finished in the compiled core (``_backend.public_call``)
 frame_placement = public_call("frame_placement", _general_frame_placement, (
-    CoreHandle, PluckerTransform, *(PluckerTransform.__dict__[f] for f in ("rotation", "translation", "source", "target"))))
+    CoreHandle, PluckerTransform, "rotation", "translation", "source", "target"))
 
 
 def frame_velocity(model: Model, q: ArrayLike, v: ArrayLike, frame: str | int, reference: ReferenceFrame | str = LOCAL, *,

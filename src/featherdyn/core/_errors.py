@@ -23,10 +23,10 @@ from .._state_checks import batch_with_f_ext, check_f_ext, check_state
 from ..errors import FeatherdynError, NonFiniteError, QuaternionNormError, ShapeError, SingularMassMatrixError
 from ..model import Model
 
-__all__ = ["OK", "LENGTH", "NONFINITE", "QUATERNION", "SINGULAR", "ARG_NAMES", "decode", "validate",
+__all__ = ["OK", "LENGTH", "NONFINITE", "QUATERNION", "SINGULAR", "OVERLAP", "ARG_NAMES", "decode", "validate",
            "raise_for", "singular_error"]
 
-OK, LENGTH, NONFINITE, QUATERNION, SINGULAR = range(5)
+OK, LENGTH, NONFINITE, QUATERNION, SINGULAR, OVERLAP = range(6)
 #: the ``arg`` field of a status
 ARG_NAMES = ("q", "v", "a", "f_ext", "out", "frame")
 
@@ -74,4 +74,6 @@ def raise_for(status: int, model: Model, q: Any, vectors: Sequence[tuple[str, An
         raise QuaternionNormError(f"q: the quaternion of joint {model.joint_names[index]!r} is off unit norm")
     if code == SINGULAR:
         raise SingularMassMatrixError(f"joint {model.joint_names[index]!r}: the mass matrix is singular")
+    if code == OVERLAP:
+        raise ShapeError(f"out: shares memory with {name}; the public functions compute such a call into fresh memory")
     raise FeatherdynError(f"featherdyn.core: unexpected status {status}")

@@ -10,7 +10,8 @@
 // Batched entry points release the GIL and run rows on the core's thread pool; they return
 // (row, status) of the first failing row, or (−1, 0).
 #include <Python.h>
-#include <structmember.h>  // T_OBJECT_EX, READONLY: the slots frame_placement_path fills
+#define FEATHERDYN_NUMPY_IMPORT  // this file imports NumPy's C API (numpy_api.hpp)
+#include "numpy_api.hpp"
 #include <nanobind/nanobind.h>
 #include <nanobind/ndarray.h>
 #include <nanobind/stl/complex.h>
@@ -29,12 +30,14 @@
 #include <utility>
 
 #include "aba.hpp"
+#include "boundary.hpp"
 #include "buffer.hpp"
 #include "centroidal.hpp"
 #include "checks.hpp"
 #include "contacts.hpp"
 #include "counted.hpp"
 #include "crba.hpp"
+#include "declarations.hpp"
 #include "derivatives.hpp"
 #include "energy.hpp"
 #include "frame_derivatives.hpp"
@@ -58,144 +61,24 @@ fdgroup::GroupKernels featherdyn_avx2_group_kernels();    // simd_avx2.cpp
 fdgroup::GroupKernels featherdyn_avx512_group_kernels();  // simd_avx512.cpp
 #endif
 
-using In = nb::ndarray<const double, nb::c_contig, nb::device::cpu>;
-using Out = nb::ndarray<double, nb::c_contig, nb::device::cpu>;
-using InC = nb::ndarray<const std::complex<double>, nb::c_contig, nb::device::cpu>;
-using OutC = nb::ndarray<std::complex<double>, nb::c_contig, nb::device::cpu>;
-using Ints = nb::ndarray<const std::int32_t, nb::c_contig, nb::device::cpu>;
-using RowStatus = std::pair<std::int64_t, std::int64_t>;
+// The batched group kernels for this CPU: AVX-512 (8 lanes) or AVX2 (4 lanes) when it has them,
+// else the x86-64 baseline (2 lanes); FEATHERDYN_SIMD=baseline|avx2|avx512 asks for one (to measure
+// each way; a set the CPU lacks is not taken).
+const fdgroup::GroupKernels& fdcore::group_kernels() {
+  static const fdgroup::GroupKernels kernels = [] {
+#if defined(FEATHERDYN_HAVE_AVX2)
+    const char* env = std::getenv("FEATHERDYN_SIMD");
+    const std::string want = env != nullptr ? env : "";
+    const bool avx512 = __builtin_cpu_supports("avx512f"), avx2 = __builtin_cpu_supports("avx2");
+    if (want != "baseline" && want != "avx2" && avx512) return featherdyn_avx512_group_kernels();
+    if (want != "baseline" && avx2) return featherdyn_avx2_group_kernels();
+#endif
+    return fdcore::group_kernels("baseline");
+  }();
+  return kernels;
+}
 
 namespace {
-
-template <class A>
-void require_present(const A& x) {
-  if (!x.is_valid()) throw nb::type_error("featherdyn.core: a required array argument is None");
-}
-
-template <class A>
-void require_aligned(const A& x) {
-  if (x.is_valid() && reinterpret_cast<std::uintptr_t>(x.data()) % alignof(typename A::Scalar) != 0)
-    throw nb::type_error("featherdyn.core: arrays must be aligned (the Python wrapper copies unaligned ones)");
-}
-
-// One state: a 1-D array of length n. OK or a LENGTH status naming the argument.
-template <class A>
-std::int64_t vec(const A& x, size_t n, std::int64_t arg) {
-  require_present(x);
-  require_aligned(x);
-  if (x.ndim() != 1 || x.shape(0) != n) return make_status(LENGTH, arg, x.ndim() == 1 ? x.shape(0) : -1);
-  return OK;
-}
-
-// A batch input: (R, n) with R = N rows, or R = 1 broadcast to every row.
-using fdgroup::Rows;
-
-std::int64_t rows(const In& x, std::int64_t N, size_t n, std::int64_t arg, Rows& out) {
-  require_aligned(x);
-  if (!x.is_valid()) return OK;
-  if (x.ndim() != 2 || x.shape(1) != n || !(x.shape(0) == static_cast<size_t>(N) || x.shape(0) == 1))
-    return make_status(LENGTH, arg, x.ndim() == 2 ? static_cast<std::int64_t>(x.shape(x.ndim() - 1)) : -1);
-  out.p = x.data();
-  out.stride = x.shape(0) == 1 ? 0 : static_cast<std::int64_t>(n);
-  return OK;
-}
-
-std::int64_t out_rows(const Out& x, size_t n, std::int64_t& N) {
-  require_aligned(x);
-  if (x.ndim() < 1) return make_status(LENGTH, ARG_OUT, -1);
-  size_t total = 1;
-  for (size_t d = 1; d < x.ndim(); ++d) total *= x.shape(d);
-  if (total != n) return make_status(LENGTH, ARG_OUT, static_cast<std::int64_t>(total));
-  N = static_cast<std::int64_t>(x.shape(0));
-  return OK;
-}
-
-// A further output of the same batch: (N, n) rows, N as the first output's.
-std::int64_t same_rows(const Out& x, size_t n, std::int64_t N) {
-  std::int64_t rows_x = 0;
-  const std::int64_t s = out_rows(x, n, rows_x);
-  if (s != OK) return s;
-  return rows_x == N ? OK : make_status(LENGTH, ARG_OUT, rows_x);
-}
-
-// An output (or a one-state f_ext) of exactly this shape.
-template <class A>
-std::int64_t exact_shape(const A& x, std::initializer_list<size_t> shape, std::int64_t arg = ARG_OUT) {
-  require_present(x);
-  require_aligned(x);
-  bool same = x.ndim() == shape.size();
-  size_t d = 0;
-  for (size_t n : shape) same = same && x.shape(d++) == n;
-  return same ? OK : make_status(LENGTH, arg, static_cast<std::int64_t>(x.size()));
-}
-
-#define FD_TRY(expr)                   \
-  do {                                 \
-    const std::int64_t s_ = (expr);    \
-    if (s_ != OK) return s_;           \
-  } while (0)
-#define FD_TRY_ROWS(expr)                              \
-  do {                                                 \
-    const std::int64_t s_ = (expr);                    \
-    if (s_ != OK) return RowStatus{-1, s_};            \
-  } while (0)
-
-// Run body(item) → status over `items` items on the pool, GIL released; (first failing row, its
-// status). An item is `group` consecutive rows; a failing body adds (row − first row of the item) << 60.
-template <class F>
-RowStatus for_rows(std::int64_t items, const F& body, std::int64_t group = 1) {
-  std::mutex m;
-  RowStatus first{-1, OK};
-  {
-    nb::gil_scoped_release release;
-    std::shared_ptr<ThreadPool> pool = GlobalPool::instance().get();
-    pool->parallel_for(items, [&](std::int64_t begin, std::int64_t end) {
-      for (std::int64_t g = begin; g < end; ++g) {
-        const std::int64_t s = body(g);
-        if (s != OK) {
-          const std::int64_t r = g * group + (s >> 60), status = s & ((std::int64_t(1) << 60) - 1);
-          std::lock_guard<std::mutex> lock(m);
-          if (first.first < 0 || r < first.first) first = {r, status};
-          return;  // the rest of this chunk is left undone: the call fails anyway
-        }
-      }
-    });
-  }
-  return first;
-}
-
-// ---------------------------------------------------------------------------
-// one state
-// ---------------------------------------------------------------------------
-
-// A result that finite input overflowed (products beyond float64's range): NONFINITE on the output,
-// so the caller words it instead of returning inf or NaN.
-// (all_finite (checks.hpp) first: a talos mass matrix's 2 500 entries cost 1.3 µs through first_nonfinite's
-// early exit, which does not vectorise, and 0.1 µs there)
-
-inline std::int64_t finite_result(const double* x, std::int64_t n) {
-  if (all_finite(x, n)) return OK;
-  const std::int64_t k = first_nonfinite(x, n);
-  return k < 0 ? OK : make_status(NONFINITE, ARG_OUT, k);
-}
-
-// The same for nb homogeneous placements H (nb, 4, 4): only the translations H[i][0..2][3] can overflow
-// (a rotation's entries stay within ±1 for finite angles and unit quaternions, and the last row is
-// constant), so they are the first non-finite element whenever there is one.
-inline std::int64_t finite_placements(const double* H, std::int64_t nb) {
-  for (std::int64_t i = 0; i < nb; ++i)
-    for (const std::int64_t k : {16 * i + 3, 16 * i + 7, 16 * i + 11})
-      if (!std::isfinite(H[k])) return make_status(NONFINITE, ARG_OUT, k);
-  return OK;
-}
-
-// The same for a frame Jacobian J (6, nv): only the linear rows 3..5 can overflow (the angular rows are
-// rotated unit axes, within ±1), so the first non-finite element is there whenever there is one.
-inline std::int64_t finite_jacobian(const double* J, std::int64_t nv) {
-  if (all_finite(J + 3 * nv, 3 * nv)) return OK;
-  const std::int64_t k = first_nonfinite(J + 3 * nv, 3 * nv);
-  return k < 0 ? OK : make_status(NONFINITE, ARG_OUT, k + 3 * nv);
-}
 
 std::int64_t rnea1(const ModelData& md, const F64In& q, const F64In& v, const F64In& a, const F64In& f_ext,
                    bool gravity, const F64Out& tau) {
@@ -243,64 +126,15 @@ std::int64_t crba1(const ModelData& md, const F64In& q, const F64Out& M) {
 // one state, the result allocated here: the public functions' fast path
 // ---------------------------------------------------------------------------
 
-// A fresh C-contiguous float64 NumPy array, made by NumPy's C-API function PyArray_NewFromDescr
-// (entry 94 of the API table NumPy exports as numpy._core._multiarray_umath._ARRAY_API; checked at
-// import on an array it makes), which skips numpy.empty's argument parsing; numpy.empty otherwise.
-struct NumpyAlloc {
-  using NewFromDescr = PyObject* (*)(PyTypeObject*, PyObject*, int, const Py_ssize_t*, const Py_ssize_t*, void*, int,
-                                     PyObject*);
-  NewFromDescr new_from_descr = nullptr;
-  PyTypeObject* ndarray = nullptr;
-  PyObject* float64 = nullptr;
-  PyObject* empty = nullptr;  // numpy.empty, the fallback
-  // PyArray_SetBaseObject (entry 282 of the same table; steals the base), for arrays over memory of ours
-  using SetBase = int (*)(PyObject*, PyObject*);
-  SetBase set_base = nullptr;
-
-  nb::object operator()(std::initializer_list<Py_ssize_t> shape) const {
-    const Py_ssize_t* dims = shape.begin();
-    const int nd = static_cast<int>(shape.size());
-    if (new_from_descr != nullptr) {
-      Py_INCREF(float64);  // PyArray_NewFromDescr steals a reference to the dtype
-      PyObject* a = new_from_descr(ndarray, float64, nd, dims, nullptr, nullptr, 0, nullptr);
-      if (a == nullptr) throw nb::python_error();
-      return nb::steal(a);
-    }
-    nb::tuple t = nd == 1 ? nb::make_tuple(dims[0]) : nd == 2 ? nb::make_tuple(dims[0], dims[1])
-                                                             : nb::make_tuple(dims[0], dims[1], dims[2]);
-    return nb::borrow(empty)(t);
-  }
-};
-NumpyAlloc numpy_alloc;
-
-void init_numpy_alloc() {
-  nb::module_ np = nb::module_::import_("numpy");
-  numpy_alloc.empty = np.attr("empty").inc_ref().ptr();
-  try {
-    nb::object capsule = nb::module_::import_("numpy._core._multiarray_umath").attr("_ARRAY_API");
-    void** api = static_cast<void**>(PyCapsule_GetPointer(capsule.ptr(), nullptr));
-    if (api == nullptr) throw nb::python_error();
-    NumpyAlloc trial{reinterpret_cast<NumpyAlloc::NewFromDescr>(api[94]), reinterpret_cast<PyTypeObject*>(api[2]),
-                     np.attr("dtype")("float64").ptr(), nullptr, reinterpret_cast<NumpyAlloc::SetBase>(api[282])};
-    if (trial.ndarray != reinterpret_cast<PyTypeObject*>(np.attr("ndarray").ptr())) return;
-    nb::object a = trial({2, 3});
-    const bool ok = a.type().ptr() == np.attr("ndarray").ptr() && nb::object(a.attr("dtype")).ptr() == trial.float64 && nb::cast<bool>(a.attr("shape").equal(nb::make_tuple(2, 3))) &&
-                    nb::cast<bool>(a.attr("flags")["C_CONTIGUOUS"]) && nb::cast<bool>(a.attr("flags")["WRITEABLE"]) &&
-                    nb::cast<bool>(a.attr("flags")["OWNDATA"]);
-    if (ok) {
-      Py_INCREF(trial.float64);
-      numpy_alloc.new_from_descr = trial.new_from_descr;
-      numpy_alloc.ndarray = trial.ndarray;
-      numpy_alloc.float64 = trial.float64;
-      numpy_alloc.set_base = trial.set_base;
-    }
-  } catch (const nb::python_error&) {
-    // NumPy 1.x names the module numpy.core._multiarray_umath: numpy.empty serves
-  }
+// A fresh C-contiguous float64 NumPy array (numpy_api.hpp: PyArray_SimpleNew).
+nb::object numpy_alloc(std::initializer_list<npy_intp> shape) {
+  PyObject* a = new_f64(static_cast<int>(shape.size()), shape.begin());
+  if (a == nullptr) throw nb::python_error();
+  return nb::steal(a);
 }
 
 // The element storage of an array numpy_alloc made.
-inline double* array_data(const nb::object& a) { return reinterpret_cast<double*>(reinterpret_cast<NdarrayFields*>(a.ptr())->data); }
+inline double* array_data(const nb::object& a) { return f64_data(a.ptr()); }
 
 // Each returns its result, or None for anything the entry point above would refuse with a status (a
 // wrong length, a bad state, an overflowed or singular result): the caller's general path words it.
@@ -456,46 +290,6 @@ std::int64_t rnea_complex1(const ModelData& md, const InC& q, const InC& v, cons
 // ---------------------------------------------------------------------------
 // batches: row r of each input (or its only row), row r of the output
 // ---------------------------------------------------------------------------
-
-// The batched group kernels for this CPU: AVX-512 (8 lanes) or AVX2 (4 lanes) when it has them,
-// else the x86-64 baseline (2 lanes); FEATHERDYN_SIMD=baseline|avx2|avx512 asks for one (to measure
-// each way; a set the CPU lacks is not taken).
-const fdgroup::GroupKernels& group_kernels() {
-  static const fdgroup::GroupKernels kernels = [] {
-#if defined(FEATHERDYN_HAVE_AVX2)
-    const char* env = std::getenv("FEATHERDYN_SIMD");
-    const std::string want = env != nullptr ? env : "";
-    const bool avx512 = __builtin_cpu_supports("avx512f"), avx2 = __builtin_cpu_supports("avx2");
-    if (want != "baseline" && want != "avx2" && avx512) return featherdyn_avx512_group_kernels();
-    if (want != "baseline" && avx2) return featherdyn_avx2_group_kernels();
-#endif
-    return fdcore::group_kernels("baseline");
-  }();
-  return kernels;
-}
-
-// Rows in groups of the kernels' width on the pool. Every row is checked; a full group runs the
-// Pack instantiation (lanes bit-identical to one state), the tail and any group whose packed run
-// fails (a singular ABA lane) run row by row with the double instantiation, which names the row.
-//   check(r) → status;  one(r) → status;  many: the group kernel
-template <class Check, class One>
-RowStatus for_row_groups(std::int64_t N, const Check& check, const One& one, fdgroup::GroupFn many,
-                         const fdgroup::GroupArgs& args) {
-  const std::int64_t W = group_kernels().width;
-  return for_rows((N + W - 1) / W, [&](std::int64_t g) -> std::int64_t {
-    const std::int64_t r0 = g * W, n = std::min(W, N - r0);
-    for (std::int64_t r = r0; r < r0 + n; ++r) {
-      const std::int64_t s = check(r);
-      if (s != OK) return s + ((r - r0) << 60);  // the row within the group (see for_rows)
-    }
-    if (n == W && many(args, r0) == 0) return OK;
-    for (std::int64_t r = r0; r < r0 + n; ++r) {
-      const std::int64_t s = one(r);
-      if (s != OK) return s + ((r - r0) << 60);
-    }
-    return OK;
-  }, W);
-}
 
 RowStatus rnea_n(const ModelData& md, const In& q, const In& v, const In& a, const In& f_ext, bool gravity,
                  Out tau) {
@@ -685,44 +479,18 @@ PyObject* frame_jacobian_path(PublicCall* f, PyObject* const* a) {
   });
 }
 
-// A read-only array, as PluckerTransform's fields are (read_only_pose's fallback).
-bool set_read_only(PyObject* a) {
-  PyObject* r = PyObject_CallMethod(a, "setflags", "O", Py_False);
-  Py_XDECREF(r);
-  return r != nullptr;
-}
-
-// R (3, 3) and p (3,), read-only, as a PluckerTransform holds them. With NumPy's API table: two arrays over one
-// 96-byte bytes object (one allocation, outside NumPy's memory handler, which looks itself up in a context
-// variable and checks a capsule's name for every array; immutable, so NumPy refuses to make them writeable);
-// else two arrays of numpy_alloc made read-only.
+// R (3, 3) and p (3,), read-only, as a PluckerTransform holds them: two arrays over one 96-byte bytes object
+// (one allocation, outside NumPy's memory handler; immutable, so NumPy refuses to make them writeable).
 void read_only_pose(const double* R9, const double* p3, nb::object& R, nb::object& p) {
-  if (numpy_alloc.set_base != nullptr) {
-    nb::object owner = nb::steal(PyBytes_FromStringAndSize(nullptr, 12 * sizeof(double)));
-    if (!owner.is_valid()) throw nb::python_error();
-    char* d = PyBytes_AS_STRING(owner.ptr());
-    if (reinterpret_cast<std::uintptr_t>(d) % alignof(double) == 0) {
-      std::memcpy(d, R9, 9 * sizeof(double));
-      std::memcpy(d + 9 * sizeof(double), p3, 3 * sizeof(double));
-      constexpr int C_RO = NdarrayFast::C_CONTIGUOUS | NdarrayFast::ALIGNED;  // NumPy's NPY_ARRAY_CARRAY_RO
-      const Py_ssize_t d33[2] = {3, 3}, d3[1] = {3};
-      auto view = [&](int nd, const Py_ssize_t* dims, char* data) {
-        Py_INCREF(numpy_alloc.float64);  // (stolen)
-        nb::object a = nb::steal(
-            numpy_alloc.new_from_descr(numpy_alloc.ndarray, numpy_alloc.float64, nd, dims, nullptr, data, C_RO, nullptr));
-        if (!a.is_valid() || numpy_alloc.set_base(a.ptr(), owner.inc_ref().ptr()) != 0) throw nb::python_error();
-        return a;
-      };
-      R = view(2, d33, d);
-      p = view(1, d3, d + 9 * sizeof(double));
-      return;
-    }
-  }
-  R = numpy_alloc({3, 3});
-  p = numpy_alloc({3});
-  std::memcpy(array_data(R), R9, sizeof(double) * 9);
-  std::memcpy(array_data(p), p3, sizeof(double) * 3);
-  if (!set_read_only(R.ptr()) || !set_read_only(p.ptr())) throw nb::python_error();
+  nb::object owner = nb::steal(PyBytes_FromStringAndSize(nullptr, 12 * sizeof(double)));
+  if (!owner.is_valid()) throw nb::python_error();
+  char* d = PyBytes_AS_STRING(owner.ptr());
+  std::memcpy(d, R9, 9 * sizeof(double));
+  std::memcpy(d + 9 * sizeof(double), p3, 3 * sizeof(double));
+  const npy_intp d33[2] = {3, 3}, d3[1] = {3};
+  R = nb::steal(f64_view(2, d33, d, owner.ptr()));
+  p = nb::steal(f64_view(1, d3, d + 9 * sizeof(double), owner.ptr()));
+  if (!R.is_valid() || !p.is_valid()) throw nb::python_error();
 }
 
 // fd.frame_placement(model, q, frame) → PluckerTransform(R, p) of ⁰M_f; extra = (CoreHandle,
@@ -745,16 +513,14 @@ PyObject* frame_placement_path(PublicCall* f, PyObject* const* a) {
   return guarded([&]() -> PyObject* {
     nb::object R, p;
     read_only_pose(Rf.m, p3, R, p);
-    // object.__new__(cls) and its four object slots filled, as the slots' descriptors would (checked at
-    // construction: `make`): a fresh instance's slots are empty
+    // object.__new__(cls) and its four fields set as a frozen dataclass's __init__ sets them
+    // (object.__setattr__: PyObject_GenericSetAttr); the names are extra[2:6] (checked by `make`)
     PyTypeObject* cls = reinterpret_cast<PyTypeObject*>(PyTuple_GET_ITEM(f->extra, 1));
-    nb::object x = nb::steal(cls->tp_alloc(cls, 0));
+    nb::object x = nb::steal(PyType_GenericNew(cls, nullptr, nullptr));
     if (!x.is_valid()) throw nb::python_error();
     PyObject* fields[4] = {R.ptr(), p.ptr(), Py_None, Py_None};
-    for (int i = 0; i < 4; ++i) {
-      const PyMemberDef* member = reinterpret_cast<PyMemberDescrObject*>(PyTuple_GET_ITEM(f->extra, 2 + i))->d_member;
-      *reinterpret_cast<PyObject**>(reinterpret_cast<char*>(x.ptr()) + member->offset) = Py_NewRef(fields[i]);
-    }
+    for (int i = 0; i < 4; ++i)
+      if (PyObject_GenericSetAttr(x.ptr(), PyTuple_GET_ITEM(f->extra, 2 + i), fields[i]) != 0) throw nb::python_error();
     return x.release().ptr();
   });
 }
@@ -910,19 +676,16 @@ nb::object make(const std::string& kind, nb::handle general, nb::handle extra, n
   if (kind == "cm_frame_jacobian" && !PyDict_CheckExact(PyTuple_GET_ITEM(extra.ptr(), 0)))
     throw nb::type_error("public_call: the frame table (a dict) expected");
   if (k == FRAME_PLACEMENT) {
-    // the class, and the member descriptors of four writable object slots of that class (frame_placement_path
-    // fills them at their offsets in a fresh instance)
-    PyObject* cls = PyTuple_GET_ITEM(extra.ptr(), 1);
-    if (!PyType_Check(cls) || reinterpret_cast<PyTypeObject*>(cls)->tp_alloc == nullptr)
-      throw nb::type_error("public_call: a class expected");
+    // the class and the names of four of its slots (data descriptors the class itself defines), which
+    // frame_placement_path sets
+    nb::handle cls = PyTuple_GET_ITEM(extra.ptr(), 1);
+    if (!PyType_Check(cls.ptr())) throw nb::type_error("public_call: a class expected");
     for (int i = 2; i < 6; ++i) {
-      PyObject* d = PyTuple_GET_ITEM(extra.ptr(), i);
-      const PyMemberDef* member =
-          Py_IS_TYPE(d, &PyMemberDescr_Type) ? reinterpret_cast<PyMemberDescrObject*>(d)->d_member : nullptr;
-      if (member == nullptr || reinterpret_cast<PyDescrObject*>(d)->d_type != reinterpret_cast<PyTypeObject*>(cls) ||
-          member->type != T_OBJECT_EX || (member->flags & READONLY) != 0 || member->offset < Py_ssize_t(sizeof(PyObject)) ||
-          member->offset + Py_ssize_t(sizeof(PyObject*)) > reinterpret_cast<PyTypeObject*>(cls)->tp_basicsize)
-        throw nb::type_error("public_call: slot descriptors expected");
+      nb::handle name = PyTuple_GET_ITEM(extra.ptr(), i);
+      if (!PyUnicode_CheckExact(name.ptr()) || !nb::hasattr(cls, name)) throw nb::type_error("public_call: slot names expected");
+      nb::object d = cls.attr(name);
+      if (!PyDescr_IsData(d.ptr()) || !nb::hasattr(d, "__objclass__") || !d.attr("__objclass__").is(cls))
+        throw nb::type_error("public_call: slot names expected");
     }
   }
   PyObject* r = make_public_call(k, general.ptr(), extra.ptr(), is_bound ? bound.ptr() : nullptr);
@@ -930,25 +693,13 @@ nb::object make(const std::string& kind, nb::handle general, nb::handle extra, n
   return nb::steal(r);
 }
 
-// At import: the interned names, and whether read_only_pose's arrays over a bytes object read back as NumPy
-// must see them (else its fallback serves).
+// At import: the interned names, and the PublicCall type.
 void init() {
   s_core = PyUnicode_InternFromString("_core");
   s_cm = PyUnicode_InternFromString("cm");
   s_frames = PyUnicode_InternFromString("frames");
   if (s_core == nullptr || s_cm == nullptr || s_frames == nullptr) throw nb::python_error();
   if (public_call_type() == nullptr) throw nb::python_error();
-  if (numpy_alloc.set_base != nullptr) {  // read_only_pose's arrays over a bytes object, as NumPy sees them
-    const double R9[9] = {1, 2, 3, 4, 5, 6, 7, 8, 9}, p3[3] = {10, 11, 12};
-    nb::object R, p;
-    read_only_pose(R9, p3, R, p);
-    nb::object base = R.attr("base");
-    const bool ok = PyBytes_CheckExact(base.ptr()) && base.ptr() == nb::object(p.attr("base")).ptr() &&
-                    nb::cast<double>(R.attr("item")(2, 1)) == 8.0 && nb::cast<double>(p.attr("item")(2)) == 12.0 &&
-                    !nb::cast<bool>(R.attr("flags").attr("writeable")) && nb::cast<bool>(R.attr("flags").attr("c_contiguous")) &&
-                    !nb::cast<bool>(p.attr("flags").attr("writeable")) && nb::cast<bool>(p.attr("flags").attr("aligned"));
-    if (!ok) numpy_alloc.set_base = nullptr;
-  }
 }
 
 }  // namespace pc
@@ -1643,6 +1394,24 @@ void sin_cos_n(const In& x, Out s, Out c, bool packs) {
   for (; k < n; ++k) sin_cos(X[k], So[k], Co[k]);
 }
 
+// A declaration's operands as Python sees them: (name, shape with "nq", "nv", "nb" for the symbolic lengths,
+// optional) each.
+nb::list operands(const std::vector<Operand>& ops) {
+  nb::list out;
+  for (const Operand& o : ops) {
+    nb::list shape;
+    for (int d = 0; d < o.nd; ++d) {
+      const int n = o.dims[d];
+      if (n == NQ) shape.append("nq");
+      else if (n == NV) shape.append("nv");
+      else if (n == NB) shape.append("nb");
+      else shape.append(n);
+    }
+    out.append(nb::make_tuple(o.name, nb::tuple(shape), o.optional));
+  }
+  return out;
+}
+
 ModelData* make_model(int nb, int nq, int nv, const Ints& body_ints, const In& body_reals, const In& gravity,
                       double singular_tol, double quat_tol, const Ints& frame_body, const In& frame_reals,
                       const In& armature) {
@@ -1663,8 +1432,7 @@ NB_MODULE(_core, m) {
   // module-level caches (functools.cache, lru tables) may outlive this module at interpreter
   // exit; nanobind would report those as leaks. They are not: nothing here holds a reference.
   nb::set_leak_warnings(false);
-  init_ndarray_fields();  // buffer.hpp: the one-state entry points' direct path to NumPy's arrays
-  init_numpy_alloc();     // the results of the *_new entry points
+  if (import_numpy() != 0) throw nb::python_error();  // NumPy's C API (numpy_api.hpp)
   pc::init();             // the public functions' one-state calls in C (public_calls.hpp)
 
   nb::class_<ModelData>(m, "Model")
@@ -1753,6 +1521,21 @@ NB_MODULE(_core, m) {
   m.def("contact_dynamics_batch", &contact_dynamics_n, nb::arg("model"), A("q"), A("v"), A("tau"), O("f_ext"),
         A("specs"), nb::arg("mu"), nb::arg("max_iter"), nb::arg("tol"), nb::arg("singular_tol"), A("qdd"), A("lam"),
         A("info"));
+  // the declared algorithms (declare.hpp, declarations.hpp): each bound once, by the same three front ends
+  nb::class_<Kernel>(m, "Kernel", "A declared algorithm of the core (core/cpp/declarations.hpp)")
+      .def_ro("name", &Kernel::name)
+      .def_prop_ro("inputs", [](const Kernel& k) { return operands(k.inputs); })
+      .def_prop_ro("outputs", [](const Kernel& k) { return operands(k.outputs); })
+      .def("into", &run_into, nb::arg("model"), nb::arg("inputs"), nb::arg("outputs"),
+           "one state into the given outputs; the status (0: OK)")
+      .def("fresh", &run_fresh, nb::arg("model"), nb::arg("inputs"),
+           "one state; the result (an array or a tuple), or None where `into` would return a non-zero status")
+      .def("batch", &run_batch, nb::arg("model"), nb::arg("inputs"), nb::arg("outputs"),
+           "rows of a batch on the thread pool; (first failing row, status) or (-1, 0)");
+  nb::dict kernels;
+  for (const Kernel& k : declared_kernels()) kernels[k.name.c_str()] = nb::cast(k);
+  m.attr("kernels") = kernels;
+
   m.def("flops", &flops1, nb::arg("model"), nb::arg("kind"), A("q"), A("v"), A("b"),
         "floating-point operations of one RNEA (0), CRBA (1) or ABA (2) call for this state");
   m.def("sin_cos", &sin_cos_n, A("x"), A("s"), A("c"), nb::arg("packs"));

@@ -4,7 +4,8 @@
 //     status = code | arg << 3 | index << 8
 //
 // code: OK, LENGTH (index = the wrong length), NONFINITE (index = the first bad element),
-// QUATERNION (index = the body whose quaternion is off unit norm), SINGULAR (index = the joint);
+// QUATERNION (index = the body whose quaternion is off unit norm), SINGULAR (index = the joint), OVERLAP (an
+// output shares memory with the input `arg`, or with another output: arg = ARG_OUT);
 // arg: which input (ARG_Q, ARG_V, ARG_A (a or τ), ARG_FEXT, ARG_OUT, ARG_FRAME).
 #pragma once
 
@@ -16,7 +17,7 @@
 
 namespace fdcore {
 
-enum StatusCode : std::int64_t { OK = 0, LENGTH = 1, NONFINITE = 2, QUATERNION = 3, SINGULAR = 4 };
+enum StatusCode : std::int64_t { OK = 0, LENGTH = 1, NONFINITE = 2, QUATERNION = 3, SINGULAR = 4, OVERLAP = 5 };
 enum Arg : std::int64_t { ARG_Q = 0, ARG_V = 1, ARG_A = 2, ARG_FEXT = 3, ARG_OUT = 4, ARG_FRAME = 5 };
 
 // (an unknown index, e.g. the length of an array that is not 1-D, is given as −1 and stored as 0)

@@ -1,0 +1,190 @@
+// The binding's shared pieces (docs/architecture.md, "The glue"): the array types, the length checks that
+// turn a wrong shape into a status, the overflow checks of results, and the rows of a batch on the thread pool.
+#pragma once
+
+#include <Python.h>
+#include <nanobind/nanobind.h>
+#include <nanobind/ndarray.h>
+
+#include <algorithm>
+#include <cmath>
+#include <complex>
+#include <cstdint>
+#include <initializer_list>
+#include <memory>
+#include <mutex>
+#include <utility>
+
+#include "buffer.hpp"
+#include "checks.hpp"
+#include "groups.hpp"
+#include "model_view.hpp"
+#include "thread_pool.hpp"
+
+namespace fdcore {
+
+namespace nb = nanobind;
+
+using In = nb::ndarray<const double, nb::c_contig, nb::device::cpu>;
+using Out = nb::ndarray<double, nb::c_contig, nb::device::cpu>;
+using InC = nb::ndarray<const std::complex<double>, nb::c_contig, nb::device::cpu>;
+using OutC = nb::ndarray<std::complex<double>, nb::c_contig, nb::device::cpu>;
+using Ints = nb::ndarray<const std::int32_t, nb::c_contig, nb::device::cpu>;
+using RowStatus = std::pair<std::int64_t, std::int64_t>;
+
+
+template <class A>
+void require_present(const A& x) {
+  if (!x.is_valid()) throw nb::type_error("featherdyn.core: a required array argument is None");
+}
+
+template <class A>
+void require_aligned(const A& x) {
+  if (x.is_valid() && reinterpret_cast<std::uintptr_t>(x.data()) % alignof(typename A::Scalar) != 0)
+    throw nb::type_error("featherdyn.core: arrays must be aligned (the Python wrapper copies unaligned ones)");
+}
+
+// One state: a 1-D array of length n. OK or a LENGTH status naming the argument.
+template <class A>
+std::int64_t vec(const A& x, size_t n, std::int64_t arg) {
+  require_present(x);
+  require_aligned(x);
+  if (x.ndim() != 1 || x.shape(0) != n) return make_status(LENGTH, arg, x.ndim() == 1 ? x.shape(0) : -1);
+  return OK;
+}
+
+// A batch input: (R, n) with R = N rows, or R = 1 broadcast to every row.
+using fdgroup::Rows;
+
+inline std::int64_t rows(const In& x, std::int64_t N, size_t n, std::int64_t arg, Rows& out) {
+  require_aligned(x);
+  if (!x.is_valid()) return OK;
+  if (x.ndim() != 2 || x.shape(1) != n || !(x.shape(0) == static_cast<size_t>(N) || x.shape(0) == 1))
+    return make_status(LENGTH, arg, x.ndim() == 2 ? static_cast<std::int64_t>(x.shape(x.ndim() - 1)) : -1);
+  out.p = x.data();
+  out.stride = x.shape(0) == 1 ? 0 : static_cast<std::int64_t>(n);
+  return OK;
+}
+
+inline std::int64_t out_rows(const Out& x, size_t n, std::int64_t& N) {
+  require_aligned(x);
+  if (x.ndim() < 1) return make_status(LENGTH, ARG_OUT, -1);
+  size_t total = 1;
+  for (size_t d = 1; d < x.ndim(); ++d) total *= x.shape(d);
+  if (total != n) return make_status(LENGTH, ARG_OUT, static_cast<std::int64_t>(total));
+  N = static_cast<std::int64_t>(x.shape(0));
+  return OK;
+}
+
+// A further output of the same batch: (N, n) rows, N as the first output's.
+inline std::int64_t same_rows(const Out& x, size_t n, std::int64_t N) {
+  std::int64_t rows_x = 0;
+  const std::int64_t s = out_rows(x, n, rows_x);
+  if (s != OK) return s;
+  return rows_x == N ? OK : make_status(LENGTH, ARG_OUT, rows_x);
+}
+
+// An output (or a one-state f_ext) of exactly this shape.
+template <class A>
+std::int64_t exact_shape(const A& x, std::initializer_list<size_t> shape, std::int64_t arg = ARG_OUT) {
+  require_present(x);
+  require_aligned(x);
+  bool same = x.ndim() == shape.size();
+  size_t d = 0;
+  for (size_t n : shape) same = same && x.shape(d++) == n;
+  return same ? OK : make_status(LENGTH, arg, static_cast<std::int64_t>(x.size()));
+}
+
+#define FD_TRY(expr)                   \
+  do {                                 \
+    const std::int64_t s_ = (expr);    \
+    if (s_ != OK) return s_;           \
+  } while (0)
+#define FD_TRY_ROWS(expr)                              \
+  do {                                                 \
+    const std::int64_t s_ = (expr);                    \
+    if (s_ != OK) return RowStatus{-1, s_};            \
+  } while (0)
+
+// Run body(item) → status over `items` items on the pool, GIL released; (first failing row, its
+// status). An item is `group` consecutive rows; a failing body adds (row − first row of the item) << 60.
+template <class F>
+inline RowStatus for_rows(std::int64_t items, const F& body, std::int64_t group = 1) {
+  std::mutex m;
+  RowStatus first{-1, OK};
+  {
+    nb::gil_scoped_release release;
+    std::shared_ptr<ThreadPool> pool = GlobalPool::instance().get();
+    pool->parallel_for(items, [&](std::int64_t begin, std::int64_t end) {
+      for (std::int64_t g = begin; g < end; ++g) {
+        const std::int64_t s = body(g);
+        if (s != OK) {
+          const std::int64_t r = g * group + (s >> 60), status = s & ((std::int64_t(1) << 60) - 1);
+          std::lock_guard<std::mutex> lock(m);
+          if (first.first < 0 || r < first.first) first = {r, status};
+          return;  // the rest of this chunk is left undone: the call fails anyway
+        }
+      }
+    });
+  }
+  return first;
+}
+
+
+// A result that finite input overflowed (products beyond float64's range): NONFINITE on the output,
+// so the caller words it instead of returning inf or NaN.
+// (all_finite (checks.hpp) first: a talos mass matrix's 2 500 entries cost 1.3 µs through first_nonfinite's
+// early exit, which does not vectorise, and 0.1 µs there)
+
+inline std::int64_t finite_result(const double* x, std::int64_t n) {
+  if (all_finite(x, n)) return OK;
+  const std::int64_t k = first_nonfinite(x, n);
+  return k < 0 ? OK : make_status(NONFINITE, ARG_OUT, k);
+}
+
+// The same for nb homogeneous placements H (nb, 4, 4): only the translations H[i][0..2][3] can overflow
+// (a rotation's entries stay within ±1 for finite angles and unit quaternions, and the last row is
+// constant), so they are the first non-finite element whenever there is one.
+inline std::int64_t finite_placements(const double* H, std::int64_t nb) {
+  for (std::int64_t i = 0; i < nb; ++i)
+    for (const std::int64_t k : {16 * i + 3, 16 * i + 7, 16 * i + 11})
+      if (!std::isfinite(H[k])) return make_status(NONFINITE, ARG_OUT, k);
+  return OK;
+}
+
+// The same for a frame Jacobian J (6, nv): only the linear rows 3..5 can overflow (the angular rows are
+// rotated unit axes, within ±1), so the first non-finite element is there whenever there is one.
+inline std::int64_t finite_jacobian(const double* J, std::int64_t nv) {
+  if (all_finite(J + 3 * nv, 3 * nv)) return OK;
+  const std::int64_t k = first_nonfinite(J + 3 * nv, 3 * nv);
+  return k < 0 ? OK : make_status(NONFINITE, ARG_OUT, k + 3 * nv);
+}
+
+// The batched group kernels for this CPU (bindings.cpp).
+const fdgroup::GroupKernels& group_kernels();
+
+
+// Rows in groups of the kernels' width on the pool. Every row is checked; a full group runs the
+// Pack instantiation (lanes bit-identical to one state), the tail and any group whose packed run
+// fails (a singular ABA lane) run row by row with the double instantiation, which names the row.
+//   check(r) → status;  one(r) → status;  many: the group kernel
+template <class Check, class One>
+RowStatus for_row_groups(std::int64_t N, const Check& check, const One& one, fdgroup::GroupFn many,
+                         const fdgroup::GroupArgs& args) {
+  const std::int64_t W = group_kernels().width;
+  return for_rows((N + W - 1) / W, [&](std::int64_t g) -> std::int64_t {
+    const std::int64_t r0 = g * W, n = std::min(W, N - r0);
+    for (std::int64_t r = r0; r < r0 + n; ++r) {
+      const std::int64_t s = check(r);
+      if (s != OK) return s + ((r - r0) << 60);  // the row within the group (see for_rows)
+    }
+    if (n == W && many(args, r0) == 0) return OK;
+    for (std::int64_t r = r0; r < r0 + n; ++r) {
+      const std::int64_t s = one(r);
+      if (s != OK) return s + ((r - r0) << 60);
+    }
+    return OK;
+  }, W);
+}
+
+}  // namespace fdcore
