@@ -16,6 +16,7 @@ import numpy as np
 import pytest
 
 import featherdyn as fd
+from featherdyn.api.declarations import DECLARATIONS
 import featherdyn._dask
 
 da = pytest.importorskip("dask.array")  # a test dependency: installed by the `test` extra, so this runs in CI
@@ -95,6 +96,9 @@ CALLS: list[tuple[str, Callable[..., Any]]] = [
     ("frame_acceleration_derivatives",
      lambda m, s, f: fd.frame_acceleration_derivatives(m, s["q"], s["v"], s["a"], f, reference=fd.WORLD)),
     ("joint_torque_regressor", lambda m, s, f: fd.joint_torque_regressor(m, s["q"], s["v"], s["a"])),
+    # every declared algorithm (api/declarations.py), with its declared state arguments
+    *[(d.name, lambda m, s, f, d=d: getattr(fd, d.name)(m, *(s[n] for n in d.inputs)))
+      for d in DECLARATIONS.values()],
     ("integrate", lambda m, s, f: fd.integrate(m, s["q"], s["v"])),
     ("difference", lambda m, s, f: fd.difference(m, s["q"], fd.integrate(m, s["q"], s["a"]))),
     ("integrate_derivatives", lambda m, s, f: fd.integrate_derivatives(m, s["q"], s["v"])),

@@ -109,7 +109,9 @@ def call(decl: Declaration, model: Model, args: tuple[Any, ...], out: Any = None
             raise ShapeError("out: not supported with Dask arrays (the result is a Dask array)")
         return _dask.call(public or functools.partial(call, decl), model, dict(zip(decl.inputs, args, strict=True)),
                           backend=backend)
-    # 3. checks: f_ext, then the state, as every public function words them
+    # 3. checks: the model, f_ext, then the state, as every public function words them
+    if not isinstance(model, Model):
+        raise ShapeError(f"model: expected a featherdyn Model, got {type(model).__name__}")
     given = dict(zip(decl.inputs, args, strict=True))
     fx = check_f_ext(model, given.get("f_ext")) if "f_ext" in given else None
     if "f_ext" in given and fx is None and "f_ext" not in decl.optional:
