@@ -27,7 +27,7 @@ import functools
 import inspect
 from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, cast
 
 import numpy as np
 
@@ -35,7 +35,8 @@ from .. import _dask
 from ..core import declared as _declared
 from ..errors import DTypeError, ShapeError
 from ..model import Model
-from ._backend import core_path, select_backend
+from ..core._model_view import CoreHandle
+from ._backend import CORE, core_path, select_backend
 from ._checks import as_dtype, batch_with_f_ext, check_f_ext, check_state, finite_result, quiet
 
 __all__ = ["Declaration", "call", "public_function", "compiled_method"]
@@ -87,13 +88,17 @@ def _out_arrays(decl: Declaration, out: Any) -> tuple[np.ndarray, ...]:
     return arrays
 
 
+#: the core's kernel of each declaration, looked up once
+_KERNELS: dict[str, Any] = {}
+
+
 def call(decl: Declaration, model: Model, args: tuple[Any, ...], out: Any = None, backend: str | None = None,
          public: Callable[..., Any] | None = None) -> Any:
     """The declared algorithm on ``args`` (its inputs in order): the one path of every front end (module docstring)."""
     # 1. one state: the core takes the arguments as they are, or declines
     h = core_path(model, backend)
     if h is not None:
-        kernel = _declared.kernel(decl.name)
+        kernel = _KERNELS.get(decl.name) or _KERNELS.setdefault(decl.name, _declared.kernel(decl.name))
         try:
             if out is None:
                 r = kernel.fresh(h.cm, args)
@@ -161,37 +166,50 @@ def _bind(decl: Declaration, sig: inspect.Signature, args: tuple[Any, ...], kwar
     return ba
 
 
+def _finished_in_c(general: Callable[..., Any], kernel: Any, extra: tuple[Any, ...], bound: Any) -> Any:
+    """``general`` with its common one-state call (the inputs by position, nothing else) finished in the core.
+
+    The core's public-call object (``core/cpp/public_calls.hpp``) binds the arguments and runs the kernel's
+    ``fresh`` path in C; every other call — ``out=``, ``backend=``, conversions, a bad state, the reference
+    as the default backend — goes to ``general`` with the same arguments. Without the core, ``general``.
+    """
+    if kernel is None:
+        return general
+    fast = CORE.declared_call(kernel, general, extra, bound)
+    functools.update_wrapper(fast, general)
+    return fast
+
+
 def public_function(decl: Declaration) -> Callable[..., Any]:
     """``fd.<name>(model, *inputs, out=None, backend=None)``, made from ``decl``."""
     sig = _signature(decl, bound=False)
-    n = len(decl.inputs)
 
-    def public(*args: Any, **kwargs: Any) -> Any:
-        if len(args) == n + 1 and not kwargs:  # the common call: everything by position
-            return call(decl, args[0], args[1:], None, None, public)
+    def general(*args: Any, **kwargs: Any) -> Any:
         ba = _bind(decl, sig, args, kwargs)
         a = ba.arguments
         return call(decl, a["model"], tuple(a[k] for k in decl.inputs), a["out"], a["backend"], public)
 
-    public.__name__ = public.__qualname__ = decl.name
-    public.__module__ = "featherdyn"
-    public.__doc__ = decl.doc
-    public.__signature__ = sig  # type: ignore[attr-defined]
-    return public
+    general.__name__ = general.__qualname__ = decl.name
+    general.__module__ = "featherdyn"
+    general.__doc__ = decl.doc
+    general.__signature__ = sig  # type: ignore[attr-defined]
+    kernel = _declared.kernel(decl.name)
+    public = _finished_in_c(general, kernel, (CoreHandle, kernel), None)
+    return cast(Callable[..., Any], public)
 
 
 def compiled_method(decl: Declaration, model: Model) -> Callable[..., Any]:
     """``fd.compile(model).<name>(*inputs, out=None)``: the declared call bound to ``model``."""
     sig = _signature(decl, bound=True)
-    n = len(decl.inputs)
 
-    def method(*args: Any, **kwargs: Any) -> Any:
-        if len(args) == n and not kwargs:
-            return call(decl, model, args)
+    def general(*args: Any, **kwargs: Any) -> Any:
         ba = _bind(decl, sig, args, kwargs)
         return call(decl, model, tuple(ba.arguments[k] for k in decl.inputs), ba.arguments["out"])
 
-    method.__name__ = method.__qualname__ = decl.name
-    method.__doc__ = decl.doc
-    method.__signature__ = sig  # type: ignore[attr-defined]
-    return method
+    general.__name__ = general.__qualname__ = decl.name
+    general.__doc__ = decl.doc
+    general.__signature__ = sig  # type: ignore[attr-defined]
+    kernel = _declared.kernel(decl.name)
+    h = core_path(model, None) if kernel is not None else None
+    return cast(Callable[..., Any], _finished_in_c(general, kernel if h is not None else None, (kernel,),
+                                                   h.cm if h is not None else None))

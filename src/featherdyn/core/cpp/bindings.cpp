@@ -635,6 +635,29 @@ PyObject* cm_frame_jacobian_path(PublicCall* f, PyObject* const* a) {
                      [&](const F64Out& o) { return frame_jacobian1(md, q, fid, ref, o); });
 }
 
+}  // namespace pc
+}  // namespace
+
+// fd.<name>(model, *inputs) of a declared algorithm (extra = (CoreHandle, its Kernel)), or fd.compile's method
+// (*inputs) bound to the core's Model (extra = (its Kernel,)): Kernel.fresh's path, in C.
+PyObject* fdcore::declared_path(PublicCall* f, PyObject* const* a) {
+  const bool is_bound = f->bound != nullptr;
+  const Kernel& k = *nb::inst_ptr<Kernel>(nb::handle(PyTuple_GET_ITEM(f->extra, is_bound ? 0 : 1)));
+  const ModelData* md = nullptr;
+  if (is_bound) md = &pc::bound_model(f);
+  else if (!pc::model_of(f, a[0], md)) return nullptr;
+  PyObject* const* in = a + (is_bound ? 0 : 1);
+  return pc::guarded([&]() -> PyObject* {
+    nb::tuple inputs = nb::steal<nb::tuple>(PyTuple_New(static_cast<Py_ssize_t>(k.inputs.size())));
+    for (size_t i = 0; i < k.inputs.size(); ++i)
+      PyTuple_SET_ITEM(inputs.ptr(), static_cast<Py_ssize_t>(i), Py_NewRef(in[i] != nullptr ? in[i] : Py_None));
+    return pc::result_or_decline(run_fresh(k, *md, nb::borrow<nb::sequence>(inputs)));
+  });
+}
+
+namespace {
+namespace pc {
+
 // {names}, parameters, positional, required, path; and how many constants its `extra` holds
 struct NamedKind {
   const char* name;
@@ -1468,6 +1491,19 @@ NB_MODULE(_core, m) {
   m.def("aba_new", &aba_new, nb::arg("model"), A("q"), A("v"), A("tau"), O("f_ext"), nb::arg("gravity"));
   m.def("frame_jacobian_new", &frame_jacobian_new, nb::arg("model"), A("q"), nb::arg("frame"), nb::arg("reference"));
   // a public function (or a compiled model's method) whose one-state calls run here (public_calls.hpp)
+  m.def("declared_call", [](const Kernel& k, nb::handle general, nb::handle extra, nb::handle bound) {
+          const bool is_bound = !bound.is_none();
+          if (!PyTuple_Check(extra.ptr()) || PyTuple_GET_SIZE(extra.ptr()) != (is_bound ? 1 : 2) ||
+              !nb::isinstance<Kernel>(nb::handle(PyTuple_GET_ITEM(extra.ptr(), is_bound ? 0 : 1))) ||
+              nb::inst_ptr<Kernel>(nb::handle(PyTuple_GET_ITEM(extra.ptr(), is_bound ? 0 : 1))) != &k)
+            throw nb::value_error("declared_call: extra must be (CoreHandle, kernel), or (kernel,) when bound");
+          if (is_bound && !nb::isinstance<ModelData>(bound)) throw nb::type_error("declared_call: the core's Model expected");
+          PyObject* r = make_public_call(is_bound ? &k.bound : &k.free, general.ptr(), extra.ptr(),
+                                         is_bound ? bound.ptr() : nullptr);
+          if (r == nullptr) throw nb::python_error();
+          return nb::steal(r);
+        }, nb::arg("kernel"), nb::arg("general"), nb::arg("extra"), nb::arg("bound").none(),
+        "a declared algorithm's public function (or bound method) whose one-state calls run here");
   m.def("public_call", &pc::make, nb::arg("kind"), nb::arg("general"), nb::arg("extra"), nb::arg("bound").none());
   m.def("set_public_calls", [](bool on) { public_calls_enabled = on; }, nb::arg("enabled"),
         "off: every call of a public_call goes to its Python function (the default backend is 'reference')");
@@ -1533,7 +1569,7 @@ NB_MODULE(_core, m) {
       .def("batch", &run_batch, nb::arg("model"), nb::arg("inputs"), nb::arg("outputs"),
            "rows of a batch on the thread pool; (first failing row, status) or (-1, 0)");
   nb::dict kernels;
-  for (const Kernel& k : declared_kernels()) kernels[k.name.c_str()] = nb::cast(k);
+  for (const Kernel& k : declared_kernels()) kernels[k.name.c_str()] = nb::cast(&k, nb::rv_policy::reference);
   m.attr("kernels") = kernels;
 
   m.def("flops", &flops1, nb::arg("model"), nb::arg("kind"), A("q"), A("v"), A("b"),

@@ -47,8 +47,10 @@ struct StaticTorqueDerivatives {
   }
 };
 
-inline std::vector<Kernel> declared_kernels() {
-  return {declare<GeneralizedGravityDerivatives>(), declare<StaticTorqueDerivatives>()};
+// Every declared algorithm, made once (their addresses are kept by the binding's public calls).
+inline const std::vector<Kernel>& declared_kernels() {
+  static const std::vector<Kernel> kernels = {declare<GeneralizedGravityDerivatives>(), declare<StaticTorqueDerivatives>()};
+  return kernels;
 }
 
 }  // namespace fdcore

@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "boundary.hpp"
+#include "public_calls.hpp"
 
 namespace fdcore {
 
@@ -47,17 +48,30 @@ inline std::int64_t size_of(const ModelView& mv, const Operand& o) {
   return n;
 }
 
-// A declaration with its type erased: what the binding and Python see.
+// A declaration with its type erased: what the binding and Python see. `free` and `bound` are its public
+// calls' parameters (public_calls.hpp): (model, *inputs) for fd.<name>, (*inputs) for fd.compile's method.
 struct Kernel {
   std::string name;
   std::vector<Operand> inputs, outputs;
   std::int64_t (*run)(const ModelView&, const double* const* in, double* const* out);
+  PublicCallKind free{}, bound{};
 };
+
+PyObject* declared_path(PublicCall* f, PyObject* const* args);  // (bindings.cpp)
 
 template <class D>
 Kernel declare() {
-  return Kernel{D::name, std::vector<Operand>(std::begin(D::inputs), std::end(D::inputs)),
-                std::vector<Operand>(std::begin(D::outputs), std::end(D::outputs)), &D::run};
+  static_assert(std::size(D::inputs) < PUBLIC_CALL_MAX_ARGS && std::size(D::inputs) <= DECLARED_MAX &&
+                std::size(D::outputs) <= DECLARED_MAX);
+  Kernel k{D::name, std::vector<Operand>(std::begin(D::inputs), std::end(D::inputs)),
+           std::vector<Operand>(std::begin(D::outputs), std::end(D::outputs)), &D::run};
+  int required = 0;
+  for (const Operand& o : D::inputs) required += o.optional ? 0 : 1;
+  const int n = static_cast<int>(std::size(D::inputs));
+  k.free = PublicCallKind{{"model"}, n + 1, n + 1, required + 1, &declared_path};
+  k.bound = PublicCallKind{{}, n, n, required, &declared_path};
+  for (int i = 0; i < n; ++i) k.free.names[i + 1] = k.bound.names[i] = D::inputs[i].name;
+  return k;
 }
 
 namespace declared {

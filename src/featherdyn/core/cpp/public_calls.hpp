@@ -29,7 +29,7 @@ struct PublicCall;
 // new reference, or nullptr with no exception set to decline, or nullptr with an exception set.
 using FastPath = PyObject* (*)(PublicCall* self, PyObject* const* args);
 
-constexpr int PUBLIC_CALL_MAX_ARGS = 6;
+constexpr int PUBLIC_CALL_MAX_ARGS = 8;
 
 struct PublicCallKind {
   const char* names[PUBLIC_CALL_MAX_ARGS];  // the parameters the fast path binds, in order
