@@ -33,9 +33,9 @@ import numpy as np
 
 from .. import _dask
 from ..core import declared as _declared
+from ..core._model_view import CoreHandle
 from ..errors import DTypeError, ShapeError
 from ..model import Model
-from ..core._model_view import CoreHandle
 from ._backend import CORE, core_path, select_backend
 from ._checks import as_dtype, batch_with_f_ext, check_f_ext, check_state, finite_result, quiet
 
