@@ -13,7 +13,7 @@ from collections.abc import Iterator
 from contextlib import contextmanager
 from typing import Any
 
-from .errors import DatasetError, MissingDependencyError
+from ..errors import DatasetError, MissingDependencyError
 
 __all__ = ["available_cores", "dask_client"]
 
