@@ -1,4 +1,4 @@
-"""Jacobians of the exponential maps of SO(3), SE(3) and SE(2) (private; the derivatives of ``fd.integrate``).
+"""Jacobians of the exponential maps of SO(3), SE(3) and SE(2) (the derivatives of ``fd.integrate`` and ``fd.difference``).
 
 Right Jacobians in featherdyn's orders — ``ω`` for SO(3), ``ξ = [ω; v]`` for
 SE(3), ``[ω, v_x, v_y]`` for SE(2) — so that, for a right-multiplied step,

@@ -2,7 +2,7 @@
 
 Plain functions on NumPy arrays, dtype-generic (float32, float64 and object
 arrays of SymPy expressions), with no knowledge of the spatial value classes;
-every other piece of :mod:`featherdyn.spatial_algebra` builds on them::
+every other module of :mod:`featherdyn.spatial` builds on them::
 
     [w]× x = w × x,   (a × b)_i = a_{i+1} b_{i+2} − a_{i+2} b_{i+1}
 

@@ -1,4 +1,4 @@
-"""Input checking shared by every public function (private).
+"""Input checking shared by every public function: the array rules of every value and every call.
 
 The rules, applied at every public boundary:
 

@@ -7,8 +7,8 @@ take a motion on the left::
     v × m = crm(v) m,   v ×* f = crf(v) f = −crm(v)ᵀ f,   m · f = ωᵀ n_O + v_Oᵀ f
 
 :class:`SpatialValue` is the common base of the four spatial value classes
-(also :class:`~featherdyn.spatial_algebra.SpatialInertia` and
-:class:`~featherdyn.spatial_algebra.PluckerTransform`, defined in modules that
+(also :class:`~featherdyn.spatial.inertia.SpatialInertia` and
+:class:`~featherdyn.spatial.transform.PluckerTransform`, defined in modules that
 build on this one), so the type errors here can name any of them without
 importing them.
 

@@ -1,4 +1,4 @@
-"""A ``dask.distributed`` client for the commands that spread work (private; tools layer).
+"""A ``dask.distributed`` client for the commands that spread work (tools layer).
 
 ``featherdyn dataset`` and ``featherdyn verify --all`` take ``--scheduler``:
 ``local`` starts a ``LocalCluster`` of worker processes on this machine (one
