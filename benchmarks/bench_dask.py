@@ -54,7 +54,7 @@ def main() -> None:
     import dask.array as da
     from dask.distributed import Client, LocalCluster
 
-    from featherdyn.dataset import write_dataset
+    from featherdyn.tools.dataset import write_dataset
 
     model = fd.load_robot(args.robot)
     if not all(j.nq == j.nv == 1 for j in model.joints):

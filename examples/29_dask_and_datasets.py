@@ -20,7 +20,7 @@ import zarr
 from _check import check, check_true, section, show
 
 import featherdyn as fd
-from featherdyn.dataset import write_dataset
+from featherdyn.tools.dataset import write_dataset
 
 model = fd.load_robot("panda")
 rng = np.random.default_rng(0)

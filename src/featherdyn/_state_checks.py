@@ -3,7 +3,7 @@
 The public functions (:mod:`featherdyn.api`) check their state here before
 either implementation sees it, and the compiled core re-checks a state it
 refused here to raise the same words: ``q`` `(..., nq)` and each vector `(..., nv)` by trailing length,
-finiteness (:mod:`featherdyn._validation`), unit quaternions of spherical and
+finiteness (:mod:`featherdyn.spatial.validation`), unit quaternions of spherical and
 free-flyer joints (:data:`featherdyn.tolerances.QUATERNION_NORM`), a common
 batch shape, and ``f_ext`` `(..., nb, 6)`.
 """
@@ -16,10 +16,10 @@ from typing import Any
 
 import numpy as np
 
-from ._validation import as_array, numeric_value, result_dtype
 from .errors import QuaternionNormError, ShapeError
 from .joints import FreeFlyerJoint, SphericalJoint
 from .model import Model
+from .spatial.validation import as_array, numeric_value, result_dtype
 from .tolerances import QUATERNION_NORM
 
 __all__ = ["State", "check_state", "check_f_ext", "batch_with_f_ext"]

@@ -35,10 +35,10 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from . import _dask
-from ._validation import as_array, result_dtype
 from .errors import QuaternionNormError, ShapeError
 from .joints import FreeFlyerJoint, SphericalJoint
 from .model import Model
+from .spatial.validation import as_array, result_dtype
 from .tolerances import QUATERNION_NORM
 
 __all__ = [
@@ -258,8 +258,8 @@ def difference(model: Model, q0: ArrayLike, q1: ArrayLike) -> np.ndarray:
 def _joint_blocks(model: Model, kind: str, a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """The two block-diagonal tangent maps of integrate (kind "integrate": a = q, b = v) or difference
     (kind "difference": a = q0, b = q1), one block per joint."""
-    from . import _lie_jacobians as lie
     from .joints import FreeFlyerJoint, PlanarJoint, SphericalJoint
+    from .spatial import lie
 
     a, b, batch = _broadcast_batch(a.astype(np.float64), b.astype(np.float64))
     nv = model.nv

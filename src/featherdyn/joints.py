@@ -35,9 +35,9 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from . import rotation as rot
-from ._validation import as_array
 from .errors import ModelError, PhysicalityWarning, QuaternionNormError
-from .spatial_algebra import PluckerTransform, SpatialMotion
+from .spatial import PluckerTransform, SpatialMotion
+from .spatial.validation import as_array
 from .tolerances import QUATERNION_NORM, SMALL_ANGLE, UNIT_AXIS
 
 _AxisJoint = TypeVar("_AxisJoint", "RevoluteJoint", "PrismaticJoint")

@@ -29,10 +29,10 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ._validation import as_array
 from .errors import InertiaError, ModelError, PhysicalityWarning, ShapeError
 from .joints import FreeFlyerJoint, Joint
-from .spatial_algebra import PluckerTransform, SpatialInertia
+from .spatial import PluckerTransform, SpatialInertia
+from .spatial.validation import as_array
 
 __all__ = ["Model", "ModelBuilder", "FrameInfo", "Mimic", "DEFAULT_GRAVITY"]
 

@@ -13,7 +13,7 @@ from typing import NamedTuple
 import numpy as np
 
 from .model import Model
-from .spatial_algebra import PluckerTransform, SpatialMotion
+from .spatial import PluckerTransform, SpatialMotion
 
 __all__ = ["Kinematics", "CenterOfMass"]
 

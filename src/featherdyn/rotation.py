@@ -24,12 +24,13 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ._validation import as_array, check_rotation, result_dtype
 from .errors import DTypeError, QuaternionNormError, RotationError, SpatialTypeError
+from .spatial.ops import matvec, skew_unchecked
+from .spatial.validation import as_array, check_rotation, result_dtype
 from .tolerances import QUATERNION_NORM, SMALL_ANGLE
 
 if TYPE_CHECKING:
-    from .spatial_algebra import PluckerTransform, SpatialMotion
+    from .spatial import PluckerTransform, SpatialMotion
 
 __all__ = [
     "axis_angle_to_matrix",
@@ -103,13 +104,6 @@ def _matrix(rows: list[list[Any]]) -> np.ndarray:
     return entries.reshape((*entries.shape[:-1], 3, 3))
 
 
-def _skew(w: np.ndarray) -> np.ndarray:
-    """``(..., 3) -> (..., 3, 3)``: the matrix ``[w]×`` with ``[w]× u = w × u``."""
-    x, y, z = w[..., 0], w[..., 1], w[..., 2]
-    zero = np.zeros_like(x)
-    return _matrix([[zero, -z, y], [z, zero, -x], [-y, x, zero]])
-
-
 def _vee(m: np.ndarray) -> np.ndarray:
     """``(..., 3, 3) -> (..., 3)``: ``vee(R - Rᵀ)`` = twice the axial vector of the skew part."""
     return np.stack([m[..., 2, 1] - m[..., 1, 2], m[..., 0, 2] - m[..., 2, 0], m[..., 1, 0] - m[..., 0, 1]], axis=-1)
@@ -117,10 +111,6 @@ def _vee(m: np.ndarray) -> np.ndarray:
 
 def _dot3(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     return np.asarray(a[..., 0] * b[..., 0] + a[..., 1] * b[..., 1] + a[..., 2] * b[..., 2])
-
-
-def _matvec(m: np.ndarray, v: np.ndarray) -> np.ndarray:
-    return np.asarray((m @ v[..., None])[..., 0])
 
 
 def _eye_like(shape: tuple[int, ...], dtype: np.dtype) -> np.ndarray:
@@ -438,7 +428,7 @@ def so3_exp(omega: ArrayLike) -> np.ndarray:
         `(..., 3, 3)` rotation matrix.
     """
     w = as_array(omega, "omega", (3,))
-    W = _skew(w)
+    W = skew_unchecked(w)
     batch = W.shape[:-2]
     if _is_symbolic(w):
         theta = _sqrt(_dot3(w, w))
@@ -574,7 +564,7 @@ def axis_angle_to_matrix(axis: ArrayLike, angle: ArrayLike) -> np.ndarray:
     if dtype.kind != "O":
         k = k.astype(dtype, copy=False)
         theta = theta.astype(dtype, copy=False)
-    K = _skew(k)
+    K = skew_unchecked(k)
     s = _sin(theta)[..., None, None]
     one_minus_c = np.asarray(1 - _cos(theta))[..., None, None]
     batch = np.broadcast_shapes(K.shape[:-2], theta.shape)
@@ -654,7 +644,7 @@ def se3_exp(twist: ArrayLike | SpatialMotion) -> PluckerTransform:
     Raises:
         SpatialTypeError: ``twist`` is a force, not a motion.
     """
-    from .spatial_algebra import PluckerTransform, SpatialForce, SpatialMotion
+    from .spatial import PluckerTransform, SpatialForce, SpatialMotion
 
     if isinstance(twist, SpatialForce):
         raise SpatialTypeError(
@@ -667,12 +657,12 @@ def se3_exp(twist: ArrayLike | SpatialMotion) -> PluckerTransform:
     theta = np.sqrt(_dot3(omega, omega))
     A, B = _rodrigues_coefficients(theta)
     _, C = _se3_coefficients(theta)
-    W = _skew(omega)
+    W = skew_unchecked(omega)
     W2 = W @ W
     eye = _eye_like(W.shape[:-2], W.dtype)
     rotation = eye + A[..., None, None] * W + B[..., None, None] * W2
     V = eye + B[..., None, None] * W + C[..., None, None] * W2
-    return PluckerTransform(rotation=np.asarray(rotation), translation=_matvec(V, v))
+    return PluckerTransform(rotation=np.asarray(rotation), translation=matvec(V, v))
 
 
 def se3_log(transform: PluckerTransform) -> SpatialMotion:
@@ -701,7 +691,7 @@ def se3_log(transform: PluckerTransform) -> SpatialMotion:
         SpatialTypeError: ``transform`` is not a ``PluckerTransform``.
         RotationError: its rotation is not orthonormal with determinant +1.
     """
-    from .spatial_algebra import PluckerTransform, SpatialMotion
+    from .spatial import PluckerTransform, SpatialMotion
 
     if not isinstance(transform, PluckerTransform):
         raise SpatialTypeError(
@@ -719,8 +709,8 @@ def se3_log(transform: PluckerTransform) -> SpatialMotion:
     t2 = theta * theta
     half = t / 2
     D = np.where(small, 1 / 12 + t2 / 720 * (1 + t2 / 42), (1 - half * np.cos(half) / np.sin(half)) / (t * t))
-    W = _skew(omega)
+    W = skew_unchecked(omega)
     V_inv = _eye_like(W.shape[:-2], W.dtype) - W / 2 + D[..., None, None] * (W @ W)
-    v = _matvec(V_inv, p)
+    v = matvec(V_inv, p)
     omega, v = (x.copy() for x in np.broadcast_arrays(omega, v))
     return SpatialMotion(angular=omega, linear=v)

@@ -13,72 +13,31 @@ never moved with the motion transform, and the only mixed product is power::
 
 Sources: Featherstone, *Rigid Body Dynamics Algorithms* (2008) ch. 2;
 chapter §2–§5, §13 and appendices A, F, H.
-The pieces live in private modules, one concept each, and every name is
-re-exported here: :mod:`._spatial_ops` (raw-array kernels: 3D cross products,
-``skew``), :mod:`._spatial_vectors` (``SpatialMotion``, ``SpatialForce``,
-``crm``, ``crf``, the cross products, screws), :mod:`._spatial_inertia`
-(``SpatialInertia``) and :mod:`._spatial_transform` (``PluckerTransform``,
-``rotx`` … ``plux``); each imports only the ones before it.
+The code lives in the package :mod:`featherdyn.spatial`, one concept per
+module (``ops``, ``vectors``, ``inertia``, ``transform``); this module keeps
+the chapter's address for its public names, ``featherdyn.spatial_algebra.NAME``.
 """
 
 from __future__ import annotations
 
-# Every name keeps its address featherdyn.spatial_algebra.NAME, the private helpers included
-# (the reference algorithms import _cross3, _crm_apply and _skew from here).
-from ._spatial_inertia import SpatialInertia, _bcast_inertia, _init_i, _sym_from  # noqa: F401
-from ._spatial_ops import (  # noqa: F401
-    _CRF_A,
-    _CRF_B,
-    _CRM_A,
-    _CRM_B,
-    _NEXT,
-    _PREV,
-    _adopt_dtype,
-    _batch_index,
-    _bcast,
-    _bcast_rp,
-    _crf_apply,
-    _crm_apply,
-    _cross3,
-    _fmt,
-    _is_weak,
-    _kind,
-    _matvec,
-    _mT,
-    _raw_hint,
-    _skew,
-    _sum_last,
-    _tags,
-    _unskew,
-    skew,
-    unskew,
-)
-from ._spatial_transform import (  # noqa: F401
+from .spatial import (
     PluckerTransform,
-    _apply_type_error,
-    _init_x,
-    _rot_axis,
-    plux,
-    rotx,
-    roty,
-    rotz,
-    xlt,
-)
-from ._spatial_vectors import (  # noqa: F401
     Screw,
     SpatialForce,
+    SpatialInertia,
     SpatialMotion,
-    _init,
-    _mix_error,
-    _raw_force,
-    _raw_motion,
-    _scalar_factor,
-    _SpatialValue,
     crf,
     crm,
     cross_force,
     cross_motion,
+    plux,
+    rotx,
+    roty,
+    rotz,
     screw_parameters,
+    skew,
+    unskew,
+    xlt,
 )
 
 __all__ = [

@@ -18,7 +18,7 @@ import numpy as np
 import pytest
 
 import featherdyn as fd
-from featherdyn.dataset import DatasetSpec, model_sha256, states_of_chunk, write_dataset
+from featherdyn.tools.dataset import DatasetSpec, model_sha256, states_of_chunk, write_dataset
 
 zarr = pytest.importorskip("zarr")  # test dependencies (the `test` extra): these run in CI
 pytest.importorskip("dask.distributed")

@@ -11,9 +11,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from .._validation import result_dtype
 from ..model import Model
-from ..spatial_algebra import PluckerTransform, SpatialInertia, SpatialMotion
+from ..spatial import PluckerTransform, SpatialInertia, SpatialMotion
+from ..spatial.validation import result_dtype
 
 __all__ = ["TreeData", "batch_dtype", "stack_motions", "stack_transforms", "expand", "expand_inertia", "zeros"]
 

@@ -19,15 +19,12 @@ import numpy as np
 
 from ..errors import SingularMassMatrixError
 from ..model import Model
-from ..spatial_algebra import PluckerTransform, SpatialMotion, cross_force, cross_motion
+from ..spatial import PluckerTransform, SpatialMotion, cross_force, cross_motion
+from ..spatial.ops import matrix_transpose
 from ..tolerances import SINGULAR_PIVOT_RTOL
 from ._common import TreeData, batch_dtype, zeros
 
 __all__ = ["aba"]
-
-
-def _mT(x: np.ndarray) -> np.ndarray:
-    return np.swapaxes(x, -1, -2)
 
 
 def _inv_small(D: np.ndarray, model: Model, i: int, scale: Any) -> np.ndarray:
@@ -42,7 +39,7 @@ def _inv_small(D: np.ndarray, model: Model, i: int, scale: Any) -> np.ndarray:
         for n, block in enumerate(flat):
             out[n] = np.array(sympy.Matrix(block).inv(), dtype=object)
         return out.reshape(D.shape)
-    eig_min = np.linalg.eigvalsh((D + _mT(D)) / 2)[..., 0]
+    eig_min = np.linalg.eigvalsh((D + matrix_transpose(D)) / 2)[..., 0]
     if np.any(eig_min <= SINGULAR_PIVOT_RTOL * scale):
         raise SingularMassMatrixError.for_joint(model.joint_names[i], model.body_names[i], float(np.min(eig_min)))
     return np.linalg.inv(D)
@@ -101,16 +98,16 @@ def aba(model: Model, q: np.ndarray, qd: np.ndarray, tau: np.ndarray, f_ext: np.
         S = td.S[i]
         U[i] = IA[i] @ S                                   # (..., 6, k)
         sv = slice(model.idx_v[i], model.idx_v[i] + model.nvs[i])
-        D = _mT(S) @ U[i]                                  # (..., k, k)
+        D = matrix_transpose(S) @ U[i]                                  # (..., k, k)
         if has_armature:
             D = D + np.diag(model.armature[sv]).astype(td.dtype)
         u[i] = tau[..., sv] - pA[i] @ S                   # (..., k)
         Dinv[i] = _inv_small(D, model, i, scale)
         if lam != -1:
-            Ia = IA[i] - U[i] @ Dinv[i] @ _mT(U[i])
+            Ia = IA[i] - U[i] @ Dinv[i] @ matrix_transpose(U[i])
             pa = pA[i] + (Ia @ c[i][..., None])[..., 0] + (U[i] @ (Dinv[i] @ u[i][..., None]))[..., 0]
-            IA[lam] = IA[lam] + _mT(Xm[i]) @ Ia @ Xm[i]
-            pA[lam] = pA[lam] + (_mT(Xm[i]) @ pa[..., None])[..., 0]
+            IA[lam] = IA[lam] + matrix_transpose(Xm[i]) @ Ia @ Xm[i]
+            pA[lam] = pA[lam] + (matrix_transpose(Xm[i]) @ pa[..., None])[..., 0]
 
     qdd = zeros(batch, (model.nv,), td.dtype)
     acc: list[np.ndarray] = []

@@ -17,18 +17,19 @@ import numpy as np
 
 from ..model import Model
 from ..results import Kinematics
-from ..spatial_algebra import SpatialForce, SpatialMotion, _cross3
+from ..spatial import SpatialForce, SpatialMotion
+from ..spatial.ops import cross3
 from ._common import TreeData, expand_inertia
 from .energy import center_of_mass
-from .jacobians import _world_columns
-from .kinematics import _body_at
+from .jacobians import world_columns
+from .kinematics import body_at
 
 __all__ = ["centroidal_momentum_matrix", "centroidal_momentum"]
 
 
 def _shift_to_com(h: np.ndarray, c: np.ndarray) -> np.ndarray:
     """Move force vectors `(..., 6)` from the world origin to the point ``c`` (world axes)."""
-    return np.concatenate([h[..., :3] - _cross3(c, h[..., 3:]), h[..., 3:]], axis=-1)
+    return np.concatenate([h[..., :3] - cross3(c, h[..., 3:]), h[..., 3:]], axis=-1)
 
 
 def centroidal_momentum_matrix(model: Model, kin: Kinematics) -> np.ndarray:
@@ -38,11 +39,11 @@ def centroidal_momentum_matrix(model: Model, kin: Kinematics) -> np.ndarray:
     """
     batch = kin.placements.shape[:-1]
     td = TreeData(model, kin.placements.dtype)
-    IC = [_body_at(kin.placements, i).apply(td.I[i]) for i in range(model.nbodies)]
+    IC = [body_at(kin.placements, i).apply(td.I[i]) for i in range(model.nbodies)]
     for i in range(model.nbodies - 1, -1, -1):
         if model.parents[i] != -1:
             IC[model.parents[i]] = IC[model.parents[i]] + IC[i]
-    cols = _world_columns(model, td, kin.placements, batch)  # (..., nv, 6)
+    cols = world_columns(model, td, kin.placements, batch)  # (..., nv, 6)
     A = np.zeros_like(cols) if cols.dtype.kind != "O" else cols.copy()
     for k in range(model.nbodies):
         sk = slice(model.idx_v[k], model.idx_v[k] + model.nvs[k])

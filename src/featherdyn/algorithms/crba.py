@@ -16,7 +16,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..model import Model
-from ..spatial_algebra import PluckerTransform, SpatialInertia, SpatialMotion
+from ..spatial import PluckerTransform, SpatialInertia, SpatialMotion
 from ._common import TreeData, batch_dtype, expand, expand_inertia, zeros
 
 __all__ = ["crba", "composite_inertias"]

@@ -36,10 +36,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from .._spatial_ops import _crf_apply, _crm_apply, _skew
 from ..frames import ReferenceFrame
 from ..model import Model
-from ..spatial_algebra import PluckerTransform, SpatialForce, SpatialMotion, crf, crm
+from ..spatial import PluckerTransform, SpatialForce, SpatialMotion, crf, crm
+from ..spatial.ops import crf_apply, crm_apply, skew_unchecked
 from . import aba as _aba
 from ._common import TreeData, batch_dtype, expand, zeros
 from .rnea import forward_pass
@@ -60,7 +60,7 @@ def _nominal(model: Model, td: TreeData, q: np.ndarray, qd: np.ndarray, qdd: np.
 
 def _momentum_cross(h: np.ndarray) -> np.ndarray:
     """The `(..., 6, 6)` matrix of ``u ↦ u ×* h`` for a force ``h = [n; f]``: ``[[−[n]×, −[f]×], [−[f]×, 0]]``."""
-    nx, fx = _skew(h[..., :3]), _skew(h[..., 3:])
+    nx, fx = skew_unchecked(h[..., :3]), skew_unchecked(h[..., 3:])
     return -np.concatenate([np.concatenate([nx, fx], axis=-1), np.concatenate([fx, np.zeros_like(fx)], axis=-1)],
                            axis=-2)
 
@@ -98,10 +98,10 @@ def rnea_derivatives(model: Model, q: np.ndarray, qd: np.ndarray, qdd: np.ndarra
         S[..., cols[i], :] = Sc
         vJ = np.einsum("...k,...kj->...j", qd[..., cols[i]], Sc)
         v_i = v_lam + vJ
-        a_i = a_lam + np.einsum("...k,...kj->...j", qdd[..., cols[i]], Sc) + _crm_apply(v_i, vJ)
+        a_i = a_lam + np.einsum("...k,...kj->...j", qdd[..., cols[i]], Sc) + crm_apply(v_i, vJ)
         I = P.apply(td.I[i]).matrix()
         h = np.einsum("...ij,...j->...i", I, v_i)
-        f = np.einsum("...ij,...j->...i", I, a_i) + _crf_apply(v_i, h)
+        f = np.einsum("...ij,...j->...i", I, a_i) + crf_apply(v_i, h)
         if f_ext is not None:
             f = f - P.apply(SpatialForce._wrap(f_ext[..., i, :], None)).vector
         v.append(v_i)
@@ -110,9 +110,9 @@ def rnea_derivatives(model: Model, q: np.ndarray, qd: np.ndarray, qdd: np.ndarra
         Bc.append(crf(v_i) @ I - I @ crm(v_i))
         hc.append(h)
         Fc.append(f)
-        dV[..., cols[i], :] = _crm_apply(v_lam[..., None, :], Sc)
-        dA[..., cols[i], :] = _crm_apply(a_lam[..., None, :], Sc) + _crm_apply(v_lam[..., None, :], dV[..., cols[i], :])
-        dAv[..., cols[i], :] = dV[..., cols[i], :] + _crm_apply(v_i[..., None, :], Sc)
+        dV[..., cols[i], :] = crm_apply(v_lam[..., None, :], Sc)
+        dA[..., cols[i], :] = crm_apply(a_lam[..., None, :], Sc) + crm_apply(v_lam[..., None, :], dV[..., cols[i], :])
+        dAv[..., cols[i], :] = dV[..., cols[i], :] + crm_apply(v_i[..., None, :], Sc)
 
     dq, dv = zeros(batch, (nv, nv), td.dtype), zeros(batch, (nv, nv), td.dtype)
     # backward: with i's composites complete, the rows of i against its support's columns, and the rows
@@ -133,7 +133,7 @@ def rnea_derivatives(model: Model, q: np.ndarray, qd: np.ndarray, qdd: np.ndarra
         if lam == -1:
             continue
         ancestors = support[model.nvs[i]:]
-        Fq = (_crf_apply(Si, Fc[i][..., None, :]) + dA[..., rows, :] @ Ic[i] + dV[..., rows, :] @ D.swapaxes(-1, -2))
+        Fq = (crf_apply(Si, Fc[i][..., None, :]) + dA[..., rows, :] @ Ic[i] + dV[..., rows, :] @ D.swapaxes(-1, -2))
         Fv = dAv[..., rows, :] @ Ic[i] + Si @ D.swapaxes(-1, -2)
         dq[..., ancestors, rows] = S[..., ancestors, :] @ Fq.swapaxes(-1, -2)
         dv[..., ancestors, rows] = S[..., ancestors, :] @ Fv.swapaxes(-1, -2)
@@ -275,8 +275,8 @@ def frame_motion_derivatives(model: Model, q: np.ndarray, qd: np.ndarray, qdd: n
     then LOCAL ``ᶠy = ᶠX_0 ⁰y`` (``δᶠy = ᶠX_0 δ⁰y − (ᶠX_0 s) × ᶠy``) and LOCAL_WORLD_ALIGNED
     ``blkdiag(R_f, R_f) ᶠy`` (``+ [ᶠω_s]×`` on each half before rotating), as ``fd.frame_velocity``.
     """
-    from .jacobians import _world_columns, support
-    from .kinematics import _body_at, _motion_at, forward_kinematics, frame_pose
+    from .jacobians import support, world_columns
+    from .kinematics import body_at, forward_kinematics, frame_pose, motion_at
 
     batch, dtype = batch_dtype(q, qd, qdd)
     td = TreeData(model, dtype)
@@ -284,9 +284,9 @@ def frame_motion_derivatives(model: Model, q: np.ndarray, qd: np.ndarray, qdd: n
     nv = model.nv
     body = model.frames[fid].body
     sup = support(model, body)
-    W = _world_columns(model, td, kin.placements, batch)  # (..., nv, 6)
+    W = world_columns(model, td, kin.placements, batch)  # (..., nv, 6)
     assert kin.velocities is not None
-    v0 = {i: _body_at(kin.placements, i).apply(_motion_at(kin.velocities, i)).vector for i in sup}
+    v0 = {i: body_at(kin.placements, i).apply(motion_at(kin.velocities, i)).vector for i in sup}
     zero6 = np.zeros(batch + (6,), dtype=dtype)
     dofs = {i: range(model.idx_v[i], model.idx_v[i] + model.nvs[i]) for i in sup}
     vb = v0[sup[-1]] if sup else zero6

@@ -14,9 +14,9 @@ import numpy as np
 from ..errors import ModelError
 from ..model import Model
 from ..results import CenterOfMass, Kinematics
-from ..spatial_algebra import _cross3
+from ..spatial.ops import cross3
 from ._common import TreeData, zeros
-from .kinematics import _body_at, _motion_at
+from .kinematics import body_at, motion_at
 
 __all__ = ["kinetic_energy", "potential_energy", "center_of_mass"]
 
@@ -33,7 +33,7 @@ def kinetic_energy(model: Model, kin: Kinematics, qd: np.ndarray | None = None) 
     td = TreeData(model, kin.placements.dtype)
     T = zeros(kin.placements.shape[:-1], (), td.dtype)
     for i in range(model.nbodies):
-        T = T + td.I[i].kinetic_energy(_motion_at(kin.velocities, i))
+        T = T + td.I[i].kinetic_energy(motion_at(kin.velocities, i))
     arm = model.armature
     if qd is not None and arm is not None and np.any(arm != 0):
         for k in np.flatnonzero(arm):  # (a loop: SymPy object arrays too)
@@ -44,7 +44,7 @@ def kinetic_energy(model: Model, kin: Kinematics, qd: np.ndarray | None = None) 
 def _world_coms(model: Model, kin: Kinematics, td: TreeData) -> list[np.ndarray]:
     out = []
     for i in range(model.nbodies):
-        oM = _body_at(kin.placements, i)
+        oM = body_at(kin.placements, i)
         out.append((oM.rotation @ td.I[i].com[..., None])[..., 0] + oM.translation)
     return out
 
@@ -87,7 +87,7 @@ def center_of_mass(model: Model, kin: Kinematics) -> np.ndarray | CenterOfMass:
         return pos
     vel = np.zeros(batch + (3,), dtype=td.dtype)
     for i in range(model.nbodies):
-        vi = _motion_at(kin.velocities, i)
-        v_com_body = vi.linear + _cross3(vi.angular, td.I[i].com)
-        vel = vel + td.I[i].mass * (_body_at(kin.placements, i).rotation @ v_com_body[..., None])[..., 0]
+        vi = motion_at(kin.velocities, i)
+        v_com_body = vi.linear + cross3(vi.angular, td.I[i].com)
+        vel = vel + td.I[i].mass * (body_at(kin.placements, i).rotation @ v_com_body[..., None])[..., 0]
     return CenterOfMass(pos, vel / m)

@@ -21,9 +21,10 @@ import numpy as np
 from ..frames import ReferenceFrame
 from ..model import Model
 from ..results import Kinematics
-from ..spatial_algebra import PluckerTransform, SpatialMotion, _crm_apply
+from ..spatial import PluckerTransform, SpatialMotion
+from ..spatial.ops import crm_apply
 from ._common import TreeData, expand, zeros
-from .kinematics import _body_at, _motion_at, frame_pose
+from .kinematics import body_at, frame_pose, motion_at
 
 __all__ = ["joint_jacobians", "frame_jacobian", "frame_jacobian_time_variation", "support"]
 
@@ -37,13 +38,13 @@ def support(model: Model, body: int) -> list[int]:
     return path[::-1]
 
 
-def _world_columns(model: Model, td: TreeData, oM: PluckerTransform, batch: tuple[int, ...]) -> np.ndarray:
+def world_columns(model: Model, td: TreeData, oM: PluckerTransform, batch: tuple[int, ...]) -> np.ndarray:
     """``⁰X_k S_k`` for every joint, as `(..., nv, 6)` motion columns."""
     cols = zeros(batch, (model.nv, 6), td.dtype)
     for k in range(model.nbodies):
         S_cols = SpatialMotion._wrap(np.ascontiguousarray(td.S[k].T), None)  # (nv_k, 6)
         sk = slice(model.idx_v[k], model.idx_v[k] + model.nvs[k])
-        cols[..., sk, :] = expand(_body_at(oM, k)).apply(S_cols).vector
+        cols[..., sk, :] = expand(body_at(oM, k)).apply(S_cols).vector
     return cols
 
 
@@ -56,10 +57,11 @@ def joint_jacobians(model: Model, kin: Kinematics) -> np.ndarray:
     """
     batch, dtype = kin.placements.shape[:-1], kin.placements.dtype
     td = TreeData(model, dtype)
-    return np.swapaxes(_world_columns(model, td, kin.placements, batch), -1, -2)
+    return np.swapaxes(world_columns(model, td, kin.placements, batch), -1, -2)
 
 
-def _mask_support(cols: np.ndarray, model: Model, body: int) -> np.ndarray:
+def mask_support(cols: np.ndarray, model: Model, body: int) -> np.ndarray:
+    """``cols`` `(..., nv, 6)` with the columns of joints outside the support of ``body`` set to zero."""
     out = np.zeros_like(cols) if cols.dtype.kind != "O" else zeros(cols.shape[:-2], cols.shape[-2:], cols.dtype)
     for k in support(model, body):
         sk = slice(model.idx_v[k], model.idx_v[k] + model.nvs[k])
@@ -86,7 +88,7 @@ def frame_jacobian(model: Model, kin: Kinematics, fid: int, ref: ReferenceFrame)
     batch, dtype = kin.placements.shape[:-1], kin.placements.dtype
     td = TreeData(model, dtype)
     body = model.frames[fid].body
-    cols = _mask_support(_world_columns(model, td, kin.placements, batch), model, body)
+    cols = mask_support(world_columns(model, td, kin.placements, batch), model, body)
     return np.swapaxes(_to_reference(cols, frame_pose(model, kin, fid), ref), -1, -2)
 
 
@@ -106,18 +108,18 @@ def frame_jacobian_time_variation(model: Model, kin: Kinematics, qd: np.ndarray,
     batch, dtype = kin.placements.shape[:-1], kin.placements.dtype
     td = TreeData(model, dtype)
     body = model.frames[fid].body
-    cols = _mask_support(_world_columns(model, td, kin.placements, batch), model, body)
+    cols = mask_support(world_columns(model, td, kin.placements, batch), model, body)
     dcols = zeros(batch, (model.nv, 6), dtype)
     for k in support(model, body):
         sk = slice(model.idx_v[k], model.idx_v[k] + model.nvs[k])
-        v_world = _body_at(kin.placements, k).apply(_motion_at(kin.velocities, k)).vector
-        dcols[..., sk, :] = _crm_apply(v_world[..., None, :], cols[..., sk, :])
+        v_world = body_at(kin.placements, k).apply(motion_at(kin.velocities, k)).vector
+        dcols[..., sk, :] = crm_apply(v_world[..., None, :], cols[..., sk, :])
     if ref is ReferenceFrame.WORLD:
         return np.swapaxes(dcols, -1, -2)
     oMf = frame_pose(model, kin, fid)
     J_local = _to_reference(cols, oMf, ReferenceFrame.LOCAL)
     v_local = (J_local * qd[..., :, None]).sum(axis=-2)  # ᶠv = J q̇
-    dJ_local = _to_reference(dcols, oMf, ReferenceFrame.LOCAL) - _crm_apply(v_local[..., None, :], J_local)
+    dJ_local = _to_reference(dcols, oMf, ReferenceFrame.LOCAL) - crm_apply(v_local[..., None, :], J_local)
     if ref is ReferenceFrame.LOCAL:
         return np.swapaxes(dJ_local, -1, -2)
     R = oMf.rotation[..., None, :, :]
@@ -126,4 +128,4 @@ def frame_jacobian_time_variation(model: Model, kin: Kinematics, qd: np.ndarray,
     rot_dJ = np.concatenate([(R @ dJ_local[..., :3, None])[..., 0], (R @ dJ_local[..., 3:, None])[..., 0]], axis=-1)
     wx = np.concatenate([w_world, np.zeros_like(w_world)], axis=-1)[..., None, :]
     # blkdiag([ω]×, [ω]×) J = [ω × J_ω; ω × J_v] = crm([ω; 0]) J
-    return np.swapaxes(_crm_apply(wx, J_lwa) + rot_dJ, -1, -2)
+    return np.swapaxes(crm_apply(wx, J_lwa) + rot_dJ, -1, -2)

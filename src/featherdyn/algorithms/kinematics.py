@@ -20,7 +20,8 @@ import numpy as np
 from ..frames import ReferenceFrame
 from ..model import Model
 from ..results import Kinematics
-from ..spatial_algebra import PluckerTransform, SpatialMotion, _cross3, cross_motion
+from ..spatial import PluckerTransform, SpatialMotion, cross_motion
+from ..spatial.ops import cross3
 from ._common import TreeData, batch_dtype, stack_motions, stack_transforms
 
 __all__ = [
@@ -74,11 +75,13 @@ def forward_kinematics(model: Model, q: np.ndarray, qd: np.ndarray | None = None
     )
 
 
-def _body_at(X: PluckerTransform, i: int) -> PluckerTransform:
+def body_at(X: PluckerTransform, i: int) -> PluckerTransform:
+    """Body ``i`` of per-body transforms: rotation `(..., nb, 3, 3)` → `(..., 3, 3)`, translation likewise."""
     return PluckerTransform._wrap(X.rotation[..., i, :, :], X.translation[..., i, :], None, None)
 
 
-def _motion_at(m: SpatialMotion, i: int) -> SpatialMotion:
+def motion_at(m: SpatialMotion, i: int) -> SpatialMotion:
+    """Body ``i`` of per-body motions: `(..., nb, 6)` → `(..., 6)`."""
     return SpatialMotion._wrap(m.vector[..., i, :], None)
 
 
@@ -91,7 +94,7 @@ def frame_pose(model: Model, kin: Kinematics, fid: int) -> PluckerTransform:
         batch = kin.placements.shape[:-1]
         return PluckerTransform._wrap(np.broadcast_to(fM.rotation, batch + (3, 3)).copy(),
                                       np.broadcast_to(fM.translation, batch + (3,)).copy(), None, None)
-    return _body_at(kin.placements, f.body) @ fM
+    return body_at(kin.placements, f.body) @ fM
 
 
 def _express(model: Model, kin: Kinematics, fid: int, m_body: SpatialMotion | None, reference: ReferenceFrame,
@@ -124,7 +127,7 @@ def frame_velocity(model: Model, kin: Kinematics, fid: int, ref: ReferenceFrame)
     body = model.frames[fid].body
     assert kin.velocities is not None
     batch = kin.placements.shape[:-1]
-    m = None if body == -1 else _motion_at(kin.velocities, body)
+    m = None if body == -1 else motion_at(kin.velocities, body)
     return _express(model, kin, fid, m, ref, batch)[0]
 
 
@@ -138,7 +141,7 @@ def frame_acceleration(model: Model, kin: Kinematics, fid: int, ref: ReferenceFr
     body = model.frames[fid].body
     assert kin.accelerations is not None
     batch = kin.placements.shape[:-1]
-    m = None if body == -1 else _motion_at(kin.accelerations, body)
+    m = None if body == -1 else motion_at(kin.accelerations, body)
     return _express(model, kin, fid, m, ref, batch)[0]
 
 
@@ -158,7 +161,7 @@ def frame_classical_acceleration(model: Model, kin: Kinematics, fid: int, ref: R
     batch = kin.placements.shape[:-1]
     if body == -1:
         return _express(model, kin, fid, None, ref, batch)[0]
-    vel = _express(model, kin, fid, _motion_at(kin.velocities, body), ref, batch)[0]
-    acc = _express(model, kin, fid, _motion_at(kin.accelerations, body), ref, batch)[0]
-    lin = acc.linear + _cross3(vel.angular, vel.linear)
+    vel = _express(model, kin, fid, motion_at(kin.velocities, body), ref, batch)[0]
+    acc = _express(model, kin, fid, motion_at(kin.accelerations, body), ref, batch)[0]
+    lin = acc.linear + cross3(vel.angular, vel.linear)
     return SpatialMotion._wrap(np.concatenate([acc.angular, lin], axis=-1), None)

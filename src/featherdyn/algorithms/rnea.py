@@ -15,7 +15,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..model import Model
-from ..spatial_algebra import SpatialForce, SpatialMotion, cross_force, cross_motion
+from ..spatial import SpatialForce, SpatialMotion, cross_force, cross_motion
 from ._common import TreeData, batch_dtype, zeros
 
 __all__ = ["rnea", "forward_pass"]

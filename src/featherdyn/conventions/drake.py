@@ -20,11 +20,12 @@ from typing import overload
 import numpy as np
 from numpy.typing import ArrayLike
 
-from .._validation import as_array, check_rotation
 from ..errors import SpatialTypeError
 from ..frames import Frame, merge_frames
-from ..spatial_algebra import SpatialForce, SpatialMotion
-from ._common import _cat, _featherdyn_array, _force_array, _foreign_array, _matvec, _motion_array
+from ..spatial import SpatialForce, SpatialMotion
+from ..spatial.ops import matvec
+from ..spatial.validation import as_array, check_rotation
+from ._common import cat, featherdyn_array, force_array, foreign_array, motion_array
 
 __all__ = [
     "classical_to_spatial_acceleration",
@@ -58,13 +59,13 @@ def spatial_to_classical_acceleration(a_spatial: SpatialMotion | ArrayLike, v: S
 
     Source: chapter §7.2; RBDA (2008) §2.11; Pinocchio ``getFrameClassicalAcceleration``.
     """
-    a = _motion_array(a_spatial, "a_spatial")
-    vv = _motion_array(v, "v")
+    a = motion_array(a_spatial, "a_spatial")
+    vv = motion_array(v, "v")
     merge_frames(
         getattr(a_spatial, "frame", None), getattr(v, "frame", None), "spatial_to_classical_acceleration(a_spatial, v)"
     )
     lin = a[..., 3:] + np.cross(vv[..., :3], vv[..., 3:])
-    return _cat(a[..., :3], lin)
+    return cat(a[..., :3], lin)
 
 
 def classical_to_spatial_acceleration(a_classical: ArrayLike, v: SpatialMotion | ArrayLike, frame: Frame = None) -> SpatialMotion:
@@ -88,11 +89,11 @@ def classical_to_spatial_acceleration(a_classical: ArrayLike, v: SpatialMotion |
             "a_classical: got a SpatialMotion; a classical acceleration is not a spatial motion vector and is "
             "passed as a raw (..., 6) array [ω̇; a_O] (as returned by spatial_to_classical_acceleration)"
         )
-    a = _foreign_array(a_classical, "a_classical", "classical [ω̇; a_O]")
-    vv = _motion_array(v, "v")
+    a = foreign_array(a_classical, "a_classical", "classical [ω̇; a_O]")
+    vv = motion_array(v, "v")
     tag = merge_frames(frame, getattr(v, "frame", None), "classical_to_spatial_acceleration(frame, v)")
     lin = a[..., 3:] - np.cross(vv[..., :3], vv[..., 3:])
-    return SpatialMotion.from_vector(_cat(a[..., :3], lin), tag)
+    return SpatialMotion.from_vector(cat(a[..., :3], lin), tag)
 
 
 def drake_shift_velocity(V_WBo_E: SpatialMotion | ArrayLike, p_BoBq_E: ArrayLike) -> SpatialMotion:
@@ -113,10 +114,10 @@ def drake_shift_velocity(V_WBo_E: SpatialMotion | ArrayLike, p_BoBq_E: ArrayLike
 
     Source: Drake ``multibody/math/spatial_velocity.h`` (``Shift``); chapter §2.1.
     """
-    V = _motion_array(V_WBo_E, "V_WBo_E")
+    V = motion_array(V_WBo_E, "V_WBo_E")
     p = as_array(p_BoBq_E, "p_BoBq_E", (3,))
     lin = V[..., 3:] + np.cross(V[..., :3], p)
-    return SpatialMotion.from_vector(_cat(V[..., :3], lin), getattr(V_WBo_E, "frame", None))
+    return SpatialMotion.from_vector(cat(V[..., :3], lin), getattr(V_WBo_E, "frame", None))
 
 
 def drake_shift_force(F_Bo_E: SpatialForce | ArrayLike, p_BoBq_E: ArrayLike) -> SpatialForce:
@@ -135,10 +136,10 @@ def drake_shift_force(F_Bo_E: SpatialForce | ArrayLike, p_BoBq_E: ArrayLike) -> 
 
     Source: Drake ``multibody/math/spatial_force.h`` (``Shift``); chapter §2.2.
     """
-    F = _force_array(F_Bo_E, "F_Bo_E")
+    F = force_array(F_Bo_E, "F_Bo_E")
     p = as_array(p_BoBq_E, "p_BoBq_E", (3,))
     tau = F[..., :3] - np.cross(p, F[..., 3:])
-    return SpatialForce.from_vector(_cat(tau, F[..., 3:]), getattr(F_Bo_E, "frame", None))
+    return SpatialForce.from_vector(cat(tau, F[..., 3:]), getattr(F_Bo_E, "frame", None))
 
 
 def drake_shift_acceleration(A_WBo_E: ArrayLike, p_BoBq_E: ArrayLike, w_WB_E: ArrayLike) -> np.ndarray:
@@ -166,12 +167,12 @@ def drake_shift_acceleration(A_WBo_E: ArrayLike, p_BoBq_E: ArrayLike, w_WB_E: Ar
             "A_WBo_E: got a SpatialMotion; Drake's SpatialAcceleration is the classical acceleration, passed as a "
             "raw (..., 6) array: convert a featherdyn spatial acceleration with spatial_to_classical_acceleration"
         )
-    A = _foreign_array(A_WBo_E, "A_WBo_E", "Drake classical [α; a]")
+    A = foreign_array(A_WBo_E, "A_WBo_E", "Drake classical [α; a]")
     p = as_array(p_BoBq_E, "p_BoBq_E", (3,))
     w = as_array(w_WB_E, "w_WB_E", (3,))
     alpha = A[..., :3]
     lin = A[..., 3:] + np.cross(alpha, p) + np.cross(w, np.cross(w, p))
-    return _cat(alpha, lin)
+    return cat(alpha, lin)
 
 
 @overload
@@ -210,8 +211,8 @@ def drake_reexpress(
     elif isinstance(V_E, SpatialForce):
         x = V_E.vector
     else:
-        x = _featherdyn_array(V_E, "V_E", "spatial vector (SpatialMotion, SpatialForce or raw (..., 6))")
-    out = _cat(_matvec(R, x[..., :3]), _matvec(R, x[..., 3:]))
+        x = featherdyn_array(V_E, "V_E", "spatial vector (SpatialMotion, SpatialForce or raw (..., 6))")
+    out = cat(matvec(R, x[..., :3]), matvec(R, x[..., 3:]))
     if isinstance(V_E, SpatialMotion):
         return SpatialMotion(out[..., :3], out[..., 3:], frame, body=V_E.body, relative_to=V_E.relative_to)
     if isinstance(V_E, SpatialForce):

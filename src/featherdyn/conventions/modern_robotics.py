@@ -16,8 +16,8 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ..frames import Frame
-from ..spatial_algebra import PluckerTransform, SpatialForce, SpatialMotion, crm
-from ._common import _as_transform, _force_array, _foreign_array, _motion_array
+from ..spatial import PluckerTransform, SpatialForce, SpatialMotion, crm
+from ._common import as_transform, force_array, foreign_array, motion_array
 
 __all__ = [
     "ad_matrix",
@@ -52,7 +52,7 @@ def twist_to_mr(m: SpatialMotion | ArrayLike) -> np.ndarray:
 
     Source: Lynch & Park (2017) §3.3.2, eqs. (3.70) and (3.72).
     """
-    return np.array(_motion_array(m, "m"))
+    return np.array(motion_array(m, "m"))
 
 
 def twist_from_mr(V: ArrayLike, frame: Frame = None) -> SpatialMotion:
@@ -69,7 +69,7 @@ def twist_from_mr(V: ArrayLike, frame: Frame = None) -> SpatialMotion:
 
     Source: Lynch & Park (2017) §3.3.2.
     """
-    return SpatialMotion.from_vector(_foreign_array(V, "V", "Modern Robotics [ω; v]"), frame)
+    return SpatialMotion.from_vector(foreign_array(V, "V", "Modern Robotics [ω; v]"), frame)
 
 
 def wrench_to_mr(f: SpatialForce | ArrayLike) -> np.ndarray:
@@ -88,7 +88,7 @@ def wrench_to_mr(f: SpatialForce | ArrayLike) -> np.ndarray:
 
     Source: Lynch & Park (2017) §3.4, eq. (3.95).
     """
-    return np.array(_force_array(f, "f"))
+    return np.array(force_array(f, "f"))
 
 
 def wrench_from_mr(F: ArrayLike, frame: Frame = None) -> SpatialForce:
@@ -105,7 +105,7 @@ def wrench_from_mr(F: ArrayLike, frame: Frame = None) -> SpatialForce:
 
     Source: Lynch & Park (2017) §3.4.
     """
-    return SpatialForce.from_vector(_foreign_array(F, "F", "Modern Robotics [m; f]"), frame)
+    return SpatialForce.from_vector(foreign_array(F, "F", "Modern Robotics [m; f]"), frame)
 
 
 def adjoint_matrix(T: PluckerTransform | ArrayLike) -> np.ndarray:
@@ -126,7 +126,7 @@ def adjoint_matrix(T: PluckerTransform | ArrayLike) -> np.ndarray:
 
     Source: Lynch & Park (2017) Definition 3.20, eq. (3.83); RBDA (2008) eq. 2.24.
     """
-    return _as_transform(T, "T").matrix()
+    return as_transform(T, "T").matrix()
 
 
 def ad_matrix(V: SpatialMotion | ArrayLike) -> np.ndarray:
@@ -143,7 +143,7 @@ def ad_matrix(V: SpatialMotion | ArrayLike) -> np.ndarray:
 
     Source: Lynch & Park (2017) Definition 8.2, eq. (8.38); RBDA (2008) eq. 2.31.
     """
-    return crm(_motion_array(V, "V"))
+    return crm(motion_array(V, "V"))
 
 
 def wrench_transform_matrix(T: PluckerTransform | ArrayLike) -> np.ndarray:
@@ -165,7 +165,7 @@ def wrench_transform_matrix(T: PluckerTransform | ArrayLike) -> np.ndarray:
 
     Source: Lynch & Park (2017) §3.4, eq. (3.98); RBDA (2008) eq. 2.25.
     """
-    return _as_transform(T, "T").dual_matrix()
+    return as_transform(T, "T").dual_matrix()
 
 
 def body_twist_to_spatial_twist(T: PluckerTransform | ArrayLike, V_b: SpatialMotion | ArrayLike) -> SpatialMotion:
@@ -183,8 +183,8 @@ def body_twist_to_spatial_twist(T: PluckerTransform | ArrayLike, V_b: SpatialMot
 
     Source: Lynch & Park (2017) eq. (3.84).
     """
-    X = _as_transform(T, "T")
-    vb = V_b if isinstance(V_b, SpatialMotion) else SpatialMotion.from_vector(_motion_array(V_b, "V_b"))
+    X = as_transform(T, "T")
+    vb = V_b if isinstance(V_b, SpatialMotion) else SpatialMotion.from_vector(motion_array(V_b, "V_b"))
     result: SpatialMotion = X.apply(vb)
     return result
 
@@ -203,7 +203,7 @@ def spatial_twist_to_body_twist(T: PluckerTransform | ArrayLike, V_s: SpatialMot
 
     Source: Lynch & Park (2017) eq. (3.84).
     """
-    X = _as_transform(T, "T")
-    vs = V_s if isinstance(V_s, SpatialMotion) else SpatialMotion.from_vector(_motion_array(V_s, "V_s"))
+    X = as_transform(T, "T")
+    vs = V_s if isinstance(V_s, SpatialMotion) else SpatialMotion.from_vector(motion_array(V_s, "V_s"))
     result: SpatialMotion = X.apply_inverse(vs)
     return result

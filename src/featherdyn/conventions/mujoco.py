@@ -19,12 +19,13 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
-from .._validation import as_array
 from ..errors import QuaternionNormError, ShapeError
 from ..rotation import quat_to_matrix
-from ..spatial_algebra import SpatialMotion
+from ..spatial import SpatialMotion
+from ..spatial.ops import matvec
+from ..spatial.validation import as_array
 from ..tolerances import QUATERNION_NORM
-from ._common import _cat, _foreign_array, _matvec, _motion_array
+from ._common import cat, foreign_array, motion_array
 
 __all__ = [
     "a_from_mujoco",
@@ -135,7 +136,7 @@ def freeflyer_q_from_mujoco(qpos: ArrayLike) -> np.ndarray:
 
     Source: MuJoCo documentation, free joint.
     """
-    qq = _foreign_array(qpos, "qpos", "MuJoCo [x y z, qw qx qy qz]", (7,))
+    qq = foreign_array(qpos, "qpos", "MuJoCo [x y z, qw qx qy qz]", (7,))
     _check_unit_quat(qq[..., 3:], "qpos[..., 3:7]", "(w, x, y, z)")
     return qq[..., [0, 1, 2, 4, 5, 6, 3]]
 
@@ -161,10 +162,10 @@ def freeflyer_v_to_mujoco(q: ArrayLike, v: SpatialMotion | ArrayLike) -> np.ndar
     the global frame, angular velocity in the local frame).
     """
     qq = as_array(q, "q", (7,))
-    vv = _motion_array(v, "v")
+    vv = motion_array(v, "v")
     _check_unit_quat(qq[..., 3:], "q[..., 3:7]", "(x, y, z, w)")
     R = quat_to_matrix(qq[..., 3:], check_norm=False)
-    return _cat(_matvec(R, vv[..., 3:]), vv[..., :3])
+    return cat(matvec(R, vv[..., 3:]), vv[..., :3])
 
 
 def freeflyer_v_from_mujoco(qpos: ArrayLike, qvel: ArrayLike) -> np.ndarray:
@@ -182,10 +183,10 @@ def freeflyer_v_from_mujoco(qpos: ArrayLike, qvel: ArrayLike) -> np.ndarray:
     Source: MuJoCo documentation, free joint.
     """
     q = freeflyer_q_from_mujoco(qpos)
-    qv = _foreign_array(qvel, "qvel", "MuJoCo [v_world; ω_body]")
+    qv = foreign_array(qvel, "qvel", "MuJoCo [v_world; ω_body]")
     R = quat_to_matrix(q[..., 3:], check_norm=False)
     Rt = np.swapaxes(R, -1, -2)
-    return _cat(qv[..., 3:], _matvec(Rt, qv[..., :3]))
+    return cat(qv[..., 3:], matvec(Rt, qv[..., :3]))
 
 
 # ---------------------------------------------------------------------------
@@ -253,7 +254,7 @@ def q_from_mujoco(model: Any, qpos: ArrayLike) -> np.ndarray:
 
     Source: MuJoCo documentation, joint types and the ``qpos`` layout.
     """
-    qq = _foreign_array(qpos, "qpos", "MuJoCo qpos", (sum(model.nqs),))
+    qq = foreign_array(qpos, "qpos", "MuJoCo qpos", (sum(model.nqs),))
     out = qq.copy()
     for kind, iq, _, _, _ in _joint_slices(model):
         if kind == "spherical":
@@ -303,7 +304,7 @@ def v_to_mujoco(model: Any, q: ArrayLike, v: ArrayLike) -> np.ndarray:
     Source: MuJoCo documentation, free and ball joints.
     """
     vv = as_array(v, "v", (sum(model.nvs),))
-    return _matvec(np.swapaxes(mujoco_velocity_map(model, q), -1, -2), vv)
+    return matvec(np.swapaxes(mujoco_velocity_map(model, q), -1, -2), vv)
 
 
 def v_from_mujoco(model: Any, qpos: ArrayLike, qvel: ArrayLike) -> np.ndarray:
@@ -321,8 +322,8 @@ def v_from_mujoco(model: Any, qpos: ArrayLike, qvel: ArrayLike) -> np.ndarray:
     Source: MuJoCo documentation, free and ball joints.
     """
     q = q_from_mujoco(model, qpos)
-    qv = _foreign_array(qvel, "qvel", "MuJoCo qvel", (sum(model.nvs),))
-    return _matvec(mujoco_velocity_map(model, q), qv)
+    qv = foreign_array(qvel, "qvel", "MuJoCo qvel", (sum(model.nvs),))
+    return matvec(mujoco_velocity_map(model, q), qv)
 
 
 def a_from_mujoco(model: Any, qpos: ArrayLike, qvel: ArrayLike, qacc: ArrayLike) -> np.ndarray:
@@ -340,11 +341,11 @@ def a_from_mujoco(model: Any, qpos: ArrayLike, qvel: ArrayLike, qacc: ArrayLike)
     Source: MuJoCo documentation, free joint; the derivative of ``v = T qvel``.
     """
     q = q_from_mujoco(model, qpos)
-    qv = _foreign_array(qvel, "qvel", "MuJoCo qvel", (sum(model.nvs),))
-    qa = _foreign_array(qacc, "qacc", "MuJoCo qacc", (sum(model.nvs),))
+    qv = foreign_array(qvel, "qvel", "MuJoCo qvel", (sum(model.nvs),))
+    qa = foreign_array(qacc, "qacc", "MuJoCo qacc", (sum(model.nvs),))
     T = mujoco_velocity_map(model, q)
-    a = _matvec(T, qa)
-    v = _matvec(T, qv)
+    a = matvec(T, qa)
+    v = matvec(T, qv)
     for kind, _, _, iv, _ in _joint_slices(model):
         if kind == "free_flyer":
             a[..., iv + 3:iv + 6] -= np.cross(v[..., iv:iv + 3], v[..., iv + 3:iv + 6])
@@ -372,7 +373,7 @@ def a_to_mujoco(model: Any, q: ArrayLike, v: ArrayLike, a: ArrayLike) -> np.ndar
     for kind, _, _, iv, _ in _joint_slices(model):
         if kind == "free_flyer":
             aa[..., iv + 3:iv + 6] += np.cross(vv[..., iv:iv + 3], vv[..., iv + 3:iv + 6])
-    return _matvec(np.swapaxes(mujoco_velocity_map(model, q), -1, -2), aa)
+    return matvec(np.swapaxes(mujoco_velocity_map(model, q), -1, -2), aa)
 
 
 def tau_to_mujoco(model: Any, q: ArrayLike, tau: ArrayLike) -> np.ndarray:
@@ -390,7 +391,7 @@ def tau_to_mujoco(model: Any, q: ArrayLike, tau: ArrayLike) -> np.ndarray:
     Source: MuJoCo documentation, free joint; power ``τ·v = qfrc·qvel``.
     """
     tt = as_array(tau, "tau", (sum(model.nvs),))
-    return _matvec(np.swapaxes(mujoco_velocity_map(model, q), -1, -2), tt)
+    return matvec(np.swapaxes(mujoco_velocity_map(model, q), -1, -2), tt)
 
 
 def tau_from_mujoco(model: Any, qpos: ArrayLike, qfrc: ArrayLike) -> np.ndarray:
@@ -408,8 +409,8 @@ def tau_from_mujoco(model: Any, qpos: ArrayLike, qfrc: ArrayLike) -> np.ndarray:
     Source: MuJoCo documentation, free joint.
     """
     q = q_from_mujoco(model, qpos)
-    f = _foreign_array(qfrc, "qfrc", "MuJoCo qfrc", (sum(model.nvs),))
-    return _matvec(mujoco_velocity_map(model, q), f)
+    f = foreign_array(qfrc, "qfrc", "MuJoCo qfrc", (sum(model.nvs),))
+    return matvec(mujoco_velocity_map(model, q), f)
 
 
 def joint_matrix_to_mujoco(model: Any, q: ArrayLike, M: ArrayLike) -> np.ndarray:
@@ -446,6 +447,6 @@ def joint_matrix_from_mujoco(model: Any, qpos: ArrayLike, M: ArrayLike) -> np.nd
     Source: MuJoCo documentation, ``mj_fullM``.
     """
     q = q_from_mujoco(model, qpos)
-    mm = _foreign_array(M, "M", "MuJoCo joint-space", (sum(model.nvs), sum(model.nvs)))
+    mm = foreign_array(M, "M", "MuJoCo joint-space", (sum(model.nvs), sum(model.nvs)))
     T = mujoco_velocity_map(model, q)
     return T @ mm @ np.swapaxes(T, -1, -2)

@@ -28,19 +28,19 @@ from typing import Any, TypeAlias
 import numpy as np
 from numpy.typing import ArrayLike
 
-from .._validation import as_array
 from ..errors import MissingDependencyError, ShapeError, SpatialTypeError
 from ..frames import Frame
-from ..spatial_algebra import PluckerTransform, SpatialForce, SpatialInertia, SpatialMotion
+from ..spatial import PluckerTransform, SpatialForce, SpatialInertia, SpatialMotion
+from ..spatial.validation import as_array
 from ._common import (
-    _SWAP,
-    _as_transform,
-    _force_array,
-    _foreign_array,
-    _is_pinocchio_object,
-    _motion_array,
-    _swap,
-    _type_name,
+    SWAP,
+    as_transform,
+    force_array,
+    foreign_array,
+    is_pinocchio_object,
+    motion_array,
+    qualified_type_name,
+    swap,
 )
 
 __all__ = [
@@ -119,7 +119,7 @@ def motion_to_pinocchio(m: SpatialMotion | ArrayLike) -> np.ndarray:
 
     Source: Pinocchio ``MotionTpl`` (``linear()`` = first three entries); docs/conventions.md.
     """
-    return _swap(_motion_array(m, "m"))
+    return swap(motion_array(m, "m"))
 
 
 def motion_from_pinocchio(v6: ArrayLike, frame: Frame = None) -> SpatialMotion:
@@ -136,7 +136,7 @@ def motion_from_pinocchio(v6: ArrayLike, frame: Frame = None) -> SpatialMotion:
 
     Source: Pinocchio ``MotionTpl``; docs/conventions.md.
     """
-    return SpatialMotion.from_vector(_swap(_foreign_array(v6, "v6", "Pinocchio [linear; angular]")), frame)
+    return SpatialMotion.from_vector(swap(foreign_array(v6, "v6", "Pinocchio [linear; angular]")), frame)
 
 
 def force_to_pinocchio(f: SpatialForce | ArrayLike) -> np.ndarray:
@@ -152,7 +152,7 @@ def force_to_pinocchio(f: SpatialForce | ArrayLike) -> np.ndarray:
 
     Source: Pinocchio ``ForceTpl``; docs/conventions.md.
     """
-    return _swap(_force_array(f, "f"))
+    return swap(force_array(f, "f"))
 
 
 def force_from_pinocchio(f6: ArrayLike, frame: Frame = None) -> SpatialForce:
@@ -169,7 +169,7 @@ def force_from_pinocchio(f6: ArrayLike, frame: Frame = None) -> SpatialForce:
 
     Source: Pinocchio ``ForceTpl``; docs/conventions.md.
     """
-    return SpatialForce.from_vector(_swap(_foreign_array(f6, "f6", "Pinocchio [linear; angular]")), frame)
+    return SpatialForce.from_vector(swap(foreign_array(f6, "f6", "Pinocchio [linear; angular]")), frame)
 
 
 def matrix6_to_pinocchio(M: ArrayLike) -> np.ndarray:
@@ -192,7 +192,7 @@ def matrix6_to_pinocchio(M: ArrayLike) -> np.ndarray:
     Source: Pinocchio ``SE3Tpl::toActionMatrix``, ``InertiaTpl::matrix``; docs/conventions.md.
     """
     mat = as_array(M, "M", (6, 6))
-    return mat[..., _SWAP[:, None], _SWAP]
+    return mat[..., SWAP[:, None], SWAP]
 
 
 def matrix6_from_pinocchio(M: ArrayLike) -> np.ndarray:
@@ -208,24 +208,24 @@ def matrix6_from_pinocchio(M: ArrayLike) -> np.ndarray:
 
     Source: see :func:`matrix6_to_pinocchio`.
     """
-    mat = _foreign_array(M, "M", "Pinocchio [linear; angular]", (6, 6))
-    return mat[..., _SWAP[:, None], _SWAP]
+    mat = foreign_array(M, "M", "Pinocchio [linear; angular]", (6, 6))
+    return mat[..., SWAP[:, None], SWAP]
 
 
 def _jacobian(J: ArrayLike, name: str, floating_base: bool, foreign: bool) -> np.ndarray:
     if foreign:
-        arr = _foreign_array(J, name, "Pinocchio [linear; angular]", ())
+        arr = foreign_array(J, name, "Pinocchio [linear; angular]", ())
     else:
         arr = as_array(J, name)
     if arr.ndim < 2 or arr.shape[-2] != 6:
         raise ShapeError(f"{name}: expected shape (..., 6, n), got shape {tuple(arr.shape)}")
-    out = arr[..., _SWAP, :]
+    out = arr[..., SWAP, :]
     if floating_base:
         if arr.shape[-1] < 6:
             raise ShapeError(
                 f"{name}: floating_base=True needs at least 6 columns (the free-flyer block), got shape {tuple(arr.shape)}"
             )
-        out[..., :6] = out[..., :6][..., _SWAP]
+        out[..., :6] = out[..., :6][..., SWAP]
     return out
 
 
@@ -286,7 +286,7 @@ def freeflyer_v_to_pinocchio(v: SpatialMotion | ArrayLike) -> np.ndarray:
 
     Source: Pinocchio ``JointModelFreeFlyerTpl`` documentation; docs/conventions.md.
     """
-    return _swap(_motion_array(v, "v"))
+    return swap(motion_array(v, "v"))
 
 
 def freeflyer_v_from_pinocchio(v: ArrayLike) -> np.ndarray:
@@ -302,7 +302,7 @@ def freeflyer_v_from_pinocchio(v: ArrayLike) -> np.ndarray:
 
     Source: see :func:`freeflyer_v_to_pinocchio`.
     """
-    return _swap(_foreign_array(v, "v", "Pinocchio free-flyer [linear; angular]"))
+    return swap(foreign_array(v, "v", "Pinocchio free-flyer [linear; angular]"))
 
 
 def _cos_sin(theta: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -358,7 +358,7 @@ def continuous_q_from_pinocchio(q: ArrayLike) -> np.ndarray:
 
     Source: Pinocchio ``JointModelRevoluteUnboundedTpl``; docs/conventions.md.
     """
-    cs = _foreign_array(q, "q", "Pinocchio (cos θ, sin θ)", (2,))
+    cs = foreign_array(q, "q", "Pinocchio (cos θ, sin θ)", (2,))
     return _atan2(cs[..., 1], cs[..., 0])
 
 
@@ -393,7 +393,7 @@ def planar_q_from_pinocchio(q: ArrayLike) -> np.ndarray:
 
     Source: Pinocchio ``JointModelPlanarTpl``; docs/conventions.md.
     """
-    qq = _foreign_array(q, "q", "Pinocchio planar [x, y, cos θ, sin θ]", (4,))
+    qq = foreign_array(q, "q", "Pinocchio planar [x, y, cos θ, sin θ]", (4,))
     theta = _atan2(qq[..., 3], qq[..., 2])
     return np.concatenate([qq[..., :2], theta[..., None].astype(qq.dtype)], axis=-1)
 
@@ -429,7 +429,7 @@ def planar_v_from_pinocchio(v: ArrayLike) -> np.ndarray:
 
     Source: Pinocchio ``JointModelPlanarTpl``; docs/conventions.md.
     """
-    return _foreign_array(v, "v", "Pinocchio planar [v_x, v_y, ω]", (3,))[..., [2, 0, 1]]
+    return foreign_array(v, "v", "Pinocchio planar [v_x, v_y, ω]", (3,))[..., [2, 0, 1]]
 
 
 # --------------------------------------------------------------------------
@@ -455,7 +455,7 @@ def to_pinocchio_motion(m: SpatialMotion | ArrayLike) -> PinMotion:
     Source: Pinocchio ``MotionTpl``.
     """
     pin = _pinocchio("to_pinocchio_motion")
-    vec = _single(_motion_array(m, "m"), "m", "motion", "motion_to_pinocchio")
+    vec = _single(motion_array(m, "m"), "m", "motion", "motion_to_pinocchio")
     return pin.Motion(vec[3:], vec[:3])
 
 
@@ -476,10 +476,10 @@ def from_pinocchio_motion(motion: PinMotion, frame: Frame = None) -> SpatialMoti
     pin = _pinocchio("from_pinocchio_motion")
     if not isinstance(motion, pin.Motion):
         raise SpatialTypeError(
-            f"motion: expected a pinocchio.Motion, got a {_type_name(motion)}"
+            f"motion: expected a pinocchio.Motion, got a {qualified_type_name(motion)}"
             + (
                 "; raw [linear; angular] arrays convert with motion_from_pinocchio"
-                if not _is_pinocchio_object(motion)
+                if not is_pinocchio_object(motion)
                 else ""
             )
         )
@@ -504,7 +504,7 @@ def to_pinocchio_force(f: SpatialForce | ArrayLike) -> PinForce:
     Source: Pinocchio ``ForceTpl``.
     """
     pin = _pinocchio("to_pinocchio_force")
-    vec = _single(_force_array(f, "f"), "f", "force", "force_to_pinocchio")
+    vec = _single(force_array(f, "f"), "f", "force", "force_to_pinocchio")
     return pin.Force(vec[3:], vec[:3])
 
 
@@ -525,10 +525,10 @@ def from_pinocchio_force(force: PinForce, frame: Frame = None) -> SpatialForce:
     pin = _pinocchio("from_pinocchio_force")
     if not isinstance(force, pin.Force):
         raise SpatialTypeError(
-            f"force: expected a pinocchio.Force, got a {_type_name(force)}"
+            f"force: expected a pinocchio.Force, got a {qualified_type_name(force)}"
             + (
                 "; raw [linear; angular] arrays convert with force_from_pinocchio"
-                if not _is_pinocchio_object(force)
+                if not is_pinocchio_object(force)
                 else ""
             )
         )
@@ -555,7 +555,7 @@ def to_pinocchio_inertia(inertia: SpatialInertia) -> PinInertia:
     pin = _pinocchio("to_pinocchio_inertia")
     if not isinstance(inertia, SpatialInertia):
         raise SpatialTypeError(
-            f"inertia: expected a SpatialInertia, got a {_type_name(inertia)}; a 6×6 matrix converts with "
+            f"inertia: expected a SpatialInertia, got a {qualified_type_name(inertia)}; a 6×6 matrix converts with "
             "SpatialInertia.from_matrix(M) first (or matrix6_to_pinocchio for the bare matrix)"
         )
     if inertia.shape:
@@ -588,7 +588,7 @@ def from_pinocchio_inertia(inertia: PinInertia, frame: Frame = None) -> SpatialI
     """
     pin = _pinocchio("from_pinocchio_inertia")
     if not isinstance(inertia, pin.Inertia):
-        raise SpatialTypeError(f"inertia: expected a pinocchio.Inertia, got a {_type_name(inertia)}")
+        raise SpatialTypeError(f"inertia: expected a pinocchio.Inertia, got a {qualified_type_name(inertia)}")
     return SpatialInertia(float(inertia.mass), np.array(inertia.lever), np.array(inertia.inertia), frame)
 
 
@@ -611,7 +611,7 @@ def transform_to_pinocchio_se3(X: PluckerTransform | ArrayLike) -> PinSE3:
     Source: Pinocchio ``SE3Tpl``; chapter §3.
     """
     pin = _pinocchio("transform_to_pinocchio_se3")
-    xf = _as_transform(X, "X")
+    xf = as_transform(X, "X")
     if xf.shape:
         raise ShapeError(
             f"X: expected a single transform (batch shape ()), got batch shape {xf.shape}; "
@@ -640,7 +640,7 @@ def transform_from_pinocchio_se3(se3: PinSE3, source: Frame = None, target: Fram
     pin = _pinocchio("transform_from_pinocchio_se3")
     if not isinstance(se3, pin.SE3):
         raise SpatialTypeError(
-            f"se3: expected a pinocchio.SE3, got a {_type_name(se3)}; a (4, 4) homogeneous matrix converts with "
+            f"se3: expected a pinocchio.SE3, got a {qualified_type_name(se3)}; a (4, 4) homogeneous matrix converts with "
             "PluckerTransform.from_homogeneous"
         )
     return PluckerTransform(np.array(se3.rotation), np.array(se3.translation), source, target)

@@ -17,11 +17,11 @@ from typing import TypeAlias
 import numpy as np
 from numpy.typing import ArrayLike
 
-from .._validation import as_array
 from ..errors import ShapeError, SpatialTypeError
 from ..frames import Frame
-from ..spatial_algebra import SpatialForce, SpatialMotion
-from ._common import _SPATIAL_TYPES, _force_array, _foreign_array, _motion_array, _swap, _type_name
+from ..spatial import SpatialForce, SpatialMotion
+from ..spatial.validation import as_array
+from ._common import SPATIAL_TYPES, force_array, foreign_array, motion_array, qualified_type_name, swap
 
 __all__ = [
     "force_from_ros_wrench",
@@ -46,10 +46,10 @@ def _ros_out(vec: np.ndarray, first: tuple[str, np.ndarray], second: tuple[str, 
 
 
 def _ros_field(msg: object, key: str, name: str, keys: tuple[str, str], message: str, flat_function: str) -> object:
-    if isinstance(msg, _SPATIAL_TYPES):
+    if isinstance(msg, SPATIAL_TYPES):
         raise SpatialTypeError(
             f"{name}: expected a {message} (a mapping with keys {keys[0]!r} and {keys[1]!r}), got a "
-            f"{_type_name(msg)}, which is a featherdyn value already"
+            f"{qualified_type_name(msg)}, which is a featherdyn value already"
         )
     if isinstance(msg, Mapping):
         if key not in msg:
@@ -61,7 +61,7 @@ def _ros_field(msg: object, key: str, name: str, keys: tuple[str, str], message:
     if isinstance(msg, (np.ndarray, list, tuple, str, bytes)) or not hasattr(msg, key):
         raise ShapeError(
             f"{name}: expected a {message} (a mapping with keys {keys[0]!r} and {keys[1]!r}, or a message object "
-            f"with those fields), got a {_type_name(msg)} without field {key!r}; flattened 6-arrays convert with "
+            f"with those fields), got a {qualified_type_name(msg)} without field {key!r}; flattened 6-arrays convert with "
             f"{flat_function}"
         )
     return getattr(msg, key)
@@ -100,7 +100,7 @@ def motion_to_ros_twist(m: SpatialMotion | ArrayLike) -> RosFields:
 
     Source: ROS ``geometry_msgs/msg/Twist``.
     """
-    vec = _motion_array(m, "m")
+    vec = motion_array(m, "m")
     return _ros_out(vec, ("linear", vec[..., 3:]), ("angular", vec[..., :3]))
 
 
@@ -148,7 +148,7 @@ def force_to_ros_wrench(f: SpatialForce | ArrayLike) -> RosFields:
 
     Source: ROS ``geometry_msgs/msg/Wrench``.
     """
-    vec = _force_array(f, "f")
+    vec = force_array(f, "f")
     return _ros_out(vec, ("force", vec[..., 3:]), ("torque", vec[..., :3]))
 
 
@@ -195,7 +195,7 @@ def twist_array_to_ros(m: SpatialMotion | ArrayLike) -> np.ndarray:
 
     Source: ROS ``geometry_msgs/msg/Twist`` field order.
     """
-    return _swap(_motion_array(m, "m"))
+    return swap(motion_array(m, "m"))
 
 
 def twist_array_from_ros(twist: ArrayLike, frame: Frame = None) -> SpatialMotion:
@@ -212,7 +212,7 @@ def twist_array_from_ros(twist: ArrayLike, frame: Frame = None) -> SpatialMotion
 
     Source: ROS ``geometry_msgs/msg/Twist`` field order.
     """
-    return SpatialMotion.from_vector(_swap(_foreign_array(twist, "twist", "ROS [linear; angular]")), frame)
+    return SpatialMotion.from_vector(swap(foreign_array(twist, "twist", "ROS [linear; angular]")), frame)
 
 
 def wrench_array_to_ros(f: SpatialForce | ArrayLike) -> np.ndarray:
@@ -228,7 +228,7 @@ def wrench_array_to_ros(f: SpatialForce | ArrayLike) -> np.ndarray:
 
     Source: ROS ``geometry_msgs/msg/Wrench`` field order.
     """
-    return _swap(_force_array(f, "f"))
+    return swap(force_array(f, "f"))
 
 
 def wrench_array_from_ros(wrench: ArrayLike, frame: Frame = None) -> SpatialForce:
@@ -245,4 +245,4 @@ def wrench_array_from_ros(wrench: ArrayLike, frame: Frame = None) -> SpatialForc
 
     Source: ROS ``geometry_msgs/msg/Wrench`` field order.
     """
-    return SpatialForce.from_vector(_swap(_foreign_array(wrench, "wrench", "ROS [force; torque]")), frame)
+    return SpatialForce.from_vector(swap(foreign_array(wrench, "wrench", "ROS [force; torque]")), frame)

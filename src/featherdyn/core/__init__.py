@@ -30,10 +30,10 @@ from typing import Any
 
 import numpy as np
 
-from .._validation import as_array
 from ..errors import DTypeError, ModelError, ShapeError
 from ..frames import LOCAL, ReferenceFrame, as_reference_frame
 from ..model import Model
+from ..spatial.validation import as_array
 from . import _errors
 from ._model_view import CoreHandle, model_view
 from ._result_pool import result_array

@@ -88,7 +88,7 @@ def run(robot: str | os.PathLike[str] | None = None, *, floating_base: bool = Fa
         raise ModelError("--contacts compares constrained dynamics with Pinocchio: use --oracle pinocchio or both")
     use_pin, use_mj = oracle in ("pinocchio", "both"), oracle in ("mujoco", "both")
     if use_pin:
-        from ._pinocchio import pinocchio_version, require_pinocchio
+        from .pinocchio import pinocchio_version, require_pinocchio
 
         require_pinocchio()
     if use_mj:

@@ -26,8 +26,8 @@ from ..spatial_algebra import (
     cross_motion,
     skew,
 )
-from ._pinocchio import PinValue, require_pinocchio
 from .bridge import SWAP6, from_pin6
+from .pinocchio import PinValue, require_pinocchio
 from .report import Cause, CheckResult, compare, likely_cause
 
 __all__ = ["algebra_checks", "random_transforms", "random_inertias"]

@@ -25,7 +25,7 @@ from .. import conventions
 from ..errors import ModelError
 from ..joints import FreeFlyerJoint, PlanarJoint, PrismaticJoint, RevoluteJoint, SphericalJoint
 from ..model import Model
-from ._pinocchio import PinModel, require_pinocchio
+from .pinocchio import PinModel, require_pinocchio
 
 __all__ = ["pinocchio_model_from", "JointMap", "SWAP6", "to_pin6", "from_pin6", "from_pin6_rows"]
 

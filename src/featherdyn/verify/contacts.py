@@ -19,8 +19,8 @@ import featherdyn as fd
 from ..configuration import random_configuration
 from ..constraints import Constraint
 from ..errors import ConstraintError, ModelError, SingularMassMatrixError
-from ._pinocchio import require_pinocchio
 from .dynamics import RobotPair
+from .pinocchio import require_pinocchio
 from .report import CheckResult, compare
 
 __all__ = ["contact_checks"]

@@ -20,8 +20,8 @@ import featherdyn as fd
 from ..configuration import integrate, integrate_derivatives, random_configuration
 from ..errors import SingularMassMatrixError
 from ..model import Model, massless_subtrees
-from ._pinocchio import PinModel, PinValue, require_pinocchio
 from .bridge import SWAP6, JointMap, from_pin6, from_pin6_rows
+from .pinocchio import PinModel, PinValue, require_pinocchio
 from .report import (
     ROUNDOFF,
     Cause,

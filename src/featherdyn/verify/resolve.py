@@ -17,10 +17,10 @@ def resolve_robot(robot: str | os.PathLike[str] | None) -> tuple[str, Path]:
     Raises:
         ModelError: no such file, a directory, or an unknown robot name.
     """
-    from ..robots import BUNDLED_DEFAULT_ROBOT, DEFAULT_ROBOT, _erd_files, robot_path
+    from ..robots import default_robot, robot_path
 
     if robot is None:
-        name = DEFAULT_ROBOT if _erd_files() else BUNDLED_DEFAULT_ROBOT
+        name = default_robot()
         return name, robot_path(name)
     text = os.fspath(robot)
     path = Path(text)

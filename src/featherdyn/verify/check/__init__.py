@@ -63,7 +63,7 @@ The package: :mod:`.values` reads and validates the arrays, :mod:`.readings`
 reads them under a hypothesis and compares, :mod:`.suspects` lists the
 mistakes tried, :mod:`.diagnosis` puts a finding into words, :mod:`.report`
 holds the result. The command line (``featherdyn check``) lives in
-:mod:`featherdyn.cli`, which imports this package, never the reverse
+:mod:`featherdyn.tools.cli`, which imports this package, never the reverse
 (``docs/architecture.md``).
 """
 
@@ -81,8 +81,8 @@ from ...errors import FeatherdynError, ModelError
 from ...joints import RevoluteJoint
 from ...model import Model
 from ...tolerances import CHECK_VALUES
-from .._pinocchio import PinModel, require_pinocchio
 from ..bridge import JointMap, pinocchio_model_from
+from ..pinocchio import PinModel, require_pinocchio
 from ..report import ROUNDOFF, CheckResult
 from ..resolve import resolve_robot
 from .derivatives import DERIVATIVE_SUSPECTS, derivative_checks

@@ -18,8 +18,8 @@ import numpy as np
 from ...errors import FeatherdynError, MissingDependencyError
 from ...joints import FreeFlyerJoint, Joint, PlanarJoint, SphericalJoint
 from ...model import Model
-from .._pinocchio import PinModel
 from ..bridge import SWAP6, JointMap
+from ..pinocchio import PinModel
 from ..report import CheckResult, compare
 from .report import one_line
 from .values import VECTOR_KEYS, Given

@@ -1,4 +1,4 @@
-"""Input checking shared by every public function (private).
+"""Input checking shared by every public function: the array rules of every value and every call.
 
 The rules, applied at every public boundary:
 
@@ -23,8 +23,8 @@ from typing import Any
 
 import numpy as np
 
-from .errors import DTypeError, NonFiniteError, ShapeError
-from .tolerances import ROTATION_ORTHONORMAL
+from ..errors import DTypeError, NonFiniteError, ShapeError
+from ..tolerances import ROTATION_ORTHONORMAL
 
 
 def _shape_text(shape: tuple[int | str, ...]) -> str:
@@ -152,7 +152,7 @@ def check_rotation(rotation: np.ndarray, name: str, tol: float | None = None) ->
     1e-6 for float64 (URDF files print rotations to ~7 digits) and 1e-4 for
     float32. Object (SymPy) arrays are not checked.
     """
-    from .errors import RotationError
+    from ..errors import RotationError
 
     if rotation.dtype.kind == "O":
         return

@@ -1,4 +1,4 @@
-"""Access to Pinocchio for the verification tool (private).
+"""Access to Pinocchio for the verification tool: the import, and the types it hands back.
 
 Pinocchio is an optional dependency (``pip install 'featherdyn[verify]'``);
 it is imported only when a check runs.

@@ -19,7 +19,7 @@ output folders are checked before any work; progress notices (a large URDF,
 ``--all``) go to stderr, reports to stdout.
 
 This module is the top of the tools layer: it imports :mod:`featherdyn.verify`
-and :mod:`featherdyn.bench`, which never import it (``docs/architecture.md``).
+and :mod:`featherdyn.tools.bench`, which never import it (``docs/architecture.md``).
 """
 
 from __future__ import annotations
@@ -33,8 +33,8 @@ from pathlib import Path
 
 import numpy as np
 
-from ._cli_args import check_writable, positive_float, positive_int
-from .errors import FeatherdynError
+from ..errors import FeatherdynError
+from .args import check_writable, positive_float, positive_int
 
 __all__ = ["main", "build_parser"]
 
@@ -52,7 +52,7 @@ def build_parser() -> argparse.ArgumentParser:
     """The argument parser of the ``featherdyn`` command."""
     parser = _Parser(prog="featherdyn",
                      description="Spatial vector algebra and rigid-body dynamics, verified against Pinocchio.")
-    from . import __version__
+    from .. import __version__
 
     parser.add_argument("--version", action="version", version=f"featherdyn {__version__}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
@@ -94,7 +94,7 @@ def build_parser() -> argparse.ArgumentParser:
 
 def _add_check(sub: argparse._SubParsersAction[_Parser]) -> None:
     """``featherdyn check VALUES.npz --robot ROBOT`` (:func:`featherdyn.verify.check.check_values`)."""
-    from .verify.check import CONVENTIONS, DEFAULT_TOL
+    from ..verify.check import CONVENTIONS, DEFAULT_TOL
 
     p = sub.add_parser(
         "check", help="check your own numbers (an .npz of q, v, a, tau, M, ddq) against featherdyn and "
@@ -117,7 +117,7 @@ def _add_check(sub: argparse._SubParsersAction[_Parser]) -> None:
 
 
 def _add_dataset(sub: argparse._SubParsersAction[_Parser]) -> None:
-    """``featherdyn dataset ROBOT --states N --out DIR.zarr`` (:mod:`featherdyn.dataset`)."""
+    """``featherdyn dataset ROBOT --states N --out DIR.zarr`` (:mod:`featherdyn.tools.dataset`)."""
     from .dataset import DEFAULT_QUANTITIES, QUANTITIES
 
     p = sub.add_parser(
@@ -143,7 +143,7 @@ def _add_dataset(sub: argparse._SubParsersAction[_Parser]) -> None:
 
 
 def _cmd_dataset(args: argparse.Namespace) -> int:
-    from . import verify
+    from .. import verify
     from .dataset import check_request, progress_bar, write_dataset
 
     quantities = check_request(args.quantities.split(","), args.out, args.states, args.chunk, args.seed)
@@ -160,7 +160,7 @@ def _cmd_dataset(args: argparse.Namespace) -> int:
 
 
 def _cmd_check(args: argparse.Namespace) -> int:
-    from .verify.check import check_values
+    from ..verify.check import check_values
 
     check_writable(args.json, "--json")
     try:
@@ -205,9 +205,9 @@ def _write(path: Path, text: str) -> None:
 
 
 def _cmd_verify(args: argparse.Namespace) -> int:
-    from . import verify
-    from .verify._pinocchio import require_pinocchio
-    from .verify.html import reports_to_html
+    from .. import verify
+    from ..verify.html import reports_to_html
+    from ..verify.pinocchio import require_pinocchio
 
     if args.all and args.robot:
         raise FeatherdynError("give either a ROBOT or --all, not both")
@@ -222,7 +222,7 @@ def _cmd_verify(args: argparse.Namespace) -> int:
     tty = sys.stderr.isatty()
     reports = []
     if args.all:
-        from .robots import list_robots
+        from ..robots import list_robots
 
         names = list_robots()
         _say(f"verifying {len(names)} robots of the library, one line per robot (about a second each)…")
@@ -267,8 +267,8 @@ def _verify_distributed(names: list[str], options: dict[str, object], scheduler:
     """``verify --all --scheduler``: one task per robot on Dask workers; reports in the library's order."""
     from dask.distributed import as_completed
 
-    from . import verify
-    from ._distributed import dask_client
+    from .. import verify
+    from .distributed import dask_client
 
     with dask_client(scheduler, workers) as client:
         futures = {client.submit(verify.run_or_report, name, algebra=(k == 0), key=f"featherdyn-verify-{name}",
@@ -281,7 +281,7 @@ def _verify_distributed(names: list[str], options: dict[str, object], scheduler:
 
 
 def _cmd_list(args: argparse.Namespace) -> int:
-    from .robots import list_robots
+    from ..robots import list_robots
 
     for name in list_robots():
         print(name)
@@ -305,8 +305,8 @@ def _limits(lower: np.ndarray, upper: np.ndarray, velocity: np.ndarray, effort: 
 
 
 def _cmd_info(args: argparse.Namespace) -> int:
-    from .errors import InertiaError
-    from .verify import load_resolved, resolve_robot
+    from ..errors import InertiaError
+    from ..verify import load_resolved, resolve_robot
 
     _name, path = resolve_robot(args.robot)
     _announce_large(path)

@@ -27,10 +27,10 @@ from collections.abc import Callable, Sequence
 
 import numpy as np
 
-from ._cli_args import check_writable, positive_int
-from .errors import FeatherdynError, MissingDependencyError
-from .model import Model
-from .verify._pinocchio import PinModel
+from ..errors import FeatherdynError, MissingDependencyError
+from ..model import Model
+from ..verify.pinocchio import PinModel
+from .args import check_writable, positive_int
 
 __all__ = ["bench_main", "build_parser", "add_arguments", "run", "chain_urdf"]
 
@@ -96,7 +96,7 @@ def _versions() -> list[str]:
 
 def _simd() -> str:
     """The batched kernels' instruction set and lanes, e.g. ``avx2 × 4``."""
-    from .core import _core
+    from ..core import _core
 
     isa, width = _core.simd()
     return f"{isa} × {width}"
@@ -106,8 +106,8 @@ class _Pair:
     """A robot loaded by both libraries, with converted random states."""
 
     def __init__(self, name: str, model: Model, pin_model: PinModel, seed: int = 0) -> None:
-        from .core.compiled import compile_model
-        from .verify.bridge import JointMap
+        from ..core.compiled import compile_model
+        from ..verify.bridge import JointMap
 
         self.name, self.model, self.pm = name, model, pin_model
         self.pd = pin_model.createData()
@@ -120,9 +120,9 @@ class _Pair:
         """A robot read from the same URDF by both libraries (an MJCF file: Pinocchio's model mirrors featherdyn's)."""
         import pinocchio as pin
 
-        from .mjcf import model_format
-        from .verify.bridge import pinocchio_model_from
-        from .verify.resolve import load_resolved
+        from ..mjcf import model_format
+        from ..verify.bridge import pinocchio_model_from
+        from ..verify.resolve import load_resolved
 
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
@@ -135,7 +135,7 @@ class _Pair:
         return cls(name, model, pin_model)
 
     def states(self, n: int) -> tuple[np.ndarray, ...]:
-        from .configuration import random_configuration
+        from ..configuration import random_configuration
 
         m = self.model
         q = np.asarray(random_configuration(m, self.rng, size=n), dtype=np.float64).reshape(n, m.nq)
@@ -219,7 +219,7 @@ def _batch_rows(pair: _Pair, n: int, repeats: int) -> list[tuple[str, float, flo
     """
     import pinocchio as pin
 
-    from .api import get_num_threads, set_num_threads
+    from ..api import get_num_threads, set_num_threads
 
     cm, pm, pd = pair.cm, pair.pm, pair.pd
     nv = pair.model.nv
@@ -269,7 +269,7 @@ def chain_urdf(n: int) -> str:
 def _chain_rows(lengths: Sequence[int], repeats: int) -> list[tuple[float, ...]]:
     import pinocchio as pin
 
-    from .urdf import load_urdf
+    from ..urdf import load_urdf
 
     rows: list[tuple[float, ...]] = []
     for n in lengths:
@@ -367,9 +367,9 @@ def _prepare(args: argparse.Namespace) -> tuple[list[tuple[str, str, bool]], lis
         ModelError: an unknown robot, a missing file or a directory.
         FeatherdynError: bad chain lengths, an output that cannot be written.
     """
-    from .core import available
-    from .verify._pinocchio import require_pinocchio
-    from .verify.resolve import resolve_robot
+    from ..core import available
+    from ..verify.pinocchio import require_pinocchio
+    from ..verify.resolve import resolve_robot
 
     require_pinocchio()
     if not available():

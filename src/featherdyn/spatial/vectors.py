@@ -6,9 +6,9 @@ take a motion on the left::
 
     v × m = crm(v) m,   v ×* f = crf(v) f = −crm(v)ᵀ f,   m · f = ωᵀ n_O + v_Oᵀ f
 
-:class:`_SpatialValue` is the common base of the four spatial value classes
-(also :class:`~featherdyn.spatial_algebra.SpatialInertia` and
-:class:`~featherdyn.spatial_algebra.PluckerTransform`, defined in modules that
+:class:`SpatialValue` is the common base of the four spatial value classes
+(also :class:`~featherdyn.spatial.inertia.SpatialInertia` and
+:class:`~featherdyn.spatial.transform.PluckerTransform`, defined in modules that
 build on this one), so the type errors here can name any of them without
 importing them.
 
@@ -25,27 +25,27 @@ from typing import Any, ClassVar, NamedTuple, NoReturn, overload
 import numpy as np
 from numpy.typing import ArrayLike, DTypeLike
 
-from ._spatial_ops import (
-    _adopt_dtype,
-    _batch_index,
-    _crf_apply,
-    _crm_apply,
-    _cross3,
-    _fmt,
-    _is_weak,
-    _kind,
-    _mT,
-    _raw_hint,
-    _skew,
-    _sum_last,
-    _tags,
+from ..errors import DTypeError, NonFiniteError, ShapeError, SpatialTypeError
+from ..frames import Frame, chain_bodies, check_same_frame, merge_frames
+from .ops import (
+    adopt_dtype,
+    batch_index,
+    crf_apply,
+    crm_apply,
+    cross3,
+    format_array,
+    format_tags,
+    is_weak_scalar,
+    matrix_transpose,
+    raw_vector_hint,
+    skew_unchecked,
+    sum_last,
+    type_name,
 )
-from ._validation import as_array, result_dtype
-from .errors import DTypeError, NonFiniteError, ShapeError, SpatialTypeError
-from .frames import Frame, chain_bodies, check_same_frame, merge_frames
+from .validation import as_array, result_dtype
 
 
-class _SpatialValue:
+class SpatialValue:
     """Base of the spatial value classes: lets a type error recognise any of them.
 
     ``_mix_note`` is what a class adds to the message when it is mixed with
@@ -57,8 +57,9 @@ class _SpatialValue:
     _mix_note: ClassVar[str] = ""
 
 
-def _mix_error(op: str, left: object, right: object) -> NoReturn:
-    lk, rk = _kind(left), _kind(right)
+def mix_error(op: str, left: object, right: object) -> NoReturn:
+    """Raise the :class:`~featherdyn.errors.SpatialTypeError` for ``left <op> right`` of two kinds that never combine."""
+    lk, rk = type_name(left), type_name(right)
     pair = {type(left), type(right)}
     if pair == {SpatialMotion, SpatialForce}:
         raise SpatialTypeError(
@@ -67,11 +68,11 @@ def _mix_error(op: str, left: object, right: object) -> NoReturn:
             "with the wrong class (a velocity or acceleration is a SpatialMotion; a force, wrench or "
             "momentum is a SpatialForce)?"
         )
-    note = next((x._mix_note for x in (left, right) if isinstance(x, _SpatialValue) and x._mix_note), "")
+    note = next((x._mix_note for x in (left, right) if isinstance(x, SpatialValue) and x._mix_note), "")
     if note:
         raise SpatialTypeError(f"cannot {op} a {lk} and a {rk}: {note}")
     cls = lk if isinstance(left, (SpatialMotion, SpatialForce)) else rk
-    raise SpatialTypeError(f"cannot {op} a {lk} and a {rk}: {_raw_hint(cls)}")
+    raise SpatialTypeError(f"cannot {op} a {lk} and a {rk}: {raw_vector_hint(cls)}")
 
 
 def _raw_motion(v: object, name: str) -> np.ndarray:
@@ -83,8 +84,8 @@ def _raw_motion(v: object, name: str) -> np.ndarray:
             f"{name}: expected a motion vector, got a SpatialForce; the spatial cross products take a "
             "motion on the left (v × m, v ×* f). Did you swap the arguments?"
         )
-    if isinstance(v, _SpatialValue):  # an inertia or a transform
-        raise SpatialTypeError(f"{name}: expected a motion vector (..., 6), got a {_kind(v)}")
+    if isinstance(v, SpatialValue):  # an inertia or a transform
+        raise SpatialTypeError(f"{name}: expected a motion vector (..., 6), got a {type_name(v)}")
     return as_array(v, name, (6,))
 
 
@@ -96,18 +97,18 @@ def _raw_force(f: object, name: str) -> np.ndarray:
             f"{name}: expected a force vector, got a SpatialMotion; motion × motion is cross_motion "
             "(crm), motion ×* force is cross_force (crf)"
         )
-    if isinstance(f, _SpatialValue):  # an inertia or a transform
-        raise SpatialTypeError(f"{name}: expected a force vector (..., 6), got a {_kind(f)}")
+    if isinstance(f, SpatialValue):  # an inertia or a transform
+        raise SpatialTypeError(f"{name}: expected a force vector (..., 6), got a {type_name(f)}")
     return as_array(f, name, (6,))
 
 
 def _scalar_factor(s: object, batch_shape: tuple[int, ...], what: str, dtype: np.dtype) -> np.ndarray:
-    if isinstance(s, _SpatialValue):
+    if isinstance(s, SpatialValue):
         raise SpatialTypeError(
-            f"{what}: cannot multiply by a {_kind(s)}; use cross (v × m, v ×* f), dot (power) or inertia @ motion"
+            f"{what}: cannot multiply by a {type_name(s)}; use cross (v × m, v ×* f), dot (power) or inertia @ motion"
         )
     arr = as_array(s, "scalar")
-    if _is_weak(s) and dtype.kind == "f":  # float32 * 2.0 stays float32
+    if is_weak_scalar(s) and dtype.kind == "f":  # float32 * 2.0 stays float32
         arr = arr.astype(dtype)
     try:
         np.broadcast_shapes(arr.shape, batch_shape)
@@ -143,7 +144,7 @@ class Screw(NamedTuple):
 
 
 @dataclass(frozen=True, slots=True, init=False, eq=False, repr=False)
-class SpatialMotion(_SpatialValue):
+class SpatialMotion(SpatialValue):
     """A spatial motion vector (velocity, acceleration, twist) ``[ω; v_O]``.
 
     ``vector`` has shape `(..., 6)`: the angular part ``ω`` first, then ``v_O``,
@@ -212,7 +213,7 @@ class SpatialMotion(_SpatialValue):
 
             ω = |ω| d,   v_O = h ω + q × ω     (q on the axis)
         """
-        d, q, h, mag = _adopt_dtype(
+        d, q, h, mag = adopt_dtype(
             (direction, point, pitch, magnitude),
             [
                 as_array(direction, "direction", (3,)),
@@ -223,7 +224,7 @@ class SpatialMotion(_SpatialValue):
         )
         if h.dtype.kind == "f" and np.any(np.isnan(h)):
             raise NonFiniteError("pitch: expected a number or inf, got NaN")
-        norm = np.sqrt(_sum_last(d * d))
+        norm = np.sqrt(sum_last(d * d))
         if np.any(norm == 0):
             raise ShapeError("direction: zero-length screw axis")
         d = d / norm[..., None]
@@ -231,7 +232,7 @@ class SpatialMotion(_SpatialValue):
         zero = np.zeros_like(mag)
         w = d * np.where(inf, zero, mag)[..., None]  # pitch inf: no rotation ...
         h_fin = np.where(inf, np.zeros_like(h), h)
-        lin = h_fin[..., None] * w + _cross3(q, w) + d * np.where(inf, mag, zero)[..., None]  # ... only sliding
+        lin = h_fin[..., None] * w + cross3(q, w) + d * np.where(inf, mag, zero)[..., None]  # ... only sliding
         return cls(w, lin, frame)
 
     @classmethod
@@ -260,7 +261,7 @@ class SpatialMotion(_SpatialValue):
         return self.vector.dtype
 
     def __getitem__(self, idx: Any) -> SpatialMotion:
-        idx = _batch_index(self.vector, idx, 1)
+        idx = batch_index(self.vector, idx, 1)
         return SpatialMotion._wrap(np.array(self.vector[idx]), self.frame, self.body, self.relative_to)
 
     def __len__(self) -> int:
@@ -272,21 +273,21 @@ class SpatialMotion(_SpatialValue):
 
     def __add__(self, other: SpatialMotion) -> SpatialMotion:
         if not isinstance(other, SpatialMotion):
-            _mix_error("add", self, other)
+            mix_error("add", self, other)
         frame = merge_frames(self.frame, other.frame, "motion + motion")
         body, rel = chain_bodies(self.body, self.relative_to, other.body, other.relative_to, "motion + motion")
         return SpatialMotion._wrap(self.vector + other.vector, frame, body, rel)
 
     def __radd__(self, other: object) -> NoReturn:
-        _mix_error("add", other, self)
+        mix_error("add", other, self)
 
     def __sub__(self, other: SpatialMotion) -> SpatialMotion:
         if not isinstance(other, SpatialMotion):
-            _mix_error("subtract", self, other)
+            mix_error("subtract", self, other)
         return self + (-other)
 
     def __rsub__(self, other: object) -> NoReturn:
-        _mix_error("subtract", other, self)
+        mix_error("subtract", other, self)
 
     def __neg__(self) -> SpatialMotion:
         # v_B/A = −v_A/B
@@ -328,9 +329,9 @@ class SpatialMotion(_SpatialValue):
                 "plain (frame-dependent) Euclidean product?"
             )
         if not isinstance(force, SpatialForce):
-            _mix_error("take the power (dot) of", self, force)
+            mix_error("take the power (dot) of", self, force)
         check_same_frame(self.frame, force.frame, "motion.dot(force)")
-        return _sum_last(self.vector * force.vector)
+        return sum_last(self.vector * force.vector)
 
     @overload
     def cross(self, other: SpatialMotion) -> SpatialMotion: ...
@@ -348,8 +349,8 @@ class SpatialMotion(_SpatialValue):
         if isinstance(other, SpatialMotion):
             return cross_motion(self, other)
         raise SpatialTypeError(
-            f"motion.cross expects a SpatialMotion (v × m) or a SpatialForce (v ×* f), got a {_kind(other)}: "
-            + _raw_hint("SpatialMotion")
+            f"motion.cross expects a SpatialMotion (v × m) or a SpatialForce (v ×* f), got a {type_name(other)}: "
+            + raw_vector_hint("SpatialMotion")
         )
 
     def screw(self) -> Screw:
@@ -359,16 +360,16 @@ class SpatialMotion(_SpatialValue):
     def allclose(self, other: SpatialMotion, rtol: float = 1e-9, atol: float = 1e-12) -> bool:
         """``np.allclose`` of the vectors after a type and frame check."""
         if not isinstance(other, SpatialMotion):
-            _mix_error("compare", self, other)
+            mix_error("compare", self, other)
         check_same_frame(self.frame, other.frame, "motion.allclose")
         return bool(np.allclose(self.vector, other.vector, rtol=rtol, atol=atol))
 
     def __repr__(self) -> str:
-        return f"SpatialMotion(angular={_fmt(self.angular)}, linear={_fmt(self.linear)}{_tags(self)})"
+        return f"SpatialMotion(angular={format_array(self.angular)}, linear={format_array(self.linear)}{format_tags(self)})"
 
 
 @dataclass(frozen=True, slots=True, init=False, eq=False, repr=False)
-class SpatialForce(_SpatialValue):
+class SpatialForce(SpatialValue):
     """A spatial force vector (wrench, momentum) ``[n_O; f]``.
 
     ``vector`` has shape `(..., 6)`: the moment ``n_O`` about the frame origin
@@ -435,7 +436,7 @@ class SpatialForce(_SpatialValue):
         return self.vector.dtype
 
     def __getitem__(self, idx: Any) -> SpatialForce:
-        idx = _batch_index(self.vector, idx, 1)
+        idx = batch_index(self.vector, idx, 1)
         return SpatialForce._wrap(np.array(self.vector[idx]), self.frame)
 
     def __len__(self) -> int:
@@ -445,19 +446,19 @@ class SpatialForce(_SpatialValue):
 
     def __add__(self, other: SpatialForce) -> SpatialForce:
         if not isinstance(other, SpatialForce):
-            _mix_error("add", self, other)
+            mix_error("add", self, other)
         return SpatialForce._wrap(self.vector + other.vector, merge_frames(self.frame, other.frame, "force + force"))
 
     def __radd__(self, other: object) -> NoReturn:
-        _mix_error("add", other, self)
+        mix_error("add", other, self)
 
     def __sub__(self, other: SpatialForce) -> SpatialForce:
         if not isinstance(other, SpatialForce):
-            _mix_error("subtract", self, other)
+            mix_error("subtract", self, other)
         return SpatialForce._wrap(self.vector - other.vector, merge_frames(self.frame, other.frame, "force - force"))
 
     def __rsub__(self, other: object) -> NoReturn:
-        _mix_error("subtract", other, self)
+        mix_error("subtract", other, self)
 
     def __neg__(self) -> SpatialForce:
         return SpatialForce._wrap(-self.vector, self.frame)
@@ -487,7 +488,7 @@ class SpatialForce(_SpatialValue):
                 "(power). Did you mean np.dot(f1.vector, f2.vector) for a plain Euclidean product?"
             )
         if not isinstance(motion, SpatialMotion):
-            _mix_error("take the power (dot) of", self, motion)
+            mix_error("take the power (dot) of", self, motion)
         return motion.dot(self)
 
     def cross(self, other: object) -> NoReturn:
@@ -499,12 +500,12 @@ class SpatialForce(_SpatialValue):
     def allclose(self, other: SpatialForce, rtol: float = 1e-9, atol: float = 1e-12) -> bool:
         """``np.allclose`` of the vectors after a type and frame check."""
         if not isinstance(other, SpatialForce):
-            _mix_error("compare", self, other)
+            mix_error("compare", self, other)
         check_same_frame(self.frame, other.frame, "force.allclose")
         return bool(np.allclose(self.vector, other.vector, rtol=rtol, atol=atol))
 
     def __repr__(self) -> str:
-        return f"SpatialForce(angular={_fmt(self.angular)}, linear={_fmt(self.linear)}{_tags(self)})"
+        return f"SpatialForce(angular={format_array(self.angular)}, linear={format_array(self.linear)}{format_tags(self)})"
 
 
 #: per class, the slots' own setters (a frozen dataclass refuses ``obj.x = …``; ``object.__setattr__``
@@ -544,7 +545,7 @@ def crm(v: SpatialMotion | ArrayLike) -> np.ndarray:
     Source: RBDA (2008) eq. 2.31; chapter §4.1.
     """
     v6 = _raw_motion(v, "v")
-    w, lin = _skew(v6[..., :3]), _skew(v6[..., 3:])
+    w, lin = skew_unchecked(v6[..., :3]), skew_unchecked(v6[..., 3:])
     zero = np.zeros_like(w)
     return np.concatenate([np.concatenate([w, zero], axis=-1), np.concatenate([lin, w], axis=-1)], axis=-2)
 
@@ -563,7 +564,7 @@ def crf(v: SpatialMotion | ArrayLike) -> np.ndarray:
 
     Source: RBDA (2008) eq. 2.32; chapter §4.2.
     """
-    return -_mT(crm(v))
+    return -matrix_transpose(crm(v))
 
 
 def cross_motion(v: SpatialMotion | ArrayLike, m: SpatialMotion | ArrayLike) -> SpatialMotion:
@@ -582,7 +583,7 @@ def cross_motion(v: SpatialMotion | ArrayLike, m: SpatialMotion | ArrayLike) -> 
     """
     vv, mm = _raw_motion(v, "v"), _raw_motion(m, "m")
     frame = merge_frames(getattr(v, "frame", None), getattr(m, "frame", None), "cross_motion(v, m)")
-    return SpatialMotion._wrap(_crm_apply(vv, mm), frame)
+    return SpatialMotion._wrap(crm_apply(vv, mm), frame)
 
 
 def cross_force(v: SpatialMotion | ArrayLike, f: SpatialForce | ArrayLike) -> SpatialForce:
@@ -601,7 +602,7 @@ def cross_force(v: SpatialMotion | ArrayLike, f: SpatialForce | ArrayLike) -> Sp
     """
     vv, ff = _raw_motion(v, "v"), _raw_force(f, "f")
     frame = merge_frames(getattr(v, "frame", None), getattr(f, "frame", None), "cross_force(v, f)")
-    return SpatialForce._wrap(_crf_apply(vv, ff), frame)
+    return SpatialForce._wrap(crf_apply(vv, ff), frame)
 
 
 def screw_parameters(motion: SpatialMotion | ArrayLike) -> Screw:
@@ -623,15 +624,15 @@ def screw_parameters(motion: SpatialMotion | ArrayLike) -> Screw:
     if vec.dtype.kind == "O":
         raise DTypeError("motion: screw parameters need floating-point numbers, got an object array")
     w, v = vec[..., :3], vec[..., 3:]
-    ww = _sum_last(w * w)
-    vv = _sum_last(v * v)
+    ww = sum_last(w * w)
+    vv = sum_last(v * v)
     scale = np.maximum(ww, vv)
     rot = ww > (np.finfo(vec.dtype).eps ** 2) * np.where(scale > 0, scale, 1.0) * 1e4
     safe = np.where(rot, ww, 1.0)
     wn = np.sqrt(safe)
     direction_rot = w / wn[..., None]
-    point = np.where(rot[..., None], _cross3(w, v) / safe[..., None], 0.0)
-    pitch = np.where(rot, _sum_last(w * v) / safe, np.where(vv > 0, np.inf, 0.0))
+    point = np.where(rot[..., None], cross3(w, v) / safe[..., None], 0.0)
+    pitch = np.where(rot, sum_last(w * v) / safe, np.where(vv > 0, np.inf, 0.0))
     vn = np.sqrt(np.where(vv > 0, vv, 1.0))
     direction_tr = np.where((vv > 0)[..., None], v / vn[..., None], 0.0)
     direction = np.where(rot[..., None], direction_rot, direction_tr)

@@ -21,14 +21,14 @@ from typing import Any, TypeAlias
 
 import numpy as np
 
-from .errors import MissingDependencyError
+from ..errors import MissingDependencyError
 
 # SymPy ships no type stubs: its expressions (and matrices of them) are typed by name only.
 SymExpr: TypeAlias = Any
 SymMatrix: TypeAlias = Any
 
 
-def _sympy() -> ModuleType:
+def import_sympy() -> ModuleType:
     try:
         import sympy
     except ImportError:
@@ -38,16 +38,16 @@ def _sympy() -> ModuleType:
     return sympy
 
 
-def _obj(values: Iterable[SymExpr]) -> np.ndarray:
+def object_array(values: Iterable[SymExpr]) -> np.ndarray:
     """An object array (SymPy entries) from a nested sequence."""
     return np.array(list(values) if not isinstance(values, np.ndarray) else values, dtype=object)
 
 
-def _mat(a: np.ndarray) -> SymMatrix:
-    return _sympy().Matrix(np.asarray(a, dtype=object).tolist())
+def sympy_matrix(a: np.ndarray) -> SymMatrix:
+    return import_sympy().Matrix(np.asarray(a, dtype=object).tolist())
 
 
-class _Reducer:
+class Reducer:
     """Canonical form of polynomial expressions in sin/cos of symbols and in a unit quaternion.
 
     ``sin(a)``, ``cos(a)`` of each symbol ``a`` become symbols ``s_a``, ``c_a``;
@@ -61,7 +61,7 @@ class _Reducer:
     """
 
     def __init__(self, quaternion: Sequence[SymExpr] | None = None) -> None:
-        self.sp = _sympy()
+        self.sp = import_sympy()
         self.quaternion = tuple(quaternion) if quaternion is not None else None
         self._sc: dict[SymExpr, tuple[SymExpr, SymExpr]] = {}
 
@@ -145,8 +145,8 @@ def canonical(expr: SymExpr, *, unit_quaternion: Sequence[SymExpr] | None = None
     are equal on the constraint set iff their canonical forms are equal.
     Matrices and object arrays are reduced entry by entry.
     """
-    sp = _sympy()
-    red = _Reducer(unit_quaternion)
+    sp = import_sympy()
+    red = Reducer(unit_quaternion)
     if isinstance(expr, np.ndarray):
         out = np.empty(expr.shape, dtype=object)
         for idx in np.ndindex(*expr.shape):
@@ -159,12 +159,12 @@ def canonical(expr: SymExpr, *, unit_quaternion: Sequence[SymExpr] | None = None
 
 def is_zero(expr: SymExpr, *, unit_quaternion: Sequence[SymExpr] | None = None) -> bool:
     """Whether ``expr`` (scalar, matrix or object array) reduces to exactly zero (see :func:`canonical`)."""
-    return _Reducer(unit_quaternion).is_zero(expr)
+    return Reducer(unit_quaternion).is_zero(expr)
 
 
-def _pretty(expr: SymExpr) -> SymExpr:
+def pretty_form(expr: SymExpr) -> SymExpr:
     """A readable form of a canonical expression: collect, then recombine cos(a ± b) where it shortens."""
-    sp = _sympy()
+    sp = import_sympy()
     if expr == 0:
         return expr
     out = sp.factor_terms(expr)

@@ -1,4 +1,4 @@
-"""Jacobians of the exponential maps of SO(3), SE(3) and SE(2) (private; the derivatives of ``fd.integrate``).
+"""Jacobians of the exponential maps of SO(3), SE(3) and SE(2) (the derivatives of ``fd.integrate`` and ``fd.difference``).
 
 Right Jacobians in featherdyn's orders — ``ω`` for SO(3), ``ξ = [ω; v]`` for
 SE(3), ``[ω, v_x, v_y]`` for SE(2) — so that, for a right-multiplied step,
@@ -17,6 +17,8 @@ from collections.abc import Callable
 
 import numpy as np
 
+from .ops import skew_unchecked
+
 __all__ = ["so3_right_jacobian", "so3_right_jacobian_inverse", "se3_right_jacobian", "se3_right_jacobian_inverse",
            "se3_inverse_adjoint_of_exp", "se2_right_jacobian", "se2_inverse_adjoint_of_exp"]
 
@@ -33,12 +35,6 @@ def _coef(theta: np.ndarray, closed: Callable[[np.ndarray], np.ndarray], series:
     big = theta >= _SERIES
     safe = np.where(big, theta, 1.0)
     return np.where(big, closed(safe), s)
-
-
-def _skew(w: np.ndarray) -> np.ndarray:
-    z = np.zeros(w.shape[:-1])
-    return np.stack([np.stack([z, -w[..., 2], w[..., 1]], -1), np.stack([w[..., 2], z, -w[..., 0]], -1),
-                     np.stack([-w[..., 1], w[..., 0], z], -1)], -2)
 
 
 # (1 − cos θ)/θ², (θ − sin θ)/θ³, sin θ / θ
@@ -60,7 +56,7 @@ def so3_right_jacobian(w: np.ndarray) -> np.ndarray:
         Jr(ω) = 1 − (1 − cos θ)/θ² [ω]× + (θ − sin θ)/θ³ [ω]×²,   θ = |ω|
     """
     t = np.linalg.norm(w, axis=-1)[..., None, None]
-    W = _skew(w)
+    W = skew_unchecked(w)
     return np.eye(3) - _a1(t) * W + _a2(t) * (W @ W)
 
 
@@ -70,7 +66,7 @@ def so3_right_jacobian_inverse(w: np.ndarray) -> np.ndarray:
         Jr(ω)⁻¹ = 1 + ½ [ω]× + (1/θ² − (1 + cos θ)/(2 θ sin θ)) [ω]×²
     """
     t = np.linalg.norm(w, axis=-1)[..., None, None]
-    W = _skew(w)
+    W = skew_unchecked(w)
     e = _coef(t, lambda x: 1 / x**2 - (1 + np.cos(x)) / (2 * x * np.sin(x)),
               (1 / 12, 1 / 720, 1 / 30240, 1 / 1209600, 1 / 47900160))
     return np.eye(3) + 0.5 * W + e * (W @ W)
@@ -79,7 +75,7 @@ def so3_right_jacobian_inverse(w: np.ndarray) -> np.ndarray:
 def _se3_Q(rho: np.ndarray, phi: np.ndarray) -> np.ndarray:
     """Barfoot's ``Q(ρ, φ)`` (the coupling block of SE(3)'s left Jacobian; ρ translation, φ rotation)."""
     t = np.linalg.norm(phi, axis=-1)[..., None, None]
-    P, R = _skew(phi), _skew(rho)
+    P, R = skew_unchecked(phi), skew_unchecked(rho)
     a = _a2(t)
     b = _coef(t, lambda x: (x**2 / 2 + np.cos(x) - 1) / x**4, (1 / 24, -1 / 720, 1 / 40320, -1 / 3628800, 1 / 479001600))
     d = _coef(t, lambda x: (2 * x - 3 * np.sin(x) + x * np.cos(x)) / (2 * x**5),
@@ -114,7 +110,7 @@ def se3_inverse_adjoint_of_exp(xi: np.ndarray) -> np.ndarray:
     """``Ad(exp(ξ))⁻¹`` `(..., 6, 6)` on ``[ω; v]`` motions: ``[[Rᵀ, 0], [−Rᵀ [p]×, Rᵀ]]`` for ``exp(ξ) = (R, p)``."""
     w, v = xi[..., :3], xi[..., 3:]
     t = np.linalg.norm(w, axis=-1)[..., None, None]
-    W = _skew(w)
+    W = skew_unchecked(w)
     R = np.eye(3) + _sinc(t) * W + _a1(t) * (W @ W)
     V = np.eye(3) + _a1(t) * W + _a2(t) * (W @ W)
     p = (V @ v[..., None])[..., 0]
@@ -122,7 +118,7 @@ def se3_inverse_adjoint_of_exp(xi: np.ndarray) -> np.ndarray:
     out = np.zeros(xi.shape[:-1] + (6, 6))
     out[..., :3, :3] = Rt
     out[..., 3:, 3:] = Rt
-    out[..., 3:, :3] = -Rt @ _skew(p)
+    out[..., 3:, :3] = -Rt @ skew_unchecked(p)
     return out
 
 

@@ -1,4 +1,4 @@
-"""Argument types and output checks shared by ``featherdyn`` (:mod:`featherdyn.cli`) and ``featherdyn bench``.
+"""Argument types and output checks shared by ``featherdyn`` (:mod:`featherdyn.tools.cli`) and ``featherdyn bench``.
 
 Everything a command can refuse is refused here, before any work: a bad
 number, an output file whose folder does not exist. The command line prints
@@ -11,7 +11,7 @@ import argparse
 import os
 from pathlib import Path
 
-from .errors import FeatherdynError
+from ..errors import FeatherdynError
 
 __all__ = ["positive_int", "positive_float", "check_writable"]
 

@@ -1,4 +1,4 @@
-"""A ``dask.distributed`` client for the commands that spread work (private; tools layer).
+"""A ``dask.distributed`` client for the commands that spread work (tools layer).
 
 ``featherdyn dataset`` and ``featherdyn verify --all`` take ``--scheduler``:
 ``local`` starts a ``LocalCluster`` of worker processes on this machine (one
@@ -13,7 +13,7 @@ from collections.abc import Iterator
 from contextlib import contextmanager
 from typing import Any
 
-from .errors import DatasetError, MissingDependencyError
+from ..errors import DatasetError, MissingDependencyError
 
 __all__ = ["available_cores", "dask_client"]
 

@@ -46,14 +46,14 @@ from typing import Any
 
 import numpy as np
 
-from ._distributed import available_cores, dask_client
-from .api import (
+from ..api import (
     aba,
     aba_derivatives,
     center_of_mass,
     centroidal_momentum_matrix,
     crba,
     generalized_gravity,
+    get_num_threads,
     joint_torque_regressor,
     kinetic_energy,
     mass_matrix_inverse,
@@ -61,11 +61,12 @@ from .api import (
     potential_energy,
     rnea,
     rnea_derivatives,
+    set_num_threads,
 )
-from .api._backend import get_num_threads, set_num_threads
-from .configuration import random_configuration
-from .errors import DatasetError, MissingDependencyError
-from .model import Model
+from ..configuration import random_configuration
+from ..errors import DatasetError, MissingDependencyError
+from ..model import Model
+from .distributed import available_cores, dask_client
 
 __all__ = ["QUANTITIES", "DEFAULT_QUANTITIES", "DatasetSpec", "write_dataset", "model_sha256", "states_of_chunk"]
 
@@ -209,7 +210,7 @@ def _chunk_is_good(model: Model, spec: DatasetSpec, group: Any, k: int) -> bool:
 
 
 def _settings(spec: DatasetSpec, model: Model) -> dict[str, Any]:
-    from . import __version__
+    from .. import __version__
 
     return {"featherdyn_version": __version__, "model_sha256": model_sha256(model), "robot": spec.robot,
             "floating_base": spec.floating_base, "states": spec.states, "chunk": spec.chunk, "seed": spec.seed,

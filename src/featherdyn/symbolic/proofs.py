@@ -1,42 +1,14 @@
-"""SymPy proofs of the chapter's identities, and closed-form dynamics of small robots.
+"""SymPy proofs of the chapter's identities (``prove_*``), for :mod:`featherdyn.symbolic`.
 
-Two kinds of functions live here.
+Each proof builds the chapter's objects with featherdyn's own code on SymPy
+object arrays, forms the difference of the two sides of an identity and
+returns ``True`` when it reduces to zero *exactly* (:mod:`.reduce`)::
 
-**Proofs** (``prove_*``). Each builds the chapter's objects with featherdyn's
-own code (:class:`~featherdyn.PluckerTransform`, :func:`~featherdyn.crm`,
-:class:`~featherdyn.SpatialInertia`, ...) on SymPy object arrays, forms the
-difference of the two sides of an identity and returns ``True`` when it
-reduces to zero *exactly*. No random numeric point is ever used. The
-reduction is polynomial and therefore canonical:
-
-* a rotation is parametrised either by a unit quaternion ``(x, y, z, w)``
-  (``w²`` is eliminated with ``x² + y² + z² + w² = 1``) or by roll-pitch-yaw
-  angles (``sin θ``, ``cos θ`` become symbols ``s``, ``c`` and ``s²`` is
-  eliminated with ``s² + c² = 1``);
-* floats coming from constant model data (``1.0`` in a motion subspace) are
-  replaced by the rationals they print as;
-* the result is expanded. ``{s² + c² − 1}`` and ``{|q|² − 1}`` are Gröbner
-  bases with coprime leading terms, so the remainder is zero iff the
-  expression vanishes on the constraint set.
-
-**Closed-form dynamics.** :func:`mass_matrix`, :func:`coriolis` and
-:func:`gravity` run the reference algorithms (:func:`featherdyn.crba`,
-:func:`featherdyn.coriolis_matrix`, :func:`featherdyn.generalized_gravity`) on
-object arrays of symbols and reduce the result the same way;
-:func:`symbolic_model` puts symbolic masses, lengths and gravity into a model.
-:func:`lagrangian_two_link` derives ``M``, ``C``, ``g`` of the chapter's
-appendix-D arm from its Lagrangian, independently of the spatial algebra, and
-:func:`check_two_link` proves the two derivations equal.
-
-SymPy is optional (a test dependency); it is imported on first use and its
-absence raises :class:`~featherdyn.errors.MissingDependencyError`.
+    prove_x() = is_zero(lhs − rhs)      (no random numeric point is ever used)
 
 Sources: chapter §3 (``det X = 1``), §4 (Jacobi, ``crf = −crmᵀ``), §2.3
 (power), §5.2 (parallel axis), §5.3 (10 parameters), appendices F and I;
 Featherstone, *RBDA* (2008) ch. 2.
-
-The exact reduction lives in :mod:`._symbolic_reduce`, the closed-form
-dynamics and the 2R arm in :mod:`._symbolic_dynamics`; every name is here.
 """
 
 from __future__ import annotations
@@ -46,34 +18,13 @@ from collections.abc import Callable, Sequence
 
 import numpy as np
 
-from ._symbolic_dynamics import (
-    APPENDIX_D,
-    TwoLinkDynamics,
-    check_two_link,
-    coriolis,
-    gravity,
-    lagrangian_two_link,
-    mass_matrix,
-    symbolic_model,
-    two_link_arm,
-    two_link_symbols,
-)
-from ._symbolic_reduce import _mat, _obj, _Reducer, _sympy, canonical, is_zero
-from .rotation import quat_to_matrix, rpy_to_matrix
-from .spatial_algebra import PluckerTransform, SpatialForce, SpatialInertia, SpatialMotion, crf, crm, skew
+from ..rotation import quat_to_matrix, rpy_to_matrix
+from ..spatial import PluckerTransform, SpatialForce, SpatialInertia, SpatialMotion, crf, crm, skew
+from .reduce import Reducer, import_sympy, is_zero, object_array, sympy_matrix
 
 __all__ = [
     "PARAMETRIZATIONS",
-    "APPENDIX_D",
-    "TwoLinkDynamics",
     "all_proofs",
-    "canonical",
-    "check_two_link",
-    "coriolis",
-    "gravity",
-    "is_zero",
-    "lagrangian_two_link",
-    "mass_matrix",
     "prove_cross_antisymmetry",
     "prove_cross_equivariance",
     "prove_crf_is_minus_crm_transpose",
@@ -88,9 +39,6 @@ __all__ = [
     "prove_power_invariance",
     "prove_pure_rotation_orthogonal",
     "prove_transform_inverse",
-    "symbolic_model",
-    "two_link_arm",
-    "two_link_symbols",
 ]
 
 #: the two ways a symbolic rotation is parametrised in the proofs
@@ -102,42 +50,42 @@ PARAMETRIZATIONS = ("quaternion", "rpy")
 # --------------------------------------------------------------------------
 
 
-def _rotation(parametrization: str) -> tuple[np.ndarray, _Reducer]:
+def _rotation(parametrization: str) -> tuple[np.ndarray, Reducer]:
     """A general symbolic rotation (featherdyn's own formula) and the reducer that knows its constraint."""
-    sp = _sympy()
+    sp = import_sympy()
     if parametrization == "quaternion":
         quat = sp.symbols("q_x q_y q_z q_w", real=True)
-        return quat_to_matrix(_obj(quat)), _Reducer(quat)
+        return quat_to_matrix(object_array(quat)), Reducer(quat)
     if parametrization == "rpy":
-        return rpy_to_matrix(_obj(sp.symbols("roll pitch yaw", real=True))), _Reducer()
+        return rpy_to_matrix(object_array(sp.symbols("roll pitch yaw", real=True))), Reducer()
     raise ValueError(f"parametrization: expected one of {PARAMETRIZATIONS}, got {parametrization!r}")
 
 
-def _transform(parametrization: str) -> tuple[PluckerTransform, _Reducer]:
+def _transform(parametrization: str) -> tuple[PluckerTransform, Reducer]:
     """``X = (R, p)`` with a general rotation and a symbolic translation ``p``."""
-    sp = _sympy()
+    sp = import_sympy()
     R, red = _rotation(parametrization)
-    p = _obj(sp.symbols("p_x p_y p_z", real=True))
+    p = object_array(sp.symbols("p_x p_y p_z", real=True))
     return PluckerTransform(R, p, validate=False), red
 
 
 def _motion(name: str) -> SpatialMotion:
-    sp = _sympy()
-    return SpatialMotion.from_vector(_obj(sp.symbols(f"{name}_0:6", real=True)))
+    sp = import_sympy()
+    return SpatialMotion.from_vector(object_array(sp.symbols(f"{name}_0:6", real=True)))
 
 
 def _force(name: str) -> SpatialForce:
-    sp = _sympy()
-    return SpatialForce.from_vector(_obj(sp.symbols(f"{name}_0:6", real=True)))
+    sp = import_sympy()
+    return SpatialForce.from_vector(object_array(sp.symbols(f"{name}_0:6", real=True)))
 
 
 def _inertia(name: str = "") -> SpatialInertia:
     """A general spatial inertia: symbolic m, c and a symmetric I_c (10 symbols)."""
-    sp = _sympy()
+    sp = import_sympy()
     m = sp.Symbol(f"m{name}", positive=True)
-    c = _obj(sp.symbols(f"c{name}_x c{name}_y c{name}_z", real=True))
+    c = object_array(sp.symbols(f"c{name}_x c{name}_y c{name}_z", real=True))
     xx, xy, yy, xz, yz, zz = sp.symbols(f"I{name}_xx I{name}_xy I{name}_yy I{name}_xz I{name}_yz I{name}_zz", real=True)
-    Ic = _obj([[xx, xy, xz], [xy, yy, yz], [xz, yz, zz]])
+    Ic = object_array([[xx, xy, xz], [xy, yy, yz], [xz, yz, zz]])
     return SpatialInertia(m, c, Ic)
 
 
@@ -157,8 +105,8 @@ def prove_plucker_determinant(parametrization: str = "quaternion") -> bool:
         det X = det(A) · det(D − C A⁻¹ B) = det(R) · det(R) = 1
     """
     X, red = _transform(parametrization)
-    Xm = _mat(X.matrix()).applyfunc(red.poly)
-    return red.is_zero(Xm.det(method="berkowitz") - 1) and red.is_zero(_mat(X.rotation).det() - 1)
+    Xm = sympy_matrix(X.matrix()).applyfunc(red.poly)
+    return red.is_zero(Xm.det(method="berkowitz") - 1) and red.is_zero(sympy_matrix(X.rotation).det() - 1)
 
 
 def prove_pure_rotation_orthogonal(parametrization: str = "quaternion") -> bool:
@@ -168,8 +116,8 @@ def prove_pure_rotation_orthogonal(parametrization: str = "quaternion") -> bool:
     see ``tests/unit/test_symbolic.py``.)
     """
     R, red = _rotation(parametrization)
-    Xrot = _mat(PluckerTransform(R, _obj([0, 0, 0]), validate=False).matrix())
-    sp = _sympy()
+    Xrot = sympy_matrix(PluckerTransform(R, object_array([0, 0, 0]), validate=False).matrix())
+    sp = import_sympy()
     return red.is_zero(Xrot * Xrot.T - sp.eye(6))
 
 
@@ -181,9 +129,9 @@ def prove_transform_inverse(parametrization: str = "quaternion") -> bool:
         X*ᵀ = X⁻¹,    (X*)⁻¹ = (X⁻¹)* = Xᵀ   (F.1 prints X⁻ᵀ here, which is X* itself)
     """
     X, red = _transform(parametrization)
-    sp = _sympy()
-    Xm, Xi, Xd = _mat(X.matrix()), _mat(X.inverse().matrix()), _mat(X.dual_matrix())
-    Xinv_d = _mat(X.inverse().dual_matrix())
+    sp = import_sympy()
+    Xm, Xi, Xd = sympy_matrix(X.matrix()), sympy_matrix(X.inverse().matrix()), sympy_matrix(X.dual_matrix())
+    Xinv_d = sympy_matrix(X.inverse().dual_matrix())
     one = sp.eye(6)
     return (
         red.is_zero(Xi * Xm - one)
@@ -295,15 +243,15 @@ def prove_parallel_axis(parametrization: str = "quaternion") -> bool:
     moves ``c`` and ``I_c`` directly), and the closed form written out here
     with SymPy matrices.
     """
-    sp = _sympy()
+    sp = import_sympy()
     X, red = _transform(parametrization)
     I_A = _inertia()
-    product = _mat(X.dual_matrix()) * _mat(I_A.matrix()) * _mat(X.inverse().matrix())
-    applied = _mat(X.apply(I_A).matrix())
-    R, p = _mat(X.rotation), _mat(X.translation[:, None])
-    c = R * _mat(I_A.com[:, None]) + p
-    Ic = R * _mat(I_A.inertia_com) * R.T
-    cx = _mat(skew(np.array(list(c), dtype=object)))
+    product = sympy_matrix(X.dual_matrix()) * sympy_matrix(I_A.matrix()) * sympy_matrix(X.inverse().matrix())
+    applied = sympy_matrix(X.apply(I_A).matrix())
+    R, p = sympy_matrix(X.rotation), sympy_matrix(X.translation[:, None])
+    c = R * sympy_matrix(I_A.com[:, None]) + p
+    Ic = R * sympy_matrix(I_A.inertia_com) * R.T
+    cx = sympy_matrix(skew(np.array(list(c), dtype=object)))
     m = I_A.mass[()]
     closed = sp.BlockMatrix([[Ic - m * cx * cx, m * cx], [m * cx.T, m * sp.eye(3)]]).as_explicit()
     return red.is_zero(product - closed) and red.is_zero(applied - closed)
@@ -323,8 +271,8 @@ def prove_dynamic_parameters_round_trip() -> bool:
     """
     I_A = _inertia()
     back = SpatialInertia.from_dynamic_parameters(I_A.to_dynamic_parameters())
-    sp = _sympy()
-    pi = _obj(sp.symbols("pi_0:10", real=True))
+    sp = import_sympy()
+    pi = object_array(sp.symbols("pi_0:10", real=True))
     pi_back = SpatialInertia.from_dynamic_parameters(pi).to_dynamic_parameters()
     return (
         is_zero(back.mass - I_A.mass)
@@ -342,9 +290,9 @@ def prove_inertia_linear_in_dynamic_parameters() -> bool:
     although ``c = h/m`` and ``I_c = I_O + [h]×[h]×/m`` are not: the ``1/m``
     terms cancel. This is what makes ``τ = Y(q, q̇, q̈) π`` (RBDA §2.13).
     """
-    sp = _sympy()
+    sp = import_sympy()
     pi = sp.symbols("pi_0:10", real=True)
-    Imat = _mat(SpatialInertia.from_dynamic_parameters(_obj(pi)).matrix()).applyfunc(lambda e: sp.cancel(sp.together(e)))
+    Imat = sympy_matrix(SpatialInertia.from_dynamic_parameters(object_array(pi)).matrix()).applyfunc(lambda e: sp.cancel(sp.together(e)))
     for e in Imat:
         for a, b in itertools.combinations_with_replacement(pi, 2):
             if sp.diff(e, a, b) != 0:

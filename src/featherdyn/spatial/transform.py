@@ -17,20 +17,32 @@ from typing import Any, NoReturn, overload
 import numpy as np
 from numpy.typing import ArrayLike, DTypeLike
 
-from ._spatial_inertia import SpatialInertia, _bcast_inertia
-from ._spatial_ops import _batch_index, _bcast, _bcast_rp, _cross3, _fmt, _kind, _matvec, _mT, _skew, _tags, _unskew
-from ._spatial_vectors import SpatialForce, SpatialMotion, _SpatialValue
-from ._validation import as_array, check_rotation, result_dtype
-from .errors import ShapeError, SpatialTypeError
-from .frames import Frame, check_same_frame
-from .tolerances import SPATIAL_STRUCTURE
+from ..errors import ShapeError, SpatialTypeError
+from ..frames import Frame, check_same_frame
+from ..tolerances import SPATIAL_STRUCTURE
+from .inertia import SpatialInertia, broadcast_inertia
+from .ops import (
+    batch_index,
+    broadcast_batch,
+    broadcast_rotation_translation,
+    cross3,
+    format_array,
+    format_tags,
+    matrix_transpose,
+    matvec,
+    skew_unchecked,
+    type_name,
+    unskew_unchecked,
+)
+from .validation import as_array, check_rotation, result_dtype
+from .vectors import SpatialForce, SpatialMotion, SpatialValue
 
 #: what a transform acts on
 _Transformable = SpatialMotion | SpatialForce | SpatialInertia
 
 
 @dataclass(frozen=True, slots=True, init=False, eq=False, repr=False)
-class PluckerTransform(_SpatialValue):
+class PluckerTransform(SpatialValue):
     """A Plücker coordinate transform ``ᴮX_A``: the pose of frame A in frame B.
 
     ``rotation`` `(..., 3, 3)` holds A's axes in B-coordinates and
@@ -102,7 +114,7 @@ class PluckerTransform(_SpatialValue):
             expected = np.array([0, 0, 0, 1], dtype=t.dtype)
             if not np.allclose(bottom, expected, atol=SPATIAL_STRUCTURE.of(t.dtype), rtol=0):
                 raise ShapeError(
-                    f"matrix: expected a homogeneous transform with last row [0, 0, 0, 1], got {_fmt(bottom.reshape(-1, 4)[0])}"
+                    f"matrix: expected a homogeneous transform with last row [0, 0, 0, 1], got {format_array(bottom.reshape(-1, 4)[0])}"
                 )
         return cls(t[..., :3, :3], t[..., :3, 3], source, target, validate=validate)
 
@@ -119,7 +131,7 @@ class PluckerTransform(_SpatialValue):
         e = as_array(E, "E", (3, 3))
         rr = as_array(r, "r", (3,))
         check_rotation(e, "E")
-        return cls._wrap(*_bcast_rp(e, -_matvec(e, rr)), source, target)
+        return cls._wrap(*broadcast_rotation_translation(e, -matvec(e, rr)), source, target)
 
     @classmethod
     def from_matrix(cls, matrix: ArrayLike, source: Frame = None, target: Frame = None) -> PluckerTransform:
@@ -131,10 +143,10 @@ class PluckerTransform(_SpatialValue):
         scale = max(1.0, float(np.abs(x).max())) if x.size else 1.0
         if np.abs(x[..., :3, 3:]).max(initial=0.0) > tol * scale or np.abs(x[..., 3:, 3:] - rot).max(initial=0.0) > tol * scale:
             raise ShapeError("matrix: not a Plücker motion transform: expected [[R, 0], [[p]×R, R]]")
-        px = x[..., 3:, :3] @ _mT(rot)
-        if np.abs(px + _mT(px)).max(initial=0.0) > tol * scale:
+        px = x[..., 3:, :3] @ matrix_transpose(rot)
+        if np.abs(px + matrix_transpose(px)).max(initial=0.0) > tol * scale:
             raise ShapeError("matrix: not a Plücker motion transform: lower-left block times Rᵀ is not skew-symmetric")
-        return cls._wrap(np.array(rot), _unskew(px), source, target)
+        return cls._wrap(np.array(rot), unskew_unchecked(px), source, target)
 
     @property
     def shape(self) -> tuple[int, ...]:
@@ -146,7 +158,7 @@ class PluckerTransform(_SpatialValue):
         return self.translation.dtype
 
     def __getitem__(self, idx: Any) -> PluckerTransform:
-        idx = _batch_index(self.translation, idx, 1)
+        idx = batch_index(self.translation, idx, 1)
         return PluckerTransform._wrap(np.array(self.rotation[idx]), np.array(self.translation[idx]), self.source, self.target)
 
     # action on spatial values ----------------------------------------------
@@ -174,19 +186,19 @@ class PluckerTransform(_SpatialValue):
         """
         if isinstance(x, SpatialMotion):
             check_same_frame(x.frame, self.source, "X.apply(motion): motion frame vs X.source")
-            rw = _matvec(self.rotation, x.angular)
-            rv = _matvec(self.rotation, x.linear) + _cross3(self.translation, rw)
-            return SpatialMotion._wrap(np.concatenate(_bcast(rw, rv), axis=-1), self.target, x.body, x.relative_to)
+            rw = matvec(self.rotation, x.angular)
+            rv = matvec(self.rotation, x.linear) + cross3(self.translation, rw)
+            return SpatialMotion._wrap(np.concatenate(broadcast_batch(rw, rv), axis=-1), self.target, x.body, x.relative_to)
         if isinstance(x, SpatialForce):
             check_same_frame(x.frame, self.source, "X.apply(force): force frame vs X.source")
-            rf = _matvec(self.rotation, x.linear)
-            rn = _matvec(self.rotation, x.angular) + _cross3(self.translation, rf)
-            return SpatialForce._wrap(np.concatenate(_bcast(rn, rf), axis=-1), self.target)
+            rf = matvec(self.rotation, x.linear)
+            rn = matvec(self.rotation, x.angular) + cross3(self.translation, rf)
+            return SpatialForce._wrap(np.concatenate(broadcast_batch(rn, rf), axis=-1), self.target)
         if isinstance(x, SpatialInertia):
             check_same_frame(x.frame, self.source, "X.apply(inertia): inertia frame vs X.source")
-            com = _matvec(self.rotation, x.com) + self.translation
-            ic = self.rotation @ x.inertia_com @ _mT(self.rotation)
-            return SpatialInertia._wrap(*_bcast_inertia(x.mass, com, ic), self.target)
+            com = matvec(self.rotation, x.com) + self.translation
+            ic = self.rotation @ x.inertia_com @ matrix_transpose(self.rotation)
+            return SpatialInertia._wrap(*broadcast_inertia(x.mass, com, ic), self.target)
         raise _apply_type_error("X.apply", x)
 
     @overload
@@ -204,22 +216,22 @@ class PluckerTransform(_SpatialValue):
             X⁻¹ m:  ω = Rᵀ ω',  v = Rᵀ (v' − p × ω')
             Xᵀ f:   f = Rᵀ f',  n = Rᵀ (n' − p × f')
         """
-        rt = _mT(self.rotation)
+        rt = matrix_transpose(self.rotation)
         if isinstance(x, SpatialMotion):
             check_same_frame(x.frame, self.target, "X.apply_inverse(motion): motion frame vs X.target")
-            w = _matvec(rt, x.angular)
-            v = _matvec(rt, x.linear - _cross3(self.translation, x.angular))
-            return SpatialMotion._wrap(np.concatenate(_bcast(w, v), axis=-1), self.source, x.body, x.relative_to)
+            w = matvec(rt, x.angular)
+            v = matvec(rt, x.linear - cross3(self.translation, x.angular))
+            return SpatialMotion._wrap(np.concatenate(broadcast_batch(w, v), axis=-1), self.source, x.body, x.relative_to)
         if isinstance(x, SpatialForce):
             check_same_frame(x.frame, self.target, "X.apply_inverse(force): force frame vs X.target")
-            f = _matvec(rt, x.linear)
-            n = _matvec(rt, x.angular - _cross3(self.translation, x.linear))
-            return SpatialForce._wrap(np.concatenate(_bcast(n, f), axis=-1), self.source)
+            f = matvec(rt, x.linear)
+            n = matvec(rt, x.angular - cross3(self.translation, x.linear))
+            return SpatialForce._wrap(np.concatenate(broadcast_batch(n, f), axis=-1), self.source)
         if isinstance(x, SpatialInertia):
             check_same_frame(x.frame, self.target, "X.apply_inverse(inertia): inertia frame vs X.target")
-            com = _matvec(rt, x.com - self.translation)
+            com = matvec(rt, x.com - self.translation)
             ic = rt @ x.inertia_com @ self.rotation
-            return SpatialInertia._wrap(*_bcast_inertia(x.mass, com, ic), self.source)
+            return SpatialInertia._wrap(*broadcast_inertia(x.mass, com, ic), self.source)
         raise _apply_type_error("X.apply_inverse", x)
 
     @overload
@@ -241,8 +253,8 @@ class PluckerTransform(_SpatialValue):
         if isinstance(other, PluckerTransform):
             check_same_frame(self.source, other.target, "X_CB @ X_BA: X_CB.source vs X_BA.target")
             rot = self.rotation @ other.rotation
-            p = _matvec(self.rotation, other.translation) + self.translation
-            return PluckerTransform._wrap(*_bcast_rp(rot, p), other.source, self.target)
+            p = matvec(self.rotation, other.translation) + self.translation
+            return PluckerTransform._wrap(*broadcast_rotation_translation(rot, p), other.source, self.target)
         return self.apply(other)
 
     def __rmatmul__(self, other: object) -> NoReturn:
@@ -255,8 +267,8 @@ class PluckerTransform(_SpatialValue):
 
             (R, p)⁻¹ = (Rᵀ, −Rᵀ p)
         """
-        rt = _mT(self.rotation)
-        return PluckerTransform._wrap(np.array(rt), -_matvec(rt, self.translation), self.target, self.source)
+        rt = matrix_transpose(self.rotation)
+        return PluckerTransform._wrap(np.array(rt), -matvec(rt, self.translation), self.target, self.source)
 
     # matrices ----------------------------------------------------------------
 
@@ -265,7 +277,7 @@ class PluckerTransform(_SpatialValue):
         rot = self.rotation
         zero = np.zeros_like(rot)
         return np.concatenate(
-            [np.concatenate([rot, zero], axis=-1), np.concatenate([_skew(self.translation) @ rot, rot], axis=-1)], axis=-2
+            [np.concatenate([rot, zero], axis=-1), np.concatenate([skew_unchecked(self.translation) @ rot, rot], axis=-1)], axis=-2
         )
 
     def dual_matrix(self) -> np.ndarray:
@@ -273,7 +285,7 @@ class PluckerTransform(_SpatialValue):
         rot = self.rotation
         zero = np.zeros_like(rot)
         return np.concatenate(
-            [np.concatenate([rot, _skew(self.translation) @ rot], axis=-1), np.concatenate([zero, rot], axis=-1)], axis=-2
+            [np.concatenate([rot, skew_unchecked(self.translation) @ rot], axis=-1), np.concatenate([zero, rot], axis=-1)], axis=-2
         )
 
     def inverse_matrix(self) -> np.ndarray:
@@ -291,7 +303,7 @@ class PluckerTransform(_SpatialValue):
     def allclose(self, other: PluckerTransform, rtol: float = 1e-9, atol: float = 1e-12) -> bool:
         """Elementwise closeness of rotation and translation, after a type and frame check."""
         if not isinstance(other, PluckerTransform):
-            raise SpatialTypeError(f"X.allclose needs a PluckerTransform, got a {_kind(other)}")
+            raise SpatialTypeError(f"X.allclose needs a PluckerTransform, got a {type_name(other)}")
         check_same_frame(self.source, other.source, "X.allclose: source frames")
         check_same_frame(self.target, other.target, "X.allclose: target frames")
         return bool(
@@ -300,12 +312,12 @@ class PluckerTransform(_SpatialValue):
         )
 
     def __repr__(self) -> str:
-        return f"PluckerTransform(rotation={_fmt(self.rotation)}, translation={_fmt(self.translation)}{_tags(self)})"
+        return f"PluckerTransform(rotation={format_array(self.rotation)}, translation={format_array(self.translation)}{format_tags(self)})"
 
 
 def _apply_type_error(what: str, x: object) -> SpatialTypeError:
     return SpatialTypeError(
-        f"{what} needs a SpatialMotion, SpatialForce or SpatialInertia, got a {_kind(x)}: motions transform "
+        f"{what} needs a SpatialMotion, SpatialForce or SpatialInertia, got a {type_name(x)}: motions transform "
         "with X and forces with X* = X⁻ᵀ, so a raw 6-vector is ambiguous. Wrap it with "
         "SpatialMotion.from_vector(v) or SpatialForce.from_vector(f), or use X.matrix() @ v / X.dual_matrix() @ f"
     )

@@ -17,30 +17,30 @@ from typing import Any, ClassVar
 import numpy as np
 from numpy.typing import ArrayLike, DTypeLike
 
-from ._spatial_ops import (
-    _adopt_dtype,
-    _batch_index,
-    _bcast,
-    _cross3,
-    _fmt,
-    _kind,
-    _matvec,
-    _mT,
-    _raw_hint,
-    _skew,
-    _sum_last,
-    _tags,
-    _unskew,
+from ..errors import DTypeError, InertiaError, SpatialTypeError
+from ..frames import Frame, check_same_frame, merge_frames
+from ..tolerances import INERTIA_PHYSICAL, INERTIA_STRUCTURE
+from .ops import (
+    adopt_dtype,
+    batch_index,
+    broadcast_batch,
+    cross3,
+    format_array,
+    format_tags,
+    matrix_transpose,
+    matvec,
+    raw_vector_hint,
+    skew_unchecked,
+    sum_last,
+    type_name,
+    unskew_unchecked,
 )
-from ._spatial_vectors import SpatialForce, SpatialMotion, _mix_error, _SpatialValue
-from ._validation import as_array, readonly, result_dtype
-from .errors import DTypeError, InertiaError, SpatialTypeError
-from .frames import Frame, check_same_frame, merge_frames
-from .tolerances import INERTIA_PHYSICAL, INERTIA_STRUCTURE
+from .validation import as_array, readonly, result_dtype
+from .vectors import SpatialForce, SpatialMotion, SpatialValue, mix_error
 
 
 @dataclass(frozen=True, slots=True, init=False, eq=False, repr=False)
-class SpatialInertia(_SpatialValue):
+class SpatialInertia(SpatialValue):
     """The spatial inertia of a rigid body, from its mass, centre of mass and rotational inertia.
 
     Args:
@@ -70,27 +70,27 @@ class SpatialInertia(_SpatialValue):
         exact = _exact_float64(mass, com, inertia_com)  # stacked float64 of matching shapes: nothing to convert
         if exact:
             m, c, ic = np.array(mass), np.array(com), np.asarray(inertia_com)
-            if bool((ic == _mT(ic)).all()):  # exactly symmetric (a loader's): nothing to check or average
+            if bool((ic == matrix_transpose(ic)).all()):  # exactly symmetric (a loader's): nothing to check or average
                 _init_i(self, m, c, np.array(ic), frame)
                 return
         else:
-            m, c, ic = _adopt_dtype(
+            m, c, ic = adopt_dtype(
                 (mass, com, inertia_com),
                 [as_array(mass, "mass"), as_array(com, "com", (3,)), as_array(inertia_com, "inertia_com", (3, 3))],
             )
         if ic.dtype.kind != "O":
-            asym = np.abs(ic - _mT(ic)).max(axis=(-2, -1), initial=0.0)
+            asym = np.abs(ic - matrix_transpose(ic)).max(axis=(-2, -1), initial=0.0)
             scale = np.maximum(np.abs(ic).max(axis=(-2, -1), initial=0.0), 1.0)
             tol = INERTIA_STRUCTURE.of(ic.dtype)
             if np.any(asym > tol * scale):
                 raise InertiaError(
                     f"inertia_com: expected a symmetric 3×3 matrix, max |I − Iᵀ| = {float(np.max(asym)):.3g}"
                 )
-            ic = (ic + _mT(ic)) / 2
+            ic = (ic + matrix_transpose(ic)) / 2
         if exact:
             _init_i(self, m, c, ic, frame)
         else:
-            _init_i(self, *_bcast_inertia(m, c, ic), frame)
+            _init_i(self, *broadcast_inertia(m, c, ic), frame)
 
     @classmethod
     def _wrap(cls, m: np.ndarray, c: np.ndarray, ic: np.ndarray, frame: Frame) -> SpatialInertia:
@@ -121,22 +121,22 @@ class SpatialInertia(_SpatialValue):
             if np.any(cond):
                 raise InertiaError(f"matrix: not a rigid-body spatial inertia: {msg}")
 
-        asym = np.abs(mat - _mT(mat)).max(axis=(-2, -1))
+        asym = np.abs(mat - matrix_transpose(mat)).max(axis=(-2, -1))
         fail(asym > tol * scale, f"not symmetric (max |I − Iᵀ| = {float(np.max(asym)):.3g})")
         lower = mat[..., 3:, 3:]
         m = np.trace(lower, axis1=-2, axis2=-1) / 3
         dev = np.abs(lower - m[..., None, None] * np.eye(3, dtype=mat.dtype)).max(axis=(-2, -1))
         fail(dev > tol * scale, f"lower-right block is not m·1 (max deviation {float(np.max(dev)):.3g})")
         b = mat[..., :3, 3:]
-        bsym = np.abs(b + _mT(b)).max(axis=(-2, -1))
+        bsym = np.abs(b + matrix_transpose(b)).max(axis=(-2, -1))
         fail(bsym > tol * scale, f"upper-right block is not skew-symmetric m[c]× (max |B + Bᵀ| = {float(np.max(bsym)):.3g})")
-        h = _unskew(b)
-        hn = np.sqrt(_sum_last(h * h))
+        h = unskew_unchecked(b)
+        hn = np.sqrt(sum_last(h * h))
         zero_mass = np.abs(m) <= tol * scale
         fail(zero_mass & (hn > tol * scale), "zero mass with a non-zero first moment m·c")
         safe = np.where(zero_mass, 1.0, m)
         c = np.where(zero_mass[..., None], 0.0, h / safe[..., None])
-        cx = _skew(c)
+        cx = skew_unchecked(c)
         ic = mat[..., :3, :3] + m[..., None, None] * (cx @ cx)
         return cls(m, c, ic, frame)
 
@@ -160,7 +160,7 @@ class SpatialInertia(_SpatialValue):
             if np.any(zero & (np.abs(h).max(axis=-1) > 0)):
                 raise InertiaError("params: zero mass with a non-zero first moment m·c")
             c = np.where(zero[..., None], 0.0, h / np.where(zero, 1.0, m)[..., None])
-        cx = _skew(c)
+        cx = skew_unchecked(c)
         return cls(m, c, i_o + m[..., None, None] * (cx @ cx), frame)
 
     @classmethod
@@ -169,7 +169,7 @@ class SpatialInertia(_SpatialValue):
 
             I_c = m/12 · diag(y² + z², x² + z², x² + y²)
         """
-        m, s = _adopt_dtype((mass, size), [as_array(mass, "mass"), as_array(size, "size", (3,))])
+        m, s = adopt_dtype((mass, size), [as_array(mass, "mass"), as_array(size, "size", (3,))])
         sq = s * s
         d = np.stack([sq[..., 1] + sq[..., 2], sq[..., 0] + sq[..., 2], sq[..., 0] + sq[..., 1]], axis=-1)
         return cls._from_diag(m, d * (m[..., None] / 12), frame, size=s)
@@ -180,7 +180,7 @@ class SpatialInertia(_SpatialValue):
 
             I_c = diag(m(3r² + l²)/12, m(3r² + l²)/12, m r²/2)
         """
-        m, r, ln = _adopt_dtype(
+        m, r, ln = adopt_dtype(
             (mass, radius, length), [as_array(mass, "mass"), as_array(radius, "radius"), as_array(length, "length")]
         )
         a = m * (3 * r * r + ln * ln) / 12
@@ -189,14 +189,14 @@ class SpatialInertia(_SpatialValue):
     @classmethod
     def sphere(cls, mass: ArrayLike, radius: ArrayLike, frame: Frame = None) -> SpatialInertia:
         """A solid sphere centred at the origin: ``I_c = 2/5 m r² 1``."""
-        m, r = _adopt_dtype((mass, radius), [as_array(mass, "mass"), as_array(radius, "radius")])
+        m, r = adopt_dtype((mass, radius), [as_array(mass, "mass"), as_array(radius, "radius")])
         a = 2 * m * r * r / 5
         return cls._from_diag(m, np.stack([a, a, a], axis=-1), frame, radius=r)
 
     @classmethod
     def point_mass(cls, mass: ArrayLike, com: ArrayLike, frame: Frame = None) -> SpatialInertia:
         """A point mass at ``com`` (``I_c = 0``)."""
-        m, c = _adopt_dtype((mass, com), [as_array(mass, "mass"), as_array(com, "com", (3,))])
+        m, c = adopt_dtype((mass, com), [as_array(mass, "mass"), as_array(com, "com", (3,))])
         return cls(m, c, np.zeros(c.shape[:-1] + (3, 3), dtype=result_dtype(m, c)), frame)
 
     @classmethod
@@ -210,7 +210,7 @@ class SpatialInertia(_SpatialValue):
         # the moments are squares of the sizes, so the sizes themselves are checked
         for name, val in (("mass", m), *sizes.items()):
             if val.dtype.kind != "O" and np.any(val < 0):
-                raise InertiaError(f"{name}: expected non-negative values, got {_fmt(val)}")
+                raise InertiaError(f"{name}: expected non-negative values, got {format_array(val)}")
         ic = d[..., :, None] * np.eye(3, dtype=d.dtype)
         return cls(m, np.zeros(d.shape, dtype=d.dtype), ic, frame)
 
@@ -231,11 +231,11 @@ class SpatialInertia(_SpatialValue):
 
             Ī = I_c − m [c]×[c]× = I_c + m (|c|² 1 − c cᵀ)
         """
-        cx = _skew(self.com)
+        cx = skew_unchecked(self.com)
         return self.inertia_com - self.mass[..., None, None] * (cx @ cx)
 
     def __getitem__(self, idx: Any) -> SpatialInertia:
-        idx = _batch_index(self.com, idx, 1)
+        idx = batch_index(self.com, idx, 1)
         return SpatialInertia._wrap(
             np.array(self.mass[idx]), np.array(self.com[idx]), np.array(self.inertia_com[idx]), self.frame
         )
@@ -243,11 +243,11 @@ class SpatialInertia(_SpatialValue):
     def matrix(self) -> np.ndarray:
         """The `(..., 6, 6)` spatial inertia matrix (see the class docstring)."""
         m = self.mass[..., None, None]
-        cx = _skew(self.com)
+        cx = skew_unchecked(self.com)
         # object arrays get exact integer ones, so SymPy sees m, not 1.0*m
         eye = np.eye(3, dtype=self.dtype) if self.dtype.kind != "O" else np.eye(3, dtype=int).astype(object)
         top = np.concatenate([self.inertia_origin, m * cx], axis=-1)
-        bottom = np.concatenate([m * _mT(cx), m * eye], axis=-1)
+        bottom = np.concatenate([m * matrix_transpose(cx), m * eye], axis=-1)
         return np.concatenate([top, bottom], axis=-2)
 
     def to_dynamic_parameters(self) -> np.ndarray:
@@ -275,15 +275,15 @@ class SpatialInertia(_SpatialValue):
                     "inertia @ force is not defined: a spatial inertia maps motion to force (h = I v). "
                     "To get an acceleration from a force, solve I a = f (np.linalg.solve(I.matrix(), f.vector))"
                 )
-            raise SpatialTypeError(f"inertia @ x needs a SpatialMotion, got a {_kind(motion)}: " + _raw_hint("SpatialMotion"))
+            raise SpatialTypeError(f"inertia @ x needs a SpatialMotion, got a {type_name(motion)}: " + raw_vector_hint("SpatialMotion"))
         frame = merge_frames(self.frame, motion.frame, "inertia @ motion")
         return SpatialForce._wrap(self._momentum(motion.vector), frame)
 
     def _momentum(self, v: np.ndarray) -> np.ndarray:
         w, lin = v[..., :3], v[..., 3:]
-        hf = self.mass[..., None] * (lin - _cross3(self.com, w))
-        hn = _matvec(self.inertia_com, w) + _cross3(self.com, hf)
-        return np.concatenate(_bcast(hn, hf), axis=-1)
+        hf = self.mass[..., None] * (lin - cross3(self.com, w))
+        hn = matvec(self.inertia_com, w) + cross3(self.com, hf)
+        return np.concatenate(broadcast_batch(hn, hf), axis=-1)
 
     def __add__(self, other: SpatialInertia) -> SpatialInertia:
         """Composite inertia of two bodies rigidly joined (both expressed in the same frame).
@@ -293,7 +293,7 @@ class SpatialInertia(_SpatialValue):
             m = m₁ + m₂,   c = (m₁c₁ + m₂c₂)/m,   I_c = Ī₁ + Ī₂ + m [c]×[c]×
         """
         if not isinstance(other, SpatialInertia):
-            _mix_error("add", self, other)
+            mix_error("add", self, other)
         frame = merge_frames(self.frame, other.frame, "inertia + inertia")
         m = np.asarray(self.mass + other.mass)  # 0-d object arrays add to a bare object
         h = self.com * self.mass[..., None] + other.com * other.mass[..., None]
@@ -303,13 +303,13 @@ class SpatialInertia(_SpatialValue):
         else:
             zero = m == 0
             c = np.where(zero[..., None], 0.0, h / np.where(zero, 1.0, m)[..., None])
-        cx = _skew(c)
-        return SpatialInertia._wrap(*_bcast_inertia(m, c, i_o + m[..., None, None] * (cx @ cx)), frame)
+        cx = skew_unchecked(c)
+        return SpatialInertia._wrap(*broadcast_inertia(m, c, i_o + m[..., None, None] * (cx @ cx)), frame)
 
     def __radd__(self, other: object) -> SpatialInertia:
         if isinstance(other, int) and other == 0:  # sum() starts from 0
             return self
-        _mix_error("add", other, self)
+        mix_error("add", other, self)
 
     def kinetic_energy(self, motion: SpatialMotion) -> Any:
         """Kinetic energy `(...)` of the body moving with ``motion``::
@@ -317,9 +317,9 @@ class SpatialInertia(_SpatialValue):
             T = ½ vᵀ I v
         """
         if not isinstance(motion, SpatialMotion):
-            _mix_error("compute the kinetic energy of", self, motion)
+            mix_error("compute the kinetic energy of", self, motion)
         check_same_frame(self.frame, motion.frame, "inertia.kinetic_energy(motion)")
-        return _sum_last(motion.vector * self._momentum(motion.vector)) / 2
+        return sum_last(motion.vector * self._momentum(motion.vector)) / 2
 
     # physical validity -----------------------------------------------------------
 
@@ -365,13 +365,13 @@ class SpatialInertia(_SpatialValue):
                 where = f" at batch index {idx}" if idx else ""
                 raise InertiaError(
                     f"{name}: violates '{what}'{where}: mass {float(self.mass[idx]):.6g}, "
-                    f"principal moments {_fmt(ev[idx])}"
+                    f"principal moments {format_array(ev[idx])}"
                 )
 
     def __repr__(self) -> str:
         return (
-            f"SpatialInertia(mass={_fmt(self.mass)}, com={_fmt(self.com)}, "
-            f"inertia_com={_fmt(self.inertia_com)}{_tags(self)})"
+            f"SpatialInertia(mass={format_array(self.mass)}, com={format_array(self.com)}, "
+            f"inertia_com={format_array(self.inertia_com)}{format_tags(self)})"
         )
 
 
@@ -390,7 +390,8 @@ def _exact_float64(m: Any, c: Any, ic: Any) -> bool:
             and bool(np.isfinite(m).all() and np.isfinite(c).all() and np.isfinite(ic).all()))
 
 
-def _bcast_inertia(m: np.ndarray, c: np.ndarray, ic: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def broadcast_inertia(m: np.ndarray, c: np.ndarray, ic: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Mass `(...)`, centre of mass `(..., 3)` and ``I_C`` `(..., 3, 3)` broadcast to their common batch shape."""
     shape = np.broadcast_shapes(m.shape, c.shape[:-1], ic.shape[:-2])
     dtype = result_dtype(m, c, ic)
     return (

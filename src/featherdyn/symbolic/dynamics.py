@@ -20,12 +20,22 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
-from ._symbolic_reduce import SymExpr, SymMatrix, _mat, _obj, _pretty, _Reducer, _sympy, canonical, is_zero
-from .api import coriolis_matrix, crba, generalized_gravity
-from .errors import ShapeError
-from .joints import RevoluteJoint
-from .model import Model, ModelBuilder
-from .spatial_algebra import PluckerTransform, SpatialInertia
+from ..api import coriolis_matrix, crba, generalized_gravity
+from ..errors import ShapeError
+from ..joints import RevoluteJoint
+from ..model import Model, ModelBuilder
+from ..spatial import PluckerTransform, SpatialInertia
+from .reduce import (
+    Reducer,
+    SymExpr,
+    SymMatrix,
+    canonical,
+    import_sympy,
+    is_zero,
+    object_array,
+    pretty_form,
+    sympy_matrix,
+)
 
 #: the chapter's appendix-D arm (D.1): lengths, masses, CoM distances from the joint, I_zz about the CoM
 APPENDIX_D: dict[str, float] = {
@@ -78,7 +88,7 @@ def symbolic_model(
 
 def _exact(x: object) -> SymExpr:
     """A float as the rational it prints as (``0.1 → 1/10``); anything else through ``sympify``."""
-    sp = _sympy()
+    sp = import_sympy()
     if isinstance(x, (float, np.floating)):
         return sp.Rational(repr(float(x)))
     return sp.sympify(x)
@@ -87,7 +97,7 @@ def _exact(x: object) -> SymExpr:
 def _placeholders(a: np.ndarray, table: dict[SymExpr, SymExpr]) -> np.ndarray:
     """``a`` as an object array in which every entry other than an integer or a plain symbol is a
     placeholder symbol (see :func:`_exact_model`); ``table`` maps each value to its placeholder."""
-    sp = _sympy()
+    sp = import_sympy()
     out = np.empty(a.shape, dtype=object)
     for idx in np.ndindex(*a.shape):
         x = a[idx]
@@ -132,7 +142,7 @@ def _vector(x: Sequence[SymExpr] | np.ndarray, n: int, name: str) -> np.ndarray:
 
 
 def _finish(M: np.ndarray, pretty: bool, values: Mapping[SymExpr, SymExpr]) -> SymMatrix:
-    red = _Reducer()
+    red = Reducer()
 
     def one(e: SymExpr) -> SymExpr:
         r = red.reduce(e)
@@ -140,8 +150,8 @@ def _finish(M: np.ndarray, pretty: bool, values: Mapping[SymExpr, SymExpr]) -> S
             r = red.reduce(r.xreplace(dict(values)))
         return red.back(r)
 
-    out = _mat(M).applyfunc(one)
-    return out.applyfunc(_pretty) if pretty else out
+    out = sympy_matrix(M).applyfunc(one)
+    return out.applyfunc(pretty_form) if pretty else out
 
 
 def mass_matrix(model: Model, q: Sequence[SymExpr] | np.ndarray, *, pretty: bool = True) -> SymMatrix:
@@ -198,7 +208,7 @@ class TwoLinkDynamics(NamedTuple):
 
 def two_link_symbols() -> dict[str, SymExpr]:
     """The arm's parameters as positive SymPy symbols ``l1 m1 c1 I1 l2 m2 c2 I2 g``."""
-    sp = _sympy()
+    sp = import_sympy()
     return {name: sp.Symbol(name, positive=True) for name in APPENDIX_D}
 
 
@@ -217,7 +227,7 @@ def two_link_arm(params: Mapping[str, float | SymExpr] | None = None) -> Model:
             expressions); missing names are symbols. Numbers only → a float
             model, anything symbolic → a :func:`symbolic_model`.
     """
-    sp = _sympy()
+    sp = import_sympy()
     values: dict[str, SymExpr] = two_link_symbols()
     values.update(params or {})
     numeric = {k: v for k, v in values.items() if isinstance(v, (int, float, np.floating, np.integer))}
@@ -237,14 +247,14 @@ def two_link_arm(params: Mapping[str, float | SymExpr] | None = None) -> Model:
     zero = sp.Integer(0)
     eye = np.eye(3, dtype=int).astype(object)
     inertias = SpatialInertia._wrap(
-        _obj([v["m1"], v["m2"]]),
-        _obj([[v["c1"], zero, zero], [v["c2"], zero, zero]]),
+        object_array([v["m1"], v["m2"]]),
+        object_array([[v["c1"], zero, zero], [v["c2"], zero, zero]]),
         np.stack([v["I1"] * eye, v["I2"] * eye]),
         None,
     )
     rot = np.stack([eye, eye])
-    placements = PluckerTransform._wrap(rot, _obj([[zero, zero, zero], [v["l1"], zero, zero]]), None, None)
-    return symbolic_model(model, inertias=inertias, placements=placements, gravity=_obj([zero, -v["g"], zero]))
+    placements = PluckerTransform._wrap(rot, object_array([[zero, zero, zero], [v["l1"], zero, zero]]), None, None)
+    return symbolic_model(model, inertias=inertias, placements=placements, gravity=object_array([zero, -v["g"], zero]))
 
 
 def lagrangian_two_link(params: Mapping[str, float | SymExpr] | None = None) -> TwoLinkDynamics:
@@ -264,7 +274,7 @@ def lagrangian_two_link(params: Mapping[str, float | SymExpr] | None = None) -> 
     Args:
         params: values for some of ``l1 m1 c1 I1 m2 c2 I2 g``; the rest stay symbols.
     """
-    sp = _sympy()
+    sp = import_sympy()
     p: dict[str, SymExpr] = two_link_symbols()
     p.update({k: _exact(val) for k, val in (params or {}).items()})
     q1, q2 = sp.symbols("q1 q2", real=True)
@@ -294,7 +304,7 @@ def lagrangian_two_link(params: Mapping[str, float | SymExpr] | None = None) -> 
         )
     g = sp.Matrix([sp.diff(potential, qi) for qi in q])
     return TwoLinkDynamics(
-        q, v, M.applyfunc(_pretty), canonical(C).applyfunc(_pretty), canonical(g).applyfunc(_pretty),
+        q, v, M.applyfunc(pretty_form), canonical(C).applyfunc(pretty_form), canonical(g).applyfunc(pretty_form),
         canonical(kinetic), canonical(potential),
     )
 
