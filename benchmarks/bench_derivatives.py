@@ -6,6 +6,8 @@ featherdyn is faster), on panda (fixed base), solo12 and talos_full_v2 (floating
 * one state: ``fd.rnea_derivatives(model, q, v, a)`` (∂τ/∂q, ∂τ/∂q̇ and M, returned as new arrays) against
   ``pin.computeRNEADerivatives(model, data, q, v, a)`` (which fills ``data``); ``fd.aba_derivatives`` against
   ``pin.computeABADerivatives``;
+* one state: the declared ``fd.generalized_gravity_derivatives`` / ``fd.static_torque_derivatives`` against
+  ``pin.computeGeneralizedGravityDerivatives`` / ``computeStaticTorqueDerivatives``;
 * batched: ``fd.compile(model).rnea_derivatives_batch`` / ``aba_derivatives_batch`` on N states in one call
   (the same kernels as ``fd.rnea_derivatives`` on a batch), returning new results (whose memory is that of the
   results dropped before: ``fd.set_result_cache_size``), the same with that cache off (fresh pages), and into
@@ -47,6 +49,17 @@ def main() -> int:
         t_fd, t_pin = median_pair(lambda: fd.aba_derivatives(p.model, q, v, tau),  # noqa: B023
                                   lambda: pin.computeABADerivatives(p.pm, p.pd, qp, vp, taup), 7, 0.2)  # noqa: B023
         rows.append((f"{name}: aba_derivatives / computeABADerivatives", t_fd, t_pin))
+        # the declared algorithms (api/declarations.py): their one-state calls through the generic path
+        f_ext = np.random.default_rng(1).normal(size=(p.model.nbodies, 6))
+        fext_pin = [pin.Force.Zero() for _ in range(p.pm.njoints)]
+        for i, jn in enumerate(p.model.joint_names):
+            fext_pin[p.pm.getJointId(jn)] = pin.Force(np.concatenate([f_ext[i, 3:], f_ext[i, :3]]))
+        t_fd, t_pin = median_pair(lambda: fd.generalized_gravity_derivatives(p.model, q),  # noqa: B023
+                                  lambda: pin.computeGeneralizedGravityDerivatives(p.pm, p.pd, qp), 7, 0.2)  # noqa: B023
+        rows.append((f"{name}: generalized_gravity_derivatives / computeGeneralizedGravityDerivatives", t_fd, t_pin))
+        t_fd, t_pin = median_pair(lambda: fd.static_torque_derivatives(p.model, q, f_ext),  # noqa: B023
+                                  lambda: pin.computeStaticTorqueDerivatives(p.pm, p.pd, qp, fext_pin), 7, 0.2)  # noqa: B023
+        rows.append((f"{name}: static_torque_derivatives / computeStaticTorqueDerivatives", t_fd, t_pin))
         # for comparison: ∂τ/∂q and ∂τ/∂q̇ by central differences, the 4 nv perturbed states in one batched
         # fd.rnea call (q ⊕ ±h e_j through fd.integrate)
         nv, step = p.model.nv, 1e-6

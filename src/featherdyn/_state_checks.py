@@ -75,10 +75,10 @@ def _numeric_part(q: np.ndarray) -> np.ndarray:
 def _vec(x: Any, name: str, n: int, what: str, check_finite: bool) -> np.ndarray:
     if x is None:
         raise ShapeError(f"{name}: expected an array of shape (..., {what}={n}), got None")
-    arr = as_array(x, name, check_finite=check_finite)
-    if arr.ndim == 0 or arr.shape[-1] != n:
+    arr = as_array(x, name, check_finite=False)
+    if arr.ndim == 0 or arr.shape[-1] != n:  # the length before the values (a huge zero-stride view: no scan)
         raise ShapeError(f"{name}: expected trailing dimension {what}={n}, got shape {tuple(arr.shape)}")
-    return arr
+    return as_array(arr, name) if check_finite else arr
 
 
 def _check_quaternions(model: Model, q: np.ndarray) -> None:
@@ -106,13 +106,13 @@ def check_f_ext(model: Model, f_ext: Any) -> np.ndarray | None:
     """``f_ext`` as an array `(..., nb, 6)` of body-frame spatial forces ``[n; f]`` (``None`` stays ``None``)."""
     if f_ext is None:
         return None
-    arr = as_array(f_ext, "f_ext")
+    arr = as_array(f_ext, "f_ext", check_finite=False)
     if arr.ndim < 2 or arr.shape[-2:] != (model.nbodies, 6):
         raise ShapeError(
             f"f_ext: expected shape (..., nb={model.nbodies}, 6) of body-frame spatial forces [n; f], "
             f"got shape {tuple(arr.shape)}"
         )
-    return arr
+    return as_array(arr, "f_ext")
 
 
 def batch_with_f_ext(st: State, fx: np.ndarray | None) -> tuple[tuple[int, ...], np.dtype]:

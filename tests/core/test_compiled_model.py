@@ -129,3 +129,23 @@ def test_one_compiled_model_shared_by_threads(solo: fd.Model) -> None:
 def test_compile_refuses_what_is_not_a_model() -> None:
     with pytest.raises(fd.errors.ModelError, match="expected a featherdyn Model"):
         fd.compile("panda")  # type: ignore[arg-type]
+
+
+def test_frame_jacobian_refuses_integer_reference_codes_as_the_public_function_does() -> None:
+    """``cm.frame_jacobian(q, frame, 1)`` is refused like ``fd.frame_jacobian(model, q, frame, 1)``: the core's
+    integer codes are not public (issue: they were taken as WORLD / LOCAL_WORLD_ALIGNED)."""
+    import featherdyn as fd
+    from featherdyn.errors import ShapeError
+
+    model = fd.load_robot("panda")
+    cm = fd.compile(model, warmup=False)
+    q = fd.neutral(model)
+    frame = model.frames[-1].name
+    for code in (1, np.int64(2), 0, True):
+        with pytest.raises(ShapeError, match="reference"):
+            fd.frame_jacobian(model, q, frame, code)
+        with pytest.raises(ShapeError, match="reference"):
+            cm.frame_jacobian(q, frame, code)
+        with pytest.raises(ShapeError, match="reference"):
+            cm.frame_jacobian_batch(q[None], frame, code)
+    assert np.array_equal(cm.frame_jacobian(q, frame, "world"), fd.frame_jacobian(model, q, frame, fd.WORLD))

@@ -176,3 +176,18 @@ def test_bad_input(name: str) -> None:
         bad_f[1, 4] = np.inf
         with pytest.raises(NonFiniteError, match="f_ext"):
             fn(model, q, bad_f)
+
+
+@pytest.mark.parametrize("name", sorted(DECLARATIONS))
+def test_compiled_method_with_dask_arrays(name: str) -> None:
+    """fd.compile(model)'s declared method takes Dask arrays as the public function does (the same blocks)."""
+    da = pytest.importorskip("dask.array")
+    model = library_robot("panda", False)
+    assert model is not None
+    rng = np.random.default_rng(6)
+    Q = fd.random_configuration(model, rng, size=(4,))
+    FX = rng.normal(size=(4, model.nbodies, 6))
+    expected = getattr(fd, name)(model, *_args(model, name, Q, FX))
+    lazy = getattr(fd.compile(model, warmup=False), name)(*_args(model, name, da.from_array(Q, chunks=(2, -1)), FX))
+    assert type(lazy).__module__.startswith("dask")
+    assert np.array_equal(lazy.compute(scheduler="sync"), expected)

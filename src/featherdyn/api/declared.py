@@ -90,10 +90,11 @@ def _out_arrays(decl: Declaration, out: Any) -> tuple[np.ndarray, ...]:
 
 #: the core's kernel of each declaration, looked up once
 _KERNELS: dict[str, Any] = {}
+#: the public function of each declaration (Dask's blocks call it)
+_PUBLIC: dict[str, Callable[..., Any]] = {}
 
 
-def call(decl: Declaration, model: Model, args: tuple[Any, ...], out: Any = None, backend: str | None = None,
-         public: Callable[..., Any] | None = None) -> Any:
+def call(decl: Declaration, model: Model, args: tuple[Any, ...], out: Any = None, backend: str | None = None) -> Any:
     """The declared algorithm on ``args`` (its inputs in order): the one path of every front end (module docstring)."""
     # 1. one state: the core takes the arguments as they are, or declines
     h = core_path(model, backend)
@@ -112,8 +113,7 @@ def call(decl: Declaration, model: Model, args: tuple[Any, ...], out: Any = None
     if _dask.lazy(*args):
         if out is not None:
             raise ShapeError("out: not supported with Dask arrays (the result is a Dask array)")
-        return _dask.call(public or functools.partial(call, decl), model, dict(zip(decl.inputs, args, strict=True)),
-                          backend=backend)
+        return _dask.call(_PUBLIC[decl.name], model, dict(zip(decl.inputs, args, strict=True)), backend=backend)
     # 3. checks: the model, f_ext, then the state, as every public function words them
     if not isinstance(model, Model):
         raise ShapeError(f"model: expected a featherdyn Model, got {type(model).__name__}")
@@ -187,14 +187,14 @@ def public_function(decl: Declaration) -> Callable[..., Any]:
     def general(*args: Any, **kwargs: Any) -> Any:
         ba = _bind(decl, sig, args, kwargs)
         a = ba.arguments
-        return call(decl, a["model"], tuple(a[k] for k in decl.inputs), a["out"], a["backend"], public)
+        return call(decl, a["model"], tuple(a[k] for k in decl.inputs), a["out"], a["backend"])
 
     general.__name__ = general.__qualname__ = decl.name
     general.__module__ = "featherdyn"
     general.__doc__ = decl.doc
     general.__signature__ = sig  # type: ignore[attr-defined]
     kernel = _declared.kernel(decl.name)
-    public = _finished_in_c(general, kernel, (CoreHandle, kernel), None)
+    public = _PUBLIC[decl.name] = _finished_in_c(general, kernel, (CoreHandle, kernel), None)
     return cast(Callable[..., Any], public)
 
 

@@ -34,7 +34,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import ModelError
-from ..frames import LOCAL, LOCAL_WORLD_ALIGNED, WORLD
+from ..frames import LOCAL, LOCAL_WORLD_ALIGNED, WORLD, as_reference_frame
 from ..model import Model
 from . import (
     _lib,
@@ -106,7 +106,8 @@ class CompiledModel:
 
         def frame_jacobian(q: Any, frame: Any, reference: Any = LOCAL, out: Any = None) -> np.ndarray:
             """The Jacobian `(6, nv)` of ``frame`` (name or index) in ``reference`` (``fd.LOCAL``, ...)."""
-            return _frame_jacobian(model, q, frame, reference, _one_state_out(out, shape_J))
+            # the reference as fd.frame_jacobian takes it (the enum or its name; not the core's integer code)
+            return _frame_jacobian(model, q, frame, as_reference_frame(reference), _one_state_out(out, shape_J))
 
         # Each method: the closure above, with its one-state call finished in C when the arguments are as the
         # binding takes them (core/cpp/public_calls.hpp); anything else goes to the closure unchanged.
@@ -164,7 +165,7 @@ class CompiledModel:
 
     def frame_jacobian_batch(self, q: Any, frame: Any, reference: Any = LOCAL, out: Any = None) -> np.ndarray:
         """Jacobians `(..., 6, nv)` of ``frame`` for a batch of configurations."""
-        return frame_jacobian_batch(self.model, q, frame, reference, out)
+        return frame_jacobian_batch(self.model, q, frame, as_reference_frame(reference), out)
 
     def warmup(self) -> None:
         """Kept for compatibility: the core is compiled at install, so there is nothing to warm up."""

@@ -11,16 +11,11 @@
 
 namespace fdcore {
 
-// q̇ = 0 (nv zeros) and a scratch (nv, nv) block that a kernel writes and the declaration drops, per thread.
+// q̇ = 0: nv zeros, per thread.
 inline const double* zeros_nv(const ModelView& mv) {
   thread_local std::vector<double> z;
   z.assign(static_cast<size_t>(mv.nv), 0.0);
   return z.data();
-}
-inline double* scratch_nv2(const ModelView& mv) {
-  thread_local std::vector<double> s;
-  s.resize(static_cast<size_t>(mv.nv) * mv.nv);
-  return s.data();
 }
 
 // ∂g/∂q (nv, nv): the generalized gravity g(q) = RNEA(q, 0, 0) differentiated along q's tangent — the
@@ -30,7 +25,7 @@ struct GeneralizedGravityDerivatives {
   static constexpr Operand inputs[] = {{"q", ARG_Q, {NQ}, 1, false}};
   static constexpr Operand outputs[] = {{"dg_dq", ARG_OUT, {NV, NV}, 2, false}};
   static std::int64_t run(const ModelView& mv, const double* const* in, double* const* out) {
-    group_kernels().rnea_derivatives(mv, in[0], zeros_nv(mv), nullptr, nullptr, true, out[0], scratch_nv2(mv), nullptr);
+    group_kernels().rnea_derivatives(mv, in[0], zeros_nv(mv), nullptr, nullptr, true, out[0], nullptr, nullptr);  // (∂τ/∂q̇ not computed)
     return OK;
   }
 };
@@ -42,7 +37,7 @@ struct StaticTorqueDerivatives {
   static constexpr Operand inputs[] = {{"q", ARG_Q, {NQ}, 1, false}, {"f_ext", ARG_FEXT, {NB, 6}, 2, false}};
   static constexpr Operand outputs[] = {{"dtau_dq", ARG_OUT, {NV, NV}, 2, false}};
   static std::int64_t run(const ModelView& mv, const double* const* in, double* const* out) {
-    group_kernels().rnea_derivatives(mv, in[0], zeros_nv(mv), nullptr, in[1], true, out[0], scratch_nv2(mv), nullptr);
+    group_kernels().rnea_derivatives(mv, in[0], zeros_nv(mv), nullptr, in[1], true, out[0], nullptr, nullptr);  // (∂τ/∂q̇ not computed)
     return OK;
   }
 };

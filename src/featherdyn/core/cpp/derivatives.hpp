@@ -213,6 +213,7 @@ struct StateOut {
     if (m[k]) std::fill(m[k], m[k] + n2, S(0.0));
   }
   bool has_M() const { return m[2] != nullptr; }
+  bool has(int k) const { return m[k] != nullptr; }
   void put(int k, size_t at, const S& x) const { m[k][at] = x; }
 };
 struct LanesOut {
@@ -222,6 +223,7 @@ struct LanesOut {
     for (int lane = 0; m[k] && lane < PACK_WIDTH; ++lane) std::fill_n(m[k] + lane * stride, n2, 0.0);
   }
   bool has_M() const { return m[2] != nullptr; }
+  bool has(int k) const { return m[k] != nullptr; }
   void put(int k, size_t at, const Pack& x) const {
     for (int lane = 0; lane < PACK_WIDTH; ++lane) m[k][lane * stride + static_cast<std::int64_t>(at)] = x[lane];
   }
@@ -363,7 +365,7 @@ void rnea_derivatives_accelerations(const ModelView& mv, RneaDerivWork<S>& w, co
 }
 
 // Backward: the rows of i against the columns of its support and the rows of its strict ancestors
-// against the columns of i (outputs 0 and 1 of `out`, zeroed first). sum_composites: the composites are
+// against the columns of i (outputs 0 and 1 of `out`, zeroed first; 1 skipped when `out` has none). sum_composites: the composites are
 // summed here (inverse dynamics; M too when `out` has it); otherwise they are there already and only
 // the forces of the acceleration pass are summed into F^C.
 template <class S, class Out>
@@ -375,6 +377,7 @@ void rnea_derivatives_pairs(const ModelView& mv, RneaDerivWork<S>& w, const Out&
   const Motion<S>* dAv = w.dAv.data();
   out.zero_one(0, nv * nv);
   out.zero_one(1, nv * nv);
+  const bool with_dv = out.has(1);  // ∂τ/∂q̇ wanted (not at rest: the static torque's derivatives)
   const bool with_M = sum_composites && out.has_M();
   if (with_M) out.zero_one(2, nv * nv);
   for (int i = mv.nb - 1; i >= 0; --i) {
@@ -396,12 +399,18 @@ void rnea_derivatives_pairs(const ModelView& mv, RneaDerivWork<S>& w, const Out&
         for (int cc = 0; cc < mv.nv_i[k]; ++cc) {
           const int col = kv + cc;
           out.put(0, r0 + col, dot(dA[col], ar) + dot(dV[col], br));
-          out.put(1, r0 + col, dot(dAv[col], ar) + dot(J[col], br));
+          if (with_dv) out.put(1, r0 + col, dot(dAv[col], ar) + dot(J[col], br));
         }
       }
       if (lam == -1) continue;
       // column of i, rows of the ancestors:  ∂τ_r/∂q_j = ʳS_rᵀ (S_j ×* F^C + I^C ∂A/∂q_j + D^C ∂V/∂q_j)
       const Force<S> Fq = cross_force(s, w.Fc[i]) + Yc * dA[row] + Bc * dV[row] + cross_force(dV[row], hc);
+      if (!with_dv) {
+        for (int k = lam; k != -1; k = mv.parent[k])
+          for (int cc = 0; cc < mv.nv_i[k]; ++cc)
+            out.put(0, static_cast<size_t>(mv.idx_v[k] + cc) * nv + row, dot(J[mv.idx_v[k] + cc], Fq));
+        continue;
+      }
       const Force<S> Fv = Yc * dAv[row] + Bc * s + cross_force(s, hc);
       for (int k = lam; k != -1; k = mv.parent[k]) {
         const int kv = mv.idx_v[k];
