@@ -23,7 +23,7 @@ import pytest
 from _models import library_robot
 
 import featherdyn as fd
-from featherdyn.algorithms import constrained as ref_kkt
+from featherdyn.algorithms import constraints as ref_kkt
 
 FEET = ["FL_FOOT", "FR_FOOT", "HL_FOOT", "HR_FOOT"]
 

@@ -26,7 +26,7 @@ from numpy.typing import ArrayLike
 
 from .. import _dask
 from .. import core as _compiled
-from ..algorithms import constrained as _constrained
+from ..algorithms import constraints as _constrained
 from ..constraints import Constraint, FrameContact, LoopConstraint, PointContact
 from ..errors import ConstraintError, FeatherdynError, ModelError, ShapeError
 from ..frames import LOCAL, LOCAL_WORLD_ALIGNED, WORLD, ReferenceFrame, as_reference_frame
