@@ -7,7 +7,7 @@ Oracles:
   under gravity with no actuation: integrated with RK4, their energy
   ``T + V`` stays constant and their loops stay closed. A wrong drift γ opens
   the loop within a step; a wrong force adds or removes energy;
-* **the reference**: ``backend="reference"`` (``algorithms/constrained.py``, NumPy,
+* **the reference**: ``backend="reference"`` (``algorithms/constraints.py``, NumPy,
   the same LᵀL and Schur-complement algorithm) against the compiled core;
 * **Pinocchio 4.1**: ``constraintDynamics`` with a 6D loop and talos with a hand on a wall.
 """

@@ -1,8 +1,24 @@
-"""Constrained dynamics by the tree-sparse LᵀL factorisation of M and the Schur complement (reference).
+"""Constraints (reference): their rows J, drift γ and Baumgarte terms; constrained dynamics on M's LᵀL factor.
 
-RBDA (Featherstone 2008) §6.5, table 6.3, and Carpentier, Budhiraja & Mansard,
-"Proximal and sparse resolution of constrained dynamic equations" (RSS 2021).
-The compiled core's ``core/cpp/ltl.hpp`` mirrors this file line for line.
+RBDA (Featherstone 2008) §6.5, table 6.3; Carpentier, Budhiraja & Mansard, "Proximal and
+sparse resolution of constrained dynamic equations" (RSS 2021); Khatib (1987) for the
+operational space. The compiled core mirrors this file: ``core/cpp/contacts.hpp`` (the
+contacts' rows in one pass) and ``core/cpp/ltl.hpp`` (the factor and the solves), line for line.
+
+**The rows** (:func:`constraint_rows`), from the forward kinematics ``kin`` at ``(q, q̇, q̈ = 0)``::
+
+    M q̈ + h = τ + Jᵀ λ,        J q̈ + γ = c = −γ − K_p e − K_d J q̇   (then J q̈ = c)
+
+* point contact (3 rows): the linear rows of the frame Jacobian ``ᶠJ`` in ``reference``;
+  γ the classical acceleration of the frame's origin; e = 0;
+* frame contact (6 rows): ``ᶠJ``; γ the frame's spatial acceleration; e = 0;
+* loop (the chosen axes of ``[ω; v]``): the velocity of a relative to b in a's coordinates,
+  then in ``reference`` (``B``: 1 in LOCAL, ``⁰X_a`` in WORLD, ``blkdiag(⁰R_a, ⁰R_a)`` in LWA)::
+
+      J = B (J_a − ᵃX_b J_b),     r = v_a − ᵃX_b v_b,     e = B log(ᵃM_b)
+      γ = B (a_a − ᵃX_b a_b + r × ᵃX_b v_b)  (+ B-rate terms:  WORLD v_a × r,  LWA [ω_a × r_ω; ω_a × r_v])
+
+  (``d(ᵃX_b)/dt = −(r ×) ᵃX_b``; ``d(⁰X_a y)/dt = ⁰X_a (ẏ + v_a × y)``).
 
 **The factor.** ``M = Lᵀ L`` with ``L`` lower triangular and ``L_kj ≠ 0`` only for
 ``j = k`` or ``j`` an ancestor dof of ``k``; the dofs' parent array ``λ`` (:func:`dof_parents`)
@@ -25,7 +41,9 @@ costs Σ_k depth(k)² instead of nv³/3, and keeps M⁻¹ out of every formula b
 
 and with ``μ > 0`` the proximal iterations ``λ ← (D + μ 1)⁻¹ (c − J q̈_f + μ λ)``, which
 converge to the minimum-norm ``λ`` when the rows are dependent; they stop when
-``‖D λ − (c − J q̈_f)‖∞ ≤ tol · max(1, ‖c − J q̈_f‖∞)``.
+``‖D λ − (c − J q̈_f)‖∞ ≤ tol · max(1, ‖c − J q̈_f‖∞)``. **Impulses** are the same system
+(:func:`impulse_system`); the **operational space** (:func:`operational_space`) is Λ = D⁻¹ and
+its companions.
 
 Everything batches over leading axes (loops over dofs and rows, vectorised over
 the batch) and keeps the input's floating dtype.
@@ -33,14 +51,156 @@ the batch) and keeps the input's floating dtype.
 
 from __future__ import annotations
 
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
 
+from ..constraints import Constraint, LoopConstraint, PointContact
+from ..frames import LOCAL, LOCAL_WORLD_ALIGNED, WORLD, ReferenceFrame
 from ..model import Model
+from ..results import Kinematics
+from ..rotation import se3_log
+from ..spatial_algebra import PluckerTransform, _crm_apply
+from .aba import aba
+from .crba import crba
+from .jacobians import frame_jacobian
+from .kinematics import frame_acceleration, frame_classical_acceleration, frame_pose, frame_velocity
 
-__all__ = ["dof_parents", "ltl_factor", "solve_Lt", "solve_L", "mass_solve", "delassus", "dense_cholesky",
-           "KktSolution", "kkt_solve"]
+__all__ = ["selected_rows", "contact_rows", "loop_rows", "constraint_rows", "frames_jacobian", "impulse_system",
+           "operational_space", "dof_parents", "ltl_factor", "mass_factor", "solve_Lt", "solve_L", "mass_solve", "delassus",
+           "dense_cholesky", "KktSolution", "kkt_solve"]
+
+#: the rows of ``[ω; v]`` a point contact keeps, and all six (read-only: shared by every call)
+_LINEAR, _ALL = np.arange(3, 6), np.arange(6)
+_LINEAR.flags.writeable = _ALL.flags.writeable = False
+
+
+def selected_rows(c: Constraint) -> np.ndarray:
+    """The rows of ``[ω; v]`` that ``c`` constrains: the linear three (point), all six (frame), the chosen axes (loop)."""
+    if isinstance(c, PointContact):
+        return _LINEAR
+    if isinstance(c, LoopConstraint):
+        return np.flatnonzero(np.array(c.axes))
+    return _ALL
+
+
+#: a frame's Jacobian `(..., 6, nv)` by frame index and reference (the caller's backend), or ``None``: the reference's
+FrameJacobian = Callable[[int, ReferenceFrame], np.ndarray] | None
+
+
+def _jacobian(model: Model, kin: Kinematics, jacobian: FrameJacobian, fid: int, ref: ReferenceFrame) -> np.ndarray:
+    return frame_jacobian(model, kin, fid, ref) if jacobian is None else jacobian(fid, ref)
+
+
+def contact_rows(model: Model, kin: Kinematics, c: Constraint, jacobian: FrameJacobian = None
+                 ) -> tuple[np.ndarray, np.ndarray | None]:
+    """``(ᶠJ, γ)`` of a point or frame contact, all six rows: ᶠJ `(..., 6, nv)` in ``c.reference``; γ `(..., 6)`
+    the frame's classical (point) or spatial (frame) acceleration at q̈ = 0 (``None`` when ``kin`` has no velocities)::
+
+        point: γ = [ω̇; a_origin] = ᶠa + [0; ω × v];     frame: γ = ᶠa        (ᶠa: the frame's spatial acceleration)
+    """
+    fid = model.resolve_frame(c.frame)  # type: ignore[union-attr]
+    J = _jacobian(model, kin, jacobian, fid, c.reference)
+    if kin.velocities is None:
+        return J, None
+    acc = frame_classical_acceleration if isinstance(c, PointContact) else frame_acceleration
+    return J, acc(model, kin, fid, c.reference).vector
+
+
+def loop_rows(model: Model, kin: Kinematics, c: LoopConstraint, jacobian: FrameJacobian = None
+              ) -> tuple[np.ndarray, np.ndarray | None, np.ndarray | None]:
+    """``(J, γ, e)`` of a loop, all six rows (module docstring): J `(..., 6, nv)`, γ and e `(..., 6)` (``None``
+    when ``kin`` has no velocities)."""
+    a, b = model.resolve_frame(c.frame_a), model.resolve_frame(c.frame_b)
+    oMa, oMb = frame_pose(model, kin, a), frame_pose(model, kin, b)
+    aMb = oMa.inverse() @ oMb
+    aXb = aMb.matrix()
+    J = _jacobian(model, kin, jacobian, a, LOCAL) - aXb @ _jacobian(model, kin, jacobian, b, LOCAL)
+    B = None if c.reference is LOCAL else oMa.matrix() if c.reference is WORLD else \
+        PluckerTransform._wrap(oMa.rotation, np.zeros_like(oMa.translation), None, None).matrix()
+    if B is not None:
+        J = B @ J
+    if kin.velocities is None:
+        return J, None, None
+    v_a = frame_velocity(model, kin, a, LOCAL).vector
+    Xv_b = (aXb @ frame_velocity(model, kin, b, LOCAL).vector[..., None])[..., 0]
+    r = v_a - Xv_b
+    Xa_b = (aXb @ frame_acceleration(model, kin, b, LOCAL).vector[..., None])[..., 0]
+    gamma = frame_acceleration(model, kin, a, LOCAL).vector - Xa_b + _crm_apply(r, Xv_b)
+    e = se3_log(aMb).vector
+    if c.reference is WORLD:
+        gamma = gamma + _crm_apply(v_a, r)
+    elif c.reference is LOCAL_WORLD_ALIGNED:
+        w = v_a[..., :3]
+        gamma = gamma + np.concatenate([np.cross(w, r[..., :3]), np.cross(w, r[..., 3:])], axis=-1)
+    if B is not None:
+        gamma, e = (B @ gamma[..., None])[..., 0], (B @ e[..., None])[..., 0]
+    return J, gamma, e
+
+
+def constraint_rows(model: Model, kin: Kinematics, constraints: Sequence[Constraint], qd: np.ndarray | None = None,
+                    jacobian: FrameJacobian = None) -> tuple[np.ndarray, np.ndarray | None, np.ndarray | None]:
+    """The constraints' rows stacked: ``(J, γ, c)``, J `(..., m, nv)`, γ and c `(..., m)` (``None`` without ``qd``)::
+
+        J q̈ = c = −γ − K_p e − K_d J q̇        (each constraint's selected rows, in order)
+
+    Args:
+        kin: forward kinematics at ``(q, q̇, q̈ = 0)`` (placements only when ``qd`` is ``None``).
+        qd: `(..., nv)` the joint velocity of ``kin``, or ``None`` for J alone.
+        jacobian: the frames' Jacobians by another backend (the compiled core's), ``None``: :func:`frame_jacobian`.
+    """
+    Js, gammas, cs = [], [], []
+    for con in constraints:
+        rows = selected_rows(con)
+        if isinstance(con, LoopConstraint):
+            J6, gamma6, e6 = loop_rows(model, kin, con, jacobian)
+        else:
+            J6, gamma6 = contact_rows(model, kin, con, jacobian)
+            e6 = None
+        J = J6[..., rows, :]
+        Js.append(J)
+        if qd is not None and gamma6 is not None:
+            kp, kd = con.baumgarte
+            gamma = gamma6[..., rows]
+            gammas.append(gamma)
+            Jv = (J @ qd[..., None])[..., 0]
+            cs.append(-gamma - kd * Jv if e6 is None else -gamma - kp * e6[..., rows] - kd * Jv)
+    if qd is None:
+        return np.concatenate(Js, axis=-2), None, None
+    return np.concatenate(Js, axis=-2), np.concatenate(gammas, axis=-1), np.concatenate(cs, axis=-1)
+
+
+def frames_jacobian(model: Model, kin: Kinematics, frames: Sequence[int], reference: ReferenceFrame,
+                    jacobian: FrameJacobian = None) -> np.ndarray:
+    """The frame Jacobians stacked, `(..., 6k, nv)` (the operational space's task rows)."""
+    return np.concatenate([_jacobian(model, kin, jacobian, f, reference) for f in frames], axis=-2)
+
+
+def impulse_system(M: np.ndarray, g: np.ndarray, J: np.ndarray, v_minus: np.ndarray, restitution: float
+                   ) -> tuple[np.ndarray, np.ndarray]:
+    """``(τ, c)``: an impact as the constrained dynamics at zero velocity, with ``q̈ := v⁺``::
+
+        M (v⁺ − v⁻) = Jᵀ Λ,  J v⁺ = −e J v⁻    ⇔    M v⁺ + g = τ + Jᵀ Λ,  J v⁺ = c
+        with τ = M v⁻ + g,  c = −e J v⁻         (h = g at zero velocity, so τ − h = M v⁻)
+
+    M `(..., nv, nv)`, g `(..., nv)` the generalized gravity, J `(..., m, nv)`, v⁻ `(..., nv)`; τ `(..., nv)`, c `(..., m)`.
+    """
+    return (M @ v_minus[..., None])[..., 0] + g, -restitution * (J @ v_minus[..., None])[..., 0]
+
+
+def operational_space(D: np.ndarray, Minv_Jt: np.ndarray, J: np.ndarray, Minv_h: np.ndarray, Jdot_v: np.ndarray,
+                      g: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """``(Λ, J̄, μ, p)`` of Khatib (1987), from ``D = J M⁻¹ Jᵀ`` `(..., m, m)`, ``M⁻¹ Jᵀ`` `(..., nv, m)`,
+    J `(..., m, nv)`, ``M⁻¹ h`` `(..., nv)`, ``J̇ q̇`` `(..., m)` and the generalized gravity g `(..., nv)`::
+
+        Λ = D⁻¹,   J̄ = M⁻¹ Jᵀ Λ,   μ = Λ (J M⁻¹ h − J̇ q̇),   p = J̄ᵀ g
+    """
+    Lambda = np.linalg.inv(D)
+    J_bar = Minv_Jt @ Lambda
+    mu = (Lambda @ ((J @ Minv_h[..., None])[..., 0] - Jdot_v)[..., None])[..., 0]
+    p = (np.swapaxes(J_bar, -1, -2) @ g[..., None])[..., 0]
+    return Lambda, J_bar, mu, p
 
 
 def dof_parents(model: Model) -> list[int]:
@@ -84,6 +244,17 @@ def ltl_factor(model: Model, M: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
             for j in anc[n:]:
                 H[..., i, j] = H[..., i, j] - H[..., k, i] * H[..., k, j]
     return np.tril(H), bad
+
+
+def mass_factor(model: Model, q: np.ndarray) -> np.ndarray:
+    """``L`` `(..., nv, nv)` with ``M(q) = Lᵀ L`` (:func:`crba`, then :func:`ltl_factor`) on a checked ``q``; where
+    M is singular, ABA's :class:`SingularMassMatrixError` for the first such state (the error ``fd.aba`` raises)."""
+    L, bad = ltl_factor(model, crba(model, q))
+    if np.any(bad >= 0):
+        row = q[np.unravel_index(int(np.flatnonzero(bad.ravel() >= 0)[0]), bad.shape)] if bad.ndim else q
+        zero = np.zeros(model.nv, dtype=row.dtype)
+        aba(model, row, zero, zero, gravity=False)  # raises SingularMassMatrixError
+    return L
 
 
 def solve_Lt(model: Model, L: np.ndarray, x: np.ndarray) -> np.ndarray:
