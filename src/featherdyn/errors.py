@@ -12,6 +12,8 @@ Messages name the argument, what was expected and what came, e.g.
 
 from __future__ import annotations
 
+from typing import Any
+
 __all__ = [
     "FeatherdynError",
     "DatasetError",
@@ -166,6 +168,15 @@ class ConstraintError(FeatherdynError, ValueError):
         """Proximal iterations that did not reach ``tol`` in ``max_iter``."""
         return cls(f"the proximal iterations did not converge in max_iter={max_iter} (tol={tol:g}): "
                    "raise max_iter or mu")
+
+    @classmethod
+    def check_iterations(cls, iterations: Any, m: int, max_iter: int, tol: float) -> None:
+        """Raise for a solve's failed states: iterations ``−1`` (dependent rows with ``mu = 0``), ``−2`` (not
+        converged); ``iterations`` an integer array `(...)`."""
+        if (iterations == -1).any():
+            raise cls.dependent(m)
+        if (iterations == -2).any():
+            raise cls.not_converged(max_iter, tol)
 
 
 class DatasetError(FeatherdynError, ValueError):

@@ -38,7 +38,7 @@ __all__ = ["Model", "ModelBuilder", "FrameInfo", "Mimic", "DEFAULT_GRAVITY"]
 
 DEFAULT_GRAVITY = (0.0, 0.0, -9.81)
 # per-model caches of the compiled engines: set on first use, never pickled
-_CACHES = ("_fast", "_core")
+_CACHES = ("_fast", "_core", "_plans")
 
 
 @dataclass(frozen=True, slots=True)
@@ -133,6 +133,8 @@ class Model:
     _fast: Any = field(init=False, repr=False, compare=False)
     # the compiled core's flat model arrays, set on first use (core/_model_view.py); unset until then
     _core: Any = field(init=False, repr=False, compare=False)
+    # the plans of constraint sets (featherdyn/constraints.py: plans_of), set on first use; unset until then
+    _plans: Any = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         # derived from frames (first of a name wins), so dataclasses.replace(model, frames=...) stays consistent

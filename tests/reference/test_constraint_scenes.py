@@ -7,7 +7,7 @@ Oracles:
   under gravity with no actuation: integrated with RK4, their energy
   ``T + V`` stays constant and their loops stay closed. A wrong drift γ opens
   the loop within a step; a wrong force adds or removes energy;
-* **the reference**: ``backend="reference"`` (``algorithms/constrained.py``, NumPy,
+* **the reference**: ``backend="reference"`` (``algorithms/constraints.py``, NumPy,
   the same LᵀL and Schur-complement algorithm) against the compiled core;
 * **Pinocchio 4.1**: ``constraintDynamics`` with a 6D loop and talos with a hand on a wall.
 """
@@ -23,7 +23,7 @@ import pytest
 from _models import library_robot
 
 import featherdyn as fd
-from featherdyn.algorithms import constrained as ref_kkt
+from featherdyn.algorithms import constraints as ref_kkt
 
 FEET = ["FL_FOOT", "FR_FOOT", "HL_FOOT", "HR_FOOT"]
 

@@ -353,3 +353,38 @@ def test_the_private_use_checker_sees_each_form() -> None:
     assert ("featherdyn.api._backend", "featherdyn.core._view") in uses
     assert ("featherdyn.api.constraints", "featherdyn.core._view") in uses
     assert any(i == "featherdyn.configuration" and w.startswith("featherdyn._dask") for i, w in uses)
+
+
+#: module-level state the public layer may rebind with ``global``: settings, not caches
+_API_SETTINGS = {("_backend.py", "_DEFAULT")}
+
+
+def _module_caches(name: str, source: str) -> list[str]:
+    """A module's module-level caches: ``global`` rebinding a name (beyond :data:`_API_SETTINGS`) and functions
+    decorated with ``functools.lru_cache`` / ``cache`` / ``cached_property``."""
+    bad = []
+    for node in ast.walk(ast.parse(source)):
+        if isinstance(node, ast.Global):
+            bad += [f"{name}: global {n}" for n in node.names if (name, n) not in _API_SETTINGS]
+        elif isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)):
+            for d in node.decorator_list:
+                what = ast.unparse(d.func if isinstance(d, ast.Call) else d)
+                if what.split(".")[-1] in ("lru_cache", "cache", "cached_property"):
+                    bad.append(f"{name}: {node.name} decorated with {what}")
+    return bad
+
+
+def test_the_public_layer_keeps_no_module_level_caches() -> None:
+    """Caches of per-model work live on the model (``model._core``, ``model._plans``), not in ``api/``."""
+    bad = [b for path in sorted((SRC / "api").glob("*.py")) for b in _module_caches(path.name, path.read_text("utf-8"))]
+    assert not bad, "module-level caches in api/ (keep them on the model):\n" + "\n".join(bad)
+
+
+def test_the_cache_check_sees_a_global_and_an_lru_cache() -> None:
+    """The scan above, on planted modules: it finds both kinds, and lets the default-backend setting pass."""
+    source = ("import functools\n_LAST = None\n\n@functools.lru_cache(maxsize=8)\ndef f(x):\n"
+              "    global _LAST, _DEFAULT\n    _LAST = x\n    return x\n\n@functools.cache\ndef g():\n    return 1\n")
+    assert sorted(_module_caches("constraints.py", source)) == [
+        "constraints.py: f decorated with functools.lru_cache", "constraints.py: g decorated with functools.cache",
+        "constraints.py: global _DEFAULT", "constraints.py: global _LAST"]
+    assert _module_caches("_backend.py", "def f():\n    global _DEFAULT\n") == []

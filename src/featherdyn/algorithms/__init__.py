@@ -14,6 +14,7 @@ public functions (``fd.rnea`` & co.) are there. See ``docs/architecture.md``.
 * :mod:`.coriolis` — the Coriolis matrix
 * :mod:`.energy` — kinetic and potential energy, centre of mass
 * :mod:`.centroidal` — centroidal momentum and its matrix
+* :mod:`.constraints` — constraint rows (J, γ), M's LᵀL factor, constrained dynamics, impulses, operational space
 """
 
 from __future__ import annotations
