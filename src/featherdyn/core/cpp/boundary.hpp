@@ -160,6 +160,14 @@ inline std::int64_t finite_jacobian(const double* J, std::int64_t nv) {
   return k < 0 ? OK : make_status(NONFINITE, ARG_OUT, k + 3 * nv);
 }
 
+// A fresh C-contiguous float64 NumPy array (numpy_api.hpp: PyArray_SimpleNew), and its element storage.
+inline nb::object numpy_alloc(std::initializer_list<npy_intp> shape) {
+  PyObject* a = new_f64(static_cast<int>(shape.size()), shape.begin());
+  if (a == nullptr) throw nb::python_error();
+  return nb::steal(a);
+}
+inline double* array_data(const nb::object& a) { return f64_data(a.ptr()); }
+
 // The batched group kernels for this CPU (bindings.cpp).
 const fdgroup::GroupKernels& group_kernels();
 

@@ -32,6 +32,7 @@
 #include <cmath>
 #include <vector>
 
+#include "checks.hpp"
 #include "contact_spec.hpp"
 #include "frames.hpp"
 #include "ltl.hpp"

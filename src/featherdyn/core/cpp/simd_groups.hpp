@@ -11,6 +11,7 @@
 #endif
 
 #include "aba.hpp"
+#include "checks.hpp"
 #include "contacts.hpp"
 #include "crba.hpp"
 #include "derivatives.hpp"
