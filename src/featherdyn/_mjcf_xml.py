@@ -489,6 +489,8 @@ def read_document(path_or_xml: Any, strict: bool, source: tuple[str, str, str | 
             file = inc.get("file")
             if file is None or not file.strip():
                 raise doc.error(inc, "<include> needs a 'file' attribute")
+            if len(inc):
+                raise doc.error(inc, f"file={_quote(file)}: an <include> cannot have children (MuJoCo refuses them)")
             target = (doc.model_dir / file).resolve()
             if str(target) in chain:
                 raise doc.error(inc, f"file={_quote(file)}: include cycle ("
@@ -507,6 +509,8 @@ def read_document(path_or_xml: Any, strict: bool, source: tuple[str, str, str | 
             if _local(sub.tag) not in ("mujoco", "mujocoinclude"):  # <mujocoinclude>: MuJoCo's older root, still read
                 raise doc.error(inc, f"file={_quote(file)}: an included file's root must be <mujoco>, got "
                                 f"<{_shorten(_local(sub.tag) or '?')}>")
+            if not len(sub):
+                raise doc.error(inc, f"file={_quote(file)}: the included file is empty (MuJoCo refuses it)")
             doc.sources.append(sub_where)
             parent = parent_of[inc]
             k = list(parent).index(inc)

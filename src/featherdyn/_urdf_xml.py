@@ -301,7 +301,7 @@ def _parse_xml(text: str, label: str, error: type[ModelError] = URDFError, kind:
 class ElementLines:
     """The line of each element of one parsed text, by document-order index, computed when first asked for.
 
-    :func:`parse_elements`'s fast path has no line numbers (ElementTree's C parser does not report them); a
+    :func:`parse_elements`'s C-parser path has no line numbers (ElementTree's C parser does not report them); a
     message that needs one parses the text again with :func:`_parse_xml`, which records them.
     """
 
@@ -364,7 +364,7 @@ def parse_elements(text: str, label: str, error: type[ModelError] = URDFError,
                                              and max(map(len, text.split("<"))) > MAX_ATTRIBUTE_LENGTH and any(
                     len(v) > MAX_ATTRIBUTE_LENGTH for e in elements for v in e.attrib.values())):
                 root = None
-    lines: list[int] | None = None  # the fast path's: found when a message asks
+    lines: list[int] | None = None  # the C parser's: found when a message asks
     if root is None:
         root, found = _parse_xml(text, label, error, kind, line_depth=MAX_DEPTH)
         lines = list(found.values())

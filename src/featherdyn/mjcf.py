@@ -56,12 +56,6 @@ ignored with one :class:`~featherdyn.PhysicalityWarning` listing them
 that would add bodies featherdyn cannot reproduce (``composite``,
 ``flexcomp``, ``attach``, ``replicate``) are refused.
 
-The usual document (plain XML and its includes, without ``<replicate>``) is
-read by a compiled fast path, ``featherdyn._mjcf_native``, with this module's
-arithmetic (the same model bit for bit; included and mesh files by this
-module's functions); it declines everything else, and every error, to the
-Python reader (``docs/architecture.md``, "The fast path").
-
 Source: MuJoCo documentation, XML reference and "Modeling" chapter; checked
 against ``mujoco`` 3.x/4.x compiled models.
 """
@@ -83,14 +77,11 @@ from ._mjcf_inertia import geom_mass_inertia
 from ._mjcf_mesh import MeshError, clear_mesh_cache, file_mass_properties, mass_properties
 from ._mjcf_xml import (
     I3,
-    MAX_INCLUDE_DEPTH,
-    MAX_INCLUDES,
     Z3,
     Doc,
     Mat,
     Vec,
     _local,
-    _parse_decimals,
     axis_angle_matrix,
     compose,
     diagonal,
@@ -107,20 +98,12 @@ from ._mjcf_xml import (
     vec_add,
     z_to_vector,
 )
-from ._urdf_xml import MAX_ATTRIBUTE_LENGTH, MAX_DEPTH, _declaration_first, _quote, _read_source, _shorten_quoted
+from ._urdf_xml import _quote, _read_source, _shorten_quoted
 from .errors import FeatherdynError, MJCFError, ModelError, PhysicalityWarning
 from .joints import FreeFlyerJoint, Joint, PrismaticJoint, RevoluteJoint, SphericalJoint, _with_unit_axis
 from .model import _IDENTITY, FrameInfo, Model, ModelBuilder
 from .spatial_algebra import PluckerTransform
-from .urdf import MAX_INERTIA, MAX_LENGTH, MAX_MASS
-
-try:  # the fast path (mjcf_cpp/mjcf_native.cpp), built with the package
-    from . import _mjcf_native
-except ImportError:  # a source tree without the build: the Python reader alone
-    _mjcf_native = None  # type: ignore[assignment]
-else:
-    _mjcf_native.configure(MAX_DEPTH, MAX_ATTRIBUTE_LENGTH, MAX_LENGTH, MAX_MASS, MAX_INERTIA, math.hypot,
-                           MAX_INCLUDE_DEPTH, MAX_INCLUDES)
+from .urdf import MAX_INERTIA, MAX_MASS
 
 __all__ = ["clear_mesh_cache", "load_mjcf", "load_model", "model_format"]
 
@@ -274,7 +257,6 @@ class _Loader:
         self.ignored: list[str] = []
         self.site_names: set[str] = set()
         self.model_name: str | None = None
-        self.inertia_done = False  # the fast path computed the bodies' inertias
 
     # -- top level ------------------------------------------------------------
 
@@ -729,7 +711,7 @@ class _Loader:
         for b in range(1, nb):
             moving[b] = bool(bodies[b].joints) or moving[bodies[b].parent]
             # a static body's inertia matters only to settotalmass (its meshes are not even read otherwise)
-            if (moving[b] or comp.settotalmass > 0) and not self.inertia_done:
+            if (moving[b] or comp.settotalmass > 0):
                 self.body_inertia(b)
         if comp.settotalmass > 0:
             total = sum(bodies[b].inertia[0] for b in range(1, nb))
@@ -967,10 +949,7 @@ def load_mjcf(path_or_xml: str | os.PathLike[str] | bytes, *, strict: bool = Fal
     source = read_source(path_or_xml)
     path = None if isinstance(path_or_xml, (bytes, bytearray, memoryview)) or (
         isinstance(path_or_xml, str) and path_or_xml.lstrip("\ufeff \t\r\n").startswith("<")) else str(path_or_xml)
-    got = _load_fast(source, path, strict)
-    if got is None:
-        got = _load(path_or_xml, source, path, strict)
-    model, label, ignored, complaints = got
+    model, label, ignored, complaints = _load(path_or_xml, source, path, strict)
     if ignored:
         warnings.warn(f"{label}: ignored MJCF elements without rigid-tree meaning: {', '.join(ignored)}",
                       PhysicalityWarning, stacklevel=2)
@@ -994,103 +973,6 @@ def _load(path_or_xml: Any, source: tuple[str, str, str | None], path: str | Non
     except FeatherdynError as exc:  # a check of the spatial types or the model builder: name the file
         raise MJCFError(f"{doc.label}: {_shorten_quoted(str(exc))}") from None
     return model, doc.label, loader.ignored, complaints
-
-
-class _FastDoc:
-    """What :meth:`_Loader.build` reads of the document on the fast path: the label, ``strict``, and errors
-    without a place (a failing build is done again by the Python reader, which words the message)."""
-
-    def __init__(self, label: str, strict: bool) -> None:
-        self.label = label
-        self.strict = strict
-
-    def error(self, elem: Any, msg: str) -> MJCFError:
-        return MJCFError(f"{self.label}: {msg}")
-
-
-class _FastFiles:
-    """The fast path's files, read by the Python reader's functions: an included file (``read_document``), where a
-    mesh file is (``asset_path``), a mesh's mass properties (:meth:`_Loader.mesh_properties`). Anything they
-    refuse raises, and the fast path then declines the document (the Python reader words why)."""
-
-    def __init__(self, path: str | None) -> None:
-        self.path = path
-        self.model_dir = Path(path).parent if path is not None else Path(os.getcwd())
-
-    @property
-    def main(self) -> str | None:
-        """The main file, resolved (an include of it is a cycle); ``None`` for a string. Asked for only by a
-        document with includes (resolving costs a system call per folder)."""
-        return str(Path(self.path).resolve()) if self.path is not None else None
-
-    def include(self, file: str) -> tuple[str, str]:
-        """``(resolved path, text)`` of an included file (found from the main file's folder, as MuJoCo)."""
-        target = (self.model_dir / file).resolve()
-        if not target.is_file():
-            raise FileNotFoundError(target)
-        return str(target), _declaration_first(read_source(target)[0])
-
-    def mesh_exists(self, file: str, meshdir: str | None, assetdir: str | None) -> bool:
-        return _asset_file(self.model_dir, file, meshdir, assetdir).is_file()
-
-    def mesh_properties(self, file: str | None, meshdir: str | None, assetdir: str | None, scale: Vec, mode: str,
-                        vertex: str | None, face: str | None) -> tuple[float, Vec, Mat]:
-        if file is not None:
-            return file_mass_properties(_asset_file(self.model_dir, file, meshdir, assetdir), scale, mode)
-        return _inline_mass_properties(_decimal_list(vertex), _decimal_list(face), scale, mode)
-
-
-def _decimal_list(text: str | None) -> tuple[float, ...]:
-    """``Doc.float_list(..., 3)`` of a mesh's ``vertex`` or ``face`` text, raising where that would refuse it."""
-    if text is None:
-        return ()
-    values, ceiling = _parse_decimals(text)
-    if len(values) % 3 or ceiling < 0 or (ceiling > MAX_LENGTH and max(map(abs, values)) > MAX_LENGTH):
-        raise MeshError("not a list of decimals by threes")
-    return values
-
-
-def _load_fast(source: tuple[str, str, str | None], path: str | None,
-               strict: bool) -> tuple[Model, str, list[str], list[str]] | None:
-    """:func:`_load` by the fast path (``featherdyn._mjcf_native``), or ``None`` where it declines.
-
-    The C++ reader takes the usual document — plain XML and its included files, with bodies, joints, geoms,
-    inertials, sites, frames and default classes — and gives its bodies in MuJoCo's order, each with its pose,
-    joints, sites and inertia, computed with this module's arithmetic operation for operation (files read by
-    :class:`_FastFiles`); the model is then built here as on the Python path. Anything else (``<replicate>``,
-    shells, ``fullinertia``, every error) it declines, and a model the builder refuses is read again by the Python
-    reader: the messages are always the Python reader's.
-    """
-    if _mjcf_native is None:
-        return None
-    text, label, _ = source
-    read = _mjcf_native.read(_declaration_first(text), strict, _FastFiles(path))
-    if read is None:
-        return None
-    model_name, gravity, gravity_disabled, ignored, settotalmass, bodies = read
-    loader = _Loader(cast(Doc, _FastDoc(label, strict)), path)
-    loader.model_name = model_name
-    loader.gravity = gravity
-    loader.gravity_disabled = gravity_disabled
-    loader.ignored = ignored
-    loader.comp.settotalmass = settotalmass
-    loader.inertia_done = True
-    made = loader.bodies
-    for name, parent, R, p, joints, sites, inertia in bodies:
-        body = _Body(None, name, parent, I3 if R is None else R, Z3 if p is None else p, "main")
-        body.joints = [_JointSpec(None, jname, kind, Z3 if pos is None else pos, Z3 if axis is None else axis, ref,
-                                  armature, lower, upper, freejoint)
-                       for jname, kind, freejoint, pos, axis, ref, armature, lower, upper in joints]
-        body.sites = [(sname, I3 if Rs is None else Rs, Z3 if ps is None else ps) for sname, Rs, ps in sites]
-        if inertia is not None:
-            m, c, ic = inertia
-            body.inertia = (m, Z3 if c is None else c, ic)
-        made.append(body)
-    try:
-        model, complaints = loader.build()
-    except FeatherdynError:  # a model the builder refuses: the Python reader words why
-        return None
-    return model, label, ignored, complaints
 
 
 def model_format(path_or_xml: str | os.PathLike[str] | bytes) -> str:

@@ -47,7 +47,6 @@ LAYER_OF: dict[str, str] = {
     "_mjcf_xml": "model",
     "_mjcf_inertia": "model",
     "_mjcf_mesh": "model",
-    "_mjcf_native": "model",
     "configuration": "model",
     "_dask": "model",
     "robots": "model",
