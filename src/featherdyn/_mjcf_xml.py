@@ -21,9 +21,11 @@ extrinsic), ``xyaxes``, ``zaxis``; angles in degrees unless
 
 from __future__ import annotations
 
+import errno
 import math
 import os
 import re
+import stat
 import warnings
 from pathlib import Path
 from typing import Any
@@ -453,6 +455,19 @@ def _read(path_or_xml: Any, source: tuple[str, str, str | None] | None = None,
     return root, (index, lines), label, path
 
 
+def file_problem(path: Path) -> str | None:
+    """``None`` where ``path`` is a regular file, else why it cannot be read: ``"no such file"``, the system's
+    reason (``"File name too long"`` for a name longer than the file system takes, ...), or ``"not a regular
+    file"``."""
+    try:
+        status = os.stat(path)
+    except OSError as exc:
+        return "no such file" if exc.errno == errno.ENOENT else (exc.strerror or str(exc))
+    except ValueError as exc:  # a NUL in the name
+        return str(exc)
+    return None if stat.S_ISREG(status.st_mode) else "not a regular file"
+
+
 def read_document(path_or_xml: Any, strict: bool, source: tuple[str, str, str | None] | None = None) -> Doc:
     """Parse the main file, check its root is ``<mujoco>``, expand every ``<include>``.
 
@@ -503,8 +518,12 @@ def read_document(path_or_xml: Any, strict: bool, source: tuple[str, str, str | 
             included += 1
             if included > MAX_INCLUDES:
                 raise doc.error(inc, f"more than {MAX_INCLUDES} included files (MAX_INCLUDES)")
-            if not target.is_file():
+            problem = file_problem(target)
+            if problem == "no such file":
                 raise doc.error(inc, f"file={_quote(file)}: the included file {_quote(str(target))} does not exist")
+            if problem is not None:
+                raise doc.error(inc, f"file={_quote(file)}: cannot read the included file {_quote(str(target))}: "
+                                f"{problem}")
             sub, sub_where, _, _ = _read(target)
             if _local(sub.tag) not in ("mujoco", "mujocoinclude"):  # <mujocoinclude>: MuJoCo's older root, still read
                 raise doc.error(inc, f"file={_quote(file)}: an included file's root must be <mujoco>, got "

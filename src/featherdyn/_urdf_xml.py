@@ -85,7 +85,10 @@ def _read_source(path_or_xml: Any, error: type[ModelError] = URDFError, kind: st
     if isinstance(path_or_xml, (bytes, bytearray, memoryview)):
         return _decode(bytes(path_or_xml), "<bytes>", error), "<bytes>", None
     if isinstance(path_or_xml, str) and path_or_xml.lstrip("\ufeff \t\r\n").startswith("<"):
-        return path_or_xml.lstrip("\ufeff"), "<string>", None
+        text = path_or_xml.lstrip("\ufeff")
+        if not text.isascii():
+            _check_encodable(text, error)
+        return text, "<string>", None
     if not isinstance(path_or_xml, (str, os.PathLike)):
         raise error(
             f"{function}: expected a path, an XML string or bytes, got {type(path_or_xml).__name__}"
@@ -97,6 +100,17 @@ def _read_source(path_or_xml: Any, error: type[ModelError] = URDFError, kind: st
         reason = exc.strerror if isinstance(exc, OSError) and exc.strerror else str(exc)
         raise error(f"{label}: cannot read the {kind} file: {reason}") from None
     return _decode(data, label, error), label, label
+
+
+def _check_encodable(text: str, error: type[ModelError]) -> None:
+    """Refuse a ``str`` document holding a lone surrogate (``"\\udc80"``, e.g. from a ``surrogateescape`` decode):
+    it is no Unicode character, so no XML text can hold it."""
+    try:
+        text.encode("utf-8")
+    except UnicodeEncodeError as exc:
+        line = text.count("\n", 0, exc.start) + 1
+        raise error(f"<string>: line {line}: the character {text[exc.start]!r} (position {exc.start}) is a lone "
+                    "surrogate, not a Unicode character: the text cannot be XML") from None
 
 
 def _normal_path(path: str) -> bool:

@@ -86,6 +86,7 @@ from ._mjcf_xml import (
     compose,
     diagonal,
     expand_replicates,
+    file_problem,
     given_value,
     mat_mul,
     mat_vec,
@@ -294,9 +295,10 @@ class _Loader:
                     if name:
                         self.meshes[name] = m
                     file = m.get("file")
-                    if file is not None and not self.asset_path(file).is_file():  # MuJoCo reads every asset
+                    problem = None if file is None else file_problem(self.asset_path(file))  # MuJoCo reads each
+                    if problem is not None:
                         raise doc.error(m, f"file={_quote(file)}: cannot read the mesh file "
-                                        f"{_quote(str(self.asset_path(file)))}: no such file")
+                                        f"{_quote(str(self.asset_path(file)))}: {problem}")
 
     def check_tendons(self, tendons: Any) -> None:
         """Refuse a tendon with armature: MuJoCo adds ``armature · Jᵀ J`` (J the tendon's Jacobian, `(1, nv)`) to
@@ -659,7 +661,10 @@ class _Loader:
             k = next(k for k in range(needed) if not size[k] > 0)
             raise doc.error(elem, f"size={_quote(attrs.get('size', ''))}: size {k} of a {gtype} must be positive "
                             f"(got {size[k]:g})")
-        got = geom_mass_inertia(gtype, size, density, mass, shell)
+        try:
+            got = geom_mass_inertia(gtype, size, density, mass, shell)
+        except ValueError as exc:  # a volume that underflows to 0
+            raise doc.error(elem, f"size={_quote(attrs.get('size', ''))}, mass={_quote(attrs['mass'])}: {exc}") from None
         if got is None:
             raise doc.error(elem, f"shellinertia='true' of a {gtype} is not supported")
         m, principal = got
@@ -906,9 +911,9 @@ def _inline_mass_properties(vertex: tuple[float, ...], face: tuple[float, ...], 
     V = np.array(vertex, dtype=np.float64).reshape(-1, 3)
     if any(f != int(f) for f in face):
         raise MeshError("face indices must be integers")
-    F = np.array(face, dtype=np.int64).reshape(-1, 3)
-    if F.size and (F.min() < 0 or F.max() >= len(V)):
+    if face and (min(face) < 0 or max(face) >= len(V)):  # (before the int64 array: an index may exceed its range)
         raise MeshError(f"a face index is outside 0..{len(V) - 1}")
+    F = np.array(face, dtype=np.int64).reshape(-1, 3)
     return mass_properties(V, F, scale, mode)
 
 

@@ -9,7 +9,9 @@ with included files and mesh folders are also compiled by MuJoCo (the
 
 from __future__ import annotations
 
+import errno
 import math
+import os
 import pickle
 import warnings
 from pathlib import Path
@@ -591,3 +593,50 @@ def test_threads_loading_at_once_get_each_their_model() -> None:
     with ThreadPoolExecutor(4) as pool:
         got = list(pool.map(lambda k: numbers(_load(texts[k % 4])), range(64)))
     assert all(g == expected[k % 4] for k, g in enumerate(got))
+
+
+# --------------------------------------------------------------------------- hostile input: MJCFError, never a raw exception
+
+#: documents (strings) whose load once raised a raw exception (ZeroDivisionError, OverflowError, UnicodeEncodeError)
+RAW_ONCE = {
+    "a sphere whose volume underflows, with a mass": (
+        _wrap('<body><joint/><geom name="g" size="1e-110" mass="1"/></body>'),
+        r"line 1: <geom name='g'>: size='1e-110', mass='1': the sphere's volume underflows to 0"),
+    "a box whose volume underflows, with a mass": (
+        _wrap('<body><joint/>\n<geom name="b" type="box" size="1e-110 1e-110 1e-110" mass="1"/></body>'),
+        r"line 2: <geom name='b'>: .* the box's volume underflows to 0"),
+    "a shell whose area underflows, with a mass": (
+        _wrap('<body><joint/><geom type="box" size="1e-200 1e-200 1e-200" mass="1" shellinertia="true"/></body>'),
+        r"<geom>: .* the box's area underflows to 0"),
+    "an inline mesh face index beyond int64": (
+        _wrap('<body><joint/><geom type="mesh" mesh="m"/></body>',
+              head='<asset><mesh name="m" vertex="0 0 0 1 0 0 0 1 0 0 0 1" '
+                   'face="0 2 1 0 1 3 0 3 2 1 2 99999999999999999999"/></asset>'),
+        r"<mesh name='m'>: a face index is outside 0..3"),
+    "a string with a lone surrogate": (
+        "<mujoco>\n<worldbody><body name='a\udc80'/></worldbody></mujoco>",
+        r"<string>: line 2: the character '\\udc80' \(position 33\) is a lone surrogate"),
+}
+
+
+@pytest.mark.parametrize("case", list(RAW_ONCE))
+def test_hostile_values_are_refused_with_mjcf_error(case: str) -> None:
+    text, words = RAW_ONCE[case]
+    with pytest.raises(MJCFError, match=words):
+        fd.load_mjcf(text)
+
+
+def test_names_longer_than_the_file_system_takes_are_refused_with_mjcf_error(tmp_path: Path) -> None:
+    """An ``<include file>`` or a ``<compiler meshdir>`` whose name is longer than a file name may be (255 bytes
+    on Linux): ``os.stat`` fails with ENAMETOOLONG, which the message gives as the reason."""
+    long = "a" * (os.pathconf(tmp_path, "PC_NAME_MAX") + 1)
+    main = tmp_path / "main.xml"
+    main.write_text(f'<mujoco>\n<include file="{long}.xml"/></mujoco>')
+    reason = os.strerror(errno.ENAMETOOLONG)
+    with pytest.raises(MJCFError, match=rf"^{main}: line 2: <include>: file='a+'\.\.\. \(\d+ characters\): "
+                                        rf"cannot read the included file .*: {reason}"):
+        fd.load_mjcf(main)
+    main.write_text(_wrap('<body><joint/><geom size=".1"/></body>',
+                          head=f'<compiler meshdir="{long}"/><asset><mesh name="m" file="m.stl"/></asset>'))
+    with pytest.raises(MJCFError, match=rf"<mesh name='m'>: file='m.stl': cannot read the mesh file .*: {reason}"):
+        fd.load_mjcf(main)
