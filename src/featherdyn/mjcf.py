@@ -216,11 +216,25 @@ def _axisymmetric(lateral: float, axial: float, z: Vec) -> Mat:
 
 
 def _smallest_above(ic: Mat, floor: float) -> bool:
-    """Whether the smallest eigenvalue of the symmetric ``ic`` surely is at least ``floor`` (Gershgorin's lower
-    bound, with room for round-off); ``False`` means: compute the eigenvalues."""
-    a, b, c, e, f, i = ic[0], abs(ic[1]), abs(ic[2]), ic[4], abs(ic[5]), ic[8]
-    bound = min(a - b - c, e - b - f, i - c - f)
-    return bound > 2 * floor + 1e-12 * max(a, e, i)
+    """Whether the smallest eigenvalue of the symmetric ``ic`` surely exceeds ``floor``; ``False`` means: compute
+    the eigenvalues. Sylvester's criterion on ``A = ic − floor 1``: ``A`` is positive definite iff the pivots of
+    its factorisation ``A = L D Lᵀ`` are positive::
+
+        d₁ = a₁₁,   d₂ = a₂₂ − a₁₂² / d₁,   d₃ = a₃₃ − a₁₃² / d₁ − (a₂₃ − a₁₂ a₁₃ / d₁)² / d₂
+
+    Each pivot must clear ``1e-9`` of the largest diagonal entry: where ``A`` is positive definite every term
+    subtracted is at most that entry, so round-off (~1e-16 of it) cannot turn a negative pivot positive.
+    """
+    a, b, c = ic[0] - floor, ic[1], ic[2]
+    e, f, i = ic[4] - floor, ic[5], ic[8] - floor
+    margin = 1e-9 * max(ic[0], ic[4], ic[8])
+    if not a > margin:
+        return False
+    d2 = e - b * b / a
+    if not d2 > margin:
+        return False
+    g = f - b * c / a
+    return i - c * c / a - g * g / d2 > margin
 
 
 def _add_frame(frames: list[Any], posed: list[int], name: str, body: int, R: Mat, p: Vec, kind: str) -> None:

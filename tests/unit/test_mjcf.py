@@ -640,3 +640,24 @@ def test_names_longer_than_the_file_system_takes_are_refused_with_mjcf_error(tmp
                           head=f'<compiler meshdir="{long}"/><asset><mesh name="m" file="m.stl"/></asset>'))
     with pytest.raises(MJCFError, match=rf"<mesh name='m'>: file='m.stl': cannot read the mesh file .*: {reason}"):
         fd.load_mjcf(main)
+
+
+def test_the_moving_body_check_never_passes_an_inertia_below_mjminval() -> None:
+    """``_smallest_above`` (the pivots of ``I − floor 1``) answers "above" only where NumPy's eigenvalues agree;
+    on tensors rotated at random with moments from 1e-18 to 1e3, some at or just below MuJoCo's floor."""
+    from featherdyn.mjcf import MJ_MINVAL, _smallest_above
+
+    rng = np.random.default_rng(7)
+    said_above = 0
+    for k in range(3000):
+        Q = np.linalg.qr(rng.normal(size=(3, 3)))[0]
+        moments = 10.0 ** rng.uniform(-18, 3, size=3)
+        if k % 3 == 0:
+            moments[k % 2] = (0.0, 1e-15, 2e-15, 1e-16, -1e-16)[k % 5]
+        A = Q @ np.diag(moments) @ Q.T
+        A = (A + A.T) / 2
+        above = _smallest_above(tuple(A.ravel().tolist()), MJ_MINVAL)
+        said_above += above
+        if above:
+            assert np.linalg.eigvalsh(A).min() > MJ_MINVAL, (moments, A)
+    assert said_above > 300  # it decides the usual, well-conditioned tensors itself
