@@ -318,7 +318,7 @@ def test_lines_named_by_the_c_parser_and_the_guarded_xml_paths_agree(tmp_path: P
     """Without a DTD the document is read by ElementTree's C parser and lines are found only for a message; the
     guarded parser (defusedxml) takes the rest. Either way the message names the offending element's line, in the
     file that holds it (here an included one)."""
-    from featherdyn._urdf_xml import ElementLines, parse_elements
+    from featherdyn.readers.xml import ElementLines, parse_elements
 
     body = "<body name='b'>\n<joint/>\n<!-- a comment -->\n<geom name='g' size='-1'/>\n</body>\n"
     (tmp_path / "part.xml").write_text(f"<mujoco>\n<worldbody>\n{body}</worldbody>\n</mujoco>\n")
@@ -415,7 +415,7 @@ def test_plain_paths_and_usual_bytes_take_shortcuts_with_the_long_ways_result() 
     import codecs
     import itertools
 
-    from featherdyn._urdf_xml import _decode, _normal_path, _sniffed_encoding
+    from featherdyn.readers.xml import _decode, _normal_path, _sniffed_encoding
 
     for n in range(1, 7):
         for parts in itertools.product("a/.", repeat=n):
@@ -645,7 +645,7 @@ def test_names_longer_than_the_file_system_takes_are_refused_with_mjcf_error(tmp
 def test_the_moving_body_check_never_passes_an_inertia_below_mjminval() -> None:
     """``_smallest_above`` (the pivots of ``I − floor 1``) answers "above" only where NumPy's eigenvalues agree;
     on tensors rotated at random with moments from 1e-18 to 1e3, some at or just below MuJoCo's floor."""
-    from featherdyn.mjcf import MJ_MINVAL, _smallest_above
+    from featherdyn.readers.mjcf import MJ_MINVAL, _smallest_above
 
     rng = np.random.default_rng(7)
     said_above = 0

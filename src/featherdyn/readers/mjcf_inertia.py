@@ -1,4 +1,4 @@
-"""Mass and rotational inertia of MuJoCo geoms (private to :mod:`featherdyn.mjcf`), as MuJoCo's compiler computes them.
+"""Mass and rotational inertia of MuJoCo geoms (used by :mod:`featherdyn.readers.mjcf`), as MuJoCo's compiler computes them.
 
 Each primitive's volume ``V`` (or area, with ``shellinertia``) and its inertia
 per unit mass ``J`` (diagonal, in the geom frame, about its centre); the mass

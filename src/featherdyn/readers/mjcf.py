@@ -1,6 +1,6 @@
 """Load an MJCF (MuJoCo XML) model into a :class:`~featherdyn.Model`, with MuJoCo's compiler semantics.
 
-The reading is as hostile-input safe as the URDF loader's (:mod:`featherdyn._mjcf_xml`:
+The reading is as hostile-input safe as the URDF loader's (:mod:`featherdyn.readers.mjcf_xml`:
 defusedxml, no entities, bounded nesting, include cycles and depth refused,
 numbers finite and bounded); every failure is an :class:`~featherdyn.MJCFError`
 naming the file, line, element and attribute.
@@ -73,15 +73,18 @@ from typing import Any, cast
 
 import numpy as np
 
-from ._mjcf_inertia import geom_mass_inertia
-from ._mjcf_mesh import MeshError, clear_mesh_cache, file_mass_properties, mass_properties
-from ._mjcf_xml import (
+from ..errors import FeatherdynError, MJCFError, ModelError, PhysicalityWarning
+from ..joints import FreeFlyerJoint, Joint, PrismaticJoint, RevoluteJoint, SphericalJoint, _with_unit_axis
+from ..model import _IDENTITY, FrameInfo, Model, ModelBuilder
+from ..spatial_algebra import PluckerTransform
+from .mjcf_inertia import geom_mass_inertia
+from .mjcf_mesh import MeshError, clear_mesh_cache, file_mass_properties, mass_properties
+from .mjcf_xml import (
     I3,
     Z3,
     Doc,
     Mat,
     Vec,
-    _local,
     axis_angle_matrix,
     compose,
     diagonal,
@@ -92,19 +95,16 @@ from ._mjcf_xml import (
     mat_vec,
     read_defaults,
     read_document,
-    read_source,
+    read_mjcf_source,
     rotate_diagonal,
     rotate_symmetric,
     rows,
+    tag_name,
     vec_add,
     z_to_vector,
 )
-from ._urdf_xml import _quote, _read_source, _shorten_quoted
-from .errors import FeatherdynError, MJCFError, ModelError, PhysicalityWarning
-from .joints import FreeFlyerJoint, Joint, PrismaticJoint, RevoluteJoint, SphericalJoint, _with_unit_axis
-from .model import _IDENTITY, FrameInfo, Model, ModelBuilder
-from .spatial_algebra import PluckerTransform
 from .urdf import MAX_INERTIA, MAX_MASS
+from .xml import quote, read_source, shorten_quoted
 
 __all__ = ["clear_mesh_cache", "load_mjcf", "load_model", "model_format"]
 
@@ -279,7 +279,7 @@ class _Loader:
         doc = self.doc
         self.model_name = doc.root.get("model")
         for elem in doc.root:
-            kind = _local(elem.tag)
+            kind = tag_name(elem.tag)
             if not kind:
                 continue
             if kind == "compiler":
@@ -300,19 +300,19 @@ class _Loader:
             elif kind not in _HANDLED_TOP and kind not in _IGNORED_QUIETLY:
                 raise doc.error(elem, f"unknown MJCF element <{kind}> in <mujoco>")
         read_defaults(doc)
-        for tendons in (e for e in doc.root if _local(e.tag) == "tendon"):
+        for tendons in (e for e in doc.root if tag_name(e.tag) == "tendon"):
             self.check_tendons(tendons)
-        for asset in (e for e in doc.root if _local(e.tag) == "asset"):
+        for asset in (e for e in doc.root if tag_name(e.tag) == "asset"):
             for m in asset:
-                if _local(m.tag) == "mesh":
+                if tag_name(m.tag) == "mesh":
                     name = m.get("name") or Path(m.get("file", "")).stem
                     if name:
                         self.meshes[name] = m
                     file = m.get("file")
                     problem = None if file is None else file_problem(self.asset_path(file))  # MuJoCo reads each
                     if problem is not None:
-                        raise doc.error(m, f"file={_quote(file)}: cannot read the mesh file "
-                                        f"{_quote(str(self.asset_path(file)))}: {problem}")
+                        raise doc.error(m, f"file={quote(file)}: cannot read the mesh file "
+                                        f"{quote(str(self.asset_path(file)))}: {problem}")
 
     def check_tendons(self, tendons: Any) -> None:
         """Refuse a tendon with armature: MuJoCo adds ``armature · Jᵀ J`` (J the tendon's Jacobian, `(1, nv)`) to
@@ -321,10 +321,10 @@ class _Loader:
         damping, limits) is a force and is ignored with the other elements without rigid-tree meaning."""
         doc = self.doc
         for t in tendons:
-            if _local(t.tag) in ("fixed", "spatial"):
+            if tag_name(t.tag) in ("fixed", "spatial"):
                 attrs = doc.attrs(t, "tendon", doc.element_class(t, "main"))
                 if doc.number(t, attrs, "armature", 0.0, MAX_MASS) != 0:
-                    raise doc.error(t, f"armature={_quote(attrs['armature'])}: a tendon's armature adds "
+                    raise doc.error(t, f"armature={quote(attrs['armature'])}: a tendon's armature adds "
                                     "armature·JᵀJ to the mass matrix (MuJoCo), coupling the tendon's joints, which "
                                     "featherdyn's tree algorithms do not model (set it to 0 or remove the tendon)")
 
@@ -335,10 +335,10 @@ class _Loader:
         if "eulerseq" in a:
             seq = a["eulerseq"]
             if len(seq) != 3 or any(ch not in "xyzXYZ" for ch in seq):
-                raise doc.error(elem, f"eulerseq={_quote(seq)}: expected three letters of xyzXYZ")
+                raise doc.error(elem, f"eulerseq={quote(seq)}: expected three letters of xyzXYZ")
             doc.eulerseq = seq
         if "coordinate" in a and a["coordinate"] != "local":
-            raise doc.error(elem, f"coordinate={_quote(a['coordinate'])}: only local coordinates exist (MuJoCo "
+            raise doc.error(elem, f"coordinate={quote(a['coordinate'])}: only local coordinates exist (MuJoCo "
                             "removed 'global')")
         if "alignfree" in a and doc.boolean(elem, a, "alignfree", False):
             raise doc.error(elem, "alignfree='true' (moving free bodies' frames to their inertial frames) is not "
@@ -348,7 +348,7 @@ class _Loader:
         if "inertiagrouprange" in a:
             g = doc.floats(elem, a, "inertiagrouprange", (2,))
             if g is None or any(x != int(x) for x in g):
-                raise doc.error(elem, f"inertiagrouprange={_quote(a['inertiagrouprange'])}: expected two integers")
+                raise doc.error(elem, f"inertiagrouprange={quote(a['inertiagrouprange'])}: expected two integers")
             c.group_range = (int(g[0]), int(g[1]))
         for key in ("boundmass", "boundinertia", "settotalmass"):
             if key in a:
@@ -365,7 +365,7 @@ class _Loader:
         if g is not None:
             self.gravity = (g[0], g[1], g[2])
         for flag in elem:
-            if _local(flag.tag) == "flag" and flag.get("gravity") == "disable":
+            if tag_name(flag.tag) == "flag" and flag.get("gravity") == "disable":
                 self.gravity_disabled = True
 
     # -- the body tree --------------------------------------------------------
@@ -374,7 +374,7 @@ class _Loader:
         doc = self.doc
         world = _Body(None, "world", -1, I3, Z3, "main")
         self.bodies.append(world)
-        worldbodies = [e for e in doc.root if _local(e.tag) == "worldbody"]
+        worldbodies = [e for e in doc.root if tag_name(e.tag) == "worldbody"]
         # pending bodies in MuJoCo's order (depth first, document order): (elem, parent id, R, p, childclass)
         pending: list[tuple[Any, int, Mat, Vec, str]] = []
         for wb in worldbodies:
@@ -462,12 +462,12 @@ class _Loader:
         if ft is None:
             return None
         if "pos" in attrs and any(self.doc.floats(elem, attrs, "pos", (3,)) or ()):  # measured: "0 0 0" is allowed
-            raise self.doc.error(elem, f"pos={_quote(attrs['pos'])} and fromto both given (MuJoCo refuses a "
+            raise self.doc.error(elem, f"pos={quote(attrs['pos'])} and fromto both given (MuJoCo refuses a "
                                  "non-zero pos with fromto)")
         d = (ft[0] - ft[3], ft[1] - ft[4], ft[2] - ft[5])
         n = math.hypot(*d)
         if n < 1e-10:
-            raise self.doc.error(elem, f"fromto={_quote(attrs['fromto'])}: the two points coincide")
+            raise self.doc.error(elem, f"fromto={quote(attrs['fromto'])}: the two points coincide")
         return (d[0] / n, d[1] / n, d[2] / n), ((ft[0] + ft[3]) / 2, (ft[1] + ft[4]) / 2, (ft[2] + ft[5]) / 2), n
 
     def read_joint(self, elem: Any, kind: str, cc: str, R: Mat, p: Vec, index: int) -> _JointSpec:
@@ -489,7 +489,7 @@ class _Loader:
         ref = doc.number(elem, attrs, "ref", 0.0)
         armature = doc.floats(elem, attrs, "armature", (1,), (0.0,), MAX_MASS)[0]  # type: ignore[index]
         if armature < 0:
-            raise doc.error(elem, f"armature={_quote(attrs['armature'])}: expected a value >= 0")
+            raise doc.error(elem, f"armature={quote(attrs['armature'])}: expected a value >= 0")
         lower, upper = -math.inf, math.inf
         limited = attrs.get("limited", "auto")
         if limited not in ("true", "false", "auto"):
@@ -504,7 +504,7 @@ class _Loader:
             rng = doc.floats(elem, attrs, "range", (2,), (0.0, 0.0)) or (0.0, 0.0)
             lower, upper = rng
             if not lower < upper:
-                raise doc.error(elem, f"range={_quote(attrs.get('range', '0 0'))}: a limited joint needs "
+                raise doc.error(elem, f"range={quote(attrs.get('range', '0 0'))}: a limited joint needs "
                                 "range[0] < range[1] (MuJoCo)")
             if jtype == "hinge" and doc.degree:
                 lower, upper = math.radians(lower), math.radians(upper)
@@ -561,7 +561,7 @@ class _Loader:
             if mass is None:
                 raise doc.error(elem, "<inertial> needs 'mass'")
             if mass[0] < 0:
-                raise doc.error(elem, f"mass={_quote(attrs['mass'])}: expected a mass >= 0")
+                raise doc.error(elem, f"mass={quote(attrs['mass'])}: expected a mass >= 0")
             diag = doc.floats(elem, attrs, "diaginertia", (3,), None, MAX_MASS)
             full = doc.floats(elem, attrs, "fullinertia", (6,), None, MAX_MASS)
             if (diag is None) == (full is None):
@@ -591,7 +591,7 @@ class _Loader:
         largest = max(map(abs, inertia))
         if not (math.isfinite(mass_) and math.isfinite(largest)) or mass_ > MAX_MASS or largest > MAX_INERTIA:
             raise doc.error(body.elem, f"body {body.name or b!r}: mass {mass_:g} and inertia entries up to "
-                            f"{largest:g}: expected at most {MAX_MASS:g} (MAX_MASS, MAX_INERTIA of featherdyn.urdf: "
+                            f"{largest:g}: expected at most {MAX_MASS:g} (MAX_MASS, MAX_INERTIA of featherdyn.readers.urdf: "
                             "larger values overflow the dynamics)")
         if body.inertial is not None and not use_geoms:  # MuJoCo checks after bounding and balancing
             ev = principal if principal is not None else np.linalg.eigvalsh(np.array(rows(inertia))).tolist()
@@ -636,12 +636,12 @@ class _Loader:
         if given_value(attrs, "mass"):
             mass = doc.number(elem, attrs, "mass", 0.0, MAX_MASS)
             if mass < 0:
-                raise doc.error(elem, f"mass={_quote(attrs['mass'])}: expected a mass >= 0")
+                raise doc.error(elem, f"mass={quote(attrs['mass'])}: expected a mass >= 0")
             if mass == 0:
                 return None
         density = doc.floats(elem, attrs, "density", (1,), (1000.0,), MAX_MASS)[0]  # type: ignore[index]
         if density < 0:
-            raise doc.error(elem, f"density={_quote(attrs['density'])}: expected a density >= 0")
+            raise doc.error(elem, f"density={quote(attrs['density'])}: expected a density >= 0")
         if gtype == "sdf":
             raise doc.error(elem, "type='sdf': SDF geom inertia is not supported by featherdyn's MJCF loader; give "
                             "the body an <inertial>, or set this geom's mass='0' or a group outside "
@@ -673,12 +673,12 @@ class _Loader:
         needed = _SIZES_NEEDED[gtype]
         if not (size[0] > 0 and (needed < 2 or size[1] > 0) and (needed < 3 or size[2] > 0)):
             k = next(k for k in range(needed) if not size[k] > 0)
-            raise doc.error(elem, f"size={_quote(attrs.get('size', ''))}: size {k} of a {gtype} must be positive "
+            raise doc.error(elem, f"size={quote(attrs.get('size', ''))}: size {k} of a {gtype} must be positive "
                             f"(got {size[k]:g})")
         try:
             got = geom_mass_inertia(gtype, size, density, mass, shell)
         except ValueError as exc:  # a volume that underflows to 0
-            raise doc.error(elem, f"size={_quote(attrs.get('size', ''))}, mass={_quote(attrs['mass'])}: {exc}") from None
+            raise doc.error(elem, f"size={quote(attrs.get('size', ''))}, mass={quote(attrs['mass'])}: {exc}") from None
         if got is None:
             raise doc.error(elem, f"shellinertia='true' of a {gtype} is not supported")
         m, principal = got
@@ -694,7 +694,7 @@ class _Loader:
         doc = self.doc
         name = attrs.get("mesh")
         if name is None or name not in self.meshes:
-            raise doc.error(geom, f"mesh={_quote(name or '')}: no <mesh> asset of that name")
+            raise doc.error(geom, f"mesh={quote(name or '')}: no <mesh> asset of that name")
         elem = self.meshes[name]
         if name in self.mesh_cache:
             return self.mesh_cache[name]
@@ -965,7 +965,7 @@ def load_mjcf(path_or_xml: str | os.PathLike[str] | bytes, *, strict: bool = Fal
         PhysicalityWarning: once, listing the ignored elements without
             rigid-tree meaning.
     """
-    source = read_source(path_or_xml)
+    source = read_mjcf_source(path_or_xml)
     path = None if isinstance(path_or_xml, (bytes, bytearray, memoryview)) or (
         isinstance(path_or_xml, str) and path_or_xml.lstrip("\ufeff \t\r\n").startswith("<")) else str(path_or_xml)
     model, label, ignored, complaints = _load(path_or_xml, source, path, strict)
@@ -973,7 +973,7 @@ def load_mjcf(path_or_xml: str | os.PathLike[str] | bytes, *, strict: bool = Fal
         warnings.warn(f"{label}: ignored MJCF elements without rigid-tree meaning: {', '.join(ignored)}",
                       PhysicalityWarning, stacklevel=2)
     for msg in complaints:  # the model builder's warnings, named by the file
-        warnings.warn(f"{label}: {_shorten_quoted(msg)}", PhysicalityWarning, stacklevel=2)
+        warnings.warn(f"{label}: {shorten_quoted(msg)}", PhysicalityWarning, stacklevel=2)
     return model
 
 
@@ -990,7 +990,7 @@ def _load(path_or_xml: Any, source: tuple[str, str, str | None], path: str | Non
     except MJCFError:
         raise
     except FeatherdynError as exc:  # a check of the spatial types or the model builder: name the file
-        raise MJCFError(f"{doc.label}: {_shorten_quoted(str(exc))}") from None
+        raise MJCFError(f"{doc.label}: {shorten_quoted(str(exc))}") from None
     return model, doc.label, loader.ignored, complaints
 
 
@@ -1001,14 +1001,14 @@ def model_format(path_or_xml: str | os.PathLike[str] | bytes) -> str:
         MJCFError: unreadable, not XML, or another root element; a ``URDFError`` instead for a file named
             ``*.urdf`` (a malformed URDF is a URDF error to its reader).
     """
-    from ._urdf_xml import _parse_xml
-    from .errors import URDFError
+    from ..errors import URDFError
+    from .xml import parse_xml
 
     named_urdf = isinstance(path_or_xml, (str, os.PathLike)) and os.fspath(path_or_xml).lower().endswith(".urdf")
     error: type[ModelError] = URDFError if named_urdf else MJCFError
-    text, label, _ = _read_source(path_or_xml, error, "model", "load_model")
-    root, _ = _parse_xml(text, label, error, "model", line_depth=1)
-    tag = _local(root.tag).split("}", 1)[-1]
+    text, label, _ = read_source(path_or_xml, error, "model", "load_model")
+    root, _ = parse_xml(text, label, error, "model", line_depth=1)
+    tag = tag_name(root.tag).split("}", 1)[-1]
     if tag == "robot":
         return "urdf"
     if tag == "mujoco":

@@ -77,21 +77,21 @@ from typing import Any
 
 import numpy as np
 
-from ._urdf_xml import (
-    _local,
-    _parse_xml,
-    _quote,
-    _read_source,
-    _shorten,
-    _shorten_quoted,
+from ..errors import FeatherdynError, PhysicalityWarning, URDFError
+from ..joints import FreeFlyerJoint, Joint, PlanarJoint, PrismaticJoint, RevoluteJoint
+from ..model import Mimic, Model, ModelBuilder
+from ..rotation import rpy_to_matrix
+from ..spatial_algebra import PluckerTransform, SpatialInertia
+from ..tolerances import UNIT_AXIS, URDF_INERTIA_RTOL
+from .xml import (
+    local_name,
+    parse_xml,
+    quote,
+    read_source,
     reissue_warnings,
+    shorten,
+    shorten_quoted,
 )
-from .errors import FeatherdynError, PhysicalityWarning, URDFError
-from .joints import FreeFlyerJoint, Joint, PlanarJoint, PrismaticJoint, RevoluteJoint
-from .model import Mimic, Model, ModelBuilder
-from .rotation import rpy_to_matrix
-from .spatial_algebra import PluckerTransform, SpatialInertia
-from .tolerances import UNIT_AXIS, URDF_INERTIA_RTOL
 
 __all__ = ["load_urdf"]
 
@@ -174,11 +174,11 @@ class _Doc:
         warnings.warn(text, PhysicalityWarning, stacklevel=4)
 
     def children(self, elem: Any, name: str) -> list[Any]:
-        return [c for c in elem if _local(c.tag, self.ns) == name]
+        return [c for c in elem if local_name(c.tag, self.ns) == name]
 
     def child(self, elem: Any, name: str) -> Any:
         for c in elem:
-            if _local(c.tag, self.ns) == name:
+            if local_name(c.tag, self.ns) == name:
                 return c
         return None
 
@@ -196,23 +196,23 @@ class _Doc:
         ``bound = (largest, name)`` refuses a magnitude above ``largest`` (the
         module constant ``name``). Parsing is linear in the attribute's length.
         """
-        tag = _shorten(_local(elem.tag, self.ns))
+        tag = shorten(local_name(elem.tag, self.ns))
         text = elem.get(attr)
         if text is None:
             if default is None:
                 raise self.error(elem, what, f"<{tag}> needs the attribute {attr!r}")
             return default
-        quoted = f"<{tag}> {attr}={_quote(text)}"
+        quoted = f"<{tag}> {attr}={quote(text)}"
         parts = text.split()
         if len(parts) != count:
             raise self.error(elem, what, f"{quoted}: expected {count} number{'s' if count > 1 else ''}, got {len(parts)}")
         out = []
         for s in parts:
             if not _NUMBER.fullmatch(s):
-                raise self.error(elem, what, f"{quoted}: {_quote(s)} is not a decimal number")
+                raise self.error(elem, what, f"{quoted}: {quote(s)} is not a decimal number")
             x = float(s)
             if not math.isfinite(x):
-                raise self.error(elem, what, f"{quoted}: {_quote(s)} is out of range (not finite)")
+                raise self.error(elem, what, f"{quoted}: {quote(s)} is out of range (not finite)")
             if bound is not None and abs(x) > bound[0]:
                 raise self.error(
                     elem, what, f"{quoted}: expected a magnitude of at most {bound[0]:g} ({bound[1]}: larger values "
@@ -243,7 +243,7 @@ class _Doc:
 
 def _parse_link(doc: _Doc, elem: Any) -> _Link:
     name = doc.name(elem, "link")
-    what = f"<link name={_quote(name)}>"
+    what = f"<link name={quote(name)}>"
     inertial = doc.child(elem, "inertial")
     out = None
     if inertial is not None:
@@ -255,7 +255,7 @@ def _parse_link(doc: _Doc, elem: Any) -> _Link:
             raise doc.error(inertial, what, "<inertial> needs an <inertia ixx=... izz=...> element")
         mass = doc.number(mass_el, "value", what, bound=(MAX_MASS, "MAX_MASS"))
         if mass < 0:
-            raise doc.error(mass_el, what, f"<mass> value={_quote(mass_el.get('value'))}: expected a mass >= 0, got a "
+            raise doc.error(mass_el, what, f"<mass> value={quote(mass_el.get('value'))}: expected a mass >= 0, got a "
                             f"negative mass {mass:g}")
         ixx, ixy, ixz, iyy, iyz, izz = (
             doc.number(inertia_el, k, what, bound=(MAX_INERTIA, "MAX_INERTIA")) for k in _INERTIA_KEYS
@@ -290,7 +290,7 @@ def _link_inertias(doc: _Doc, links: list[_Link]) -> dict[str, SpatialInertia]:
     bad_psd = (ev[:, 0] < -tol) & (scale > 0)
     bad_tri = (ev[:, 0] + ev[:, 1] < ev[:, 2] - tol) & (scale > 0)
     for k in np.flatnonzero((scale > 0) & ((mass == 0) | bad_psd | bad_tri)):
-        what = f"<link name={_quote(having[k].name)}>"
+        what = f"<link name={quote(having[k].name)}>"
         moments = ", ".join(f"{e:.6g}" for e in ev[k])
         if mass[k] == 0:
             doc.warn(ins[k].elem, what, f"zero mass but non-zero rotational inertia (principal moments {moments})")
@@ -305,12 +305,12 @@ def _link_inertias(doc: _Doc, links: list[_Link]) -> dict[str, SpatialInertia]:
 
 def _parse_joint(doc: _Doc, elem: Any) -> _Joint:
     name = doc.name(elem, "joint")
-    what = f"<joint name={_quote(name)}>"
+    what = f"<joint name={quote(name)}>"
     jtype = elem.get("type")
     if jtype is None:
         raise doc.error(elem, what, "missing 'type' attribute (one of " + ", ".join(_JOINT_TYPES) + ")")
     if jtype not in _JOINT_TYPES:
-        raise doc.error(elem, what, f"unknown joint type {_quote(jtype)}; expected one of " + ", ".join(_JOINT_TYPES))
+        raise doc.error(elem, what, f"unknown joint type {quote(jtype)}; expected one of " + ", ".join(_JOINT_TYPES))
     ends = []
     for end in ("parent", "child"):
         e = doc.child(elem, end)
@@ -391,18 +391,18 @@ def _link_order(doc: _Doc, links: dict[str, _Link], joints: list[_Joint]) -> tup
         for end, link in (("parent", j.parent), ("child", j.child)):
             if link not in links:
                 raise URDFError(
-                    f"{doc.label}: line {j.line}: <joint name={_quote(j.name)}>: unknown {end} link {_quote(link)}"
+                    f"{doc.label}: line {j.line}: <joint name={quote(j.name)}>: unknown {end} link {quote(link)}"
                 )
         if j.parent == j.child:
             raise URDFError(
-                f"{doc.label}: line {j.line}: <joint name={_quote(j.name)}>: parent and child are the same link "
-                f"{_quote(j.child)} (a cycle)"
+                f"{doc.label}: line {j.line}: <joint name={quote(j.name)}>: parent and child are the same link "
+                f"{quote(j.child)} (a cycle)"
             )
         if j.child in parent_joint:
             other = parent_joint[j.child]
             raise URDFError(
-                f"{doc.label}: line {j.line}: <joint name={_quote(j.name)}>: link {_quote(j.child)} has two parents "
-                f"(joints {_quote(other.name)} and {_quote(j.name)}); a URDF must be a tree"
+                f"{doc.label}: line {j.line}: <joint name={quote(j.name)}>: link {quote(j.child)} has two parents "
+                f"(joints {quote(other.name)} and {quote(j.name)}); a URDF must be a tree"
             )
         parent_joint[j.child] = j
         children[j.parent].append(j)
@@ -411,7 +411,7 @@ def _link_order(doc: _Doc, links: dict[str, _Link], joints: list[_Joint]) -> tup
     if not roots:
         raise URDFError(f"{doc.label}: the joints form a cycle: every link has a parent joint, so there is no root link")
     if len(roots) > 1:
-        shown = ", ".join(_quote(r) for r in roots[:10]) + (", ..." if len(roots) > 10 else "")
+        shown = ", ".join(quote(r) for r in roots[:10]) + (", ..." if len(roots) > 10 else "")
         raise URDFError(
             f"{doc.label}: more than one root link ({len(roots)}: {shown}): the links are not all connected; "
             "every link but the root must be the child of exactly one joint"
@@ -435,14 +435,14 @@ def _link_order(doc: _Doc, links: dict[str, _Link], joints: list[_Joint]) -> tup
         raise URDFError(
             f"{doc.label}: the joints form a cycle through links "
             + _arrows([*reversed(loop), loop[-1]])
-            + f" (joint {_quote(parent_joint[loop[0]].name)}); a URDF must be a tree"
+            + f" (joint {quote(parent_joint[loop[0]].name)}); a URDF must be a tree"
         )
     return root, order
 
 
 def _arrows(names: list[str], most: int = 8) -> str:
     """``'a' -> 'b' -> 'a'``, shortened in the middle for long loops."""
-    shown = [_quote(x) for x in names]
+    shown = [quote(x) for x in names]
     if len(shown) > most:
         shown = [*shown[: most // 2], f"... ({len(names) - most} more)", *shown[-(most // 2):]]
     return " -> ".join(shown)
@@ -455,14 +455,14 @@ def _check_mimics(doc: _Doc, joints: dict[str, _Joint]) -> list[Mimic]:
         if j.mimic is None:
             continue
         target, mult, offset, line = j.mimic
-        what = f"<joint name={_quote(j.name)}>"
+        what = f"<joint name={quote(j.name)}>"
         if target not in joints:
-            doc.warn(None, what, f"<mimic> of unknown joint {_quote(target)}; ignored", line)
+            doc.warn(None, what, f"<mimic> of unknown joint {quote(target)}; ignored", line)
             continue
         if j.type == "fixed":  # a reduced model froze the mimicking joint: nothing to record
             continue
         if joints[target].type == "fixed":
-            doc.warn(None, what, f"<mimic> of the fixed joint {_quote(target)}; ignored", line)
+            doc.warn(None, what, f"<mimic> of the fixed joint {quote(target)}; ignored", line)
             continue
         follows[j.name] = target
         out.append(Mimic(j.name, target, mult, offset))
@@ -477,7 +477,7 @@ def _check_mimics(doc: _Doc, joints: dict[str, _Joint]) -> list[Mimic]:
         if nxt is not None and nxt in path:
             loop = list(path)[path[nxt]:]
             raise URDFError(
-                f"{doc.label}: line {joints[loop[0]].line}: <joint name={_quote(loop[0])}>: mimic cycle "
+                f"{doc.label}: line {joints[loop[0]].line}: <joint name={quote(loop[0])}>: mimic cycle "
                 + _arrows([*loop, loop[0]])
             )
         done.update(path)
@@ -500,7 +500,7 @@ def _check_limits_given(doc: _Doc, joints: list[_Joint]) -> None:
     if not lacking:
         return
     most = 10
-    shown = ", ".join(f"{_quote(j.name)} (line {j.line}: no {' or '.join(j.limit_missing)})" for j in lacking[:most])
+    shown = ", ".join(f"{quote(j.name)} (line {j.line}: no {' or '.join(j.limit_missing)})" for j in lacking[:most])
     more = f" and {len(lacking) - most} more" if len(lacking) > most else ""
     doc.warn(
         None, "",
@@ -659,25 +659,25 @@ def load_urdf(path_or_xml: str | os.PathLike[str] | bytes, floating_base: bool =
     recorded (``inf`` where absent); position limits of continuous, planar and
     floating joints are unbounded.
     """
-    text, label, path = _read_source(path_or_xml)
-    root_el, lines = _parse_xml(text, label)
+    text, label, path = read_source(path_or_xml)
+    root_el, lines = parse_xml(text, label)
     tag = root_el.tag if isinstance(root_el.tag, str) else ""
     ns = tag[: tag.index("}") + 1] if tag.startswith("{") else ""
-    if _local(tag, ns) != "robot":
+    if local_name(tag, ns) != "robot":
         raise URDFError(
-            f"{label}: line {lines.get(root_el, 1)}: expected the root element <robot>, got <{_shorten(tag)}>"
+            f"{label}: line {lines.get(root_el, 1)}: expected the root element <robot>, got <{shorten(tag)}>"
         )
     doc = _Doc(label, lines, ns, strict)
 
     links: dict[str, _Link] = {}
     joints: dict[str, _Joint] = {}
     for elem in root_el:
-        kind = _local(elem.tag, ns)
+        kind = local_name(elem.tag, ns)
         if kind == "link":
             link = _parse_link(doc, elem)
             if link.name in links:
                 raise doc.error(
-                    elem, f"<link name={_quote(link.name)}>",
+                    elem, f"<link name={quote(link.name)}>",
                     f"duplicate link name (first defined on line {links[link.name].line})",
                 )
             links[link.name] = link
@@ -685,7 +685,7 @@ def load_urdf(path_or_xml: str | os.PathLike[str] | bytes, floating_base: bool =
             joint = _parse_joint(doc, elem)
             if joint.name in joints:
                 raise doc.error(
-                    elem, f"<joint name={_quote(joint.name)}>",
+                    elem, f"<joint name={quote(joint.name)}>",
                     f"duplicate joint name (first defined on line {joints[joint.name].line})",
                 )
             joints[joint.name] = joint
@@ -703,6 +703,6 @@ def load_urdf(path_or_xml: str | os.PathLike[str] | bytes, floating_base: bool =
     except URDFError:
         raise
     except FeatherdynError as exc:  # a check of the spatial types or the model builder: name the file
-        raise URDFError(f"{label}: {_shorten_quoted(str(exc))}") from None
+        raise URDFError(f"{label}: {shorten_quoted(str(exc))}") from None
     reissue_warnings(caught, label)
     return model
