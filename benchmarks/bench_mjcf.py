@@ -3,7 +3,7 @@
 Usage::
 
     FD_NO_EDITABLE=1 PYTHONPATH=src python benchmarks/bench_mjcf.py [--repeat 7] [--block 1] [--all] [--filter TEXT]
-        [--cold] [--profile MODEL]
+        [--cold [--runs K]] [--profile MODEL]
 
 The models: gymnasium's ``envs/mujoco/assets``, mujoco's ``testdata`` and, if
 installed, dm_control's ``suite`` (none is a featherdyn dependency), each
@@ -17,7 +17,8 @@ meshes, featherdyn their mass properties, while the file is unchanged), so the b
 meshes is a load from that cache.
 
 ``--cold``: instead, each model's first load in a fresh process (the libraries imported, nothing loaded yet),
-featherdyn's and MuJoCo's in separate processes: the time with the mesh files read and integrated.
+featherdyn's and MuJoCo's in separate processes: the time with the mesh files read and integrated. ``--runs K``:
+the best of K such fresh processes per library (on a shared machine a single run may be preempted mid-load).
 
 ``--filter TEXT``: only the models whose path contains TEXT.
 
@@ -137,6 +138,7 @@ def main() -> None:
     parser.add_argument("--all", action="store_true", help="every standalone model of the MJCF survey")
     parser.add_argument("--filter", default="", help="only models whose path contains this")
     parser.add_argument("--cold", action="store_true", help="first loads in fresh processes")
+    parser.add_argument("--runs", type=int, default=1, help="--cold: best of this many fresh processes")
     parser.add_argument("--profile", default=None)
     args = parser.parse_args()
     paths = [p for p in models(args.all) if args.filter in str(p)]
@@ -144,11 +146,13 @@ def main() -> None:
         print(profile([p for p in paths if args.profile in p.name]))
         return
     if args.cold:
-        print(f"featherdyn {fd.__version__}, mujoco {mujoco.__version__}; first load in a fresh process")
+        print(f"featherdyn {fd.__version__}, mujoco {mujoco.__version__}; first load in a fresh process"
+              + (f", best of {args.runs}" if args.runs > 1 else ""))
         print(f"{'model':44s} {'fd ms':>9s} {'MuJoCo ms':>10s} {'ratio':>7s}")
         ratios = []
         for path in paths:
-            t_fd, t_mj = first_load(path, "fd"), first_load(path, "mj")
+            t_fd = min(first_load(path, "fd") for _ in range(args.runs))
+            t_mj = min(first_load(path, "mj") for _ in range(args.runs))
             ratios.append(t_fd / t_mj)
             name = f"{path.parent.parent.name}/{path.parent.name}/{path.name}"
             print(f"{name:44s} {t_fd * 1e3:9.2f} {t_mj * 1e3:10.2f} {t_fd / t_mj:7.2f}", flush=True)

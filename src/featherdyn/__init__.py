@@ -106,9 +106,9 @@ __version__ = "0.1.0"
 
 # names whose modules are imported on first use (keeps `import featherdyn` light)
 _LAZY = {
-    "load_urdf": "urdf",
-    "load_mjcf": "mjcf",
-    "load_model": "mjcf",
+    "load_urdf": "readers.urdf",
+    "load_mjcf": "readers.mjcf",
+    "load_model": "readers.mjcf",
     "load_robot": "robots",
     "list_robots": "robots",
     "neutral": "configuration",

@@ -171,12 +171,12 @@ def load_robot(name: str | os.PathLike[str] | None = None, floating_base: bool =
         MissingDependencyError: a robot that is not bundled was asked for and
             example-robot-data is not installed.
     """
-    from .urdf import load_urdf
+    from .readers.urdf import load_urdf
 
     if name is None:
         name = default_robot()
     if isinstance(name, (str, os.PathLike)) and str(name).lower().endswith((".urdf", ".xml")) and Path(name).is_file():
-        from .mjcf import load_mjcf, model_format
+        from .readers.mjcf import load_mjcf, model_format
 
         if model_format(name) == "mjcf":
             return load_mjcf(name, strict=strict)

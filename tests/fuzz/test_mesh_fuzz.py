@@ -16,7 +16,7 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from featherdyn._mjcf_mesh import MeshError, _msh, _obj, _obj_fast, _obj_lines, _stl, mass_properties
+from featherdyn.readers.mjcf_mesh import MeshError, _msh, _obj, _obj_fast, _obj_lines, _stl, mass_properties
 
 _CUBE_V = [f"v {x} {y} {z}" for x in (0.0, 1.5) for y in (0.0, 2.0) for z in (-1.0, 1e-3)]
 _TRIS = ["f 1 3 2", "f 2 3 4", "f 5 6 7", "f 6 8 7", "f 1 2 5", "f 2 6 5", "f 3 7 4", "f 4 7 8", "f 1 5 3",
@@ -107,7 +107,7 @@ MSH = (struct.pack("<4i", 8, 0, 0, 12) + _CUBE.astype("<f4").tobytes() + _F.asty
 @given(which=st.sampled_from(["stl", "msh", "ascii"]), data=st.data())
 def test_binary_mutants_give_arrays_or_a_mesh_error(which: str, data: st.DataObject) -> None:
     seed = {"stl": STL, "msh": MSH, "ascii": ("solid x\n" + "".join(
-        f"facet normal 0 0 0\nouter loop\n" + "".join(f"vertex {a} {b} {c}\n" for a, b, c in _CUBE[t])
+        "facet normal 0 0 0\nouter loop\n" + "".join(f"vertex {a} {b} {c}\n" for a, b, c in _CUBE[t])
         + "endloop\nendfacet\n" for t in _F) + "endsolid x\n").encode()}[which]
     raw = bytearray(seed)
     for _ in range(data.draw(st.integers(1, 4))):

@@ -19,15 +19,36 @@ from __future__ import annotations
 
 import warnings
 import xml.etree.ElementTree as ET
+from collections.abc import Callable
+from typing import Any
 
 import numpy as np
 import pytest
-from _mjcf_fast import restructure
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 import featherdyn as fd
 from featherdyn.errors import FeatherdynError, MJCFError
+
+
+def restructure(root: ET.Element, e: ET.Element, kind: str, pick: Callable[[list[Any]], Any],
+                tags: list[str]) -> None:
+    """A structural edit of element ``e`` (not the root) of the tree ``root``: ``kind`` is ``"delete"``,
+    ``"duplicate"`` (a copy appended to its parent), ``"move"`` (into another element chosen by ``pick``, unless
+    that is inside ``e``) or ``"rename"`` (to a tag chosen by ``pick`` from ``tags``)."""
+    parent = next(p for p in root.iter() if any(c is e for c in p))
+    if kind == "delete":
+        parent.remove(e)
+    elif kind == "duplicate":
+        parent.append(ET.fromstring(ET.tostring(e)))
+    elif kind == "move":
+        target = pick(list(root.iter()))
+        if all(target is not d for d in e.iter()):
+            parent.remove(e)
+            target.append(e)
+    else:
+        e.tag = pick(tags)
+
 
 SEEDS = [
     """<mujoco model="a"><compiler angle="radian" autolimits="true"/><option gravity="0 0 -9.81"/>

@@ -37,14 +37,9 @@ LAYER_OF: dict[str, str] = {
     "results": "model",
     "constraints": "model",
     "_state_checks": "model",
-    "urdf": "model",
-    "_urdf_xml": "model",
-    "mjcf": "model",
-    "_mjcf_xml": "model",
-    "_mjcf_inertia": "model",
-    "_mjcf_mesh": "model",
-    "_mjcf_native": "model",
     "readers": "model",
+    "urdf": "model",
+    "mjcf": "model",
     "configuration": "model",
     "_dask": "model",
     "robots": "model",
@@ -240,10 +235,6 @@ def test_no_source_cites_documents_outside_the_repository() -> None:
 #: the package root holds the facade, the chapter's public modules and a few others; concepts live in folders
 MAX_ROOT_MODULES = 20
 
-#: the file readers' private modules, which issue 29 moves into ``readers/`` in a parallel change; they are
-#: left out of the count only while ``readers/`` does not exist
-_MOVING_TO_READERS = {"_urdf_xml.py", "_mjcf_xml.py", "_mjcf_inertia.py", "_mjcf_mesh.py", "_mjcf_native.pyi"}
-
 
 def _root_modules() -> list[str]:
     """The modules at the package root (``.py`` files and the type stubs of compiled modules)."""
@@ -254,8 +245,6 @@ def _root_modules() -> list[str]:
 
 def test_the_package_root_holds_at_most_twenty_modules() -> None:
     modules = _root_modules()
-    if not (SRC / "readers").is_dir():
-        modules = [m for m in modules if m not in _MOVING_TO_READERS]
     assert len(modules) <= MAX_ROOT_MODULES, (
         f"{len(modules)} modules at the package root (at most {MAX_ROOT_MODULES}): {modules}; "
         "put a module with the concept it belongs to (a room of docs/architecture.md)")
@@ -326,14 +315,8 @@ _PRIVATE_ACROSS_ROOMS_ALLOWED = [
     ("featherdyn.core*", "featherdyn._state_checks*", "_state_checks is placed by the glue work of issue 29"),
     ("featherdyn.tools.bench", "featherdyn.core._core*", "the kernels' SIMD width, _core.simd(), which core/ "
      "(rewritten in issue 29) does not wrap"),
-    ("featherdyn.urdf", "featherdyn._urdf_xml*", "the readers move into readers/ (issue 29)"),
-    ("featherdyn.mjcf", "featherdyn._*", "the readers move into readers/ (issue 29)"),
-    ("featherdyn._mjcf_*", "featherdyn._*", "the readers move into readers/ (issue 29)"),
-    ("featherdyn.verify.check.values", "featherdyn._urdf_xml*", "the readers move into readers/ (issue 29)"),
-    ("featherdyn.mjcf", "featherdyn.joints._with_unit_axis", "the readers move into readers/ (issue 29)"),
-    ("featherdyn.mjcf", "featherdyn.model._IDENTITY", "the readers move into readers/ (issue 29)"),
-    ("featherdyn.readers*", "featherdyn.joints._with_unit_axis", "the MJCF reader's, until readers/ settles (issue 29)"),
-    ("featherdyn.readers*", "featherdyn.model._IDENTITY", "the MJCF reader's, until readers/ settles (issue 29)"),
+    ("featherdyn.readers*", "featherdyn.joints._with_unit_axis", "an unchecked constructor of a public joint class "
+     "(the loader has normalised the axis): not for the public API"),
 ]
 
 

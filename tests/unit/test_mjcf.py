@@ -2,12 +2,16 @@
 
 The physics is checked against MuJoCo in ``tests/integration/test_mjcf_mujoco.py``;
 here each test states an expectation from the MJCF documentation (or
-MuJoCo's own behaviour, measured and quoted) without MuJoCo installed.
+MuJoCo's own behaviour, measured and quoted) or a closed form; the documents
+with included files and mesh folders are also compiled by MuJoCo (the
+``mujoco`` package, a test dependency) and compared with ``_mjcf_oracle``.
 """
 
 from __future__ import annotations
 
+import errno
 import math
+import os
 import pickle
 import warnings
 from pathlib import Path
@@ -310,11 +314,11 @@ def test_error_names_the_file_line_element_and_attribute(tmp_path: Path) -> None
     assert msg.startswith(str(p)) and "line 5" in msg and "<geom name='g'>" in msg and "size" in msg
 
 
-def test_lines_named_by_the_fast_and_the_guarded_xml_paths_agree(tmp_path: Path) -> None:
+def test_lines_named_by_the_c_parser_and_the_guarded_xml_paths_agree(tmp_path: Path) -> None:
     """Without a DTD the document is read by ElementTree's C parser and lines are found only for a message; the
     guarded parser (defusedxml) takes the rest. Either way the message names the offending element's line, in the
     file that holds it (here an included one)."""
-    from featherdyn._urdf_xml import ElementLines, parse_elements
+    from featherdyn.readers.xml import ElementLines, parse_elements
 
     body = "<body name='b'>\n<joint/>\n<!-- a comment -->\n<geom name='g' size='-1'/>\n</body>\n"
     (tmp_path / "part.xml").write_text(f"<mujoco>\n<worldbody>\n{body}</worldbody>\n</mujoco>\n")
@@ -331,7 +335,7 @@ def test_lines_named_by_the_fast_and_the_guarded_xml_paths_agree(tmp_path: Path)
         fd.load_mjcf(many)
     text = "<mujoco>\n<worldbody>\n<body>\n<geom/>\n</body>\n</worldbody>\n</mujoco>"
     root, index, lines = parse_elements(text, "<string>")
-    assert isinstance(lines, ElementLines) and lines._lines is None  # the fast path: no lines until asked
+    assert isinstance(lines, ElementLines) and lines._lines is None  # the C parser: no lines until asked
     assert [lines.line(index[e]) for e in root.iter()] == [1, 2, 3, 4]
     with pytest.raises(Exception, match="DTD declarations are not allowed in a MJCF"):
         parse_elements(text.replace("<mujoco>", '<!DOCTYPE mujoco><mujoco>'), "<string>", MJCFError, "MJCF")
@@ -411,7 +415,7 @@ def test_plain_paths_and_usual_bytes_take_shortcuts_with_the_long_ways_result() 
     import codecs
     import itertools
 
-    from featherdyn._urdf_xml import _decode, _normal_path, _sniffed_encoding
+    from featherdyn.readers.xml import _decode, _normal_path, _sniffed_encoding
 
     for n in range(1, 7):
         for parts in itertools.product("a/.", repeat=n):
@@ -440,3 +444,220 @@ def test_a_loaded_model_is_read_only_and_zero_vectors_change_nothing() -> None:
     for name in ("joint_placements", "inertias"):
         np.testing.assert_array_equal(getattr(zeros, name).matrix(), getattr(plain, name).matrix())
     assert pickle.loads(pickle.dumps(model)).joint_names == model.joint_names
+
+
+# --------------------------------------------------------------------------- included files, mesh folders, threads
+
+
+def _files(folder: Path, files: dict[str, str]) -> None:
+    for name, text in files.items():
+        (folder / name).parent.mkdir(parents=True, exist_ok=True)
+        (folder / name).write_text(text)
+
+
+def _agrees_with_mujoco(path: Path, rtol: float = 1e-8) -> fd.Model:
+    """The model of ``path``, after checking it against MuJoCo's compile of the same file (``_mjcf_oracle``)."""
+    mujoco = pytest.importorskip("mujoco")
+    from _mjcf_oracle import compare
+
+    model = _load(path)
+    errs = compare(model, mujoco.MjModel.from_xml_path(str(path)), samples=2)
+    bad = {k: v for k, v in errs.worst.items() if not v <= rtol}
+    assert not bad, f"relative errors above {rtol:g} against MuJoCo: {bad}"
+    return model
+
+
+INCLUDED = {
+    "defaults.xml": "<mujocoinclude><default><geom density='700'/><default class='leg'><joint axis='0 1 0'/>"
+                    "</default></default></mujocoinclude>",
+    "sub/legs.xml": "<mujoco model='ignored'><body name='leg' childclass='leg' pos='.2 0 0'><joint/><geom size='.1'/>"
+                    "<include file='sub/foot.xml'/></body></mujoco>",
+    "sub/foot.xml": "<?xml version='1.0'?>\n<!-- c --><mujoco><body name='foot' pos='0 0 -.3'><joint/>"
+                    "<geom type='mesh' mesh='tet'/></body></mujoco>",
+    "assets.xml": "<mujoco><asset><mesh name='tet' vertex='0 0 0 1 0 0 0 1 0 0 0 1' face='0 2 1 0 1 3 0 3 2 1 2 3'/>"
+                  "</asset></mujoco>",
+    "main.xml": "<mujoco model='m'><include file='defaults.xml'/><include file='assets.xml'/>"
+                "<worldbody><body name='torso'><freejoint/><geom size='.2'/><include file='sub/legs.xml'/></body>"
+                "</worldbody></mujoco>",
+}
+
+
+def test_nested_included_files_load_as_mujoco_compiles_them(tmp_path: Path) -> None:
+    """Includes found from the main file's folder (also inside an included file), a ``<mujocoinclude>`` root, default
+    classes and a mesh from included files, an include inside a body."""
+    _files(tmp_path, INCLUDED)
+    model = _agrees_with_mujoco(tmp_path / "main.xml")
+    assert model.body_names == ("torso", "leg", "foot")
+    assert model.name == "m"  # the main file's, not the included one's
+
+
+#: included files MuJoCo refuses, and featherdyn with it (each file set has a main.xml)
+INCLUDES_REFUSED = {
+    "an include with children": ({"main.xml": "<mujoco><include file='a.xml'><size/></include></mujoco>",
+                                  "a.xml": "<mujoco/>"}, "children"),
+    "another root": ({"main.xml": "<mujoco><include file='a.xml'/></mujoco>", "a.xml": "<robot name='r'/>"},
+                     "<mujoco>"),
+    "a malformed included file": ({"main.xml": "<mujoco><include file='a.xml'/></mujoco>", "a.xml": "<mujoco>"},
+                                  "a.xml"),
+    "a file included twice": ({"main.xml": "<mujoco><include file='a.xml'/><include file='b.xml'/></mujoco>",
+                               "a.xml": "<mujoco><include file='b.xml'/></mujoco>", "b.xml": "<mujoco><size/></mujoco>"},
+                              "already included"),
+    "an empty included file": ({"main.xml": "<mujoco><include file='a.xml'/></mujoco>", "a.xml": "<mujoco/>"},
+                               "empty"),
+}
+
+
+@pytest.mark.parametrize("case", list(INCLUDES_REFUSED))
+def test_included_files_mujoco_refuses_are_refused(case: str, tmp_path: Path) -> None:
+    mujoco = pytest.importorskip("mujoco")
+    files, words = INCLUDES_REFUSED[case]
+    _files(tmp_path, files)
+    with pytest.raises(ValueError):
+        mujoco.MjModel.from_xml_path(str(tmp_path / "main.xml"))
+    with pytest.raises(MJCFError, match=words):
+        fd.load_mjcf(tmp_path / "main.xml")
+
+
+def test_included_files_with_non_ascii_text_and_replicate_load_as_mujoco_compiles_them(tmp_path: Path) -> None:
+    _files(tmp_path, {
+        "main.xml": "<mujoco><include file='names.xml'/><worldbody><include file='rep.xml'/></worldbody></mujoco>",
+        "names.xml": "<mujoco><!-- é, ü --><default><joint armature='0.2'/></default></mujoco>",
+        "rep.xml": "<mujoco><replicate count='3' offset='0 .5 0'><body name='b'><joint axis='1 0 0'/>"
+                   "<geom type='box' size='.1 .2 .3'/></body></replicate></mujoco>"})
+    model = _agrees_with_mujoco(tmp_path / "main.xml")
+    assert model.nv == 3 and np.allclose(model.armature, 0.2)
+
+
+CUBE_OBJ = "".join(f"v {x} {y} {z}\n" for x in (0, 1) for y in (0, 2) for z in (0, 3)) + (
+    "f 1 3 4\nf 1 4 2\nf 5 6 8\nf 5 8 7\nf 1 2 6\nf 1 6 5\nf 3 7 8\nf 3 8 4\nf 1 5 7\nf 1 7 3\nf 2 4 8\nf 2 8 6\n")
+
+
+def test_mesh_files_under_meshdir_give_the_box_inertia_and_mujocos(tmp_path: Path) -> None:
+    """A 1 × 2 × 3 box as an OBJ file under ``<compiler meshdir>``: by density 1000, ``m = 6000``, the centre at
+    the box's middle and ``I_c = m/12 diag(b² + c², a² + c², a² + b²)``; with a second, scaled shell mesh, the
+    whole body as MuJoCo compiles it."""
+    _files(tmp_path, {"parts/cube.obj": CUBE_OBJ})
+    one = _wrap('<body><joint/><geom type="mesh" mesh="cube"/></body>',
+                head='<compiler meshdir="parts"/><asset><mesh file="cube.obj"/></asset>')
+    _files(tmp_path, {"one.xml": one})
+    model = _agrees_with_mujoco(tmp_path / "one.xml")
+    m, a, b, c = 6000.0, 1.0, 2.0, 3.0
+    inertia = model.inertias[0]
+    assert np.isclose(inertia.mass, m, rtol=1e-12)
+    # the body frame sits at the joint, at the mesh file's origin: the centre is the box's middle
+    assert np.allclose(inertia.com, [a / 2, b / 2, c / 2], rtol=1e-12)
+    assert np.allclose(inertia.inertia_com, m / 12 * np.diag([b * b + c * c, a * a + c * c, a * a + b * b]),
+                       rtol=1e-12, atol=1e-9)
+    two = _wrap('<body><joint/><geom type="mesh" mesh="cube"/><geom type="mesh" mesh="other" pos="1 0 0"/></body>',
+                head='<compiler meshdir="parts"/><asset><mesh file="cube.obj"/>'
+                     '<mesh name="other" file="cube.obj" scale="1 1 .5" inertia="shell"/></asset>')
+    _files(tmp_path, {"two.xml": two})
+    _agrees_with_mujoco(tmp_path / "two.xml")
+
+
+def test_a_path_bytes_and_a_string_give_the_same_model(tmp_path: Path) -> None:
+    path = tmp_path / "arm.xml"
+    path.write_text(ARM)
+    by_path, by_text, by_bytes = _load(path), _load(ARM), _load(ARM.encode())
+    assert by_path.source == str(path)
+    for other in (by_text, by_bytes):
+        assert other.body_names == by_path.body_names and other.joint_names == by_path.joint_names
+        assert np.array_equal(other.inertias.matrix(), by_path.inertias.matrix())
+        assert np.array_equal(other.joint_placements.matrix(), by_path.joint_placements.matrix())
+
+
+def test_threads_loading_at_once_get_each_their_model() -> None:
+    """Loads share caches (parsed numbers, joints, mesh properties): 64 loads of four documents on four threads
+    give each document's model, the same numbers as one load on its own."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    texts = [ARM,
+             _wrap('<body euler="10 20 30"><joint/><geom type="ellipsoid" size=".1 .2 .3" euler="0 90 0"/>'
+                   '<body xyaxes="0 1 0 -1 0 0.5"><joint type="slide" axis="0 3 4"/>'
+                   '<geom type="cylinder" size=".1 .2" zaxis="1 1 1"/></body></body>'),
+             _wrap('<body pos="0 0 1"><joint/><geom type="mesh" mesh="tet" pos=".1 0 0" euler="0 30 0"/>'
+                   '<geom type="mesh" mesh="hull" mass="2"/></body>',
+                   head='<asset><mesh name="tet" vertex="0 0 0 1 0 0 0 1 0 0 0 1" face="0 2 1 0 1 3 0 3 2 1 2 3"/>'
+                        '<mesh name="hull" vertex="0 0 0 1 0 0 0 1 0 0 0 1 1 1 1"/></asset>'),
+             _wrap('<body childclass="arm"><joint/><geom/><frame pos="1 0 0" euler="0 0 90"><body><joint/>'
+                   '<geom/><site name="s"/></body></frame></body>',
+                   head='<default><default class="arm"><geom type="capsule" size=".05 .2" euler="0 90 0"/>'
+                        '<joint axis="1 0 0"/></default></default>')]
+
+    def numbers(model: fd.Model) -> tuple[object, ...]:
+        frames = [(f.name, f.body, f.placement.matrix().tobytes()) for f in model.frames]
+        return (model.body_names, model.joint_names, model.inertias.matrix().tobytes(),
+                model.joint_placements.matrix().tobytes(), frames)
+
+    expected = [numbers(_load(t)) for t in texts]
+    with ThreadPoolExecutor(4) as pool:
+        got = list(pool.map(lambda k: numbers(_load(texts[k % 4])), range(64)))
+    assert all(g == expected[k % 4] for k, g in enumerate(got))
+
+
+# --------------------------------------------------------------------------- hostile input: MJCFError, never a raw exception
+
+#: documents (strings) whose load once raised a raw exception (ZeroDivisionError, OverflowError, UnicodeEncodeError)
+RAW_ONCE = {
+    "a sphere whose volume underflows, with a mass": (
+        _wrap('<body><joint/><geom name="g" size="1e-110" mass="1"/></body>'),
+        r"line 1: <geom name='g'>: size='1e-110', mass='1': the sphere's volume underflows to 0"),
+    "a box whose volume underflows, with a mass": (
+        _wrap('<body><joint/>\n<geom name="b" type="box" size="1e-110 1e-110 1e-110" mass="1"/></body>'),
+        r"line 2: <geom name='b'>: .* the box's volume underflows to 0"),
+    "a shell whose area underflows, with a mass": (
+        _wrap('<body><joint/><geom type="box" size="1e-200 1e-200 1e-200" mass="1" shellinertia="true"/></body>'),
+        r"<geom>: .* the box's area underflows to 0"),
+    "an inline mesh face index beyond int64": (
+        _wrap('<body><joint/><geom type="mesh" mesh="m"/></body>',
+              head='<asset><mesh name="m" vertex="0 0 0 1 0 0 0 1 0 0 0 1" '
+                   'face="0 2 1 0 1 3 0 3 2 1 2 99999999999999999999"/></asset>'),
+        r"<mesh name='m'>: a face index is outside 0..3"),
+    "a string with a lone surrogate": (
+        "<mujoco>\n<worldbody><body name='a\udc80'/></worldbody></mujoco>",
+        r"<string>: line 2: the character '\\udc80' \(position 33\) is a lone surrogate"),
+}
+
+
+@pytest.mark.parametrize("case", list(RAW_ONCE))
+def test_hostile_values_are_refused_with_mjcf_error(case: str) -> None:
+    text, words = RAW_ONCE[case]
+    with pytest.raises(MJCFError, match=words):
+        fd.load_mjcf(text)
+
+
+def test_names_longer_than_the_file_system_takes_are_refused_with_mjcf_error(tmp_path: Path) -> None:
+    """An ``<include file>`` or a ``<compiler meshdir>`` whose name is longer than a file name may be (255 bytes
+    on Linux): ``os.stat`` fails with ENAMETOOLONG, which the message gives as the reason."""
+    long = "a" * (os.pathconf(tmp_path, "PC_NAME_MAX") + 1)
+    main = tmp_path / "main.xml"
+    main.write_text(f'<mujoco>\n<include file="{long}.xml"/></mujoco>')
+    reason = os.strerror(errno.ENAMETOOLONG)
+    with pytest.raises(MJCFError, match=rf"^{main}: line 2: <include>: file='a+'\.\.\. \(\d+ characters\): "
+                                        rf"cannot read the included file .*: {reason}"):
+        fd.load_mjcf(main)
+    main.write_text(_wrap('<body><joint/><geom size=".1"/></body>',
+                          head=f'<compiler meshdir="{long}"/><asset><mesh name="m" file="m.stl"/></asset>'))
+    with pytest.raises(MJCFError, match=rf"<mesh name='m'>: file='m.stl': cannot read the mesh file .*: {reason}"):
+        fd.load_mjcf(main)
+
+
+def test_the_moving_body_check_never_passes_an_inertia_below_mjminval() -> None:
+    """``_smallest_above`` (the pivots of ``I − floor 1``) answers "above" only where NumPy's eigenvalues agree;
+    on tensors rotated at random with moments from 1e-18 to 1e3, some at or just below MuJoCo's floor."""
+    from featherdyn.readers.mjcf import MJ_MINVAL, _smallest_above
+
+    rng = np.random.default_rng(7)
+    said_above = 0
+    for k in range(3000):
+        Q = np.linalg.qr(rng.normal(size=(3, 3)))[0]
+        moments = 10.0 ** rng.uniform(-18, 3, size=3)
+        if k % 3 == 0:
+            moments[k % 2] = (0.0, 1e-15, 2e-15, 1e-16, -1e-16)[k % 5]
+        A = Q @ np.diag(moments) @ Q.T
+        A = (A + A.T) / 2
+        above = _smallest_above(tuple(A.ravel().tolist()), MJ_MINVAL)
+        said_above += above
+        if above:
+            assert np.linalg.eigvalsh(A).min() > MJ_MINVAL, (moments, A)
+    assert said_above > 300  # it decides the usual, well-conditioned tensors itself

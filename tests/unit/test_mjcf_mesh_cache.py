@@ -11,8 +11,8 @@ import numpy as np
 import pytest
 
 import featherdyn as fd
-from featherdyn import _mjcf_mesh
 from featherdyn.errors import MJCFError
+from featherdyn.readers import mjcf_mesh
 
 
 def _box_obj(a: float, b: float, c: float) -> str:
@@ -38,14 +38,14 @@ def _mass(path: Path) -> float:
 def reads(monkeypatch: pytest.MonkeyPatch) -> list[Path]:
     """Every mesh file read, with a clean cache and files kept however recently written."""
     got: list[Path] = []
-    read = _mjcf_mesh._read
+    read = mjcf_mesh._read
 
     def counting(path: Path) -> tuple[bytes, os.stat_result]:
         got.append(path)
         return read(path)
 
-    monkeypatch.setattr(_mjcf_mesh, "_read", counting)
-    monkeypatch.setattr(_mjcf_mesh, "MESH_CACHE_SETTLE_NS", 0)
+    monkeypatch.setattr(mjcf_mesh, "_read", counting)
+    monkeypatch.setattr(mjcf_mesh, "MESH_CACHE_SETTLE_NS", 0)
     fd.mjcf.clear_mesh_cache()
     yield got
     fd.mjcf.clear_mesh_cache()
@@ -99,7 +99,7 @@ def test_scale_and_inertia_mode_are_part_of_the_key(tmp_path: Path, reads: list[
 
 def test_recently_written_files_are_not_kept(tmp_path: Path, reads: list[Path],
                                              monkeypatch: pytest.MonkeyPatch) -> None:
-    monkeypatch.setattr(_mjcf_mesh, "MESH_CACHE_SETTLE_NS", 10**12)  # everything is recent
+    monkeypatch.setattr(mjcf_mesh, "MESH_CACHE_SETTLE_NS", 10**12)  # everything is recent
     (tmp_path / "box.obj").write_text(_box_obj(0.25, 0.5, 0.75))
     model = _model(tmp_path)
     _mass(model), _mass(model)
@@ -108,7 +108,7 @@ def test_recently_written_files_are_not_kept(tmp_path: Path, reads: list[Path],
 
 def test_the_cache_keeps_the_most_recently_used(tmp_path: Path, reads: list[Path],
                                                 monkeypatch: pytest.MonkeyPatch) -> None:
-    monkeypatch.setattr(_mjcf_mesh, "MESH_CACHE_SIZE", 2)
+    monkeypatch.setattr(mjcf_mesh, "MESH_CACHE_SIZE", 2)
     models = []
     for k in range(3):
         folder = tmp_path / str(k)
@@ -120,7 +120,7 @@ def test_the_cache_keeps_the_most_recently_used(tmp_path: Path, reads: list[Path
     _mass(models[2]), _mass(models[1])
     assert len(reads) == 3
     assert _mass(models[0]) == pytest.approx(31.25, rel=1e-12)
-    assert len(reads) == 4 and len(_mjcf_mesh._cache) == 2
+    assert len(reads) == 4 and len(mjcf_mesh._cache) == 2
     fd.mjcf.clear_mesh_cache()
     _mass(models[1])
     assert len(reads) == 5
@@ -152,5 +152,5 @@ def test_special_files_are_refused_not_read_forever(tmp_path: Path, special: str
         fd.load_mjcf(target)
     with pytest.raises(fd.errors.URDFError, match="cannot read"):
         fd.load_urdf(target)
-    with pytest.raises(_mjcf_mesh.MeshError, match="cannot read"):
-        _mjcf_mesh.read_mesh_file(target)
+    with pytest.raises(mjcf_mesh.MeshError, match="cannot read"):
+        mjcf_mesh.read_mesh_file(target)

@@ -8,7 +8,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from featherdyn._mjcf_mesh import MeshError, _obj, _obj_fast, _obj_lines
+from featherdyn.readers.mjcf_mesh import MeshError, _obj, _obj_fast, _obj_lines
 
 CUBE_V = "\n".join(f"v {x} {y} {z}" for x in (0.0, 1.5) for y in (0.0, 2.0) for z in (-1.0, 1e-3))
 TRIS = "f 1 2 3\nf 2 4 3\nf 5 6 7\nf 6 8 7\nf 1 5 2\nf 2 5 6"
@@ -93,7 +93,7 @@ def test_line_ends_are_those_splitlines_sees() -> None:
 
 @pytest.mark.filterwarnings("error")
 def test_vertices_beyond_float32_and_overflowing_scales_are_mesh_errors() -> None:
-    from featherdyn._mjcf_mesh import mass_properties
+    from featherdyn.readers.mjcf_mesh import mass_properties
 
     V, F = _obj((CUBE_V + "\n" + TRIS).encode())
     with pytest.raises(MeshError, match="beyond float32's range"):

@@ -10,8 +10,10 @@ from __future__ import annotations
 
 import builtins
 import codecs
+import errno
 import io
 import math
+import os
 import re
 import time
 import warnings
@@ -184,7 +186,8 @@ HOSTILE = {
     "malformed": (robot(link("a"), '<link name="b">'), r"<string>: line 4: malformed XML"),
     "not-xml": ("<", r"<string>: line 1: malformed XML"),
     "nul-character": ('<robot name="r\x00"><link name="a"/></robot>', r"<string>: line 1: malformed XML"),
-    "lone-surrogate": ('<robot name="\ud800"><link name="a"/></robot>', r"<string>: cannot parse the XML"),
+    "lone-surrogate": ('<robot name="\ud800"><link name="a"/></robot>',
+                       r"<string>: line 1: the character '\\ud800' \(position 13\) is a lone surrogate"),
 }
 
 
@@ -828,3 +831,10 @@ def test_dynamics_at_the_smallest_inertial_stay_finite(floating_base: bool, back
         for value in (fd.rnea(m, q, v, a, backend=backend), fd.crba(m, q, backend=backend),
                       fd.aba(m, q, v, tau, backend=backend)):
             assert np.all(np.isfinite(value))
+
+
+def test_a_name_too_long_is_refused_with_urdf_error(tmp_path: Path) -> None:
+    """A path longer than a file name may be fails with ENAMETOOLONG: a URDFError that says so."""
+    long = tmp_path / ("a" * (os.pathconf(tmp_path, "PC_NAME_MAX") + 1) + ".urdf")
+    with pytest.raises(URDFError, match=rf"cannot read the URDF file: {os.strerror(errno.ENAMETOOLONG)}"):
+        fd.load_urdf(long)

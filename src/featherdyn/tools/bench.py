@@ -120,7 +120,7 @@ class _Pair:
         """A robot read from the same URDF by both libraries (an MJCF file: Pinocchio's model mirrors featherdyn's)."""
         import pinocchio as pin
 
-        from ..mjcf import model_format
+        from ..readers.mjcf import model_format
         from ..verify.bridge import pinocchio_model_from
         from ..verify.resolve import load_resolved
 
@@ -269,7 +269,7 @@ def chain_urdf(n: int) -> str:
 def _chain_rows(lengths: Sequence[int], repeats: int) -> list[tuple[float, ...]]:
     import pinocchio as pin
 
-    from ..urdf import load_urdf
+    from ..readers.urdf import load_urdf
 
     rows: list[tuple[float, ...]] = []
     for n in lengths:

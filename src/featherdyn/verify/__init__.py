@@ -67,7 +67,7 @@ def run(robot: str | os.PathLike[str] | None = None, *, floating_base: bool = Fa
         MissingDependencyError: the oracle is not installed.
     """
     from ..errors import ModelError
-    from ..mjcf import model_format
+    from ..readers.mjcf import model_format
     from .dynamics import RobotPair, dynamics_checks, identity_checks, model_diagnostics
 
     if samples < 1:

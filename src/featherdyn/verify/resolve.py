@@ -37,13 +37,13 @@ def resolve_robot(robot: str | os.PathLike[str] | None) -> tuple[str, Path]:
 
 def load_resolved(path: str | os.PathLike[str], floating_base: bool = False, strict: bool = False) -> Model:
     """The model in ``path``: a URDF (``floating_base`` puts its root on a free-flyer) or an MJCF (by the
-    root element, :func:`featherdyn.mjcf.model_format`).
+    root element, :func:`featherdyn.readers.mjcf.model_format`).
 
     Raises:
         ModelError: ``floating_base`` with an MJCF model (its free joints are in the file); the loaders' errors.
     """
-    from ..mjcf import load_mjcf, model_format
-    from ..urdf import load_urdf
+    from ..readers.mjcf import load_mjcf, model_format
+    from ..readers.urdf import load_urdf
 
     if model_format(path) == "urdf":
         return load_urdf(path, floating_base=floating_base, strict=strict)

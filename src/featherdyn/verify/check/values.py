@@ -11,8 +11,8 @@ from pathlib import Path
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ..._urdf_xml import open_regular_file
 from ...errors import DTypeError, FeatherdynError, NonFiniteError, ShapeError
+from ...readers.xml import open_regular_file
 
 __all__ = ["ValuesError", "KEYS", "VECTOR_KEYS", "DERIVATIVE_KEYS", "Given", "load_npz", "validate"]
 

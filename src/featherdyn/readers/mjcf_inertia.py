@@ -1,4 +1,4 @@
-"""Mass and rotational inertia of MuJoCo geoms (private to :mod:`featherdyn.mjcf`), as MuJoCo's compiler computes them.
+"""Mass and rotational inertia of MuJoCo geoms (used by :mod:`featherdyn.readers.mjcf`), as MuJoCo's compiler computes them.
 
 Each primitive's volume ``V`` (or area, with ``shellinertia``) and its inertia
 per unit mass ``J`` (diagonal, in the geom frame, about its centre); the mass
@@ -104,12 +104,18 @@ def geom_mass_inertia(kind: str, size: Sequence[float], density: float, mass: fl
     """``(m, I)`` of a primitive geom: its mass and diagonal inertia (three floats) about its centre, geom axes.
 
     ``mass`` (when given) wins over ``density``. ``None`` for an unsupported
-    shell. A zero volume with a given mass is MuJoCo's error; callers check
-    sizes are positive first.
+    shell. Callers check sizes are positive first.
+
+    Raises:
+        ValueError: a ``mass`` given for a volume (or area) that underflows to 0: MuJoCo's error too.
     """
     got = _shell(kind, size) if shell else _solid(kind, size)
     if got is None:
         return None
     V, J = got
+    if mass is not None and V == 0.0:  # positive sizes whose product underflows (size="1e-110")
+        what = "area" if shell else "volume"
+        raise ValueError(f"the {kind}'s {what} underflows to 0, so its mass has no density to spread (mass / "
+                         f"{what} = {mass:g} / 0); MuJoCo refuses the body (its inertia would not exceed mjMINVAL)")
     k = mass / V if mass is not None else density
     return (mass if mass is not None else density * V), (J[0] * k, J[1] * k, J[2] * k)

@@ -1,11 +1,11 @@
-"""Mesh assets of an MJCF model (private to :mod:`featherdyn.mjcf`): reading them safely, their exact mass properties.
+"""Mesh assets of an MJCF model (used by :mod:`featherdyn.readers.mjcf`): reading them safely, their exact mass properties.
 
 Formats: binary and ASCII STL, OBJ (``v`` and ``f`` lines; polygons fanned
 into triangles; negative indices), MuJoCo's binary MSH, and inline
 ``vertex``/``face`` attributes; the ``scale`` attribute. Files are bounded by
 :data:`MAX_MESH_BYTES`, counts must agree with the file length, indices must
 be in range and coordinates finite and at most
-:data:`featherdyn._mjcf_xml.MAX_LENGTH`.
+:data:`featherdyn.readers.urdf.MAX_LENGTH`.
 
 Mass properties as MuJoCo's compiler defines them (``inertia`` of the mesh
 asset: ``exact``, ``legacy`` (the default), ``shell``): pyramids on the
@@ -36,9 +36,9 @@ from typing import cast
 
 import numpy as np
 
-from ._mjcf_xml import Mat, Vec
-from ._urdf_xml import read_regular_file
+from .mjcf_xml import Mat, Vec
 from .urdf import MAX_LENGTH as _MAX_LENGTH
+from .xml import read_regular_file
 
 #: ``(measure, centre, I_c / ρ row by row)`` of a mesh (:func:`mass_properties`).
 MassProperties = tuple[float, Vec, Mat]

@@ -1,4 +1,4 @@
-"""Reading a URDF or MJCF document safely (private to :mod:`featherdyn.urdf` and :mod:`featherdyn.mjcf`): bytes, encodings, the XML parser, messages.
+"""Reading a URDF or MJCF document safely (shared by :mod:`featherdyn.readers.urdf` and :mod:`featherdyn.readers.mjcf`): bytes, encodings, the XML parser, messages.
 
 The source is read as bytes and decoded (BOMs, UTF-16 with or without BOM, a
 declared encoding); whitespace before the XML declaration is moved after it;
@@ -28,7 +28,7 @@ from xml.etree.ElementTree import XMLParser as _CXMLParser
 from defusedxml import DefusedXmlException
 from defusedxml.ElementTree import DefusedXMLParser, ParseError
 
-from .errors import ModelError, PhysicalityWarning, URDFError
+from ..errors import ModelError, PhysicalityWarning, URDFError
 
 #: Deepest element nesting accepted (real URDFs nest about 5 deep).
 MAX_DEPTH = 1000
@@ -51,22 +51,22 @@ _DECLARED_ENCODING = re.compile(rb"""^<\?xml[^>]*?encoding\s*=\s*["']([A-Za-z0-9
 # ---------------------------------------------------------------------------
 
 
-def _quote(value: str) -> str:
+def quote(value: str) -> str:
     """``repr(value)``; of a long value only the first :data:`QUOTE_LENGTH` characters, and its length."""
     if len(value) <= QUOTE_LENGTH:
         return repr(value)
     return f"{value[:QUOTE_LENGTH]!r}... ({len(value)} characters)"
 
 
-def _shorten(text: str) -> str:
+def shorten(text: str) -> str:
     """``text``, cut after :data:`QUOTE_LENGTH` characters with its length said (for texts quoting the document)."""
     if len(text) <= QUOTE_LENGTH:
         return text
     return f"{text[:QUOTE_LENGTH]}... ({len(text)} characters)"
 
 
-def _shorten_quoted(message: str) -> str:
-    """A message of the model builder with each long quoted name shortened as :func:`_quote` would."""
+def shorten_quoted(message: str) -> str:
+    """A message of the model builder with each long quoted name shortened as :func:`quote` would."""
     return _LONG_QUOTED.sub(lambda m: f"{m.group()[: QUOTE_LENGTH + 1]}{m.group()[0]}... ({len(m.group()) - 2} characters)", message)
 
 
@@ -75,7 +75,7 @@ def _shorten_quoted(message: str) -> str:
 # ---------------------------------------------------------------------------
 
 
-def _read_source(path_or_xml: Any, error: type[ModelError] = URDFError, kind: str = "URDF",
+def read_source(path_or_xml: Any, error: type[ModelError] = URDFError, kind: str = "URDF",
                  function: str = "load_urdf") -> tuple[str, str, str | None]:
     """``(text, label for messages, path or None)`` of a path, an XML string or XML bytes.
 
@@ -85,7 +85,10 @@ def _read_source(path_or_xml: Any, error: type[ModelError] = URDFError, kind: st
     if isinstance(path_or_xml, (bytes, bytearray, memoryview)):
         return _decode(bytes(path_or_xml), "<bytes>", error), "<bytes>", None
     if isinstance(path_or_xml, str) and path_or_xml.lstrip("\ufeff \t\r\n").startswith("<"):
-        return path_or_xml.lstrip("\ufeff"), "<string>", None
+        text = path_or_xml.lstrip("\ufeff")
+        if not text.isascii():
+            _check_encodable(text, error)
+        return text, "<string>", None
     if not isinstance(path_or_xml, (str, os.PathLike)):
         raise error(
             f"{function}: expected a path, an XML string or bytes, got {type(path_or_xml).__name__}"
@@ -97,6 +100,17 @@ def _read_source(path_or_xml: Any, error: type[ModelError] = URDFError, kind: st
         reason = exc.strerror if isinstance(exc, OSError) and exc.strerror else str(exc)
         raise error(f"{label}: cannot read the {kind} file: {reason}") from None
     return _decode(data, label, error), label, label
+
+
+def _check_encodable(text: str, error: type[ModelError]) -> None:
+    """Refuse a ``str`` document holding a lone surrogate (``"\\udc80"``, e.g. from a ``surrogateescape`` decode):
+    it is no Unicode character, so no XML text can hold it."""
+    try:
+        text.encode("utf-8")
+    except UnicodeEncodeError as exc:
+        line = text.count("\n", 0, exc.start) + 1
+        raise error(f"<string>: line {line}: the character {text[exc.start]!r} (position {exc.start}) is a lone "
+                    "surrogate, not a Unicode character: the text cannot be XML") from None
 
 
 def _normal_path(path: str) -> bool:
@@ -157,7 +171,7 @@ def _decode(data: bytes, label: str, error: type[ModelError] = URDFError) -> str
         return data.decode(encoding)
     except LookupError:  # a declared bytes-to-bytes codec such as "zlib" or "base64"
         raise error(
-            f"{label}: the XML declaration names {_quote(encoding)}, which is not a text encoding"
+            f"{label}: the XML declaration names {quote(encoding)}, which is not a text encoding"
         ) from None
     except UnicodeDecodeError as exc:
         line = data[: exc.start].count(b"\n") + 1
@@ -193,11 +207,11 @@ def _sniffed_encoding(data: bytes, label: str, error: type[ModelError]) -> str:
                 try:
                     info = codecs.lookup(name)
                 except LookupError:
-                    raise error(f"{label}: unknown encoding {_quote(name)} in the XML declaration") from None
+                    raise error(f"{label}: unknown encoding {quote(name)} in the XML declaration") from None
                 if info.name.startswith("utf-16") or info.name.startswith("utf-32"):
                     # declared UTF-16 but no BOM and ASCII-readable: the declaration is wrong
                     raise error(
-                        f"{label}: the XML declaration says {_quote(name)} but the bytes are not UTF-16/32"
+                        f"{label}: the XML declaration says {quote(name)} but the bytes are not UTF-16/32"
                     )
                 encoding = info.name
     return encoding
@@ -229,12 +243,12 @@ class _Builder:
         if self._depth > MAX_DEPTH:
             raise self._error(f"{self._label}: line {self.line()}: elements nested deeper than {MAX_DEPTH} levels")
         if tag.startswith("{") and tag[1:].split("}", 1)[0] in _XINCLUDE_NAMESPACES:
-            raise self._error(f"{self._label}: line {self.line()}: XInclude ({_shorten(tag)}) is not allowed in a {self._kind}")
+            raise self._error(f"{self._label}: line {self.line()}: XInclude ({shorten(tag)}) is not allowed in a {self._kind}")
         for key, value in attrib.items():
             if len(value) > MAX_ATTRIBUTE_LENGTH:
                 raise self._error(
-                    f"{self._label}: line {self.line()}: <{_shorten(tag)}{_name_attribute(attrib)}>: "
-                    f"{_shorten(key)}={_quote(value)}: expected at most {MAX_ATTRIBUTE_LENGTH} characters "
+                    f"{self._label}: line {self.line()}: <{shorten(tag)}{_name_attribute(attrib)}>: "
+                    f"{shorten(key)}={quote(value)}: expected at most {MAX_ATTRIBUTE_LENGTH} characters "
                     f"(MAX_ATTRIBUTE_LENGTH), got {len(value)}"
                 )
         elem = self._tb.start(tag, attrib)
@@ -256,7 +270,7 @@ class _Builder:
 def _name_attribute(attrib: dict[str, str]) -> str:
     """`` name='...'`` for an element's message, or ``""``."""
     name = attrib.get("name")
-    return f" name={_quote(name)}" if name is not None and len(name) <= MAX_ATTRIBUTE_LENGTH else ""
+    return f" name={quote(name)}" if name is not None and len(name) <= MAX_ATTRIBUTE_LENGTH else ""
 
 
 def _declaration_first(text: str) -> str:
@@ -269,7 +283,7 @@ def _declaration_first(text: str) -> str:
     return late.group(2) + late.group(1) + text[late.end():]
 
 
-def _parse_xml(text: str, label: str, error: type[ModelError] = URDFError, kind: str = "URDF",
+def parse_xml(text: str, label: str, error: type[ModelError] = URDFError, kind: str = "URDF",
                line_depth: int = 4) -> tuple[Any, dict[Any, int]]:
     """The root element and the line number of each element up to depth ``line_depth``."""
     text = _declaration_first(text)
@@ -284,25 +298,25 @@ def _parse_xml(text: str, label: str, error: type[ModelError] = URDFError, kind:
         raise
     except ParseError as exc:
         line = exc.position[0] if getattr(exc, "position", None) else builder.line()
-        raise error(f"{label}: line {line}: malformed XML: {_shorten(str(exc))}") from None
+        raise error(f"{label}: line {line}: malformed XML: {shorten(str(exc))}") from None
     except DefusedXmlException as exc:
         what = type(exc).__name__.replace("Forbidden", "")
         raise error(
             f"{label}: line {builder.line()}: {what} declarations are not allowed in a {kind} "
-            f"(refused for safety: {_shorten(str(exc))})"
+            f"(refused for safety: {shorten(str(exc))})"
         ) from None
     except RecursionError:
         raise error(f"{label}: XML nested too deeply") from None
     except (ValueError, MemoryError) as exc:  # e.g. NUL characters in a str
-        raise error(f"{label}: cannot parse the XML: {_shorten(str(exc))}") from None
+        raise error(f"{label}: cannot parse the XML: {shorten(str(exc))}") from None
     return root, builder.lines
 
 
 class ElementLines:
     """The line of each element of one parsed text, by document-order index, computed when first asked for.
 
-    :func:`parse_elements`'s fast path has no line numbers (ElementTree's C parser does not report them); a
-    message that needs one parses the text again with :func:`_parse_xml`, which records them.
+    :func:`parse_elements`'s C-parser path has no line numbers (ElementTree's C parser does not report them); a
+    message that needs one parses the text again with :func:`parse_xml`, which records them.
     """
 
     def __init__(self, text: str, label: str, lines: list[int] | None = None) -> None:
@@ -313,7 +327,7 @@ class ElementLines:
     def line(self, index: int) -> int:
         """The line of the element at ``index`` in document order (``0``: unknown)."""
         if self._lines is None:
-            _, lines = _parse_xml(self.text, self.label, line_depth=MAX_DEPTH)
+            _, lines = parse_xml(self.text, self.label, line_depth=MAX_DEPTH)
             self._lines = list(lines.values())
         return self._lines[index] if 0 <= index < len(self._lines) else 0
 
@@ -340,13 +354,13 @@ class ElementIndex:
 
 def parse_elements(text: str, label: str, error: type[ModelError] = URDFError,
                    kind: str = "URDF") -> tuple[Any, ElementIndex, ElementLines]:
-    """``(root, document-order index of each element, their lines)``: :func:`_parse_xml` with lines on demand.
+    """``(root, document-order index of each element, their lines)``: :func:`parse_xml` with lines on demand.
 
     A text without a DTD cannot declare an entity (undefined ones are expat's own error), so it is parsed by
     ElementTree's C parser, ~3× faster than defusedxml's Python one; its nesting is bounded because it has at
     most :data:`MAX_DEPTH` elements, its attributes because it is shorter than :data:`MAX_ATTRIBUTE_LENGTH`
     (otherwise they are measured). Any other text — a ``<!DOCTYPE``, more elements, a possible XInclude, a NUL —
-    takes :func:`_parse_xml`'s guarded path, which also words the refusals.
+    takes :func:`parse_xml`'s guarded path, which also words the refusals.
     """
     text = _declaration_first(text)
     root = None
@@ -364,15 +378,15 @@ def parse_elements(text: str, label: str, error: type[ModelError] = URDFError,
                                              and max(map(len, text.split("<"))) > MAX_ATTRIBUTE_LENGTH and any(
                     len(v) > MAX_ATTRIBUTE_LENGTH for e in elements for v in e.attrib.values())):
                 root = None
-    lines: list[int] | None = None  # the fast path's: found when a message asks
+    lines: list[int] | None = None  # the C parser's: found when a message asks
     if root is None:
-        root, found = _parse_xml(text, label, error, kind, line_depth=MAX_DEPTH)
+        root, found = parse_xml(text, label, error, kind, line_depth=MAX_DEPTH)
         lines = list(found.values())
         elements = list(root.iter())
     return root, ElementIndex(elements), ElementLines(text, label, lines)
 
 
-def _local(tag: Any, ns: str) -> str:
+def local_name(tag: Any, ns: str) -> str:
     """The element's name with the root's namespace removed (other namespaces kept: ``{x}link`` is not a link)."""
     if not isinstance(tag, str):  # comments, processing instructions
         return ""
@@ -386,6 +400,6 @@ def reissue_warnings(caught: list[warnings.WarningMessage], label: str) -> None:
     ``label`` (attributed to the loader's caller), the others unchanged."""
     for w in caught:
         if issubclass(w.category, PhysicalityWarning):
-            warnings.warn(f"{label}: {_shorten_quoted(str(w.message))}", PhysicalityWarning, stacklevel=3)
+            warnings.warn(f"{label}: {shorten_quoted(str(w.message))}", PhysicalityWarning, stacklevel=3)
         else:
             warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)

@@ -1,6 +1,6 @@
-"""Reading an MJCF document (private to :mod:`featherdyn.mjcf`): includes, default classes, numbers, orientations.
+"""Reading an MJCF document (used by :mod:`featherdyn.readers.mjcf`): includes, default classes, numbers, orientations.
 
-The XML goes through the URDF loader's safe reader (:mod:`featherdyn._urdf_xml`:
+The XML goes through the URDF loader's safe reader (:mod:`featherdyn.readers.xml`:
 defusedxml, no DTDs or entities, bounded nesting and attribute length).
 ``<include file=...>`` elements are replaced by the children of the included
 file's ``<mujoco>`` root, each file read the same safe way, relative to the
@@ -21,22 +21,24 @@ extrinsic), ``xyaxes``, ``zaxis``; angles in degrees unless
 
 from __future__ import annotations
 
+import errno
 import math
 import os
 import re
+import stat
 import warnings
 from pathlib import Path
 from typing import Any
 
-from ._urdf_xml import ElementIndex, ElementLines, _quote, _read_source, _shorten, parse_elements
-from .errors import MJCFError, PhysicalityWarning
+from ..errors import MJCFError, PhysicalityWarning
 from .urdf import MAX_LENGTH
+from .xml import ElementIndex, ElementLines, parse_elements, quote, read_source, shorten
 
 #: Deepest nesting of ``<include>`` files accepted.
 MAX_INCLUDE_DEPTH = 20
 #: Most files a model may include in all.
 MAX_INCLUDES = 1000
-# the magnitude bounds are the URDF loader's (featherdyn.urdf module doc: finite input, finite dynamics)
+# the magnitude bounds are the URDF loader's (featherdyn.readers.urdf module doc: finite input, finite dynamics)
 
 # a digit run matches one way only (the fraction needs its dot), so a failed match backtracks in linear time
 _NUMBER = re.compile(r"[+-]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)(?:[eE][+-]?[0-9]+)?")
@@ -91,9 +93,9 @@ class Doc:
     def where(self, elem: Any) -> str:
         source, index = self.locate(elem)
         label, line = (self.label, 0) if source is None else (source.label, source.line(index))
-        tag = _shorten(str(elem.tag)) if isinstance(elem.tag, str) else "?"
+        tag = shorten(str(elem.tag)) if isinstance(elem.tag, str) else "?"
         name = elem.get("name")
-        named = f" name={_quote(name)}" if name is not None else ""
+        named = f" name={quote(name)}" if name is not None else ""
         return f"{label}: " + (f"line {line}: " if line else "") + f"<{tag}{named}>"
 
     def error(self, elem: Any, msg: str) -> MJCFError:
@@ -146,7 +148,7 @@ class Doc:
         if cls is None:
             return childclass
         if cls not in self.own_defaults:
-            raise self.error(elem, f"{attr}={_quote(cls)}: unknown default class (defined: "
+            raise self.error(elem, f"{attr}={quote(cls)}: unknown default class (defined: "
                              f"{', '.join(repr(c) for c in list(self.own_defaults)[:20])})")
         return cls
 
@@ -170,15 +172,15 @@ class Doc:
             return default
         if len(values) not in counts:
             want = " or ".join(str(c) for c in counts)
-            raise self.error(elem, f"{name}={_quote(text)}: expected {want} number{'s' if max(counts) > 1 else ''}, "
+            raise self.error(elem, f"{name}={quote(text)}: expected {want} number{'s' if max(counts) > 1 else ''}, "
                              f"got {len(values)}")
         if ceiling < 0:  # a part is not a decimal: name it
             bad = next(s for s in text.split() if not _NUMBER.fullmatch(s))
-            raise self.error(elem, f"{name}={_quote(text)}: {_quote(bad)} is not a decimal number")
+            raise self.error(elem, f"{name}={quote(text)}: {quote(bad)} is not a decimal number")
         if ceiling > bound and max(map(abs, values)) > bound:  # also +inf: a decimal too long for a double
             bad = next(s for s in text.split() if abs(float(s)) > bound)
-            raise self.error(elem, f"{name}={_quote(text)}: expected a magnitude of at most {bound:g} "
-                             f"(larger values overflow the dynamics), got {_quote(bad)}")
+            raise self.error(elem, f"{name}={quote(text)}: expected a magnitude of at most {bound:g} "
+                             f"(larger values overflow the dynamics), got {quote(bad)}")
         return values
 
     def require(self, elem: Any, attrs: dict[str, str], name: str, counts: tuple[int, ...],
@@ -196,7 +198,7 @@ class Doc:
             return ()
         n = len(text.split())
         if n % multiple_of:
-            raise self.error(elem, f"{name}={_quote(text)}: expected a multiple of {multiple_of} numbers, got {n}")
+            raise self.error(elem, f"{name}={quote(text)}: expected a multiple of {multiple_of} numbers, got {n}")
         return self.floats(elem, attrs, name, (n,)) or ()
 
     def number(self, elem: Any, attrs: dict[str, str], name: str, default: float,
@@ -207,7 +209,7 @@ class Doc:
     def choice(self, elem: Any, attrs: dict[str, str], name: str, options: tuple[str, ...], default: str) -> str:
         text = attrs.get(name, default)
         if text not in options:
-            raise self.error(elem, f"{name}={_quote(text)}: expected one of {', '.join(options)}")
+            raise self.error(elem, f"{name}={quote(text)}: expected one of {', '.join(options)}")
         return text
 
     def boolean(self, elem: Any, attrs: dict[str, str], name: str, default: bool) -> bool:
@@ -234,7 +236,7 @@ class Doc:
             w, x, y, z = self.require(elem, attrs, "quat", (4,))
             n = math.hypot(w, x, y, z)
             if n < 1e-10:
-                raise self.error(elem, f"quat={_quote(attrs['quat'])}: a zero quaternion is not a rotation")
+                raise self.error(elem, f"quat={quote(attrs['quat'])}: a zero quaternion is not a rotation")
             return quat_wxyz_matrix((w / n, x / n, y / n, z / n))
         if kind == "axisangle":
             aa = self.require(elem, attrs, "axisangle", (4,))
@@ -263,7 +265,7 @@ class Doc:
         if n == 1.0:  # ("0 0 1"): v / n is v
             return v
         if n < 1e-10:
-            raise self.error(elem, f"{name}={_quote(attrs[name])}: {why} is not a direction")
+            raise self.error(elem, f"{name}={quote(attrs[name])}: {why} is not a direction")
         return (v[0] / n, v[1] / n, v[2] / n)
 
     def pose(self, elem: Any, attrs: dict[str, str]) -> tuple[Mat, Vec]:
@@ -435,22 +437,35 @@ def z_to_vector(v: Vec) -> Mat:
 # ---------------------------------------------------------------------------
 
 
-def _local(tag: Any) -> str:
+def tag_name(tag: Any) -> str:
     return tag if isinstance(tag, str) else ""
 
 
-def read_source(path_or_xml: Any) -> tuple[str, str, str | None]:
+def read_mjcf_source(path_or_xml: Any) -> tuple[str, str, str | None]:
     """``(text, label for messages, path or None)`` of a file path, an XML string or XML bytes."""
-    return _read_source(path_or_xml, MJCFError, "MJCF", "load_mjcf")
+    return read_source(path_or_xml, MJCFError, "MJCF", "load_mjcf")
 
 
 def _read(path_or_xml: Any, source: tuple[str, str, str | None] | None = None,
           ) -> tuple[Any, tuple[ElementIndex, ElementLines], str, str | None]:
     """``(root, (each element's index in document order, the file's lines), label, path)`` (``source``: what
-    :func:`read_source` gave, if already read)."""
-    text, label, path = read_source(path_or_xml) if source is None else source
+    :func:`read_mjcf_source` gave, if already read)."""
+    text, label, path = read_mjcf_source(path_or_xml) if source is None else source
     root, index, lines = parse_elements(text, label, MJCFError, "MJCF")
     return root, (index, lines), label, path
+
+
+def file_problem(path: Path) -> str | None:
+    """``None`` where ``path`` is a regular file, else why it cannot be read: ``"no such file"``, the system's
+    reason (``"File name too long"`` for a name longer than the file system takes, ...), or ``"not a regular
+    file"``."""
+    try:
+        status = os.stat(path)
+    except OSError as exc:
+        return "no such file" if exc.errno == errno.ENOENT else (exc.strerror or str(exc))
+    except ValueError as exc:  # a NUL in the name
+        return str(exc)
+    return None if stat.S_ISREG(status.st_mode) else "not a regular file"
 
 
 def read_document(path_or_xml: Any, strict: bool, source: tuple[str, str, str | None] | None = None) -> Doc:
@@ -459,11 +474,11 @@ def read_document(path_or_xml: Any, strict: bool, source: tuple[str, str, str | 
     Each pass replaces every ``<include>`` present by its file's content, so
     the passes are bounded by the include depth; each element remembers the
     chain of files that brought it (for cycles). ``source``: the main file's
-    :func:`read_source`, if already read.
+    :func:`read_mjcf_source`, if already read.
     """
     root, where, label, path = _read(path_or_xml, source)
-    if _local(root.tag) != "mujoco":
-        tag = _shorten(_local(root.tag) or "?")
+    if tag_name(root.tag) != "mujoco":
+        tag = shorten(tag_name(root.tag) or "?")
         hint = " (a URDF: use featherdyn.load_urdf or load_model)" if tag == "robot" else ""
         raise MJCFError(f"{label}: expected the root element <mujoco>, got <{tag}>{hint}")
     doc = Doc(root, where, label, path, strict)
@@ -489,24 +504,32 @@ def read_document(path_or_xml: Any, strict: bool, source: tuple[str, str, str | 
             file = inc.get("file")
             if file is None or not file.strip():
                 raise doc.error(inc, "<include> needs a 'file' attribute")
+            if len(inc):
+                raise doc.error(inc, f"file={quote(file)}: an <include> cannot have children (MuJoCo refuses them)")
             target = (doc.model_dir / file).resolve()
             if str(target) in chain:
-                raise doc.error(inc, f"file={_quote(file)}: include cycle ("
-                                + " -> ".join(_quote(c) for c in (*chain, str(target))) + ")")
+                raise doc.error(inc, f"file={quote(file)}: include cycle ("
+                                + " -> ".join(quote(c) for c in (*chain, str(target))) + ")")
             if str(target) in seen:
-                raise doc.error(inc, f"file={_quote(file)}: already included (MuJoCo includes a file once)")
+                raise doc.error(inc, f"file={quote(file)}: already included (MuJoCo includes a file once)")
             seen.add(str(target))
             if len(chain) > MAX_INCLUDE_DEPTH:
                 raise doc.error(inc, f"includes nested deeper than {MAX_INCLUDE_DEPTH} files (MAX_INCLUDE_DEPTH)")
             included += 1
             if included > MAX_INCLUDES:
                 raise doc.error(inc, f"more than {MAX_INCLUDES} included files (MAX_INCLUDES)")
-            if not target.is_file():
-                raise doc.error(inc, f"file={_quote(file)}: the included file {_quote(str(target))} does not exist")
+            problem = file_problem(target)
+            if problem == "no such file":
+                raise doc.error(inc, f"file={quote(file)}: the included file {quote(str(target))} does not exist")
+            if problem is not None:
+                raise doc.error(inc, f"file={quote(file)}: cannot read the included file {quote(str(target))}: "
+                                f"{problem}")
             sub, sub_where, _, _ = _read(target)
-            if _local(sub.tag) not in ("mujoco", "mujocoinclude"):  # <mujocoinclude>: MuJoCo's older root, still read
-                raise doc.error(inc, f"file={_quote(file)}: an included file's root must be <mujoco>, got "
-                                f"<{_shorten(_local(sub.tag) or '?')}>")
+            if tag_name(sub.tag) not in ("mujoco", "mujocoinclude"):  # <mujocoinclude>: MuJoCo's older root, still read
+                raise doc.error(inc, f"file={quote(file)}: an included file's root must be <mujoco>, got "
+                                f"<{shorten(tag_name(sub.tag) or '?')}>")
+            if not len(sub):
+                raise doc.error(inc, f"file={quote(file)}: the included file is empty (MuJoCo refuses it)")
             doc.sources.append(sub_where)
             parent = parent_of[inc]
             k = list(parent).index(inc)
@@ -526,22 +549,22 @@ def read_defaults(doc: Doc) -> None:
     doc.own_defaults["main"] = {}
     doc.default_parent["main"] = None
     stack: list[tuple[Any, str]] = []
-    for top in (e for e in doc.root if _local(e.tag) == "default"):
+    for top in (e for e in doc.root if tag_name(e.tag) == "default"):
         name = top.get("class", "main")
         if name != "main":
-            raise doc.error(top, f"class={_quote(name)}: the top-level <default> is class 'main'")
+            raise doc.error(top, f"class={quote(name)}: the top-level <default> is class 'main'")
         stack.append((top, "main"))
     while stack:
         elem, cls = stack.pop()
         table = doc.own_defaults[cls]
         for child in elem:
-            kind = _local(child.tag)
+            kind = tag_name(child.tag)
             if kind == "default":
                 name = child.get("class")
                 if name is None or not name:
                     raise doc.error(child, "a nested <default> needs a 'class' attribute")
                 if name in doc.own_defaults:
-                    raise doc.error(child, f"class={_quote(name)}: default class defined twice")
+                    raise doc.error(child, f"class={quote(name)}: default class defined twice")
                 doc.own_defaults[name] = {}
                 doc.default_parent[name] = cls
                 stack.append((child, name))
@@ -584,18 +607,18 @@ def expand_replicates(doc: Doc) -> None:
         if not doc.may_replicate or next(doc.root.iter("replicate"), None) is None:
             return
         parent_of = {c: p for p in doc.root.iter() for c in p}
-        innermost = [e for e in doc.root.iter() if _local(e.tag) == "replicate"
-                     and not any(_local(d.tag) == "replicate" for d in e.iter() if d is not e)]
+        innermost = [e for e in doc.root.iter() if tag_name(e.tag) == "replicate"
+                     and not any(tag_name(d.tag) == "replicate" for d in e.iter() if d is not e)]
         if not innermost:
             return
         for rep in innermost:
             attrs = dict(rep.attrib)
             count_text = attrs.get("count", "")
             if not count_text.strip().isdigit() or int(count_text) < 1:
-                raise doc.error(rep, f"count={_quote(count_text)}: expected a positive integer")
+                raise doc.error(rep, f"count={quote(count_text)}: expected a positive integer")
             count = int(count_text)
             for child in rep:
-                if _local(child.tag) in ("joint", "freejoint", "inertial"):
+                if tag_name(child.tag) in ("joint", "freejoint", "inertial"):
                     raise doc.error(child, "a joint or inertial cannot be a direct child of <replicate> (MuJoCo)")
             size = sum(1 for _ in rep.iter()) - 1
             created += count * size

@@ -1,0 +1,11 @@
+"""The file readers: URDF and MJCF documents into a :class:`~featherdyn.Model` (the "model" layer).
+
+* :mod:`.urdf` — :func:`~featherdyn.load_urdf` and the magnitude bounds every reader shares
+  (``MAX_LENGTH``, ``MAX_MASS``, ``MAX_INERTIA``);
+* :mod:`.mjcf` — :func:`~featherdyn.load_mjcf`, ``load_model``, ``model_format``, with MuJoCo's compiler
+  semantics; its pieces :mod:`.mjcf_xml` (includes, default classes, numbers, orientations),
+  :mod:`.mjcf_inertia` (primitive geoms) and :mod:`.mjcf_mesh` (mesh files and their mass properties);
+* :mod:`.xml` — the guarded XML reader both use: bytes, encodings, the parser, bounded input, messages.
+
+``featherdyn.urdf`` and ``featherdyn.mjcf`` re-export the public names of :mod:`.urdf` and :mod:`.mjcf`.
+"""
