@@ -250,3 +250,21 @@ def library_robot_names() -> list[str]:
         return list(fd.list_robots())
     except fd.FeatherdynError:  # pragma: no cover - example-robot-data missing
         return []
+
+
+def pinocchio_pair(name: str, floating: bool):  # type: ignore[no-untyped-def]
+    """``(model, pin_model, pin_data, JointMap)`` of a library robot read by featherdyn and by Pinocchio."""
+    import warnings
+
+    import pinocchio as pin
+
+    from featherdyn.robots import robot_path
+    from featherdyn.verify.bridge import JointMap
+
+    model = library_robot(name, floating)
+    assert model is not None
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        path = str(robot_path(name))
+        pm = pin.buildModelFromUrdf(path, pin.JointModelFreeFlyer()) if floating else pin.buildModelFromUrdf(path)
+    return model, pm, pm.createData(), JointMap(model, pm)

@@ -9,11 +9,9 @@ with ``q`` gives the same result), ``fd.compile(model)``'s method, float32, and 
 
 from __future__ import annotations
 
-import warnings
-
 import numpy as np
 import pytest
-from _models import library_robot
+from _models import library_robot, pinocchio_pair
 
 import featherdyn as fd
 from featherdyn.api.declarations import DECLARATIONS
@@ -24,17 +22,7 @@ pin = pytest.importorskip("pinocchio")
 PAIRS = [("panda", False), ("solo12", True), ("ur5_robot", False), ("anymal-kinova", True), ("talos_full_v2", True)]
 
 
-def _pin_pair(name: str, floating: bool):  # type: ignore[no-untyped-def]
-    from featherdyn.robots import robot_path
-    from featherdyn.verify.bridge import JointMap
-
-    model = library_robot(name, floating)
-    assert model is not None
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        path = str(robot_path(name))
-        pm = pin.buildModelFromUrdf(path, pin.JointModelFreeFlyer()) if floating else pin.buildModelFromUrdf(path)
-    return model, pm, pm.createData(), JointMap(model, pm)
+_pin_pair = pinocchio_pair
 
 
 def _pin_forces(model: fd.Model, pm, f_ext: np.ndarray) -> list:  # type: ignore[no-untyped-def]

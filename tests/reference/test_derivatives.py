@@ -14,7 +14,7 @@ import warnings
 
 import numpy as np
 import pytest
-from _models import TREES, library_robot, library_robot_names, random_state, tree
+from _models import TREES, library_robot, library_robot_names, pinocchio_pair, random_state, tree
 
 import featherdyn as fd
 from featherdyn.testing import assert_close
@@ -24,17 +24,7 @@ pin = pytest.importorskip("pinocchio")
 PAIRS = [("panda", False), ("solo12", True), ("ur5_robot", False), ("anymal-kinova", True), ("talos_full_v2", True)]
 
 
-def _pin_pair(name: str, floating: bool):  # type: ignore[no-untyped-def]
-    from featherdyn.robots import robot_path
-    from featherdyn.verify.bridge import JointMap
-
-    model = library_robot(name, floating)
-    assert model is not None
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        path = str(robot_path(name))
-        pm = pin.buildModelFromUrdf(path, pin.JointModelFreeFlyer()) if floating else pin.buildModelFromUrdf(path)
-    return model, pm, pm.createData(), JointMap(model, pm)
+_pin_pair = pinocchio_pair
 
 
 def _rel(a: np.ndarray, b: np.ndarray) -> float:

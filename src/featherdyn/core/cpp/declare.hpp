@@ -105,6 +105,17 @@ inline bool overlaps(const double* a, std::int64_t na, const double* b, std::int
   return a != nullptr && b != nullptr && a < b + nb && b < a + na;
 }
 
+// As many inputs and outputs as the declaration has (a caller's mistake, not the user's: ValueError).
+inline void check_counts(const Kernel& k, const nb::sequence& inputs, const nb::sequence& outputs) {
+  if (nb::len(inputs) != k.inputs.size() || nb::len(outputs) != k.outputs.size())
+    throw nb::value_error(("featherdyn.core." + k.name + ": wrong number of operands").c_str());
+}
+
+// An output array: writeable native float64 (nanobind's TypeError otherwise, for the Python front end).
+inline void acquire_output(F64Out& out, nb::handle x) {
+  if (!out.acquire(x.ptr())) throw nb::type_error("featherdyn.core: writeable native float64 arrays expected");
+}
+
 }  // namespace declared
 
 // One state into given outputs: OK or the status of the first failure (lengths, the state, overlap, the kernel).
@@ -112,8 +123,7 @@ inline bool overlaps(const double* a, std::int64_t na, const double* b, std::int
 inline std::int64_t run_into(const Kernel& k, const ModelData& md, const nb::sequence& inputs,
                              const nb::sequence& outputs) {
   const ModelView& mv = md.view;
-  if (nb::len(inputs) != k.inputs.size() || nb::len(outputs) != k.outputs.size())
-    throw nb::value_error(("featherdyn.core." + k.name + ": wrong number of operands").c_str());
+  declared::check_counts(k, inputs, outputs);
   std::array<F64In, DECLARED_MAX> in;
   std::array<F64Out, DECLARED_MAX> out;
   std::array<const double*, DECLARED_MAX> ip{};
@@ -129,8 +139,7 @@ inline std::int64_t run_into(const Kernel& k, const ModelData& md, const nb::seq
     ip[i] = in[i].data();
   }
   for (size_t o = 0; o < k.outputs.size(); ++o) {
-    if (!out[o].acquire(nb::handle(outputs[o]).ptr()))
-      throw nb::type_error("featherdyn.core: writeable native float64 arrays expected");
+    declared::acquire_output(out[o], outputs[o]);
     FD_TRY(declared::exact(out[o], mv, k.outputs[o]));
     op[o] = out[o].data();
     const std::int64_t n = size_of(mv, k.outputs[o]);
@@ -163,8 +172,7 @@ inline nb::object run_fresh(const Kernel& k, const ModelData& md, const nb::sequ
 inline RowStatus run_batch(const Kernel& k, const ModelData& md, const nb::sequence& inputs,
                            const nb::sequence& outputs) {
   const ModelView& mv = md.view;
-  if (nb::len(inputs) != k.inputs.size() || nb::len(outputs) != k.outputs.size())
-    throw nb::value_error(("featherdyn.core." + k.name + ": wrong number of operands").c_str());
+  declared::check_counts(k, inputs, outputs);
   std::array<F64In, DECLARED_MAX> in;
   std::array<F64Out, DECLARED_MAX> out;
   std::array<Rows, DECLARED_MAX> rows_in{};
@@ -172,8 +180,7 @@ inline RowStatus run_batch(const Kernel& k, const ModelData& md, const nb::seque
   std::array<std::int64_t, DECLARED_MAX> n_out{};
   std::int64_t N = -1;
   for (size_t o = 0; o < k.outputs.size(); ++o) {
-    if (!out[o].acquire(nb::handle(outputs[o]).ptr()))
-      throw nb::type_error("featherdyn.core: writeable native float64 arrays expected");
+    declared::acquire_output(out[o], outputs[o]);
     n_out[o] = size_of(mv, k.outputs[o]);
     const std::int64_t rows = out[o].ndim() >= 1 ? static_cast<std::int64_t>(out[o].shape(0)) : -1;
     if (rows < 0 || static_cast<std::int64_t>(out[o].size()) != rows * n_out[o] || (N >= 0 && rows != N))
