@@ -57,7 +57,7 @@ struct Kernel {
   PublicCallKind free{}, bound{};
 };
 
-PyObject* declared_path(PublicCall* f, PyObject* const* args);  // (bindings.cpp)
+PyObject* declared_path(PublicCall* f, PyObject* const* args);  // (bind_public_calls.cpp)
 
 template <class D>
 Kernel declare() {
