@@ -149,3 +149,50 @@ def test_frame_jacobian_refuses_integer_reference_codes_as_the_public_function_d
         with pytest.raises(ShapeError, match="reference"):
             cm.frame_jacobian_batch(q[None], frame, code)
     assert np.array_equal(cm.frame_jacobian(q, frame, "world"), fd.frame_jacobian(model, q, frame, fd.WORLD))
+
+
+_ARM = """<mujoco><worldbody><body name="l1"><joint name="j1" type="hinge" axis="0 1 0" armature="0.5"/>
+<geom type="capsule" fromto="0 0 0 0.5 0 0" size="0.05" mass="1"/>
+<body name="l2" pos="0.5 0 0"><joint name="j2" type="hinge" axis="0 1 0" armature="0.5"/>
+<geom type="capsule" fromto="0 0 0 0.5 0 0" size="0.05" mass="1"/></body></body></worldbody></mujoco>"""
+
+
+def test_out_sharing_memory_with_an_input_gives_the_result_without_out() -> None:
+    """The one rule for out= (hostile input round 3, items 1 and 2): an out that is, or overlaps, an input gives the
+    same result as a fresh one — cm.rnea(q, v, a, out=a) on a model with armature read q̈ where τ was being
+    written (error 3.1); cm.frame_jacobian(q, frame, out=J) with J over q's memory read a q being overwritten."""
+    import featherdyn as fd
+
+    arm = fd.load_mjcf(_ARM)
+    assert np.any(arm.armature > 0)
+    rng = np.random.default_rng(12)
+    cm = fd.compile(arm, warmup=False)
+    q, v, a = rng.normal(size=2), rng.normal(size=2), rng.normal(size=2)
+    expected = cm.rnea(q, v, a)
+    for name, args, k in (("rnea", (q, v, a), 2), ("rnea", (q, v, a), 1), ("rnea", (q, v, a), 0),
+                          ("aba", (q, v, a), 2), ("nle", (q, v), 1)):
+        inputs = [x.copy() for x in args]
+        want = getattr(cm, name)(*inputs)
+        got = getattr(cm, name)(*inputs, out=inputs[k])
+        assert got is inputs[k] and np.array_equal(got, want), (name, k)
+        assert np.array_equal(getattr(fd, {"nle": "nonlinear_effects"}.get(name, name))(arm, *args), want)
+    assert np.array_equal(expected, fd.rnea(arm, q, v, a))
+    panda = robot("panda", False)
+    assert panda is not None
+    cmp_ = fd.compile(panda, warmup=False)
+    q = fd.random_configuration(panda, rng)
+    frame = panda.frames[-1].name
+    for method, shape, call in (
+            ("frame_jacobian", (6, panda.nv), lambda qq, out: cmp_.frame_jacobian(qq, frame, fd.WORLD, out=out)),
+            ("crba", (panda.nv, panda.nv), lambda qq, out: cmp_.crba(qq, out=out)),
+            ("gravity", (panda.nv,), lambda qq, out: cmp_.gravity(qq, out=out)),
+            ("fk", (panda.nbodies, 4, 4), lambda qq, out: cmp_.fk(qq, out=out))):
+        want = call(q.copy(), None)
+        n = int(np.prod(shape))
+        for start in (0, 3, panda.nq - 1):  # J's memory from inside q's on
+            buf = np.zeros(panda.nq + n + 8)
+            buf[start:start + panda.nq] = q
+            qq = buf[start:start + panda.nq]
+            out = buf[start + 1:start + 1 + n].reshape(shape)
+            got = call(qq, out)
+            assert got is out and np.array_equal(got, want), (method, start)

@@ -116,8 +116,7 @@ def _constants(name: str) -> tuple[Any, ...]:
     if name == "frame_jacobian":
         return (CoreHandle, fd.LOCAL, fd.WORLD, fd.LOCAL_WORLD_ALIGNED)
     if name == "frame_placement":
-        slots = (fd.PluckerTransform.__dict__[k] for k in ("rotation", "translation", "source", "target"))
-        return (CoreHandle, fd.PluckerTransform, *slots)
+        return (CoreHandle, fd.PluckerTransform, "rotation", "translation", "source", "target")
     return (CoreHandle,)
 
 

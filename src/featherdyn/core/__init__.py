@@ -26,6 +26,7 @@ frame, gravity from ``model.gravity`` entered as a base acceleration ``−g``.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from typing import Any
 
 import numpy as np
@@ -134,6 +135,23 @@ def _out(out: Any, shape: tuple[int, ...]) -> np.ndarray:
     return out
 
 
+def _into(out: Any, shape: tuple[int, ...], call: Callable[[np.ndarray], int]) -> tuple[np.ndarray, int]:
+    """``(result, status)`` of a one-state ``call(o)`` writing into ``out`` (checked by :func:`_out`) or a fresh array.
+
+    The one rule for ``out=`` (docs/architecture.md, "One declaration per algorithm"): an ``out`` that shares
+    memory with an input is refused by the core (status ``OVERLAP``); the result is then computed into fresh
+    memory and copied, so it is the call's result without ``out``.
+    """
+    o = _out(out, shape)
+    s = call(o)
+    if s and _errors.decode(s)[0] == _errors.OVERLAP:
+        fresh = np.empty(shape)
+        s = call(fresh)
+        if not s:
+            np.copyto(o, fresh)
+    return o, s
+
+
 def _batch_out(out: Any, shape: tuple[int, ...]) -> np.ndarray:
     """A batch's result: ``out`` after :func:`_out`'s checks, or a fresh array (reused memory when large)."""
     return result_array(shape) if out is None else _out(out, shape)
@@ -224,8 +242,7 @@ def rnea(model: Model, q: Any, v: Any, a: Any, f_ext: Any = None, gravity: bool 
     q_, v_, a_ = _f64(q, "q"), _f64(v, "v"), _f64(a, "a")
     fx = None if f_ext is None else _f64(f_ext, "f_ext")
     if q_.ndim == 1 and v_.ndim == 1 and a_.ndim == 1 and (fx is None or fx.ndim == 2):
-        tau = _out(out, (h.nv,))
-        s = _core.rnea(h.cm, q_, v_, a_, fx, bool(gravity), tau)
+        tau, s = _into(out, (h.nv,), lambda o: _core.rnea(h.cm, q_, v_, a_, fx, bool(gravity), o))
         if s:
             _errors.raise_for(s, model, q, [("v", v), ("a", a)], f_ext, what="rnea")
         return tau
@@ -264,8 +281,7 @@ def nle(model: Model, q: Any, v: Any, out: Any = None) -> np.ndarray:
     h = _view(model)
     q_, v_ = _f64(q, "q"), _f64(v, "v")
     if q_.ndim == 1 and v_.ndim == 1:
-        res = _out(out, (h.nv,))
-        s = _core.nle(h.cm, q_, v_, res)
+        res, s = _into(out, (h.nv,), lambda o: _core.nle(h.cm, q_, v_, o))
         if s:
             _errors.raise_for(s, model, q, [("v", v)], what="rnea")
         return res
@@ -292,8 +308,7 @@ def gravity(model: Model, q: Any, out: Any = None) -> np.ndarray:
     h = _view(model)
     q_ = _f64(q, "q")
     if q_.ndim == 1:
-        g = _out(out, (h.nv,))
-        s = _core.gravity(h.cm, q_, g)
+        g, s = _into(out, (h.nv,), lambda o: _core.gravity(h.cm, q_, o))
         if s:
             _errors.raise_for(s, model, q, what="rnea")
         return g
@@ -348,8 +363,7 @@ def crba(model: Model, q: Any, out: Any = None) -> np.ndarray:
     h = _view(model)
     q_ = _f64(q, "q")
     if q_.ndim == 1:
-        M = _out(out, (h.nv, h.nv))
-        s = _core.crba(h.cm, q_, M)
+        M, s = _into(out, (h.nv, h.nv), lambda o: _core.crba(h.cm, q_, o))
         if s:
             _errors.raise_for(s, model, q, what="crba")
         return M
@@ -391,9 +405,8 @@ def aba(model: Model, q: Any, v: Any, tau: Any, f_ext: Any = None, gravity: bool
     q_, v_, t_ = _f64(q, "q"), _f64(v, "v"), _f64(tau, "tau")
     fx = None if f_ext is None else _f64(f_ext, "f_ext")
     if q_.ndim == 1 and v_.ndim == 1 and t_.ndim == 1 and (fx is None or fx.ndim == 2):
-        qdd = _out(out, (h.nv,))
         D = np.empty(36)
-        s = _core.aba(h.cm, q_, v_, t_, fx, bool(gravity), qdd, D)
+        qdd, s = _into(out, (h.nv,), lambda o: _core.aba(h.cm, q_, v_, t_, fx, bool(gravity), o, D))
         if s:
             if _errors.decode(s)[0] == _errors.SINGULAR:
                 _errors.validate(model, q, [("v", v), ("tau", tau)], f_ext)
@@ -481,10 +494,9 @@ def fk(model: Model, q: Any, v: Any = None, a: Any = None, out: Any = None) -> A
         return fk_batch(model, q_, out)
     v_ = None if v is None else _f64(v, "v")
     a_ = None if a is None else _f64(a, "a")
-    H = _out(out, (h.nb, 4, 4))
     vel = None if v is None else np.empty((h.nb, 6))
     acc = None if a is None else np.empty((h.nb, 6))
-    s = _core.fk(h.cm, q_, v_, a_, H, None, vel, acc)
+    H, s = _into(out, (h.nb, 4, 4), lambda o: _core.fk(h.cm, q_, v_, a_, o, None, vel, acc))
     if s:
         _errors.raise_for(s, model, q, [(n, x) for n, x in (("v", v), ("a", a)) if x is not None],
                           what="forward kinematics")
@@ -561,8 +573,7 @@ def frame_placement(model: Model, q: Any, frame: Any, out: Any = None) -> np.nda
     q_ = _f64(q, "q")
     if q_.ndim != 1:
         return frame_placement_batch(model, q_, fid, out)
-    H = _out(out, (4, 4))
-    s = _core.frame_placement(h.cm, q_, fid, H)
+    H, s = _into(out, (4, 4), lambda o: _core.frame_placement(h.cm, q_, fid, o))
     if s:
         _errors.raise_for(s, model, q, what="frame_placement")
     return H
@@ -604,8 +615,7 @@ def frame_jacobian(model: Model, q: Any, frame: Any, reference: Any = LOCAL, out
     q_ = _f64(q, "q")
     if q_.ndim != 1:
         return frame_jacobian_batch(model, q_, fid, ref, out)
-    J = _out(out, (6, h.nv))
-    s = _core.frame_jacobian(h.cm, q_, fid, ref, J)
+    J, s = _into(out, (6, h.nv), lambda o: _core.frame_jacobian(h.cm, q_, fid, ref, o))
     if s:
         _errors.raise_for(s, model, q, what="frame_jacobian")
     return J

@@ -20,6 +20,7 @@ std::int64_t rnea1(const ModelData& md, const F64In& q, const F64In& v, const F6
   FD_TRY(vec(a, mv.nv, ARG_A));
   if (f_ext.is_valid()) FD_TRY(exact_shape(f_ext, {size_t(mv.nb), 6}, ARG_FEXT));
   FD_TRY(exact_shape(tau, {size_t(mv.nv)}));
+  FD_TRY(disjoint(tau, {{&q, ARG_Q}, {&v, ARG_V}, {&a, ARG_A}, {&f_ext, ARG_FEXT}}));
   const double* fx = f_ext.is_valid() ? f_ext.data() : nullptr;
   FD_TRY(check_state(mv, q.data(), v.data(), a.data(), fx));
   rnea(mv, q.data(), v.data(), a.data(), fx, gravity, tau.data());
@@ -31,6 +32,7 @@ std::int64_t nle1(const ModelData& md, const F64In& q, const F64In& v, const F64
   FD_TRY(vec(q, mv.nq, ARG_Q));
   FD_TRY(vec(v, mv.nv, ARG_V));
   FD_TRY(exact_shape(h, {size_t(mv.nv)}));
+  FD_TRY(disjoint(h, {{&q, ARG_Q}, {&v, ARG_V}}));
   FD_TRY(check_state(mv, q.data(), v.data(), nullptr, nullptr));
   rnea<double>(mv, q.data(), v.data(), nullptr, nullptr, true, h.data());
   return finite_result(h.data(), mv.nv);
@@ -40,6 +42,7 @@ std::int64_t gravity1(const ModelData& md, const F64In& q, const F64Out& g) {
   const ModelView& mv = md.view;
   FD_TRY(vec(q, mv.nq, ARG_Q));
   FD_TRY(exact_shape(g, {size_t(mv.nv)}));
+  FD_TRY(disjoint(g, {{&q, ARG_Q}}));
   FD_TRY(check_state(mv, q.data(), nullptr, nullptr, nullptr));
   rnea<double>(mv, q.data(), nullptr, nullptr, nullptr, true, g.data());
   return finite_result(g.data(), mv.nv);
@@ -49,6 +52,7 @@ std::int64_t crba1(const ModelData& md, const F64In& q, const F64Out& M) {
   const ModelView& mv = md.view;
   FD_TRY(vec(q, mv.nq, ARG_Q));
   FD_TRY(exact_shape(M, {size_t(mv.nv), size_t(mv.nv)}));
+  FD_TRY(disjoint(M, {{&q, ARG_Q}}));
   FD_TRY(check_state(mv, q.data(), nullptr, nullptr, nullptr));
   crba(mv, q.data(), M.data());
   return finite_result(M.data(), std::int64_t(mv.nv) * mv.nv);
@@ -116,6 +120,8 @@ std::int64_t aba1(const ModelData& md, const F64In& q, const F64In& v, const F64
   if (f_ext.is_valid()) FD_TRY(exact_shape(f_ext, {size_t(mv.nb), 6}, ARG_FEXT));
   FD_TRY(exact_shape(qdd, {size_t(mv.nv)}));
   if (D_singular.is_valid()) FD_TRY(exact_shape(D_singular, {36}));
+  for (const F64Out* o : {&qdd, &D_singular}) FD_TRY(disjoint(*o, {{&q, ARG_Q}, {&v, ARG_V}, {&tau, ARG_A}, {&f_ext, ARG_FEXT}}));
+  if (D_singular.is_valid() && overlaps(qdd.data(), mv.nv, D_singular.data(), 36)) return make_status(OVERLAP, ARG_OUT, 0);
   const double* fx = f_ext.is_valid() ? f_ext.data() : nullptr;
   FD_TRY(check_state(mv, q.data(), v.data(), tau.data(), fx));
   const int bad = aba(mv, q.data(), v.data(), tau.data(), fx, gravity, qdd.data(),

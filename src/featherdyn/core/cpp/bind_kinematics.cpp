@@ -35,6 +35,7 @@ std::int64_t fk1(const ModelData& md, const F64In& q, const F64In& v, const F64I
   if (Hp.is_valid()) FD_TRY(exact_shape(Hp, {size_t(mv.nb), 4, 4}));
   if (v.is_valid()) FD_TRY(exact_shape(vel, {size_t(mv.nb), 6}));
   if (a.is_valid()) FD_TRY(exact_shape(acc, {size_t(mv.nb), 6}));
+  for (const F64Out* o : {&H, &Hp, &vel, &acc}) FD_TRY(disjoint(*o, {{&q, ARG_Q}, {&v, ARG_V}, {&a, ARG_A}}));
   const double* vp = v.is_valid() ? v.data() : nullptr;
   const double* ap = a.is_valid() ? a.data() : nullptr;
   FD_TRY(check_state(mv, q.data(), vp, ap, nullptr));
@@ -48,6 +49,7 @@ std::int64_t frame_placement1(const ModelData& md, const F64In& q, int frame, co
   FD_TRY(vec(q, mv.nq, ARG_Q));
   if (frame < 0 || frame >= mv.nf) return make_status(LENGTH, ARG_FRAME, frame < 0 ? 0 : frame);
   FD_TRY(exact_shape(pose, {4, 4}));
+  FD_TRY(disjoint(pose, {{&q, ARG_Q}}));
   FD_TRY(check_state(mv, q.data(), nullptr, nullptr, nullptr));
   frame_placement(mv, q.data(), frame, pose.data());
   return finite_placements(pose.data(), 1);
@@ -60,6 +62,8 @@ std::int64_t frame_pose1(const ModelData& md, const F64In& q, int frame, const F
   if (frame < 0 || frame >= mv.nf) return make_status(LENGTH, ARG_FRAME, frame < 0 ? 0 : frame);
   FD_TRY(exact_shape(R, {3, 3}));
   FD_TRY(exact_shape(p, {3}));
+  FD_TRY(disjoint(R, {{&q, ARG_Q}}));
+  FD_TRY(disjoint(p, {{&q, ARG_Q}}));
   FD_TRY(check_state(mv, q.data(), nullptr, nullptr, nullptr));
   Mat3<double> Rf;
   Vec3<double> pf;
@@ -76,6 +80,7 @@ std::int64_t frame_jacobian1(const ModelData& md, const F64In& q, int frame, int
   if (frame < 0 || frame >= mv.nf) return make_status(LENGTH, ARG_FRAME, frame < 0 ? 0 : frame);
   if (ref < LOCAL || ref > LOCAL_WORLD_ALIGNED) throw nb::value_error("reference code must be 0, 1 or 2");
   FD_TRY(exact_shape(J, {6, size_t(mv.nv)}));
+  FD_TRY(disjoint(J, {{&q, ARG_Q}}));
   FD_TRY(check_state(mv, q.data(), nullptr, nullptr, nullptr));
   frame_jacobian(mv, q.data(), frame, ref, J.data());
   return finite_jacobian(J.data(), mv.nv);
@@ -86,6 +91,7 @@ std::int64_t placements1(const ModelData& md, const F64In& q, const F64Out& H) {
   const ModelView& mv = md.view;
   FD_TRY(vec(q, mv.nq, ARG_Q));
   FD_TRY(exact_shape(H, {size_t(mv.nb), 4, 4}));
+  FD_TRY(disjoint(H, {{&q, ARG_Q}}));
   FD_TRY(check_state(mv, q.data(), nullptr, nullptr, nullptr));
   forward_kinematics<double>(mv, q.data(), nullptr, nullptr, H.data(), nullptr, nullptr);
   return finite_placements(H.data(), mv.nb);

@@ -160,6 +160,23 @@ inline std::int64_t finite_jacobian(const double* J, std::int64_t nv) {
   return k < 0 ? OK : make_status(NONFINITE, ARG_OUT, k + 3 * nv);
 }
 
+// Whether [a, a + na) and [b, b + nb) share memory (null: nothing to share).
+inline bool overlaps(const double* a, std::int64_t na, const double* b, std::int64_t nb) {
+  return a != nullptr && b != nullptr && a < b + nb && b < a + na;
+}
+
+// The one rule for out= (docs/architecture.md, "One declaration per algorithm"): an output that shares memory
+// with an input is refused with an OVERLAP status naming the input (the Python side then computes into fresh
+// memory and copies: the result is the call's result without out=).
+inline std::int64_t disjoint(const F64Out& out, std::initializer_list<std::pair<const F64In*, std::int64_t>> inputs) {
+  if (!out.is_valid()) return OK;
+  for (const auto& [x, arg] : inputs)
+    if (x->is_valid() && overlaps(out.data(), static_cast<std::int64_t>(out.size()), x->data(),
+                                  static_cast<std::int64_t>(x->size())))
+      return make_status(OVERLAP, arg, 0);
+  return OK;
+}
+
 // A fresh C-contiguous float64 NumPy array (numpy_api.hpp: PyArray_SimpleNew), and its element storage.
 inline nb::object numpy_alloc(std::initializer_list<npy_intp> shape) {
   PyObject* a = new_f64(static_cast<int>(shape.size()), shape.begin());

@@ -100,11 +100,6 @@ std::int64_t exact(const A& x, const ModelView& mv, const Operand& o) {
   return same ? OK : make_status(LENGTH, o.arg, x.ndim() == 1 ? static_cast<std::int64_t>(x.shape(0)) : -1);
 }
 
-// Whether two operands' memory overlaps (the one rule for out=: an output never shares memory with an input).
-inline bool overlaps(const double* a, std::int64_t na, const double* b, std::int64_t nb) {
-  return a != nullptr && b != nullptr && a < b + nb && b < a + na;
-}
-
 // As many inputs and outputs as the declaration has (a caller's mistake, not the user's: ValueError).
 inline void check_counts(const Kernel& k, const nb::sequence& inputs, const nb::sequence& outputs) {
   if (nb::len(inputs) != k.inputs.size() || nb::len(outputs) != k.outputs.size())
@@ -144,9 +139,9 @@ inline std::int64_t run_into(const Kernel& k, const ModelData& md, const nb::seq
     op[o] = out[o].data();
     const std::int64_t n = size_of(mv, k.outputs[o]);
     for (size_t i = 0; i < k.inputs.size(); ++i)
-      if (declared::overlaps(op[o], n, ip[i], size_of(mv, k.inputs[i]))) return make_status(OVERLAP, k.inputs[i].arg, 0);
+      if (overlaps(op[o], n, ip[i], size_of(mv, k.inputs[i]))) return make_status(OVERLAP, k.inputs[i].arg, 0);
     for (size_t p = 0; p < o; ++p)
-      if (declared::overlaps(op[o], n, op[p], size_of(mv, k.outputs[p]))) return make_status(OVERLAP, ARG_OUT, 0);
+      if (overlaps(op[o], n, op[p], size_of(mv, k.outputs[p]))) return make_status(OVERLAP, ARG_OUT, 0);
   }
   return declared::run_checked(k, mv, ip.data(), op.data());
 }
@@ -202,7 +197,7 @@ inline RowStatus run_batch(const Kernel& k, const ModelData& md, const nb::seque
       return {-1, make_status(LENGTH, spec.arg, R)};
     rows_in[i] = Rows{in[i].data(), R == 1 ? 0 : n};
     for (size_t o = 0; o < k.outputs.size(); ++o)
-      if (declared::overlaps(op[o], N * n_out[o], in[i].data(), R * n)) return {-1, make_status(OVERLAP, spec.arg, 0)};
+      if (overlaps(op[o], N * n_out[o], in[i].data(), R * n)) return {-1, make_status(OVERLAP, spec.arg, 0)};
   }
   return for_rows(N, [&](std::int64_t r) -> std::int64_t {
     std::array<const double*, DECLARED_MAX> ip{};
