@@ -164,14 +164,17 @@ PyObject* frame_placement_path(PublicCall* f, PyObject* const* a) {
   return guarded([&]() -> PyObject* {
     nb::object R, p;
     read_only_pose(Rf.m, p3, R, p);
-    // object.__new__(cls) and its four fields set as a frozen dataclass's __init__ sets them
-    // (object.__setattr__: PyObject_GenericSetAttr); the names are extra[2:6] (checked by `make`)
+    // object.__new__(cls) and its four fields set as a frozen dataclass's __init__ sets them (object.__setattr__
+    // finds each slot's descriptor and calls its __set__): here the descriptors' own tp_descr_set, the
+    // descriptors looked up once by `make` (extra[2:6])
     PyTypeObject* cls = reinterpret_cast<PyTypeObject*>(PyTuple_GET_ITEM(f->extra, 1));
     nb::object x = nb::steal(PyType_GenericNew(cls, nullptr, nullptr));
     if (!x.is_valid()) throw nb::python_error();
     PyObject* fields[4] = {R.ptr(), p.ptr(), Py_None, Py_None};
-    for (int i = 0; i < 4; ++i)
-      if (PyObject_GenericSetAttr(x.ptr(), PyTuple_GET_ITEM(f->extra, 2 + i), fields[i]) != 0) throw nb::python_error();
+    for (int i = 0; i < 4; ++i) {
+      PyObject* d = PyTuple_GET_ITEM(f->extra, 2 + i);
+      if (Py_TYPE(d)->tp_descr_set(d, x.ptr(), fields[i]) != 0) throw nb::python_error();
+    }
     return x.release().ptr();
   });
 }
@@ -351,16 +354,26 @@ nb::object make(const std::string& kind, nb::handle general, nb::handle extra, n
     throw nb::type_error("public_call: the frame table (a dict) expected");
   if (k == FRAME_PLACEMENT) {
     // the class and the names of four of its slots (data descriptors the class itself defines), which
-    // frame_placement_path sets
+    // frame_placement_path sets through the descriptors: extra becomes (CoreHandle, cls, the four descriptors)
     nb::handle cls = PyTuple_GET_ITEM(extra.ptr(), 1);
+    nb::list with_descriptors;
+    with_descriptors.append(nb::handle(PyTuple_GET_ITEM(extra.ptr(), 0)));
+    with_descriptors.append(cls);
     if (!PyType_Check(cls.ptr())) throw nb::type_error("public_call: a class expected");
     for (int i = 2; i < 6; ++i) {
       nb::handle name = PyTuple_GET_ITEM(extra.ptr(), i);
       if (!PyUnicode_CheckExact(name.ptr()) || !nb::hasattr(cls, name)) throw nb::type_error("public_call: slot names expected");
       nb::object d = cls.attr(name);
-      if (!PyDescr_IsData(d.ptr()) || !nb::hasattr(d, "__objclass__") || !d.attr("__objclass__").is(cls))
+      if (!PyDescr_IsData(d.ptr()) || Py_TYPE(d.ptr())->tp_descr_set == nullptr || !nb::hasattr(d, "__objclass__") ||
+          !d.attr("__objclass__").is(cls))
         throw nb::type_error("public_call: slot names expected");
+      with_descriptors.append(d);
     }
+    nb::object constants = nb::steal(PyList_AsTuple(with_descriptors.ptr()));
+    if (!constants.is_valid()) throw nb::python_error();
+    PyObject* r = make_public_call(k, general.ptr(), constants.ptr(), nullptr);
+    if (r == nullptr) throw nb::python_error();
+    return nb::steal(r);
   }
   PyObject* r = make_public_call(k, general.ptr(), extra.ptr(), is_bound ? bound.ptr() : nullptr);
   if (r == nullptr) throw nb::python_error();
