@@ -111,7 +111,10 @@ def test_lengths_are_checked_before_values() -> None:
     v = np.zeros(model.nv)
     for call in (lambda: fd.rnea(model, huge, v, v), lambda: fd.crba(model, huge),
                  lambda: fd.generalized_gravity_derivatives(model, huge),
-                 lambda: fd.compile(model, warmup=False).generalized_gravity_derivatives(huge)):
+                 lambda: fd.compile(model, warmup=False).generalized_gravity_derivatives(huge),
+                 lambda: fd.compile(model, warmup=False).rnea(huge, v, v),
+                 lambda: fd.compile(model, warmup=False).crba(huge),
+                 lambda: fd.compile(model, warmup=False).frame_jacobian(huge, model.frames[-1].name)):
         with pytest.raises(ShapeError, match="q"):
             call()
     huge_f = as_strided(np.zeros(1), shape=(2**36, 6), strides=(0, 0))

@@ -33,6 +33,7 @@ from typing import Any
 
 import numpy as np
 
+from .._state_checks import check_f_ext, check_state
 from ..errors import ModelError
 from ..frames import LOCAL, LOCAL_WORLD_ALIGNED, WORLD, as_reference_frame
 from ..model import Model
@@ -80,33 +81,46 @@ class CompiledModel:
         # The methods' general paths: featherdyn.core's wrappers, which convert, compute or word the error. A
         # native float64 state never reaches them: it is finished in C (below).
 
+        def lengths_first(q: Any, f_ext: Any = None, **vectors: Any) -> None:
+            # the public checks, in the public functions' order and words, before the wrappers convert: a wrong
+            # length is a ShapeError at once, not the MemoryError of copying a huge zero-stride view
+            check_f_ext(model, f_ext)
+            check_state(model, q, **vectors)
+
         def rnea(q: Any, v: Any, a: Any, f_ext: Any = None, out: Any = None) -> np.ndarray:
             """``τ = RNEA(q, v, a)`` `(nv,)` with gravity, optional body-frame ``f_ext`` `(nb, 6)`."""
+            lengths_first(q, f_ext, v=v, a=a)
             return _rnea(model, q, v, a, f_ext, True, _one_state_out(out, (nv,)))
 
         def nle(q: Any, v: Any, out: Any = None) -> np.ndarray:
             """``h(q, v) = RNEA(q, v, 0)`` `(nv,)`."""
+            lengths_first(q, v=v)
             return _nle(model, q, v, _one_state_out(out, (nv,)))
 
         def gravity(q: Any, out: Any = None) -> np.ndarray:
             """``g(q) = RNEA(q, 0, 0)`` `(nv,)`."""
+            lengths_first(q)
             return _gravity(model, q, _one_state_out(out, (nv,)))
 
         def crba(q: Any, out: Any = None) -> np.ndarray:
             """The mass matrix ``M(q)`` `(nv, nv)`, full and symmetric."""
+            lengths_first(q)
             return _crba(model, q, _one_state_out(out, shape_M))
 
         def aba(q: Any, v: Any, tau: Any, f_ext: Any = None, out: Any = None) -> np.ndarray:
             """``q̈ = ABA(q, v, τ)`` `(nv,)`; ``SingularMassMatrixError`` naming the joint."""
+            lengths_first(q, f_ext, v=v, tau=tau)
             return _aba(model, q, v, tau, f_ext, True, _one_state_out(out, (nv,)))
 
         def fk(q: Any, out: Any = None) -> np.ndarray:
             """World placements of the bodies, homogeneous `(nb, 4, 4)`."""
+            lengths_first(q)
             return _fk(model, q, out=_one_state_out(out, shape_H))
 
         def frame_jacobian(q: Any, frame: Any, reference: Any = LOCAL, out: Any = None) -> np.ndarray:
             """The Jacobian `(6, nv)` of ``frame`` (name or index) in ``reference`` (``fd.LOCAL``, ...)."""
             # the reference as fd.frame_jacobian takes it (the enum or its name; not the core's integer code)
+            lengths_first(q)
             return _frame_jacobian(model, q, frame, as_reference_frame(reference), _one_state_out(out, shape_J))
 
         # Each method: the closure above, with its one-state call finished in C when the arguments are as the
