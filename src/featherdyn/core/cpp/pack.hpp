@@ -93,10 +93,14 @@ FD_PACK_LANEWISE(cos)
 // (the factors of ltl.hpp and aba.hpp take one per dof and per constraint row).
 inline Pack sqrt(const Pack& x) {
 #if defined(__AVX512F__)
+#if defined(__GNUC__) && !defined(__clang__)  // (Clang has no such warning)
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"  // GCC 12's avx512fintrin.h: the masked form's unused source
+#endif
   return Pack::raw(reinterpret_cast<Pack::V>(_mm512_sqrt_pd(reinterpret_cast<__m512d>(x.v))));
+#if defined(__GNUC__) && !defined(__clang__)
 #pragma GCC diagnostic pop
+#endif
 #elif defined(__AVX2__)
   return Pack::raw(reinterpret_cast<Pack::V>(_mm256_sqrt_pd(reinterpret_cast<__m256d>(x.v))));
 #elif defined(__SSE2__)
