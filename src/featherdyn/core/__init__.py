@@ -152,6 +152,21 @@ def _into(out: Any, shape: tuple[int, ...], call: Callable[[np.ndarray], int]) -
     return o, s
 
 
+def _apart(out: Any, *inputs: np.ndarray | None) -> tuple[Any, ...]:
+    """The inputs of a batch, each copied first if it may share memory with ``out`` (an array or a tuple of them).
+
+    The one rule for ``out=`` (docs/architecture.md, "One declaration per algorithm"): the result is the call's
+    result without ``out``. A kernel writes its rows while it reads its inputs' rows, so an output over an input's
+    memory (``cm.rnea_batch(Q, V, A, out=A)``) would read what it has written: the input is read from a copy.
+    ``np.may_share_memory`` compares the bounds only: no scan.
+    """
+    if out is None:
+        return inputs
+    outs = tuple(out) if isinstance(out, (tuple, list)) else (out,)
+    return tuple(x if x is None or not any(isinstance(o, np.ndarray) and np.may_share_memory(x, o) for o in outs)
+                 else x.copy() for x in inputs)
+
+
 def _batch_out(out: Any, shape: tuple[int, ...]) -> np.ndarray:
     """A batch's result: ``out`` after :func:`_out`'s checks, or a fresh array (reused memory when large)."""
     return result_array(shape) if out is None else _out(out, shape)
@@ -255,6 +270,7 @@ def rnea_batch(model: Model, q: Any, v: Any, a: Any, f_ext: Any = None, gravity:
     h = _view(model)
     q_, v_, a_ = _f64(q, "q"), _f64(v, "v"), _f64(a, "a")
     fx = None if f_ext is None else _f64(f_ext, "f_ext")
+    q_, v_, a_, fx = _apart(out, q_, v_, a_, fx)
     vectors = [("v", v), ("a", a)]
     parts = [(q_, 1), (v_, 1), (a_, 1)] + ([] if fx is None else [(fx, 2)])
     batch = _batch_shape(model, parts, q, vectors, f_ext)
@@ -373,7 +389,7 @@ def crba(model: Model, q: Any, out: Any = None) -> np.ndarray:
 def crba_batch(model: Model, q: Any, out: Any = None) -> np.ndarray:
     """:func:`crba` over batch axes, on the core's threads."""
     h = _view(model)
-    q_ = _f64(q, "q")
+    (q_,) = _apart(out, _f64(q, "q"))
     batch = _batch_shape(model, [(q_, 1)], q, [], None)
     result = _batch_out(out, batch + (h.nv, h.nv))
     st = _core.crba_batch(h.cm, _rows(q_, batch, (h.nq,)), result.reshape(math.prod(batch), h.nv * h.nv))
@@ -427,6 +443,7 @@ def aba_batch(model: Model, q: Any, v: Any, tau: Any, f_ext: Any = None, gravity
     h = _view(model)
     q_, v_, t_ = _f64(q, "q"), _f64(v, "v"), _f64(tau, "tau")
     fx = None if f_ext is None else _f64(f_ext, "f_ext")
+    q_, v_, t_, fx = _apart(out, q_, v_, t_, fx)
     vectors = [("v", v), ("tau", tau)]
     parts = [(q_, 1), (v_, 1), (t_, 1)] + ([] if fx is None else [(fx, 2)])
     batch = _batch_shape(model, parts, q, vectors, f_ext)
@@ -546,7 +563,7 @@ def kinematics(model: Model, q: Any, v: Any = None,
 def fk_batch(model: Model, q: Any, out: Any = None) -> np.ndarray:
     """:func:`fk` placements over batch axes `(..., nb, 4, 4)`, on the core's threads."""
     h = _view(model)
-    q_ = _f64(q, "q")
+    (q_,) = _apart(out, _f64(q, "q"))
     batch = _batch_shape(model, [(q_, 1)], q, [], None)
     result = _batch_out(out, batch + (h.nb, 4, 4))
     st = _core.fk_batch(h.cm, _rows(q_, batch, (h.nq,)), result.reshape(math.prod(batch), 16 * h.nb))
@@ -583,7 +600,7 @@ def frame_placement_batch(model: Model, q: Any, frame: Any, out: Any = None) -> 
     """:func:`frame_placement` over batch axes `(..., 4, 4)`, on the core's threads."""
     h = _view(model)
     fid = model.resolve_frame(frame)
-    q_ = _f64(q, "q")
+    (q_,) = _apart(out, _f64(q, "q"))
     batch = _batch_shape(model, [(q_, 1)], q, [], None)
     H = _batch_out(out, batch + (4, 4))
     st = _core.frame_placement_batch(h.cm, _rows(q_, batch, (h.nq,)), fid, H.reshape(math.prod(batch), 16))
@@ -626,7 +643,7 @@ def frame_jacobian_batch(model: Model, q: Any, frame: Any, reference: Any = LOCA
     h = _view(model)
     fid = model.resolve_frame(frame)
     ref = _reference_code(reference)
-    q_ = _f64(q, "q")
+    (q_,) = _apart(out, _f64(q, "q"))
     batch = _batch_shape(model, [(q_, 1)], q, [], None)
     J = _batch_out(out, batch + (6, h.nv))
     st = _core.frame_jacobian_batch(h.cm, _rows(q_, batch, (h.nq,)), fid, ref, J.reshape(math.prod(batch), 6 * h.nv))
@@ -755,12 +772,14 @@ def frame_jacobian_time_variation(model: Model, q: Any, v: Any, frame: Any, refe
 # ---------------------------------------------------------------------------
 
 
-def _dynamics_rows(model: Model, q: Any, v: Any, x: Any, f_ext: Any, xname: str
+def _dynamics_rows(model: Model, q: Any, v: Any, x: Any, f_ext: Any, xname: str, out: Any = None
                    ) -> tuple[CoreHandle, tuple[int, ...], list[Any], list[tuple[str, Any]]]:
-    """``(handle, batch shape, [Q, V, X, FX] rows, vectors)`` of a state ``(q, v, x)`` and ``f_ext``."""
+    """``(handle, batch shape, [Q, V, X, FX] rows, vectors)`` of a state ``(q, v, x)`` and ``f_ext`` (each apart
+    from ``out``: :func:`_apart`)."""
     h = _view(model)
     q_, v_, x_ = _f64(q, "q"), _f64(v, "v"), _f64(x, xname)
     fx = None if f_ext is None else _f64(f_ext, "f_ext")
+    q_, v_, x_, fx = _apart(out, q_, v_, x_, fx)
     vectors = [("v", v), (xname, x)]
     parts = [(q_, 1), (v_, 1), (x_, 1)] + ([] if fx is None else [(fx, 2)])
     batch = _batch_shape(model, parts, q, vectors, f_ext)
@@ -802,7 +821,7 @@ def rnea_derivatives(model: Model, q: Any, v: Any, a: Any, f_ext: Any = None, gr
     ``out``: three float64 C-contiguous `(..., nv, nv)` arrays to write into (reusing them avoids the page
     faults of large fresh arrays).
     """
-    h, batch, (Q, V, A, FX), vectors = _dynamics_rows(model, q, v, a, f_ext, "a")
+    h, batch, (Q, V, A, FX), vectors = _dynamics_rows(model, q, v, a, f_ext, "a", out)
     N, nv = math.prod(batch), h.nv
     dq, dv, M = _outs(out, 3, batch + (nv, nv))
     st = _core.rnea_derivatives_batch(h.cm, Q, V, A, FX, bool(gravity), dq.reshape(N, nv * nv),
@@ -834,7 +853,7 @@ def aba_derivatives(model: Model, q: Any, v: Any, tau: Any, f_ext: Any = None, g
 
     ``out``: as in :func:`rnea_derivatives`.
     """
-    h, batch, (Q, V, T, FX), vectors = _dynamics_rows(model, q, v, tau, f_ext, "tau")
+    h, batch, (Q, V, T, FX), vectors = _dynamics_rows(model, q, v, tau, f_ext, "tau", out)
     N, nv = math.prod(batch), h.nv
     qdd = np.empty(batch + (nv,))
     dq, dv, Minv = _outs(out, 3, batch + (nv, nv))
