@@ -106,3 +106,14 @@ def test_check_takes_an_mjcf_model(tmp_path: Path) -> None:
     assert p.returncode == 0 and "all 2 comparisons agree" in p.stdout, p.stdout + p.stderr
     p = cli("check", bad, "--robot", path)
     assert p.returncode == 1, p.stdout + p.stderr
+
+
+def test_an_mjcf_model_with_a_free_joint_is_reported_as_floating() -> None:
+    """Issue 32 item 4: the label (title and JSON meta) comes from the model, as `featherdyn info` says it."""
+    from featherdyn.verify import run
+
+    report = run(str(ASSETS / "ant.xml"), samples=1, seed=0)
+    assert fd.load_mjcf(ASSETS / "ant.xml").floating_base
+    assert "(floating base," in report.title and report.meta["floating_base"] is True
+    fixed = run(str(ASSETS / "reacher.xml"), samples=1, seed=0)
+    assert "(fixed base," in fixed.title and fixed.meta["floating_base"] is False

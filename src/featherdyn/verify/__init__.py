@@ -101,13 +101,13 @@ def run(robot: str | os.PathLike[str] | None = None, *, floating_base: bool = Fa
         model = load_resolved(path, floating_base, strict)
     for frame in contacts:  # an unknown contact frame is refused before any work
         model.resolve_frame(frame)
-    base = "floating" if floating_base else "fixed"
+    base = "floating" if model.floating_base else "fixed"  # the model's (an MJCF free joint makes it floating)
     oracles = " and ".join(o for o, used in (("Pinocchio", use_pin), ("MuJoCo", use_mj)) if used)
     report = VerifyReport(
         title=f"featherdyn verify {name} ({base} base, nq={model.nq}, nv={model.nv}, {model.nbodies} bodies; "
               f"{samples} states, seed {seed}" + ("" if oracle == "pinocchio" else f"; against {oracles}") + ")",
         meta={**machine_meta(), "robot": name, "format": fmt, "oracle": oracle,
-              "floating_base": floating_base, "samples": samples, "seed": seed, "tol": tol,
+              "floating_base": model.floating_base, "samples": samples, "seed": seed, "tol": tol,
               "nq": model.nq, "nv": model.nv, "nbodies": model.nbodies,
               "load_warnings": sorted({str(w.message) for w in caught})},
     )
