@@ -268,3 +268,16 @@ def test_gauss_principle_and_impacts_never_add_energy(solo: fd.Model) -> None:
     for e in (0.0, 0.3, 1.0):
         vp = fd.impulse_dynamics(solo, q, v, cons, restitution=e).v_plus
         assert 0.5 * vp @ M @ vp <= T0 * (1 + 1e-12), e
+
+
+@pytest.mark.parametrize("backend", [None, "reference"])
+def test_operational_space_inertia_at_a_singular_configuration_names_the_singularity(backend: str | None) -> None:
+    """Issue 32 item 7: panda at q = 0 (a kinematic singularity) gave NumPy's LinAlgError from inside NumPy; it is a
+    ConstraintError that says so and points to the damped form, which then works (both backends alike)."""
+    model = fd.load_robot("panda")
+    q = np.zeros(model.nq)
+    with pytest.raises(fd.ConstraintError, match="singular.*mu > 0"):
+        fd.operational_space_inertia(model, q, ["panda_hand"], backend=backend)
+    L = fd.operational_space_inertia(model, q, ["panda_hand"], mu=1e-8, backend=backend)
+    assert L.shape == (6, 6) and np.all(np.isfinite(L))
+    assert np.allclose(L, L.T, rtol=1e-6, atol=1e-6 * np.abs(L).max())

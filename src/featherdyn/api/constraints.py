@@ -319,7 +319,13 @@ def operational_space_inertia(model: Model, q: ArrayLike, frames: Sequence[str |
     fids, ref = _con.resolve_frames(model, frames, reference)
     J = quiet(_alg.frames_jacobian, model, kinematics_of(model, st, None, None, backend), fids, ref,
               _jacobian(model, st, backend))
-    return np.linalg.inv(_delassus(model, st.q, J, backend) + float(mu) * np.eye(J.shape[-2], dtype=J.dtype))
+    D = _delassus(model, st.q, J, backend) + float(mu) * np.eye(J.shape[-2], dtype=J.dtype)
+    if D.dtype.kind == "f" and not np.all(_alg.dense_cholesky(D, DELASSUS_PIVOT_RTOL)[1]):  # the core's rule
+        raise ConstraintError(
+            f"operational_space_inertia: the {D.shape[-1]} rows of the frames' Jacobians are dependent at this "
+            "configuration (J M⁻¹ Jᵀ + μ 1 is singular: a kinematic singularity), so Λ does not exist; pass mu > 0 "
+            "(e.g. mu=1e-8) for the damped Λ = (J M⁻¹ Jᵀ + μ 1)⁻¹")
+    return np.linalg.inv(D)
 
 
 @dataclass(frozen=True)
