@@ -11,21 +11,15 @@
 
 namespace fdcore {
 
-// q̇ = 0: nv zeros, per thread.
-inline const double* zeros_nv(const ModelView& mv) {
-  thread_local std::vector<double> z;
-  z.assign(static_cast<size_t>(mv.nv), 0.0);
-  return z.data();
-}
-
 // ∂g/∂q (nv, nv): the generalized gravity g(q) = RNEA(q, 0, 0) differentiated along q's tangent — the
-// analytical RNEA derivatives (derivatives.hpp) at q̇ = q̈ = 0 (Pinocchio's computeGeneralizedGravityDerivatives).
+// analytical RNEA derivatives (derivatives.hpp) at rest, q̇ = q̈ = 0: no q̇ given, the velocity terms not formed
+// (Pinocchio's computeGeneralizedGravityDerivatives).
 struct GeneralizedGravityDerivatives {
   static constexpr const char* name = "generalized_gravity_derivatives";
   static constexpr Operand inputs[] = {{"q", ARG_Q, {NQ}, 1, false}};
   static constexpr Operand outputs[] = {{"dg_dq", ARG_OUT, {NV, NV}, 2, false}};
   static std::int64_t run(const ModelView& mv, const double* const* in, double* const* out) {
-    group_kernels().rnea_derivatives(mv, in[0], zeros_nv(mv), nullptr, nullptr, true, out[0], nullptr, nullptr);  // (∂τ/∂q̇ not computed)
+    group_kernels().rnea_derivatives(mv, in[0], nullptr, nullptr, nullptr, true, out[0], nullptr, nullptr);  // at rest
     return OK;
   }
 };
@@ -37,7 +31,7 @@ struct StaticTorqueDerivatives {
   static constexpr Operand inputs[] = {{"q", ARG_Q, {NQ}, 1, false}, {"f_ext", ARG_FEXT, {NB, 6}, 2, false}};
   static constexpr Operand outputs[] = {{"dtau_dq", ARG_OUT, {NV, NV}, 2, false}};
   static std::int64_t run(const ModelView& mv, const double* const* in, double* const* out) {
-    group_kernels().rnea_derivatives(mv, in[0], zeros_nv(mv), nullptr, in[1], true, out[0], nullptr, nullptr);  // (∂τ/∂q̇ not computed)
+    group_kernels().rnea_derivatives(mv, in[0], nullptr, nullptr, in[1], true, out[0], nullptr, nullptr);  // at rest
     return OK;
   }
 };

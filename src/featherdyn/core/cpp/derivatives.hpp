@@ -175,6 +175,7 @@ struct RneaDerivWork {
   std::vector<RigidInertia<S>> I0;         // ʳI_i (forward dynamics: the forces of the accelerations)
   std::vector<Motion<S>> psi;              // forward dynamics: ψ_i = Σ_support ʳS q̈
   std::vector<Force<S>> G;                 // forward dynamics: I_i ψ_i, summed over subtrees
+  bool rest = false;                       // q̇ = q̈ = 0 (no q̇ given): the velocity terms are zero, not formed
   void resize(size_t nb) {
     if (R.size() < nb)
       R.resize(nb), p.resize(nb), v.resize(nb), a.resize(nb), Yc.resize(nb), Bc.resize(nb), hc.resize(nb),
@@ -237,6 +238,9 @@ struct LanesOut {
 
 // Forward: poses in the root body, ʳS, ʳv, ʳa (q̈ = 0 when qdd is null), the body inertias, momenta and
 // forces, and the columns' ∂V/∂q = v_λ × S,  ∂A/∂q = a_λ × S + v_λ × ∂V/∂q,  ∂A/∂q̇ = ∂V/∂q + v_i × S.
+// At rest (qd null, and qdd null: the generalized gravity's and static torque's derivatives) every body of a
+// tree moves with its root's acceleration and v = 0: the momenta, the inertia rates, ∂V/∂q and ∂A/∂q̇ are zero
+// and left unformed, ∂A/∂q = a_λ × S.
 template <class S>
 void rnea_derivatives_forward(const ModelView& mv, RneaDerivWork<S>& w, const S* q, const S* qd, const S* qdd,
                               const S* f_ext, bool gravity) {
@@ -249,6 +253,7 @@ void rnea_derivatives_forward(const ModelView& mv, RneaDerivWork<S>& w, const S*
   const S z(0.0);
   const Motion<S> zero{{z, z, z}, {z, z, z}};
   const Motion<S> a0 = base_acceleration<S>(mv, gravity);
+  w.rest = qd == nullptr;
   for (int i = 0; i < nb; ++i) {
     const int lam = mv.parent[i], iv = mv.idx_v[i], ki = mv.nv_i[i];
     const RigidInertia<S> I = body_inertia<S>(mv, i);
@@ -280,17 +285,22 @@ void rnea_derivatives_forward(const ModelView& mv, RneaDerivWork<S>& w, const S*
         J[iv + c] = {wr, R[i] * s.v + cross(p[i], wr)};
       }
     }
-    Motion<S> vJ = zero, aJ = zero;
-    for (int c = 0; c < ki; ++c) {
-      const Motion<S>& s = J[iv + c];
-      const S x = qd[iv + c];
-      vJ = vJ + Motion<S>{x * s.w, x * s.v};
-      if (qdd) aJ = aJ + Motion<S>{qdd[iv + c] * s.w, qdd[iv + c] * s.v};
+    if (w.rest) {
+      V[i] = zero;
+      A[i] = a_lam;
+    } else {
+      Motion<S> vJ = zero, aJ = zero;
+      for (int c = 0; c < ki; ++c) {
+        const Motion<S>& s = J[iv + c];
+        const S x = qd[iv + c];
+        vJ = vJ + Motion<S>{x * s.w, x * s.v};
+        if (qdd) aJ = aJ + Motion<S>{qdd[iv + c] * s.w, qdd[iv + c] * s.v};
+      }
+      V[i] = v_lam + vJ;
+      A[i] = a_lam + aJ + cross_motion(V[i], vJ);
     }
-    V[i] = v_lam + vJ;
-    A[i] = a_lam + aJ + cross_motion(V[i], vJ);
-    const Force<S> h = oI * V[i];
-    Force<S> f = oI * A[i] + cross_force(V[i], h);
+    const Force<S> h = w.rest ? Force<S>{{z, z, z}, {z, z, z}} : oI * V[i];
+    Force<S> f = w.rest ? oI * A[i] : oI * A[i] + cross_force(V[i], h);
     if (f_ext) {  // a body-frame force [n; f] in root coordinates: [R n + p × R f; R f]
       const S* fx = f_ext + 6 * i;
       const Vec3<S> Rf = R[i] * Vec3<S>{fx[3], fx[4], fx[5]};
@@ -298,11 +308,16 @@ void rnea_derivatives_forward(const ModelView& mv, RneaDerivWork<S>& w, const S*
     }
     w.I0[i] = oI;
     w.Yc[i] = oI;
-    w.Bc[i] = inertia_rate(oI, V[i]);
+    w.Bc[i] = w.rest ? RigidInertia<S>{z, {z, z, z}, {z, z, z, z, z, z}} : inertia_rate(oI, V[i]);
     w.hc[i] = h;
     w.Fc[i] = f;
     for (int c = 0; c < ki; ++c) {
       const Motion<S>& s = J[iv + c];
+      if (w.rest) {
+        w.dV[iv + c] = w.dAv[iv + c] = zero;
+        w.dA[iv + c] = cross_motion(a_lam, s);
+        continue;
+      }
       w.dV[iv + c] = cross_motion(v_lam, s);
       w.dA[iv + c] = cross_motion(a_lam, s) + cross_motion(v_lam, w.dV[iv + c]);
       w.dAv[iv + c] = w.dV[iv + c] + cross_motion(V[i], s);
@@ -392,8 +407,18 @@ void rnea_derivatives_pairs(const ModelView& mv, RneaDerivWork<S>& w, const Out&
       const Motion<S>& s = J[row];
       // rows of i:  ∂τ_i/∂q_j = (I^C S_i)ᵀ ∂A/∂q_j + (D^Cᵀ S_i)ᵀ ∂V/∂q_j,  D^C u = İ^C u + u ×* h^C
       const Force<S> ar = Yc * s;
-      const Force<S> br = Bc * s - cross_force(s, hc);
       const size_t r0 = static_cast<size_t>(row) * nv;
+      if (w.rest) {  // D^C = 0 and ∂V/∂q = 0: the rows are (I^C S_i)ᵀ ∂A/∂q_j, the columns S_rᵀ (S_j ×* F^C + I^C ∂A/∂q_j)
+        for (int k = i; k != -1; k = mv.parent[k])
+          for (int cc = 0; cc < mv.nv_i[k]; ++cc) out.put(0, r0 + mv.idx_v[k] + cc, dot(dA[mv.idx_v[k] + cc], ar));
+        if (lam == -1) continue;
+        const Force<S> Fq = cross_force(s, w.Fc[i]) + Yc * dA[row];
+        for (int k = lam; k != -1; k = mv.parent[k])
+          for (int cc = 0; cc < mv.nv_i[k]; ++cc)
+            out.put(0, static_cast<size_t>(mv.idx_v[k] + cc) * nv + row, dot(J[mv.idx_v[k] + cc], Fq));
+        continue;
+      }
+      const Force<S> br = Bc * s - cross_force(s, hc);
       for (int k = i; k != -1; k = mv.parent[k]) {
         const int kv = mv.idx_v[k];
         for (int cc = 0; cc < mv.nv_i[k]; ++cc) {
