@@ -127,8 +127,8 @@ def single_rows(p: Pair, frame: str, repeats: int, budget: float) -> list[tuple[
     fid, fid_pin = m.frame_id(frame), pm.getFrameId(frame)
     calls: list[tuple[str, Callable[[], Any], Callable[[], Any]]] = [
         ("rnea", lambda: core.rnea(m, q, v, a, out=tau), lambda: pin.rnea(pm, pd, qp, vp, ap)),
-        ("nle", lambda: core.nle(m, q, v, out=tau), lambda: pin.nonLinearEffects(pm, pd, qp, vp)),
-        ("gravity", lambda: core.gravity(m, q, out=tau), lambda: pin.computeGeneralizedGravity(pm, pd, qp)),
+        ("nle", lambda: core.nonlinear_effects(m, q, v, out=tau), lambda: pin.nonLinearEffects(pm, pd, qp, vp)),
+        ("gravity", lambda: core.generalized_gravity(m, q, out=tau), lambda: pin.computeGeneralizedGravity(pm, pd, qp)),
         ("crba", lambda: core.crba(m, q, out=M), lambda: pin.crba(pm, pd, qp)),
         ("aba", lambda: core.aba(m, q, v, a, out=tau), lambda: pin.aba(pm, pd, qp, vp, ap)),
         ("fk (placements)", lambda: core.fk(m, q, out=H), lambda: pin.forwardKinematics(pm, pd, qp)),
@@ -200,16 +200,16 @@ def batch_rows(p: Pair, n: int, threads: int, repeats: int, budget: float) -> li
     tau, M = np.empty((n, m.nv)), np.empty((n, m.nv, m.nv))
     core.set_num_threads(threads)
     rows = [
-        (f"rnea_batch N={n} / rneaInParallel", *median_pair(lambda: core.rnea_batch(m, Q, V, A, out=tau),
+        (f"rnea_batch N={n} / rneaInParallel", *median_pair(lambda: core.rnea(m, Q, V, A, out=tau),
                                                            lambda: pin.rneaInParallel(threads, pool, Qc, Vc, Ac, tau_pin),
                                                            repeats, budget)),
-        (f"aba_batch N={n} / abaInParallel", *median_pair(lambda: core.aba_batch(m, Q, V, A, out=tau),
+        (f"aba_batch N={n} / abaInParallel", *median_pair(lambda: core.aba(m, Q, V, A, out=tau),
                                                          lambda: pin.abaInParallel(threads, pool, Qc, Vc, Ac, tau_pin),
                                                          repeats, budget)),
     ]
     pd = pm.createData()
     Qrows = [np.ascontiguousarray(x) for x in Qp]
-    rows.append((f"crba_batch N={n} / loop of pin.crba", *median_pair(lambda: core.crba_batch(m, Q, out=M),
+    rows.append((f"crba_batch N={n} / loop of pin.crba", *median_pair(lambda: core.crba(m, Q, out=M),
                                                                      lambda: [pin.crba(pm, pd, x) for x in Qrows],
                                                                      repeats, budget)))
     return rows
@@ -238,11 +238,11 @@ def peak_fraction(name: str, n: int, threads: int) -> str:
     tau = np.empty((n, model.nv))
     flops = int(_core.flops(core._view(model).cm, 0, Q[0], V[0], A[0]))
     core.set_num_threads(threads)
-    core.rnea_batch(model, Q, V, A, out=tau)
+    core.rnea(model, Q, V, A, out=tau)
     times = []
     for _ in range(15):
         t0 = time.perf_counter()
-        core.rnea_batch(model, Q, V, A, out=tau)
+        core.rnea(model, Q, V, A, out=tau)
         times.append(time.perf_counter() - t0)
     per_state = statistics.median(times) / n
     isa, lanes = _core.simd()

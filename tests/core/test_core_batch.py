@@ -39,18 +39,18 @@ def test_batch_equals_loop_bit_for_bit(spec, N: int) -> None:  # type: ignore[no
     q, v, a, tau, f = st.q, st.v, st.a, st.tau, st.f_ext
     fid = len(model.frames) - 1
     cases = {
-        "rnea": (core.rnea_batch(model, q, v, a), _loop(lambda *x: core.rnea(model, *x), q, v, a)),
-        "rnea f_ext": (core.rnea_batch(model, q, v, a, f, gravity=False),
+        "rnea": (core.rnea(model, q, v, a), _loop(lambda *x: core.rnea(model, *x), q, v, a)),
+        "rnea f_ext": (core.rnea(model, q, v, a, f, gravity=False),
                        _loop(lambda *x: core.rnea(model, *x, gravity=False), q, v, a, f)),
-        "nle": (core.nle_batch(model, q, v), _loop(lambda *x: core.nle(model, *x), q, v)),
-        "gravity": (core.gravity_batch(model, q), _loop(lambda x: core.gravity(model, x), q)),
-        "crba": (core.crba_batch(model, q), _loop(lambda x: core.crba(model, x), q)),
-        "aba": (core.aba_batch(model, q, v, tau, f), _loop(lambda *x: core.aba(model, *x), q, v, tau, f)),
+        "nle": (core.nonlinear_effects(model, q, v), _loop(lambda *x: core.nonlinear_effects(model, *x), q, v)),
+        "gravity": (core.generalized_gravity(model, q), _loop(lambda x: core.generalized_gravity(model, x), q)),
+        "crba": (core.crba(model, q), _loop(lambda x: core.crba(model, x), q)),
+        "aba": (core.aba(model, q, v, tau, f), _loop(lambda *x: core.aba(model, *x), q, v, tau, f)),
         "fk": (core.fk_batch(model, q), _loop(lambda x: core.fk(model, x), q)),
         "frame_placement": (core.frame_placement_batch(model, q, fid), _loop(lambda x: core.frame_placement(model, x, fid), q)),
     }
     for ref in (0, 1, 2):
-        cases[f"frame_jacobian {ref}"] = (core.frame_jacobian_batch(model, q, fid, ref),
+        cases[f"frame_jacobian {ref}"] = (core.frame_jacobian(model, q, fid, ref),
                                           _loop(lambda x, r=ref: core.frame_jacobian(model, x, fid, r), q))
     for what, (batch, loop) in cases.items():
         assert batch.shape == loop.shape, f"{spec.name} N={N} {what}: shape {batch.shape} != {loop.shape}"
@@ -93,14 +93,14 @@ def test_eight_python_threads_sharing_a_model() -> None:
     """Concurrent one-state and batched calls on one model give the single-threaded results."""
     model = tree("free_branch")
     st = random_state(model, 13, (64,))
-    expected = (core.rnea_batch(model, st.q, st.v, st.a), core.crba_batch(model, st.q),
-                core.aba_batch(model, st.q, st.v, st.tau))
+    expected = (core.rnea(model, st.q, st.v, st.a), core.crba(model, st.q),
+                core.aba(model, st.q, st.v, st.tau))
     errors: list[str] = []
 
     def work(k: int) -> None:
         for rep in range(20):
-            got = (core.rnea_batch(model, st.q, st.v, st.a), core.crba_batch(model, st.q),
-                   core.aba_batch(model, st.q, st.v, st.tau))
+            got = (core.rnea(model, st.q, st.v, st.a), core.crba(model, st.q),
+                   core.aba(model, st.q, st.v, st.tau))
             for name, g, e in zip(("rnea", "crba", "aba"), got, expected, strict=True):
                 if not np.array_equal(g, e):
                     errors.append(f"thread {k} rep {rep}: batched {name} differs")
@@ -119,7 +119,7 @@ def test_eight_python_threads_sharing_a_model() -> None:
 
 def _child_rnea(args):  # type: ignore[no-untyped-def]
     name, q, v, a = args
-    return core.rnea_batch(tree(name), q, v, a)
+    return core.rnea(tree(name), q, v, a)
 
 
 def test_fork_pool_after_a_batched_call() -> None:
@@ -128,7 +128,7 @@ def test_fork_pool_after_a_batched_call() -> None:
         pytest.skip("no fork on this platform")
     model = tree("free_chain")
     st = random_state(model, 14, (40,))
-    expected = core.rnea_batch(model, st.q, st.v, st.a)  # the pool exists now
+    expected = core.rnea(model, st.q, st.v, st.a)  # the pool exists now
     ctx = multiprocessing.get_context("fork")
     with ctx.Pool(2) as pool:
         chunks = [("free_chain", st.q[k::4], st.v[k::4], st.a[k::4]) for k in range(4)]
@@ -136,7 +136,7 @@ def test_fork_pool_after_a_batched_call() -> None:
         results = pool.map_async(_child_rnea, chunks, chunksize=1).get(timeout=60)
     for k, r in enumerate(results):
         assert np.array_equal(r, expected[k::4]), f"child chunk {k} differs"
-    assert np.array_equal(core.rnea_batch(model, st.q, st.v, st.a), expected)  # the parent's pool still works
+    assert np.array_equal(core.rnea(model, st.q, st.v, st.a), expected)  # the parent's pool still works
 
 
 def test_set_num_threads() -> None:
@@ -144,11 +144,11 @@ def test_set_num_threads() -> None:
     st = random_state(model, 15, (50,))
     before = core.get_num_threads()
     try:
-        expected = core.crba_batch(model, st.q)
+        expected = core.crba(model, st.q)
         for n in (1, 3, 8):
             core.set_num_threads(n)
             assert core.get_num_threads() == n
-            assert np.array_equal(core.crba_batch(model, st.q), expected), f"{n} threads"
+            assert np.array_equal(core.crba(model, st.q), expected), f"{n} threads"
         core.set_num_threads(0)  # back to the cores available
         assert core.get_num_threads() >= 1
     finally:
@@ -166,15 +166,15 @@ def test_batches_back_to_back_and_after_the_workers_sleep() -> None:
     before = core.get_num_threads()
     try:
         core.set_num_threads(2)
-        expected = core.crba_batch(model, st.q)
+        expected = core.crba(model, st.q)
         for k in range(200):
-            assert np.array_equal(core.crba_batch(model, st.q), expected), f"back to back, call {k}"
+            assert np.array_equal(core.crba(model, st.q), expected), f"back to back, call {k}"
         for k in range(5):
             time.sleep(0.002)
-            assert np.array_equal(core.crba_batch(model, st.q), expected), f"after a pause, call {k}"
+            assert np.array_equal(core.crba(model, st.q), expected), f"after a pause, call {k}"
         for n in [2, 3, 2, 1, 2] * 4:
             core.set_num_threads(n)
-            assert np.array_equal(core.crba_batch(model, st.q), expected), f"{n} threads, new pool"
+            assert np.array_equal(core.crba(model, st.q), expected), f"{n} threads, new pool"
     finally:
         core.set_num_threads(before)
 
@@ -193,7 +193,7 @@ def test_large_batches_stream_their_results_bit_for_bit() -> None:
     buffer = np.full(n * nv * nv + 1, np.nan)
     shifted = buffer[1:].reshape(n, nv, nv)  # 8 bytes past the buffer's start
     for out in (None, shifted):
-        M = core.crba_batch(model, st.q, out=out)
+        M = core.crba(model, st.q, out=out)
         for k in rows:
             assert np.array_equal(M[k], core.crba(model, st.q[k])), f"crba row {k}"
     assert not np.isnan(shifted).any()
@@ -268,22 +268,22 @@ def test_batch_on_a_library_robot() -> None:
     model = robot("solo12", True)
     assert model is not None
     q, v, a, tau, f = state(model, 16, (20,))
-    assert np.array_equal(core.rnea_batch(model, q, v, a, f), _loop(lambda *x: core.rnea(model, *x), q, v, a, f))
-    assert np.array_equal(core.aba_batch(model, q, v, tau), _loop(lambda *x: core.aba(model, *x), q, v, tau))
+    assert np.array_equal(core.rnea(model, q, v, a, f), _loop(lambda *x: core.rnea(model, *x), q, v, a, f))
+    assert np.array_equal(core.aba(model, q, v, tau), _loop(lambda *x: core.aba(model, *x), q, v, tau))
 
 
 def test_set_num_threads_while_batches_run() -> None:
     """Replacing the pool while other threads run batches: running batches finish on the old pool, unchanged."""
     model = tree("fixed_branch_mixed")
     st = random_state(model, 17, (40,))
-    expected = core.aba_batch(model, st.q, st.v, st.tau)
+    expected = core.aba(model, st.q, st.v, st.tau)
     before = core.get_num_threads()
     errors: list[str] = []
     stop = threading.Event()
 
     def work() -> None:
         while not stop.is_set():
-            if not np.array_equal(core.aba_batch(model, st.q, st.v, st.tau), expected):
+            if not np.array_equal(core.aba(model, st.q, st.v, st.tau), expected):
                 errors.append("aba_batch differs")
 
     threads = [threading.Thread(target=work, daemon=True) for _ in range(3)]
@@ -292,7 +292,7 @@ def test_set_num_threads_while_batches_run() -> None:
     try:
         for n in [1, 4, 2, 3, 1, 2] * 5:
             core.set_num_threads(n)
-            if not np.array_equal(core.aba_batch(model, st.q, st.v, st.tau), expected):
+            if not np.array_equal(core.aba(model, st.q, st.v, st.tau), expected):
                 errors.append(f"aba_batch differs with {n} threads")
     finally:
         stop.set()
@@ -314,9 +314,9 @@ for spec in TREES:
     model = tree(spec.name)
     st = random_state(model, 18, (9,))
     for batch, one in [
-        (core.rnea_batch(model, st.q, st.v, st.a, st.f_ext), [core.rnea(model, *x) for x in zip(st.q, st.v, st.a, st.f_ext)]),
-        (core.crba_batch(model, st.q), [core.crba(model, x) for x in st.q]),
-        (core.aba_batch(model, st.q, st.v, st.tau), [core.aba(model, *x) for x in zip(st.q, st.v, st.tau)]),
+        (core.rnea(model, st.q, st.v, st.a, st.f_ext), [core.rnea(model, *x) for x in zip(st.q, st.v, st.a, st.f_ext)]),
+        (core.crba(model, st.q), [core.crba(model, x) for x in st.q]),
+        (core.aba(model, st.q, st.v, st.tau), [core.aba(model, *x) for x in zip(st.q, st.v, st.tau)]),
         (core.fk_batch(model, st.q), [core.fk(model, x) for x in st.q]),
     ]:
         assert np.array_equal(batch, np.stack(one)), spec.name

@@ -1,13 +1,12 @@
-"""The one-state fast path of the public functions: the ``*_new`` entry points and the direct array read.
+"""The one-state fast path of the public functions: the declared kernels' ``fresh`` and ``into`` and the array read.
 
-* ``_core.<alg>_new`` allocates its result (NumPy's ``PyArray_NewFromDescr``) and returns exactly
-  the numbers the ``out=`` entry point writes, as a fresh, owned, writeable float64 array; for a
-  state the ``out=`` entry point would refuse with a status it returns ``None`` (the caller's general
-  path words the error), and for an array it does not take it raises ``TypeError``;
+* ``Kernel.fresh`` allocates its result (NumPy's ``PyArray_SimpleNew``) and returns exactly the
+  numbers ``Kernel.into`` writes, as a fresh, owned, writeable float64 array; for a state ``into``
+  would refuse with a status, and for an array it does not take as it is, it returns ``None`` (the
+  caller's general path converts or words the error); ``into`` returns -1 for such an array;
 * a float64 array whose dtype object is not NumPy's native singleton (an unpickled dtype) is read
-  through the buffer protocol instead of the array's fields, with the same numbers; a read-only
-  output, an ``ndarray`` subclass and a strided array are refused; an offset C-contiguous view is read
-  at its offset;
+  as native float64, with the same numbers; a read-only output, an ``ndarray`` subclass and a
+  strided array are refused; an offset C-contiguous view is read at its offset;
 * placements that finite input overflows are reported at the same element as a full scan would
   (only translations can overflow).
 """
@@ -28,29 +27,33 @@ from featherdyn.errors import NonFiniteError
 TREE_NAMES = [s.name for s in TREES]
 
 
+K = _core.kernels
+
+
 def _calls(model: fd.Model, seed: int) -> list[tuple[str, object, object]]:
-    """``(name, result of the *_new entry point, result of the out= entry point)`` for one random state."""
+    """``(name, result of Kernel.fresh, what Kernel.into wrote)`` for one random state."""
     cm = core._view(model).cm
     st = random_state(model, seed)
     nv = model.nv
     tau, h, g, qdd = np.empty(nv), np.empty(nv), np.empty(nv), np.empty(nv)
     M, J = np.empty((nv, nv)), np.empty((6, nv))
-    assert _core.rnea(cm, st.q, st.v, st.a, st.f_ext, True, tau) == 0
-    assert _core.nle(cm, st.q, st.v, h) == 0
-    assert _core.gravity(cm, st.q, g) == 0
-    assert _core.crba(cm, st.q, M) == 0
-    assert _core.aba(cm, st.q, st.v, st.a, st.f_ext, False, qdd, None) == 0
+    assert K["rnea"].into(cm, [st.q, st.v, st.a, st.f_ext], [tau]) == 0
+    assert K["nonlinear_effects"].into(cm, [st.q, st.v], [h]) == 0
+    assert K["generalized_gravity"].into(cm, [st.q], [g]) == 0
+    assert K["crba"].into(cm, [st.q], [M]) == 0
+    assert K["aba"].into(cm, [st.q, st.v, st.a, st.f_ext], [qdd], gravity=False) == 0
     frame = len(model.frames) - 2  # a tool frame on the last body
     rows = [
-        ("rnea", _core.rnea_new(cm, st.q, st.v, st.a, st.f_ext, True), tau),
-        ("nle", _core.nle_new(cm, st.q, st.v), h),
-        ("gravity", _core.gravity_new(cm, st.q), g),
-        ("crba", _core.crba_new(cm, st.q), M),
-        ("aba", _core.aba_new(cm, st.q, st.v, st.a, st.f_ext, False), qdd),
+        ("rnea", K["rnea"].fresh(cm, [st.q, st.v, st.a, st.f_ext]), tau),
+        ("nle", K["nonlinear_effects"].fresh(cm, [st.q, st.v]), h),
+        ("gravity", K["generalized_gravity"].fresh(cm, [st.q]), g),
+        ("crba", K["crba"].fresh(cm, [st.q]), M),
+        ("aba", K["aba"].fresh(cm, [st.q, st.v, st.a, st.f_ext], gravity=False), qdd),
     ]
     for ref in (0, 1, 2):
-        assert _core.frame_jacobian(cm, st.q, frame, ref, J) == 0
-        rows.append((f"frame_jacobian {ref}", _core.frame_jacobian_new(cm, st.q, frame, ref), J.copy()))
+        assert K["frame_jacobian"].into(cm, [st.q], [J], frame=frame, reference=ref) == 0
+        rows.append((f"frame_jacobian {ref}", K["frame_jacobian"].fresh(cm, [st.q], frame=frame, reference=ref),
+                     J.copy()))
     return rows
 
 
@@ -71,12 +74,12 @@ def test_new_entry_points_return_none_for_a_state_the_general_path_words() -> No
     bad_quat = st.q.copy()
     bad_quat[6] *= 1.01
     for q in (nan_q, bad_quat, st.q[:-1]):
-        assert _core.crba_new(cm, q) is None
-        assert _core.gravity_new(cm, q) is None
-        assert _core.rnea_new(cm, q, st.v, st.a, None, True) is None
-        assert _core.frame_jacobian_new(cm, q, 0, 0) is None
-    assert _core.frame_jacobian_new(cm, st.q, len(model.frames), 0) is None  # no such frame
-    assert _core.frame_jacobian_new(cm, st.q, 0, 3) is None  # no such reference
+        assert K["crba"].fresh(cm, [q]) is None
+        assert K["generalized_gravity"].fresh(cm, [q]) is None
+        assert K["rnea"].fresh(cm, [q, st.v, st.a, None]) is None
+        assert K["frame_jacobian"].fresh(cm, [q], frame=0, reference=0) is None
+    assert K["frame_jacobian"].fresh(cm, [st.q], frame=len(model.frames)) is None  # no such frame
+    assert K["frame_jacobian"].fresh(cm, [st.q], frame=0, reference=3) is None  # no such reference
     with pytest.raises(fd.FeatherdynError):
         fd.crba(model, nan_q)  # and the public function words it
 
@@ -89,13 +92,13 @@ def test_new_entry_points_refuse_arrays_they_would_reinterpret(bad: str) -> None
     strided = np.empty(2 * model.nq)
     strided[::2] = q
     arrays = {"float32": q.astype(np.float32), "strided": strided[::2], "big-endian": q.astype(">f8"), "list": q.tolist()}
-    with pytest.raises(TypeError):
-        _core.crba_new(cm, arrays[bad])
+    assert K["crba"].fresh(cm, [arrays[bad]]) is None
+    assert K["crba"].into(cm, [arrays[bad]], [np.empty((model.nv, model.nv))]) == -1
     converted = np.asarray(arrays[bad], dtype=np.float64)
     assert np.array_equal(core.crba(model, arrays[bad]), core.crba(model, converted))  # the wrapper converts
 
 
-def test_a_float64_dtype_other_than_numpys_singleton_reads_through_the_buffer_protocol() -> None:
+def test_a_float64_dtype_other_than_numpys_singleton_is_read_as_native_float64() -> None:
     model = tree("free_chain")
     cm = core._view(model).cm
     st = random_state(model, 44)
@@ -104,10 +107,10 @@ def test_a_float64_dtype_other_than_numpys_singleton_reads_through_the_buffer_pr
     q2 = st.q.astype(other)
     tau2 = np.empty(model.nv, dtype=other)
     tau = np.empty(model.nv)
-    assert _core.rnea(cm, st.q, st.v, st.a, None, True, tau) == 0
-    assert _core.rnea(cm, q2, st.v.astype(other), st.a, None, True, tau2) == 0
+    assert K["rnea"].into(cm, [st.q, st.v, st.a, None], [tau]) == 0
+    assert K["rnea"].into(cm, [q2, st.v.astype(other), st.a, None], [tau2]) == 0
     assert np.array_equal(tau, tau2)
-    assert np.array_equal(_core.crba_new(cm, q2), _core.crba_new(cm, st.q))
+    assert np.array_equal(K["crba"].fresh(cm, [q2]), K["crba"].fresh(cm, [st.q]))
 
 
 def test_outputs_subclasses_and_views() -> None:
@@ -115,21 +118,19 @@ def test_outputs_subclasses_and_views() -> None:
     cm = core._view(model).cm
     st = random_state(model, 45)
     M = np.empty((model.nv, model.nv))
-    assert _core.crba(cm, st.q, M) == 0
+    assert K["crba"].into(cm, [st.q], [M]) == 0
     readonly = np.empty_like(M)
     readonly.flags.writeable = False
-    with pytest.raises(TypeError):
-        _core.crba(cm, st.q, readonly)
+    assert K["crba"].into(cm, [st.q], [readonly]) == -1
 
     class Sub(np.ndarray):
         pass
 
-    with pytest.raises(TypeError):
-        _core.crba_new(cm, st.q.view(Sub))
+    assert K["crba"].fresh(cm, [st.q.view(Sub)]) is None
     padded = np.concatenate([[7.0, 8.0], st.q, [9.0]])  # an offset, C-contiguous view
-    assert np.array_equal(_core.crba_new(cm, padded[2:-1]), M)
+    assert np.array_equal(K["crba"].fresh(cm, [padded[2:-1]]), M)
     big = np.empty((3, model.nv, model.nv))
-    assert _core.crba(cm, st.q, big[1]) == 0  # an output view into a larger array
+    assert K["crba"].into(cm, [st.q], [big[1]]) == 0  # an output view into a larger array
     assert np.array_equal(big[1], M)
 
 

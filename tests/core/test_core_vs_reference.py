@@ -28,8 +28,8 @@ def check_all(model: fd.Model, q: np.ndarray, v: np.ndarray, a: np.ndarray, tau:
     assert_rel(core.rnea(model, q, v, a), fd.rnea(model, q, v, a, backend=ref), f"{label}: rnea")
     assert_rel(core.rnea(model, q, v, a, f_ext=f, gravity=False),
                fd.rnea(model, q, v, a, f_ext=f, gravity=False, backend=ref), f"{label}: rnea f_ext, no gravity")
-    assert_rel(core.nle(model, q, v), fd.nonlinear_effects(model, q, v, backend=ref), f"{label}: nle")
-    assert_rel(core.gravity(model, q), fd.generalized_gravity(model, q, backend=ref), f"{label}: gravity")
+    assert_rel(core.nonlinear_effects(model, q, v), fd.nonlinear_effects(model, q, v, backend=ref), f"{label}: nle")
+    assert_rel(core.generalized_gravity(model, q), fd.generalized_gravity(model, q, backend=ref), f"{label}: gravity")
     M_ref = fd.crba(model, q, backend=ref)
     M = core.crba(model, q)
     assert_rel(M, M_ref, f"{label}: crba")

@@ -33,7 +33,7 @@ from _models import TREES, random_state, tool_frames, tree
 import featherdyn as fd
 from featherdyn import core
 from featherdyn.api import _backend
-from featherdyn.api.kinematics import _general_frame_jacobian, _general_frame_placement
+from featherdyn.api.kinematics import _general_frame_placement
 from featherdyn.core import _core
 from featherdyn.core._model_view import CoreHandle
 from featherdyn.errors import ModelError, NonFiniteError, ShapeError
@@ -58,7 +58,7 @@ def test_fast_path_equals_the_core_entry_points_bit_for_bit_and_the_reference(na
         for code, ref in enumerate(REFERENCES):
             J = fd.frame_jacobian(model, q, frame, ref)
             expected = np.empty((6, model.nv))
-            assert _core.frame_jacobian(cm, q, fid, code, expected) == 0
+            assert K["frame_jacobian"].into(cm, [q], [expected], frame=fid, reference=code) == 0
             assert type(J) is np.ndarray and J.flags.c_contiguous and J.flags.writeable and J.flags.owndata
             np.testing.assert_array_equal(J, expected)
             np.testing.assert_allclose(J, fd.frame_jacobian(model, q, frame, ref, backend="reference"),
@@ -90,34 +90,35 @@ class Spy:
         return "general"
 
 
+K = _core.kernels
+
+
 def _spied(kind: str) -> tuple[object, Spy]:
     spy = Spy()
-    if kind == "frame_jacobian":
-        return _backend.public_call(kind, spy, (CoreHandle, *REFERENCES)), spy
     if kind == "frame_placement":
         return _backend.public_call(kind, spy, (CoreHandle, fd.PluckerTransform, *SLOTS)), spy
-    return _backend.public_call(kind, spy, (CoreHandle,)), spy
+    return _core.declared_call(K[kind], spy, (CoreHandle, K[kind], *REFERENCES), None), spy  # a declared algorithm's
 
 
 DYNAMICS = ("rnea", "aba", "nonlinear_effects", "generalized_gravity", "crba")
 
 
 @pytest.mark.parametrize("name", TREE_NAMES)
-def test_dynamics_fast_paths_equal_the_new_entry_points_bit_for_bit(name: str) -> None:
+def test_dynamics_fast_paths_equal_the_kernels_bit_for_bit(name: str) -> None:
     model = tree(name)
     cm = core._view(model).cm
     for seed in range(2):
         st = random_state(model, seed)
         q, v, a, fx = st.q, st.v, st.a, st.f_ext
         pairs = [
-            (fd.rnea(model, q, v, a), _core.rnea_new(cm, q, v, a, None, True)),
-            (fd.rnea(model, q, v, a, fx), _core.rnea_new(cm, q, v, a, fx, True)),
-            (fd.rnea(model, q, v, a, f_ext=fx, gravity=False), _core.rnea_new(cm, q, v, a, fx, False)),
-            (fd.aba(model, q, v, a), _core.aba_new(cm, q, v, a, None, True)),
-            (fd.aba(model, q, v, a, fx, gravity=False), _core.aba_new(cm, q, v, a, fx, False)),
-            (fd.nonlinear_effects(model, q, v), _core.nle_new(cm, q, v)),
-            (fd.generalized_gravity(model, q), _core.gravity_new(cm, q)),
-            (fd.crba(model, q), _core.crba_new(cm, q)),
+            (fd.rnea(model, q, v, a), K["rnea"].fresh(cm, [q, v, a, None])),
+            (fd.rnea(model, q, v, a, fx), K["rnea"].fresh(cm, [q, v, a, fx])),
+            (fd.rnea(model, q, v, a, f_ext=fx, gravity=False), K["rnea"].fresh(cm, [q, v, a, fx], gravity=False)),
+            (fd.aba(model, q, v, a), K["aba"].fresh(cm, [q, v, a, None])),
+            (fd.aba(model, q, v, a, fx, gravity=False), K["aba"].fresh(cm, [q, v, a, fx], gravity=False)),
+            (fd.nonlinear_effects(model, q, v), K["nonlinear_effects"].fresh(cm, [q, v])),
+            (fd.generalized_gravity(model, q), K["generalized_gravity"].fresh(cm, [q])),
+            (fd.crba(model, q), K["crba"].fresh(cm, [q])),
         ]
         for got, expected in pairs:
             assert type(got) is np.ndarray and got.flags.writeable
@@ -248,13 +249,11 @@ def test_the_reference_default_backend_sends_every_call_to_the_general_function(
 
 
 def test_the_objects_look_like_their_functions() -> None:
-    from featherdyn.api import dynamics
-
-    pairs = [(fd.frame_jacobian, _general_frame_jacobian), (fd.frame_placement, _general_frame_placement)]
-    pairs += [(getattr(fd, name), getattr(dynamics, f"_general_{name}")) for name in DYNAMICS]
+    pairs = [(fd.frame_placement, _general_frame_placement)]
+    pairs += [(getattr(fd, name), getattr(fd, name).__wrapped__) for name in (*DYNAMICS, "frame_jacobian")]  # declared
     for f, general in pairs:
         name = f.__name__
-        module = "featherdyn.api.kinematics" if name.startswith("frame") else "featherdyn.api.dynamics"
+        module = "featherdyn.api.kinematics" if name == "frame_placement" else "featherdyn"
         assert getattr(fd, name) is f and f.__qualname__ == name
         assert f.__module__ == module and f.__wrapped__ is general
         assert f.__doc__ == general.__doc__ and "`(" in f.__doc__
@@ -276,10 +275,12 @@ def test_the_objects_look_like_their_functions() -> None:
 def test_public_call_refuses_wrong_constants() -> None:
     with pytest.raises(ValueError, match="unknown kind"):
         _core.public_call("rnea_derivatives", print, (), None)
+    with pytest.raises(ValueError, match="unknown kind"):  # a declared algorithm's is made by declared_call
+        _core.public_call("rnea", print, (CoreHandle,), None)
+    with pytest.raises(ValueError, match="extra must be"):
+        _core.declared_call(K["rnea"], print, (CoreHandle, K["crba"], *REFERENCES), None)
     with pytest.raises(ValueError, match="wrong constants"):
-        _core.public_call("rnea", print, (), None)
-    with pytest.raises(ValueError, match="wrong constants"):
-        _core.public_call("frame_jacobian", print, (CoreHandle,), None)
+        _core.public_call("frame_placement", print, (CoreHandle,), None)
     with pytest.raises(TypeError, match="slot names"):
         _core.public_call("frame_placement", print, (CoreHandle, fd.PluckerTransform, 1, 2, 3, 4), None)
     with pytest.raises(TypeError, match="slot names"):  # not slots of the class
@@ -409,7 +410,7 @@ def test_an_overflowing_jacobian_is_a_non_finite_error_at_its_first_element() ->
     frame = model.frames[-1].name
     for code, ref in enumerate(REFERENCES):
         J = np.empty((6, model.nv))
-        status = _core.frame_jacobian(cm, q, model.frame_id(frame), code, J)
+        status = K["frame_jacobian"].into(cm, [q], [J], frame=model.frame_id(frame), reference=code)
         assert status & 7 == 2 and status >> 8 == np.flatnonzero(~np.isfinite(J))[0]  # NONFINITE, first element
         for backend in (None, "reference", "compiled"):
             with pytest.raises(NonFiniteError, match="overflowed"):
@@ -465,7 +466,9 @@ def test_the_reference_backend_from_the_environment_switches_the_objects_off() -
         "from featherdyn.api import _backend\n"
         "from featherdyn.core._model_view import CoreHandle\n"
         "calls = []\n"
-        "crba = _backend.public_call('crba', lambda *a, **k: calls.append(a) or 'general', (CoreHandle,))\n"
+        "k = core._core.kernels['crba']\n"
+        "refs = (fd.LOCAL, fd.WORLD, fd.LOCAL_WORLD_ALIGNED)\n"
+        "crba = core._core.declared_call(k, lambda *a, **kw: calls.append(a) or 'general', (CoreHandle, k, *refs), None)\n"
         "m = fd.load_robot('panda'); core._view(m)  # the core handle exists\n"
         "q = fd.neutral(m)\n"
         "r = crba(m, q)\n"
@@ -489,14 +492,15 @@ def test_compiled_methods_equal_their_entry_points_and_write_into_out(name: str)
     fid = model.frame_id(frame)
     nv = model.nv
     cases = [
-        (lambda out=None: cm.rnea(q, v, a, out=out), _core.rnea_new(h, q, v, a, None, True), (nv,)),
-        (lambda out=None: cm.rnea(q, v, a, fx, out), _core.rnea_new(h, q, v, a, fx, True), (nv,)),
-        (lambda out=None: cm.aba(q, v, a, f_ext=fx, out=out), _core.aba_new(h, q, v, a, fx, True), (nv,)),
-        (lambda out=None: cm.nle(q, v, out=out), _core.nle_new(h, q, v), (nv,)),
-        (lambda out=None: cm.gravity(q, out), _core.gravity_new(h, q), (nv,)),
-        (lambda out=None: cm.crba(q, out=out), _core.crba_new(h, q), (nv, nv)),
-        (lambda out=None: cm.frame_jacobian(q, frame, fd.WORLD, out), _core.frame_jacobian_new(h, q, fid, 1), (6, nv)),
-        (lambda out=None: cm.frame_jacobian(q, fid, out=out), _core.frame_jacobian_new(h, q, fid, 0), (6, nv)),
+        (lambda out=None: cm.rnea(q, v, a, out=out), K["rnea"].fresh(h, [q, v, a, None]), (nv,)),
+        (lambda out=None: cm.rnea(q, v, a, fx, out), K["rnea"].fresh(h, [q, v, a, fx]), (nv,)),
+        (lambda out=None: cm.aba(q, v, a, f_ext=fx, out=out), K["aba"].fresh(h, [q, v, a, fx]), (nv,)),
+        (lambda out=None: cm.nle(q, v, out=out), K["nonlinear_effects"].fresh(h, [q, v]), (nv,)),
+        (lambda out=None: cm.gravity(q, out), K["generalized_gravity"].fresh(h, [q]), (nv,)),
+        (lambda out=None: cm.crba(q, out=out), K["crba"].fresh(h, [q]), (nv, nv)),
+        (lambda out=None: cm.frame_jacobian(q, frame, fd.WORLD, out), K["frame_jacobian"].fresh(h, [q], frame=fid,
+                                                                                                  reference=1), (6, nv)),
+        (lambda out=None: cm.frame_jacobian(q, fid, out=out), K["frame_jacobian"].fresh(h, [q], frame=fid), (6, nv)),
     ]
     for call, expected, shape in cases:
         got = call()
@@ -510,7 +514,7 @@ def test_compiled_methods_equal_their_entry_points_and_write_into_out(name: str)
     np.testing.assert_array_equal(cm.rnea(q.tolist(), v, a), cm.rnea(q, v, a))  # declined: converted
     np.testing.assert_array_equal(cm.frame_jacobian(q, frame, "WORLD"), cm.frame_jacobian(q, frame, fd.WORLD))
     with pytest.raises(TypeError):
-        cm.rnea(q, v, a, None, None, True)  # a sixth positional argument: the closure's TypeError
+        cm.rnea(q, v, a, None, None, True)  # a sixth positional argument (gravity is keyword-only): a TypeError
     for method in ("rnea", "nle", "gravity", "crba", "aba", "fk", "frame_jacobian"):
         f = getattr(cm, method)
         assert f.__qualname__ == f"CompiledModel.{method}" and f.__doc__ and f.__wrapped__.__name__ == method

@@ -110,23 +110,26 @@ class _Counting:
         return self.f(*args, **kwargs)
 
 
-def _constants(name: str) -> tuple[Any, ...]:
+REFERENCES = (fd.LOCAL, fd.WORLD, fd.LOCAL_WORLD_ALIGNED)
+K = fd.core._core.kernels
+
+
+def _public(name: str, counting: Any) -> Any:
+    """The public object's kind around a counting function: a declared algorithm's, or frame_placement's."""
+    from featherdyn.api._backend import public_call
     from featherdyn.core._model_view import CoreHandle
 
-    if name == "frame_jacobian":
-        return (CoreHandle, fd.LOCAL, fd.WORLD, fd.LOCAL_WORLD_ALIGNED)
     if name == "frame_placement":
-        return (CoreHandle, fd.PluckerTransform, "rotation", "translation", "source", "target")
-    return (CoreHandle,)
+        return public_call(name, counting, (CoreHandle, fd.PluckerTransform, "rotation", "translation", "source",
+                                            "target"))
+    return fd.core._core.declared_call(K[name], counting, (CoreHandle, K[name], *REFERENCES), None)
 
 
 @pytest.mark.parametrize("name", sorted(SIGNATURES))
 def test_the_public_object_ends_a_call_as_its_python_function_does(name: str) -> None:
-    from featherdyn.api._backend import public_call
-
     general = getattr(fd, name).__wrapped__
     counting = _Counting(general)
-    f = public_call(name, counting, _constants(name))  # the public object's kind around a counting function
+    f = _public(name, counting)
     positional, keyword_only = SIGNATURES[name]
     fd.crba(MODEL, Q)  # the model's core handle exists (a first call may build it on either side)
     rng = np.random.default_rng(sum(map(ord, name)))
@@ -159,9 +162,9 @@ def test_the_public_object_ends_a_call_as_its_python_function_does(name: str) ->
 
 
 CM = fd.compile(MODEL)
-CM_SIGNATURES = {  # fd.compile(model)'s methods: (parameters, the required ones); all positional-or-keyword
-    "rnea": ["q", "v", "a", "f_ext", "out"],
-    "aba": ["q", "v", "tau", "f_ext", "out"],
+CM_SIGNATURES = {  # fd.compile(model)'s methods: their parameters (gravity keyword-only, the others not)
+    "rnea": ["q", "v", "a", "f_ext", "out", "gravity"],
+    "aba": ["q", "v", "tau", "f_ext", "out", "gravity"],
     "nle": ["q", "v", "out"],
     "gravity": ["q", "out"],
     "crba": ["q", "out"],
@@ -191,9 +194,12 @@ def _outs(name: str) -> tuple[list[Any], list[Any]]:
 def test_compiled_methods_end_a_call_as_their_closures_do(name: str) -> None:
     closure = getattr(CM, name).__wrapped__
     counting = _Counting(closure)
-    kind = "fk" if name == "fk" else f"cm_{name}"
-    constants = (MODEL._frame_index, fd.LOCAL, fd.WORLD, fd.LOCAL_WORLD_ALIGNED) if name == "frame_jacobian" else ()
-    f = fd.core._core.public_call(kind, counting, constants, fd.core._view(MODEL).cm)
+    cm = fd.core._view(MODEL).cm
+    if name == "fk":
+        f = fd.core._core.public_call("fk", counting, (), cm)
+    else:
+        k = K[{"nle": "nonlinear_effects", "gravity": "generalized_gravity"}.get(name, name)]
+        f = fd.core._core.declared_call(k, counting, (k, MODEL._frame_index, *REFERENCES), cm)
     params = CM_SIGNATURES[name]
     rng = np.random.default_rng(sum(map(ord, name)) + 1)
     finished_in_c = 0

@@ -24,9 +24,9 @@ from ..results import Kinematics
 from ..spatial import PluckerTransform, SpatialMotion
 from ..spatial.ops import crm_apply
 from ._common import TreeData, expand, zeros
-from .kinematics import body_at, frame_pose, motion_at
+from .kinematics import body_at, forward_kinematics, frame_pose, motion_at
 
-__all__ = ["joint_jacobians", "frame_jacobian", "frame_jacobian_time_variation", "support"]
+__all__ = ["joint_jacobians", "frame_jacobian", "frame_jacobian_at", "frame_jacobian_time_variation", "support"]
 
 
 def support(model: Model, body: int) -> list[int]:
@@ -90,6 +90,12 @@ def frame_jacobian(model: Model, kin: Kinematics, fid: int, ref: ReferenceFrame)
     body = model.frames[fid].body
     cols = mask_support(world_columns(model, td, kin.placements, batch), model, body)
     return np.swapaxes(_to_reference(cols, frame_pose(model, kin, fid), ref), -1, -2)
+
+
+def frame_jacobian_at(model: Model, q: np.ndarray, frame: int, reference: ReferenceFrame) -> np.ndarray:
+    """:func:`frame_jacobian` at the configurations ``q`` `(..., nq)`: `(..., 6, nv)` (public:
+    :func:`featherdyn.frame_jacobian`)."""
+    return frame_jacobian(model, forward_kinematics(model, q), frame, reference)
 
 
 def frame_jacobian_time_variation(model: Model, kin: Kinematics, qd: np.ndarray, fid: int,

@@ -18,7 +18,7 @@ from ..model import Model
 from ..spatial import SpatialForce, SpatialMotion, cross_force, cross_motion
 from ._common import TreeData, batch_dtype, zeros
 
-__all__ = ["rnea", "forward_pass"]
+__all__ = ["rnea", "nonlinear_effects", "generalized_gravity", "forward_pass"]
 
 
 def forward_pass(td: TreeData, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray, f_ext: np.ndarray | None,
@@ -78,3 +78,20 @@ def rnea(model: Model, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray, f_ext: np
     if np.any(model.armature != 0):
         tau = tau + model.armature.astype(td.dtype) * qdd
     return tau
+
+
+def nonlinear_effects(model: Model, q: np.ndarray, qd: np.ndarray) -> np.ndarray:
+    """Coriolis, centrifugal and gravity forces `(..., nv)` on checked arrays (public: :func:`featherdyn.nonlinear_effects`)::
+
+        h(q, q̇) = C(q, q̇) q̇ + g(q) = RNEA(q, q̇, 0)
+    """
+    return rnea(model, q, qd, np.zeros(qd.shape, dtype=qd.dtype))
+
+
+def generalized_gravity(model: Model, q: np.ndarray) -> np.ndarray:
+    """Gravity forces `(..., nv)` on checked arrays (public: :func:`featherdyn.generalized_gravity`)::
+
+        g(q) = RNEA(q, 0, 0)
+    """
+    zero = np.zeros(q.shape[:-1] + (model.nv,), dtype=q.dtype)
+    return rnea(model, q, zero, zero)

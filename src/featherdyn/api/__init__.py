@@ -47,7 +47,7 @@ from .derivatives import (
     mass_matrix_inverse,
     rnea_derivatives,
 )
-from .dynamics import aba, coriolis_matrix, crba, generalized_gravity, nonlinear_effects, rnea
+from .dynamics import coriolis_matrix
 from .energy import center_of_mass, centroidal_momentum, centroidal_momentum_matrix, kinetic_energy, potential_energy
 from .kinematics import (
     forward_kinematics,
@@ -70,7 +70,6 @@ __all__ = [
     "ReferenceFrame",
     "CenterOfMass",
     "Kinematics",
-    "aba",
     "ConstrainedDynamics",
     "ImpulseDynamics",
     "OperationalSpace",
@@ -93,7 +92,6 @@ __all__ = [
     "centroidal_momentum_matrix",
     "compile",
     "coriolis_matrix",
-    "crba",
     "default_backend",
     "forward_kinematics",
     "frame_acceleration",
@@ -102,12 +100,9 @@ __all__ = [
     "frame_jacobian_time_variation",
     "frame_placement",
     "frame_velocity",
-    "generalized_gravity",
     "joint_jacobians",
     "kinetic_energy",
-    "nonlinear_effects",
     "potential_energy",
-    "rnea",
     "set_default_backend",
     "set_num_threads",
     "get_num_threads",
@@ -115,6 +110,10 @@ __all__ = [
     "result_cache_info",
     *_declarations.__all__,
 ]
+
+
+#: fd.compile's methods that had a separate ``*_batch`` form (the same method now)
+_BATCH_ALIASES = ("rnea", "crba", "aba", "frame_jacobian")
 
 
 def compile(model: Model, *, warmup: bool = True) -> CompiledModel:
@@ -127,5 +126,8 @@ def compile(model: Model, *, warmup: bool = True) -> CompiledModel:
 
     cm = compile_model(model, warmup=warmup)
     for decl in _declarations.DECLARATIONS.values():  # the declared algorithms' methods (api/declared.py)
-        setattr(cm, decl.name, compiled_method(decl, model))
+        method = compiled_method(decl, model)
+        setattr(cm, decl.method or decl.name, method)
+        if decl.name in _BATCH_ALIASES:  # the batch forms' former names: the method takes any batch shape
+            setattr(cm, f"{decl.method or decl.name}_batch", method)
     return cm

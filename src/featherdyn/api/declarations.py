@@ -8,12 +8,134 @@ public function: ``fd.<name>`` (one state, any batch shape, ``out=``, Dask array
 
 from __future__ import annotations
 
+from ..algorithms import aba as _aba
+from ..algorithms import crba as _crba
 from ..algorithms import derivatives as _ref
+from ..algorithms import jacobians as _jac
+from ..algorithms import rnea as _rnea
 from .declared import Declaration, public_function
 
-__all__ = ["generalized_gravity_derivatives", "static_torque_derivatives"]
+__all__ = ["rnea", "nonlinear_effects", "generalized_gravity", "crba", "aba", "frame_jacobian",
+           "generalized_gravity_derivatives", "static_torque_derivatives"]
 
 DECLARATIONS: dict[str, Declaration] = {d.name: d for d in [
+    Declaration(
+        name="rnea",
+        inputs=("q", "v", "a", "f_ext"),
+        optional=("f_ext",),
+        options=("gravity",),
+        outputs=("tau",),
+        reference=_rnea.rnea,
+        doc="""Joint forces ``τ`` `(..., nv)` that produce accelerations ``a`` in state ``(q, v)`` (RNEA).
+
+        Args:
+            model: the tree (gravity from ``model.gravity``).
+            q: `(..., nq)`; v, a: `(..., nv)`.
+            f_ext: optional `(..., nb, 6)` external spatial forces ``[n; f]`` on each
+                body, in body coordinates (Pinocchio's ``fext`` in LOCAL frames).
+            gravity: set ``False`` to leave gravity out.
+            out: optional `(..., nv)` float64 array to write into.
+            backend: ``None`` (compiled for float64), ``"reference"`` or ``"compiled"``.
+
+        ::
+
+            τ = M(q) q̈ + C(q, q̇) q̇ + g(q) − Σ_i J_iᵀ f_i^ext
+        """,
+    ),
+    Declaration(
+        name="nonlinear_effects",
+        method="nle",
+        inputs=("q", "v"),
+        outputs=("h",),
+        reference=_rnea.nonlinear_effects,
+        doc="""Coriolis, centrifugal and gravity forces `(..., nv)`.
+
+        Args:
+            q: `(..., nq)`; v: `(..., nv)`.
+            out: optional `(..., nv)` float64 array to write into.
+
+        ::
+
+            h(q, q̇) = C(q, q̇) q̇ + g(q) = RNEA(q, q̇, 0)
+        """,
+    ),
+    Declaration(
+        name="generalized_gravity",
+        method="gravity",
+        inputs=("q",),
+        outputs=("g",),
+        reference=_rnea.generalized_gravity,
+        doc="""Gravity forces `(..., nv)`.
+
+        Args:
+            q: `(..., nq)`.
+            out: optional `(..., nv)` float64 array to write into.
+
+        ::
+
+            g(q) = RNEA(q, 0, 0)
+        """,
+    ),
+    Declaration(
+        name="crba",
+        inputs=("q",),
+        outputs=("M",),
+        reference=_crba.crba,
+        doc="""The joint-space mass matrix ``M(q)`` `(..., nv, nv)`, full and symmetric (CRBA).
+
+        Args:
+            q: `(..., nq)`.
+            out: optional `(..., nv, nv)` float64 array to write into.
+
+        ::
+
+            T = ½ q̇ᵀ M(q) q̇,    M_ij = S_iᵀ ⁱX_j^* I^C_j S_j   (j in the subtree of i)
+        """,
+    ),
+    Declaration(
+        name="aba",
+        inputs=("q", "v", "tau", "f_ext"),
+        optional=("f_ext",),
+        options=("gravity",),
+        outputs=("qdd",),
+        reference=_aba.aba,
+        doc="""Joint accelerations ``q̈`` `(..., nv)` produced by joint forces ``τ`` in state ``(q, v)`` (ABA).
+
+        Args:
+            model: the tree.
+            q: `(..., nq)`; v, tau: `(..., nv)`.
+            f_ext: optional `(..., nb, 6)` body-frame external forces ``[n; f]``.
+            gravity: set ``False`` to leave gravity out.
+            out: optional `(..., nv)` float64 array to write into.
+            backend: ``None`` (compiled for float64), ``"reference"`` or ``"compiled"``.
+
+        ::
+
+            q̈ = M(q)⁻¹ (τ − C(q, q̇) q̇ − g(q) + Σ_i J_iᵀ f_i^ext)
+
+        Raises:
+            SingularMassMatrixError: naming the joint, when ``M(q)`` is singular.
+        """,
+    ),
+    Declaration(
+        name="frame_jacobian",
+        inputs=("q",),
+        options=("frame", "reference"),
+        outputs=("J",),
+        reference=_jac.frame_jacobian_at,
+        doc="""The geometric Jacobian of a frame, `(..., 6, nv)`, rows ``[ω; v]`` (``getFrameJacobian``).
+
+        Args:
+            q: `(..., nq)`.
+            frame: the frame's name or index.
+            reference: ``fd.LOCAL`` (the default), ``fd.WORLD`` or ``fd.LOCAL_WORLD_ALIGNED`` (or their names).
+            out: optional `(..., 6, nv)` float64 array to write into.
+
+        ::
+
+            frame_velocity(model, q, v, frame, reference) = J v
+        """,
+    ),
     Declaration(
         name="generalized_gravity_derivatives",
         inputs=("q",),
@@ -51,5 +173,11 @@ DECLARATIONS: dict[str, Declaration] = {d.name: d for d in [
     ),
 ]}
 
+rnea = public_function(DECLARATIONS["rnea"])
+nonlinear_effects = public_function(DECLARATIONS["nonlinear_effects"])
+generalized_gravity = public_function(DECLARATIONS["generalized_gravity"])
+crba = public_function(DECLARATIONS["crba"])
+aba = public_function(DECLARATIONS["aba"])
+frame_jacobian = public_function(DECLARATIONS["frame_jacobian"])
 generalized_gravity_derivatives = public_function(DECLARATIONS["generalized_gravity_derivatives"])
 static_torque_derivatives = public_function(DECLARATIONS["static_torque_derivatives"])

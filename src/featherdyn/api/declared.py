@@ -35,6 +35,7 @@ from .. import _dask
 from ..core import declared as _declared
 from ..core._model_view import CoreHandle
 from ..errors import DTypeError, ShapeError
+from ..frames import LOCAL, LOCAL_WORLD_ALIGNED, WORLD, as_reference_frame
 from ..model import Model
 from ._backend import CORE, core_path, select_backend
 from ._checks import as_dtype, batch_with_f_ext, check_f_ext, check_state, finite_result, quiet
@@ -43,6 +44,8 @@ __all__ = ["Declaration", "call", "public_function", "compiled_method"]
 
 #: the state arguments a declaration may take, and how each is checked: a vector of length nq or nv, or f_ext
 STATE_ARGUMENTS = ("q", "v", "a", "tau", "f_ext")
+#: the options a declaration may take, and their defaults (``frame`` has none: it is required)
+OPTIONS: dict[str, Any] = {"frame": inspect.Parameter.empty, "reference": LOCAL, "gravity": True}
 
 
 @dataclass(frozen=True)
@@ -57,6 +60,10 @@ class Declaration:
         reference: the reference function ``reference(model, *inputs) -> output or tuple of outputs`` on
             checked arrays (``featherdyn.algorithms``).
         doc: the public function's docstring (shapes and the defining equation).
+        optional: the inputs that may be ``None``.
+        options: the scalar parameters it takes besides the state (``gravity``: keyword-only, default ``True``),
+            passed by name to the kernel and to the reference.
+        method: the name of ``fd.compile(model)``'s method, when not ``name``.
     """
 
     name: str
@@ -65,11 +72,15 @@ class Declaration:
     reference: Callable[..., Any]
     doc: str
     optional: tuple[str, ...] = ()
+    options: tuple[str, ...] = ()
+    method: str | None = None
 
     def __post_init__(self) -> None:
         unknown = [n for n in self.inputs if n not in STATE_ARGUMENTS]
         if unknown or "q" not in self.inputs or not set(self.optional) <= set(self.inputs):
             raise ValueError(f"declaration {self.name!r}: inputs must be among {STATE_ARGUMENTS}, with q")
+        if not set(self.options) <= set(OPTIONS):
+            raise ValueError(f"declaration {self.name!r}: options must be among {tuple(OPTIONS)}")
 
 
 def _result(decl: Declaration, outs: tuple[np.ndarray, ...]) -> Any:
@@ -88,24 +99,54 @@ def _out_arrays(decl: Declaration, out: Any) -> tuple[np.ndarray, ...]:
     return arrays
 
 
+def _options(decl: Declaration, model: Model, given: dict[str, Any]) -> tuple[dict[str, Any], dict[str, Any]]:
+    """The declaration's options as the kernel takes them and as the reference function does: ``gravity``
+    ``True`` or ``False`` (or 1, 0) for both; ``frame`` (a name or an index) its index for both; ``reference``
+    (``fd.LOCAL`` & co. or their names) its code for the kernel, the :class:`ReferenceFrame` for the reference."""
+    kernel: dict[str, Any] = {}
+    reference: dict[str, Any] = {}
+    for name in decl.options:
+        value = given.get(name, OPTIONS[name])
+        if name == "gravity":
+            if not (isinstance(value, (bool, np.bool_)) or (type(value) is int and value in (0, 1))):
+                raise DTypeError(f"gravity: expected True or False, got {type(value).__name__} {value!r}")
+            kernel[name] = reference[name] = bool(value)
+        elif name == "frame":
+            kernel[name] = reference[name] = model.resolve_frame(value)
+        else:
+            ref = as_reference_frame(value)
+            kernel[name], reference[name] = ref.code, ref
+    return kernel, reference
+
+
+#: the reference frames by their codes (the core's public calls read them by identity)
+REFERENCES = (LOCAL, WORLD, LOCAL_WORLD_ALIGNED)
+
 #: the core's kernel of each declaration, looked up once
 _KERNELS: dict[str, Any] = {}
 #: the public function of each declaration (Dask's blocks call it)
 _PUBLIC: dict[str, Callable[..., Any]] = {}
 
 
-def call(decl: Declaration, model: Model, args: tuple[Any, ...], out: Any = None, backend: str | None = None) -> Any:
-    """The declared algorithm on ``args`` (its inputs in order): the one path of every front end (module docstring)."""
+def call(decl: Declaration, model: Model, args: tuple[Any, ...], out: Any = None, backend: str | None = None,
+         options: dict[str, Any] | None = None, float64: bool = False) -> Any:
+    """The declared algorithm on ``args`` (its inputs in order) with ``options`` (by name): the one path of every
+    front end (module docstring). ``float64``: the core on any input that has float64 values, results in float64
+    (``fd.compile``'s methods), where ``backend="compiled"`` returns float32 results for float32 input."""
+    if not isinstance(model, Model):
+        raise ShapeError(f"model: expected a featherdyn Model, got {type(model).__name__}")
+    given_options = options or {}
+    opts, ref_opts = _options(decl, model, given_options)
     # 1. one state: the core takes the arguments as they are, or declines
     h = core_path(model, backend)
     if h is not None:
         kernel = _KERNELS.get(decl.name) or _KERNELS.setdefault(decl.name, _declared.kernel(decl.name))
         try:
             if out is None:
-                r = kernel.fresh(h.cm, args)
+                r = kernel.fresh(h.cm, args, **opts)
                 if r is not None:
                     return r
-            elif kernel.into(h.cm, args, _out_arrays(decl, out)) == 0:
+            elif kernel.into(h.cm, args, _out_arrays(decl, out), **opts) == 0:
                 return out
         except TypeError:  # arguments the kernel does not take as they are: converted below
             pass
@@ -113,10 +154,9 @@ def call(decl: Declaration, model: Model, args: tuple[Any, ...], out: Any = None
     if _dask.lazy(*args):
         if out is not None:
             raise ShapeError("out: not supported with Dask arrays (the result is a Dask array)")
-        return _dask.call(_PUBLIC[decl.name], model, dict(zip(decl.inputs, args, strict=True)), backend=backend)
-    # 3. checks: the model, f_ext, then the state, as every public function words them
-    if not isinstance(model, Model):
-        raise ShapeError(f"model: expected a featherdyn Model, got {type(model).__name__}")
+        return _dask.call(_PUBLIC[decl.name], model, dict(zip(decl.inputs, args, strict=True)), backend=backend,
+                          **given_options)
+    # 3. checks: f_ext, then the state, as every public function words them
     given = dict(zip(decl.inputs, args, strict=True))
     fx = check_f_ext(model, given.get("f_ext")) if "f_ext" in given else None
     if "f_ext" in given and fx is None and "f_ext" not in decl.optional:
@@ -126,11 +166,13 @@ def call(decl: Declaration, model: Model, args: tuple[Any, ...], out: Any = None
     batch, dtype = batch_with_f_ext(st, fx)
     checked = [fx if n == "f_ext" else st.q if n == "q" else st.arrays.get(n) for n in decl.inputs]
     # 4. backend, 5. call
-    if select_backend(backend, dtype) == "compiled":
+    reference = functools.partial(decl.reference, **ref_opts) if ref_opts else decl.reference
+    if float64 or select_backend(backend, dtype) == "compiled":
+        dtype = np.dtype(np.float64) if float64 else dtype
         f64 = [None if x is None else np.asarray(x, dtype=np.float64) for x in checked]
-        outs = tuple(as_dtype(o, dtype) for o in _declared.run(decl.name, model, batch, f64))
+        outs = tuple(as_dtype(o, dtype) for o in _declared.run(decl.name, model, batch, f64, options=opts))
     else:
-        r = quiet(decl.reference, model, *checked)
+        r = quiet(reference, model, *checked)
         outs = tuple(finite_result(np.asarray(o), decl.name) for o in (r if isinstance(r, tuple) else (r,)))
     if out is None:
         return _result(decl, outs)
@@ -151,8 +193,16 @@ def _signature(decl: Declaration, bound: bool) -> inspect.Signature:
     for n in decl.inputs:
         params.append(P(n, P.POSITIONAL_OR_KEYWORD, default=None if n in decl.optional else P.empty,
                         annotation="ArrayLike | None" if n in decl.optional else "ArrayLike"))
-    params.append(P("out", P.KEYWORD_ONLY, default=None))
+    for n in ("frame", "reference"):  # positional, after the inputs
+        if n in decl.options:
+            params.append(P(n, P.POSITIONAL_OR_KEYWORD, default=OPTIONS[n],
+                            annotation="str | int" if n == "frame" else "ReferenceFrame | str"))
+    if bound:  # fd.compile's methods take out by position too (as the core's public call binds them)
+        params.append(P("out", P.POSITIONAL_OR_KEYWORD, default=None))
+    if "gravity" in decl.options:
+        params.append(P("gravity", P.KEYWORD_ONLY, default=True, annotation="bool"))
     if not bound:
+        params.append(P("out", P.KEYWORD_ONLY, default=None))
         params.append(P("backend", P.KEYWORD_ONLY, default=None, annotation="str | None"))
     return inspect.Signature(params)
 
@@ -187,14 +237,15 @@ def public_function(decl: Declaration) -> Callable[..., Any]:
     def general(*args: Any, **kwargs: Any) -> Any:
         ba = _bind(decl, sig, args, kwargs)
         a = ba.arguments
-        return call(decl, a["model"], tuple(a[k] for k in decl.inputs), a["out"], a["backend"])
+        return call(decl, a["model"], tuple(a[k] for k in decl.inputs), a["out"], a["backend"],
+                    {n: a[n] for n in decl.options})
 
     general.__name__ = general.__qualname__ = decl.name
     general.__module__ = "featherdyn"
     general.__doc__ = decl.doc
     general.__signature__ = sig  # type: ignore[attr-defined]
     kernel = _declared.kernel(decl.name)
-    public = _PUBLIC[decl.name] = _finished_in_c(general, kernel, (CoreHandle, kernel), None)
+    public = _PUBLIC[decl.name] = _finished_in_c(general, kernel, (CoreHandle, kernel, *REFERENCES), None)
     return cast(Callable[..., Any], public)
 
 
@@ -203,13 +254,16 @@ def compiled_method(decl: Declaration, model: Model) -> Callable[..., Any]:
     sig = _signature(decl, bound=True)
 
     def general(*args: Any, **kwargs: Any) -> Any:
-        ba = _bind(decl, sig, args, kwargs)
-        return call(decl, model, tuple(ba.arguments[k] for k in decl.inputs), ba.arguments["out"])
+        a = _bind(decl, sig, args, kwargs).arguments
+        return call(decl, model, tuple(a[k] for k in decl.inputs), a["out"], None, {n: a[n] for n in decl.options},
+                    float64=True)
 
-    general.__name__ = general.__qualname__ = decl.name
+    general.__name__ = decl.method or decl.name
+    general.__qualname__ = f"CompiledModel.{general.__name__}"
     general.__doc__ = decl.doc
     general.__signature__ = sig  # type: ignore[attr-defined]
     kernel = _declared.kernel(decl.name)
     h = core_path(model, None) if kernel is not None else None
-    return cast(Callable[..., Any], _finished_in_c(general, kernel if h is not None else None, (kernel,),
+    return cast(Callable[..., Any], _finished_in_c(general, kernel if h is not None else None,
+                                                   (kernel, h.frames if h is not None else {}, *REFERENCES),
                                                    h.cm if h is not None else None))

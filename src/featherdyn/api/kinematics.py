@@ -17,12 +17,13 @@ from ..algorithms import jacobians as _jac
 from ..algorithms import kinematics as _kin
 from ..core._model_view import CoreHandle
 from ..errors import ShapeError
-from ..frames import LOCAL, LOCAL_WORLD_ALIGNED, WORLD, ReferenceFrame, as_reference_frame
+from ..frames import LOCAL, ReferenceFrame, as_reference_frame
 from ..model import Model
 from ..results import Kinematics
 from ..spatial_algebra import PluckerTransform, SpatialMotion
 from ._backend import CORE, OK, core_path, public_call, select_backend
 from ._checks import State, as_dtype, check_state, finite_result, quiet
+from .declarations import frame_jacobian
 
 __all__ = [
     "kinematics_of",
@@ -193,27 +194,6 @@ def joint_jacobians(model: Model, q: ArrayLike, *, backend: str | None = None) -
     if select_backend(backend, st.dtype) == "compiled":
         return as_dtype(_compiled.joint_jacobians(model, st.q), st.dtype)
     return finite_result(quiet(_jac.joint_jacobians, model, kinematics_of(model, st, None, None, backend)), "joint_jacobians")
-
-
-def _general_frame_jacobian(model: Model, q: ArrayLike, frame: str | int, reference: ReferenceFrame | str = LOCAL, *,
-                   backend: str | None = None) -> np.ndarray:
-    """The geometric Jacobian of a frame, `(..., 6, nv)`, rows ``[ω; v]`` (``getFrameJacobian``).
-
-    ::
-
-        frame_velocity(model, q, v, frame, reference) = J v
-    """
-    if _dask.lazy(q):
-        return _dask.call(frame_jacobian, model, {"q": q}, frame=frame, reference=reference, backend=backend)
-    fid, ref = _frame(model, frame), as_reference_frame(reference)
-    st = check_state(model, q)
-    if select_backend(backend, st.dtype) == "compiled":
-        return as_dtype(_compiled.frame_jacobian(model, st.q, fid, ref.code), st.dtype)
-    return finite_result(quiet(_jac.frame_jacobian, model, quiet(_kin.forward_kinematics, model, st.q), fid, ref), "frame_jacobian")
-
-
-#: one float64 state finished in the compiled core (``_backend.public_call``)
-frame_jacobian = public_call("frame_jacobian", _general_frame_jacobian, (CoreHandle, LOCAL, WORLD, LOCAL_WORLD_ALIGNED))
 
 
 def frame_jacobian_time_variation(model: Model, q: ArrayLike, v: ArrayLike, frame: str | int, reference: ReferenceFrame | str = LOCAL, *,

@@ -35,7 +35,7 @@ from ..errors import DTypeError, ModelError, ShapeError
 from ..frames import LOCAL, ReferenceFrame, as_reference_frame
 from ..model import Model
 from ..spatial.validation import as_array
-from . import _errors
+from . import _errors, declared
 from ._model_view import CoreHandle, model_view
 from ._result_pool import result_array
 
@@ -49,8 +49,10 @@ __all__ = [
     "contact_dynamics",
     "available",
     "rnea",
-    "nle",
-    "gravity",
+    "nonlinear_effects",
+    "generalized_gravity",
+    "generalized_gravity_derivatives",
+    "static_torque_derivatives",
     "crba",
     "aba",
     "fk",
@@ -58,14 +60,8 @@ __all__ = [
     "frame_placement",
     "frame_jacobian",
     "rnea_complex",
-    "rnea_batch",
-    "nle_batch",
-    "gravity_batch",
-    "crba_batch",
-    "aba_batch",
     "fk_batch",
     "frame_placement_batch",
-    "frame_jacobian_batch",
     "kinetic_energy",
     "potential_energy",
     "center_of_mass",
@@ -230,12 +226,80 @@ def _check_batch(status: tuple[int, int], model: Model, q: Any, vectors: list[tu
 
 
 # ---------------------------------------------------------------------------
-# inverse dynamics
+# the declared algorithms (core/cpp/declarations.hpp): one generic function each
 # ---------------------------------------------------------------------------
 
 
-def rnea(model: Model, q: Any, v: Any, a: Any, f_ext: Any = None, gravity: bool = True, out: Any = None) -> np.ndarray:
-    """Joint forces ``τ`` `(..., nv)` for ``q`` `(..., nq)`, ``v``, ``a`` `(..., nv)` (RNEA; RBDA table 5.1).
+def _declared(name: str, doc: str) -> Callable[..., Any]:
+    """``featherdyn.core.<name>(model, *inputs, *options, out=None)`` of the declared kernel ``name``.
+
+    The inputs in the declaration's order (optional ones may be omitted or ``None``), then its options
+    (``gravity``), then ``out``; one state or any batch shape (leading axes, broadcast), converted as the
+    module docstring says. One state is first handed to the kernel as it is (``Kernel.fresh``).
+    """
+
+    def function(model: Model, *args: Any, **kwargs: Any) -> Any:
+        k = _lib().kernels[name]
+        _view(model)  # a Model (ShapeError otherwise)
+        params = [n for n, _, _ in k.inputs] + list(k.options) + ["out"]
+        if len(args) > len(params) or set(kwargs) - set(params):
+            raise TypeError(f"{name}() takes the arguments (model, {', '.join(params)})")
+        given = dict(zip(params, args, strict=False))
+        for key, x in kwargs.items():
+            if key in given:
+                raise TypeError(f"{name}() got multiple values for argument {key!r}")
+            given[key] = x
+        missing = [n for n, _, opt in k.inputs if not opt and n not in given] + [n for n in k.options[:1]
+                                                                                 if n == "frame" and n not in given]
+        if missing:
+            raise TypeError(f"{name}() missing required arguments: {', '.join(missing)}")
+        inputs = [given.get(n) for n, _, _ in k.inputs]
+        options: dict[str, Any] = {}
+        if "frame" in k.options:
+            options["frame"] = model.resolve_frame(given["frame"])
+        if "reference" in k.options:
+            options["reference"] = _reference_code(given.get("reference", LOCAL))
+        if "gravity" in k.options:
+            options["gravity"] = bool(given.get("gravity", True))
+        return _run_declared(k, model, inputs, options, given.get("out"))
+
+    function.__name__ = function.__qualname__ = name
+    function.__doc__ = doc
+    return function
+
+
+def _run_declared(k: Any, model: Model, inputs: list[Any], options: dict[str, Any], out: Any) -> Any:
+    h = _view(model)
+    xs = [None if x is None else _f64(x, n) for x, (n, _, _) in zip(inputs, k.inputs, strict=True)]
+    tails = [declared.shape_of(h, s) for _, s, _ in k.inputs]
+    if out is None and all(x is None or x.ndim == len(t) for x, t in zip(xs, tails, strict=True)):
+        r = k.fresh(h.cm, xs, **options)  # one state as the kernel takes it; else the batch path words the error
+        if r is not None:
+            return r
+    names = [n for n, _, _ in k.inputs]
+    vectors = [(n, x) for n, x in zip(names, inputs, strict=True) if n in ("v", "a", "tau")]
+    f_ext = inputs[names.index("f_ext")] if "f_ext" in names else None
+    q = inputs[names.index("q")]
+    batch = _batch_shape(model, [(x, len(t)) for x, t in zip(xs, tails, strict=True) if x is not None], q, vectors,
+                         f_ext)
+    shapes = [batch + declared.shape_of(h, s) for _, s, _ in k.outputs]
+    if out is None:
+        return _result(declared.run(k.name, model, batch, xs, None, options))
+    outs = _outs(out, len(shapes), shapes[0]) if len(shapes) > 1 else (_out(out, shapes[0]),)
+    if any(x is not None and np.may_share_memory(x, o) for x in xs for o in outs):
+        # the one rule for out= (docs/architecture.md): as if out shared no memory with an input
+        for o, r in zip(outs, declared.run(k.name, model, batch, xs, None, options), strict=True):
+            np.copyto(o, r)
+    else:
+        declared.run(k.name, model, batch, xs, outs, options)
+    return out
+
+
+def _result(outs: tuple[np.ndarray, ...]) -> Any:
+    return outs[0] if len(outs) == 1 else outs
+
+
+rnea = _declared("rnea", """Joint forces ``τ`` `(..., nv)` for ``q`` `(..., nq)`, ``v``, ``a`` `(..., nv)` (RNEA).
 
     Args:
         f_ext: optional `(..., nb, 6)` external forces ``[n; f]`` on each body, in body coordinates.
@@ -245,96 +309,27 @@ def rnea(model: Model, q: Any, v: Any, a: Any, f_ext: Any = None, gravity: bool 
     ::
 
         τ = M(q) q̈ + C(q, q̇) q̇ + g(q) − Σ_i J_iᵀ f_i^ext
-    """
-    try:
-        h = model._core
-        tau = _empty(h.nv) if out is None else out
-        if _core.rnea(h.cm, q, v, a, f_ext, gravity, tau) == 0:
-            return tau
-    except (AttributeError, TypeError):
-        pass
-    h = _view(model)
-    q_, v_, a_ = _f64(q, "q"), _f64(v, "v"), _f64(a, "a")
-    fx = None if f_ext is None else _f64(f_ext, "f_ext")
-    if q_.ndim == 1 and v_.ndim == 1 and a_.ndim == 1 and (fx is None or fx.ndim == 2):
-        tau, s = _into(out, (h.nv,), lambda o: _core.rnea(h.cm, q_, v_, a_, fx, bool(gravity), o))
-        if s:
-            _errors.raise_for(s, model, q, [("v", v), ("a", a)], f_ext, what="rnea")
-        return tau
-    return rnea_batch(model, q_, v_, a_, fx, gravity, out)
+    """)
+nonlinear_effects = _declared("nonlinear_effects", """``h(q, q̇) = C(q, q̇) q̇ + g(q) = RNEA(q, q̇, 0)`` `(..., nv)`.""")
+generalized_gravity = _declared("generalized_gravity", """``g(q) = RNEA(q, 0, 0)`` `(..., nv)`.""")
+crba = _declared("crba", """The mass matrix ``M(q)`` `(..., nv, nv)`, full and exactly symmetric (CRBA)::
 
+        T = ½ q̇ᵀ M(q) q̇,    M_ij = S_iᵀ ⁱX_j^* I^C_j S_j   (j in the subtree of i)
+    """)
+aba = _declared("aba", """Joint accelerations ``q̈`` `(..., nv)` for joint forces ``τ`` in state ``(q, v)`` (ABA)::
 
-def rnea_batch(model: Model, q: Any, v: Any, a: Any, f_ext: Any = None, gravity: bool = True,
-               out: Any = None) -> np.ndarray:
-    """:func:`rnea` over batch axes `(..., nq)` etc. (broadcast), on the core's threads."""
-    h = _view(model)
-    q_, v_, a_ = _f64(q, "q"), _f64(v, "v"), _f64(a, "a")
-    fx = None if f_ext is None else _f64(f_ext, "f_ext")
-    q_, v_, a_, fx = _apart(out, q_, v_, a_, fx)
-    vectors = [("v", v), ("a", a)]
-    parts = [(q_, 1), (v_, 1), (a_, 1)] + ([] if fx is None else [(fx, 2)])
-    batch = _batch_shape(model, parts, q, vectors, f_ext)
-    N = math.prod(batch)
-    result = _batch_out(out, batch + (h.nv,))
-    st = _core.rnea_batch(h.cm, _rows(q_, batch, (h.nq,)), _rows(v_, batch, (h.nv,)), _rows(a_, batch, (h.nv,)),
-                          _rows(fx, batch, (h.nb, 6)), bool(gravity), result.reshape(N, h.nv))
-    _check_batch(st, model, q, vectors, f_ext, what="rnea")
-    return result
+        q̈ = M(q)⁻¹ (τ − C(q, q̇) q̇ − g(q) + Σ_i J_iᵀ f_i^ext)
 
+    Raises:
+        SingularMassMatrixError: naming the joint.
+    """)
+generalized_gravity_derivatives = _declared("generalized_gravity_derivatives", """``∂g/∂q`` `(..., nv, nv)`.""")
+frame_jacobian = _declared("frame_jacobian", """The geometric Jacobian `(..., 6, nv)` of a frame (name or index), rows ``[ω; v]``,
+    in ``reference`` (``fd.LOCAL`` & co., their names, or the codes 0, 1, 2)::
 
-def nle(model: Model, q: Any, v: Any, out: Any = None) -> np.ndarray:
-    """Coriolis, centrifugal and gravity forces `(..., nv)`::
-
-        h(q, q̇) = C(q, q̇) q̇ + g(q) = RNEA(q, q̇, 0)
-    """
-    try:
-        h = model._core
-        res = _empty(h.nv) if out is None else out
-        if _core.nle(h.cm, q, v, res) == 0:
-            return res
-    except (AttributeError, TypeError):
-        pass
-    h = _view(model)
-    q_, v_ = _f64(q, "q"), _f64(v, "v")
-    if q_.ndim == 1 and v_.ndim == 1:
-        res, s = _into(out, (h.nv,), lambda o: _core.nle(h.cm, q_, v_, o))
-        if s:
-            _errors.raise_for(s, model, q, [("v", v)], what="rnea")
-        return res
-    return nle_batch(model, q_, v_, out)
-
-
-def nle_batch(model: Model, q: Any, v: Any, out: Any = None) -> np.ndarray:
-    """:func:`nle` over batch axes (broadcast), on the core's threads."""
-    return rnea_batch(model, q, v, np.zeros((1, _view(model).nv)), None, True, out)
-
-
-def gravity(model: Model, q: Any, out: Any = None) -> np.ndarray:
-    """Generalized gravity `(..., nv)`::
-
-        g(q) = RNEA(q, 0, 0)
-    """
-    try:
-        h = model._core
-        g = _empty(h.nv) if out is None else out
-        if _core.gravity(h.cm, q, g) == 0:
-            return g
-    except (AttributeError, TypeError):
-        pass
-    h = _view(model)
-    q_ = _f64(q, "q")
-    if q_.ndim == 1:
-        g, s = _into(out, (h.nv,), lambda o: _core.gravity(h.cm, q_, o))
-        if s:
-            _errors.raise_for(s, model, q, what="rnea")
-        return g
-    return gravity_batch(model, q_, out)
-
-
-def gravity_batch(model: Model, q: Any, out: Any = None) -> np.ndarray:
-    """:func:`gravity` over batch axes, on the core's threads."""
-    zero = np.zeros((1, _view(model).nv))
-    return rnea_batch(model, q, zero, zero, None, True, out)
+        frame_velocity(model, q, v, frame, reference) = J v
+    """)
+static_torque_derivatives = _declared("static_torque_derivatives", """``∂τ_s/∂q`` `(..., nv, nv)`, ``τ_s = RNEA(q, 0, 0, f_ext)``.""")
 
 
 def rnea_complex(model: Model, q: Any, v: Any, a: Any, f_ext: Any = None, gravity: bool = True) -> np.ndarray:
@@ -355,127 +350,6 @@ def rnea_complex(model: Model, q: Any, v: Any, a: Any, f_ext: Any = None, gravit
         _errors.raise_for(s, model, np.real(q), [("v", np.real(v)), ("a", np.real(a))],
                           None if f_ext is None else np.real(f_ext))
     return tau
-
-
-# ---------------------------------------------------------------------------
-# mass matrix and forward dynamics
-# ---------------------------------------------------------------------------
-
-
-def crba(model: Model, q: Any, out: Any = None) -> np.ndarray:
-    """The joint-space mass matrix ``M(q)`` `(..., nv, nv)`, full and exactly symmetric (CRBA; RBDA table 6.2).
-
-    ::
-
-        T = ½ q̇ᵀ M(q) q̇,    M_ij = S_iᵀ ⁱX_j^* I^C_j S_j   (j in the subtree of i)
-    """
-    try:
-        h = model._core
-        M = _empty((h.nv, h.nv)) if out is None else out
-        if _core.crba(h.cm, q, M) == 0:
-            return M
-    except (AttributeError, TypeError):
-        pass
-    h = _view(model)
-    q_ = _f64(q, "q")
-    if q_.ndim == 1:
-        M, s = _into(out, (h.nv, h.nv), lambda o: _core.crba(h.cm, q_, o))
-        if s:
-            _errors.raise_for(s, model, q, what="crba")
-        return M
-    return crba_batch(model, q_, out)
-
-
-def crba_batch(model: Model, q: Any, out: Any = None) -> np.ndarray:
-    """:func:`crba` over batch axes, on the core's threads."""
-    h = _view(model)
-    (q_,) = _apart(out, _f64(q, "q"))
-    batch = _batch_shape(model, [(q_, 1)], q, [], None)
-    result = _batch_out(out, batch + (h.nv, h.nv))
-    st = _core.crba_batch(h.cm, _rows(q_, batch, (h.nq,)), result.reshape(math.prod(batch), h.nv * h.nv))
-    _check_batch(st, model, q, [], what="crba")
-    return result
-
-
-_ABA_ARGS = ("q", "v", "tau", "f_ext", "out")
-
-
-def aba(model: Model, q: Any, v: Any, tau: Any, f_ext: Any = None, gravity: bool = True, out: Any = None) -> np.ndarray:
-    """Joint accelerations ``q̈`` `(..., nv)` for joint forces ``τ`` in state ``(q, v)`` (ABA; RBDA table 7.1).
-
-    ::
-
-        q̈ = M(q)⁻¹ (τ − C(q, q̇) q̇ − g(q) + Σ_i J_iᵀ f_i^ext)
-
-    Raises:
-        SingularMassMatrixError: naming the joint (the reference's rule and message).
-    """
-    try:
-        h = model._core
-        qdd = _empty(h.nv) if out is None else out
-        if _core.aba(h.cm, q, v, tau, f_ext, gravity, qdd, None) == 0:
-            return qdd
-    except (AttributeError, TypeError):
-        pass
-    h = _view(model)
-    q_, v_, t_ = _f64(q, "q"), _f64(v, "v"), _f64(tau, "tau")
-    fx = None if f_ext is None else _f64(f_ext, "f_ext")
-    if q_.ndim == 1 and v_.ndim == 1 and t_.ndim == 1 and (fx is None or fx.ndim == 2):
-        D = np.empty(36)
-        qdd, s = _into(out, (h.nv,), lambda o: _core.aba(h.cm, q_, v_, t_, fx, bool(gravity), o, D))
-        if s:
-            if _errors.decode(s)[0] == _errors.SINGULAR:
-                _errors.validate(model, q, [("v", v), ("tau", tau)], f_ext)
-                joint = _errors.decode(s)[2]
-                raise _errors.singular_error(model, joint, _errors.eig_min(D, model.nvs[joint]))
-            _errors.raise_for(s, model, q, [("v", v), ("tau", tau)], f_ext, _ABA_ARGS, what="aba")
-        return qdd
-    return aba_batch(model, q_, v_, t_, fx, gravity, out)
-
-
-def aba_batch(model: Model, q: Any, v: Any, tau: Any, f_ext: Any = None, gravity: bool = True,
-              out: Any = None) -> np.ndarray:
-    """:func:`aba` over batch axes (broadcast), on the core's threads.
-
-    A singular state raises the reference's error: the joint nearest the leaves
-    that is singular in any state, with the smallest eigenvalue over those states.
-    """
-    h = _view(model)
-    q_, v_, t_ = _f64(q, "q"), _f64(v, "v"), _f64(tau, "tau")
-    fx = None if f_ext is None else _f64(f_ext, "f_ext")
-    q_, v_, t_, fx = _apart(out, q_, v_, t_, fx)
-    vectors = [("v", v), ("tau", tau)]
-    parts = [(q_, 1), (v_, 1), (t_, 1)] + ([] if fx is None else [(fx, 2)])
-    batch = _batch_shape(model, parts, q, vectors, f_ext)
-    result = _batch_out(out, batch + (h.nv,))
-    Q, V, T = _rows(q_, batch, (h.nq,)), _rows(v_, batch, (h.nv,)), _rows(t_, batch, (h.nv,))
-    FX = _rows(fx, batch, (h.nb, 6))
-    _, s = _core.aba_batch(h.cm, Q, V, T, FX, bool(gravity), result.reshape(math.prod(batch), h.nv))
-    if s:
-        _errors.validate(model, q, vectors, f_ext)
-        if _errors.decode(s)[0] != _errors.SINGULAR:
-            _errors.raise_for(s, model, q, vectors, f_ext, _ABA_ARGS, what="aba")
-        _raise_singular_batch(model, h.cm, Q, V, T, FX, bool(gravity), math.prod(batch))
-    return result
-
-
-def _raise_singular_batch(model: Model, cm: Any, Q: Any, V: Any, T: Any, FX: Any, grav: bool, N: int) -> None:
-    """The reference's error for a batch: the singular joint nearest the leaves, its smallest eigenvalue."""
-    found: dict[int, float] = {}
-    qdd, D = np.empty(model.nv), np.empty(36)
-
-    def row(x: Any, r: int) -> Any:
-        return None if x is None else x[0 if x.shape[0] == 1 else r]
-
-    for r in range(N):
-        fx = None if FX is None else row(FX, r).reshape(model.nbodies, 6)
-        s = _core.aba(cm, row(Q, r), row(V, r), row(T, r), fx, grav, qdd, D)
-        if s:
-            joint = _errors.decode(s)[2]
-            e = _errors.eig_min(D, model.nvs[joint])
-            found[joint] = min(found.get(joint, e), e)
-    joint = max(found)
-    raise _errors.singular_error(model, joint, found[joint])
 
 
 # ---------------------------------------------------------------------------
@@ -606,49 +480,6 @@ def frame_placement_batch(model: Model, q: Any, frame: Any, out: Any = None) -> 
     st = _core.frame_placement_batch(h.cm, _rows(q_, batch, (h.nq,)), fid, H.reshape(math.prod(batch), 16))
     _check_batch(st, model, q, [], what="frame_placement")
     return H
-
-
-def frame_jacobian(model: Model, q: Any, frame: Any, reference: Any = LOCAL, out: Any = None) -> np.ndarray:
-    """The geometric Jacobian `(..., 6, nv)` of a frame (name or index), rows ``[ω; v]``.
-
-    ``reference``: ``fd.LOCAL``, ``fd.WORLD``, ``fd.LOCAL_WORLD_ALIGNED`` (Pinocchio's meanings;
-    or their names, or their codes ``ReferenceFrame.code``), so that ``frame_velocity(reference) = J q̇``::
-
-        ⁰J[:, k] = ⁰X_k S_k  (k on the path root → body(f)),   LOCAL: ᶠX_0 ⁰J,   LWA: [ω; v − p_f × ω]
-    """
-    try:
-        h = model._core
-        fid = h.frames.get(frame, frame) if frame.__class__ is str else frame
-        ref = reference if reference.__class__ is int else _CODE_OF.get(id(reference), -1)
-        if fid.__class__ is int and 0 <= ref <= 2:
-            J = _empty((6, h.nv)) if out is None else out
-            if _core.frame_jacobian(h.cm, q, fid, ref, J) == 0:
-                return J
-    except (AttributeError, TypeError):
-        pass
-    h = _view(model)
-    fid = model.resolve_frame(frame)
-    ref = _reference_code(reference)
-    q_ = _f64(q, "q")
-    if q_.ndim != 1:
-        return frame_jacobian_batch(model, q_, fid, ref, out)
-    J, s = _into(out, (6, h.nv), lambda o: _core.frame_jacobian(h.cm, q_, fid, ref, o))
-    if s:
-        _errors.raise_for(s, model, q, what="frame_jacobian")
-    return J
-
-
-def frame_jacobian_batch(model: Model, q: Any, frame: Any, reference: Any = LOCAL, out: Any = None) -> np.ndarray:
-    """:func:`frame_jacobian` over batch axes `(..., 6, nv)`, on the core's threads."""
-    h = _view(model)
-    fid = model.resolve_frame(frame)
-    ref = _reference_code(reference)
-    (q_,) = _apart(out, _f64(q, "q"))
-    batch = _batch_shape(model, [(q_, 1)], q, [], None)
-    J = _batch_out(out, batch + (6, h.nv))
-    st = _core.frame_jacobian_batch(h.cm, _rows(q_, batch, (h.nq,)), fid, ref, J.reshape(math.prod(batch), 6 * h.nv))
-    _check_batch(st, model, q, [], what="frame_jacobian")
-    return J
 
 
 # ---------------------------------------------------------------------------
@@ -807,6 +638,7 @@ def _raise_derivative_status(st: tuple[int, int], model: Model, q: Any, vectors:
 
 
 ARG_NAMES = _errors.ARG_NAMES
+_ABA_ARGS = ("q", "v", "tau", "f_ext", "out")
 
 
 def rnea_derivatives(model: Model, q: Any, v: Any, a: Any, f_ext: Any = None, gravity: bool = True,

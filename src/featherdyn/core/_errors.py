@@ -73,7 +73,7 @@ def raise_for(status: int, model: Model, q: Any, vectors: Sequence[tuple[str, An
     if code == QUATERNION:
         raise QuaternionNormError(f"q: the quaternion of joint {model.joint_names[index]!r} is off unit norm")
     if code == SINGULAR:
-        raise SingularMassMatrixError(f"joint {model.joint_names[index]!r}: the mass matrix is singular")
+        raise SingularMassMatrixError.for_joint(model.joint_names[index], model.body_names[index])
     if code == OVERLAP:
         raise ShapeError(f"out: shares memory with {name}; the public functions compute such a call into fresh memory")
     raise FeatherdynError(f"featherdyn.core: unexpected status {status}")

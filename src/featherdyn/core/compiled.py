@@ -12,6 +12,11 @@
     TAU = cm.rnea_batch(Q, V, A)      # (N, nv), on the core's threads
     cm.rnea_derivatives_batch(Q, V, A, out=(DQ, DV, M))   # three (N, nv, nv), reused: no page faults
 
+The declared algorithms' methods (``rnea``, ``nle``, ``gravity``, ``crba``, ``aba`` and the
+others of ``featherdyn/api/declarations.py``; ``rnea_batch``, ``crba_batch`` and ``aba_batch``
+are the same methods under their former names) are added by ``fd.compile`` from the
+declarations; the rest are below.
+
 The single-state methods hand their arguments to the core's binding as they
 are: native-endian, aligned, C-contiguous float64 arrays of the exact shapes
 go straight in; anything else (lists, float32, strided, big-endian, masked
@@ -35,26 +40,9 @@ import numpy as np
 
 from .._state_checks import check_f_ext, check_state
 from ..errors import ModelError
-from ..frames import LOCAL, LOCAL_WORLD_ALIGNED, WORLD, as_reference_frame
 from ..model import Model
-from . import (
-    _lib,
-    _view,
-    aba_batch,
-    aba_derivatives,
-    crba_batch,
-    fk_batch,
-    frame_jacobian_batch,
-    rnea_batch,
-    rnea_derivatives,
-)
-from . import aba as _aba
-from . import crba as _crba
+from . import _lib, _view, aba_derivatives, fk_batch, rnea_derivatives
 from . import fk as _fk
-from . import frame_jacobian as _frame_jacobian
-from . import gravity as _gravity
-from . import nle as _nle
-from . import rnea as _rnea
 
 __all__ = ["CompiledModel", "compile_model"]
 
@@ -74,9 +62,8 @@ class CompiledModel:
         self.model = model
         self.nq, self.nv, self.nb = model.nq, model.nv, model.nbodies
         self.compile_seconds = compile_seconds
-        cm, nv, nb = handle.cm, self.nv, self.nb
-        shape_M, shape_H, shape_J = (nv, nv), (nb, 4, 4), (6, nv)  # built once, not per call
-        frames = handle.frames
+        cm, nb = handle.cm, self.nb
+        shape_H = (nb, 4, 4)  # built once, not per call
 
         # The methods' general paths: featherdyn.core's wrappers, which convert, compute or word the error. A
         # native float64 state never reaches them: it is finished in C (below).
@@ -87,41 +74,10 @@ class CompiledModel:
             check_f_ext(model, f_ext)
             check_state(model, q, **vectors)
 
-        def rnea(q: Any, v: Any, a: Any, f_ext: Any = None, out: Any = None) -> np.ndarray:
-            """``τ = RNEA(q, v, a)`` `(nv,)` with gravity, optional body-frame ``f_ext`` `(nb, 6)`."""
-            lengths_first(q, f_ext, v=v, a=a)
-            return _rnea(model, q, v, a, f_ext, True, _one_state_out(out, (nv,)))
-
-        def nle(q: Any, v: Any, out: Any = None) -> np.ndarray:
-            """``h(q, v) = RNEA(q, v, 0)`` `(nv,)`."""
-            lengths_first(q, v=v)
-            return _nle(model, q, v, _one_state_out(out, (nv,)))
-
-        def gravity(q: Any, out: Any = None) -> np.ndarray:
-            """``g(q) = RNEA(q, 0, 0)`` `(nv,)`."""
-            lengths_first(q)
-            return _gravity(model, q, _one_state_out(out, (nv,)))
-
-        def crba(q: Any, out: Any = None) -> np.ndarray:
-            """The mass matrix ``M(q)`` `(nv, nv)`, full and symmetric."""
-            lengths_first(q)
-            return _crba(model, q, _one_state_out(out, shape_M))
-
-        def aba(q: Any, v: Any, tau: Any, f_ext: Any = None, out: Any = None) -> np.ndarray:
-            """``q̈ = ABA(q, v, τ)`` `(nv,)`; ``SingularMassMatrixError`` naming the joint."""
-            lengths_first(q, f_ext, v=v, tau=tau)
-            return _aba(model, q, v, tau, f_ext, True, _one_state_out(out, (nv,)))
-
         def fk(q: Any, out: Any = None) -> np.ndarray:
             """World placements of the bodies, homogeneous `(nb, 4, 4)`."""
             lengths_first(q)
             return _fk(model, q, out=_one_state_out(out, shape_H))
-
-        def frame_jacobian(q: Any, frame: Any, reference: Any = LOCAL, out: Any = None) -> np.ndarray:
-            """The Jacobian `(6, nv)` of ``frame`` (name or index) in ``reference`` (``fd.LOCAL``, ...)."""
-            # the reference as fd.frame_jacobian takes it (the enum or its name; not the core's integer code)
-            lengths_first(q)
-            return _frame_jacobian(model, q, frame, as_reference_frame(reference), _one_state_out(out, shape_J))
 
         # Each method: the closure above, with its one-state call finished in C when the arguments are as the
         # binding takes them (core/cpp/public_calls.hpp); anything else goes to the closure unchanged.
@@ -131,24 +87,9 @@ class CompiledModel:
             method.__qualname__ = f"CompiledModel.{name}"
             return method
 
-        self.rnea = finished_in_c("rnea", rnea)
-        self.nle = finished_in_c("nle", nle)
-        self.gravity = finished_in_c("gravity", gravity)
-        self.crba = finished_in_c("crba", crba)
-        self.aba = finished_in_c("aba", aba)
         self.fk = finished_in_c("fk", fk)
-        self.frame_jacobian = finished_in_c("frame_jacobian", frame_jacobian, (frames, LOCAL, WORLD, LOCAL_WORLD_ALIGNED))
 
     # batched forms: any batch shape (leading axes broadcast), on the core's threads
-
-    def rnea_batch(self, q: Any, v: Any, a: Any, f_ext: Any = None, gravity: bool = True,
-                   out: Any = None) -> np.ndarray:
-        """``τ`` `(..., nv)` for batches of states (leading axes broadcast), on the core's threads.
-
-        ``out``: a float64 C-contiguous `(..., nv)` array to write into (reusing one avoids
-        the page faults of a large fresh array).
-        """
-        return rnea_batch(self.model, q, v, a, f_ext, gravity, out)
 
     def rnea_derivatives_batch(self, q: Any, v: Any, a: Any, f_ext: Any = None, gravity: bool = True,
                                out: Any = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -164,22 +105,13 @@ class CompiledModel:
         :meth:`rnea_derivatives_batch`)."""
         return aba_derivatives(self.model, q, v, tau, f_ext, gravity, out)
 
-    def crba_batch(self, q: Any, out: Any = None) -> np.ndarray:
-        """``M`` `(..., nv, nv)` for a batch of configurations (``out`` as in :meth:`rnea_batch`)."""
-        return crba_batch(self.model, q, out)
-
-    def aba_batch(self, q: Any, v: Any, tau: Any, f_ext: Any = None, gravity: bool = True,
-                  out: Any = None) -> np.ndarray:
-        """``q̈`` `(..., nv)` for batches of states (``out`` as in :meth:`rnea_batch`)."""
-        return aba_batch(self.model, q, v, tau, f_ext, gravity, out)
-
     def fk_batch(self, q: Any, out: Any = None) -> np.ndarray:
         """World placements `(..., nb, 4, 4)` for a batch of configurations."""
         return fk_batch(self.model, q, out)
 
-    def frame_jacobian_batch(self, q: Any, frame: Any, reference: Any = LOCAL, out: Any = None) -> np.ndarray:
-        """Jacobians `(..., 6, nv)` of ``frame`` for a batch of configurations."""
-        return frame_jacobian_batch(self.model, q, frame, as_reference_frame(reference), out)
+    def __getattr__(self, name: str) -> Any:
+        """(Only for names not found: the declared algorithms' methods are set by ``fd.compile``.)"""
+        raise AttributeError(f"'CompiledModel' object has no attribute {name!r}")
 
     def warmup(self) -> None:
         """Kept for compatibility: the core is compiled at install, so there is nothing to warm up."""

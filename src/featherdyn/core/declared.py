@@ -19,14 +19,17 @@ from . import _errors
 from ._model_view import CoreHandle, model_view
 from ._result_pool import result_array
 
-__all__ = ["kernel", "shape_of", "run"]
+__all__ = ["kernel", "shape_of", "run", "raise_singular", "arg_names"]
+
+try:
+    import featherdyn.core._core as _binding  # the compiled extension: a leaf, it imports no featherdyn module
+except ImportError:  # pragma: no cover - a source checkout without the built extension
+    _binding = None
 
 
 def kernel(name: str) -> Any:
     """The core's declared algorithm ``name`` (``_core.kernels[name]``), or ``None`` without the built core."""
-    from . import _core  # (the package imports the binding; None when it is not built)
-
-    return None if _core is None else _core.kernels[name]
+    return None if _binding is None else _binding.kernels[name]
 
 
 def shape_of(h: CoreHandle, symbolic: tuple[Any, ...]) -> tuple[int, ...]:
@@ -36,39 +39,78 @@ def shape_of(h: CoreHandle, symbolic: tuple[Any, ...]) -> tuple[int, ...]:
 
 
 def run(name: str, model: Model, batch: tuple[int, ...], inputs: list[np.ndarray | None],
-        out: tuple[np.ndarray, ...] | None = None) -> tuple[np.ndarray, ...]:
+        out: tuple[np.ndarray, ...] | None = None, options: dict[str, Any] | None = None) -> tuple[np.ndarray, ...]:
     """The outputs `(*batch, *shape)` of the declared algorithm ``name`` on checked float64 inputs.
 
     ``inputs`` are in the declaration's order, each broadcastable to ``batch`` plus its declared shape
     (``None`` for an absent optional one); ``out``, when given, holds the outputs to write into (checked
-    C-contiguous float64 of the right shapes by the caller). A failing row raises the reference's error
-    for the whole batch (``_errors.raise_for``), naming the row as NumPy would.
+    C-contiguous float64 of the right shapes by the caller); ``options`` its scalar parameters (``gravity``,
+    ``frame`` as an index, ``reference`` as a code). A failing row raises the reference's error for the whole
+    batch (``_errors.raise_for``, naming the row as NumPy would); ``SINGULAR``, ABA's, as the reference words it
+    (:func:`raise_singular`).
     """
-    from . import _core
-
-    k = _core.kernels[name]
-    h = model_view(model, _core)
+    k = _binding.kernels[name]
+    h = model_view(model, _binding)
     N = math.prod(batch)
     rows: list[np.ndarray | None] = []
     for x, (_, shape, _) in zip(inputs, k.inputs, strict=True):
         if x is None:
             rows.append(None)
             continue
+        x = np.require(x, np.float64, ("C", "A"))  # native, C-contiguous and aligned: as the kernel reads rows
         tail = shape_of(h, shape)
         n = math.prod(tail)
+        if x.ndim < len(tail) or x.shape[x.ndim - len(tail):] != tail:
+            rows.append(x.reshape(-1, max(x.shape[-1] if x.ndim else 1, 1)))  # wrong length: the core reports it
+            continue
         bx = x.shape[: x.ndim - len(tail)]
         if bx == batch:
-            rows.append(np.ascontiguousarray(x).reshape(N, n))
+            rows.append(x.reshape(N, n))
         elif math.prod(bx) == 1:
-            rows.append(np.ascontiguousarray(x).reshape(1, n))
+            rows.append(x.reshape(1, n))
         else:
             rows.append(np.ascontiguousarray(np.broadcast_to(x, batch + tail)).reshape(N, n))
     outs = out if out is not None else tuple(result_array(batch + shape_of(h, s)) for _, s, _ in k.outputs)
-    _row, status = k.batch(h.cm, rows, [o.reshape(N, -1) for o in outs])
+    if N == 0:  # an empty batch: empty results
+        return tuple(outs)
+    _row, status = k.batch(h.cm, rows, [o.reshape(N, -1) for o in outs], **(options or {}))
     if status:
         names = [n for n, _, _ in k.inputs]
         q = inputs[names.index("q")]
         vectors = [(n, x) for n, x in zip(names, inputs, strict=True) if n in ("v", "a", "tau")]
         f_ext = inputs[names.index("f_ext")] if "f_ext" in names else None
-        _errors.raise_for(status, model, q, vectors, f_ext, what=name)
+        if _errors.decode(status)[0] == _errors.SINGULAR:
+            _errors.validate(model, q, vectors, f_ext)
+            raise_singular(k, model, h, rows, options or {})
+        _errors.raise_for(status, model, q, vectors, f_ext, arg_names=arg_names(k), what=name)
     return tuple(outs)
+
+
+def raise_singular(k: Any, model: Model, h: CoreHandle, rows: list[np.ndarray | None], options: dict[str, Any]) -> None:
+    """The reference's error for a batch whose rows a kernel found singular: the singular joint nearest the
+    leaves in any row, with the smallest eigenvalue of its ``D = Sᵀ Iᴬ S`` over those rows (the kernel's
+    ``singular_block``, row by row: the error path)."""
+    found: dict[int, float] = {}
+    D = np.empty(36)
+    N = max(x.shape[0] for x in rows if x is not None)
+    for r in range(N):
+        state = [None if x is None else x[0 if x.shape[0] == 1 else r].reshape(shape_of(h, shape))
+                 for x, (_, shape, _) in zip(rows, k.inputs, strict=True)]
+        joint = k.singular_block(h.cm, state, D, **options)
+        if joint >= 0:
+            e = _errors.eig_min(D, model.nvs[joint])
+            found[joint] = min(found.get(joint, e), e)
+    if found:
+        joint = max(found)
+        raise _errors.singular_error(model, joint, found[joint])
+
+
+def arg_names(k: Any) -> tuple[str, ...]:
+    """The names of a kernel's status arguments (``q``, ``v``, ``a`` or ``tau``, ``f_ext``, ``out``, ``frame``) as
+    its declaration names them."""
+    names = list(_errors.ARG_NAMES)
+    by_code = {"q": 0, "v": 1, "a": 2, "tau": 2, "f_ext": 3}
+    for n, _, _ in k.inputs:
+        if n in by_code:
+            names[by_code[n]] = n
+    return tuple(names)

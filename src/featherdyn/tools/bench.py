@@ -106,7 +106,7 @@ class _Pair:
     """A robot loaded by both libraries, with converted random states."""
 
     def __init__(self, name: str, model: Model, pin_model: PinModel, seed: int = 0) -> None:
-        from ..core.compiled import compile_model
+        from ..api import compile as compile_model
         from ..verify.bridge import JointMap
 
         self.name, self.model, self.pm = name, model, pin_model

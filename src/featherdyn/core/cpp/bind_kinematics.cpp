@@ -13,16 +13,6 @@ using namespace fdcore;
 
 namespace fdcore {
 
-nb::object frame_jacobian_new(const ModelData& md, const F64In& q, int frame, int ref) {
-  const ModelView& mv = md.view;
-  if (vec(q, mv.nq, ARG_Q) != OK || frame < 0 || frame >= mv.nf || ref < LOCAL || ref > LOCAL_WORLD_ALIGNED)
-    return nb::none();
-  if (check_state(mv, q.data(), nullptr, nullptr, nullptr) != OK) return nb::none();
-  nb::object J = numpy_alloc({6, mv.nv});
-  frame_jacobian(mv, q.data(), frame, ref, array_data(J));
-  return finite_jacobian(array_data(J), mv.nv) == OK ? J : nb::none();
-}
-
 // H (nb, 4, 4); Hp (nb, 4, 4) when given; vel, acc (nb, 6) when v (and a) are given.
 std::int64_t fk1(const ModelData& md, const F64In& q, const F64In& v, const F64In& a, const F64Out& H,
                  const F64Out& Hp, const F64Out& vel, const F64Out& acc) {
@@ -72,18 +62,6 @@ std::int64_t frame_pose1(const ModelData& md, const F64In& q, int frame, const F
   for (int k = 0; k < 9; ++k) r[k] = Rf.m[k];
   p.data()[0] = pf.x, p.data()[1] = pf.y, p.data()[2] = pf.z;
   return finite_result(p.data(), 3);  // (the rotation's entries stay within ±1: see finite_placements)
-}
-
-std::int64_t frame_jacobian1(const ModelData& md, const F64In& q, int frame, int ref, const F64Out& J) {
-  const ModelView& mv = md.view;
-  FD_TRY(vec(q, mv.nq, ARG_Q));
-  if (frame < 0 || frame >= mv.nf) return make_status(LENGTH, ARG_FRAME, frame < 0 ? 0 : frame);
-  if (ref < LOCAL || ref > LOCAL_WORLD_ALIGNED) throw nb::value_error("reference code must be 0, 1 or 2");
-  FD_TRY(exact_shape(J, {6, size_t(mv.nv)}));
-  FD_TRY(disjoint(J, {{&q, ARG_Q}}));
-  FD_TRY(check_state(mv, q.data(), nullptr, nullptr, nullptr));
-  frame_jacobian(mv, q.data(), frame, ref, J.data());
-  return finite_jacobian(J.data(), mv.nv);
 }
 
 // H (nb, 4, 4) only: the placements of fd.compile's fk (fewer arguments to parse than fk1).
@@ -156,23 +134,6 @@ RowStatus frame_placement_n(const ModelData& md, const In& q, int frame, Out pos
   return for_rows(N, [&](std::int64_t r) -> std::int64_t {
     FD_TRY(check_state(mv, Q.row(r), nullptr, nullptr, nullptr));
     frame_placement(mv, Q.row(r), frame, out + 16 * r);
-    return OK;
-  });
-}
-
-RowStatus frame_jacobian_n(const ModelData& md, const In& q, int frame, int ref, Out J) {
-  const ModelView& mv = md.view;
-  std::int64_t N = 0;
-  Rows Q;
-  const std::int64_t n = 6 * static_cast<std::int64_t>(mv.nv);
-  FD_TRY_ROWS(out_rows(J, n, N));
-  FD_TRY_ROWS(rows(q, N, mv.nq, ARG_Q, Q));
-  if (frame < 0 || frame >= mv.nf) return {-1, make_status(LENGTH, ARG_FRAME, frame < 0 ? 0 : frame)};
-  if (ref < LOCAL || ref > LOCAL_WORLD_ALIGNED) throw nb::value_error("reference code must be 0, 1 or 2");
-  double* out = J.data();
-  return for_rows(N, [&](std::int64_t r) -> std::int64_t {
-    FD_TRY(check_state(mv, Q.row(r), nullptr, nullptr, nullptr));
-    frame_jacobian(mv, Q.row(r), frame, ref, out + r * n);
     return OK;
   });
 }
@@ -284,15 +245,10 @@ void fdcore::bind_kinematics(nb::module_& m) {
   m.def("frame_placement", &frame_placement1, nb::arg("model"), arr("q"), nb::arg("frame"), arr("out"));
   m.def("placements", &placements1, nb::arg("model"), arr("q"), arr("H"));
   m.def("frame_pose", &frame_pose1, nb::arg("model"), arr("q"), nb::arg("frame"), arr("R"), arr("p"));
-  m.def("frame_jacobian", &frame_jacobian1, nb::arg("model"), arr("q"), nb::arg("frame"), nb::arg("reference"),
-        arr("out"));
-  m.def("frame_jacobian_new", &frame_jacobian_new, nb::arg("model"), arr("q"), nb::arg("frame"), nb::arg("reference"));
   m.def("fk_batch", &fk_n, nb::arg("model"), arr("q"), arr("out"));
   m.def("kinematics_batch", &kinematics_n, nb::arg("model"), arr("q"), opt("v"), opt("a"), arr("H"), arr("Hp"), opt("vel"),
         opt("acc"));
   m.def("frame_placement_batch", &frame_placement_n, nb::arg("model"), arr("q"), nb::arg("frame"), arr("out"));
-  m.def("frame_jacobian_batch", &frame_jacobian_n, nb::arg("model"), arr("q"), nb::arg("frame"),
-        nb::arg("reference"), arr("out"));
   m.def("energy_batch", &energy_n, nb::arg("model"), arr("q"), opt("v"), nb::arg("kind"), arr("out"));
   m.def("com_batch", &com_n, nb::arg("model"), arr("q"), opt("v"), nb::arg("mass"), arr("c"), opt("cd"));
   m.def("centroidal_batch", &centroidal_n, nb::arg("model"), arr("q"), opt("v"), nb::arg("mass"), arr("A"), opt("h"));

@@ -75,12 +75,6 @@ bool model_of(PublicCall* f, PyObject* model, const ModelData*& md, PyObject*& f
   return true;
 }
 
-// The same where the frame table is not needed.
-bool model_of(PublicCall* f, PyObject* model, const ModelData*& md) {
-  PyObject* frames = nullptr;
-  return model_of(f, model, md, frames);
-}
-
 // A frame given by name (exact str) or index (exact int) within [0, nf).
 bool frame_of(PyObject* frame, PyObject* frames, int nf, int& fid) {
   PyObject* index = frame;
@@ -113,21 +107,6 @@ bool reference_of(const PublicCall* f, PyObject* given, int at, int& ref) {
       return true;
     }
   return false;
-}
-
-// fd.frame_jacobian(model, q, frame, reference=LOCAL); extra = (CoreHandle, LOCAL, WORLD, LOCAL_WORLD_ALIGNED).
-PyObject* frame_jacobian_path(PublicCall* f, PyObject* const* a) {
-  const ModelData* md = nullptr;
-  PyObject* frames = nullptr;
-  int fid = 0, ref = LOCAL;
-  if (!model_of(f, a[0], md, frames) || !frame_of(a[2], frames, md->view.nf, fid) || !reference_of(f, a[3], 1, ref))
-    return nullptr;
-  F64In q;
-  if (!q.acquire(a[1])) return nullptr;
-  return guarded([&]() -> PyObject* {
-    nb::object J = frame_jacobian_new(*md, q, fid, ref);
-    return J.is_none() ? nullptr : J.release().ptr();
-  });
 }
 
 // R (3, 3) and p (3,), read-only, as a PluckerTransform holds them: two arrays over one 96-byte bytes object
@@ -193,120 +172,44 @@ PyObject* fk_path(PublicCall* f, PyObject* const* a) {
   });
 }
 
-// The dynamics: an array argument (absent: nullptr or None) and the gravity flag (absent: True; exactly
-// True or False, anything else declines).
-bool array_arg(PyObject* x, F64In& out) { return x == nullptr || x == Py_None || out.acquire(x); }
+// The gravity flag (absent: True; exactly True or False, anything else declines).
 bool flag_arg(PyObject* x, bool& out) {
   out = x == nullptr || x == Py_True;
   return x == nullptr || x == Py_True || x == Py_False;
 }
-PyObject* result_or_decline(nb::object r) { return r.is_none() ? nullptr : r.release().ptr(); }
 
-// fd.rnea(model, q, v, a, f_ext=None, *, gravity=True) and fd.aba(model, q, v, tau, f_ext=None, *, gravity=True)
-// through rnea_new / aba_new; extra = (CoreHandle,) for the five dynamics calls
-template <nb::object (*New)(const ModelData&, const F64In&, const F64In&, const F64In&, const F64In&, bool)>
-PyObject* state_path(PublicCall* f, PyObject* const* a) {
-  const ModelData* md = nullptr;
-  F64In q, v, x, fx;
-  bool g = true;
-  if (!model_of(f, a[0], md) || !q.acquire(a[1]) || !v.acquire(a[2]) || !x.acquire(a[3]) ||
-      !array_arg(a[4], fx) || !flag_arg(a[5], g))
-    return nullptr;
-  return guarded([&] { return result_or_decline(New(*md, q, v, x, fx, g)); });
-}
-
-// fd.nonlinear_effects(model, q, v)
-PyObject* nle_path(PublicCall* f, PyObject* const* a) {
-  const ModelData* md = nullptr;
-  F64In q, v;
-  if (!model_of(f, a[0], md) || !q.acquire(a[1]) || !v.acquire(a[2])) return nullptr;
-  return guarded([&] { return result_or_decline(nle_new(*md, q, v)); });
-}
-
-// fd.generalized_gravity(model, q) and fd.crba(model, q) through gravity_new / crba_new
-template <nb::object (*New)(const ModelData&, const F64In&)>
-PyObject* configuration_path(PublicCall* f, PyObject* const* a) {
-  const ModelData* md = nullptr;
-  F64In q;
-  if (!model_of(f, a[0], md) || !q.acquire(a[1])) return nullptr;
-  return guarded([&] { return result_or_decline(New(*md, q)); });
-}
-
-// fd.compile(model)'s one-state methods, bound to the core's Model (f->bound); out= given: the out= entry
-// point writes into it (status OK: out is returned), else the _new entry point allocates.
+// The core's Model a compiled model's method is bound to (f->bound).
 const ModelData& bound_model(const PublicCall* f) { return *nb::inst_ptr<ModelData>(nb::handle(f->bound)); }
-
-template <class New, class Into>
-PyObject* new_or_into(PyObject* out, New&& make_new, Into&& into) {
-  return guarded([&]() -> PyObject* {
-    if (out == nullptr || out == Py_None) return result_or_decline(make_new());
-    F64Out o;
-    if (!o.acquire(out)) return nullptr;
-    return into(o) == OK ? Py_NewRef(out) : nullptr;
-  });
-}
-
-// cm.rnea(q, v, a, f_ext=None, out=None) and cm.aba(q, v, tau, f_ext=None, out=None), with gravity
-template <bool Aba>
-PyObject* cm_state_path(PublicCall* f, PyObject* const* a) {
-  const ModelData& md = bound_model(f);
-  F64In q, v, x, fx;
-  if (!q.acquire(a[0]) || !v.acquire(a[1]) || !x.acquire(a[2]) || !array_arg(a[3], fx)) return nullptr;
-  if constexpr (Aba)
-    return new_or_into(a[4], [&] { return aba_new(md, q, v, x, fx, true); },
-                       [&](const F64Out& o) { return aba1(md, q, v, x, fx, true, o, F64Out()); });
-  else
-    return new_or_into(a[4], [&] { return rnea_new(md, q, v, x, fx, true); },
-                       [&](const F64Out& o) { return rnea1(md, q, v, x, fx, true, o); });
-}
-
-// cm.nle(q, v, out=None)
-PyObject* cm_nle_path(PublicCall* f, PyObject* const* a) {
-  const ModelData& md = bound_model(f);
-  F64In q, v;
-  if (!q.acquire(a[0]) || !v.acquire(a[1])) return nullptr;
-  return new_or_into(a[2], [&] { return nle_new(md, q, v); }, [&](const F64Out& o) { return nle1(md, q, v, o); });
-}
-
-// cm.gravity(q, out=None) and cm.crba(q, out=None)
-template <nb::object (*New)(const ModelData&, const F64In&), std::int64_t (*Into)(const ModelData&, const F64In&, const F64Out&)>
-PyObject* cm_configuration_path(PublicCall* f, PyObject* const* a) {
-  const ModelData& md = bound_model(f);
-  F64In q;
-  if (!q.acquire(a[0])) return nullptr;
-  return new_or_into(a[1], [&] { return New(md, q); }, [&](const F64Out& o) { return Into(md, q, o); });
-}
-
-// cm.frame_jacobian(q, frame, reference=LOCAL, out=None); extra = (frame name → index, LOCAL, WORLD, LOCAL_WORLD_ALIGNED)
-PyObject* cm_frame_jacobian_path(PublicCall* f, PyObject* const* a) {
-  const ModelData& md = bound_model(f);
-  int fid = 0, ref = LOCAL;
-  if (!frame_of(a[1], PyTuple_GET_ITEM(f->extra, 0), md.view.nf, fid) || !reference_of(f, a[2], 1, ref))
-    return nullptr;
-  F64In q;
-  if (!q.acquire(a[0])) return nullptr;
-  return new_or_into(a[3], [&] { return frame_jacobian_new(md, q, fid, ref); },
-                     [&](const F64Out& o) { return frame_jacobian1(md, q, fid, ref, o); });
-}
 
 }  // namespace pc
 }  // namespace
 
-// fd.<name>(model, *inputs) of a declared algorithm (extra = (CoreHandle, its Kernel)), or fd.compile's method
-// (*inputs) bound to the core's Model (extra = (its Kernel,)): Kernel.fresh's path, in C.
+// fd.<name>(model, *inputs, ...) of a declared algorithm (extra = (CoreHandle, its Kernel, LOCAL, WORLD,
+// LOCAL_WORLD_ALIGNED)), or fd.compile's method (*inputs, ...) bound to the core's Model (extra = (its Kernel, the
+// frame table, LOCAL, WORLD, LOCAL_WORLD_ALIGNED)): its arguments where the Kernel's slots say — a frame by name or
+// index, a reference by identity with the enums; out= absent: run_fresh, else run_into the given array (a tuple
+// of them for several outputs).
 PyObject* fdcore::declared_path(PublicCall* f, PyObject* const* a) {
   const bool is_bound = f->bound != nullptr;
   const Kernel& k = *nb::inst_ptr<Kernel>(nb::handle(PyTuple_GET_ITEM(f->extra, is_bound ? 0 : 1)));
+  const Slots& at = is_bound ? k.bound_at : k.free_at;
   const ModelData* md = nullptr;
-  if (is_bound) md = &pc::bound_model(f);
-  else if (!pc::model_of(f, a[0], md)) return nullptr;
-  PyObject* const* in = a + (is_bound ? 0 : 1);
-  return pc::guarded([&]() -> PyObject* {
-    nb::tuple inputs = nb::steal<nb::tuple>(PyTuple_New(static_cast<Py_ssize_t>(k.inputs.size())));
-    for (size_t i = 0; i < k.inputs.size(); ++i)
-      PyTuple_SET_ITEM(inputs.ptr(), static_cast<Py_ssize_t>(i), Py_NewRef(in[i] != nullptr ? in[i] : Py_None));
-    return pc::result_or_decline(run_fresh(k, *md, nb::borrow<nb::sequence>(inputs)));
-  });
+  PyObject* frames = nullptr;
+  if (is_bound) md = &pc::bound_model(f), frames = PyTuple_GET_ITEM(f->extra, 1);
+  else if (!pc::model_of(f, a[0], md, frames)) return nullptr;
+  Options opt;
+  if (at.gravity >= 0 && !pc::flag_arg(a[at.gravity], opt.gravity)) return nullptr;
+  if (at.frame >= 0 && !pc::frame_of(a[at.frame], frames, md->view.nf, opt.frame)) return nullptr;
+  if (at.reference >= 0 && !pc::reference_of(f, a[at.reference], 2, opt.reference)) return nullptr;
+  PyObject* out = a[at.out];
+  if (out == nullptr || out == Py_None) return run_fresh(k, md->view, a + at.inputs, opt);
+  PyObject* outs[DECLARED_MAX] = {out};
+  const Py_ssize_t no = static_cast<Py_ssize_t>(k.outputs.size());
+  if (no > 1) {
+    if (!PyTuple_CheckExact(out) || PyTuple_GET_SIZE(out) != no) return nullptr;
+    for (Py_ssize_t o = 0; o < no; ++o) outs[o] = PyTuple_GET_ITEM(out, o);
+  }
+  return run_into(k, md->view, a + at.inputs, outs, opt) == OK ? Py_NewRef(out) : nullptr;
 }
 
 namespace {
@@ -319,21 +222,9 @@ struct NamedKind {
   std::size_t constants;
 };
 const NamedKind KINDS[] = {
-    {"frame_jacobian", {{"model", "q", "frame", "reference"}, 4, 4, 3, frame_jacobian_path}, 4},
     {"frame_placement", {{"model", "q", "frame"}, 3, 3, 3, frame_placement_path}, 6},
     {"fk", {{"q", "out"}, 2, 2, 1, fk_path}, 0},
-    {"rnea", {{"model", "q", "v", "a", "f_ext", "gravity"}, 6, 5, 4, state_path<rnea_new>}, 1},
-    {"aba", {{"model", "q", "v", "tau", "f_ext", "gravity"}, 6, 5, 4, state_path<aba_new>}, 1},
-    {"nonlinear_effects", {{"model", "q", "v"}, 3, 3, 3, nle_path}, 1},
-    {"generalized_gravity", {{"model", "q"}, 2, 2, 2, configuration_path<gravity_new>}, 1},
-    {"crba", {{"model", "q"}, 2, 2, 2, configuration_path<crba_new>}, 1},
     // a compiled model's methods (bound to the core's Model)
-    {"cm_rnea", {{"q", "v", "a", "f_ext", "out"}, 5, 5, 3, cm_state_path<false>}, 0},
-    {"cm_aba", {{"q", "v", "tau", "f_ext", "out"}, 5, 5, 3, cm_state_path<true>}, 0},
-    {"cm_nle", {{"q", "v", "out"}, 3, 3, 2, cm_nle_path}, 0},
-    {"cm_gravity", {{"q", "out"}, 2, 2, 1, cm_configuration_path<gravity_new, gravity1>}, 0},
-    {"cm_crba", {{"q", "out"}, 2, 2, 1, cm_configuration_path<crba_new, crba1>}, 0},
-    {"cm_frame_jacobian", {{"q", "frame", "reference", "out"}, 4, 4, 2, cm_frame_jacobian_path}, 4},
 };
 
 nb::object make(const std::string& kind, nb::handle general, nb::handle extra, nb::handle bound) {
@@ -342,17 +233,14 @@ nb::object make(const std::string& kind, nb::handle general, nb::handle extra, n
     if (kind == n.name) named = &n;
   if (named == nullptr) throw nb::value_error("public_call: unknown kind");
   const PublicCallKind* k = &named->kind;
-  const PublicCallKind* const FK = &KINDS[2].kind;
-  const PublicCallKind* const FRAME_PLACEMENT = &KINDS[1].kind;
+  const bool FK = kind == "fk", FRAME_PLACEMENT = kind == "frame_placement";
   const std::size_t need = named->constants;
   if (!PyTuple_Check(extra.ptr()) || static_cast<std::size_t>(PyTuple_GET_SIZE(extra.ptr())) != need)
     throw nb::value_error("public_call: wrong constants for this kind");
-  const bool is_bound = k == FK || kind.rfind("cm_", 0) == 0;  // a compiled model's method
+  const bool is_bound = FK;  // a compiled model's method
   if (is_bound && !nb::isinstance<ModelData>(bound))
     throw nb::type_error("public_call: a compiled model's method needs the core's Model");
-  if (kind == "cm_frame_jacobian" && !PyDict_CheckExact(PyTuple_GET_ITEM(extra.ptr(), 0)))
-    throw nb::type_error("public_call: the frame table (a dict) expected");
-  if (k == FRAME_PLACEMENT) {
+  if (FRAME_PLACEMENT) {
     // the class and the names of four of its slots (data descriptors the class itself defines), which
     // frame_placement_path sets through the descriptors: extra becomes (CoreHandle, cls, the four descriptors)
     nb::handle cls = PyTuple_GET_ITEM(extra.ptr(), 1);
@@ -396,10 +284,12 @@ void init() {
 void fdcore::bind_public_calls(nb::module_& m) {
   m.def("declared_call", [](const Kernel& k, nb::handle general, nb::handle extra, nb::handle bound) {
           const bool is_bound = !bound.is_none();
-          if (!PyTuple_Check(extra.ptr()) || PyTuple_GET_SIZE(extra.ptr()) != (is_bound ? 1 : 2) ||
+          if (!PyTuple_Check(extra.ptr()) || PyTuple_GET_SIZE(extra.ptr()) != 5 ||
               !nb::isinstance<Kernel>(nb::handle(PyTuple_GET_ITEM(extra.ptr(), is_bound ? 0 : 1))) ||
-              nb::inst_ptr<Kernel>(nb::handle(PyTuple_GET_ITEM(extra.ptr(), is_bound ? 0 : 1))) != &k)
-            throw nb::value_error("declared_call: extra must be (CoreHandle, kernel), or (kernel,) when bound");
+              nb::inst_ptr<Kernel>(nb::handle(PyTuple_GET_ITEM(extra.ptr(), is_bound ? 0 : 1))) != &k ||
+              (is_bound && !PyDict_CheckExact(PyTuple_GET_ITEM(extra.ptr(), 1))))
+            throw nb::value_error("declared_call: extra must be (CoreHandle, kernel, LOCAL, WORLD, LOCAL_WORLD_ALIGNED), "
+                                  "or (kernel, frame table, LOCAL, WORLD, LOCAL_WORLD_ALIGNED) when bound");
           if (is_bound && !nb::isinstance<ModelData>(bound)) throw nb::type_error("declared_call: the core's Model expected");
           PyObject* r = make_public_call(is_bound ? &k.bound : &k.free, general.ptr(), extra.ptr(),
                                          is_bound ? bound.ptr() : nullptr);

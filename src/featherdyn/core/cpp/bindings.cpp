@@ -105,6 +105,57 @@ nb::list operands(const std::vector<Operand>& ops) {
   return out;
 }
 
+// The options a declaration takes, by name.
+nb::tuple option_names(unsigned options) {
+  nb::list names;
+  if (options & FRAME) names.append("frame");
+  if (options & REFERENCE) names.append("reference");
+  if (options & GRAVITY) names.append("gravity");
+  return nb::tuple(names);
+}
+
+// A sequence of a declaration's operands as the PyObject* the front ends take (borrowed: the sequence, a list or
+// a tuple, holds them while the front end runs).
+void operand_objects(const Kernel& k, const nb::sequence& xs, size_t n, PyObject** out) {
+  if (nb::len(xs) != n) throw nb::value_error(("featherdyn.core." + k.name + ": wrong number of operands").c_str());
+  for (size_t i = 0; i < n; ++i) out[i] = nb::handle(xs[i]).ptr();
+}
+
+std::int64_t into(const Kernel& k, const ModelData& md, const nb::sequence& inputs, const nb::sequence& outputs,
+                  bool gravity, int frame, int reference) {
+  PyObject *ip[DECLARED_MAX], *op[DECLARED_MAX];
+  operand_objects(k, inputs, k.inputs.size(), ip);
+  operand_objects(k, outputs, k.outputs.size(), op);
+  return run_into(k, md.view, ip, op, Options{gravity, frame, reference});
+}
+
+nb::object fresh(const Kernel& k, const ModelData& md, const nb::sequence& inputs, bool gravity, int frame,
+                 int reference) {
+  PyObject* ip[DECLARED_MAX];
+  operand_objects(k, inputs, k.inputs.size(), ip);
+  PyObject* r = run_fresh(k, md.view, ip, Options{gravity, frame, reference});
+  if (r == nullptr && PyErr_Occurred()) throw nb::python_error();
+  return r == nullptr ? nb::none() : nb::steal(r);
+}
+
+// A SINGULAR status's detail (declare.hpp): the joint, and its D in D36, for one state of checked arrays.
+std::int64_t singular_block(const Kernel& k, const ModelData& md, const nb::sequence& inputs, const F64Out& D36,
+                            bool gravity, int frame, int reference) {
+  if (k.singular_block == nullptr) throw nb::value_error(("featherdyn.core." + k.name + ": no singular status").c_str());
+  PyObject* ip[DECLARED_MAX];
+  operand_objects(k, inputs, k.inputs.size(), ip);
+  std::array<F64In, DECLARED_MAX> in;
+  const double* p[DECLARED_MAX] = {};
+  for (size_t i = 0; i < k.inputs.size(); ++i) {
+    if (ip[i] == Py_None) continue;
+    if (!in[i].acquire(ip[i]) || declared::exact(in[i], md.view, k.inputs[i]) != OK)
+      throw nb::value_error("singular_block: checked float64 arrays of one state expected");
+    p[i] = in[i].data();
+  }
+  if (!D36.is_valid() || D36.size() != 36) throw nb::value_error("singular_block: D must be a float64 array of 36");
+  return k.singular_block(md.view, p, Options{gravity, frame, reference}, D36.data());
+}
+
 ModelData* make_model(int nb, int nq, int nv, const Ints& body_ints, const In& body_reals, const In& gravity,
                       double singular_tol, double quat_tol, const Ints& frame_body, const In& frame_reals,
                       const In& armature) {
@@ -146,11 +197,21 @@ NB_MODULE(_core, m) {
       .def_ro("name", &Kernel::name)
       .def_prop_ro("inputs", [](const Kernel& k) { return operands(k.inputs); })
       .def_prop_ro("outputs", [](const Kernel& k) { return operands(k.outputs); })
-      .def("into", &run_into, nb::arg("model"), nb::arg("inputs"), nb::arg("outputs"),
-           "one state into the given outputs; the status (0: OK)")
-      .def("fresh", &run_fresh, nb::arg("model"), nb::arg("inputs"),
+      .def_prop_ro("options", [](const Kernel& k) { return option_names(k.options); })
+      .def("into", &into, nb::arg("model"), nb::arg("inputs"), nb::arg("outputs"), nb::arg("gravity") = true,
+           nb::arg("frame") = 0, nb::arg("reference") = 0,
+           "one state into the given outputs; the status (0: OK; -1: an argument not taken as it is)")
+      .def("fresh", &fresh, nb::arg("model"), nb::arg("inputs"), nb::arg("gravity") = true, nb::arg("frame") = 0,
+           nb::arg("reference") = 0,
            "one state; the result (an array or a tuple), or None where `into` would return a non-zero status")
-      .def("batch", &run_batch, nb::arg("model"), nb::arg("inputs"), nb::arg("outputs"),
+      .def("singular_block", &singular_block, nb::arg("model"), nb::arg("inputs"), nb::arg("D"),
+           nb::arg("gravity") = true, nb::arg("frame") = 0, nb::arg("reference") = 0,
+           "the joint a SINGULAR status names (-1: none) for one checked state, its D written into D (36,)")
+      .def("batch", [](const Kernel& k, const ModelData& md, const nb::sequence& inputs, const nb::sequence& outputs,
+                       bool gravity, int frame, int reference) {
+             return run_batch(k, md.view, inputs, outputs, Options{gravity, frame, reference});
+           }, nb::arg("model"), nb::arg("inputs"), nb::arg("outputs"), nb::arg("gravity") = true,
+           nb::arg("frame") = 0, nb::arg("reference") = 0,
            "rows of a batch on the thread pool; (first failing row, status) or (-1, 0)");
   nb::dict kernels;
   for (const Kernel& k : declared_kernels()) kernels[k.name.c_str()] = nb::cast(&k, nb::rv_policy::reference);

@@ -6,19 +6,107 @@
 
 #include <vector>
 
+#include "aba.hpp"
+#include "crba.hpp"
 #include "declare.hpp"
 #include "derivatives.hpp"
+#include "frames.hpp"
+#include "rnea.hpp"
 
 namespace fdcore {
+
+// τ (nv,) = RNEA(q, q̇, q̈, f_ext): the joint forces that produce q̈ in state (q, q̇), with the body-frame
+// external forces f_ext (nb, 6) when given, gravity unless gravity=False (rnea.hpp; RBDA table 5.1).
+struct Rnea : Declared {
+  static constexpr const char* name = "rnea";
+  static constexpr Operand inputs[] = {{"q", ARG_Q, {NQ}, 1, false}, {"v", ARG_V, {NV}, 1, false},
+                                       {"a", ARG_A, {NV}, 1, false}, {"f_ext", ARG_FEXT, {NB, 6}, 2, true}};
+  static constexpr Operand outputs[] = {{"tau", ARG_OUT, {NV}, 1, false}};
+  static constexpr unsigned options = GRAVITY;
+  static constexpr auto group = &fdgroup::GroupKernels::rnea;
+  static std::int64_t run(const ModelView& mv, const double* const* in, double* const* out, const Options& opt) {
+    rnea(mv, in[0], in[1], in[2], in[3], opt.gravity, out[0]);
+    return OK;
+  }
+};
+
+// h (nv,) = C(q, q̇) q̇ + g(q) = RNEA(q, q̇, 0): RNEA with no acceleration given.
+struct NonlinearEffects : Declared {
+  static constexpr const char* name = "nonlinear_effects";
+  static constexpr Operand inputs[] = {{"q", ARG_Q, {NQ}, 1, false}, {"v", ARG_V, {NV}, 1, false}};
+  static constexpr Operand outputs[] = {{"h", ARG_OUT, {NV}, 1, false}};
+  static constexpr auto group = &fdgroup::GroupKernels::rnea;
+  static std::int64_t run(const ModelView& mv, const double* const* in, double* const* out, const Options&) {
+    rnea<double>(mv, in[0], in[1], nullptr, nullptr, true, out[0]);
+    return OK;
+  }
+};
+
+// g (nv,) = RNEA(q, 0, 0): RNEA with neither velocity nor acceleration given.
+struct GeneralizedGravity : Declared {
+  static constexpr const char* name = "generalized_gravity";
+  static constexpr Operand inputs[] = {{"q", ARG_Q, {NQ}, 1, false}};
+  static constexpr Operand outputs[] = {{"g", ARG_OUT, {NV}, 1, false}};
+  static constexpr auto group = &fdgroup::GroupKernels::rnea;
+  static std::int64_t run(const ModelView& mv, const double* const* in, double* const* out, const Options&) {
+    rnea<double>(mv, in[0], nullptr, nullptr, nullptr, true, out[0]);
+    return OK;
+  }
+};
+
+// M (nv, nv), full and exactly symmetric: T = ½ q̇ᵀ M q̇ (crba.hpp; RBDA table 6.2).
+struct Crba : Declared {
+  static constexpr const char* name = "crba";
+  static constexpr Operand inputs[] = {{"q", ARG_Q, {NQ}, 1, false}};
+  static constexpr Operand outputs[] = {{"M", ARG_OUT, {NV, NV}, 2, false}};
+  static constexpr auto group = &fdgroup::GroupKernels::crba;
+  static std::int64_t run(const ModelView& mv, const double* const* in, double* const* out, const Options&) {
+    crba(mv, in[0], out[0]);
+    return OK;
+  }
+};
+
+// q̈ (nv,) = M⁻¹ (τ − C q̇ − g + Σ J_iᵀ f_i) (aba.hpp; RBDA table 7.1). Status SINGULAR naming the joint (the
+// leaf-most) whose articulated inertia Sᵀ Iᴬ S is not positive definite.
+struct Aba : Declared {
+  static constexpr const char* name = "aba";
+  static constexpr Operand inputs[] = {{"q", ARG_Q, {NQ}, 1, false}, {"v", ARG_V, {NV}, 1, false},
+                                       {"tau", ARG_A, {NV}, 1, false}, {"f_ext", ARG_FEXT, {NB, 6}, 2, true}};
+  static constexpr Operand outputs[] = {{"qdd", ARG_OUT, {NV}, 1, false}};
+  static constexpr unsigned options = GRAVITY;
+  static constexpr auto group = &fdgroup::GroupKernels::aba;
+  static std::int64_t run(const ModelView& mv, const double* const* in, double* const* out, const Options& opt) {
+    const int bad = aba<double>(mv, in[0], in[1], in[2], in[3], opt.gravity, out[0], nullptr);
+    return bad < 0 ? OK : make_status(SINGULAR, ARG_Q, bad);
+  }
+  // the singular joint (−1: none) and its D
+  static constexpr SingularBlockFn singular_block = [](const ModelView& mv, const double* const* in,
+                                                       const Options& opt, double* D36) -> std::int64_t {
+    std::vector<double> qdd(static_cast<size_t>(mv.nv));
+    return aba<double>(mv, in[0], in[1], in[2], in[3], opt.gravity, qdd.data(), D36);
+  };
+};
+
+// J (6, nv), rows [ω; v], of a frame in a reference (frames.hpp): frame_velocity = J q̇ (getFrameJacobian).
+struct FrameJacobian : Declared {
+  static constexpr const char* name = "frame_jacobian";
+  static constexpr Operand inputs[] = {{"q", ARG_Q, {NQ}, 1, false}};
+  static constexpr Operand outputs[] = {{"J", ARG_OUT, {6, NV}, 2, false}};
+  static constexpr unsigned options = FRAME | REFERENCE;
+  static std::int64_t run(const ModelView& mv, const double* const* in, double* const* out, const Options& opt) {
+    frame_jacobian(mv, in[0], opt.frame, opt.reference, out[0]);
+    return OK;
+  }
+};
 
 // ∂g/∂q (nv, nv): the generalized gravity g(q) = RNEA(q, 0, 0) differentiated along q's tangent — the
 // analytical RNEA derivatives (derivatives.hpp) at rest, q̇ = q̈ = 0: no q̇ given, the velocity terms not formed
 // (Pinocchio's computeGeneralizedGravityDerivatives).
-struct GeneralizedGravityDerivatives {
+struct GeneralizedGravityDerivatives : Declared {
   static constexpr const char* name = "generalized_gravity_derivatives";
   static constexpr Operand inputs[] = {{"q", ARG_Q, {NQ}, 1, false}};
   static constexpr Operand outputs[] = {{"dg_dq", ARG_OUT, {NV, NV}, 2, false}};
-  static std::int64_t run(const ModelView& mv, const double* const* in, double* const* out) {
+  static std::int64_t run(const ModelView& mv, const double* const* in, double* const* out, const Options&) {
     group_kernels().rnea_derivatives(mv, in[0], nullptr, nullptr, nullptr, true, out[0], nullptr, nullptr);  // at rest
     return OK;
   }
@@ -26,11 +114,11 @@ struct GeneralizedGravityDerivatives {
 
 // ∂τ_s/∂q (nv, nv) of the static torque τ_s(q) = g(q) − Σ_i J_iᵀ f_i = RNEA(q, 0, 0, f_ext), the body-frame
 // forces f_ext (nb, 6) held fixed in their bodies (Pinocchio's computeStaticTorqueDerivatives).
-struct StaticTorqueDerivatives {
+struct StaticTorqueDerivatives : Declared {
   static constexpr const char* name = "static_torque_derivatives";
   static constexpr Operand inputs[] = {{"q", ARG_Q, {NQ}, 1, false}, {"f_ext", ARG_FEXT, {NB, 6}, 2, false}};
   static constexpr Operand outputs[] = {{"dtau_dq", ARG_OUT, {NV, NV}, 2, false}};
-  static std::int64_t run(const ModelView& mv, const double* const* in, double* const* out) {
+  static std::int64_t run(const ModelView& mv, const double* const* in, double* const* out, const Options&) {
     group_kernels().rnea_derivatives(mv, in[0], nullptr, nullptr, in[1], true, out[0], nullptr, nullptr);  // at rest
     return OK;
   }
@@ -38,7 +126,9 @@ struct StaticTorqueDerivatives {
 
 // Every declared algorithm, made once (their addresses are kept by the binding's public calls).
 inline const std::vector<Kernel>& declared_kernels() {
-  static const std::vector<Kernel> kernels = {declare<GeneralizedGravityDerivatives>(), declare<StaticTorqueDerivatives>()};
+  static const std::vector<Kernel> kernels = {
+      declare<Rnea>(), declare<NonlinearEffects>(), declare<GeneralizedGravity>(), declare<Crba>(), declare<Aba>(), declare<FrameJacobian>(),
+      declare<GeneralizedGravityDerivatives>(), declare<StaticTorqueDerivatives>()};
   return kernels;
 }
 

@@ -5,13 +5,15 @@
 // declaration to Python, where the public function, `out=`, Dask and `fd.compile`'s method are made from it
 // (featherdyn/api/declared.py).
 //
-// A declaration D is a struct with
+// A declaration D is a struct deriving from `Declared` with
 //     static constexpr const char* name;
 //     static constexpr Operand inputs[] = {...}, outputs[] = {...};
-//     static std::int64_t run(const ModelView&, const double* const* in, double* const* out);
-// `run` gets each input (nullptr for an absent optional one) and each output, all of the declared shapes and
-// already checked (lengths, finiteness, unit quaternions), and returns OK or a status (checks.hpp: SINGULAR
-// naming the joint, ...); the front ends then check the outputs for overflow (NONFINITE).
+//     static std::int64_t run(const ModelView&, const double* const* in, double* const* out, const Options&);
+// and, where it has them, `options` (GRAVITY | FRAME | REFERENCE: the scalar parameters it takes) and `group`
+// (its SIMD kernel of one group of rows, simd_groups.hpp: the batch then runs in lanes). `run` gets each input
+// (nullptr for an absent optional one) and each output, all of the declared shapes and already checked
+// (lengths, finiteness, unit quaternions, the frame's index), and returns OK or its own status (checks.hpp:
+// SINGULAR naming the joint); the front ends then check the outputs for overflow (NONFINITE).
 #pragma once
 
 #include <array>
@@ -20,6 +22,7 @@
 #include <vector>
 
 #include "boundary.hpp"
+#include "groups.hpp"
 #include "public_calls.hpp"
 
 namespace fdcore {
@@ -37,7 +40,31 @@ struct Operand {
   bool optional;
 };
 
+// The scalar parameters a declaration may take besides its arrays: the gravity flag (gravity=True), a frame
+// (its index) and a reference (0 LOCAL, 1 WORLD, 2 LOCAL_WORLD_ALIGNED: frames.hpp).
+enum OptionBits : unsigned { GRAVITY = 1u, FRAME = 2u, REFERENCE = 4u };
+struct Options {
+  bool gravity = true;
+  int frame = 0;
+  int reference = 0;
+};
+
+// What a declaration's status means beyond its code, for the error's words: ABA's SINGULAR names the joint, and
+// `singular_block` gives that joint's D = Sᵀ Iᴬ S (6 × 6, row stride 6) whose smallest eigenvalue the error states.
+using SingularBlockFn = std::int64_t (*)(const ModelView&, const double* const* in, const struct Options&, double* D36);
+
+// What a declaration does not state: no options, no SIMD kernel, no detail of its status.
+struct Declared {
+  static constexpr unsigned options = 0;
+  static constexpr fdgroup::GroupFn fdgroup::GroupKernels::*group = nullptr;
+  static constexpr SingularBlockFn singular_block = nullptr;
+};
+
 constexpr int DECLARED_MAX = 6;  // inputs, and outputs, of one declaration at most
+
+// The status of an argument a front end does not take as it is (not an exact native float64 array): not the
+// user's mistake — the caller converts it (the Python path), or declines (the public call in C).
+constexpr std::int64_t NOT_TAKEN = -1;
 
 inline std::int64_t length_of(const ModelView& mv, int d) {
   return d == NQ ? mv.nq : d == NV ? mv.nv : d == NB ? mv.nb : d;
@@ -48,29 +75,65 @@ inline std::int64_t size_of(const ModelView& mv, const Operand& o) {
   return n;
 }
 
+// Where a public call's parameters are (its kind's names, in order; -1: not a parameter): fd.<name>'s are
+// (model, *inputs, [frame, reference], *, [gravity], out), fd.compile's method's (*inputs, [frame, reference],
+// out, *, [gravity]).
+struct Slots {
+  int inputs, frame, reference, gravity, out;
+};
+
 // A declaration with its type erased: what the binding and Python see. `free` and `bound` are its public
-// calls' parameters (public_calls.hpp): (model, *inputs) for fd.<name>, (*inputs) for fd.compile's method.
+// calls' parameters (public_calls.hpp), `free_at` and `bound_at` where each one is.
 struct Kernel {
   std::string name;
   std::vector<Operand> inputs, outputs;
-  std::int64_t (*run)(const ModelView&, const double* const* in, double* const* out);
+  std::int64_t (*run)(const ModelView&, const double* const* in, double* const* out, const Options&);
+  unsigned options = 0;
+  fdgroup::GroupFn fdgroup::GroupKernels::*group = nullptr;
+  SingularBlockFn singular_block = nullptr;
   PublicCallKind free{}, bound{};
+  Slots free_at{}, bound_at{};
 };
 
 PyObject* declared_path(PublicCall* f, PyObject* const* args);  // (bind_public_calls.cpp)
 
+namespace declared {
+
+// A public call's parameters: `first` (model, or nothing), the inputs, the positional options, then out and the
+// keyword-only gravity in the order `out_first` says.
+inline void parameters(const Kernel& k, bool with_model, PublicCallKind& kind, Slots& at) {
+  int n = 0, required = 0;
+  auto add = [&](const char* name, bool needed) {
+    kind.names[n] = name;
+    if (needed) required = n + 1;
+    return n++;
+  };
+  if (with_model) add("model", true);
+  at.inputs = n;
+  for (const Operand& o : k.inputs) add(o.name, !o.optional);
+  at.frame = k.options & FRAME ? add("frame", true) : -1;
+  at.reference = k.options & REFERENCE ? add("reference", false) : -1;
+  kind.positional = n;
+  if (!with_model) kind.positional = (at.out = add("out", false)) + 1;
+  at.gravity = k.options & GRAVITY ? add("gravity", false) : -1;
+  if (with_model) at.out = add("out", false);
+  kind.nparams = n;
+  kind.required = required;
+  kind.path = &declared_path;
+}
+
+}  // namespace declared
+
 template <class D>
 Kernel declare() {
-  static_assert(std::size(D::inputs) < PUBLIC_CALL_MAX_ARGS && std::size(D::inputs) <= DECLARED_MAX &&
-                std::size(D::outputs) <= DECLARED_MAX);
+  static_assert(std::size(D::inputs) <= DECLARED_MAX && std::size(D::outputs) <= DECLARED_MAX);
+  static_assert(2 + std::size(D::inputs) + !!(D::options & FRAME) + !!(D::options & REFERENCE) +
+                    !!(D::options & GRAVITY) <= PUBLIC_CALL_MAX_ARGS);  // model, inputs, the options, out
   Kernel k{D::name, std::vector<Operand>(std::begin(D::inputs), std::end(D::inputs)),
-           std::vector<Operand>(std::begin(D::outputs), std::end(D::outputs)), &D::run};
-  int required = 0;
-  for (const Operand& o : D::inputs) required += o.optional ? 0 : 1;
-  const int n = static_cast<int>(std::size(D::inputs));
-  k.free = PublicCallKind{{"model"}, n + 1, n + 1, required + 1, &declared_path};
-  k.bound = PublicCallKind{{}, n, n, required, &declared_path};
-  for (int i = 0; i < n; ++i) k.free.names[i + 1] = k.bound.names[i] = D::inputs[i].name;
+           std::vector<Operand>(std::begin(D::outputs), std::end(D::outputs)), &D::run, D::options, D::group,
+           D::singular_block};
+  declared::parameters(k, true, k.free, k.free_at);
+  declared::parameters(k, false, k.bound, k.bound_at);
   return k;
 }
 
@@ -84,10 +147,19 @@ inline std::int64_t check_inputs(const Kernel& k, const ModelView& mv, const dou
   return check_state(mv, by_arg[0], by_arg[1], by_arg[2], by_arg[3]);
 }
 
+// The options' values: a frame index within [0, nf) (a LENGTH status naming the frame), a reference 0, 1 or 2.
+inline std::int64_t check_options(const Kernel& k, const ModelView& mv, const Options& opt) {
+  if ((k.options & FRAME) && (opt.frame < 0 || opt.frame >= mv.nf))
+    return make_status(LENGTH, ARG_FRAME, opt.frame < 0 ? 0 : opt.frame);
+  if ((k.options & REFERENCE) && (opt.reference < 0 || opt.reference > 2)) return NOT_TAKEN;
+  return OK;
+}
+
 // Run the kernel on one checked state and check its outputs for overflow.
-inline std::int64_t run_checked(const Kernel& k, const ModelView& mv, const double* const* in, double* const* out) {
+inline std::int64_t run_checked(const Kernel& k, const ModelView& mv, const double* const* in, double* const* out,
+                                const Options& opt) {
   FD_TRY(check_inputs(k, mv, in));
-  FD_TRY(k.run(mv, in, out));
+  FD_TRY(k.run(mv, in, out, opt));
   for (size_t o = 0; o < k.outputs.size(); ++o) FD_TRY(finite_result(out[o], size_of(mv, k.outputs[o])));
   return OK;
 }
@@ -100,41 +172,28 @@ std::int64_t exact(const A& x, const ModelView& mv, const Operand& o) {
   return same ? OK : make_status(LENGTH, o.arg, x.ndim() == 1 ? static_cast<std::int64_t>(x.shape(0)) : -1);
 }
 
-// As many inputs and outputs as the declaration has (a caller's mistake, not the user's: ValueError).
-inline void check_counts(const Kernel& k, const nb::sequence& inputs, const nb::sequence& outputs) {
-  if (nb::len(inputs) != k.inputs.size() || nb::len(outputs) != k.outputs.size())
-    throw nb::value_error(("featherdyn.core." + k.name + ": wrong number of operands").c_str());
-}
-
-// An output array: writeable native float64 (nanobind's TypeError otherwise, for the Python front end).
-inline void acquire_output(F64Out& out, nb::handle x) {
-  if (!out.acquire(x.ptr())) throw nb::type_error("featherdyn.core: writeable native float64 arrays expected");
-}
-
 }  // namespace declared
 
-// One state into given outputs: OK or the status of the first failure (lengths, the state, overlap, the kernel).
-// nanobind refuses anything but exact native float64 arrays: a TypeError, for the Python front end to convert.
-inline std::int64_t run_into(const Kernel& k, const ModelData& md, const nb::sequence& inputs,
-                             const nb::sequence& outputs) {
-  const ModelView& mv = md.view;
-  declared::check_counts(k, inputs, outputs);
+// One state into given outputs (inputs: nullptr or None where absent): OK, NOT_TAKEN, or the status of the first
+// failure (lengths, the options, overlap, the state, the kernel, overflow).
+inline std::int64_t run_into(const Kernel& k, const ModelView& mv, PyObject* const* inputs, PyObject* const* outputs,
+                             const Options& opt) {
   std::array<F64In, DECLARED_MAX> in;
   std::array<F64Out, DECLARED_MAX> out;
   std::array<const double*, DECLARED_MAX> ip{};
   std::array<double*, DECLARED_MAX> op{};
   for (size_t i = 0; i < k.inputs.size(); ++i) {
-    nb::handle x = inputs[i];
-    if (x.is_none()) {
+    PyObject* x = inputs[i];
+    if (x == nullptr || x == Py_None) {
       if (!k.inputs[i].optional) return make_status(LENGTH, k.inputs[i].arg, -1);
       continue;
     }
-    if (!in[i].acquire(x.ptr())) throw nb::type_error("featherdyn.core: native float64 arrays expected");
+    if (!in[i].acquire(x)) return NOT_TAKEN;
     FD_TRY(declared::exact(in[i], mv, k.inputs[i]));
     ip[i] = in[i].data();
   }
   for (size_t o = 0; o < k.outputs.size(); ++o) {
-    declared::acquire_output(out[o], outputs[o]);
+    if (!out[o].acquire(outputs[o])) return NOT_TAKEN;
     FD_TRY(declared::exact(out[o], mv, k.outputs[o]));
     op[o] = out[o].data();
     const std::int64_t n = size_of(mv, k.outputs[o]);
@@ -143,31 +202,40 @@ inline std::int64_t run_into(const Kernel& k, const ModelData& md, const nb::seq
     for (size_t p = 0; p < o; ++p)
       if (overlaps(op[o], n, op[p], size_of(mv, k.outputs[p]))) return make_status(OVERLAP, ARG_OUT, 0);
   }
-  return declared::run_checked(k, mv, ip.data(), op.data());
+  FD_TRY(declared::check_options(k, mv, opt));
+  return declared::run_checked(k, mv, ip.data(), op.data(), opt);
 }
 
-// One state, the results allocated here: the result (one array, or a tuple of them), or None for anything
-// run_into would refuse with a status (the Python front end then words it).
-inline nb::object run_fresh(const Kernel& k, const ModelData& md, const nb::sequence& inputs) {
-  const ModelView& mv = md.view;
-  nb::list outs;
-  for (const Operand& o : k.outputs) {
+// One state, the results allocated here: a new reference to the result (one array, or a tuple of them), or
+// nullptr — with an exception set if allocating failed, else for anything run_into would not return OK for (the
+// caller then declines: the Python path converts or words it).
+inline PyObject* run_fresh(const Kernel& k, const ModelView& mv, PyObject* const* inputs, const Options& opt) {
+  PyObject* outs[DECLARED_MAX] = {};
+  const size_t no = k.outputs.size();
+  auto release = [&] {
+    for (PyObject*& o : outs) Py_CLEAR(o);
+    return nullptr;
+  };
+  for (size_t o = 0; o < no; ++o) {
     npy_intp dims[3];
-    for (int d = 0; d < o.nd; ++d) dims[d] = length_of(mv, o.dims[d]);
-    PyObject* a = new_f64(o.nd, dims);
-    if (a == nullptr) throw nb::python_error();
-    outs.append(nb::steal(a));
+    for (int d = 0; d < k.outputs[o].nd; ++d) dims[d] = length_of(mv, k.outputs[o].dims[d]);
+    if ((outs[o] = new_f64(k.outputs[o].nd, dims)) == nullptr) return release();
   }
-  if (run_into(k, md, inputs, nb::borrow<nb::sequence>(outs)) != OK) return nb::none();
-  return k.outputs.size() == 1 ? nb::object(outs[0]) : nb::object(nb::tuple(outs));
+  if (run_into(k, mv, inputs, outs, opt) != OK) return release();
+  if (no == 1) return outs[0];
+  PyObject* t = PyTuple_New(static_cast<Py_ssize_t>(no));
+  if (t == nullptr) return release();
+  for (size_t o = 0; o < no; ++o) PyTuple_SET_ITEM(t, static_cast<Py_ssize_t>(o), outs[o]);
+  return t;
 }
 
 // Rows of a batch: each input (R, *shape) with R = N or 1 (broadcast), or None where optional; each output
-// (N, *shape). (first failing row, its status), or (−1, OK).
-inline RowStatus run_batch(const Kernel& k, const ModelData& md, const nb::sequence& inputs,
-                           const nb::sequence& outputs) {
-  const ModelView& mv = md.view;
-  declared::check_counts(k, inputs, outputs);
+// (N, *shape). In groups of the SIMD width where the declaration has a group kernel (the rows' roles q, v, a or
+// τ, f_ext by their status arguments), else row by row. (first failing row, its status), or (−1, OK).
+inline RowStatus run_batch(const Kernel& k, const ModelView& mv, const nb::sequence& inputs,
+                           const nb::sequence& outputs, const Options& opt) {
+  if (nb::len(inputs) != k.inputs.size() || nb::len(outputs) != k.outputs.size())
+    throw nb::value_error(("featherdyn.core." + k.name + ": wrong number of operands").c_str());
   std::array<F64In, DECLARED_MAX> in;
   std::array<F64Out, DECLARED_MAX> out;
   std::array<Rows, DECLARED_MAX> rows_in{};
@@ -175,7 +243,8 @@ inline RowStatus run_batch(const Kernel& k, const ModelData& md, const nb::seque
   std::array<std::int64_t, DECLARED_MAX> n_out{};
   std::int64_t N = -1;
   for (size_t o = 0; o < k.outputs.size(); ++o) {
-    declared::acquire_output(out[o], outputs[o]);
+    if (!out[o].acquire(nb::handle(outputs[o]).ptr()))
+      throw nb::type_error("featherdyn.core: writeable native float64 arrays expected");
     n_out[o] = size_of(mv, k.outputs[o]);
     const std::int64_t rows = out[o].ndim() >= 1 ? static_cast<std::int64_t>(out[o].shape(0)) : -1;
     if (rows < 0 || static_cast<std::int64_t>(out[o].size()) != rows * n_out[o] || (N >= 0 && rows != N))
@@ -183,6 +252,7 @@ inline RowStatus run_batch(const Kernel& k, const ModelData& md, const nb::seque
     N = rows;
     op[o] = out[o].data();
   }
+  Rows by_arg[4];  // the group kernel's q, v, a or τ, f_ext
   for (size_t i = 0; i < k.inputs.size(); ++i) {
     nb::handle x = inputs[i];
     const Operand& spec = k.inputs[i];
@@ -196,16 +266,34 @@ inline RowStatus run_batch(const Kernel& k, const ModelData& md, const nb::seque
     if (!(R == N || R == 1) || static_cast<std::int64_t>(in[i].size()) != R * n)
       return {-1, make_status(LENGTH, spec.arg, R)};
     rows_in[i] = Rows{in[i].data(), R == 1 ? 0 : n};
+    if (spec.arg <= ARG_FEXT) by_arg[spec.arg] = rows_in[i];
     for (size_t o = 0; o < k.outputs.size(); ++o)
       if (overlaps(op[o], N * n_out[o], in[i].data(), R * n)) return {-1, make_status(OVERLAP, spec.arg, 0)};
   }
-  return for_rows(N, [&](std::int64_t r) -> std::int64_t {
-    std::array<const double*, DECLARED_MAX> ip{};
-    std::array<double*, DECLARED_MAX> opr{};
+  if (const std::int64_t s = declared::check_options(k, mv, opt); s != OK) return {-1, s};
+  auto state = [&](std::int64_t r, std::array<const double*, DECLARED_MAX>& ip,
+                   std::array<double*, DECLARED_MAX>& opr) {
     for (size_t i = 0; i < k.inputs.size(); ++i) ip[i] = rows_in[i].row(r);
     for (size_t o = 0; o < k.outputs.size(); ++o) opr[o] = op[o] + r * n_out[o];
-    return declared::run_checked(k, mv, ip.data(), opr.data());
-  });
+  };
+  auto one = [&](std::int64_t r) -> std::int64_t {
+    std::array<const double*, DECLARED_MAX> ip{};
+    std::array<double*, DECLARED_MAX> opr{};
+    state(r, ip, opr);
+    return declared::run_checked(k, mv, ip.data(), opr.data(), opt);
+  };
+  if (k.group == nullptr) return for_rows(N, one);
+  fdgroup::GroupArgs g{&mv, by_arg[0], by_arg[1], by_arg[2], by_arg[3], opt.gravity, op[0], n_out[0]};
+  g.out2 = k.outputs.size() > 1 ? op[1] : nullptr;
+  g.out3 = k.outputs.size() > 2 ? op[2] : nullptr;
+  g.stream = fdgroup::stream_result(N, n_out[0]);
+  auto check = [&](std::int64_t r) -> std::int64_t {
+    std::array<const double*, DECLARED_MAX> ip{};
+    std::array<double*, DECLARED_MAX> opr{};
+    state(r, ip, opr);
+    return declared::check_inputs(k, mv, ip.data());
+  };
+  return for_row_groups(N, check, one, group_kernels().*k.group, g);
 }
 
 }  // namespace fdcore

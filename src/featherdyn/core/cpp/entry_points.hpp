@@ -28,25 +28,7 @@ void bind_public_calls(nb::module_& m);
 inline auto arr(const char* name) { return nb::arg(name).noconvert(); }
 inline auto opt(const char* name) { return nb::arg(name).noconvert().none(); }
 
-// one state into out= (a status): bind_dynamics.cpp, bind_kinematics.cpp
-std::int64_t rnea1(const ModelData& md, const F64In& q, const F64In& v, const F64In& a, const F64In& f_ext,
-                   bool gravity, const F64Out& tau);
-std::int64_t nle1(const ModelData& md, const F64In& q, const F64In& v, const F64Out& h);
-std::int64_t gravity1(const ModelData& md, const F64In& q, const F64Out& g);
-std::int64_t crba1(const ModelData& md, const F64In& q, const F64Out& M);
-std::int64_t aba1(const ModelData& md, const F64In& q, const F64In& v, const F64In& tau, const F64In& f_ext,
-                  bool gravity, const F64Out& qdd, const F64Out& D_singular);
-std::int64_t frame_jacobian1(const ModelData& md, const F64In& q, int frame, int ref, const F64Out& J);
+// one state into out= (a status): bind_kinematics.cpp
 std::int64_t placements1(const ModelData& md, const F64In& q, const F64Out& H);
-
-// one state, the result allocated (None where the status would not be OK)
-nb::object rnea_new(const ModelData& md, const F64In& q, const F64In& v, const F64In& a, const F64In& f_ext,
-                    bool gravity);
-nb::object nle_new(const ModelData& md, const F64In& q, const F64In& v);
-nb::object gravity_new(const ModelData& md, const F64In& q);
-nb::object crba_new(const ModelData& md, const F64In& q);
-nb::object aba_new(const ModelData& md, const F64In& q, const F64In& v, const F64In& tau, const F64In& f_ext,
-                   bool gravity);
-nb::object frame_jacobian_new(const ModelData& md, const F64In& q, int frame, int ref);
 
 }  // namespace fdcore

@@ -96,6 +96,7 @@ inline std::int64_t rnea_group(const fdgroup::GroupArgs& g, std::int64_t r0) {
   const Pack* f = L.gather(g.FX, r0, nf, nq + 2 * nv);
   Pack* tau = L.space(nq + 2 * nv + nf);
   rnea(mv, q, v, a, f, g.gravity, tau);
+  if (!all_finite(tau, nv)) return 1;  // finite input overflowed in some lane: redone row by row, which says where
   scatter(tau, nv, g.out + r0 * g.out_stride, g.out_stride);
   return 0;
 }
@@ -107,6 +108,7 @@ inline std::int64_t crba_group(const fdgroup::GroupArgs& g, std::int64_t r0) {
   const Pack* q = L.gather(g.Q, r0, nq, 0);
   Pack* M = L.space(nq);
   crba(mv, q, M);
+  if (!all_finite(M, nv2)) return 1;
   (g.stream ? scatter_lines : scatter)(M, nv2, g.out + r0 * g.out_stride, g.out_stride);
   return 0;
 }
@@ -120,7 +122,7 @@ inline std::int64_t aba_group(const fdgroup::GroupArgs& g, std::int64_t r0) {
   const Pack* tau = L.gather(g.A, r0, nv, nq + nv);
   const Pack* f = L.gather(g.FX, r0, nf, nq + 2 * nv);
   Pack* qdd = L.space(nq + 2 * nv + nf);
-  if (aba(mv, q, v, tau, f, g.gravity, qdd) >= 0) return 1;  // singular in some lane: redone row by row
+  if (aba(mv, q, v, tau, f, g.gravity, qdd) >= 0 || !all_finite(qdd, nv)) return 1;  // singular or overflowed
   scatter(qdd, nv, g.out + r0 * g.out_stride, g.out_stride);
   return 0;
 }
@@ -132,6 +134,7 @@ inline std::int64_t fk_group(const fdgroup::GroupArgs& g, std::int64_t r0) {
   const Pack* q = L.gather(g.Q, r0, nq, 0);
   Pack* H = L.space(nq);
   forward_kinematics<Pack>(mv, q, nullptr, nullptr, H, nullptr, nullptr);
+  if (!all_finite(H, n)) return 1;
   scatter(H, n, g.out + r0 * g.out_stride, g.out_stride);
   return 0;
 }

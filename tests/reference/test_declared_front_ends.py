@@ -1,0 +1,178 @@
+"""Every declared algorithm (``featherdyn/api/declarations.py``) through every front end its declaration makes.
+
+One state, batches of any shape (equal to the loop over their states, bit for bit, the other inputs
+broadcast), the reference backend (agreeing with the core), ``out=`` (one state and batches; an ``out``
+sharing memory with ``q`` gives the same result), ``fd.compile(model)``'s method (with ``out=`` and with Dask
+arrays), the spellings of native float64, float32 (kept), lists, and bad input worded by the public checks.
+The numbers themselves are checked against Pinocchio, closed forms and finite differences in each
+algorithm's own tests.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+import pytest
+from _models import library_robot
+
+import featherdyn as fd
+from featherdyn.api.declarations import DECLARATIONS
+from featherdyn.errors import NonFiniteError, QuaternionNormError, ShapeError
+
+NAMES = sorted(DECLARATIONS)
+
+
+def _rel(a: np.ndarray, b: np.ndarray) -> float:
+    return float(np.abs(a - b).max() / max(1.0, np.abs(b).max()))
+
+
+def _args(model: fd.Model, name: str, q: Any, f_ext: Any) -> tuple[tuple[Any, ...], dict[str, Any]]:
+    """The declaration's inputs for configurations ``q`` (velocities and accelerations made from q's batch shape
+    and dtype), and its options: a frame on the last body, in WORLD."""
+    decl = DECLARATIONS[name]
+    qa = np.asarray(q)
+    dtype = qa.dtype if qa.dtype.kind == "f" else np.dtype(np.float64)
+    vector = (0.3 * np.cos(0.7 * np.arange(model.nv)) * np.ones(qa.shape[:-1] + (1,))).astype(dtype)
+    args = tuple(q if n == "q" else f_ext if n == "f_ext" else vector for n in decl.inputs)
+    kwargs: dict[str, Any] = {}
+    if "frame" in decl.options:
+        kwargs["frame"] = model.frames[-1].name
+    if "reference" in decl.options:
+        kwargs["reference"] = fd.WORLD
+    return args, kwargs
+
+
+def _call(fn: Any, model: fd.Model | None, name: str, q: Any, f_ext: Any, m: fd.Model, **extra: Any) -> Any:
+    args, kwargs = _args(m, name, q, f_ext)
+    return fn(*args, **kwargs, **extra) if model is None else fn(model, *args, **kwargs, **extra)
+
+
+def _shape(model: fd.Model, name: str) -> tuple[int, ...]:
+    """The first output's shape of one state (the kernel's declaration, with the model's lengths)."""
+    return np.shape(_call(getattr(fd, name), model, name, fd.neutral(model), np.zeros((model.nbodies, 6)), model))
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_front_ends(name: str) -> None:
+    model = library_robot("solo12", True)
+    assert model is not None
+    fn = getattr(fd, name)
+    rng = np.random.default_rng(3)
+    Q = fd.random_configuration(model, rng, size=(2, 3))
+    FX = rng.normal(size=(2, 3, model.nbodies, 6))
+    shape = _shape(model, name)
+    # a batch of any shape equals the loop over its states, bit for bit (f_ext broadcast as well)
+    batch = _call(fn, model, name, Q, FX, model)
+    assert batch.shape == (2, 3) + shape
+    for i in range(2):
+        for k in range(3):
+            assert np.array_equal(batch[i, k], _call(fn, model, name, Q[i, k], FX[i, k], model))
+    one = _call(fn, model, name, Q[0, 0], FX[0, 0], model)
+    # the reference agrees with the core
+    ref = _call(fn, model, name, Q[0, 0], FX[0, 0], model, backend="reference")
+    assert _rel(ref, one) < 1e-12
+    # out=: written and returned, in one state and in a batch
+    out = np.full(shape, np.nan)
+    assert _call(fn, model, name, Q[0, 0], FX[0, 0], model, out=out) is out and np.array_equal(out, one)
+    outs = np.full((2, 3) + shape, np.nan)
+    assert _call(fn, model, name, Q, FX, model, out=outs) is outs and np.array_equal(outs, batch)
+    # an out sharing memory with q: the same result as without it (one rule: computed, then written)
+    size = int(np.prod(shape))
+    buf = np.zeros(size + model.nq)
+    buf[:model.nq] = Q[0, 0]
+    shared = buf[model.nq - 3: model.nq - 3 + size].reshape(shape)
+    r = _call(fn, model, name, buf[:model.nq], FX[0, 0], model, out=shared)
+    assert r is shared and np.array_equal(shared, one)
+    # fd.compile(model)'s method, with and without out=
+    cm = fd.compile(model, warmup=False)
+    method = getattr(cm, DECLARATIONS[name].method or name)
+    assert np.array_equal(_call(method, None, name, Q[0, 0], FX[0, 0], model), one)
+    out2 = np.empty(shape)
+    assert _call(method, None, name, Q[0, 0], FX[0, 0], model, out=out2) is out2 and np.array_equal(out2, one)
+    # dtypes: native float64 spelled any way takes the same path; float32 stays float32
+    for dt in ("<f8", "=f8", "d", np.dtype("f8").newbyteorder("=")):
+        assert np.array_equal(_call(fn, model, name, Q[0, 0].astype(dt), FX[0, 0].astype(dt), model), one)
+    assert np.array_equal(_call(fn, model, name, Q[0, 0].astype(">f8"), FX[0, 0], model), one)
+    r32 = _call(fn, model, name, Q[0, 0].astype(np.float32), FX[0, 0].astype(np.float32), model)
+    assert r32.dtype == np.float32 and _rel(r32, one) < 1e-3
+    assert np.array_equal(_call(fn, model, name, list(Q[0, 0]), FX[0, 0].tolist(), model), one)
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_bad_input(name: str) -> None:
+    model = library_robot("solo12", True)
+    assert model is not None
+    fn = getattr(fd, name)
+    decl = DECLARATIONS[name]
+    rng = np.random.default_rng(4)
+    q = fd.random_configuration(model, rng)
+    fx = rng.normal(size=(model.nbodies, 6))
+    shape = _shape(model, name)
+    with pytest.raises(ShapeError, match="q: expected trailing dimension nq=19"):
+        _call(fn, model, name, q[:5], fx, model)
+    bad = q.copy()
+    bad[2] = np.nan
+    with pytest.raises(NonFiniteError, match="q"):
+        _call(fn, model, name, bad, fx, model)
+    bad = q.copy()
+    bad[3:7] *= 2
+    with pytest.raises(QuaternionNormError):
+        _call(fn, model, name, bad, fx, model)
+    with pytest.raises(ShapeError, match="out: expected shape"):
+        _call(fn, model, name, q, fx, model, out=np.empty((3, 3, 3)))
+    ro = np.empty(shape)
+    ro.setflags(write=False)
+    with pytest.raises(ShapeError, match="read-only"):
+        _call(fn, model, name, q, fx, model, out=ro)
+    with pytest.raises(ShapeError, match="out"):
+        _call(fn, model, name, q, fx, model, out=[1, 2])
+    with pytest.raises(TypeError, match=name):
+        _call(fn, model, name, q, fx, model, no_such_option="x")
+    with pytest.raises(ShapeError, match="model"):
+        _call(fn, "panda", name, q, fx, model)
+    if "gravity" in decl.options:
+        with pytest.raises(fd.errors.DTypeError, match="gravity"):
+            _call(fn, model, name, q, fx, model, gravity="no")
+    if "f_ext" in decl.inputs:
+        args, kwargs = _args(model, name, q, fx)
+        at = decl.inputs.index("f_ext")
+        for bad_f, error in [(fx[:3], ShapeError), (np.where(np.arange(6) == 4, np.inf, fx), NonFiniteError)]:
+            with pytest.raises(error, match="f_ext"):
+                fn(model, *args[:at], bad_f, *args[at + 1:], **kwargs)
+        if "f_ext" not in decl.optional:
+            with pytest.raises(ShapeError, match="f_ext"):
+                fn(model, *args[:at], None, *args[at + 1:], **kwargs)
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_compiled_method_with_dask_arrays(name: str) -> None:
+    """fd.compile(model)'s declared method takes Dask arrays as the public function does (the same blocks)."""
+    da = pytest.importorskip("dask.array")
+    model = library_robot("panda", False)
+    assert model is not None
+    rng = np.random.default_rng(6)
+    Q = fd.random_configuration(model, rng, size=(4,))
+    FX = rng.normal(size=(4, model.nbodies, 6))
+    expected = _call(getattr(fd, name), model, name, Q, FX, model)
+    method = getattr(fd.compile(model, warmup=False), DECLARATIONS[name].method or name)
+    lazy = _call(method, None, name, da.from_array(Q, chunks=(2, -1)), FX, model)
+    assert type(lazy).__module__.startswith("dask")
+    assert np.array_equal(lazy.compute(scheduler="sync"), expected)
+
+
+def test_gravity_false_is_the_kernel_without_gravity() -> None:
+    """The option reaches the core and the reference alike (rnea and aba with gravity=False)."""
+    model = library_robot("panda", False)
+    assert model is not None
+    rng = np.random.default_rng(7)
+    q = fd.random_configuration(model, rng, size=(3,))
+    v, a = rng.normal(size=(3, model.nv)), rng.normal(size=(3, model.nv))
+    for backend in (None, "reference"):
+        with_g = fd.rnea(model, q, v, a, backend=backend)
+        without = fd.rnea(model, q, v, a, gravity=False, backend=backend)
+        assert _rel(with_g - without, fd.generalized_gravity(model, q)) < 1e-12
+        qdd = fd.aba(model, q, v, without, gravity=False, backend=backend)
+        assert _rel(qdd, a) < 1e-9
+    cm = fd.compile(model)
+    assert np.array_equal(cm.rnea(q[0], v[0], a[0], gravity=False), fd.rnea(model, q[0], v[0], a[0], gravity=False))
