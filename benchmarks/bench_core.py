@@ -11,11 +11,11 @@ Sections:
 
 * one state: ``core.rnea(model, q, v, a, out=)`` & co. against ``pin.rnea(model, data, ...)``
   (the core's calls include the Python wrapper's checks and the model lookup);
-* batched, N states on T threads: ``core.rnea_batch`` / ``core.aba_batch`` against
+* batched, N states on T threads: ``core.rnea`` / ``core.aba`` on batches against
   ``pin.rneaInParallel`` / ``pin.abaInParallel`` with the same thread count, and
-  ``core.crba_batch`` against a Python loop over ``pin.crba``;
+  ``core.crba`` on a batch against a Python loop over ``pin.crba``;
 * where a public one-state call's time goes: ``fd.crba(model, q)`` & co. (the public
-  function), the binding call it makes (``_core.crba_new(cm, q)``: checks, kernel, result
+  function), the binding call it makes (``_core.kernels["crba"].fresh(cm, [q])``: checks, kernel, result
   allocation) and the same binding call on a state it refuses at once (one wrong length: the
   Python call, argument conversion and return, i.e. the floor of any call), against Pinocchio's
   call; the kernel alone is the binding call minus that floor and the output checks;
@@ -150,29 +150,32 @@ def floor_rows(p: Pair, frame: str, repeats: int, budget: float) -> list[tuple[s
     m, pm, pd = p.model, p.pm, p.pd
     Q, V, A, Qp, Vp, Ap = p.states(1)
     q, v, a, qp, vp, ap = Q[0], V[0], A[0], np.ascontiguousarray(Qp[0]), np.ascontiguousarray(Vp[0]), np.ascontiguousarray(Ap[0])
-    cm, short = core._view(m).cm, np.zeros(1)
+    cm, short, K = core._view(m).cm, np.zeros(1), _core.kernels
     fid, fid_pin = m.frame_id(frame), pm.getFrameId(frame)
     H, R, p3 = np.empty((m.nbodies, 4, 4)), np.empty((3, 3)), np.empty(3)
     cmodel = fd.compile(m)
     calls: list[tuple[str, Callable[[], Any], Callable[[], Any], Callable[[], Any], Callable[[], Any]]] = [
-        ("fd.rnea", lambda: fd.rnea(m, q, v, a), lambda: _core.rnea_new(cm, q, v, a, None, True),
-         lambda: _core.rnea_new(cm, short, v, a, None, True), lambda: pin.rnea(pm, pd, qp, vp, ap)),
-        ("fd.crba", lambda: fd.crba(m, q), lambda: _core.crba_new(cm, q), lambda: _core.crba_new(cm, short),
+        ("fd.rnea", lambda: fd.rnea(m, q, v, a), lambda: K["rnea"].fresh(cm, [q, v, a, None]),
+         lambda: K["rnea"].fresh(cm, [short, v, a, None]), lambda: pin.rnea(pm, pd, qp, vp, ap)),
+        ("fd.crba", lambda: fd.crba(m, q), lambda: K["crba"].fresh(cm, [q]), lambda: K["crba"].fresh(cm, [short]),
          lambda: pin.crba(pm, pd, qp)),
-        ("fd.aba", lambda: fd.aba(m, q, v, a), lambda: _core.aba_new(cm, q, v, a, None, True),
-         lambda: _core.aba_new(cm, short, v, a, None, True), lambda: pin.aba(pm, pd, qp, vp, ap)),
-        ("fd.nonlinear_effects", lambda: fd.nonlinear_effects(m, q, v), lambda: _core.nle_new(cm, q, v),
-         lambda: _core.nle_new(cm, short, v), lambda: pin.nonLinearEffects(pm, pd, qp, vp)),
-        ("fd.generalized_gravity", lambda: fd.generalized_gravity(m, q), lambda: _core.gravity_new(cm, q),
-         lambda: _core.gravity_new(cm, short), lambda: pin.computeGeneralizedGravity(pm, pd, qp)),
+        ("fd.aba", lambda: fd.aba(m, q, v, a), lambda: K["aba"].fresh(cm, [q, v, a, None]),
+         lambda: K["aba"].fresh(cm, [short, v, a, None]), lambda: pin.aba(pm, pd, qp, vp, ap)),
+        ("fd.nonlinear_effects", lambda: fd.nonlinear_effects(m, q, v), lambda: K["nonlinear_effects"].fresh(cm, [q, v]),
+         lambda: K["nonlinear_effects"].fresh(cm, [short, v]), lambda: pin.nonLinearEffects(pm, pd, qp, vp)),
+        ("fd.generalized_gravity", lambda: fd.generalized_gravity(m, q), lambda: K["generalized_gravity"].fresh(cm, [q]),
+         lambda: K["generalized_gravity"].fresh(cm, [short]), lambda: pin.computeGeneralizedGravity(pm, pd, qp)),
         ("fd.frame_jacobian LOCAL", lambda: fd.frame_jacobian(m, q, frame, fd.LOCAL),
-         lambda: _core.frame_jacobian_new(cm, q, fid, 0), lambda: _core.frame_jacobian_new(cm, short, fid, 0),
+         lambda: K["frame_jacobian"].fresh(cm, [q], frame=fid, reference=0),
+         lambda: K["frame_jacobian"].fresh(cm, [short], frame=fid, reference=0),
          lambda: pin.computeFrameJacobian(pm, pd, qp, fid_pin, pin.LOCAL)),
         ("fd.frame_jacobian WORLD", lambda: fd.frame_jacobian(m, q, frame, fd.WORLD),
-         lambda: _core.frame_jacobian_new(cm, q, fid, 1), lambda: _core.frame_jacobian_new(cm, short, fid, 1),
+         lambda: K["frame_jacobian"].fresh(cm, [q], frame=fid, reference=1),
+         lambda: K["frame_jacobian"].fresh(cm, [short], frame=fid, reference=1),
          lambda: pin.computeFrameJacobian(pm, pd, qp, fid_pin, pin.WORLD)),
         ("fd.frame_jacobian LOCAL_WORLD_ALIGNED", lambda: fd.frame_jacobian(m, q, frame, fd.LOCAL_WORLD_ALIGNED),
-         lambda: _core.frame_jacobian_new(cm, q, fid, 2), lambda: _core.frame_jacobian_new(cm, short, fid, 2),
+         lambda: K["frame_jacobian"].fresh(cm, [q], frame=fid, reference=2),
+         lambda: K["frame_jacobian"].fresh(cm, [short], frame=fid, reference=2),
          lambda: pin.computeFrameJacobian(pm, pd, qp, fid_pin, pin.LOCAL_WORLD_ALIGNED)),
         ("fd.frame_placement", lambda: fd.frame_placement(m, q, frame), lambda: _core.frame_pose(cm, q, fid, R, p3),
          lambda: _core.frame_pose(cm, short, fid, R, p3),

@@ -239,9 +239,10 @@ def _declared(name: str, doc: str) -> Callable[..., Any]:
     """
 
     def function(model: Model, *args: Any, **kwargs: Any) -> Any:
-        k = _lib().kernels[name]
-        _view(model)  # a Model (ShapeError otherwise)
-        params = [n for n, _, _ in k.inputs] + list(k.options) + ["out"]
+        _lib()
+        spec = declared.SPECS[name]
+        h = _view(model)  # a Model (ShapeError otherwise)
+        params = spec.input_names + spec.options + ("out",)
         if len(args) > len(params) or set(kwargs) - set(params):
             raise TypeError(f"{name}() takes the arguments (model, {', '.join(params)})")
         given = dict(zip(params, args, strict=False))
@@ -249,49 +250,53 @@ def _declared(name: str, doc: str) -> Callable[..., Any]:
             if key in given:
                 raise TypeError(f"{name}() got multiple values for argument {key!r}")
             given[key] = x
-        missing = [n for n, _, opt in k.inputs if not opt and n not in given] + [n for n in k.options[:1]
-                                                                                 if n == "frame" and n not in given]
+        missing = [n for n, _, opt in spec.inputs if not opt and n not in given]
+        missing += [n for n in spec.options if n == "frame" and n not in given]
         if missing:
             raise TypeError(f"{name}() missing required arguments: {', '.join(missing)}")
-        inputs = [given.get(n) for n, _, _ in k.inputs]
         options: dict[str, Any] = {}
-        if "frame" in k.options:
+        if "frame" in spec.options:
             options["frame"] = model.resolve_frame(given["frame"])
-        if "reference" in k.options:
+        if "reference" in spec.options:
             options["reference"] = _reference_code(given.get("reference", LOCAL))
-        if "gravity" in k.options:
+        if "gravity" in spec.options:
             options["gravity"] = bool(given.get("gravity", True))
-        return _run_declared(k, model, inputs, options, given.get("out"))
+        return _run_declared(spec, h, model, [given.get(n) for n in spec.input_names], options, given.get("out"))
 
     function.__name__ = function.__qualname__ = name
     function.__doc__ = doc
     return function
 
 
-def _run_declared(k: Any, model: Model, inputs: list[Any], options: dict[str, Any], out: Any) -> Any:
-    h = _view(model)
-    xs = [None if x is None else _f64(x, n) for x, (n, _, _) in zip(inputs, k.inputs, strict=True)]
-    tails = [declared.shape_of(h, s) for _, s, _ in k.inputs]
-    if out is None and all(x is None or x.ndim == len(t) for x, t in zip(xs, tails, strict=True)):
-        r = k.fresh(h.cm, xs, **options)  # one state as the kernel takes it; else the batch path words the error
+def _run_declared(spec: declared.Spec, h: CoreHandle, model: Model, inputs: list[Any], options: dict[str, Any],
+                  out: Any) -> Any:
+    k = spec.kernel
+    xs = [None if x is None else _f64(x, n) for x, n in zip(inputs, spec.input_names, strict=True)]
+    # one state as the kernel takes it (out=: arrays of the exact shapes); anything else: the batch path below
+    if out is None:
+        r = k.fresh(h.cm, xs, **options)
         if r is not None:
             return r
-    names = [n for n, _, _ in k.inputs]
+    elif k.into(h.cm, xs, list(out) if isinstance(out, tuple) else [out], **options) == 0:
+        return out
+    tails = [declared.shape_of(h, s) for _, s, _ in spec.inputs]
+    names = spec.input_names
     vectors = [(n, x) for n, x in zip(names, inputs, strict=True) if n in ("v", "a", "tau")]
     f_ext = inputs[names.index("f_ext")] if "f_ext" in names else None
     q = inputs[names.index("q")]
     batch = _batch_shape(model, [(x, len(t)) for x, t in zip(xs, tails, strict=True) if x is not None], q, vectors,
                          f_ext)
-    shapes = [batch + declared.shape_of(h, s) for _, s, _ in k.outputs]
+    shapes = [batch + declared.shape_of(h, s) for _, s, _ in spec.outputs]
+    name = spec.kernel.name
     if out is None:
-        return _result(declared.run(k.name, model, batch, xs, None, options))
+        return _result(declared.run(name, model, batch, xs, None, options))
     outs = _outs(out, len(shapes), shapes[0]) if len(shapes) > 1 else (_out(out, shapes[0]),)
     if any(x is not None and np.may_share_memory(x, o) for x in xs for o in outs):
         # the one rule for out= (docs/architecture.md): as if out shared no memory with an input
-        for o, r in zip(outs, declared.run(k.name, model, batch, xs, None, options), strict=True):
+        for o, r in zip(outs, declared.run(name, model, batch, xs, None, options), strict=True):
             np.copyto(o, r)
     else:
-        declared.run(k.name, model, batch, xs, outs, options)
+        declared.run(name, model, batch, xs, outs, options)
     return out
 
 

@@ -10,6 +10,7 @@ core's thread pool, a failing row turned into the reference's error.
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -19,12 +20,38 @@ from . import _errors
 from ._model_view import CoreHandle, model_view
 from ._result_pool import result_array
 
-__all__ = ["kernel", "shape_of", "run", "raise_singular", "arg_names"]
+__all__ = ["Spec", "SPECS", "kernel", "shape_of", "run", "raise_singular", "arg_names"]
 
 try:
     import featherdyn.core._core as _binding  # the compiled extension: a leaf, it imports no featherdyn module
 except ImportError:  # pragma: no cover - a source checkout without the built extension
     _binding = None
+
+
+@dataclass(frozen=True)
+class Spec:
+    """A kernel's declaration as Python reads it, read once from the binding (its properties build new lists).
+
+    Attributes:
+        kernel: the binding's ``Kernel``.
+        inputs, outputs: ``(name, symbolic shape, optional)`` each.
+        options: the options it takes (``frame``, ``reference``, ``gravity``), in their order.
+    """
+
+    kernel: Any
+    inputs: tuple[tuple[str, tuple[Any, ...], bool], ...]
+    outputs: tuple[tuple[str, tuple[Any, ...], bool], ...]
+    options: tuple[str, ...]
+    input_names: tuple[str, ...]
+
+    @classmethod
+    def of(cls, k: Any) -> Spec:
+        inputs = tuple(k.inputs)
+        return cls(k, inputs, tuple(k.outputs), tuple(k.options), tuple(n for n, _, _ in inputs))
+
+
+#: every declared kernel's Spec, by name (empty without the built core)
+SPECS: dict[str, Spec] = {} if _binding is None else {name: Spec.of(k) for name, k in _binding.kernels.items()}
 
 
 def kernel(name: str) -> Any:
@@ -49,11 +76,12 @@ def run(name: str, model: Model, batch: tuple[int, ...], inputs: list[np.ndarray
     batch (``_errors.raise_for``, naming the row as NumPy would); ``SINGULAR``, ABA's, as the reference words it
     (:func:`raise_singular`).
     """
-    k = _binding.kernels[name]
+    spec = SPECS[name]
+    k = spec.kernel
     h = model_view(model, _binding)
     N = math.prod(batch)
     rows: list[np.ndarray | None] = []
-    for x, (_, shape, _) in zip(inputs, k.inputs, strict=True):
+    for x, (_, shape, _) in zip(inputs, spec.inputs, strict=True):
         if x is None:
             rows.append(None)
             continue
@@ -70,23 +98,24 @@ def run(name: str, model: Model, batch: tuple[int, ...], inputs: list[np.ndarray
             rows.append(x.reshape(1, n))
         else:
             rows.append(np.ascontiguousarray(np.broadcast_to(x, batch + tail)).reshape(N, n))
-    outs = out if out is not None else tuple(result_array(batch + shape_of(h, s)) for _, s, _ in k.outputs)
+    outs = out if out is not None else tuple(result_array(batch + shape_of(h, s)) for _, s, _ in spec.outputs)
     if N == 0:  # an empty batch: empty results
         return tuple(outs)
     _row, status = k.batch(h.cm, rows, [o.reshape(N, -1) for o in outs], **(options or {}))
     if status:
-        names = [n for n, _, _ in k.inputs]
+        names = spec.input_names
         q = inputs[names.index("q")]
         vectors = [(n, x) for n, x in zip(names, inputs, strict=True) if n in ("v", "a", "tau")]
         f_ext = inputs[names.index("f_ext")] if "f_ext" in names else None
         if _errors.decode(status)[0] == _errors.SINGULAR:
             _errors.validate(model, q, vectors, f_ext)
-            raise_singular(k, model, h, rows, options or {})
-        _errors.raise_for(status, model, q, vectors, f_ext, arg_names=arg_names(k), what=name)
+            raise_singular(spec, model, h, rows, options or {})
+        _errors.raise_for(status, model, q, vectors, f_ext, arg_names=arg_names(spec), what=name)
     return tuple(outs)
 
 
-def raise_singular(k: Any, model: Model, h: CoreHandle, rows: list[np.ndarray | None], options: dict[str, Any]) -> None:
+def raise_singular(spec: Spec, model: Model, h: CoreHandle, rows: list[np.ndarray | None],
+                   options: dict[str, Any]) -> None:
     """The reference's error for a batch whose rows a kernel found singular: the singular joint nearest the
     leaves in any row, with the smallest eigenvalue of its ``D = Sᵀ Iᴬ S`` over those rows (the kernel's
     ``singular_block``, row by row: the error path)."""
@@ -95,8 +124,8 @@ def raise_singular(k: Any, model: Model, h: CoreHandle, rows: list[np.ndarray | 
     N = max(x.shape[0] for x in rows if x is not None)
     for r in range(N):
         state = [None if x is None else x[0 if x.shape[0] == 1 else r].reshape(shape_of(h, shape))
-                 for x, (_, shape, _) in zip(rows, k.inputs, strict=True)]
-        joint = k.singular_block(h.cm, state, D, **options)
+                 for x, (_, shape, _) in zip(rows, spec.inputs, strict=True)]
+        joint = spec.kernel.singular_block(h.cm, state, D, **options)
         if joint >= 0:
             e = _errors.eig_min(D, model.nvs[joint])
             found[joint] = min(found.get(joint, e), e)
@@ -105,12 +134,12 @@ def raise_singular(k: Any, model: Model, h: CoreHandle, rows: list[np.ndarray | 
         raise _errors.singular_error(model, joint, found[joint])
 
 
-def arg_names(k: Any) -> tuple[str, ...]:
+def arg_names(spec: Spec) -> tuple[str, ...]:
     """The names of a kernel's status arguments (``q``, ``v``, ``a`` or ``tau``, ``f_ext``, ``out``, ``frame``) as
     its declaration names them."""
     names = list(_errors.ARG_NAMES)
     by_code = {"q": 0, "v": 1, "a": 2, "tau": 2, "f_ext": 3}
-    for n, _, _ in k.inputs:
+    for n in spec.input_names:
         if n in by_code:
             names[by_code[n]] = n
     return tuple(names)
