@@ -208,7 +208,7 @@ def dynamics_checks(pair: RobotPair, samples: int = 10, seed: int = 0, tol: floa
         ("the gravity term is missing (featherdyn's value is Pinocchio's with g = 0)", lambda ref: ref - gravity(ref)),
     ]
 
-    body_jid = [pm.getJointId(name) for name in model.joint_names]
+    body_jid = jm.joint_ids
     matched = _pin_frame_ids(model, pm)
     frames = _pick_frames(model, matched)
 
