@@ -241,7 +241,9 @@ def check_values(values: Mapping[str, ArrayLike] | str | os.PathLike[str], robot
 
     for h in diagnose(ch, forced):
         explanation, details = explain(ch, h)
-        results = tuple(ch.result(h, q, group="corrected") for q in ch.quantities())
+        # every quantity given, re-compared under the reading: the derivative matrices at the corrected state
+        results = tuple([ch.result(h, q, group="corrected") for q in ch.quantities()]
+                        + [ch.derivative_result(h, k, group="corrected") for k in ch.derivative_keys()])
         report.diagnosis.append(Finding(h.suspects, explanation, results, details))
     if report.diagnosis:
         report.summary = "explained by " + " or ".join(f.suspect for f in report.diagnosis)
