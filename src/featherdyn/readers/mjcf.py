@@ -31,7 +31,8 @@ is the oracle in ``tests/integration/test_mjcf_mujoco.py``):
   ``pos``, ``axis``, ``ref``, ``armature`` (:attr:`Model.armature`),
   ``range``/``limited``. Several joints on one body become a chain of
   massless featherdyn bodies named ``BODY#0``, ``BODY#1``, ..., the last one
-  called ``BODY`` and carrying the inertia. MuJoCo's rules: a free joint only
+  called ``BODY`` and carrying the inertia (the others are listed in
+  :attr:`Model.inserted_bodies`: made by the loader, massless by construction). MuJoCo's rules: a free joint only
   on a top-level body and alone; no rotation after a ball joint in a body; a
   moving body needs mass and inertia.
 
@@ -780,6 +781,7 @@ class _Loader:
         frames: list[Any] = []
         posed: list[int] = []
         owner: dict[int, _Body] = {}  # the moving MJCF body of each featherdyn body that carries one
+        inserted: list[str] = []  # the massless carriers of all but the last joint of a body (Model.inserted_bodies)
         for b in range(1, nb):
             body = bodies[b]
             parent = body.parent
@@ -820,6 +822,8 @@ class _Loader:
                     translations.append(vec_add(mat_vec(R, j.pos), p))
                     joint = self.joint("ball", Z3)
                 names.append(body.name if k == last else _unique(f"{body.name}#{k}", taken))
+                if k != last:
+                    inserted.append(names[-1])
                 ups.append(up)
                 joints.append(joint)
                 jnames.append(j.name)
@@ -861,7 +865,7 @@ class _Loader:
         builder.source = self.path
         builder._extend(names, ups, joints, jnames, rotations, translations, [m for m, _, _ in inertias],
                         [c for _, c, _ in inertias], [ic for _, _, ic in inertias], lower, upper, unbounded, unbounded,
-                        armature)
+                        armature, tuple(inserted))
         if posed:  # their placements: one stacked read-only array, each frame's a view of its row
             chain = itertools.chain.from_iterable
             n = len(posed)
