@@ -49,6 +49,11 @@ frame. Unnamed bodies are ``body<id>`` (MuJoCo's body id), unnamed joints
 ``BODY/joint<K>`` (K the index among the body's joints), an unnamed
 ``<freejoint/>`` ``BODY/free``, unnamed sites ``BODY/site<K>``.
 
+Names: an element or attribute MuJoCo's schema does not know is refused as
+MuJoCo refuses it, naming the nearest valid one (:mod:`.mjcf_schema`; inside
+``<frame>`` and ``<replicate>``, where MuJoCo ignores an unknown attribute, a
+:class:`~featherdyn.PhysicalityWarning` names it).
+
 Elements without rigid-tree meaning (``actuator``, ``tendon``, ``equality``,
 ``contact``, ``sensor``, ``deformable``, ``extension``, ``plugin``) are
 ignored with one :class:`~featherdyn.PhysicalityWarning` listing them
@@ -80,6 +85,7 @@ from ..model import FrameInfo, Model, ModelBuilder
 from ..spatial_algebra import PluckerTransform
 from .mjcf_inertia import geom_mass_inertia
 from .mjcf_mesh import MeshError, clear_mesh_cache, file_mass_properties, mass_properties
+from .mjcf_schema import check_names
 from .mjcf_xml import (
     I3,
     Z3,
@@ -959,8 +965,9 @@ def load_mjcf(path_or_xml: str | os.PathLike[str] | bytes, *, strict: bool = Fal
 
     Raises:
         MJCFError: bad XML, hostile input (entities, include cycles, depth),
-            a number that is not finite or too large, an unknown element,
-            class or attribute value, a missing include, a model MuJoCo's
+            a number that is not finite or too large, an element or
+            attribute MuJoCo's schema does not know (the message names the
+            nearest valid one), an unknown class or attribute value, a missing include, a model MuJoCo's
             compiler refuses (massless moving body, misplaced free joint, ...)
             or one featherdyn does not support (mesh inertia, ``replicate``).
             Every failure is an ``MJCFError`` (a :class:`~featherdyn.ModelError`,
@@ -968,7 +975,8 @@ def load_mjcf(path_or_xml: str | os.PathLike[str] | bytes, *, strict: bool = Fal
 
     Warns:
         PhysicalityWarning: once, listing the ignored elements without
-            rigid-tree meaning.
+            rigid-tree meaning; once, listing the unknown attributes inside
+            ``<frame>`` and ``<replicate>`` (MuJoCo ignores them there).
     """
     source = read_mjcf_source(path_or_xml)
     path = None if isinstance(path_or_xml, (bytes, bytearray, memoryview)) or (
@@ -986,6 +994,7 @@ def _load(path_or_xml: Any, source: tuple[str, str, str | None], path: str | Non
           strict: bool) -> tuple[Model, str, list[str], list[str]]:
     """The Python reader: ``(model, label, ignored elements, the model builder's warnings)``."""
     doc = read_document(path_or_xml, strict, source)
+    check_names(doc)
     loader = _Loader(doc, path)
     try:
         loader.read_top()
