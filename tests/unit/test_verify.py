@@ -207,3 +207,15 @@ def test_the_algebra_checks_name_a_cause_only_when_it_reproduces_the_numbers(mon
     monkeypatch.setattr(algebra.rot, "quat_to_matrix", orig)
     failed = {r.quantity: r.note for r in algebra.algebra_checks(samples=4, tol=1e-18) if not r.passed}
     assert failed and all("round-off" in note for note in failed.values()), failed
+
+
+def test_the_table_repeats_what_the_loader_said(tmp_path: Any) -> None:
+    # issue 32 item 6: a misspelt attribute verified 119/119 without a word; the table now says what the loader said
+    path = tmp_path / "rpyy.urdf"
+    path.write_text(ROOT_JOINT.replace('<origin xyz="0 0 0.1"/>', '<origin xyz="0 0 0.1" rpyy="0 0 1"/>', 1),
+                    encoding="utf-8")
+    report = verify.run(str(path), samples=2, algebra=False)
+    assert report.passed, report.to_table()
+    table = report.to_table()
+    assert "loader warning:\n" in table
+    assert "line 3: <origin> attribute 'rpyy' (did you mean 'rpy'?)" in table.split("loader warning:", 1)[1]
