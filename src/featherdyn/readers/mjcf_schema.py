@@ -428,8 +428,11 @@ def check_names(doc: Doc) -> None:
                     raise doc.error(elem, f"{shorten(attr)}={quote(elem.attrib[attr])}: the world body takes no "
                                     "attributes (MuJoCo refuses them)")
                 hint = _nearest(attr, valid, "'{}'")
-                if not inside or doc.strict:
+                if not inside:
                     raise doc.error(elem, f"unknown attribute {quote(attr)} of <{tag}> (MuJoCo refuses it); {hint}")
+                if doc.strict:
+                    raise doc.error(elem, f"unknown attribute {quote(attr)} of <{tag}> (MuJoCo ignores it inside "
+                                    f"<frame> and <replicate>; refused with strict=True); {hint}")
                 where = doc.where(elem)
                 lax.append(f"{where.removeprefix(doc.label + ': ')}: {quote(attr)} ({hint})")
         if key in _REFUSED:
