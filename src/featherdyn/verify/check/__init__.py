@@ -212,7 +212,7 @@ def check_values(values: Mapping[str, ArrayLike] | str | os.PathLike[str], robot
         "robot": name, "urdf": path, "source": source, "floating_base": model.floating_base,
         "convention": convention, "tol": tol, "states": given.n, "batched": given.batched,
         "keys": [k for k in KEYS if k in given.arrays], "ignored_keys": list(given.ignored),
-        "dtypes": given.dtypes, "compared": ch.quantities(), "load_warnings": load_warnings,
+        "dtypes": given.dtypes, "compared": ch.quantities() + ch.derivative_keys(), "load_warnings": load_warnings,
     })
     if forced:
         q_len = given.arrays["q"].shape[1]
