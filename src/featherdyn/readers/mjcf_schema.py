@@ -29,6 +29,7 @@ included file's names are checked in place).
 from __future__ import annotations
 
 import difflib
+import functools
 import warnings
 from typing import Any
 
@@ -342,33 +343,33 @@ _CONTEXT = {"worldbody": "body", "frame": "body", "replicate": "body"}
 _UNCHECKED_BY_MUJOCO = frozenset({"frame", "replicate"})
 # refused whole by the loader (its message says why): not looked into
 _REFUSED = frozenset({"body/composite", "body/flexcomp", "body/attach"})
+# unknown attributes listed in the warning (the rest counted)
+_MOST_LISTED = 10
+_QUOTED = "'{}'"
 
 #: ``{tag: (attributes, the same table for its children, or None where not looked into)}`` of one kind's children
 _Children = dict[Any, tuple[frozenset[str], "_Children | None"]]
-_tables: list[tuple[dict[str, frozenset[str]], dict[str, tuple[str, ...]], _Children]] = []
 
 
-def _tables_once() -> tuple[dict[str, frozenset[str]], dict[str, tuple[str, ...]], _Children]:
+@functools.cache
+def _tables() -> tuple[dict[str, frozenset[str]], dict[str, tuple[str, ...]], _Children]:
     """``(attributes of each "context/name", the child names of each context, the table of the root's children
     for the quick pass)``, made on first use."""
-    if not _tables:
-        from xml.etree.ElementTree import Comment, ProcessingInstruction
+    from xml.etree.ElementTree import Comment, ProcessingInstruction
 
-        attributes = {key: frozenset(names.split()) for key, names in ATTRIBUTES.items()}
-        names: dict[str, list[str]] = {}
-        for key in ATTRIBUTES:
-            context, name = key.split("/")
-            names.setdefault(context, []).append(name)
-        by_context: dict[str, _Children] = {c: {} for c in names}
-        for key, valid in attributes.items():
-            context, name = key.split("/")
-            inner = _CONTEXT.get(name, name)
-            by_context[context][name] = (valid, None if key in _REFUSED else by_context.get(inner, {}))
-        for table in by_context.values():  # comments and processing instructions: nothing to check
-            table[Comment] = table[ProcessingInstruction] = (frozenset(), None)
-        _tables.append((attributes, {c: tuple(sorted(n)) for c, n in names.items()}, {"mujoco": by_context["mujoco"][
-            "mujoco"]}))
-    return _tables[0]
+    attributes = {key: frozenset(names.split()) for key, names in ATTRIBUTES.items()}
+    names: dict[str, list[str]] = {}
+    for key in ATTRIBUTES:
+        context, name = key.split("/")
+        names.setdefault(context, []).append(name)
+    by_context: dict[str, _Children] = {c: {} for c in names}
+    for key, valid in attributes.items():
+        context, name = key.split("/")
+        inner = _CONTEXT.get(name, name)
+        by_context[context][name] = (valid, None if key in _REFUSED else by_context.get(inner, {}))
+    for table in by_context.values():  # comments and processing instructions: nothing to check
+        table[Comment] = table[ProcessingInstruction] = (frozenset(), None)
+    return attributes, {c: tuple(sorted(n)) for c, n in names.items()}, {"mujoco": by_context["mujoco"]["mujoco"]}
 
 
 def _all_known(root: Any, top: _Children) -> bool:
@@ -405,10 +406,11 @@ def check_names(doc: Doc) -> None:
     (``file: line N: <joint name='j'>: unknown attribute 'axsi' (MuJoCo refuses it); did you mean 'axis'?``),
     the unknown attributes inside them one :class:`~featherdyn.PhysicalityWarning` (``strict``: the error).
     """
-    attributes, children, top = _tables_once()
+    attributes, children, top = _tables()
     if top["mujoco"][0].issuperset(doc.root.attrib) and _all_known(doc.root, top["mujoco"][1] or {}):
         return  # the usual document; otherwise the walk below finds the first unknown name in document order
     lax: list[str] = []
+    lax_count = 0
     # (element, its parent's name and kind, whether inside a <frame> or <replicate>), popped in document order
     stack: list[tuple[Any, str, str, bool]] = [(doc.root, "", "mujoco", False)]
     while stack:
@@ -427,21 +429,22 @@ def check_names(doc: Doc) -> None:
                 if key == "mujoco/worldbody":
                     raise doc.error(elem, f"{shorten(attr)}={quote(elem.attrib[attr])}: the world body takes no "
                                     "attributes (MuJoCo refuses them)")
-                hint = _nearest(attr, valid, "'{}'")
                 if not inside:
-                    raise doc.error(elem, f"unknown attribute {quote(attr)} of <{tag}> (MuJoCo refuses it); {hint}")
+                    raise doc.error(elem, f"unknown attribute {quote(attr)} of <{tag}> (MuJoCo refuses it); "
+                                    + _nearest(attr, valid, _QUOTED))
                 if doc.strict:
                     raise doc.error(elem, f"unknown attribute {quote(attr)} of <{tag}> (MuJoCo ignores it inside "
-                                    f"<frame> and <replicate>; refused with strict=True); {hint}")
-                where = doc.where(elem)
-                lax.append(f"{where.removeprefix(doc.label + ': ')}: {quote(attr)} ({hint})")
+                                    f"<frame> and <replicate>; refused with strict=True); {_nearest(attr, valid, _QUOTED)}")
+                lax_count += 1
+                if len(lax) < _MOST_LISTED:  # (the nearest names of the first few only: a file may hold thousands)
+                    where = doc.where(elem).removeprefix(doc.label + ": ")
+                    lax.append(f"{where}: {quote(attr)} ({_nearest(attr, valid, _QUOTED)})")
         if key in _REFUSED:
             continue
         inner = _CONTEXT.get(tag, tag)
         stack.extend((child, tag, inner, inside) for child in reversed(elem) if isinstance(child.tag, str))
     if lax:
-        most = 10
-        more = f" and {len(lax) - most} more" if len(lax) > most else ""
+        more = f" and {lax_count - len(lax)} more" if lax_count > len(lax) else ""
         warnings.warn(f"{doc.label}: unknown attributes inside <frame> or <replicate>, where MuJoCo ignores them "
-                      f"(featherdyn does too; strict=True refuses them): {'; '.join(lax[:most])}{more}",
+                      f"(featherdyn does too; strict=True refuses them): {'; '.join(lax)}{more}",
                       PhysicalityWarning, stacklevel=4)
