@@ -106,6 +106,10 @@ class Model:
         armature: `(nv,)` reflected rotor inertia per degree of freedom (MJCF ``armature``, Pinocchio's
             ``model.armature``), added to the mass matrix's diagonal: ``M(q) + diag(armature)``; zero when not
             given (URDF has none). Read-only float64.
+        inserted_bodies: the names of the bodies a loader made that the file does not have: the massless
+            bodies carrying all but the last of several joints on one MJCF body (``BODY#0``, ``BODY#1``, ...).
+            Their zero inertia is by construction, so physicality checks (``featherdyn info``, ``verify``'s
+            diagnostics) pass over them; ``()`` for a model built in code or from a URDF.
     """
 
     name: str
@@ -128,6 +132,7 @@ class Model:
     mimics: tuple[Mimic, ...] = ()
     source: str | None = None
     armature: np.ndarray = None  # type: ignore[assignment]  # None -> zeros (nv,) in __post_init__
+    inserted_bodies: tuple[str, ...] = ()
     _frame_index: dict[str, int] = field(default_factory=dict, repr=False)
     # the compiled engine's one-state fast path, set on first use (engine/_fast.py); unset until then
     _fast: Any = field(init=False, repr=False, compare=False)
@@ -341,6 +346,7 @@ class ModelBuilder:
         self._mimics: list[Mimic] = []
         self._limit_problems: list[str] = []
         self.source: str | None = None
+        self._inserted: tuple[str, ...] = ()  # Model.inserted_bodies (a loader's, set by _extend)
         # whether every body came through _extend, whose inertias are exactly symmetric (a loader's): then build()
         # checks only that they are finite
         self._symmetric = True
@@ -451,9 +457,11 @@ class ModelBuilder:
     def _extend(self, names: list[str], parents: list[int], joints: list[Joint], joint_names: list[str],
                 rotations: list[Any], translations: list[Any], masses: list[float], coms: list[Any],
                 inertias_com: list[Any], lower: list[Any], upper: list[Any], velocity_limit: list[Any],
-                effort_limit: list[Any], armature: list[Any]) -> None:
+                effort_limit: list[Any], armature: list[Any], inserted: tuple[str, ...] = ()) -> None:
         """:meth:`_append` of several bodies at once: each argument lists one entry per body, in body order; each
-        ``inertia_com`` exactly symmetric (a loader's own, mirrored), the others as :meth:`_append` requires."""
+        ``inertia_com`` exactly symmetric (a loader's own, mirrored), the others as :meth:`_append` requires;
+        ``inserted`` names the bodies the loader made (:attr:`Model.inserted_bodies`)."""
+        self._inserted += inserted
         self._parents += parents
         self._joints += joints
         self._joint_names += joint_names
@@ -604,6 +612,7 @@ class ModelBuilder:
             mimics=tuple(self._mimics),
             source=self.source,
             armature=armature,  # (copied by Model)
+            inserted_bodies=self._inserted,
         )
         complaints = list(self._limit_problems)
         if check_inertias:

@@ -55,3 +55,32 @@ def test_an_unexplained_mismatch_says_so_and_bad_input_is_refused(state: dict) -
         check_values({"q": state["q"], "v": state["v"], "dddq_dq": state["ddq_dq"]}, "solo12", floating_base=True)
     with pytest.raises(fd.ShapeError, match="dtau_dv"):
         _check(state, dtau_dv=state["dv"][:, :5])
+
+
+def test_a_layout_mistake_recompares_the_derivative_matrices_too(state: dict) -> None:  # type: ignore[type-arg]
+    # issue 32 item 9: everything in Pinocchio's free-flyer order [v; ω] (v, a, tau and the derivative matrices'
+    # rows and columns) declared as featherdyn's: the diagnosis is swapped_6d_halves, and its corrected table
+    # re-compares every quantity given, the matrices at the corrected state, not tau alone
+    model = state["model"]
+    swap = np.arange(model.nv)
+    swap[:6] = [3, 4, 5, 0, 1, 2]
+    values = {"q": state["q"], "v": state["v"][swap], "a": state["a"][swap], "tau": state["tau"][swap],
+              "dtau_dq": state["dq"][swap][:, swap], "dtau_dv": state["dv"][swap][:, swap]}
+    rep = check_values(values, "solo12", floating_base=True)
+    assert not rep.passed
+    assert [f.suspect for f in rep.diagnosis] == ["swapped_6d_halves"], rep.summary
+    corrected = rep.diagnosis[0].results
+    assert [r.quantity.split()[0] for r in corrected] == ["tau", "dtau_dq", "dtau_dv"], rep.to_text()
+    assert all(r.passed and r.group == "corrected" for r in corrected), rep.to_text()
+
+
+def test_a_derivative_matrix_still_wrong_after_the_correction_shows_as_failed(state: dict) -> None:  # type: ignore[type-arg]
+    # the corrected table is honest: a matrix that the reading does not fix stays a failed row
+    model = state["model"]
+    swap = np.arange(model.nv)
+    swap[:6] = [3, 4, 5, 0, 1, 2]
+    values = {"q": state["q"], "v": state["v"][swap], "a": state["a"][swap], "tau": state["tau"][swap],
+              "dtau_dv": 1.01 * state["dv"][swap][:, swap]}
+    rep = check_values(values, "solo12", floating_base=True)
+    rows = {r.quantity.split()[0]: r for f in rep.diagnosis for r in f.results}
+    assert "dtau_dv" in rows and not rows["dtau_dv"].passed, rep.to_text()

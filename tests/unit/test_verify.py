@@ -104,6 +104,32 @@ def test_a_one_dof_fixed_base_robot_verifies(tmp_path: Any) -> None:
     assert report.meta["nv"] == 1 and any(r.quantity.startswith("frame_jacobian") for r in report.results)
 
 
+ROOT_JOINT = """<robot name="rj">
+  <link name="base_link"/>
+  <link name="torso"><inertial><mass value="2"/><origin xyz="0 0 0.1"/>
+    <inertia ixx="0.1" ixy="0" ixz="0" iyy="0.1" iyz="0" izz="0.1"/></inertial></link>
+  <joint name="root_joint" type="fixed"><parent link="base_link"/><child link="torso"/><origin xyz="0 0 0.5"/></joint>
+  <link name="arm"><inertial><mass value="1"/><origin xyz="0.2 0 0"/>
+    <inertia ixx="0.01" ixy="0" ixz="0" iyy="0.02" iyz="0" izz="0.02"/></inertial></link>
+  <joint name="shoulder" type="revolute"><parent link="torso"/><child link="arm"/><origin xyz="0 0.1 0.2"/>
+    <axis xyz="0 1 0"/><limit lower="-1" upper="1" effort="10" velocity="2"/></joint>
+</robot>
+"""
+
+
+def test_a_urdf_joint_named_root_joint_verifies_with_a_floating_base(tmp_path: Any) -> None:
+    # issue 32 item 8 (armar4): featherdyn's free flyer is 'root_joint_1' (the URDF took 'root_joint'),
+    # Pinocchio's is 'root_joint': the two free-flyer roots map to each other whatever their names
+    path = tmp_path / "rj.urdf"
+    path.write_text(ROOT_JOINT, encoding="utf-8")
+    model = fd.load_urdf(path, floating_base=True)
+    assert model.joint_names[0] == "root_joint_1"
+    report = verify.run(str(path), floating_base=True, samples=2, algebra=False)
+    assert report.passed, report.to_table()
+    assert report.meta["nv"] == 7
+    assert any(r.quantity.startswith("body placements") for r in report.results)
+
+
 ICUB = [name for name in fd.list_robots() if "icub" in name.lower()]
 
 
@@ -181,3 +207,15 @@ def test_the_algebra_checks_name_a_cause_only_when_it_reproduces_the_numbers(mon
     monkeypatch.setattr(algebra.rot, "quat_to_matrix", orig)
     failed = {r.quantity: r.note for r in algebra.algebra_checks(samples=4, tol=1e-18) if not r.passed}
     assert failed and all("round-off" in note for note in failed.values()), failed
+
+
+def test_the_table_repeats_what_the_loader_said(tmp_path: Any) -> None:
+    # issue 32 item 6: a misspelt attribute verified 119/119 without a word; the table now says what the loader said
+    path = tmp_path / "rpyy.urdf"
+    path.write_text(ROOT_JOINT.replace('<origin xyz="0 0 0.1"/>', '<origin xyz="0 0 0.1" rpyy="0 0 1"/>', 1),
+                    encoding="utf-8")
+    report = verify.run(str(path), samples=2, algebra=False)
+    assert report.passed, report.to_table()
+    table = report.to_table()
+    assert "loader warning:\n" in table
+    assert "line 3: <origin> attribute 'rpyy' (did you mean 'rpy'?)" in table.split("loader warning:", 1)[1]

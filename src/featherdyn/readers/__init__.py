@@ -4,6 +4,7 @@
   (``MAX_LENGTH``, ``MAX_MASS``, ``MAX_INERTIA``);
 * :mod:`.mjcf` — :func:`~featherdyn.load_mjcf`, ``load_model``, ``model_format``, with MuJoCo's compiler
   semantics; its pieces :mod:`.mjcf_xml` (includes, default classes, numbers, orientations),
+  :mod:`.mjcf_schema` (the element and attribute names MuJoCo knows; the others are refused),
   :mod:`.mjcf_inertia` (primitive geoms) and :mod:`.mjcf_mesh` (mesh files and their mass properties);
 * :mod:`.xml` — the guarded XML reader both use: bytes, encodings, the parser, bounded input, messages.
 

@@ -31,7 +31,8 @@ is the oracle in ``tests/integration/test_mjcf_mujoco.py``):
   ``pos``, ``axis``, ``ref``, ``armature`` (:attr:`Model.armature`),
   ``range``/``limited``. Several joints on one body become a chain of
   massless featherdyn bodies named ``BODY#0``, ``BODY#1``, ..., the last one
-  called ``BODY`` and carrying the inertia. MuJoCo's rules: a free joint only
+  called ``BODY`` and carrying the inertia (the others are listed in
+  :attr:`Model.inserted_bodies`: made by the loader, massless by construction). MuJoCo's rules: a free joint only
   on a top-level body and alone; no rotation after a ball joint in a body; a
   moving body needs mass and inertia.
 
@@ -47,6 +48,11 @@ welded body), each joint a ``"joint"`` frame, each ``<site>`` a ``"site"``
 frame. Unnamed bodies are ``body<id>`` (MuJoCo's body id), unnamed joints
 ``BODY/joint<K>`` (K the index among the body's joints), an unnamed
 ``<freejoint/>`` ``BODY/free``, unnamed sites ``BODY/site<K>``.
+
+Names: an element or attribute MuJoCo's schema does not know is refused as
+MuJoCo refuses it, naming the nearest valid one (:mod:`.mjcf_schema`; inside
+``<frame>`` and ``<replicate>``, where MuJoCo ignores an unknown attribute, a
+:class:`~featherdyn.PhysicalityWarning` names it).
 
 Elements without rigid-tree meaning (``actuator``, ``tendon``, ``equality``,
 ``contact``, ``sensor``, ``deformable``, ``extension``, ``plugin``) are
@@ -79,6 +85,7 @@ from ..model import FrameInfo, Model, ModelBuilder
 from ..spatial_algebra import PluckerTransform
 from .mjcf_inertia import geom_mass_inertia
 from .mjcf_mesh import MeshError, clear_mesh_cache, file_mass_properties, mass_properties
+from .mjcf_schema import check_names
 from .mjcf_xml import (
     I3,
     Z3,
@@ -780,6 +787,7 @@ class _Loader:
         frames: list[Any] = []
         posed: list[int] = []
         owner: dict[int, _Body] = {}  # the moving MJCF body of each featherdyn body that carries one
+        inserted: list[str] = []  # the massless carriers of all but the last joint of a body (Model.inserted_bodies)
         for b in range(1, nb):
             body = bodies[b]
             parent = body.parent
@@ -820,6 +828,8 @@ class _Loader:
                     translations.append(vec_add(mat_vec(R, j.pos), p))
                     joint = self.joint("ball", Z3)
                 names.append(body.name if k == last else _unique(f"{body.name}#{k}", taken))
+                if k != last:
+                    inserted.append(names[-1])
                 ups.append(up)
                 joints.append(joint)
                 jnames.append(j.name)
@@ -861,7 +871,7 @@ class _Loader:
         builder.source = self.path
         builder._extend(names, ups, joints, jnames, rotations, translations, [m for m, _, _ in inertias],
                         [c for _, c, _ in inertias], [ic for _, _, ic in inertias], lower, upper, unbounded, unbounded,
-                        armature)
+                        armature, tuple(inserted))
         if posed:  # their placements: one stacked read-only array, each frame's a view of its row
             chain = itertools.chain.from_iterable
             n = len(posed)
@@ -955,8 +965,9 @@ def load_mjcf(path_or_xml: str | os.PathLike[str] | bytes, *, strict: bool = Fal
 
     Raises:
         MJCFError: bad XML, hostile input (entities, include cycles, depth),
-            a number that is not finite or too large, an unknown element,
-            class or attribute value, a missing include, a model MuJoCo's
+            a number that is not finite or too large, an element or
+            attribute MuJoCo's schema does not know (the message names the
+            nearest valid one), an unknown class or attribute value, a missing include, a model MuJoCo's
             compiler refuses (massless moving body, misplaced free joint, ...)
             or one featherdyn does not support (mesh inertia, ``replicate``).
             Every failure is an ``MJCFError`` (a :class:`~featherdyn.ModelError`,
@@ -964,7 +975,8 @@ def load_mjcf(path_or_xml: str | os.PathLike[str] | bytes, *, strict: bool = Fal
 
     Warns:
         PhysicalityWarning: once, listing the ignored elements without
-            rigid-tree meaning.
+            rigid-tree meaning; once, listing the unknown attributes inside
+            ``<frame>`` and ``<replicate>`` (MuJoCo ignores them there).
     """
     source = read_mjcf_source(path_or_xml)
     path = None if isinstance(path_or_xml, (bytes, bytearray, memoryview)) or (
@@ -982,6 +994,7 @@ def _load(path_or_xml: Any, source: tuple[str, str, str | None], path: str | Non
           strict: bool) -> tuple[Model, str, list[str], list[str]]:
     """The Python reader: ``(model, label, ignored elements, the model builder's warnings)``."""
     doc = read_document(path_or_xml, strict, source)
+    check_names(doc)
     loader = _Loader(doc, path)
     try:
         loader.read_top()

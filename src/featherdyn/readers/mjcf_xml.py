@@ -638,6 +638,8 @@ def expand_replicates(doc: Doc) -> None:
                     "pos": " ".join(repr(float(x)) for x in p),
                     "xyaxes": " ".join(repr(float(x)) for x in (R[0], R[3], R[6], R[1], R[4], R[7])),
                 })
+                if "childclass" in attrs:  # MuJoCo's reader takes it (undocumented): the copies' default class
+                    frame.set("childclass", attrs["childclass"])
                 doc.where_of[frame] = doc.locate(rep)
                 suffix = f"{sep}{k:0{digits}d}"
                 for child in rep:

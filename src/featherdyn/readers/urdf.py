@@ -55,6 +55,23 @@ its child body's frame, so it moves with ``q`` as in Pinocchio; or
 ``"fixed_joint"`` at the joint in the parent body) and the link (``"body"``
 for a moving link, ``"link"`` for a merged one).
 
+Names. The parts featherdyn reads — ``<robot>``'s children, ``<link>`` and
+its ``<inertial>`` (``origin``, ``mass``, ``inertia``), ``<joint>`` and its
+children — are checked against the URDF specification (ROS wiki
+``urdf/XML``, as urdfdom reads it). A name the specification does not define
+there is reported in one :class:`~featherdyn.PhysicalityWarning` per file,
+each with its line and the nearest valid name (``strict=True`` refuses with a
+:class:`~featherdyn.URDFError`), and an error it may have caused names it
+(``<jiont>`` leaves two root links). The rule for extensions, which URDF
+readers ignore and robot files carry: an element or attribute of another XML
+namespace (``xacro:``, ``x:note``) is never reported; the documented or
+widespread extension names in :data:`URDF_EXTENSIONS` (``<gazebo>``,
+``<transmission>``, ``<ros2_control>``, ``<sensor>``, ``<mujoco>`` under
+``<robot>``; PyBullet's ``<contact>`` in a link; vendor attributes found in
+example-robot-data's robots) are passed over; the contents of
+``<visual>``, ``<collision>``, ``<material>`` and of the extensions are not
+looked into (featherdyn does not read them). Anything else is reported.
+
 Differences from Pinocchio's URDF parser, on purpose:
 
 * Pinocchio (through urdfdom) orders a link's children by joint *name*; here
@@ -67,6 +84,7 @@ Differences from Pinocchio's URDF parser, on purpose:
 
 from __future__ import annotations
 
+import difflib
 import math
 import os
 import re
@@ -109,6 +127,95 @@ _NUMBER = re.compile(r"[+-]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)(?:[eE][+-]?[0-9]+)?
 _JOINT_TYPES = ("revolute", "continuous", "prismatic", "fixed", "floating", "planar")
 _INERTIA_KEYS = ("ixx", "ixy", "ixz", "iyy", "iyz", "izz")
 
+
+
+# ---------------------------------------------------------------------------
+# names: the URDF specification's, and the known extensions
+# ---------------------------------------------------------------------------
+
+#: The elements and attributes of the URDF specification where featherdyn reads them (ROS wiki ``urdf/XML``,
+#: urdfdom): ``{element: (attributes, {child: its entry key})}``; ``visual``, ``collision`` and ``material`` are
+#: known but not looked into (featherdyn does not read them).
+_SPEC: dict[str, tuple[frozenset[str], dict[str, str]]] = {
+    "robot": (frozenset({"name", "version"}),
+              {"link": "link", "joint": "joint", "material": ""}),
+    "link": (frozenset({"name"}), {"inertial": "inertial", "visual": "", "collision": ""}),
+    "inertial": (frozenset(), {"origin": "origin", "mass": "mass", "inertia": "inertia"}),
+    "origin": (frozenset({"xyz", "rpy"}), {}),
+    "mass": (frozenset({"value"}), {}),
+    "inertia": (frozenset(_INERTIA_KEYS), {}),
+    "joint": (frozenset({"name", "type"}),
+              {"origin": "origin", "parent": "parent", "child": "child", "axis": "axis", "calibration": "calibration",
+               "dynamics": "dynamics", "limit": "limit", "safety_controller": "safety_controller",
+               "mimic": "mimic"}),
+    "parent": (frozenset({"link"}), {}),
+    "child": (frozenset({"link"}), {}),
+    "axis": (frozenset({"xyz"}), {}),
+    "calibration": (frozenset({"rising", "falling", "reference_position"}), {}),
+    "dynamics": (frozenset({"damping", "friction"}), {}),
+    "limit": (frozenset({"lower", "upper", "effort", "velocity"}), {}),
+    "safety_controller": (frozenset({"soft_lower_limit", "soft_upper_limit", "k_position", "k_velocity"}), {}),
+    "mimic": (frozenset({"joint", "multiplier", "offset"}), {}),
+}
+
+#: Names outside the specification that robot files use as extensions, passed over silently (where each comes from):
+#: ``{element: (attributes, children)}``; an extension element's content is not looked into.
+URDF_EXTENSIONS: dict[str, tuple[frozenset[str], frozenset[str]]] = {
+    # transmission: ROS transmissions; gazebo: Gazebo; sensor: the URDF sensor specification; ros2_control;
+    # mujoco: MuJoCo's URDF extension (<mujoco><compiler .../></mujoco>)
+    "robot": (frozenset(), frozenset({"transmission", "gazebo", "sensor", "ros2_control", "mujoco"})),
+    # contact: PyBullet's URDF extension; gravity, kinematic, self_collide, surface: Gazebo's link properties as
+    # PAL's TIAGo files write them; collision_checking: urdfdom's former collision extension; self_filter:
+    # robot_self_filter (PR2); type: PR2's sensor links (type="laser", "camera")
+    "link": (frozenset({"type"}), frozenset({"contact", "gravity", "kinematic", "self_collide", "surface",
+                                             "collision_checking", "self_filter"})),
+    "joint": (frozenset({"dont_collapse"}), frozenset()),  # Isaac Sim's URDF importer: keep a fixed joint
+    "limit": (frozenset({"command_effort", "current", "gear_velocity"}), frozenset()),  # ANYbotics' ANYmal files
+    "dynamics": (frozenset({"D", "K", "mu_coulomb", "mu_viscous"}), frozenset()),  # Franka's panda files
+}
+
+_NO_EXTENSION: tuple[frozenset[str], frozenset[str]] = (frozenset(), frozenset())
+_QUOTED = "'{}'"
+
+
+def _nearest(name: str, valid: set[str] | frozenset[str], shape: str) -> str:
+    close = difflib.get_close_matches(name, sorted(valid), n=1, cutoff=0.6)
+    return f"did you mean {shape.format(close[0])}?" if close else \
+        "expected one of " + ", ".join(shape.format(v) for v in sorted(valid))
+
+
+def _unknown_names(root: Any, ns: str, lines: dict[Any, int]) -> list[str]:
+    """Each element and attribute name in the parts featherdyn reads that is neither the URDF specification's nor a
+    known extension (module doc, "Names"), with its line and the nearest valid name, in document order."""
+    out: list[str] = []
+    # (element, its entry in _SPEC or None for an unknown name, its parent's kind, the parent's line), popped in
+    # document order
+    stack: list[tuple[Any, str | None, str, int | None]] = [(root, "robot", "", None)]
+    while stack:
+        elem, kind, parent, parent_line = stack.pop()
+        line = lines.get(elem, parent_line)
+        at = f"line {line}: " if line else ""
+        if kind is None:
+            name = local_name(elem.tag, ns)
+            out.append(f"{at}element <{shorten(name)}> in <{parent}> ({_nearest(name, set(_SPEC[parent][1]), '<{}>')})")
+            continue
+        attrs, children = _SPEC[kind]
+        ext_attrs, ext_children = URDF_EXTENSIONS.get(kind, _NO_EXTENSION)
+        for attr in elem.attrib:
+            if attr not in attrs and attr not in ext_attrs and not attr.startswith("{"):  # {ns}: namespaced
+                out.append(f"{at}<{kind}> attribute {quote(attr)} ({_nearest(attr, attrs, _QUOTED)})")
+        inner: list[tuple[Any, str | None, str, int | None]] = []
+        for child in elem:
+            name = local_name(child.tag, ns)
+            if not name or name.startswith("{"):  # a comment, or another namespace's element
+                continue
+            entry = children.get(name)
+            if entry is None and name not in ext_children:
+                inner.append((child, None, kind, line))
+            elif entry:  # (visual, collision, material and the extensions are not looked into)
+                inner.append((child, entry, kind, line))
+        stack.extend(reversed(inner))
+    return out
 
 
 # ---------------------------------------------------------------------------
@@ -649,12 +756,17 @@ def load_urdf(path_or_xml: str | os.PathLike[str] | bytes, floating_base: bool =
             warning per file, listing the joints); a mimic of an unknown or
             fixed joint (ignored); a moving joint whose subtree has no mass (a
             singular mass matrix). Real robot files have all of these.
+            Once per file: the element and attribute names the URDF
+            specification does not define where featherdyn reads them, and
+            that are no known extension (module doc, "Names"), each with its
+            line and the nearest valid name.
 
     Whitespace before the ``<?xml ...?>`` declaration is accepted (as
     Pinocchio, MuJoCo and PyBullet do), in files, strings and bytes.
 
     Elements other than ``<link>`` and ``<joint>`` (``<transmission>``,
-    ``<gazebo>``, ``<material>``, ...) are ignored; ``<mimic>`` is recorded
+    ``<gazebo>``, ``<material>``, ...) are ignored (an unknown name is
+    reported, see Warns); ``<mimic>`` is recorded
     (:class:`~featherdyn.Mimic`), not enforced; velocity and effort limits are
     recorded (``inf`` where absent); position limits of continuous, planar and
     floating joints are unbounded.
@@ -668,41 +780,54 @@ def load_urdf(path_or_xml: str | os.PathLike[str] | bytes, floating_base: bool =
             f"{label}: line {lines.get(root_el, 1)}: expected the root element <robot>, got <{shorten(tag)}>"
         )
     doc = _Doc(label, lines, ns, strict)
+    unknown = _unknown_names(root_el, ns, lines)
+    if unknown:
+        most = 10
+        more = f" and {len(unknown) - most} more" if len(unknown) > most else ""
+        names = f"{'; '.join(unknown[:most])}{more}"
+        if strict:
+            raise URDFError(f"{label}: unknown URDF names: {names} (strict=True)")
+        warnings.warn(f"{label}: unknown URDF names, ignored (strict=True refuses them): {names}", PhysicalityWarning,
+                      stacklevel=2)
+    try:  # an error the unknown names may explain names them
+        links: dict[str, _Link] = {}
+        joints: dict[str, _Joint] = {}
+        for elem in root_el:
+            kind = local_name(elem.tag, ns)
+            if kind == "link":
+                link = _parse_link(doc, elem)
+                if link.name in links:
+                    raise doc.error(
+                        elem, f"<link name={quote(link.name)}>",
+                        f"duplicate link name (first defined on line {links[link.name].line})",
+                    )
+                links[link.name] = link
+            elif kind == "joint":
+                joint = _parse_joint(doc, elem)
+                if joint.name in joints:
+                    raise doc.error(
+                        elem, f"<joint name={quote(joint.name)}>",
+                        f"duplicate joint name (first defined on line {joints[joint.name].line})",
+                    )
+                joints[joint.name] = joint
+        if not links:
+            xacro = any(isinstance(e.tag, str) and "xacro" in e.tag for e in root_el)
+            hint = " (an unexpanded xacro file? run xacro first)" if xacro else ""
+            raise URDFError(f"{label}: <robot> has no <link> elements{hint}")
 
-    links: dict[str, _Link] = {}
-    joints: dict[str, _Joint] = {}
-    for elem in root_el:
-        kind = local_name(elem.tag, ns)
-        if kind == "link":
-            link = _parse_link(doc, elem)
-            if link.name in links:
-                raise doc.error(
-                    elem, f"<link name={quote(link.name)}>",
-                    f"duplicate link name (first defined on line {links[link.name].line})",
-                )
-            links[link.name] = link
-        elif kind == "joint":
-            joint = _parse_joint(doc, elem)
-            if joint.name in joints:
-                raise doc.error(
-                    elem, f"<joint name={quote(joint.name)}>",
-                    f"duplicate joint name (first defined on line {joints[joint.name].line})",
-                )
-            joints[joint.name] = joint
-    if not links:
-        xacro = any(isinstance(e.tag, str) and "xacro" in e.tag for e in root_el)
-        hint = " (an unexpanded xacro file? run xacro first)" if xacro else ""
-        raise URDFError(f"{label}: <robot> has no <link> elements{hint}")
-
-    _check_limits_given(doc, list(joints.values()))
-    root, order = _link_order(doc, links, list(joints.values()))
-    mimics = _check_mimics(doc, joints)
-    try:
-        inertia_of = _link_inertias(doc, list(links.values()))
-        model, caught = _build(doc, root_el, path, root, order, inertia_of, mimics, floating_base, joints, links)
-    except URDFError:
-        raise
-    except FeatherdynError as exc:  # a check of the spatial types or the model builder: name the file
-        raise URDFError(f"{label}: {shorten_quoted(str(exc))}") from None
+        _check_limits_given(doc, list(joints.values()))
+        root, order = _link_order(doc, links, list(joints.values()))
+        mimics = _check_mimics(doc, joints)
+        try:
+            inertia_of = _link_inertias(doc, list(links.values()))
+            model, caught = _build(doc, root_el, path, root, order, inertia_of, mimics, floating_base, joints, links)
+        except URDFError:
+            raise
+        except FeatherdynError as exc:  # a check of the spatial types or the model builder: name the file
+            raise URDFError(f"{label}: {shorten_quoted(str(exc))}") from None
+    except URDFError as exc:
+        if not unknown:
+            raise
+        raise URDFError(f"{exc}; the file has unknown names, which may be why: {names}") from None
     reissue_warnings(caught, label)
     return model

@@ -305,8 +305,8 @@ def _limits(lower: np.ndarray, upper: np.ndarray, velocity: np.ndarray, effort: 
 
 
 def _cmd_info(args: argparse.Namespace) -> int:
-    from ..errors import InertiaError
     from ..verify import load_resolved, resolve_robot
+    from ..verify.dynamics import inertia_problem
 
     _name, path = resolve_robot(args.robot)
     _announce_large(path)
@@ -323,11 +323,10 @@ def _cmd_info(args: argparse.Namespace) -> int:
         joint = model.joints[i]
         axis = getattr(joint, "axis", getattr(joint, "normal", None))
         ax = f" axis {np.round(axis, 6).tolist()}" if axis is not None else ""
-        try:
-            model.inertias[i].check()
-            valid = "inertia ok"
-        except InertiaError as exc:
-            valid = f"INERTIA NOT PHYSICAL: {str(exc).split(': ', 1)[-1]}"
+        problem = inertia_problem(model, i)
+        valid = (f"INERTIA NOT PHYSICAL: {problem.split(': ', 1)[-1]}" if problem else
+                 "massless joint carrier inserted by the loader" if model.body_names[i] in model.inserted_bodies
+                 else "inertia ok")
         q_range = slice(model.idx_q[i], model.idx_q[i] + model.nqs[i])
         v_range = slice(model.idx_v[i], model.idx_v[i] + model.nvs[i])
         limits = _limits(model.lower[q_range], model.upper[q_range], model.velocity_limit[v_range],

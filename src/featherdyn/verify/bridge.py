@@ -113,6 +113,22 @@ class _Entry:
     continuous: bool
 
 
+def _pin_names(model: Model, pin_model: PinModel) -> dict[str, str]:
+    """Pinocchio's name of each featherdyn joint found there: the same name, except that the free-flyer roots map
+    to each other whatever their names (a URDF with a joint ``root_joint`` has featherdyn's free flyer named
+    ``root_joint_1`` and Pinocchio's ``root_joint``), in order, when as many are left unmatched on each side."""
+    pin_names = list(pin_model.names)[1:]
+    taken = set(pin_names)
+    out = {n: n for n in model.joint_names if n in taken}
+    fd_roots = [n for i, n in enumerate(model.joint_names) if n not in out and model.parents[i] == -1
+                and isinstance(model.joints[i], FreeFlyerJoint)]
+    pin_roots = [n for jid, n in enumerate(pin_model.names) if jid > 0 and n not in model.joint_names
+                 and pin_model.parents[jid] == 0 and pin_model.joints[jid].shortname() == "JointModelFreeFlyer"]
+    if fd_roots and len(fd_roots) == len(pin_roots):
+        out.update(zip(fd_roots, pin_roots, strict=True))
+    return out
+
+
 class JointMap:
     """Maps configurations, velocities and joint-space matrices between featherdyn and Pinocchio by joint name.
 
@@ -120,7 +136,8 @@ class JointMap:
         model: the featherdyn model.
         pin_model: a Pinocchio model of the same robot (built from the same URDF,
             or by :func:`pinocchio_model_from`). Its joints (other than the
-            universe) must be exactly featherdyn's joints, by name.
+            universe) must be exactly featherdyn's joints, by name; the free-flyer
+            roots (hanging from the world) map to each other whatever their names.
     """
 
     def __init__(self, model: Model, pin_model: PinModel) -> None:
@@ -128,18 +145,21 @@ class JointMap:
         self.pin_model = pin_model
         pin_names = list(pin_model.names)[1:]
         fd_names = list(model.joint_names)
-        if sorted(pin_names) != sorted(fd_names):
-            only_fd = sorted(set(fd_names) - set(pin_names))
-            only_pin = sorted(set(pin_names) - set(fd_names))
+        pin_of = _pin_names(model, pin_model)
+        if sorted(pin_of) != sorted(fd_names) or sorted(pin_of.values()) != sorted(pin_names):
+            only_fd = sorted(set(fd_names) - set(pin_of))
+            only_pin = sorted(set(pin_names) - set(pin_of.values()))
             raise ModelError(f"joints differ between featherdyn and Pinocchio: only in featherdyn {only_fd}, "
                              f"only in Pinocchio {only_pin}")
         self.entries: list[_Entry] = []
         for i, name in enumerate(fd_names):
-            jid = pin_model.getJointId(name)
+            jid = pin_model.getJointId(pin_of[name])
             short = pin_model.joints[jid].shortname()
             kind = model.joints[i].kind
             continuous = kind == "revolute" and pin_model.nqs[jid] == 2
             self.entries.append(_Entry(i, jid, kind, continuous))
+        #: Pinocchio's joint id of each featherdyn body's joint, `(nb,)`.
+        self.joint_ids = [e.pin_joint for e in self.entries]
         # featherdyn v index → Pinocchio v index (a permutation)
         perm = np.empty(model.nv, dtype=int)
         for e in self.entries:

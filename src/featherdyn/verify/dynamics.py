@@ -208,7 +208,7 @@ def dynamics_checks(pair: RobotPair, samples: int = 10, seed: int = 0, tol: floa
         ("the gravity term is missing (featherdyn's value is Pinocchio's with g = 0)", lambda ref: ref - gravity(ref)),
     ]
 
-    body_jid = [pm.getJointId(name) for name in model.joint_names]
+    body_jid = jm.joint_ids
     matched = _pin_frame_ids(model, pm)
     frames = _pick_frames(model, matched)
 
@@ -502,23 +502,43 @@ def equivalent_ellipsoid(mass: float, moments: np.ndarray) -> list[float] | None
     return [float(np.sqrt(x)) for x in sq]
 
 
-def model_diagnostics(model: Model, q: np.ndarray | None = None) -> ModelDiagnostics:
-    """Inertia validity per body (with the reason), conditioning of ``M(q)`` and massless subtrees."""
+#: What :func:`inertia_problem` says of a body the loader inserted (:attr:`Model.inserted_bodies`).
+INSERTED = "inserted by the loader: a massless body carrying one of several joints of one MJCF body"
+
+
+def inertia_problem(model: Model, i: int) -> str:
+    """Why body ``i``'s inertia is not physical (:meth:`SpatialInertia.check`'s message), or ``""``.
+
+    A body the loader inserted (:attr:`Model.inserted_bodies`, a massless carrier of one of several joints on
+    one MJCF body) is massless by construction, not by the user's mistake: ``""`` (:data:`INSERTED` says what
+    it is). Every other body is checked.
+    """
     from ..errors import InertiaError
 
+    name = model.body_names[i]
+    if name in model.inserted_bodies:
+        return ""
+    try:
+        model.inertias[i].check(name=f"body {name!r}")
+    except InertiaError as exc:
+        return str(exc)
+    return ""
+
+
+def model_diagnostics(model: Model, q: np.ndarray | None = None) -> ModelDiagnostics:
+    """Inertia validity per body (with the reason; the bodies the loader inserted pass, :func:`inertia_problem`),
+    conditioning of ``M(q)`` and massless subtrees."""
     diag = ModelDiagnostics(total_mass=model.total_mass)
     for i, name in enumerate(model.body_names):
         inertia = model.inertias[i]
-        reason = ""
-        try:
-            inertia.check(name=f"body {name!r}")
-        except InertiaError as exc:
-            reason = str(exc)
+        reason = inertia_problem(model, i)
+        if reason:
             diag.invalid_inertias.append((name, reason))
         diag.links.append({"body": name, "mass": float(inertia.mass), "principal_moments":
                            [float(x) for x in inertia.principal_moments()],
                            "ellipsoid_semi_axes": equivalent_ellipsoid(float(inertia.mass), inertia.principal_moments()),
-                           "valid": not reason, "reason": reason})
+                           "valid": not reason,
+                           "reason": INSERTED if name in model.inserted_bodies else reason})
     diag.singular_subtrees = massless_subtrees(model)
     if model.nv:
         qq = q if q is not None else random_configuration(model, np.random.default_rng(0), size=4)

@@ -253,6 +253,9 @@ class VerifyReport:
             lines.append(f"link inertias: {'all physical' if not bad else f'{len(bad)} not physical'}")
             lines += [f"  {b['body']}: {b['reason']}" for b in bad]
             lines += [f"  singular: {s}" for s in d.get("singular_subtrees", [])]
+        warned = self.meta.get("load_warnings", [])
+        if warned:  # what the loader said of the file (unknown names, odd inertias): never silent
+            lines += ["", f"loader warning{'s' if len(warned) > 1 else ''}:", *(f"  {w}" for w in warned)]
         rules: dict[str, list[str]] = {}  # a rule stated once, then each row's figures ("<rule>; <figures>")
         for r in self.results:
             if r.criterion:

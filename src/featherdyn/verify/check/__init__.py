@@ -212,7 +212,7 @@ def check_values(values: Mapping[str, ArrayLike] | str | os.PathLike[str], robot
         "robot": name, "urdf": path, "source": source, "floating_base": model.floating_base,
         "convention": convention, "tol": tol, "states": given.n, "batched": given.batched,
         "keys": [k for k in KEYS if k in given.arrays], "ignored_keys": list(given.ignored),
-        "dtypes": given.dtypes, "compared": ch.quantities(), "load_warnings": load_warnings,
+        "dtypes": given.dtypes, "compared": ch.quantities() + ch.derivative_keys(), "load_warnings": load_warnings,
     })
     if forced:
         q_len = given.arrays["q"].shape[1]
@@ -241,7 +241,9 @@ def check_values(values: Mapping[str, ArrayLike] | str | os.PathLike[str], robot
 
     for h in diagnose(ch, forced):
         explanation, details = explain(ch, h)
-        results = tuple(ch.result(h, q, group="corrected") for q in ch.quantities())
+        # every quantity given, re-compared under the reading: the derivative matrices at the corrected state
+        results = tuple([ch.result(h, q, group="corrected") for q in ch.quantities()]
+                        + [ch.derivative_result(h, k, group="corrected") for k in ch.derivative_keys()])
         report.diagnosis.append(Finding(h.suspects, explanation, results, details))
     if report.diagnosis:
         report.summary = "explained by " + " or ".join(f.suspect for f in report.diagnosis)

@@ -49,14 +49,15 @@ def explain(ch: Checker, h: Hypothesis) -> tuple[str, dict[str, object]]:
                 "alphabetical": "alphabetical order of the joint names",
                 "reverse": "reversed order"}[h.order]
         parts.append(f"the joints are in {what}: {_names(order)} instead of the {conv} convention's "
-                     f"{_names(declared)}; q, v, a, tau, ddq and the rows and columns of M are permuted alike")
+                     f"{_names(declared)}; q, v, a, tau, ddq and the rows and columns of M and of the derivative "
+                     "matrices are permuted alike")
         details["joint_order"] = h.order
         details["joints"] = order
     if h.swap6:
         given, wanted = ("linear first [v; ω] (Pinocchio's order)", "angular first [ω; v]") if conv == "featherdyn" \
             else ("angular first [ω; v] (featherdyn's order)", "linear first [v; ω]")
-        parts.append(f"the free-flyer block of v, a, tau and ddq (and of the rows and columns of M) has its 6D halves "
-                     f"swapped: the values are {given}, the {conv} convention is {wanted}; "
+        parts.append("the free-flyer block of v, a, tau and ddq (and of the rows and columns of M and of the "
+                     f"derivative matrices) has its 6D halves swapped: the values are {given}, the {conv} convention is {wanted}; "
                      "fd.conventions.freeflyer_v_from_pinocchio / freeflyer_v_to_pinocchio convert")
     if h.quat_wxyz is not None:
         joints = [b.name for b in ch.blocks if b.quat_at is not None and h.quat_wxyz in ("all", b.kind)]

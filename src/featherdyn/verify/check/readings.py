@@ -22,15 +22,19 @@ from ..bridge import SWAP6, JointMap
 from ..pinocchio import PinModel
 from ..report import CheckResult, compare
 from .report import one_line
-from .values import VECTOR_KEYS, Given
+from .values import DERIVATIVE_KEYS, VECTOR_KEYS, Given
 
-__all__ = ["QUANTITIES", "Block", "Change", "Hypothesis", "UnreadableError", "Layout", "Checker"]
+__all__ = ["QUANTITIES", "DERIVATIVES", "Block", "Change", "Hypothesis", "UnreadableError", "Layout", "Checker"]
 
 QUANTITIES = {
     "tau": "tau vs fd.rnea(q, v, a)",
     "M": "M vs fd.crba(q)",
     "ddq": "ddq: tau vs fd.rnea(q, v, ddq)",
 }
+
+#: The derivative matrices compared, by key (:mod:`.derivatives` reads a mismatch of their own).
+DERIVATIVES = {"dtau_dq": "dtau_dq vs fd.rnea_derivatives", "dtau_dv": "dtau_dv vs fd.rnea_derivatives",
+               "dddq_dq": "dddq_dq vs fd.aba_derivatives", "dddq_dv": "dddq_dv vs fd.aba_derivatives"}
 
 
 @dataclass(frozen=True)
@@ -169,6 +173,7 @@ class Checker(Layout):
         self.given, self.tol = given, tol
         self._reads: dict[tuple[object, ...], dict[str, np.ndarray] | Exception] = {}
         self._results: dict[tuple[Hypothesis, str], CheckResult] = {}
+        self._derivatives: dict[tuple[object, ...], dict[str, np.ndarray]] = {}
         self._models: dict[tuple[float, float, float], Model] = {}
 
     # ---- reading the user's arrays ------------------------------------------------------------------------
@@ -228,14 +233,18 @@ class Checker(Layout):
             elif h.triangle == "lower":
                 M = np.tril(M) + np.swapaxes(np.tril(M, -1), -1, -2)
             out["M"] = M[:, src][:, :, src]
+        for k in DERIVATIVE_KEYS:  # rows and columns in v's layout, as M; an (nv, nq) matrix stays as given
+            if k in g and g[k].shape[-1] == nv:
+                out[k] = g[k][:, src][:, :, src]
         if self.convention == "pinocchio":
             jm = self.pinocchio_map()
             out["q"] = jm.q_from_pin(out["q"])
             for k in VECTOR_KEYS:
                 if k in out:
                     out[k] = jm.v_from_pin(out[k])
-            if "M" in out:
-                out["M"] = jm.matrix_from_pin(out["M"])
+            for k in ("M", *DERIVATIVE_KEYS):
+                if k in out:
+                    out[k] = jm.matrix_from_pin(out[k])
         if h.world or h.classical:
             self._base_frame(out, h)
         return out
@@ -333,6 +342,56 @@ class Checker(Layout):
         except (UnreadableError, FeatherdynError, ValueError) as exc:
             return CheckResult("check", name, math.inf, math.inf, 0, self.tol, False, one_line(exc))
         return compare("check", name, given, expected, self.tol, "")
+
+    def derivative_keys(self) -> list[str]:
+        """The derivative matrices given (``dtau_dq``, ``dtau_dv``, ``dddq_dq``, ``dddq_dv``)."""
+        return [k for k in DERIVATIVE_KEYS if k in self.given.arrays]
+
+    def derivatives_at(self, h: Hypothesis) -> dict[str, np.ndarray]:
+        """featherdyn's derivative matrices at the state read under ``h`` (``fd.rnea_derivatives(q, v, a)``,
+        ``fd.aba_derivatives(q, v, tau)``), for the keys given; cached per state and gravity."""
+        import featherdyn as fd
+
+        key = (h.cos_sin, h.order, h.swap6, h.quat_wxyz, h.world, h.classical, h.gravity)
+        if key not in self._derivatives:
+            x, model, g = self.read(h), self.model_for(h), self.given.arrays
+            ours: dict[str, np.ndarray] = {}
+            if "dtau_dq" in g or "dtau_dv" in g:
+                ours["dtau_dq"], ours["dtau_dv"], _ = fd.rnea_derivatives(model, x["q"], x["v"], x["a"])
+            if "dddq_dq" in g or "dddq_dv" in g:
+                ours["dddq_dq"], ours["dddq_dv"], _ = fd.aba_derivatives(model, x["q"], x["v"], x["tau"])
+            self._derivatives[key] = ours
+        return self._derivatives[key]
+
+    def derivative_result(self, h: Hypothesis, key: str, group: str = "check") -> CheckResult:
+        """The user's derivative matrix ``key`` read under ``h`` against featherdyn's at the state read so.
+
+        The reading moves its rows and columns as it moves ``v``'s entries (joint order, 6D halves, the
+        declared convention); a world-frame base or a classical acceleration has no conversion for a derivative
+        matrix, so under those the matrix is compared as given and the row says so."""
+        name = DERIVATIVES[key]
+        cache = (dataclasses.replace(h, triangle=None), key)
+        if cache not in self._results:
+            raw = self.given.arrays[key]
+            if raw.shape[-1] != self.model.nv:  # with respect to q's coordinates: .derivatives reads it
+                r = CheckResult("check", name, math.inf, math.inf, 0, self.tol, False,
+                                f"{key} has {raw.shape[-1]} columns (nq): a derivative with respect to q's "
+                                "coordinates")
+            else:
+                try:
+                    given, expected = self.read(h)[key], self.derivatives_at(h)[key]
+                except (UnreadableError, FeatherdynError, ValueError) as exc:
+                    r = CheckResult("check", name, math.inf, math.inf, 0, self.tol, False, one_line(exc))
+                else:
+                    r = compare("check", name, given, expected, self.tol, "")
+                    unconverted = [n for n, on in (("world_frame_base_velocity", h.world),
+                                                   ("classical_base_acceleration", h.classical)) if on]
+                    if unconverted and not r.passed:
+                        r = dataclasses.replace(r, note=f"compared as given: {' and '.join(unconverted)} has no "
+                                                "conversion for a derivative matrix")
+            self._results[cache] = r
+        r = self._results[cache]
+        return r if r.group == group else dataclasses.replace(r, group=group)
 
     def explains(self, h: Hypothesis) -> bool:
         return all(self.result(h, q).passed for q in self.quantities())

@@ -21,12 +21,14 @@ def one_line(exc: BaseException) -> str:
 
 @dataclass(frozen=True)
 class Finding:
-    """One reading of the values under which every comparison passes.
+    """One reading of the values under which every comparison of ``tau``, ``M`` and ``ddq`` passes.
 
     Attributes:
         suspects: the suspect names (from :data:`~featherdyn.verify.check.SUSPECTS`) combined in this reading.
         explanation: what the values are, in words, and how to convert them.
-        results: the corrected comparisons (all passed).
+        results: the corrected comparisons of every quantity given: ``tau``, ``M`` and ``ddq`` (all passed),
+            then the derivative matrices re-read alike at the corrected state (one the reading does not fix
+            stays a failed row).
         details: the parameters of the reading (``gravity``, ``joint_order``, ``triangle``, ...).
     """
 
