@@ -282,13 +282,13 @@ def test_batched_derivatives_write_into_out() -> None:
         got = method(st.q, st.v, third, out=outs)
         assert all(g is o for g, o in zip(got, outs))
         assert all(np.array_equal(g, f) for g, f in zip(got, fresh))
-        with pytest.raises(TypeError, match="tuple of 3"):
+        with pytest.raises(fd.errors.ShapeError, match="expected 3 arrays"):
             method(st.q, st.v, third, out=outs[0])
         with pytest.raises(fd.errors.ShapeError, match=r"out: expected shape \(6, "):
             method(st.q, st.v, third, out=(outs[0], outs[1], np.empty((5, nv, nv))))
-        with pytest.raises(TypeError, match="C-contiguous float64"):
+        with pytest.raises(fd.errors.DTypeError, match="float64 results .* float32"):
             method(st.q, st.v, third, out=(outs[0], outs[1], np.empty((6, nv, nv), np.float32)))
-        with pytest.raises(ValueError, match="must not overlap"):
+        with pytest.raises(fd.errors.ShapeError, match="share memory"):
             method(st.q, st.v, third, out=(outs[0], outs[0], outs[2]))
 
 

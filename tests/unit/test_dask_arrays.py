@@ -97,7 +97,8 @@ CALLS: list[tuple[str, Callable[..., Any]]] = [
      lambda m, s, f: fd.frame_acceleration_derivatives(m, s["q"], s["v"], s["a"], f, reference=fd.WORLD)),
     ("joint_torque_regressor", lambda m, s, f: fd.joint_torque_regressor(m, s["q"], s["v"], s["a"])),
     # every declared algorithm (api/declarations.py), with its declared state arguments
-    *[(d.name, lambda m, s, f, d=d: getattr(fd, d.name)(m, *(s[n] for n in d.inputs)))
+    *[(d.name, lambda m, s, f, d=d: getattr(fd, d.name)(m, *(s[n] for n in d.inputs),
+                                                        **({"frame": f} if "frame" in d.options else {})))
       for d in DECLARATIONS.values()],
     ("integrate", lambda m, s, f: fd.integrate(m, s["q"], s["v"])),
     ("difference", lambda m, s, f: fd.difference(m, s["q"], fd.integrate(m, s["q"], s["a"]))),

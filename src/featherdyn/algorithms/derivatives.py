@@ -41,10 +41,11 @@ from ..model import Model
 from ..spatial import PluckerTransform, SpatialForce, SpatialMotion, crf, crm
 from ..spatial.ops import crf_apply, crm_apply, skew_unchecked
 from . import aba as _aba
+from . import crba as _crba
 from ._common import TreeData, batch_dtype, expand, zeros
 from .rnea import forward_pass
 
-__all__ = ["rnea_derivatives", "generalized_gravity_derivatives", "static_torque_derivatives", "mass_matrix_inverse", "aba_derivatives", "joint_torque_regressor",
+__all__ = ["rnea_derivatives", "rnea_partials", "frame_velocity_derivatives", "frame_acceleration_derivatives", "generalized_gravity_derivatives", "static_torque_derivatives", "mass_matrix_inverse", "aba_derivatives", "joint_torque_regressor",
            "dynamic_parameters", "frame_motion_derivatives"]
 
 
@@ -66,7 +67,15 @@ def _momentum_cross(h: np.ndarray) -> np.ndarray:
 
 
 def rnea_derivatives(model: Model, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray, f_ext: np.ndarray | None = None,
-                     gravity: bool = True) -> tuple[np.ndarray, np.ndarray]:
+                     gravity: bool = True) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """``(∂τ/∂q, ∂τ/∂q̇, ∂τ/∂q̈ = M)`` `(..., nv, nv)` of ``τ = RNEA(q, q̇, q̈)`` on checked arrays (public:
+    :func:`featherdyn.rnea_derivatives`)."""
+    dq, dv = rnea_partials(model, q, qd, qdd, f_ext, gravity)
+    return dq, dv, _crba.crba(model, q)
+
+
+def rnea_partials(model: Model, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray, f_ext: np.ndarray | None = None,
+                  gravity: bool = True) -> tuple[np.ndarray, np.ndarray]:
     """``(∂τ/∂q, ∂τ/∂q̇)`` `(..., nv, nv)` of ``τ = RNEA(q, q̇, q̈)`` on checked arrays (module docstring)."""
     batch, dtype = batch_dtype(q, qd, qdd, f_ext=f_ext)
     td = TreeData(model, dtype)
@@ -153,7 +162,7 @@ def generalized_gravity_derivatives(model: Model, q: np.ndarray) -> np.ndarray:
     docstring at rest, where only the base acceleration −g drives the bodies.)
     """
     zero = np.zeros(q.shape[:-1] + (model.nv,), dtype=q.dtype)
-    return rnea_derivatives(model, q, zero, zero)[0]
+    return rnea_partials(model, q, zero, zero)[0]
 
 
 def static_torque_derivatives(model: Model, q: np.ndarray, f_ext: np.ndarray) -> np.ndarray:
@@ -167,7 +176,7 @@ def static_torque_derivatives(model: Model, q: np.ndarray, f_ext: np.ndarray) ->
     batch = np.broadcast_shapes(q.shape[:-1], f_ext.shape[:-2])
     dtype = np.result_type(q, f_ext)
     zero = np.zeros(batch + (model.nv,), dtype=dtype)
-    return rnea_derivatives(model, q, zero, zero, f_ext)[0]
+    return rnea_partials(model, q, zero, zero, f_ext)[0]
 
 
 def mass_matrix_inverse(model: Model, q: np.ndarray) -> np.ndarray:
@@ -189,7 +198,7 @@ def aba_derivatives(model: Model, q: np.ndarray, qd: np.ndarray, tau: np.ndarray
         ∂q̈/∂q = −M⁻¹ ∂τ/∂q,   ∂q̈/∂q̇ = −M⁻¹ ∂τ/∂q̇   (∂τ of RNEA at q̈ = ABA(q, q̇, τ))
     """
     qdd = _aba.aba(model, q, qd, tau, f_ext, gravity)
-    dq, dv = rnea_derivatives(model, q, qd, qdd, f_ext, gravity)
+    dq, dv = rnea_partials(model, q, qd, qdd, f_ext, gravity)
     Minv = mass_matrix_inverse(model, q)
     return -(Minv @ dq), -(Minv @ dv), Minv
 
@@ -355,3 +364,19 @@ def frame_motion_derivatives(model: Model, q: np.ndarray, qd: np.ndarray, qdd: n
     if qdd is None:
         return [dv_dq, dv_dv]
     return [dv_dq, dv_dv, da_dq, da_dv, da_da]
+
+
+def frame_velocity_derivatives(model: Model, q: np.ndarray, qd: np.ndarray, frame: int,
+                               reference: ReferenceFrame) -> tuple[np.ndarray, np.ndarray]:
+    """``(∂v_f/∂q, ∂v_f/∂q̇)`` `(..., 6, nv)` (:func:`frame_motion_derivatives`; public:
+    :func:`featherdyn.frame_velocity_derivatives`)."""
+    dv_dq, dv_dv = frame_motion_derivatives(model, q, qd, None, frame, reference)
+    return dv_dq, dv_dv
+
+
+def frame_acceleration_derivatives(model: Model, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray, frame: int,
+                                   reference: ReferenceFrame) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """``(∂a_f/∂q, ∂a_f/∂q̇, ∂a_f/∂q̈)`` `(..., 6, nv)` (:func:`frame_motion_derivatives`; public:
+    :func:`featherdyn.frame_acceleration_derivatives`)."""
+    _, _, da_dq, da_dv, da_da = frame_motion_derivatives(model, q, qd, qdd, frame, reference)
+    return da_dq, da_dv, da_da

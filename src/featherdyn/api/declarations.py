@@ -15,8 +15,9 @@ from ..algorithms import jacobians as _jac
 from ..algorithms import rnea as _rnea
 from .declared import Declaration, public_function
 
-__all__ = ["rnea", "nonlinear_effects", "generalized_gravity", "crba", "aba", "frame_jacobian",
-           "generalized_gravity_derivatives", "static_torque_derivatives"]
+__all__ = ["rnea", "nonlinear_effects", "generalized_gravity", "crba", "aba", "frame_jacobian", "rnea_derivatives",
+           "aba_derivatives", "mass_matrix_inverse", "joint_torque_regressor", "frame_velocity_derivatives",
+           "frame_acceleration_derivatives", "generalized_gravity_derivatives", "static_torque_derivatives"]
 
 DECLARATIONS: dict[str, Declaration] = {d.name: d for d in [
     Declaration(
@@ -137,6 +138,125 @@ DECLARATIONS: dict[str, Declaration] = {d.name: d for d in [
         """,
     ),
     Declaration(
+        name="rnea_derivatives",
+        inputs=("q", "v", "a", "f_ext"),
+        optional=("f_ext",),
+        options=("gravity",),
+        outputs=("dtau_dq", "dtau_dv", "M"),
+        reference=_ref.rnea_derivatives,
+        doc="""``(∂τ/∂q, ∂τ/∂q̇, ∂τ/∂q̈)``, each `(..., nv, nv)`, of ``τ = RNEA(q, q̇, q̈, f_ext)``.
+
+        Args:
+            q: `(..., nq)`; v, a: `(..., nv)`; f_ext: optional `(..., nb, 6)` body-frame forces ``[n; f]``.
+            gravity: set ``False`` to leave gravity out.
+            out: optional tuple of three `(..., nv, nv)` float64 arrays to write into.
+
+        ∂/∂q along the tangent of ``fd.integrate`` (``q ⊕ δ``, δ in ``v``'s layout); the analytical algorithm
+        (Carpentier & Mansard, RSS 2018)::
+
+            ∂τ/∂q[:, j] = d/dε RNEA(q ⊕ ε e_j, q̇, q̈) |_{ε=0},    ∂τ/∂q̈ = M(q)
+        """,
+    ),
+    Declaration(
+        name="aba_derivatives",
+        inputs=("q", "v", "tau", "f_ext"),
+        optional=("f_ext",),
+        options=("gravity",),
+        outputs=("ddq_dq", "ddq_dv", "Minv"),
+        reference=_ref.aba_derivatives,
+        doc="""``(∂q̈/∂q, ∂q̈/∂q̇, ∂q̈/∂τ)``, each `(..., nv, nv)`, of ``q̈ = ABA(q, q̇, τ, f_ext)``.
+
+        Args:
+            q: `(..., nq)`; v, tau: `(..., nv)`; f_ext: optional `(..., nb, 6)` body-frame forces.
+            gravity: set ``False`` to leave gravity out.
+            out: optional tuple of three `(..., nv, nv)` float64 arrays to write into.
+
+        ::
+
+            ∂q̈/∂q = −M⁻¹ ∂τ/∂q,   ∂q̈/∂q̇ = −M⁻¹ ∂τ/∂q̇   (RNEA's, at q̈ = ABA(q, q̇, τ)),   ∂q̈/∂τ = M⁻¹
+
+        Raises:
+            SingularMassMatrixError: naming the joint, when M(q) is singular.
+        """,
+    ),
+    Declaration(
+        name="mass_matrix_inverse",
+        inputs=("q",),
+        outputs=("Minv",),
+        reference=_ref.mass_matrix_inverse,
+        doc="""``M(q)⁻¹`` `(..., nv, nv)`, never by inverting a dense M.
+
+        Args:
+            q: `(..., nq)`.
+            out: optional `(..., nv, nv)` float64 array to write into.
+
+        ::
+
+            M⁻¹ e_j = ABA(q, 0, e_j) without gravity                   (the reference)
+            M = Lᵀ L (tree-sparse),  M⁻¹ = Zᵀ Z,  Z = L⁻ᵀ               (the core: O(nv · depth) per row)
+
+        Raises:
+            SingularMassMatrixError: naming the joint, when M(q) is singular.
+        """,
+    ),
+    Declaration(
+        name="joint_torque_regressor",
+        inputs=("q", "v", "a"),
+        outputs=("Y",),
+        reference=_ref.joint_torque_regressor,
+        doc="""``Y`` `(..., nv, 10 nb)` with ``RNEA(q, q̇, q̈) = Y @ fd.dynamic_parameters(model)`` (gravity included).
+
+        Args:
+            q: `(..., nq)`; v, a: `(..., nv)`.
+            out: optional `(..., nv, 10 nb)` float64 array to write into.
+
+        ::
+
+            Y[joint j, 10 i + k] = S_jᵀ ʲX_i* (I(e_k) a_i + v_i ×* I(e_k) v_i)    (j supporting body i)
+        """,
+    ),
+    Declaration(
+        name="frame_velocity_derivatives",
+        inputs=("q", "v"),
+        options=("frame", "reference"),
+        outputs=("dv_dq", "dv_dv"),
+        reference=_ref.frame_velocity_derivatives,
+        doc="""``(∂v_f/∂q, ∂v_f/∂q̇)`` `(..., 6, nv)` of ``fd.frame_velocity(model, q, v, frame, reference)``.
+
+        Args:
+            q: `(..., nq)`; v: `(..., nv)`; frame: name or index; reference: ``fd.LOCAL`` (default) & co.
+            out: optional tuple of two `(..., 6, nv)` float64 arrays to write into.
+
+        ::
+
+            v_f = J(q) q̇,   ∂v_f/∂q̇ = J
+
+        In ``LOCAL_WORLD_ALIGNED`` this is the derivative of that function itself, whose reference
+        point (the frame's origin) moves with q; Pinocchio's ``getFrameVelocityDerivatives`` keeps the
+        point fixed: its linear rows lack ``ω × J_v[:, j]``. LOCAL and WORLD are the same in both.
+        """,
+    ),
+    Declaration(
+        name="frame_acceleration_derivatives",
+        inputs=("q", "v", "a"),
+        options=("frame", "reference"),
+        outputs=("da_dq", "da_dv", "da_da"),
+        reference=_ref.frame_acceleration_derivatives,
+        doc="""``(∂a_f/∂q, ∂a_f/∂q̇, ∂a_f/∂q̈)`` `(..., 6, nv)` of ``fd.frame_acceleration`` (spatial, no gravity).
+
+        Args:
+            q: `(..., nq)`; v, a: `(..., nv)`; frame: name or index; reference: ``fd.LOCAL`` (default) & co.
+            out: optional tuple of three `(..., 6, nv)` float64 arrays to write into.
+
+        ::
+
+            a_f = J q̈ + J̇ q̇,   ∂a_f/∂q̈ = J
+
+        (``LOCAL_WORLD_ALIGNED``: as :func:`frame_velocity_derivatives`; Pinocchio's linear rows lack
+        ``ω̇ × J_v[:, j]``.)
+        """,
+    ),
+    Declaration(
         name="generalized_gravity_derivatives",
         inputs=("q",),
         outputs=("dg_dq",),
@@ -179,5 +299,11 @@ generalized_gravity = public_function(DECLARATIONS["generalized_gravity"])
 crba = public_function(DECLARATIONS["crba"])
 aba = public_function(DECLARATIONS["aba"])
 frame_jacobian = public_function(DECLARATIONS["frame_jacobian"])
+rnea_derivatives = public_function(DECLARATIONS["rnea_derivatives"])
+aba_derivatives = public_function(DECLARATIONS["aba_derivatives"])
+mass_matrix_inverse = public_function(DECLARATIONS["mass_matrix_inverse"])
+joint_torque_regressor = public_function(DECLARATIONS["joint_torque_regressor"])
+frame_velocity_derivatives = public_function(DECLARATIONS["frame_velocity_derivatives"])
+frame_acceleration_derivatives = public_function(DECLARATIONS["frame_acceleration_derivatives"])
 generalized_gravity_derivatives = public_function(DECLARATIONS["generalized_gravity_derivatives"])
 static_torque_derivatives = public_function(DECLARATIONS["static_torque_derivatives"])

@@ -93,9 +93,12 @@ def _out_arrays(decl: Declaration, out: Any) -> tuple[np.ndarray, ...]:
     if len(arrays) != len(decl.outputs) or not all(type(a) is np.ndarray for a in arrays):
         raise ShapeError(f"out: expected {'an array' if len(decl.outputs) == 1 else f'{len(decl.outputs)} arrays'} "
                          f"for {', '.join(decl.outputs)}, got {type(out).__name__}")
-    for name, a in zip(decl.outputs, arrays, strict=True):
+    for k, (name, a) in enumerate(zip(decl.outputs, arrays, strict=True)):
         if not a.flags.writeable:
             raise ShapeError(f"out: the array for {name} is read-only")
+        for other, b in zip(decl.outputs[:k], arrays[:k], strict=True):
+            if np.may_share_memory(a, b):
+                raise ShapeError(f"out: the arrays for {other} and {name} share memory")
     return arrays
 
 
@@ -173,7 +176,8 @@ def call(decl: Declaration, model: Model, args: tuple[Any, ...], out: Any = None
         outs = tuple(as_dtype(o, dtype) for o in _declared.run(decl.name, model, batch, f64, options=opts))
     else:
         r = quiet(reference, model, *checked)
-        outs = tuple(finite_result(np.asarray(o), decl.name) for o in (r if isinstance(r, tuple) else (r,)))
+        outs = tuple(finite_result(as_dtype(np.asarray(o), dtype) if dtype.kind == "f" else np.asarray(o), decl.name)
+                     for o in (r if isinstance(r, tuple) else (r,)))
     if out is None:
         return _result(decl, outs)
     # 6. out=: written after the computation (so an out sharing memory with an input changes nothing)
@@ -181,7 +185,7 @@ def call(decl: Declaration, model: Model, args: tuple[Any, ...], out: Any = None
     for name, dst, src in zip(decl.outputs, arrays, outs, strict=True):
         if dst.shape != src.shape:
             raise ShapeError(f"out: expected shape {src.shape} for {name}, got {dst.shape}")
-        if not np.can_cast(src.dtype, dst.dtype, casting="same_kind"):
+        if not np.can_cast(src.dtype, dst.dtype, casting="safe"):
             raise DTypeError(f"out: cannot write {src.dtype} results for {name} into a {dst.dtype} array")
         np.copyto(dst, src)
     return out

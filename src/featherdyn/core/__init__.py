@@ -334,6 +334,21 @@ frame_jacobian = _declared("frame_jacobian", """The geometric Jacobian `(..., 6,
 
         frame_velocity(model, q, v, frame, reference) = J v
     """)
+rnea_derivatives = _declared("rnea_derivatives", """``(∂τ/∂q, ∂τ/∂q̇, ∂τ/∂q̈ = M)``, each `(..., nv, nv)`, of
+    ``τ = RNEA(q, q̇, q̈)``, ∂/∂q along the tangent of ``fd.integrate``; ``out``: a tuple of three arrays.""")
+aba_derivatives = _declared("aba_derivatives", """``(∂q̈/∂q, ∂q̈/∂q̇, M⁻¹)``, each `(..., nv, nv)`, of ``q̈ = ABA(q, q̇, τ)``::
+
+        ∂q̈/∂q = −M⁻¹ ∂τ/∂q,   ∂q̈/∂q̇ = −M⁻¹ ∂τ/∂q̇   (∂τ of RNEA at q̈ = ABA(q, q̇, τ))
+    """)
+mass_matrix_inverse = _declared("mass_matrix_inverse", """``M(q)⁻¹`` `(..., nv, nv)` from M's tree-sparse factor::
+
+        M = Lᵀ L,   M⁻¹ = Zᵀ Z,   Z = L⁻ᵀ   (column a of Z nonzero only on a's ancestor dofs)
+    """)
+joint_torque_regressor = _declared("joint_torque_regressor", """``Y`` `(..., nv, 10 nb)` with ``RNEA(q, q̇, q̈) = Y π``.""")
+frame_velocity_derivatives = _declared("frame_velocity_derivatives", """``(∂v_f/∂q, ∂v_f/∂q̇)`` `(..., 6, nv)` of a
+    frame's velocity in ``reference``.""")
+frame_acceleration_derivatives = _declared("frame_acceleration_derivatives", """``(∂a_f/∂q, ∂a_f/∂q̇, ∂a_f/∂q̈)``
+    `(..., 6, nv)` of a frame's spatial acceleration in ``reference``.""")
 static_torque_derivatives = _declared("static_torque_derivatives", """``∂τ_s/∂q`` `(..., nv, nv)`, ``τ_s = RNEA(q, 0, 0, f_ext)``.""")
 
 
@@ -646,77 +661,6 @@ ARG_NAMES = _errors.ARG_NAMES
 _ABA_ARGS = ("q", "v", "tau", "f_ext", "out")
 
 
-def rnea_derivatives(model: Model, q: Any, v: Any, a: Any, f_ext: Any = None, gravity: bool = True,
-                     out: Any = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """``(∂τ/∂q, ∂τ/∂q̇, ∂τ/∂q̈ = M)``, each `(..., nv, nv)`, of ``τ = RNEA(q, q̇, q̈)``.
-
-    ∂/∂q along the tangent of ``fd.integrate`` (``q ⊕ δ``, δ in ``v``'s layout); exact to round-off
-    (the analytical algorithm of Carpentier & Mansard, RSS 2018, in each tree's root-body coordinates)::
-
-        ∂τ/∂q[:, j] = d/dε RNEA(q ⊕ ε e_j, q̇, q̈) |_{ε=0},   ∂τ/∂q̇[:, j] = d/dε RNEA(q, q̇ + ε e_j, q̈)
-
-    ``out``: three float64 C-contiguous `(..., nv, nv)` arrays to write into (reusing them avoids the page
-    faults of large fresh arrays).
-    """
-    h, batch, (Q, V, A, FX), vectors = _dynamics_rows(model, q, v, a, f_ext, "a", out)
-    N, nv = math.prod(batch), h.nv
-    dq, dv, M = _outs(out, 3, batch + (nv, nv))
-    st = _core.rnea_derivatives_batch(h.cm, Q, V, A, FX, bool(gravity), dq.reshape(N, nv * nv),
-                                      dv.reshape(N, nv * nv), M.reshape(N, nv * nv))
-    _raise_derivative_status(st, model, q, vectors, f_ext, [Q, V, A, FX], bool(gravity), "rnea_derivatives")
-    return dq, dv, M
-
-
-def mass_matrix_inverse(model: Model, q: Any) -> np.ndarray:
-    """``M(q)⁻¹`` `(..., nv, nv)` from M's tree-sparse factor (a dense M is never inverted)::
-
-        M = Lᵀ L,   M⁻¹ = Zᵀ Z,   Z = L⁻ᵀ   (column a of Z nonzero only on a's ancestor dofs)
-    """
-    h = _view(model)
-    q_ = _f64(q, "q")
-    batch = _batch_shape(model, [(q_, 1)], q, [], None)
-    Q = _rows(q_, batch, (h.nq,))
-    out = result_array(batch + (h.nv, h.nv))
-    st = _core.minverse_batch(h.cm, Q, out.reshape(math.prod(batch), h.nv * h.nv))
-    _raise_derivative_status(st, model, q, [], None, [Q, None, None, None], False, "mass_matrix_inverse")
-    return out
-
-
-def aba_derivatives(model: Model, q: Any, v: Any, tau: Any, f_ext: Any = None, gravity: bool = True,
-                    out: Any = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """``(∂q̈/∂q, ∂q̈/∂q̇, ∂q̈/∂τ = M⁻¹)``, each `(..., nv, nv)`, of ``q̈ = ABA(q, q̇, τ)``::
-
-        ∂q̈/∂q = −M⁻¹ ∂τ/∂q,   ∂q̈/∂q̇ = −M⁻¹ ∂τ/∂q̇   (∂τ of RNEA at q̈ = ABA(q, q̇, τ))
-
-    ``out``: as in :func:`rnea_derivatives`.
-    """
-    h, batch, (Q, V, T, FX), vectors = _dynamics_rows(model, q, v, tau, f_ext, "tau", out)
-    N, nv = math.prod(batch), h.nv
-    qdd = np.empty(batch + (nv,))
-    dq, dv, Minv = _outs(out, 3, batch + (nv, nv))
-    st = _core.aba_derivatives_batch(h.cm, Q, V, T, FX, bool(gravity), qdd.reshape(N, nv),
-                                     dq.reshape(N, nv * nv), dv.reshape(N, nv * nv), Minv.reshape(N, nv * nv))
-    _raise_derivative_status(st, model, q, vectors, f_ext, [Q, V, T, FX], bool(gravity), "aba_derivatives")
-    return dq, dv, Minv
-
-
-def joint_torque_regressor(model: Model, q: Any, v: Any, a: Any) -> np.ndarray:
-    """``Y`` `(..., nv, 10 nb)` with ``τ = RNEA(q, q̇, q̈) = Y π``, π the bodies' dynamic parameters stacked::
-
-        π_i = [m, m c_x, m c_y, m c_z, I_xx, I_xy, I_yy, I_xz, I_yz, I_zz]   (I about body i's origin)
-    """
-    h = _view(model)
-    q_, v_, a_ = _f64(q, "q"), _f64(v, "v"), _f64(a, "a")
-    vectors = [("v", v), ("a", a)]
-    batch = _batch_shape(model, [(q_, 1), (v_, 1), (a_, 1)], q, vectors, None)
-    N, ncol = math.prod(batch), 10 * h.nb
-    Y = result_array(batch + (h.nv, ncol))
-    st = _core.regressor_batch(h.cm, _rows(q_, batch, (h.nq,)), _rows(v_, batch, (h.nv,)),
-                               _rows(a_, batch, (h.nv,)), Y.reshape(N, h.nv * ncol))
-    _check_batch(st, model, q, vectors, what="joint_torque_regressor")
-    return Y
-
-
 def _ltl_rows(model: Model, q: Any, extra: Any, name: str, tail: tuple[int, ...]
               ) -> tuple[CoreHandle, tuple[int, ...], np.ndarray, np.ndarray | None]:
     h = _view(model)
@@ -853,45 +797,6 @@ def contact_dynamics(model: Model, q: Any, v: Any, tau: Any, specs: np.ndarray, 
     if st[1]:
         _raise_derivative_status(st, model, q, vectors, f_ext, rows, True, "constrained_dynamics")
     return qdd, lam, info[..., 0], info[..., 1]
-
-
-def frame_velocity_derivatives(model: Model, q: Any, v: Any, frame: Any,
-                               reference: Any = LOCAL) -> tuple[np.ndarray, np.ndarray]:
-    """``(∂v_f/∂q, ∂v_f/∂q̇)`` `(..., 6, nv)` of the frame's spatial velocity in ``reference`` (``fd.frame_velocity``).
-
-    ∂/∂q along the tangent of ``fd.integrate``; exact (forward-mode differentiation of the kernel)::
-
-        v_f = J(q) q̇   so   ∂v_f/∂q̇ = J,   ∂v_f/∂q[:, j] = d/dε v_f(q ⊕ ε e_j, q̇)
-    """
-    out = _frame_motion_derivatives(model, q, v, None, frame, reference)
-    return out[0], out[1]
-
-
-def frame_acceleration_derivatives(model: Model, q: Any, v: Any, a: Any, frame: Any,
-                                   reference: Any = LOCAL) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """``(∂a_f/∂q, ∂a_f/∂q̇, ∂a_f/∂q̈)`` `(..., 6, nv)` of the frame's spatial acceleration (``fd.frame_acceleration``)::
-
-        a_f = J q̈ + J̇ q̇   so   ∂a_f/∂q̈ = J
-    """
-    out = _frame_motion_derivatives(model, q, v, a, frame, reference)
-    return out[2], out[3], out[4]
-
-
-def _frame_motion_derivatives(model: Model, q: Any, v: Any, a: Any, frame: Any, reference: Any) -> list[np.ndarray]:
-    fid = model.resolve_frame(frame)
-    ref = _reference_code(reference)
-    h = _view(model)
-    q_, v_ = _f64(q, "q"), _f64(v, "v")
-    a_ = None if a is None else _f64(a, "a")
-    vectors = [("v", v)] + ([] if a is None else [("a", a)])
-    batch = _batch_shape(model, [(x, 1) for x in (q_, v_, a_) if x is not None], q, vectors, None)
-    N = math.prod(batch)
-    outs = [np.empty(batch + (6, h.nv)) for _ in range(2 if a is None else 5)]
-    flat = [x.reshape(N, 6 * h.nv) for x in outs] + [None] * (5 - len(outs))
-    st = _core.frame_motion_derivatives_batch(h.cm, _rows(q_, batch, (h.nq,)), _rows(v_, batch, (h.nv,)),
-                                              _rows(a_, batch, (h.nv,)), fid, ref, *flat)
-    _check_batch(st, model, q, vectors, what="frame_motion_derivatives")
-    return outs + [np.empty(0)] * (5 - len(outs)) if a is None else outs
 
 
 # ---------------------------------------------------------------------------

@@ -14,7 +14,8 @@
 
 The declared algorithms' methods (``rnea``, ``nle``, ``gravity``, ``crba``, ``aba`` and the
 others of ``featherdyn/api/declarations.py``; ``rnea_batch``, ``crba_batch`` and ``aba_batch``
-are the same methods under their former names) are added by ``fd.compile`` from the
+``rnea_derivatives_batch``, ``aba_derivatives_batch``, ``frame_jacobian_batch`` are the same methods under their
+former names) are added by ``fd.compile`` from the
 declarations; the rest are below.
 
 The single-state methods hand their arguments to the core's binding as they
@@ -41,7 +42,7 @@ import numpy as np
 from .._state_checks import check_f_ext, check_state
 from ..errors import ModelError
 from ..model import Model
-from . import _lib, _view, aba_derivatives, fk_batch, rnea_derivatives
+from . import _lib, _view, fk_batch
 from . import fk as _fk
 
 __all__ = ["CompiledModel", "compile_model"]
@@ -90,20 +91,6 @@ class CompiledModel:
         self.fk = finished_in_c("fk", fk)
 
     # batched forms: any batch shape (leading axes broadcast), on the core's threads
-
-    def rnea_derivatives_batch(self, q: Any, v: Any, a: Any, f_ext: Any = None, gravity: bool = True,
-                               out: Any = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """``(∂τ/∂q, ∂τ/∂q̇, M)``, each `(..., nv, nv)`, for batches of states, on the core's threads.
-
-        ``out``: three float64 C-contiguous `(..., nv, nv)` arrays to write into.
-        """
-        return rnea_derivatives(self.model, q, v, a, f_ext, gravity, out)
-
-    def aba_derivatives_batch(self, q: Any, v: Any, tau: Any, f_ext: Any = None, gravity: bool = True,
-                              out: Any = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """``(∂q̈/∂q, ∂q̈/∂q̇, M⁻¹)``, each `(..., nv, nv)`, for batches of states (``out`` as in
-        :meth:`rnea_derivatives_batch`)."""
-        return aba_derivatives(self.model, q, v, tau, f_ext, gravity, out)
 
     def fk_batch(self, q: Any, out: Any = None) -> np.ndarray:
         """World placements `(..., nb, 4, 4)` for a batch of configurations."""

@@ -61,7 +61,7 @@ def kernel(name: str) -> Any:
 
 def shape_of(h: CoreHandle, symbolic: tuple[Any, ...]) -> tuple[int, ...]:
     """A declared shape with the model's lengths: ``("nv", "nv")`` → `(nv, nv)`."""
-    lengths = {"nq": h.nq, "nv": h.nv, "nb": h.nb}
+    lengths = {"nq": h.nq, "nv": h.nv, "nb": h.nb, "np": 10 * h.nb}
     return tuple(lengths[d] if isinstance(d, str) else int(d) for d in symbolic)
 
 

@@ -1,8 +1,10 @@
-// The binding of the dynamics' tools (docs/architecture.md): RNEA in complex arithmetic (complex-step checks) and
-// the operation counts of RNEA, CRBA and ABA. The algorithms themselves are declared (declarations.hpp).
+// The binding of the dynamics' tools (docs/architecture.md): RNEA in complex arithmetic and its derivatives by
+// forward-mode differentiation (the tests' independent checks), and the operation counts of RNEA, CRBA and ABA.
+// The algorithms themselves are declared (declarations.hpp).
 #include "aba.hpp"
 #include "counted.hpp"
 #include "crba.hpp"
+#include "derivatives.hpp"
 #include "rnea.hpp"
 #include "entry_points.hpp"
 
@@ -22,6 +24,18 @@ std::int64_t rnea_complex1(const ModelData& md, const InC& q, const InC& v, cons
   require_aligned(tau);
   if (tau.size() != static_cast<size_t>(mv.nv)) return make_status(LENGTH, ARG_OUT, tau.size());
   rnea(mv, q.data(), v.data(), a.data(), f_ext.is_valid() ? f_ext.data() : nullptr, gravity, tau.data());
+  return OK;
+}
+
+// ∂τ/∂q, ∂τ/∂q̇ of one state by forward-mode differentiation (Dual numbers).
+std::int64_t rnea_derivatives_dual1(const ModelData& md, const In& q, const In& v, const In& a, Out dq, Out dv) {
+  const ModelView& mv = md.view;
+  const size_t n2 = static_cast<size_t>(mv.nv) * mv.nv;
+  if (q.size() != size_t(mv.nq) || v.size() != size_t(mv.nv) || a.size() != size_t(mv.nv) || dq.size() != n2 ||
+      dv.size() != n2)
+    return make_status(LENGTH, ARG_OUT, -1);
+  FD_TRY(check_state(mv, q.data(), v.data(), a.data(), nullptr));
+  rnea_derivatives_dual(mv, q.data(), v.data(), a.data(), nullptr, true, dq.data(), dv.data());
   return OK;
 }
 
@@ -54,6 +68,8 @@ std::int64_t flops1(const ModelData& md, int kind, const In& q, const In& v, con
 void fdcore::bind_dynamics(nb::module_& m) {
   m.def("rnea_complex", &rnea_complex1, nb::arg("model"), arr("q"), arr("v"), arr("a"), opt("f_ext"), nb::arg("gravity"),
         arr("out"));
+  m.def("rnea_derivatives_dual", &rnea_derivatives_dual1, nb::arg("model"), arr("q"), arr("v"), arr("a"), arr("dtau_dq"),
+        arr("dtau_dv"));
   m.def("flops", &flops1, nb::arg("model"), nb::arg("kind"), arr("q"), arr("v"), arr("b"),
         "floating-point operations of one RNEA (0), CRBA (1) or ABA (2) call for this state");
 }

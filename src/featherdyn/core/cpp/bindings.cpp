@@ -98,6 +98,7 @@ nb::list operands(const std::vector<Operand>& ops) {
       if (n == NQ) shape.append("nq");
       else if (n == NV) shape.append("nv");
       else if (n == NB) shape.append("nb");
+      else if (n == NP) shape.append("np");
       else shape.append(n);
     }
     out.append(nb::make_tuple(o.name, nb::tuple(shape), o.optional));
@@ -188,7 +189,6 @@ NB_MODULE(_core, m) {
 
   bind_dynamics(m);
   bind_kinematics(m);
-  bind_derivatives(m);
   bind_constraints(m);
   bind_public_calls(m);
 

@@ -10,7 +10,11 @@
 #include "crba.hpp"
 #include "declare.hpp"
 #include "derivatives.hpp"
+#include "frame_derivatives.hpp"
 #include "frames.hpp"
+#include "ltl.hpp"
+#include "regressor.hpp"
+#include "scratch.hpp"
 #include "rnea.hpp"
 
 namespace fdcore {
@@ -99,6 +103,104 @@ struct FrameJacobian : Declared {
   }
 };
 
+// (∂τ/∂q, ∂τ/∂q̇, ∂τ/∂q̈ = M) (nv, nv) of τ = RNEA(q, q̇, q̈, f_ext): the analytical derivatives (derivatives.hpp),
+// ∂/∂q along the tangent of fd.integrate.
+struct RneaDerivatives : Declared {
+  static constexpr const char* name = "rnea_derivatives";
+  static constexpr Operand inputs[] = {{"q", ARG_Q, {NQ}, 1, false}, {"v", ARG_V, {NV}, 1, false},
+                                       {"a", ARG_A, {NV}, 1, false}, {"f_ext", ARG_FEXT, {NB, 6}, 2, true}};
+  static constexpr Operand outputs[] = {{"dtau_dq", ARG_OUT, {NV, NV}, 2, false},
+                                        {"dtau_dv", ARG_OUT, {NV, NV}, 2, false},
+                                        {"M", ARG_OUT, {NV, NV}, 2, false}};
+  static constexpr unsigned options = GRAVITY;
+  static constexpr auto group = &fdgroup::GroupKernels::rnea_derivatives_group;
+  static std::int64_t run(const ModelView& mv, const double* const* in, double* const* out, const Options& opt) {
+    group_kernels().rnea_derivatives(mv, in[0], in[1], in[2], in[3], opt.gravity, out[0], out[1], out[2]);
+    return OK;
+  }
+};
+
+// The singular joint (−1: none) of q and its D = Sᵀ Iᴬ S: ABA at rest (the articulated inertias depend on q only).
+inline std::int64_t singular_at_rest(const ModelView& mv, const double* const* in, const Options&, double* D36) {
+  std::vector<double> zero(static_cast<size_t>(mv.nv), 0.0), qdd(static_cast<size_t>(mv.nv));
+  return aba<double>(mv, in[0], zero.data(), zero.data(), nullptr, false, qdd.data(), D36);
+}
+
+// (∂q̈/∂q, ∂q̈/∂q̇, ∂q̈/∂τ = M⁻¹) (nv, nv) of q̈ = ABA(q, q̇, τ, f_ext): −M⁻¹ ∂τ/∂q, −M⁻¹ ∂τ/∂q̇ at q̈ = ABA.
+struct AbaDerivatives : Declared {
+  static constexpr const char* name = "aba_derivatives";
+  static constexpr Operand inputs[] = {{"q", ARG_Q, {NQ}, 1, false}, {"v", ARG_V, {NV}, 1, false},
+                                       {"tau", ARG_A, {NV}, 1, false}, {"f_ext", ARG_FEXT, {NB, 6}, 2, true}};
+  static constexpr Operand outputs[] = {{"ddq_dq", ARG_OUT, {NV, NV}, 2, false},
+                                        {"ddq_dv", ARG_OUT, {NV, NV}, 2, false},
+                                        {"Minv", ARG_OUT, {NV, NV}, 2, false}};
+  static constexpr unsigned options = GRAVITY;
+  static constexpr auto group = &fdgroup::GroupKernels::aba_derivatives_group;
+  static constexpr SingularBlockFn singular_block = singular_at_rest;
+  static std::int64_t run(const ModelView& mv, const double* const* in, double* const* out, const Options& opt) {
+    thread_local std::vector<double> qdd;
+    qdd.resize(static_cast<size_t>(mv.nv));
+    const int bad = group_kernels().aba_derivatives(mv, dof_tree(mv).lambda.data(), in[0], in[1], in[2], in[3],
+                                                    opt.gravity, qdd.data(), out[0], out[1], out[2],
+                                                    aligned_scratch(aba_derivatives_scratch(mv.nv)));
+    return bad < 0 ? OK : make_status(SINGULAR, ARG_Q, bad);
+  }
+};
+
+// M⁻¹ (nv, nv) from M's tree-sparse factor M = Lᵀ L: M⁻¹ = Zᵀ Z, Z = L⁻ᵀ (ltl.hpp).
+struct MassMatrixInverse : Declared {
+  static constexpr const char* name = "mass_matrix_inverse";
+  static constexpr Operand inputs[] = {{"q", ARG_Q, {NQ}, 1, false}};
+  static constexpr Operand outputs[] = {{"Minv", ARG_OUT, {NV, NV}, 2, false}};
+  static constexpr SingularBlockFn singular_block = singular_at_rest;
+  static std::int64_t run(const ModelView& mv, const double* const* in, double* const* out, const Options&) {
+    const int bad = group_kernels().minverse(mv, in[0], out[0]);
+    return bad < 0 ? OK : make_status(SINGULAR, ARG_Q, bad);
+  }
+};
+
+// Y (nv, 10 nb) with RNEA(q, q̇, q̈) = Y π (regressor.hpp; π: fd.dynamic_parameters).
+struct JointTorqueRegressor : Declared {
+  static constexpr const char* name = "joint_torque_regressor";
+  static constexpr Operand inputs[] = {{"q", ARG_Q, {NQ}, 1, false}, {"v", ARG_V, {NV}, 1, false},
+                                       {"a", ARG_A, {NV}, 1, false}};
+  static constexpr Operand outputs[] = {{"Y", ARG_OUT, {NV, NP}, 2, false}};
+  static std::int64_t run(const ModelView& mv, const double* const* in, double* const* out, const Options&) {
+    joint_torque_regressor(mv, in[0], in[1], in[2], out[0]);
+    return OK;
+  }
+};
+
+// (∂v_f/∂q, ∂v_f/∂q̇) (6, nv) of a frame's velocity in a reference (frame_derivatives.hpp).
+struct FrameVelocityDerivatives : Declared {
+  static constexpr const char* name = "frame_velocity_derivatives";
+  static constexpr Operand inputs[] = {{"q", ARG_Q, {NQ}, 1, false}, {"v", ARG_V, {NV}, 1, false}};
+  static constexpr Operand outputs[] = {{"dv_dq", ARG_OUT, {6, NV}, 2, false}, {"dv_dv", ARG_OUT, {6, NV}, 2, false}};
+  static constexpr unsigned options = FRAME | REFERENCE;
+  static std::int64_t run(const ModelView& mv, const double* const* in, double* const* out, const Options& opt) {
+    frame_motion_derivatives(mv, in[0], in[1], nullptr, opt.frame, opt.reference, out[0], out[1], nullptr, nullptr,
+                             nullptr);
+    return OK;
+  }
+};
+
+// (∂a_f/∂q, ∂a_f/∂q̇, ∂a_f/∂q̈) (6, nv) of a frame's spatial acceleration in a reference.
+struct FrameAccelerationDerivatives : Declared {
+  static constexpr const char* name = "frame_acceleration_derivatives";
+  static constexpr Operand inputs[] = {{"q", ARG_Q, {NQ}, 1, false}, {"v", ARG_V, {NV}, 1, false},
+                                       {"a", ARG_A, {NV}, 1, false}};
+  static constexpr Operand outputs[] = {{"da_dq", ARG_OUT, {6, NV}, 2, false}, {"da_dv", ARG_OUT, {6, NV}, 2, false},
+                                        {"da_da", ARG_OUT, {6, NV}, 2, false}};
+  static constexpr unsigned options = FRAME | REFERENCE;
+  static std::int64_t run(const ModelView& mv, const double* const* in, double* const* out, const Options& opt) {
+    thread_local std::vector<double> velocity;  // the velocity derivatives, formed on the way
+    velocity.resize(12 * static_cast<size_t>(mv.nv));
+    frame_motion_derivatives(mv, in[0], in[1], in[2], opt.frame, opt.reference, velocity.data(),
+                             velocity.data() + 6 * mv.nv, out[0], out[1], out[2]);
+    return OK;
+  }
+};
+
 // ∂g/∂q (nv, nv): the generalized gravity g(q) = RNEA(q, 0, 0) differentiated along q's tangent — the
 // analytical RNEA derivatives (derivatives.hpp) at rest, q̇ = q̈ = 0: no q̇ given, the velocity terms not formed
 // (Pinocchio's computeGeneralizedGravityDerivatives).
@@ -127,7 +229,9 @@ struct StaticTorqueDerivatives : Declared {
 // Every declared algorithm, made once (their addresses are kept by the binding's public calls).
 inline const std::vector<Kernel>& declared_kernels() {
   static const std::vector<Kernel> kernels = {
-      declare<Rnea>(), declare<NonlinearEffects>(), declare<GeneralizedGravity>(), declare<Crba>(), declare<Aba>(), declare<FrameJacobian>(),
+      declare<Rnea>(), declare<NonlinearEffects>(), declare<GeneralizedGravity>(), declare<Crba>(), declare<Aba>(), declare<FrameJacobian>(), declare<RneaDerivatives>(),
+      declare<AbaDerivatives>(), declare<MassMatrixInverse>(), declare<JointTorqueRegressor>(),
+      declare<FrameVelocityDerivatives>(), declare<FrameAccelerationDerivatives>(),
       declare<GeneralizedGravityDerivatives>(), declare<StaticTorqueDerivatives>()};
   return kernels;
 }

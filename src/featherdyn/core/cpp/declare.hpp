@@ -27,8 +27,9 @@
 
 namespace fdcore {
 
-// A symbolic length: the model's nq, nv or nb; a non-negative value is a literal length.
-enum SymbolicLength : int { NQ = -1, NV = -2, NB = -3 };
+// A symbolic length: the model's nq, nv or nb, or np = 10 nb (the bodies' dynamic parameters); a non-negative
+// value is a literal length.
+enum SymbolicLength : int { NQ = -1, NV = -2, NB = -3, NP = -4 };
 
 // An input or output: its name, the status argument that names it in an error (checks.hpp: ARG_Q for q, ARG_V,
 // ARG_A for q̈ or τ, ARG_FEXT, ARG_OUT), its shape (up to three lengths) and whether an input may be absent.
@@ -67,7 +68,7 @@ constexpr int DECLARED_MAX = 6;  // inputs, and outputs, of one declaration at m
 constexpr std::int64_t NOT_TAKEN = -1;
 
 inline std::int64_t length_of(const ModelView& mv, int d) {
-  return d == NQ ? mv.nq : d == NV ? mv.nv : d == NB ? mv.nb : d;
+  return d == NQ ? mv.nq : d == NV ? mv.nv : d == NB ? mv.nb : d == NP ? 10 * std::int64_t{mv.nb} : d;
 }
 inline std::int64_t size_of(const ModelView& mv, const Operand& o) {
   std::int64_t n = 1;
@@ -286,7 +287,9 @@ inline RowStatus run_batch(const Kernel& k, const ModelView& mv, const nb::seque
   fdgroup::GroupArgs g{&mv, by_arg[0], by_arg[1], by_arg[2], by_arg[3], opt.gravity, op[0], n_out[0]};
   g.out2 = k.outputs.size() > 1 ? op[1] : nullptr;
   g.out3 = k.outputs.size() > 2 ? op[2] : nullptr;
-  g.stream = fdgroup::stream_result(N, n_out[0]);
+  std::int64_t per_row = 0;
+  for (size_t o = 0; o < k.outputs.size(); ++o) per_row += n_out[o];
+  g.stream = fdgroup::stream_result(N, per_row);
   auto check = [&](std::int64_t r) -> std::int64_t {
     std::array<const double*, DECLARED_MAX> ip{};
     std::array<double*, DECLARED_MAX> opr{};

@@ -20,7 +20,6 @@ namespace nb = nanobind;
 // the families' registrations
 void bind_dynamics(nb::module_& m);
 void bind_kinematics(nb::module_& m);
-void bind_derivatives(nb::module_& m);
 void bind_constraints(nb::module_& m);
 void bind_public_calls(nb::module_& m);
 

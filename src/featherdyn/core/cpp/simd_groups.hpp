@@ -189,6 +189,7 @@ inline std::int64_t aba_derivatives_group(const fdgroup::GroupArgs& g, std::int6
   const ModelView& mv = *g.mv;
   const size_t nq = mv.nq, nv = mv.nv, nf = 6 * static_cast<size_t>(mv.nb), n2 = nv * nv;
   const bool packed = mv.nv <= PACKED_SOLVES_MAX_NV;
+  const int* lambda = g.lambda_d != nullptr ? g.lambda_d : dof_tree(mv).lambda.data();
   Lanes& L = thread_lanes(nq + 4 * nv + nf + (packed ? 6 * n2 : 0));
   const Pack* q = L.gather(g.Q, r0, nq, 0);
   const Pack* v = L.gather(g.V, r0, nv, nq);
@@ -203,12 +204,12 @@ inline std::int64_t aba_derivatives_group(const fdgroup::GroupArgs& g, std::int6
     Pack* dv = dq + n2;
     Pack* Minv = dv + n2;
     Pack* X = Minv + n2;
-    auto solve = [&](const Pack* hh, Pack* out) { return factor_and_solve(mv, g.lambda_d, M, tau, hh, out); };
+    auto solve = [&](const Pack* hh, Pack* out) { return factor_and_solve(mv, lambda, M, tau, hh, out); };
     if (forward_dynamics_derivatives_to(mv, q, v, f, g.gravity, StateOut<Pack>{{dq, dv, M}}, h, qdd, solve) >= 0)
       return 1;  // singular in some lane: redone row by row, which names it
-    aba_derivatives_solves(mv, g.lambda_d, M, dq, dv, Minv, X);
+    aba_derivatives_solves(mv, lambda, M, dq, dv, Minv, X);
     if (!all_finite(dq, 2 * n2)) return 1;  // finite input overflowed in some lane: redone row by row
-    scatter(qdd, nv, g.out_qdd + r0 * static_cast<std::int64_t>(nv), static_cast<std::int64_t>(nv));
+    if (g.out_qdd) scatter(qdd, nv, g.out_qdd + r0 * static_cast<std::int64_t>(nv), static_cast<std::int64_t>(nv));
     auto put = g.stream ? scatter_lines : scatter;
     put(dq, n2, g.out + at, g.out_stride);
     put(dv, n2, g.out2 + at, g.out_stride);
@@ -220,7 +221,7 @@ inline std::int64_t aba_derivatives_group(const fdgroup::GroupArgs& g, std::int6
   auto solve = [&](const Pack* hh, Pack* out) -> int {
     for (int lane = 0; lane < PACK_WIDTH; ++lane) {
       for (size_t k = 0; k < nv; ++k) t[k] = tau[k][lane], hl[k] = hh[k][lane];
-      const int bad = factor_and_solve(mv, g.lambda_d, M.data() + lane * n2, t.data(), hl.data(), x.data());
+      const int bad = factor_and_solve(mv, lambda, M.data() + lane * n2, t.data(), hl.data(), x.data());
       if (bad >= 0) return bad;
       for (size_t k = 0; k < nv; ++k) out[k].set(lane, x[k]);
     }
@@ -230,10 +231,10 @@ inline std::int64_t aba_derivatives_group(const fdgroup::GroupArgs& g, std::int6
                                       LanesOut{{g.out + at, g.out2 + at, M.data()}, static_cast<std::int64_t>(n2)},
                                       h, qdd, solve) >= 0)
     return 1;  // singular in some lane: redone row by row, which names it
-  scatter(qdd, nv, g.out_qdd + r0 * static_cast<std::int64_t>(nv), static_cast<std::int64_t>(nv));
+  if (g.out_qdd) scatter(qdd, nv, g.out_qdd + r0 * static_cast<std::int64_t>(nv), static_cast<std::int64_t>(nv));
   for (int lane = 0; lane < PACK_WIDTH; ++lane) {
     const std::int64_t row = at + lane * g.out_stride;
-    aba_derivatives_solves(mv, g.lambda_d, M.data() + lane * n2, g.out + row, g.out2 + row, g.out3 + row, X.data());
+    aba_derivatives_solves(mv, lambda, M.data() + lane * n2, g.out + row, g.out2 + row, g.out3 + row, X.data());
   }
   return rows_finite(g, at, n2) ? 0 : 1;
 }
