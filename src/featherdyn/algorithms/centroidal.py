@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..errors import ModelError
 from ..model import Model
 from ..results import Kinematics
 from ..spatial import SpatialForce, SpatialMotion
@@ -22,9 +23,9 @@ from ..spatial.ops import cross3
 from ._common import TreeData, expand_inertia
 from .energy import center_of_mass
 from .jacobians import world_columns
-from .kinematics import body_at
+from .kinematics import body_at, forward_kinematics
 
-__all__ = ["centroidal_momentum_matrix", "centroidal_momentum"]
+__all__ = ["centroidal_momentum_matrix", "centroidal_momentum_matrix_at", "centroidal_momentum"]
 
 
 def _shift_to_com(h: np.ndarray, c: np.ndarray) -> np.ndarray:
@@ -51,6 +52,17 @@ def centroidal_momentum_matrix(model: Model, kin: Kinematics) -> np.ndarray:
     c = center_of_mass(model, Kinematics(model, kin.placements, None, None, kin.parent_placements))
     assert isinstance(c, np.ndarray)
     return np.swapaxes(_shift_to_com(A, c[..., None, :]), -1, -2)
+
+
+def centroidal_momentum_matrix_at(model: Model, q: np.ndarray) -> np.ndarray:
+    """:func:`centroidal_momentum_matrix` at ``q`` `(..., 6, nv)` (public: :func:`featherdyn.centroidal_momentum_matrix`).
+
+    Raises:
+        ModelError: the tree has no mass (the centre of mass is undefined).
+    """
+    if not model.total_mass > 0:
+        raise ModelError.no_mass(model.name)
+    return centroidal_momentum_matrix(model, forward_kinematics(model, q))
 
 
 def centroidal_momentum(model: Model, kin: Kinematics, qd: np.ndarray) -> SpatialForce:

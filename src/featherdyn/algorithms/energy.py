@@ -16,9 +16,9 @@ from ..model import Model
 from ..results import CenterOfMass, Kinematics
 from ..spatial.ops import cross3
 from ._common import TreeData, zeros
-from .kinematics import body_at, motion_at
+from .kinematics import body_at, forward_kinematics, motion_at
 
-__all__ = ["kinetic_energy", "potential_energy", "center_of_mass"]
+__all__ = ["kinetic_energy", "kinetic_energy_at", "potential_energy", "potential_energy_at", "center_of_mass"]
 
 
 def kinetic_energy(model: Model, kin: Kinematics, qd: np.ndarray | None = None) -> np.ndarray:
@@ -91,3 +91,13 @@ def center_of_mass(model: Model, kin: Kinematics) -> np.ndarray | CenterOfMass:
         v_com_body = vi.linear + cross3(vi.angular, td.I[i].com)
         vel = vel + td.I[i].mass * (body_at(kin.placements, i).rotation @ v_com_body[..., None])[..., 0]
     return CenterOfMass(pos, vel / m)
+
+
+def kinetic_energy_at(model: Model, q: np.ndarray, qd: np.ndarray) -> np.ndarray:
+    """:func:`kinetic_energy` at the state ``(q, q̇)`` `(...)` (public: :func:`featherdyn.kinetic_energy`)."""
+    return kinetic_energy(model, forward_kinematics(model, q, qd), qd)
+
+
+def potential_energy_at(model: Model, q: np.ndarray) -> np.ndarray:
+    """:func:`potential_energy` at ``q`` `(...)` (public: :func:`featherdyn.potential_energy`)."""
+    return potential_energy(model, forward_kinematics(model, q))

@@ -26,7 +26,8 @@ from ..spatial.ops import crm_apply
 from ._common import TreeData, expand, zeros
 from .kinematics import body_at, forward_kinematics, frame_pose, motion_at
 
-__all__ = ["joint_jacobians", "frame_jacobian", "frame_jacobian_at", "frame_jacobian_time_variation", "support"]
+__all__ = ["joint_jacobians", "joint_jacobians_at", "frame_jacobian", "frame_jacobian_at", "frame_jacobian_time_variation",
+           "frame_jacobian_time_variation_at", "support"]
 
 
 def support(model: Model, body: int) -> list[int]:
@@ -135,3 +136,15 @@ def frame_jacobian_time_variation(model: Model, kin: Kinematics, qd: np.ndarray,
     wx = np.concatenate([w_world, np.zeros_like(w_world)], axis=-1)[..., None, :]
     # blkdiag([ω]×, [ω]×) J = [ω × J_ω; ω × J_v] = crm([ω; 0]) J
     return np.swapaxes(crm_apply(wx, J_lwa) + rot_dJ, -1, -2)
+
+
+def joint_jacobians_at(model: Model, q: np.ndarray) -> np.ndarray:
+    """:func:`joint_jacobians` at ``q`` `(..., 6, nv)` (public: :func:`featherdyn.joint_jacobians`)."""
+    return joint_jacobians(model, forward_kinematics(model, q))
+
+
+def frame_jacobian_time_variation_at(model: Model, q: np.ndarray, qd: np.ndarray, frame: int,
+                                     reference: ReferenceFrame) -> np.ndarray:
+    """:func:`frame_jacobian_time_variation` at ``(q, q̇)`` `(..., 6, nv)` (public:
+    :func:`featherdyn.frame_jacobian_time_variation`)."""
+    return frame_jacobian_time_variation(model, forward_kinematics(model, q, qd), qd, frame, reference)

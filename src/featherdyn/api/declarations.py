@@ -9,15 +9,19 @@ public function: ``fd.<name>`` (one state, any batch shape, ``out=``, Dask array
 from __future__ import annotations
 
 from ..algorithms import aba as _aba
+from ..algorithms import centroidal as _centroidal
 from ..algorithms import crba as _crba
 from ..algorithms import derivatives as _ref
+from ..algorithms import energy as _energy
 from ..algorithms import jacobians as _jac
 from ..algorithms import rnea as _rnea
 from .declared import Declaration, public_function
 
 __all__ = ["rnea", "nonlinear_effects", "generalized_gravity", "crba", "aba", "frame_jacobian", "rnea_derivatives",
            "aba_derivatives", "mass_matrix_inverse", "joint_torque_regressor", "frame_velocity_derivatives",
-           "frame_acceleration_derivatives", "generalized_gravity_derivatives", "static_torque_derivatives"]
+           "frame_acceleration_derivatives", "joint_jacobians", "frame_jacobian_time_variation", "kinetic_energy",
+           "potential_energy", "centroidal_momentum_matrix", "generalized_gravity_derivatives",
+           "static_torque_derivatives"]
 
 DECLARATIONS: dict[str, Declaration] = {d.name: d for d in [
     Declaration(
@@ -135,6 +139,94 @@ DECLARATIONS: dict[str, Declaration] = {d.name: d for d in [
         ::
 
             frame_velocity(model, q, v, frame, reference) = J v
+        """,
+    ),
+    Declaration(
+        name="joint_jacobians",
+        inputs=("q",),
+        outputs=("J",),
+        reference=_jac.joint_jacobians_at,
+        doc="""All joint columns in the world frame, `(..., 6, nv)` (Pinocchio's ``computeJointJacobians`` → ``data.J``).
+
+        Args:
+            q: `(..., nq)`.
+            out: optional `(..., 6, nv)` float64 array to write into.
+
+        ::
+
+            J[:, k] = ⁰X_k S_k      (the Jacobian of body b keeps the columns of its support)
+        """,
+    ),
+    Declaration(
+        name="frame_jacobian_time_variation",
+        inputs=("q", "v"),
+        options=("frame", "reference"),
+        outputs=("dJ",),
+        reference=_jac.frame_jacobian_time_variation_at,
+        doc="""``J̇ = dJ/dt`` of :func:`frame_jacobian` along ``q̇ = v``, `(..., 6, nv)` (``getFrameJacobianTimeVariation``).
+
+        Args:
+            q: `(..., nq)`; v: `(..., nv)`; frame: name or index; reference: ``fd.LOCAL`` (default) & co.
+            out: optional `(..., 6, nv)` float64 array to write into.
+
+        ::
+
+            WORLD:   ⁰J̇[:, k] = ⁰v_k × ⁰J[:, k]
+            LOCAL:   ᶠJ̇ = ᶠX_0 ⁰J̇ − ᶠv × ᶠJ
+            LWA:     J̇ = blkdiag([ω]×, [ω]×) J_LWA + blkdiag(R, R) ᶠJ̇      (ω, R of the frame in the world)
+
+        and the classical acceleration identity ``a_classical = J q̈ + J̇ q̇`` in LOCAL_WORLD_ALIGNED.
+        """,
+    ),
+    Declaration(
+        name="kinetic_energy",
+        inputs=("q", "v"),
+        outputs=("T",),
+        reference=_energy.kinetic_energy_at,
+        doc="""Kinetic energy `(...)`.
+
+        Args:
+            q: `(..., nq)`; v: `(..., nv)`.
+            out: optional `(...)` float64 array to write into.
+
+        ::
+
+            T = Σ_i ½ v_iᵀ I_i v_i + ½ Σ_k armature_k q̇_k² = ½ q̇ᵀ M(q) q̇
+        """,
+    ),
+    Declaration(
+        name="potential_energy",
+        inputs=("q",),
+        outputs=("U",),
+        reference=_energy.potential_energy_at,
+        doc="""Gravitational potential energy `(...)` (zero at the world origin).
+
+        Args:
+            q: `(..., nq)`.
+            out: optional `(...)` float64 array to write into.
+
+        ::
+
+            U = −Σ_i m_i gᵀ ⁰c_i
+        """,
+    ),
+    Declaration(
+        name="centroidal_momentum_matrix",
+        inputs=("q",),
+        outputs=("A",),
+        reference=_centroidal.centroidal_momentum_matrix_at,
+        doc="""``A_G(q)`` `(..., 6, nv)` with ``h_G = A_G q̇`` (rows ``[k_G; p]``, world axes, about the CoM; ``ccrba``).
+
+        Args:
+            q: `(..., nq)`.
+            out: optional `(..., 6, nv)` float64 array to write into.
+
+        ::
+
+            A_O[:, k] = ⁰I^C_k ⁰X_k S_k,    A_G = [[1, −c×], [0, 1]] A_O
+
+        Raises:
+            ModelError: the tree has no mass (the centre of mass is undefined).
         """,
     ),
     Declaration(
@@ -305,5 +397,10 @@ mass_matrix_inverse = public_function(DECLARATIONS["mass_matrix_inverse"])
 joint_torque_regressor = public_function(DECLARATIONS["joint_torque_regressor"])
 frame_velocity_derivatives = public_function(DECLARATIONS["frame_velocity_derivatives"])
 frame_acceleration_derivatives = public_function(DECLARATIONS["frame_acceleration_derivatives"])
+joint_jacobians = public_function(DECLARATIONS["joint_jacobians"])
+frame_jacobian_time_variation = public_function(DECLARATIONS["frame_jacobian_time_variation"])
+kinetic_energy = public_function(DECLARATIONS["kinetic_energy"])
+potential_energy = public_function(DECLARATIONS["potential_energy"])
+centroidal_momentum_matrix = public_function(DECLARATIONS["centroidal_momentum_matrix"])
 generalized_gravity_derivatives = public_function(DECLARATIONS["generalized_gravity_derivatives"])
 static_torque_derivatives = public_function(DECLARATIONS["static_torque_derivatives"])

@@ -22,39 +22,11 @@ from ..results import CenterOfMass
 from ..spatial_algebra import SpatialForce
 from ._backend import select_backend
 from ._checks import as_dtype, check_state, finite_result, quiet
+from .declarations import centroidal_momentum_matrix, kinetic_energy, potential_energy
 from .kinematics import kinematics_of
 
 __all__ = ["kinetic_energy", "potential_energy", "center_of_mass", "centroidal_momentum_matrix",
            "centroidal_momentum"]
-
-
-def kinetic_energy(model: Model, q: ArrayLike, v: ArrayLike, *, backend: str | None = None) -> np.ndarray:
-    """Kinetic energy `(...)`::
-
-        T = Σ_i ½ v_iᵀ I_i v_i = ½ q̇ᵀ M(q) q̇
-    """
-    if _dask.lazy(q, v):
-        return _dask.call(kinetic_energy, model, {"q": q, "v": v}, backend=backend)
-    st = check_state(model, q, v=v)
-    if select_backend(backend, st.dtype) == "compiled":
-        return as_dtype(_compiled.kinetic_energy(model, st.q, st.arrays["v"]), st.dtype)
-    return finite_result(quiet(_energy.kinetic_energy, model, kinematics_of(model, st, st.arrays["v"], None, backend),
-                               st.arrays["v"]),
-                         "kinetic_energy")
-
-
-def potential_energy(model: Model, q: ArrayLike, *, backend: str | None = None) -> np.ndarray:
-    """Gravitational potential energy `(...)` (zero at the world origin)::
-
-        U = −Σ_i m_i gᵀ ⁰c_i
-    """
-    if _dask.lazy(q):
-        return _dask.call(potential_energy, model, {"q": q}, backend=backend)
-    st = check_state(model, q)
-    if select_backend(backend, st.dtype) == "compiled":
-        return as_dtype(_compiled.potential_energy(model, st.q), st.dtype)
-    return finite_result(quiet(_energy.potential_energy, model, kinematics_of(model, st, None, None, backend)),
-                         "potential_energy")
 
 
 @overload
@@ -86,22 +58,6 @@ def center_of_mass(model: Model, q: ArrayLike, v: ArrayLike | None = None, *, ba
     for part in (com if isinstance(com, CenterOfMass) else (com,)):
         finite_result(part, "center_of_mass")
     return com
-
-
-def centroidal_momentum_matrix(model: Model, q: ArrayLike, *, backend: str | None = None) -> np.ndarray:
-    """``A_G(q)`` `(..., 6, nv)` with ``h_G = A_G q̇`` (rows ``[k_G; p]``, world axes, about the CoM; ``ccrba``).
-
-    ::
-
-        A_O[:, k] = ⁰I^C_k ⁰X_k S_k,    A_G = [[1, −c×], [0, 1]] A_O
-    """
-    if _dask.lazy(q):
-        return _dask.call(centroidal_momentum_matrix, model, {"q": q}, backend=backend)
-    st = check_state(model, q)
-    if select_backend(backend, st.dtype) == "compiled":
-        return as_dtype(_compiled.centroidal_momentum_matrix(model, st.q), st.dtype)
-    return finite_result(quiet(_centroidal.centroidal_momentum_matrix, model, kinematics_of(model, st, None, None, backend)),
-                         "centroidal_momentum_matrix")
 
 
 def centroidal_momentum(model: Model, q: ArrayLike, v: ArrayLike, *, backend: str | None = None) -> SpatialForce:

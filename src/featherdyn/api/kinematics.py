@@ -13,7 +13,6 @@ from numpy.typing import ArrayLike
 
 from .. import _dask
 from .. import core as _compiled
-from ..algorithms import jacobians as _jac
 from ..algorithms import kinematics as _kin
 from ..core._model_view import CoreHandle
 from ..errors import ShapeError
@@ -22,8 +21,8 @@ from ..model import Model
 from ..results import Kinematics
 from ..spatial_algebra import PluckerTransform, SpatialMotion
 from ._backend import CORE, OK, core_path, public_call, select_backend
-from ._checks import State, as_dtype, check_state, finite_result, quiet
-from .declarations import frame_jacobian
+from ._checks import State, check_state, finite_result, quiet
+from .declarations import frame_jacobian, frame_jacobian_time_variation, joint_jacobians
 
 __all__ = [
     "kinematics_of",
@@ -179,45 +178,6 @@ def frame_classical_acceleration(model: Model, q: ArrayLike, v: ArrayLike, a: Ar
     acc = quiet(_kin.frame_classical_acceleration, model, kin, fid, ref)
     finite_result(acc.vector, "frame_classical_acceleration")
     return acc
-
-
-def joint_jacobians(model: Model, q: ArrayLike, *, backend: str | None = None) -> np.ndarray:
-    """All joint columns in the world frame, `(..., 6, nv)` (Pinocchio's ``computeJointJacobians`` → ``data.J``).
-
-    ::
-
-        J[:, k] = ⁰X_k S_k      (the Jacobian of body b keeps the columns of its support)
-    """
-    if _dask.lazy(q):
-        return _dask.call(joint_jacobians, model, {"q": q}, backend=backend)
-    st = check_state(model, q)
-    if select_backend(backend, st.dtype) == "compiled":
-        return as_dtype(_compiled.joint_jacobians(model, st.q), st.dtype)
-    return finite_result(quiet(_jac.joint_jacobians, model, kinematics_of(model, st, None, None, backend)), "joint_jacobians")
-
-
-def frame_jacobian_time_variation(model: Model, q: ArrayLike, v: ArrayLike, frame: str | int, reference: ReferenceFrame | str = LOCAL, *,
-                                  backend: str | None = None) -> np.ndarray:
-    """``J̇ = dJ/dt`` of :func:`frame_jacobian` along ``q̇ = v``, `(..., 6, nv)` (``getFrameJacobianTimeVariation``).
-
-    ::
-
-        WORLD:   ⁰J̇[:, k] = ⁰v_k × ⁰J[:, k]
-        LOCAL:   ᶠJ̇ = ᶠX_0 ⁰J̇ − ᶠv × ᶠJ
-        LWA:     J̇ = blkdiag([ω]×, [ω]×) J_LWA + blkdiag(R, R) ᶠJ̇      (ω, R of the frame in the world)
-
-    and the classical acceleration identity ``a_classical = J q̈ + J̇ q̇`` in LOCAL_WORLD_ALIGNED.
-    """
-    if _dask.lazy(q, v):
-        return _dask.call(frame_jacobian_time_variation, model, {"q": q, "v": v}, frame=frame, reference=reference, backend=backend)
-    fid, ref = _frame(model, frame), as_reference_frame(reference)
-    st = check_state(model, q, v=v)
-    if select_backend(backend, st.dtype) == "compiled":
-        dJ = _compiled.frame_jacobian_time_variation(model, st.q, st.arrays["v"], fid, ref.code)
-        return as_dtype(dJ, st.dtype)
-    kin = kinematics_of(model, st, st.arrays["v"], None, backend)
-    return finite_result(quiet(_jac.frame_jacobian_time_variation, model, kin, st.arrays["v"], fid, ref),
-                         "frame_jacobian_time_variation")
 
 
 def _frame(model: Model, frame: str | int) -> int:

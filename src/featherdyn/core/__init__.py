@@ -334,6 +334,13 @@ frame_jacobian = _declared("frame_jacobian", """The geometric Jacobian `(..., 6,
 
         frame_velocity(model, q, v, frame, reference) = J v
     """)
+joint_jacobians = _declared("joint_jacobians", """Every joint's columns in world coordinates `(..., 6, nv)`: ``J[:, k] = ⁰X_k S_k``.""")
+frame_jacobian_time_variation = _declared("frame_jacobian_time_variation", """``J̇`` `(..., 6, nv)` of a frame's Jacobian
+    along ``q̇ = v`` in ``reference``.""")
+kinetic_energy = _declared("kinetic_energy", """Kinetic energy `(...)`: ``T = Σ_i ½ v_iᵀ I_i v_i = ½ q̇ᵀ M(q) q̇``.""")
+potential_energy = _declared("potential_energy", """Potential energy `(...)`, zero at the world origin: ``U = −Σ_i m_i gᵀ ⁰c_i``.""")
+centroidal_momentum_matrix = _declared("centroidal_momentum_matrix", """``A_G(q)`` `(..., 6, nv)`, ``h_G = A_G q̇`` (rows
+    ``[k_G; p]``, world axes, about the centre of mass).""")
 rnea_derivatives = _declared("rnea_derivatives", """``(∂τ/∂q, ∂τ/∂q̇, ∂τ/∂q̈ = M)``, each `(..., nv, nv)`, of
     ``τ = RNEA(q, q̇, q̈)``, ∂/∂q along the tangent of ``fd.integrate``; ``out``: a tuple of three arrays.""")
 aba_derivatives = _declared("aba_derivatives", """``(∂q̈/∂q, ∂q̈/∂q̇, M⁻¹)``, each `(..., nv, nv)`, of ``q̈ = ABA(q, q̇, τ)``::
@@ -529,29 +536,6 @@ def _mass(model: Model) -> float:
     return mass
 
 
-def kinetic_energy(model: Model, q: Any, v: Any) -> np.ndarray:
-    """Kinetic energy `(...)`::
-
-        T = Σ_i ½ v_iᵀ I_i v_i = ½ q̇ᵀ M(q) q̇
-    """
-    h, batch, Q, V, vectors = _state_rows(model, q, v, "kinetic_energy")
-    out = np.empty(batch)
-    _check_batch(_core.energy_batch(h.cm, Q, V, 0, out.reshape(math.prod(batch), 1)), model, q, vectors, what="kinetic_energy")
-    return out
-
-
-def potential_energy(model: Model, q: Any) -> np.ndarray:
-    """Gravitational potential energy `(...)`, zero at the world origin::
-
-        U = −Σ_i m_i gᵀ ⁰c_i
-    """
-    h, batch, Q, _, vectors = _state_rows(model, q, None, "potential_energy")
-    out = np.empty(batch)
-    _check_batch(_core.energy_batch(h.cm, Q, None, 1, out.reshape(math.prod(batch), 1)), model, q, vectors,
-                 what="potential_energy")
-    return out
-
-
 def center_of_mass(model: Model, q: Any, v: Any = None) -> np.ndarray | tuple[np.ndarray, np.ndarray]:
     """The centre of mass `(..., 3)` in world coordinates, and with ``v`` its velocity `(..., 3)`::
 
@@ -566,19 +550,6 @@ def center_of_mass(model: Model, q: Any, v: Any = None) -> np.ndarray | tuple[np
     return c if cd is None else (c, cd)
 
 
-def centroidal_momentum_matrix(model: Model, q: Any) -> np.ndarray:
-    """``A_G(q)`` `(..., 6, nv)`, ``h_G = A_G q̇`` (rows ``[k_G; p]``, world axes, about the centre of mass)::
-
-        A_G[:, k] = ᴳI^C_k ᴳX_k S_k      (G: world axes at the centre of mass)
-    """
-    h, batch, Q, _, vectors = _state_rows(model, q, None, "centroidal_momentum_matrix")
-    mass = _mass(model)
-    A = np.empty(batch + (6, h.nv))
-    st = _core.centroidal_batch(h.cm, Q, None, mass, A.reshape(math.prod(batch), 6 * h.nv), None)
-    _check_batch(st, model, q, vectors, what="centroidal_momentum_matrix")
-    return A
-
-
 def centroidal_momentum(model: Model, q: Any, v: Any) -> np.ndarray:
     """The centroidal momentum ``h_G = [k_G; p] = A_G(q) q̇`` `(..., 6)`."""
     h, batch, Q, V, vectors = _state_rows(model, q, v, "centroidal_momentum")
@@ -589,33 +560,6 @@ def centroidal_momentum(model: Model, q: Any, v: Any) -> np.ndarray:
     st = _core.centroidal_batch(h.cm, Q, V, mass, A, hg.reshape(math.prod(batch), 6))
     _check_batch(st, model, q, vectors, what="centroidal_momentum")
     return hg
-
-
-def joint_jacobians(model: Model, q: Any) -> np.ndarray:
-    """Every joint's columns in world coordinates, `(..., 6, nv)` (Pinocchio's ``data.J``)::
-
-        J[:, k] = ⁰X_k S_k
-    """
-    h, batch, Q, _, vectors = _state_rows(model, q, None, "joint_jacobians")
-    J = np.empty(batch + (6, h.nv))
-    _check_batch(_core.joint_jacobians_batch(h.cm, Q, J.reshape(math.prod(batch), 6 * h.nv)), model, q, vectors,
-                 what="joint_jacobians")
-    return J
-
-
-def frame_jacobian_time_variation(model: Model, q: Any, v: Any, frame: Any, reference: Any = LOCAL) -> np.ndarray:
-    """``J̇`` `(..., 6, nv)` of :func:`frame_jacobian` along ``q̇ = v``::
-
-        WORLD: ⁰J̇[:, k] = ⁰v_k × ⁰J[:, k],   LOCAL: ᶠJ̇ = ᶠX_0 ⁰J̇ − ᶠv × ᶠJ,
-        LWA: J̇ = crm([ω_f; 0]) J_LWA + blkdiag(R_f, R_f) ᶠJ̇
-    """
-    fid = model.resolve_frame(frame)
-    ref = _reference_code(reference)
-    h, batch, Q, V, vectors = _state_rows(model, q, v, "frame_jacobian_time_variation")
-    dJ = np.empty(batch + (6, h.nv))
-    st = _core.frame_jacobian_dot_batch(h.cm, Q, V, fid, ref, dJ.reshape(math.prod(batch), 6 * h.nv))
-    _check_batch(st, model, q, vectors, what="frame_jacobian_time_variation")
-    return dJ
 
 
 # ---------------------------------------------------------------------------

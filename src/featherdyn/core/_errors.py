@@ -20,13 +20,20 @@ from typing import Any, NoReturn
 import numpy as np
 
 from .._state_checks import batch_with_f_ext, check_f_ext, check_state
-from ..errors import FeatherdynError, NonFiniteError, QuaternionNormError, ShapeError, SingularMassMatrixError
+from ..errors import (
+    FeatherdynError,
+    ModelError,
+    NonFiniteError,
+    QuaternionNormError,
+    ShapeError,
+    SingularMassMatrixError,
+)
 from ..model import Model
 
-__all__ = ["OK", "LENGTH", "NONFINITE", "QUATERNION", "SINGULAR", "OVERLAP", "ARG_NAMES", "decode", "validate",
+__all__ = ["OK", "LENGTH", "NONFINITE", "QUATERNION", "SINGULAR", "OVERLAP", "NO_MASS", "ARG_NAMES", "decode", "validate",
            "raise_for", "singular_error"]
 
-OK, LENGTH, NONFINITE, QUATERNION, SINGULAR, OVERLAP = range(6)
+OK, LENGTH, NONFINITE, QUATERNION, SINGULAR, OVERLAP, NO_MASS = range(7)
 #: the ``arg`` field of a status
 ARG_NAMES = ("q", "v", "a", "f_ext", "out", "frame")
 
@@ -74,6 +81,8 @@ def raise_for(status: int, model: Model, q: Any, vectors: Sequence[tuple[str, An
         raise QuaternionNormError(f"q: the quaternion of joint {model.joint_names[index]!r} is off unit norm")
     if code == SINGULAR:
         raise SingularMassMatrixError.for_joint(model.joint_names[index], model.body_names[index])
+    if code == NO_MASS:
+        raise ModelError.no_mass(model.name)
     if code == OVERLAP:
         raise ShapeError(f"out: shares memory with {name}; the public functions compute such a call into fresh memory")
     raise FeatherdynError(f"featherdyn.core: unexpected status {status}")

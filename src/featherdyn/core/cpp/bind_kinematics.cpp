@@ -142,23 +142,6 @@ RowStatus frame_placement_n(const ModelData& md, const In& q, int frame, Out pos
 // whole-body quantities and Jacobians: rows of a batch (one state = one row), on the pool
 // ---------------------------------------------------------------------------
 
-// Kinetic (kind 0, needs V) or potential (kind 1) energy of every row into out (N,).
-RowStatus energy_n(const ModelData& md, const In& q, const In& v, int kind, Out out) {
-  const ModelView& mv = md.view;
-  std::int64_t N = 0;
-  Rows Q, V;
-  FD_TRY_ROWS(out_rows(out, 1, N));
-  FD_TRY_ROWS(rows(q, N, mv.nq, ARG_Q, Q));
-  FD_TRY_ROWS(rows(v, N, mv.nv, ARG_V, V));
-  if (kind == 0 && !v.is_valid()) return {-1, make_status(LENGTH, ARG_V, -1)};
-  double* o = out.data();
-  return for_rows(N, [&](std::int64_t r) -> std::int64_t {
-    FD_TRY(check_state(mv, Q.row(r), kind == 0 ? V.row(r) : nullptr, nullptr, nullptr));
-    o[r] = kind == 0 ? kinetic_energy(mv, Q.row(r), V.row(r)) : potential_energy(mv, Q.row(r));
-    return finite_result(o + r, 1);
-  });
-}
-
 // Centre of mass c (N, 3) and, with V, its velocity cd (N, 3); mass > 0 (the caller checks).
 RowStatus com_n(const ModelData& md, const In& q, const In& v, double mass, Out c, Out cd) {
   const ModelView& mv = md.view;
@@ -202,42 +185,6 @@ RowStatus centroidal_n(const ModelData& md, const In& q, const In& v, double mas
   });
 }
 
-// Every joint's world columns J (N, 6 nv).
-RowStatus joint_jacobians_n(const ModelData& md, const In& q, Out J) {
-  const ModelView& mv = md.view;
-  std::int64_t N = 0;
-  Rows Q;
-  const std::int64_t n = 6 * static_cast<std::int64_t>(mv.nv);
-  FD_TRY_ROWS(out_rows(J, n, N));
-  FD_TRY_ROWS(rows(q, N, mv.nq, ARG_Q, Q));
-  double* o = J.data();
-  return for_rows(N, [&](std::int64_t r) -> std::int64_t {
-    FD_TRY(check_state(mv, Q.row(r), nullptr, nullptr, nullptr));
-    joint_jacobians(mv, Q.row(r), o + r * n);
-    return finite_result(o + r * n, n);
-  });
-}
-
-// J̇ of a frame (N, 6 nv) in the reference `ref` along V.
-RowStatus frame_jacobian_dot_n(const ModelData& md, const In& q, const In& v, int frame, int ref, Out dJ) {
-  const ModelView& mv = md.view;
-  std::int64_t N = 0;
-  Rows Q, V;
-  const std::int64_t n = 6 * static_cast<std::int64_t>(mv.nv);
-  FD_TRY_ROWS(out_rows(dJ, n, N));
-  FD_TRY_ROWS(rows(q, N, mv.nq, ARG_Q, Q));
-  require_present(v);
-  FD_TRY_ROWS(rows(v, N, mv.nv, ARG_V, V));
-  if (frame < 0 || frame >= mv.nf) return {-1, make_status(LENGTH, ARG_FRAME, frame < 0 ? 0 : frame)};
-  if (ref < LOCAL || ref > LOCAL_WORLD_ALIGNED) throw nb::value_error("reference code must be 0, 1 or 2");
-  double* o = dJ.data();
-  return for_rows(N, [&](std::int64_t r) -> std::int64_t {
-    FD_TRY(check_state(mv, Q.row(r), V.row(r), nullptr, nullptr));
-    frame_jacobian_time_variation(mv, Q.row(r), V.row(r), frame, ref, o + r * n);
-    return finite_result(o + r * n, n);
-  });
-}
-
 }  // namespace
 
 void fdcore::bind_kinematics(nb::module_& m) {
@@ -249,10 +196,6 @@ void fdcore::bind_kinematics(nb::module_& m) {
   m.def("kinematics_batch", &kinematics_n, nb::arg("model"), arr("q"), opt("v"), opt("a"), arr("H"), arr("Hp"), opt("vel"),
         opt("acc"));
   m.def("frame_placement_batch", &frame_placement_n, nb::arg("model"), arr("q"), nb::arg("frame"), arr("out"));
-  m.def("energy_batch", &energy_n, nb::arg("model"), arr("q"), opt("v"), nb::arg("kind"), arr("out"));
   m.def("com_batch", &com_n, nb::arg("model"), arr("q"), opt("v"), nb::arg("mass"), arr("c"), opt("cd"));
   m.def("centroidal_batch", &centroidal_n, nb::arg("model"), arr("q"), opt("v"), nb::arg("mass"), arr("A"), opt("h"));
-  m.def("joint_jacobians_batch", &joint_jacobians_n, nb::arg("model"), arr("q"), arr("out"));
-  m.def("frame_jacobian_dot_batch", &frame_jacobian_dot_n, nb::arg("model"), arr("q"), arr("v"), nb::arg("frame"),
-        nb::arg("reference"), arr("out"));
 }

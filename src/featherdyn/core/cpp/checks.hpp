@@ -17,7 +17,8 @@
 
 namespace fdcore {
 
-enum StatusCode : std::int64_t { OK = 0, LENGTH = 1, NONFINITE = 2, QUATERNION = 3, SINGULAR = 4, OVERLAP = 5 };
+enum StatusCode : std::int64_t { OK = 0, LENGTH = 1, NONFINITE = 2, QUATERNION = 3, SINGULAR = 4, OVERLAP = 5,
+                                 NO_MASS = 6 };
 enum Arg : std::int64_t { ARG_Q = 0, ARG_V = 1, ARG_A = 2, ARG_FEXT = 3, ARG_OUT = 4, ARG_FRAME = 5 };
 
 // (an unknown index, e.g. the length of an array that is not 1-D, is given as −1 and stored as 0)

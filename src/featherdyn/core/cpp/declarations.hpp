@@ -9,9 +9,12 @@
 #include "aba.hpp"
 #include "crba.hpp"
 #include "declare.hpp"
+#include "centroidal.hpp"
 #include "derivatives.hpp"
+#include "energy.hpp"
 #include "frame_derivatives.hpp"
 #include "frames.hpp"
+#include "jacobians.hpp"
 #include "ltl.hpp"
 #include "regressor.hpp"
 #include "scratch.hpp"
@@ -99,6 +102,71 @@ struct FrameJacobian : Declared {
   static constexpr unsigned options = FRAME | REFERENCE;
   static std::int64_t run(const ModelView& mv, const double* const* in, double* const* out, const Options& opt) {
     frame_jacobian(mv, in[0], opt.frame, opt.reference, out[0]);
+    return OK;
+  }
+};
+
+// Every joint's columns in world coordinates (6, nv): J[:, k] = ⁰X_k S_k (jacobians.hpp; Pinocchio's data.J).
+struct JointJacobians : Declared {
+  static constexpr const char* name = "joint_jacobians";
+  static constexpr Operand inputs[] = {{"q", ARG_Q, {NQ}, 1, false}};
+  static constexpr Operand outputs[] = {{"J", ARG_OUT, {6, NV}, 2, false}};
+  static std::int64_t run(const ModelView& mv, const double* const* in, double* const* out, const Options&) {
+    joint_jacobians(mv, in[0], out[0]);
+    return OK;
+  }
+};
+
+// J̇ (6, nv) of a frame's Jacobian along q̇, in a reference (jacobians.hpp; getFrameJacobianTimeVariation).
+struct FrameJacobianTimeVariation : Declared {
+  static constexpr const char* name = "frame_jacobian_time_variation";
+  static constexpr Operand inputs[] = {{"q", ARG_Q, {NQ}, 1, false}, {"v", ARG_V, {NV}, 1, false}};
+  static constexpr Operand outputs[] = {{"dJ", ARG_OUT, {6, NV}, 2, false}};
+  static constexpr unsigned options = FRAME | REFERENCE;
+  static std::int64_t run(const ModelView& mv, const double* const* in, double* const* out, const Options& opt) {
+    frame_jacobian_time_variation(mv, in[0], in[1], opt.frame, opt.reference, out[0]);
+    return OK;
+  }
+};
+
+// T = Σ ½ v_iᵀ I_i v_i (energy.hpp), one number.
+struct KineticEnergy : Declared {
+  static constexpr const char* name = "kinetic_energy";
+  static constexpr Operand inputs[] = {{"q", ARG_Q, {NQ}, 1, false}, {"v", ARG_V, {NV}, 1, false}};
+  static constexpr Operand outputs[] = {{"T", ARG_OUT, {}, 0, false}};
+  static std::int64_t run(const ModelView& mv, const double* const* in, double* const* out, const Options&) {
+    out[0][0] = kinetic_energy(mv, in[0], in[1]);
+    return OK;
+  }
+};
+
+// U = −Σ m_i gᵀ ⁰c_i (energy.hpp), zero at the world origin, one number.
+struct PotentialEnergy : Declared {
+  static constexpr const char* name = "potential_energy";
+  static constexpr Operand inputs[] = {{"q", ARG_Q, {NQ}, 1, false}};
+  static constexpr Operand outputs[] = {{"U", ARG_OUT, {}, 0, false}};
+  static std::int64_t run(const ModelView& mv, const double* const* in, double* const* out, const Options&) {
+    out[0][0] = potential_energy(mv, in[0]);
+    return OK;
+  }
+};
+
+// The tree's total mass m = Σ m_i, or 0 when it has none (the centre of mass is then undefined: status NO_MASS).
+inline double total_mass(const ModelView& mv) {
+  double m = 0.0;
+  for (int i = 0; i < mv.nb; ++i) m += mv.mass[i];
+  return m > 0.0 ? m : 0.0;
+}
+
+// A_G (6, nv), h_G = A_G q̇ (rows [k_G; p], world axes about the centre of mass; centroidal.hpp).
+struct CentroidalMomentumMatrix : Declared {
+  static constexpr const char* name = "centroidal_momentum_matrix";
+  static constexpr Operand inputs[] = {{"q", ARG_Q, {NQ}, 1, false}};
+  static constexpr Operand outputs[] = {{"A", ARG_OUT, {6, NV}, 2, false}};
+  static std::int64_t run(const ModelView& mv, const double* const* in, double* const* out, const Options&) {
+    const double mass = total_mass(mv);
+    if (mass == 0.0) return make_status(NO_MASS, ARG_Q, 0);
+    centroidal_momentum_matrix(mv, in[0], mass, out[0]);
     return OK;
   }
 };
@@ -231,7 +299,9 @@ inline const std::vector<Kernel>& declared_kernels() {
   static const std::vector<Kernel> kernels = {
       declare<Rnea>(), declare<NonlinearEffects>(), declare<GeneralizedGravity>(), declare<Crba>(), declare<Aba>(), declare<FrameJacobian>(), declare<RneaDerivatives>(),
       declare<AbaDerivatives>(), declare<MassMatrixInverse>(), declare<JointTorqueRegressor>(),
-      declare<FrameVelocityDerivatives>(), declare<FrameAccelerationDerivatives>(),
+      declare<FrameVelocityDerivatives>(), declare<FrameAccelerationDerivatives>(), declare<JointJacobians>(),
+      declare<FrameJacobianTimeVariation>(), declare<KineticEnergy>(), declare<PotentialEnergy>(),
+      declare<CentroidalMomentumMatrix>(),
       declare<GeneralizedGravityDerivatives>(), declare<StaticTorqueDerivatives>()};
   return kernels;
 }
