@@ -14,7 +14,8 @@
     featherdyn --version
 
 Exit codes: 0 everything agrees, 1 a mismatch, 2 a usage or model error
-(with a one-line message, never a traceback). Arguments, input files and
+(with a one-line message, never a traceback), 130 interrupted by Ctrl-C (one line; an interrupted
+``dataset`` keeps its finished chunks and resumes when run again). Arguments, input files and
 output folders are checked before any work; progress notices (a large URDF,
 ``--all``) go to stderr, reports to stdout.
 
@@ -39,6 +40,8 @@ from .args import check_writable, positive_float, positive_int
 __all__ = ["main", "build_parser"]
 
 EXIT_OK, EXIT_MISMATCH, EXIT_USAGE = 0, 1, 2
+#: Ctrl-C: 128 + SIGINT, as a shell reports a command the signal stopped
+EXIT_INTERRUPTED = 130
 
 
 class _Parser(argparse.ArgumentParser):
@@ -144,18 +147,26 @@ def _add_dataset(sub: argparse._SubParsersAction[_Parser]) -> None:
 
 def _cmd_dataset(args: argparse.Namespace) -> int:
     from .. import verify
-    from .dataset import check_request, progress_bar, write_dataset
+    from .dataset import DatasetInterrupted, check_request, plural, progress_bar, write_dataset
 
     quantities = check_request(args.quantities.split(","), args.out, args.states, args.chunk, args.seed)
     _name, path = verify.resolve_robot(args.robot)
     model = verify.load_resolved(path, args.floating_base)
-    _say(f"featherdyn dataset: {args.states} states of {args.robot} ({model.nq} q, {model.nv} v), "
+    _say(f"{plural(args.states, 'state')} of {args.robot} ({model.nq} q, {model.nv} v), "
          f"{', '.join(quantities)} -> {args.out}")
-    run = write_dataset(model, args.out, states=args.states, quantities=quantities, seed=args.seed, chunk=args.chunk,
-                        scheduler=args.scheduler, workers=args.workers, robot=str(args.robot),
-                        floating_base=args.floating_base, progress=progress_bar())
-    print(f"{run.out}: {run.states} states; {run.computed_chunks} chunks computed, {run.skipped_chunks} already "
-          f"done; {run.seconds:.1f} s ({run.states_per_second:,.0f} states/s)")
+    try:
+        run = write_dataset(model, args.out, states=args.states, quantities=quantities, seed=args.seed,
+                            chunk=args.chunk, scheduler=args.scheduler, workers=args.workers, robot=str(args.robot),
+                            floating_base=args.floating_base, progress=progress_bar())
+    except DatasetInterrupted as exc:
+        if sys.stderr.isatty():
+            print(file=sys.stderr)  # after the progress bar and the terminal's ^C
+        print(exc, file=sys.stderr, flush=True)
+        return EXIT_INTERRUPTED
+    done = f"{plural(run.computed_chunks, 'chunk')} computed, {run.skipped_chunks} already done"
+    speed = (f"{run.seconds:.1f} s ({run.states_per_second:,.0f} states/s)" if run.computed_chunks
+             else "nothing left to compute")
+    print(f"{run.out}: {plural(run.states, 'state')}; {done}; {speed}")
     return EXIT_OK
 
 
@@ -364,8 +375,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     except (FeatherdynError, ValueError) as exc:
         print(f"featherdyn: error: {' '.join(str(exc).split())}", file=sys.stderr)
         return EXIT_USAGE
-    except KeyboardInterrupt:  # pragma: no cover
-        return EXIT_USAGE
+    except KeyboardInterrupt:  # Ctrl-C anywhere else: one line, no traceback
+        print("\nfeatherdyn: interrupted", file=sys.stderr)
+        return EXIT_INTERRUPTED
 
 
 if __name__ == "__main__":  # pragma: no cover

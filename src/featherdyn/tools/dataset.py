@@ -68,7 +68,8 @@ from ..errors import DatasetError, MissingDependencyError
 from ..model import Model
 from .distributed import available_cores, dask_client
 
-__all__ = ["QUANTITIES", "DEFAULT_QUANTITIES", "DatasetSpec", "write_dataset", "model_sha256", "states_of_chunk"]
+__all__ = ["QUANTITIES", "DEFAULT_QUANTITIES", "DatasetInterrupted", "DatasetSpec", "write_dataset", "model_sha256",
+           "states_of_chunk"]
 
 
 @dataclass(frozen=True)
@@ -278,6 +279,32 @@ def check_request(quantities: Sequence[str], out: str | os.PathLike[str], states
     return names
 
 
+class DatasetInterrupted(KeyboardInterrupt):
+    """Ctrl-C (``KeyboardInterrupt``) stopped :func:`write_dataset`; the workers are stopped and the chunks
+    finished before it are kept (``kept`` of ``total``): the same call again resumes."""
+
+    def __init__(self, kept: int, total: int) -> None:
+        super().__init__(kept, total)
+        self.kept, self.total = kept, total
+
+    def __str__(self) -> str:
+        return (f"interrupted: {self.kept} of {plural(self.total, 'chunk')} kept; "
+                "run the same command again to resume")
+
+
+def plural(n: int, noun: str) -> str:
+    """``"1 chunk"``, ``"2 chunks"``."""
+    return f"{n} {noun}" if n == 1 else f"{n} {noun}s"
+
+
+def _chunks_done(out: str) -> int:
+    """The chunks whose ``done`` flag is set in the store ``out`` (0 if it was not created)."""
+    try:
+        return int(np.count_nonzero(_zarr().open_group(out, mode="r")["done"][:]))
+    except Exception:  # no store yet, or interrupted while it was being created
+        return 0
+
+
 @dataclass
 class DatasetRun:
     """What :func:`write_dataset` did."""
@@ -324,25 +351,30 @@ def write_dataset(model: Model, out: str | os.PathLike[str], *, states: int, qua
     spec = DatasetSpec(out=str(out), states=states, chunk=chunk, seed=seed, quantities=names, robot=robot,
                        floating_base=floating_base, threads=threads)
     # the scheduler first: one that does not answer is refused before the store is created
-    with nullcontext() if scheduler == "sync" else dask_client(scheduler, workers) as client:
-        todo = _prepare(model, spec)
-        skipped = spec.nchunks - len(todo)
-        start = time.perf_counter()
-        if client is None or not todo:
-            for n, k in enumerate(todo, 1):
-                _write_chunk(model, spec, k)
-                if progress is not None:
-                    progress(n, len(todo))
-        else:
-            from dask.distributed import as_completed
+    todo: list[int] = []
+    start = time.perf_counter()
+    try:
+        with nullcontext() if scheduler == "sync" else dask_client(scheduler, workers) as client:
+            todo = _prepare(model, spec)
+            skipped = spec.nchunks - len(todo)
+            start = time.perf_counter()
+            if client is None or not todo:
+                for n, k in enumerate(todo, 1):
+                    _write_chunk(model, spec, k)
+                    if progress is not None:
+                        progress(n, len(todo))
+            else:
+                from dask.distributed import as_completed
 
-            model_future = client.scatter(model, broadcast=True)  # once per worker
-            futures = [client.submit(_write_chunk, model_future, spec, k, key=f"featherdyn-dataset-chunk-{k}",
-                                     retries=3) for k in todo]
-            for n, fut in enumerate(as_completed(futures), 1):
-                fut.result()
-                if progress is not None:
-                    progress(n, len(todo))
+                model_future = client.scatter(model, broadcast=True)  # once per worker
+                futures = [client.submit(_write_chunk, model_future, spec, k, key=f"featherdyn-dataset-chunk-{k}",
+                                         retries=3) for k in todo]
+                for n, fut in enumerate(as_completed(futures), 1):
+                    fut.result()
+                    if progress is not None:
+                        progress(n, len(todo))
+    except KeyboardInterrupt:  # Ctrl-C: the workers are stopped (dask_client's exit); count what they finished
+        raise DatasetInterrupted(_chunks_done(spec.out), spec.nchunks) from None
     return DatasetRun(str(out), states, len(todo), skipped, time.perf_counter() - start)
 
 
