@@ -1,3 +1,4 @@
+# needs: featherdyn (no extra: NumPy only)
 """Appendix F (and §7.2, §12.1, §17.2) — the identity tables, checked row by row on random values.
 
 Rows that do not hold as printed (each shown, with the corrected form):

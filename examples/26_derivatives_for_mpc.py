@@ -1,3 +1,4 @@
+# needs: featherdyn (no extra: NumPy only)
 """Analytical derivatives of the dynamics, as an MPC or trajectory optimiser uses them.
 
 Linearising q̈ = ABA(q, q̇, τ) around a state gives the A and B matrices of a

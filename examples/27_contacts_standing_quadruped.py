@@ -1,3 +1,4 @@
+# needs: featherdyn (no extra: NumPy only)
 """A quadruped standing on its feet: constrained dynamics, contact forces, an impact.
 
 Solo12 with its four feet held (3D point contacts): the contact forces that
