@@ -284,8 +284,9 @@ def _cmd_verify(args: argparse.Namespace) -> int:
 _ALL_NOTES = (
     "worst rel err: the largest relative error of the robot's checks, and the tolerance of that check "
     "('× cond(M)': scaled by the condition number of M, as for M⁻¹ and ABA's derivatives).",
-    "The number of checks follows the robot: 15 per tool or foot frame for up to 3 frames (velocity, acceleration, "
-    "classical acceleration, Jacobian and its time variation in 3 reference frames), no forward-dynamics checks "
+    "The number of checks follows the robot: 15 for each frame checked, a link frame on each of its (up to) 3 deepest "
+    "bodies (velocity, acceleration, classical acceleration, Jacobian and its time variation in 3 reference "
+    "frames), no forward-dynamics checks "
     "where M is singular, no joint-space ones without joints; the first robot also carries the "
     "spatial-algebra checks (run once).",
 )
