@@ -282,8 +282,8 @@ def _cmd_verify(args: argparse.Namespace) -> int:
 
 #: what ``verify --all`` prints under its table: why the robots' check counts differ
 _ALL_NOTES = (
-    "worst rel err: the largest relative error of the robot's checks, and the tolerance of that check "
-    "('× cond(M)': scaled by the condition number of M, as for M⁻¹ and ABA's derivatives).",
+    "worst rel err: the relative error of the robot's check closest to its tolerance, and that tolerance "
+    "('scaled by cond(M)': the condition number of M times the base tolerance, as for M⁻¹ and ABA's derivatives).",
     "The number of checks follows the robot: 15 for each frame checked, a link frame on each of its (up to) 3 deepest "
     "bodies (velocity, acceleration, classical acceleration, Jacobian and its time variation in 3 reference "
     "frames), no forward-dynamics checks "
@@ -298,11 +298,12 @@ def _all_table(reports: Sequence[VerifyReport]) -> str:
 
     names = [str(rep.meta.get("robot", "?")) for rep in reports]
     width = max(len("robot"), *(len(n) for n in names))
-    lines = [f"{'robot':<{width}}  checks  failed  worst rel err  tol of that check"]
+    lines = [f"{'robot':<{width}}  checks  failed  worst rel err  its tol"]
     for name, rep in zip(names, reports, strict=True):
-        judged = [r for r in rep.results if r.max_rel == r.max_rel]  # not NaN
-        worst = max(judged, key=lambda r: r.max_rel, default=None)
-        tol = "" if worst is None else f"{worst.tol:.0e}" + (" × cond(M)" if COND_SCALED in worst.quantity else "")
+        judged = [r for r in rep.results if r.max_rel == r.max_rel and r.tol > 0]  # not NaN
+        worst = max(judged, key=lambda r: r.max_rel / r.tol, default=None)  # the closest to failing
+        tol = "" if worst is None else f"{worst.tol:.0e}" + (" (scaled by cond(M))" if COND_SCALED in worst.quantity
+                                                               else "")
         err = f"{worst.max_rel:.2e}" if worst is not None else "nan"
         lines.append(f"{name:<{width}}  {len(rep.results):>6}  {len(rep.failures):>6}  {err:>13}  {tol}")
     for name, rep in zip(names, reports, strict=True):
