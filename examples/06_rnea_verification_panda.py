@@ -1,4 +1,4 @@
-# needs: featherdyn[verify] (Pinocchio): pip install "featherdyn[verify]"
+# needs: featherdyn[verify] (Pinocchio, example-robot-data): pip install "featherdyn[verify]"
 """Appendix C.1 — RNEA verification on the Panda (example-robot-data), done so that it can fail.
 
 The chapter's script has three problems, measured here:
@@ -24,7 +24,7 @@ from __future__ import annotations
 
 from _check import needs
 
-needs("pinocchio")  # first: a missing module is one line naming its install
+needs("pinocchio", "example-robot-data")  # first: a missing module is one line naming its install
 
 import numpy as np
 import pinocchio as pin

@@ -1,4 +1,4 @@
-# needs: featherdyn[verify] (Pinocchio): pip install "featherdyn[verify]"
+# needs: featherdyn[verify] (Pinocchio, example-robot-data): pip install "featherdyn[verify]"
 """§11, §16.1, appendix G.2 — the chapter's speed claims, measured where they can be.
 
 * §11: "Pinocchio: 7-DoF RNEA ≈ 1.5 µs". That is a C++-internal figure; from
@@ -25,7 +25,7 @@ from __future__ import annotations
 
 from _check import needs
 
-needs("pinocchio")  # first: a missing module is one line naming its install
+needs("pinocchio", "example-robot-data")  # first: a missing module is one line naming its install
 
 import importlib.util
 import timeit

@@ -1,4 +1,4 @@
-# needs: featherdyn[distributed] (Dask, Zarr): pip install "featherdyn[distributed]"
+# needs: featherdyn[verify,distributed] (Dask, Zarr, example-robot-data): pip install "featherdyn[verify,distributed]"
 """Beyond one call: Dask arrays through the dynamics, and a dataset on disk.
 
 ``fd.rnea`` & co. take Dask arrays chunked along the batch and return Dask
@@ -14,7 +14,7 @@ from __future__ import annotations
 
 from _check import needs
 
-needs("dask.distributed", "zarr")  # first: a missing module is one line naming its install
+needs("dask.distributed", "zarr", "example-robot-data")  # first: a missing module is one line naming its install
 
 import tempfile
 from pathlib import Path

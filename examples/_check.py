@@ -8,6 +8,7 @@ script exits with status 1 and ``tests/integration/test_examples.py`` fails.
 from __future__ import annotations
 
 import importlib
+import importlib.metadata
 import re
 import sys
 from pathlib import Path
@@ -22,14 +23,18 @@ P6 = np.block([[np.zeros((3, 3)), np.eye(3)], [np.eye(3), np.zeros((3, 3))]])
 def needs(*modules: str) -> None:
     """Stop the example with one line (exit status 1, no traceback) when a module it imports is missing.
 
-    Called before the example's other imports. The line names the install command of the script's first
+    ``modules`` are module names, or distribution names with a hyphen (``"example-robot-data"``, whose
+    robot files ``fd.load_robot`` reads). Called before the example's other imports. The line names the install command of the script's first
     line, ``# needs: featherdyn[EXTRA] …`` (the smallest of ``pyproject.toml``'s extras that has them).
     """
     missing = []
     for name in modules:
         try:
-            importlib.import_module(name)
-        except ImportError:
+            if "-" in name:  # a distribution without a module of its name (example-robot-data: robot files)
+                importlib.metadata.distribution(name)
+            else:
+                importlib.import_module(name)
+        except (ImportError, importlib.metadata.PackageNotFoundError):
             missing.append(name.split(".")[0])
     if not missing:
         return
