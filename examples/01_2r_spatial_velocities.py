@@ -1,3 +1,4 @@
+# needs: featherdyn[verify,symbolic] (Pinocchio, SymPy): pip install "featherdyn[verify,symbolic]"
 """§9.1 — spatial velocities of the planar 2R arm, the derivation the chapter "leaves as an exercise".
 
 The chapter puts frame {1} at joint 2 (the end of link 1) and frame {2} at the
@@ -14,6 +15,10 @@ Run: python examples/01_2r_spatial_velocities.py
 
 # %% 0. setup
 from __future__ import annotations
+
+from _check import needs
+
+needs("pinocchio", "sympy")  # first: a missing module is one line naming its install
 
 import numpy as np
 import pinocchio as pin

@@ -1,3 +1,4 @@
+# needs: featherdyn[verify] (Pinocchio): pip install "featherdyn[verify]"
 """§9.2 — the spatial inertia of a quadruped trunk, at its CoM and at the front-left hip.
 
 Trunk: m = 12 kg, I_b = diag(0.1, 0.3, 0.35) kg·m², CoM at the body origin;
@@ -15,6 +16,10 @@ Run: python examples/02_quadruped_trunk_inertia.py
 
 # %% 0. setup
 from __future__ import annotations
+
+from _check import needs
+
+needs("pinocchio")  # first: a missing module is one line naming its install
 
 import numpy as np
 import pinocchio as pin

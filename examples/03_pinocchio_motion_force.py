@@ -1,3 +1,4 @@
+# needs: featherdyn[verify] (Pinocchio): pip install "featherdyn[verify]"
 """§10.1 — Motion, Force and power: the chapter's Pinocchio snippet, redone with featherdyn and measured.
 
 The chapter's comments say Pinocchio stores a Motion, and returns ``.vector``,
@@ -10,6 +11,10 @@ Run: python examples/03_pinocchio_motion_force.py
 
 # %% 0. setup
 from __future__ import annotations
+
+from _check import needs
+
+needs("pinocchio")  # first: a missing module is one line naming its install
 
 import numpy as np
 import pinocchio as pin

@@ -1,3 +1,4 @@
+# needs: featherdyn[verify] (Pinocchio): pip install "featherdyn[verify]"
 """§10.2 — the 6×6 Plücker transform, and forces moved with X⁻ᵀ; featherdyn against Pinocchio.
 
 T = SE3(R_z(45°), (1, 0, 0)). The chapter's code is right here: ``T.act`` is
@@ -13,6 +14,10 @@ Run: python examples/04_plucker_transform.py
 
 # %% 0. setup
 from __future__ import annotations
+
+from _check import needs
+
+needs("pinocchio")  # first: a missing module is one line naming its install
 
 import numpy as np
 import pinocchio as pin

@@ -1,3 +1,4 @@
+# needs: featherdyn[verify] (Pinocchio): pip install "featherdyn[verify]"
 """§10.3 — motion and force cross products; the chapter's duality check has the wrong sign.
 
 The chapter checks "(v1 × v2)ᵀ f == v2ᵀ (v1 ×* f)". From [v]×* = −[v]×ᵀ the
@@ -9,6 +10,10 @@ Run: python examples/05_cross_products.py
 
 # %% 0. setup
 from __future__ import annotations
+
+from _check import needs
+
+needs("pinocchio")  # first: a missing module is one line naming its install
 
 import numpy as np
 from _check import check, differs, section, show

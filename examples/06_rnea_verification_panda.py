@@ -1,3 +1,4 @@
+# needs: featherdyn[verify] (Pinocchio, example-robot-data): pip install "featherdyn[verify]"
 """Appendix C.1 — RNEA verification on the Panda (example-robot-data), done so that it can fail.
 
 The chapter's script has three problems, measured here:
@@ -20,6 +21,10 @@ Run: python examples/06_rnea_verification_panda.py
 
 # %% 0. setup: the same URDF in both libraries
 from __future__ import annotations
+
+from _check import needs
+
+needs("pinocchio", "example-robot-data")  # first: a missing module is one line naming its install
 
 import numpy as np
 import pinocchio as pin

@@ -1,3 +1,4 @@
+# needs: featherdyn[verify] (Pinocchio): pip install "featherdyn[verify]"
 """Appendix C.2 — the spatial inertia transform I_B = X⁻ᵀ I_A X⁻¹, with the chapter's manual X⁻¹.
 
 Measured: the chapter's manual ``X_inv = [[Rᵀ, 0], [−Rᵀ[p]×, Rᵀ]]`` *is* the
@@ -15,6 +16,10 @@ Run: python examples/07_inertia_transform.py
 
 # %% 0. setup: the chapter's numbers
 from __future__ import annotations
+
+from _check import needs
+
+needs("pinocchio")  # first: a missing module is one line naming its install
 
 import numpy as np
 import pinocchio as pin

@@ -1,3 +1,4 @@
+# needs: featherdyn[verify,symbolic] (Pinocchio, SymPy): pip install "featherdyn[verify,symbolic]"
 """Appendix D — the planar 2R arm's RNEA step by step, with the torques the chapter omits.
 
 D.1: ℓ = (1.0, 0.8) m, m = (3, 2) kg, CoM at (0.5, 0.4) m from each joint,
@@ -27,6 +28,10 @@ Run: python examples/08_2r_rnea_appendix_d.py
 
 # %% 0. setup
 from __future__ import annotations
+
+from _check import needs
+
+needs("pinocchio", "sympy")  # first: a missing module is one line naming its install
 
 import numpy as np
 import pinocchio as pin

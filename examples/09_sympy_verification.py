@@ -1,3 +1,4 @@
+# needs: featherdyn[symbolic] (SymPy): pip install "featherdyn[symbolic]"
 """Appendix I — symbolic verification with SymPy: the chapter's snippets, then general proofs.
 
 The chapter checks det X = 1 for a rotation about z and the Jacobi identity
@@ -15,6 +16,10 @@ Run: python examples/09_sympy_verification.py
 
 # %% 0. setup
 from __future__ import annotations
+
+from _check import needs
+
+needs("sympy")  # first: a missing module is one line naming its install
 
 import sympy as sp
 from _check import check_true, section

@@ -1,3 +1,4 @@
+# needs: featherdyn[verify,symbolic] (Pinocchio, SymPy): pip install "featherdyn[verify,symbolic]"
 """Exercise 1 (first list) — det X = 1 for every Plücker transform.
 
 The hint's block formula det([[A, B], [C, D]]) = det A · det(D − C A⁻¹ B)
@@ -11,6 +12,10 @@ Run: python examples/10_ex1_plucker_determinant.py
 
 # %% 0. setup
 from __future__ import annotations
+
+from _check import needs
+
+needs("pinocchio", "sympy")  # first: a missing module is one line naming its install
 
 import numpy as np
 import pinocchio as pin

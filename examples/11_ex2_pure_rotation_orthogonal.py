@@ -1,3 +1,4 @@
+# needs: featherdyn[symbolic] (SymPy): pip install "featherdyn[symbolic]"
 """Exercise 2 (first list) — a pure rotation X_rot is orthogonal; a general X is not.
 
 X_rot = diag(R, R) satisfies X_rot⁻¹ = X_rotᵀ. With p ≠ 0, X⁻¹ =
@@ -11,6 +12,10 @@ Run: python examples/11_ex2_pure_rotation_orthogonal.py
 
 # %% 0. setup
 from __future__ import annotations
+
+from _check import needs
+
+needs("sympy")  # first: a missing module is one line naming its install
 
 import numpy as np
 from _check import check, check_true, differs, section, show

@@ -1,3 +1,4 @@
+# needs: featherdyn[verify,symbolic] (Pinocchio, SymPy): pip install "featherdyn[verify,symbolic]"
 """Exercise 3 (first list) — the motion cross-product matrix of v = (0, 0, 1, 1, 0, 0).
 
 The question asks to "verify that [v]× is antisymmetric ([v]× + [v]×ᵀ = 0)",
@@ -11,6 +12,10 @@ Run: python examples/12_ex3_crm_antisymmetry.py
 
 # %% 0. setup
 from __future__ import annotations
+
+from _check import needs
+
+needs("pinocchio", "sympy")  # first: a missing module is one line naming its install
 
 import numpy as np
 import pinocchio as pin

@@ -1,3 +1,4 @@
+# needs: featherdyn[verify] (Pinocchio, example-robot-data): pip install "featherdyn[verify]"
 """Exercise 4 (first list) — Panda: data.v[3] by the recursion, and spatial vs classical acceleration.
 
 (a) the spatial velocity of joint 3 (``data.v[3]``, body coordinates);
@@ -11,6 +12,10 @@ Run: python examples/13_ex4_panda_velocity_recursion.py
 
 # %% 0. setup
 from __future__ import annotations
+
+from _check import needs
+
+needs("pinocchio", "example-robot-data")  # first: a missing module is one line naming its install
 
 import numpy as np
 import pinocchio as pin

@@ -1,3 +1,4 @@
+# needs: featherdyn[verify,symbolic] (Pinocchio, SymPy): pip install "featherdyn[verify,symbolic]"
 """Exercise 5 (first list) — the motion cross product satisfies Jacobi: it is the Lie bracket of se(3).
 
 Checked numerically (featherdyn's crm and Pinocchio's Motion.cross), proved
@@ -11,6 +12,10 @@ Run: python examples/14_ex5_jacobi_identity.py
 
 # %% 0. setup
 from __future__ import annotations
+
+from _check import needs
+
+needs("pinocchio", "sympy")  # first: a missing module is one line naming its install
 
 import numpy as np
 from _check import check, check_true, section

@@ -1,3 +1,4 @@
+# needs: featherdyn[verify] (Pinocchio): pip install "featherdyn[verify]"
 """Exercise 6 (first list) — the spherical joint: S = [1₃; 0], SᵀS = 1₃, and the quaternion.
 
 With a quaternion q (nq = 4) and v = ω in the child frame (nv = 3), S does
@@ -10,6 +11,10 @@ Run: python examples/15_ex6_spherical_joint.py
 
 # %% 0. setup
 from __future__ import annotations
+
+from _check import needs
+
+needs("pinocchio")  # first: a missing module is one line naming its install
 
 import numpy as np
 import pinocchio as pin

@@ -1,3 +1,4 @@
+# needs: featherdyn[verify,symbolic] (SymPy, example-robot-data): pip install "featherdyn[verify,symbolic]"
 """Exercise 7 (first list) — solving I a = f for an ill-conditioned spatial inertia (a thin rod).
 
 Rod: m = 1 kg, length 1 m, radius 0.1 mm, reference frame at one end and
@@ -24,6 +25,10 @@ Run: python examples/16_ex7_ill_conditioned_inertia.py
 
 # %% 0. setup
 from __future__ import annotations
+
+from _check import needs
+
+needs("sympy", "example-robot-data")  # first: a missing module is one line naming its install
 
 import numpy as np
 import sympy as sp

@@ -1,3 +1,4 @@
+# needs: featherdyn[verify] (Pinocchio): pip install "featherdyn[verify]"
 """Exercise 8 (first list) — a 3-DOF spatial arm: S_i, ⁱX_{i−1}, link velocities, end-effector velocity.
 
 Joint 1 about z, joint 2 about y, joint 3 about x, links ℓ = 0.5 m. The
@@ -13,6 +14,10 @@ Run: python examples/17_ex8_3dof_arm.py
 
 # %% 0. setup
 from __future__ import annotations
+
+from _check import needs
+
+needs("pinocchio")  # first: a missing module is one line naming its install
 
 import numpy as np
 import pinocchio as pin

@@ -1,3 +1,4 @@
+# needs: featherdyn (no extra: NumPy only)
 """Exercise 1 (second list) — a wrench and a twist at two reference points; power is the same.
 
 f_O = (τ_O; f) = ((0, 0, 10); (5, 0, 0)), v_O = (ω; v_O) = ((0, 0, 2); (1, 0, 0)).

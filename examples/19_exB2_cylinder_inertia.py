@@ -1,3 +1,4 @@
+# needs: featherdyn[verify] (Pinocchio): pip install "featherdyn[verify]"
 """Exercise 2 (second list) — a solid cylinder's spatial inertia about the centre of its base.
 
 m = 2 kg, r = 0.1 m, h = 0.4 m; I_c = diag(m(3r² + h²)/12, m(3r² + h²)/12, m r²/2);
@@ -8,6 +9,10 @@ Run: python examples/19_exB2_cylinder_inertia.py
 
 # %% 0. setup
 from __future__ import annotations
+
+from _check import needs
+
+needs("pinocchio")  # first: a missing module is one line naming its install
 
 import numpy as np
 import pinocchio as pin

@@ -1,3 +1,4 @@
+# needs: featherdyn[verify] (Pinocchio): pip install "featherdyn[verify]"
 """Exercise 3 (second list) — Pinocchio's act / actInv on motions and forces; power invariance.
 
 T = SE3(R_z(30°), (1, 0, 0)). Motions *and* forces move from A to B with
@@ -12,6 +13,10 @@ Run: python examples/20_exB3_act_vs_actinv.py
 
 # %% 0. setup
 from __future__ import annotations
+
+from _check import needs
+
+needs("pinocchio")  # first: a missing module is one line naming its install
 
 import numpy as np
 import pinocchio as pin

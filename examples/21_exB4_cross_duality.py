@@ -1,3 +1,4 @@
+# needs: featherdyn[verify,symbolic] (Pinocchio, SymPy): pip install "featherdyn[verify,symbolic]"
 """Exercise 4 (second list) — the force cross product is −(motion cross product)ᵀ and does no work.
 
 v₁ = (0, 0, 1; 1, 0, 0). (a) [v₁]×; (b) [v₁]×* = −[v₁]×ᵀ ≠ [v₁]×;
@@ -9,6 +10,10 @@ Run: python examples/21_exB4_cross_duality.py
 
 # %% 0. setup
 from __future__ import annotations
+
+from _check import needs
+
+needs("pinocchio", "sympy")  # first: a missing module is one line naming its install
 
 import numpy as np
 import pinocchio as pin

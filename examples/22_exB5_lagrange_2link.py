@@ -1,3 +1,4 @@
+# needs: featherdyn[verify,symbolic] (Pinocchio, SymPy): pip install "featherdyn[verify,symbolic]"
 """Exercise 5 (second list) — from spatial inertia to the 2-link mass matrix, and the Lagrangian.
 
 2-DOF planar arm, links ℓ₁, ℓ₂, masses m₁, m₂, CoMs at the link midpoints
@@ -12,6 +13,10 @@ Run: python examples/22_exB5_lagrange_2link.py
 
 # %% 0. setup
 from __future__ import annotations
+
+from _check import needs
+
+needs("pinocchio", "sympy")  # first: a missing module is one line naming its install
 
 import numpy as np
 import pinocchio as pin

@@ -1,3 +1,4 @@
+# needs: featherdyn[verify] (Pinocchio, example-robot-data): pip install "featherdyn[verify]"
 """§11, §16.1, appendix G.2 — the chapter's speed claims, measured where they can be.
 
 * §11: "Pinocchio: 7-DoF RNEA ≈ 1.5 µs". That is a C++-internal figure; from
@@ -21,6 +22,10 @@ Run: python examples/23_speed_claims.py
 
 # %% 0. setup: the 7-DoF Panda in Pinocchio
 from __future__ import annotations
+
+from _check import needs
+
+needs("pinocchio", "example-robot-data")  # first: a missing module is one line naming its install
 
 import importlib.util
 import timeit

@@ -1,3 +1,4 @@
+# needs: featherdyn[verify] (Pinocchio, example-robot-data): pip install "featherdyn[verify]"
 """§10.1, §11, §18.3, appendix G.1, troubleshooting table — Pinocchio's conventions, measured.
 
 Each claim of the chapter about Pinocchio's layouts is measured in the
@@ -17,6 +18,10 @@ Run: python examples/24_pinocchio_conventions.py
 
 # %% 0. setup
 from __future__ import annotations
+
+from _check import needs
+
+needs("pinocchio", "example-robot-data")  # first: a missing module is one line naming its install
 
 import numpy as np
 import pinocchio as pin

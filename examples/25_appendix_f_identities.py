@@ -1,3 +1,4 @@
+# needs: featherdyn[verify] (example-robot-data): pip install "featherdyn[verify]"
 """Appendix F (and §7.2, §12.1, §17.2) — the identity tables, checked row by row on random values.
 
 Rows that do not hold as printed (each shown, with the corrected form):
@@ -19,6 +20,10 @@ Run: python examples/25_appendix_f_identities.py
 
 # %% 0. setup
 from __future__ import annotations
+
+from _check import needs
+
+needs("example-robot-data")  # first: a missing module is one line naming its install
 
 import numpy as np
 from _check import check, check_true, differs, section

@@ -1,3 +1,4 @@
+# needs: featherdyn[verify] (example-robot-data): pip install "featherdyn[verify]"
 """Analytical derivatives of the dynamics, as an MPC or trajectory optimiser uses them.
 
 Linearising q̈ = ABA(q, q̇, τ) around a state gives the A and B matrices of a
@@ -11,6 +12,10 @@ Run: python examples/26_derivatives_for_mpc.py
 
 # %% 0. a floating-base quadruped in a random state
 from __future__ import annotations
+
+from _check import needs
+
+needs("example-robot-data")  # first: a missing module is one line naming its install
 
 import numpy as np
 from _check import check, section

@@ -1,3 +1,4 @@
+# needs: featherdyn[verify] (example-robot-data): pip install "featherdyn[verify]"
 """A quadruped standing on its feet: constrained dynamics, contact forces, an impact.
 
 Solo12 with its four feet held (3D point contacts): the contact forces that
@@ -10,6 +11,10 @@ Run: python examples/27_contacts_standing_quadruped.py
 
 # %% 0. the robot at rest
 from __future__ import annotations
+
+from _check import needs
+
+needs("example-robot-data")  # first: a missing module is one line naming its install
 
 import numpy as np
 from _check import check, check_true, section, show

@@ -1,3 +1,4 @@
+# needs: featherdyn[examples] (MuJoCo, gymnasium's models): pip install "featherdyn[examples]"
 """An MJCF model read by featherdyn and compiled by MuJoCo: the same mass matrix, gravity and dynamics.
 
 gymnasium's Ant: featherdyn's ``load_mjcf`` applies MuJoCo's compiler rules
@@ -11,6 +12,10 @@ Run: python examples/28_mjcf_against_mujoco.py
 
 # %% 0. one file, two compilers
 from __future__ import annotations
+
+from _check import needs
+
+needs("mujoco", "gymnasium")  # first: a missing module is one line naming its install
 
 import os
 import warnings

@@ -1,3 +1,4 @@
+# needs: featherdyn[verify,distributed] (Dask, Zarr, example-robot-data): pip install "featherdyn[verify,distributed]"
 """Beyond one call: Dask arrays through the dynamics, and a dataset on disk.
 
 ``fd.rnea`` & co. take Dask arrays chunked along the batch and return Dask
@@ -10,6 +11,10 @@ Run: python examples/29_dask_and_datasets.py
 
 # %% 0. a batch of states as Dask arrays
 from __future__ import annotations
+
+from _check import needs
+
+needs("dask.distributed", "zarr", "example-robot-data")  # first: a missing module is one line naming its install
 
 import tempfile
 from pathlib import Path

@@ -7,12 +7,43 @@ script exits with status 1 and ``tests/integration/test_examples.py`` fails.
 
 from __future__ import annotations
 
+import importlib
+import importlib.metadata
+import re
+import sys
+from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 # the 6×6 swap between featherdyn's [angular; linear] and Pinocchio's [linear; angular]
 P6 = np.block([[np.zeros((3, 3)), np.eye(3)], [np.eye(3), np.zeros((3, 3))]])
+
+
+def needs(*modules: str) -> None:
+    """Stop the example with one line (exit status 1, no traceback) when a module it imports is missing.
+
+    ``modules`` are module names, or distribution names with a hyphen (``"example-robot-data"``, whose
+    robot files ``fd.load_robot`` reads). Called before the example's other imports. The line names the install command of the script's first
+    line, ``# needs: featherdyn[EXTRA] …`` (the smallest of ``pyproject.toml``'s extras that has them).
+    """
+    missing = []
+    for name in modules:
+        try:
+            if "-" in name:  # a distribution without a module of its name (example-robot-data: robot files)
+                importlib.metadata.distribution(name)
+            else:
+                importlib.import_module(name)
+        except (ImportError, importlib.metadata.PackageNotFoundError):
+            missing.append(name.split(".")[0])
+    if not missing:
+        return
+    script = Path(sys.modules["__main__"].__file__ or sys.argv[0])
+    first = script.read_text(encoding="utf-8").split("\n", 1)[0]
+    found = re.match(r"# needs: featherdyn\[([\w,]+)\]", first)
+    extra = found[1] if found else "examples"
+    raise SystemExit(f"{script.name} needs {' and '.join(missing)}, not installed: pip install \"featherdyn[{extra}]\" "
+                     f"(from a clone of featherdyn: pip install \".[{extra}]\" in its folder)")
 
 
 def section(title: str) -> None:

@@ -145,7 +145,7 @@ def robot_path(name: str) -> Path:
     close = [c for c in candidates if name.lower() in c.lower()]  # "talos" -> talos_*
     close += [c for c in difflib.get_close_matches(name, candidates, n=5, cutoff=0.6) if c not in close]
     hint = f"; did you mean {', '.join(repr(c) for c in close[:5])}?" if close else ""
-    raise ModelError(f"unknown robot {name!r}{hint} (featherdyn.list_robots() lists all {len(candidates)})")
+    raise ModelError(f"unknown robot {name!r}{hint} (`featherdyn list` lists all {len(candidates)}; in Python, featherdyn.list_robots())")
 
 
 def load_robot(name: str | os.PathLike[str] | None = None, floating_base: bool = False, strict: bool = False) -> Model:

@@ -8,6 +8,7 @@ Everything runs on loopback (a ``LocalCluster`` of worker processes).
 from __future__ import annotations
 
 import os
+import re
 import signal
 import subprocess
 import sys
@@ -183,3 +184,79 @@ def test_bad_requests_are_refused_before_any_work(tmp_path: Path, reference: Pat
     p = cli("panda", "--states", "10", "--out", tmp_path / "s.zarr", "--scheduler", "tcp://127.0.0.1:9", timeout=60)
     assert p.returncode == 2 and "no Dask scheduler answers" in p.stderr, p.stderr
     assert not (tmp_path / "s.zarr").exists()
+
+
+INTERRUPTED = re.compile(r"^interrupted: (\d+) of (\d+) chunks kept; run the same command again to resume$")
+
+
+def _interrupted_line(stderr: str) -> tuple[int, int]:
+    """The one ``interrupted: N of M chunks kept …`` line of ``stderr``, whatever else it holds (progress)."""
+    assert "Traceback" not in stderr and "KeyboardInterrupt" not in stderr, stderr
+    matches = [m for m in map(INTERRUPTED.match, stderr.splitlines()) if m]
+    assert len(matches) == 1, stderr
+    return int(matches[0][1]), int(matches[0][2])
+
+
+def test_ctrl_c_stops_the_workers_keeps_the_finished_chunks_and_a_rerun_resumes(tmp_path: Path) -> None:
+    """Ctrl-C in a terminal: SIGINT to the whole process group (the command and its Dask worker processes)."""
+    args = ["talos_full_v2", "--states", "4000", "--chunk", "100", "--seed", "5", "--quantities", "M,dtau_dq,dtau_dv",
+            "--workers", "2"]
+    out = tmp_path / "ctrl_c.zarr"
+    proc = subprocess.Popen([sys.executable, "-m", "featherdyn", "dataset", *args, "--out", str(out)],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True)
+    deadline = time.monotonic() + 120
+    while time.monotonic() < deadline and proc.poll() is None:
+        time.sleep(0.05)
+        done_dir = out / "done"
+        if done_dir.exists() and sum(1 for f in done_dir.rglob("*") if f.is_file() and f.name != "zarr.json") >= 3:
+            os.killpg(proc.pid, signal.SIGINT)
+            break
+    stdout, stderr = proc.communicate(timeout=120)
+    assert proc.returncode == 130, stderr
+    kept, total = _interrupted_line(stderr)
+    assert total == 40 and 3 <= kept < 40
+    assert arrays(out)["done"].sum() == kept  # the line tells the truth about the store
+    assert stdout == ""
+    assert not [p for p in _worker_processes_of_group(proc.pid)], "worker processes outlived the command"
+    p = cli(*args[:-2], "--out", out, "--scheduler", "sync")
+    assert p.returncode == 0, p.stderr
+    assert f"{40 - kept} chunks computed, {kept} already done" in p.stdout
+    assert arrays(out)["done"].all()
+
+
+def _worker_processes_of_group(pgid: int) -> list[psutil.Process]:
+    """The live processes of the process group ``pgid`` (zombies, already exited, left out)."""
+    return [p for p in psutil.process_iter(["pid", "status"]) if _pgid(p.pid) == pgid and
+            p.info["status"] != psutil.STATUS_ZOMBIE]
+
+
+def _pgid(pid: int) -> int | None:
+    try:
+        return os.getpgid(pid)
+    except OSError:
+        return None
+
+
+def test_ctrl_c_in_this_process_one_line_and_exit_130(tmp_path: Path, monkeypatch: pytest.MonkeyPatch,
+                                                       capsys: pytest.CaptureFixture[str]) -> None:
+    """``--scheduler sync``: the KeyboardInterrupt arrives inside the fourth chunk's computation."""
+    from featherdyn.tools import cli as cli_module
+    from featherdyn.tools import dataset
+
+    real, calls = dataset._write_chunk, []
+
+    def interrupted_on_the_fourth(model: fd.Model, spec: DatasetSpec, k: int) -> int:
+        calls.append(k)
+        if len(calls) == 4:
+            raise KeyboardInterrupt
+        return real(model, spec, k)
+
+    monkeypatch.setattr(dataset, "_write_chunk", interrupted_on_the_fourth)
+    out = tmp_path / "sync.zarr"
+    argv = ["dataset", "panda", "--states", "1000", "--chunk", "100", "--out", str(out), "--scheduler", "sync"]
+    assert cli_module.main(argv) == 130
+    captured = capsys.readouterr()
+    assert _interrupted_line(captured.err) == (3, 10) and captured.out == ""
+    monkeypatch.setattr(dataset, "_write_chunk", real)
+    assert cli_module.main(argv) == 0
+    assert "7 chunks computed, 3 already done" in capsys.readouterr().out

@@ -81,7 +81,7 @@ def test_qualified_names_and_base_option() -> None:
         ("anymal", r"robot name 'anymal' is ambiguous: use one of 'anymal_b_simple_description/anymal', "
                    r"'anymal_c_simple_description/anymal'"),
         ("ur3", r"unknown robot 'ur3'; did you mean 'ur3_gripper'"),
-        ("zzzzzz", r"unknown robot 'zzzzzz' \(featherdyn.list_robots\(\) lists all \d+\)"),
+        ("zzzzzz", r"unknown robot 'zzzzzz' \(`featherdyn list` lists all \d+; in Python, featherdyn.list_robots\(\)\)"),
     ],
 )
 def test_unknown_names_suggest_close_matches(name: str, match: str) -> None:

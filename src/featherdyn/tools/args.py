@@ -13,7 +13,7 @@ from pathlib import Path
 
 from ..errors import FeatherdynError
 
-__all__ = ["positive_int", "positive_float", "check_writable"]
+__all__ = ["positive_int", "positive_float", "check_writable", "plural"]
 
 
 def positive_int(text: str) -> int:
@@ -54,3 +54,8 @@ def check_writable(path: str | os.PathLike[str] | None, option: str) -> None:
         raise FeatherdynError(f"cannot write {option} {p}: the folder {folder} does not exist")
     if not os.access(folder, os.W_OK) or (p.exists() and not os.access(p, os.W_OK)):
         raise FeatherdynError(f"cannot write {option} {p}: permission denied")
+
+
+def plural(n: int, noun: str) -> str:
+    """``n`` and ``noun``, the noun in the plural unless ``n`` is 1: ``"1 chunk"``, ``"3 chunks"``."""
+    return f"{n} {noun}" if n == 1 else f"{n} {noun}s"

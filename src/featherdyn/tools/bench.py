@@ -23,7 +23,7 @@ import subprocess
 import sys
 import time
 import warnings
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterator, Sequence
 
 import numpy as np
 
@@ -266,13 +266,14 @@ def chain_urdf(n: int) -> str:
     return "\n".join(parts)
 
 
-def _chain_rows(lengths: Sequence[int], repeats: int) -> list[tuple[float, ...]]:
+def _chain_rows(lengths: Sequence[int], repeats: int) -> Iterator[tuple[float, ...]]:
+    """One row per chain length, as each is measured (a line on stderr first: the long chains take seconds)."""
     import pinocchio as pin
 
     from ..readers.urdf import load_urdf
 
-    rows: list[tuple[float, ...]] = []
-    for n in lengths:
+    for k, n in enumerate(lengths, 1):
+        print(f"featherdyn bench: [{k}/{len(lengths)}] a chain of {n} links…", file=sys.stderr, flush=True)
         xml = chain_urdf(n)
         model = load_urdf(xml)
         pair = _Pair(f"chain{n}", model, pin.buildModelFromXML(xml))
@@ -280,8 +281,7 @@ def _chain_rows(lengths: Sequence[int], repeats: int) -> list[tuple[float, ...]]
         for f_fd, f_pin in _dynamics_calls(pair):
             t_fd, t_pin = _median_ratio(f_fd, f_pin, repeats)
             r += [t_fd * 1e6, t_pin * 1e6]
-        rows.append((float(n), *r))
-    return rows
+        yield (float(n), *r)
 
 
 def _dynamics_calls(pair: _Pair) -> list[tuple[Callable[[], object], Callable[[], object]]]:

@@ -9,13 +9,15 @@ from __future__ import annotations
 
 import logging
 import os
+import signal
+import threading
 from collections.abc import Iterator
 from contextlib import contextmanager
 from typing import Any
 
 from ..errors import DatasetError, MissingDependencyError
 
-__all__ = ["available_cores", "dask_client"]
+__all__ = ["available_cores", "dask_client", "dask_setup", "sigint_ignored"]
 
 
 def available_cores() -> int:
@@ -24,9 +26,42 @@ def available_cores() -> int:
 
 
 @contextmanager
+def sigint_ignored() -> Iterator[None]:
+    """Ignore Ctrl-C (SIGINT) inside the block, called from the main thread (elsewhere: do nothing).
+
+    Processes started inside the block inherit the ignored signal; a second Ctrl-C does not break the
+    shutdown of the workers into a traceback.
+    """
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    previous = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, previous)
+
+
+def dask_setup(worker: Any) -> None:
+    """Dask's preload hook, run in each worker process of a local cluster as it starts: ignore Ctrl-C there.
+
+    A worker that the nanny starts again after a crash did not inherit the ignored signal
+    (:func:`dask_client`); this makes it ignore it as well.
+    """
+    if threading.current_thread() is threading.main_thread():
+        signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+
+@contextmanager
 def dask_client(scheduler: str, workers: int | None, option: str = "--scheduler") -> Iterator[Any]:
     """A ``dask.distributed.Client``: of a new LocalCluster of ``workers`` processes for ``"local"``,
     else connected to the scheduler at address ``scheduler``; closed (and the cluster stopped) on exit.
+
+    Ctrl-C: a terminal sends it to the whole process group, the local workers included. They ignore it
+    (started while this process ignores it, they inherit ``SIG_IGN``: Python does not install its
+    ``KeyboardInterrupt`` handler then; :func:`dask_setup` covers a worker started again later), so they
+    print no tracebacks; this process gets it as ``KeyboardInterrupt`` and its exit from the block stops
+    them. A Ctrl-C while the workers start (a second or two) is not seen: press it again.
 
     Raises:
         MissingDependencyError: dask.distributed is not installed.
@@ -36,20 +71,25 @@ def dask_client(scheduler: str, workers: int | None, option: str = "--scheduler"
         from dask.distributed import Client, LocalCluster
     except ImportError:
         raise MissingDependencyError(f"{option} needs dask.distributed: pip install 'featherdyn[distributed]'") from None
-    cluster = None
-    if scheduler == "local":
-        cluster = LocalCluster(n_workers=workers or available_cores(), threads_per_worker=1, processes=True,
-                               dashboard_address=None, silence_logs=logging.ERROR)
-        client = Client(cluster)
-    else:
-        try:
-            client = Client(scheduler, timeout="5s")
-        except (OSError, ValueError, TypeError) as exc:  # refused, timed out, or not an address at all
-            raise DatasetError(f"{option} {scheduler}: no Dask scheduler answers there ({exc}); expected local, sync "
-                               "(dataset) or a scheduler address such as tcp://host:8786") from None
+    cluster: Any = None
+    client: Any = None
     try:
+        if scheduler == "local":
+            with sigint_ignored():  # the worker processes start here and inherit the ignored Ctrl-C
+                cluster = LocalCluster(n_workers=workers or available_cores(), threads_per_worker=1, processes=True,
+                                       dashboard_address=None, silence_logs=logging.ERROR,
+                                       preload=[__name__])
+                client = Client(cluster)
+        else:
+            try:
+                client = Client(scheduler, timeout="5s")
+            except (OSError, ValueError, TypeError) as exc:  # refused, timed out, or not an address at all
+                raise DatasetError(f"{option} {scheduler}: no Dask scheduler answers there ({exc}); expected local, "
+                                   "sync (dataset) or a scheduler address such as tcp://host:8786") from None
         yield client
     finally:
-        client.close()
-        if cluster is not None:
-            cluster.close()
+        with sigint_ignored():  # a second Ctrl-C does not break the shutdown into a traceback
+            if client is not None:
+                client.close()
+            if cluster is not None:
+                cluster.close()

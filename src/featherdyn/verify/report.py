@@ -16,6 +16,13 @@ from ..testing import tolerance
 __all__ = ["CheckResult", "VerifyReport", "RunMeta", "Diagnostics", "LinkInfo", "InvalidInertia", "compare", "ROUNDOFF", "roundoff_note", "Cause", "likely_cause"]
 
 
+#: the mark of a check whose tolerance is scaled by the mass matrix's condition number (in its quantity)
+COND_SCALED = "tol × cond(M)"
+#: what the table's columns mean, printed above it
+COLUMNS = ("max abs err: the largest |featherdyn − oracle| over the states and entries; max rel err: the same over "
+           "max(|oracle|, 1), judged against tol; worst: the random state (0 .. samples − 1) where it occurs")
+
+
 @dataclass(frozen=True, slots=True)
 class CheckResult:
     """The comparison of one quantity over all sampled states.
@@ -241,7 +248,7 @@ class VerifyReport:
         ]
         widths = [max(len(h), *(len(row[i]) for row in rows)) if rows else len(h) for i, h in enumerate(head)]
         fmt = "  ".join(f"{{:<{w}}}" for w in widths)
-        lines = [self.title, "", fmt.format(*head), fmt.format(*("-" * w for w in widths))]
+        lines = [self.title, "", COLUMNS, "", fmt.format(*head), fmt.format(*("-" * w for w in widths))]
         lines += [fmt.format(*row) for row in rows]
         n_fail = len(self.failures)
         d = self.diagnostics
@@ -266,6 +273,10 @@ class VerifyReport:
         roundoff = [r for r in self.failures if r.max_rel <= ROUNDOFF]
         others = [r for r in self.failures if r.max_rel > ROUNDOFF]
         summary = f"{len(self.results)} checks: {len(self.results) - n_fail} passed, {n_fail} failed"
+        scaled = [r for r in self.results if r.passed and COND_SCALED in r.quantity]
+        if scaled:
+            summary += (f"; {len(scaled)} of the passes on a tolerance scaled by cond(M) (marked "
+                        f"'{COND_SCALED}': solving with M amplifies round-off by cond(M))")
         if roundoff:
             summary += (f"; {'all' if not others else len(roundoff)} only by round-off (largest "
                         f"{max(r.max_rel for r in roundoff):.1e}): the tolerance {min(r.tol for r in roundoff):.0e} "

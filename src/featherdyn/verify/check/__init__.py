@@ -88,7 +88,7 @@ from ..resolve import resolve_robot
 from .derivatives import DERIVATIVE_SUSPECTS, derivative_checks
 from .diagnosis import explain, largest_discrepancy
 from .readings import Checker, Hypothesis, Layout
-from .report import CheckReport, Finding, one_line
+from .report import CheckReport, Finding, agree, one_line
 from .suspects import SUSPECTS, diagnose
 from .values import KEYS, ValuesError, load_npz, validate
 
@@ -231,7 +231,7 @@ def check_values(values: Mapping[str, ArrayLike] | str | os.PathLike[str], robot
                               + ", ".join(DERIVATIVE_SUSPECTS) + ")")
             return report
         if report.passed:
-            report.summary = f"all {len(report.results)} comparisons agree within {tol:g}"
+            report.summary = f"{agree(len(report.results))} within {tol:g}"
             return report
         worst = max(r.max_rel for r in report.results)
         if worst <= ROUNDOFF:  # no suspect can explain what is only round-off

@@ -11,7 +11,7 @@ import numpy as np
 
 from ..report import CheckResult
 
-__all__ = ["Finding", "CheckReport", "result_dict", "table", "one_line"]
+__all__ = ["Finding", "CheckReport", "result_dict", "table", "one_line", "agree"]
 
 
 def one_line(exc: BaseException) -> str:
@@ -104,7 +104,7 @@ class CheckReport:
         """The plain-text report printed by ``featherdyn check``."""
         lines = [self.title, "", *table(self.results), ""]
         if self.passed:
-            lines.append(f"all {len(self.results)} comparisons agree within {self.meta.get('tol', 0):g}")
+            lines.append(f"{agree(len(self.results))} within {self.meta.get('tol', 0):g}")
             return "\n".join(lines)
         if self.diagnosis:
             many = len(self.diagnosis) > 1
@@ -141,3 +141,8 @@ def table(results: list[CheckResult]) -> list[str]:
     return [fmt.format(*head).rstrip(), fmt.format(*("-" * w for w in widths))] + [fmt.format(*row).rstrip()
                                                                                    for row in rows]
 
+
+
+def agree(n: int) -> str:
+    """``"all 3 comparisons agree"``; ``"the 1 comparison agrees"``."""
+    return "the 1 comparison agrees" if n == 1 else f"all {n} comparisons agree"
