@@ -175,14 +175,16 @@ std::int64_t exact(const A& x, const ModelView& mv, const Operand& o) {
 
 }  // namespace declared
 
-// One state into given outputs (inputs: nullptr or None where absent): OK, NOT_TAKEN, or the status of the first
-// failure (lengths, the options, overlap, the state, the kernel, overflow).
-inline std::int64_t run_into(const Kernel& k, const ModelView& mv, PyObject* const* inputs, PyObject* const* outputs,
-                             const Options& opt) {
+namespace declared {
+
+// One state of the inputs (nullptr or None where absent) into outputs of the declared shapes (op): OK, NOT_TAKEN,
+// or the status of the first failure (lengths, the options, an output over an input, the state, the kernel,
+// overflow). `out_sizes`: the outputs' sizes, to check them against the inputs' memory (nullptr: outputs just
+// allocated, which share memory with nothing).
+inline std::int64_t run_state(const Kernel& k, const ModelView& mv, PyObject* const* inputs, double* const* op,
+                              const std::int64_t* out_sizes, const Options& opt) {
   std::array<F64In, DECLARED_MAX> in;
-  std::array<F64Out, DECLARED_MAX> out;
   std::array<const double*, DECLARED_MAX> ip{};
-  std::array<double*, DECLARED_MAX> op{};
   for (size_t i = 0; i < k.inputs.size(); ++i) {
     PyObject* x = inputs[i];
     if (x == nullptr || x == Py_None) {
@@ -190,21 +192,33 @@ inline std::int64_t run_into(const Kernel& k, const ModelView& mv, PyObject* con
       continue;
     }
     if (!in[i].acquire(x)) return NOT_TAKEN;
-    FD_TRY(declared::exact(in[i], mv, k.inputs[i]));
+    FD_TRY(exact(in[i], mv, k.inputs[i]));
     ip[i] = in[i].data();
+    for (size_t o = 0; out_sizes != nullptr && o < k.outputs.size(); ++o)
+      if (overlaps(op[o], out_sizes[o], ip[i], size_of(mv, k.inputs[i]))) return make_status(OVERLAP, k.inputs[i].arg, 0);
   }
+  FD_TRY(check_options(k, mv, opt));
+  return run_checked(k, mv, ip.data(), op, opt);
+}
+
+}  // namespace declared
+
+// One state into given outputs: OK, NOT_TAKEN (an array not taken as it is), or the status of the first failure
+// (declared::run_state; outputs that share memory with each other: OVERLAP on ARG_OUT).
+inline std::int64_t run_into(const Kernel& k, const ModelView& mv, PyObject* const* inputs, PyObject* const* outputs,
+                             const Options& opt) {
+  std::array<F64Out, DECLARED_MAX> out;
+  std::array<double*, DECLARED_MAX> op{};
+  std::array<std::int64_t, DECLARED_MAX> n{};
   for (size_t o = 0; o < k.outputs.size(); ++o) {
     if (!out[o].acquire(outputs[o])) return NOT_TAKEN;
     FD_TRY(declared::exact(out[o], mv, k.outputs[o]));
     op[o] = out[o].data();
-    const std::int64_t n = size_of(mv, k.outputs[o]);
-    for (size_t i = 0; i < k.inputs.size(); ++i)
-      if (overlaps(op[o], n, ip[i], size_of(mv, k.inputs[i]))) return make_status(OVERLAP, k.inputs[i].arg, 0);
+    n[o] = size_of(mv, k.outputs[o]);
     for (size_t p = 0; p < o; ++p)
-      if (overlaps(op[o], n, op[p], size_of(mv, k.outputs[p]))) return make_status(OVERLAP, ARG_OUT, 0);
+      if (overlaps(op[o], n[o], op[p], n[p])) return make_status(OVERLAP, ARG_OUT, 0);
   }
-  FD_TRY(declared::check_options(k, mv, opt));
-  return declared::run_checked(k, mv, ip.data(), op.data(), opt);
+  return declared::run_state(k, mv, inputs, op.data(), n.data(), opt);
 }
 
 // One state, the results allocated here: a new reference to the result (one array, or a tuple of them), or
@@ -212,6 +226,7 @@ inline std::int64_t run_into(const Kernel& k, const ModelView& mv, PyObject* con
 // caller then declines: the Python path converts or words it).
 inline PyObject* run_fresh(const Kernel& k, const ModelView& mv, PyObject* const* inputs, const Options& opt) {
   PyObject* outs[DECLARED_MAX] = {};
+  std::array<double*, DECLARED_MAX> op{};
   const size_t no = k.outputs.size();
   auto release = [&] {
     for (PyObject*& o : outs) Py_CLEAR(o);
@@ -221,8 +236,9 @@ inline PyObject* run_fresh(const Kernel& k, const ModelView& mv, PyObject* const
     npy_intp dims[3];
     for (int d = 0; d < k.outputs[o].nd; ++d) dims[d] = length_of(mv, k.outputs[o].dims[d]);
     if ((outs[o] = new_f64(k.outputs[o].nd, dims)) == nullptr) return release();
+    op[o] = f64_data(outs[o]);
   }
-  if (run_into(k, mv, inputs, outs, opt) != OK) return release();
+  if (declared::run_state(k, mv, inputs, op.data(), nullptr, opt) != OK) return release();
   if (no == 1) return outs[0];
   PyObject* t = PyTuple_New(static_cast<Py_ssize_t>(no));
   if (t == nullptr) return release();
