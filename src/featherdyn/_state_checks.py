@@ -35,7 +35,7 @@ class State:
     arrays: dict[str, np.ndarray]
 
 
-def check_state(model: Model, q: Any, check_finite: bool = True, optional: tuple[str, ...] = (),
+def check_state(model: Model, q: Any, check_finite: bool = True, optional: tuple[str, ...] = (), values: bool = True,
                 **vectors: Any) -> State:
     """Validate ``q`` `(..., nq)` and every named vector `(..., nv)`.
 
@@ -46,8 +46,10 @@ def check_state(model: Model, q: Any, check_finite: bool = True, optional: tuple
     Raises :class:`ShapeError` naming the argument and the expected trailing
     dimension, :class:`NonFiniteError`, or :class:`QuaternionNormError` naming
     the joint whose quaternion is off unit norm by more than
-    :data:`featherdyn.tolerances.QUATERNION_NORM`.
+    :data:`featherdyn.tolerances.QUATERNION_NORM`. ``values=False`` checks the shapes and dtypes only (for the
+    compiled core, which checks finiteness and the quaternions of every state itself).
     """
+    check_finite = check_finite and values
     if not isinstance(model, Model):
         raise ShapeError(f"model: expected a featherdyn Model, got {type(model).__name__}")
     qq = _vec(q, "q", model.nq, "nq", check_finite)
@@ -63,7 +65,8 @@ def check_state(model: Model, q: Any, check_finite: bool = True, optional: tuple
         shapes = ", ".join(f"{n}: {a.shape}" for n, a in [("q", qq), *arrays.items()])
         raise ShapeError(f"batch shapes do not broadcast ({shapes})") from None
     dtype = result_dtype(*all_arrays)
-    _check_quaternions(model, qq if qq.dtype.kind != "O" else _numeric_part(qq))
+    if values:
+        _check_quaternions(model, qq if qq.dtype.kind != "O" else _numeric_part(qq))
     return State(batch, dtype, qq, arrays)
 
 
@@ -102,8 +105,9 @@ def _check_quaternions(model: Model, q: np.ndarray) -> None:
             )
 
 
-def check_f_ext(model: Model, f_ext: Any) -> np.ndarray | None:
-    """``f_ext`` as an array `(..., nb, 6)` of body-frame spatial forces ``[n; f]`` (``None`` stays ``None``)."""
+def check_f_ext(model: Model, f_ext: Any, values: bool = True) -> np.ndarray | None:
+    """``f_ext`` as an array `(..., nb, 6)` of body-frame spatial forces ``[n; f]`` (``None`` stays ``None``);
+    ``values=False``: its shape only (the compiled core checks its values)."""
     if f_ext is None:
         return None
     arr = as_array(f_ext, "f_ext", check_finite=False)
@@ -112,7 +116,7 @@ def check_f_ext(model: Model, f_ext: Any) -> np.ndarray | None:
             f"f_ext: expected shape (..., nb={model.nbodies}, 6) of body-frame spatial forces [n; f], "
             f"got shape {tuple(arr.shape)}"
         )
-    return as_array(arr, "f_ext")
+    return as_array(arr, "f_ext") if values else arr
 
 
 def batch_with_f_ext(st: State, fx: np.ndarray | None) -> tuple[tuple[int, ...], np.dtype]:

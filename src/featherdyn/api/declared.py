@@ -38,7 +38,7 @@ from ..errors import DTypeError, ShapeError
 from ..frames import LOCAL, LOCAL_WORLD_ALIGNED, WORLD, as_reference_frame
 from ..model import Model
 from ._backend import CORE, core_path, select_backend
-from ._checks import as_dtype, batch_with_f_ext, check_f_ext, check_state, finite_result, quiet
+from ._checks import State, as_dtype, batch_with_f_ext, check_f_ext, check_state, finite_result, quiet
 
 __all__ = ["Declaration", "call", "public_function", "compiled_method"]
 
@@ -122,6 +122,20 @@ def _options(decl: Declaration, model: Model, given: dict[str, Any]) -> tuple[di
     return kernel, reference
 
 
+def _writable_as_is(decl: Declaration, out: Any, inputs: list[np.ndarray | None]) -> tuple[np.ndarray, ...] | None:
+    """``out``'s arrays when the core may write the batch into them as they are (C-contiguous, aligned, native
+    float64, of the declared shapes — checked by the core — and sharing no memory with an input), else ``None``:
+    the results are then computed into fresh memory and copied (``call``, step 6)."""
+    if out is None:
+        return None
+    arrays = _out_arrays(decl, out)
+    if not all(a.dtype == np.float64 and a.dtype.isnative and a.flags.c_contiguous and a.flags.aligned for a in arrays):
+        return None
+    if any(x is not None and np.may_share_memory(x, a) for x in inputs for a in arrays):
+        return None
+    return arrays
+
+
 #: the reference frames by their codes (the core's public calls read them by identity)
 REFERENCES = (LOCAL, WORLD, LOCAL_WORLD_ALIGNED)
 
@@ -159,22 +173,34 @@ def call(decl: Declaration, model: Model, args: tuple[Any, ...], out: Any = None
             raise ShapeError("out: not supported with Dask arrays (the result is a Dask array)")
         return _dask.call(_PUBLIC[decl.name], model, dict(zip(decl.inputs, args, strict=True)), backend=backend,
                           **given_options)
-    # 3. checks: f_ext, then the state, as every public function words them
+    # 3. checks: f_ext, then the state, as every public function words them (their values only where the core
+    # does not check them itself: it checks every state, and its error path words what it finds as these do)
     given = dict(zip(decl.inputs, args, strict=True))
-    fx = check_f_ext(model, given.get("f_ext")) if "f_ext" in given else None
-    if "f_ext" in given and fx is None and "f_ext" not in decl.optional:
-        raise ShapeError(f"f_ext: expected an array of shape (..., nb={model.nbodies}, 6), got None")
     vectors = {n: given[n] for n in decl.inputs if n in ("v", "a", "tau")}
-    st = check_state(model, given["q"], optional=decl.optional, **vectors)
+
+    def checked_state(values: bool) -> tuple[np.ndarray | None, State]:
+        fx = check_f_ext(model, given.get("f_ext"), values) if "f_ext" in given else None
+        if "f_ext" in given and fx is None and "f_ext" not in decl.optional:
+            raise ShapeError(f"f_ext: expected an array of shape (..., nb={model.nbodies}, 6), got None")
+        return fx, check_state(model, given["q"], optional=decl.optional, values=values, **vectors)
+
+    fx, st = checked_state(False)
     batch, dtype = batch_with_f_ext(st, fx)
-    checked = [fx if n == "f_ext" else st.q if n == "q" else st.arrays.get(n) for n in decl.inputs]
     # 4. backend, 5. call
-    reference = functools.partial(decl.reference, **ref_opts) if ref_opts else decl.reference
-    if float64 or select_backend(backend, dtype) == "compiled":
+    compiled = float64 or select_backend(backend, dtype) == "compiled"
+    if not compiled:
+        fx, st = checked_state(True)
+    checked = [fx if n == "f_ext" else st.q if n == "q" else st.arrays.get(n) for n in decl.inputs]
+    if compiled:
         dtype = np.dtype(np.float64) if float64 else dtype
         f64 = [None if x is None else np.asarray(x, dtype=np.float64) for x in checked]
-        outs = tuple(as_dtype(o, dtype) for o in _declared.run(decl.name, model, batch, f64, options=opts))
+        into = _writable_as_is(decl, out, f64) if dtype == np.float64 else None
+        outs = _declared.run(decl.name, model, batch, f64, out=into, options=opts)
+        if into is not None:
+            return out  # written in place (the one rule holds: out shares no memory with an input)
+        outs = tuple(as_dtype(o, dtype) for o in outs)
     else:
+        reference = functools.partial(decl.reference, **ref_opts) if ref_opts else decl.reference
         r = quiet(reference, model, *checked)
         outs = tuple(finite_result(as_dtype(np.asarray(o), dtype) if dtype.kind == "f" else np.asarray(o), decl.name)
                      for o in (r if isinstance(r, tuple) else (r,)))

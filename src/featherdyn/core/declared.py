@@ -15,6 +15,7 @@ from typing import Any
 
 import numpy as np
 
+from ..errors import ShapeError
 from ..model import Model
 from . import _errors
 from ._model_view import CoreHandle, model_view
@@ -98,7 +99,11 @@ def run(name: str, model: Model, batch: tuple[int, ...], inputs: list[np.ndarray
             rows.append(x.reshape(1, n))
         else:
             rows.append(np.ascontiguousarray(np.broadcast_to(x, batch + tail)).reshape(N, n))
-    outs = out if out is not None else tuple(result_array(batch + shape_of(h, s)) for _, s, _ in spec.outputs)
+    shapes = [batch + shape_of(h, s) for _, s, _ in spec.outputs]
+    for o, shape in zip(out or (), shapes, strict=False):
+        if o.shape != shape:
+            raise ShapeError(f"out: expected shape {shape}, got {o.shape}")
+    outs = out if out is not None else tuple(result_array(shape) for shape in shapes)
     if N == 0:  # an empty batch: empty results
         return tuple(outs)
     _row, status = k.batch(h.cm, rows, [o.reshape(N, -1) for o in outs], **(options or {}))

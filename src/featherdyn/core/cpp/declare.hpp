@@ -306,11 +306,8 @@ inline RowStatus run_batch(const Kernel& k, const ModelView& mv, const nb::seque
   std::int64_t per_row = 0;
   for (size_t o = 0; o < k.outputs.size(); ++o) per_row += n_out[o];
   g.stream = fdgroup::stream_result(N, per_row);
-  auto check = [&](std::int64_t r) -> std::int64_t {
-    std::array<const double*, DECLARED_MAX> ip{};
-    std::array<double*, DECLARED_MAX> opr{};
-    state(r, ip, opr);
-    return declared::check_inputs(k, mv, ip.data());
+  auto check = [&](std::int64_t r) {  // (check_inputs on the rows of the group kernel's roles)
+    return check_state(mv, by_arg[0].row(r), by_arg[1].row(r), by_arg[2].row(r), by_arg[3].row(r));
   };
   return for_row_groups(N, check, one, group_kernels().*k.group, g);
 }
