@@ -18,7 +18,10 @@ a bad value) does the wrapper take its general path, which converts,
 dispatches batches and raises the reference's errors. The general path never
 changes what a call returns, only how long it takes.
 Results are float64; ``out=`` gives an array to write into (float64,
-C-contiguous, the result's shape). Conventions: motion ``[ω; v]``, force
+C-contiguous, the result's shape). The functions of the declared algorithms
+(``rnea`` & co., the Jacobians, the energies, the derivatives: one per kernel of
+``core/cpp/declarations.hpp``) are made by ``_declared`` from the kernel's
+declaration; the kinematics records and the constraints are written below. Conventions: motion ``[ω; v]``, force
 ``[n; f]``, free-flyer ``q = [p, quat xyzw]`` and ``v = [ω; v]`` in the base
 frame, gravity from ``model.gravity`` entered as a base acceleration ``−g``.
 """
@@ -32,7 +35,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import DTypeError, ModelError, ShapeError
-from ..frames import LOCAL, ReferenceFrame, as_reference_frame
+from ..frames import LOCAL, as_reference_frame
 from ..model import Model
 from ..spatial.validation import as_array
 from . import _errors, declared
@@ -85,8 +88,6 @@ __all__ = [
 
 _F64 = np.dtype(np.float64)
 _empty = np.empty
-# fd.LOCAL & co. by identity → their ReferenceFrame.code (an Enum's hash runs in Python: too slow for the fast path)
-_CODE_OF = {id(r): r.code for r in ReferenceFrame}
 
 
 def available() -> bool:
