@@ -195,3 +195,45 @@ def test_gravity_false_is_the_kernel_without_gravity() -> None:
         assert _rel(qdd, a) < 1e-9
     cm = fd.compile(model)
     assert np.array_equal(cm.rnea(q[0], v[0], a[0], gravity=False), fd.rnea(model, q[0], v[0], a[0], gravity=False))
+
+
+DIFFERENTIABLE = sorted(n for n, d in DECLARATIONS.items() if d.derivative)
+
+
+def test_the_declared_derivatives_are_declarations_with_an_output_per_input() -> None:
+    assert DIFFERENTIABLE == ["aba", "generalized_gravity", "rnea"]
+    for name in DIFFERENTIABLE:
+        decl, deriv = DECLARATIONS[name], DECLARATIONS[DECLARATIONS[name].derivative]  # type: ignore[index]
+        inputs = tuple(n for n in decl.inputs if n != "f_ext")
+        assert len(deriv.outputs) == len(inputs) and deriv.inputs == decl.inputs, name
+
+
+@pytest.mark.parametrize("name", DIFFERENTIABLE)
+@pytest.mark.parametrize("robot", [("solo12", True), ("panda", False)])
+def test_a_declared_derivative_is_the_derivative_of_its_function(name: str, robot: tuple[str, bool]) -> None:
+    """Each output of the declared derivative against central differences of the function: along the tangent of
+    fd.integrate for q, plainly for the vectors."""
+    model = library_robot(*robot)
+    assert model is not None
+    decl = DECLARATIONS[name]
+    fn, deriv = getattr(fd, name), getattr(fd, decl.derivative)  # type: ignore[arg-type]
+    rng = np.random.default_rng(11)
+    state = {"q": fd.random_configuration(model, rng), "v": rng.normal(size=model.nv),
+             "a": rng.normal(size=model.nv), "tau": rng.normal(size=model.nv), "f_ext": None}
+    args = [state[n] for n in decl.inputs]
+    partials = _parts(deriv(model, *args))
+    eps = 1e-6
+    for k, n in enumerate(n for n in decl.inputs if n != "f_ext"):
+        at = decl.inputs.index(n)
+        for j in range(model.nv):
+            step = np.zeros(model.nv)
+            step[j] = eps
+
+            def moved(sign: float, at: int = at, n: str = n, step: np.ndarray = step) -> np.ndarray:
+                x = list(args)
+                x[at] = fd.integrate(model, args[at], sign * step) if n == "q" else args[at] + sign * step
+                return fn(model, *x)
+
+            column = (moved(1.0) - moved(-1.0)) / (2 * eps)
+            scale = max(1.0, float(np.abs(partials[k]).max()))
+            assert np.abs(partials[k][:, j] - column).max() < 1e-5 * scale, (name, n, j)

@@ -26,6 +26,7 @@ __all__ = ["rnea", "nonlinear_effects", "generalized_gravity", "crba", "aba", "f
 DECLARATIONS: dict[str, Declaration] = {d.name: d for d in [
     Declaration(
         name="rnea",
+        derivative="rnea_derivatives",
         inputs=("q", "v", "a", "f_ext"),
         optional=("f_ext",),
         options=("gravity",),
@@ -66,6 +67,7 @@ DECLARATIONS: dict[str, Declaration] = {d.name: d for d in [
     ),
     Declaration(
         name="generalized_gravity",
+        derivative="generalized_gravity_derivatives",
         method="gravity",
         inputs=("q",),
         outputs=("g",),
@@ -99,6 +101,7 @@ DECLARATIONS: dict[str, Declaration] = {d.name: d for d in [
     ),
     Declaration(
         name="aba",
+        derivative="aba_derivatives",
         inputs=("q", "v", "tau", "f_ext"),
         optional=("f_ext",),
         options=("gravity",),

@@ -64,6 +64,10 @@ class Declaration:
         options: the scalar parameters it takes besides the state (``gravity``: keyword-only, default ``True``),
             passed by name to the kernel and to the reference.
         method: the name of ``fd.compile(model)``'s method, when not ``name``.
+        derivative: the declared function whose outputs are the derivatives of this one's output with respect to
+            each of its state inputs but ``f_ext``, in order (``∂/∂q`` along the tangent of ``fd.integrate``), when
+            there is one: ``rnea`` → ``rnea_derivatives`` (∂τ/∂q, ∂τ/∂q̇, ∂τ/∂q̈). The frameworks' operations take
+            their gradients from it.
     """
 
     name: str
@@ -74,6 +78,7 @@ class Declaration:
     optional: tuple[str, ...] = ()
     options: tuple[str, ...] = ()
     method: str | None = None
+    derivative: str | None = None
 
     def __post_init__(self) -> None:
         unknown = [n for n in self.inputs if n not in STATE_ARGUMENTS]
