@@ -10,7 +10,7 @@ this order:
 
 1. **one state**: the core's kernel takes the arguments as they are (``Kernel.fresh`` /
    ``Kernel.into``: exact native float64 arrays of the declared shapes, a sound state); it
-   returns ``None`` (or a status) or raises ``TypeError`` for anything else, which goes on;
+   returns ``None`` (or a non-zero status) for anything else, which goes on;
 2. **Dask**: a Dask array among the state arguments hands the call to ``_dask.call``;
 3. **checks**: ``f_ext`` and the state, worded by the public checks (``_state_checks``);
 4. **backend**: ``select_backend`` — the core for float64, the reference otherwise;
@@ -127,25 +127,16 @@ def _options(decl: Declaration, model: Model, given: dict[str, Any]) -> tuple[di
     return kernel, reference
 
 
-def _writable_as_is(decl: Declaration, out: Any, inputs: list[np.ndarray | None]) -> tuple[np.ndarray, ...] | None:
-    """``out``'s arrays when the core may write the batch into them as they are (C-contiguous, aligned, native
-    float64, of the declared shapes — checked by the core — and sharing no memory with an input), else ``None``:
-    the results are then computed into fresh memory and copied (``call``, step 6)."""
-    if out is None:
-        return None
-    arrays = _out_arrays(decl, out)
-    if not all(a.dtype == np.float64 and a.dtype.isnative and a.flags.c_contiguous and a.flags.aligned for a in arrays):
-        return None
-    if any(x is not None and np.may_share_memory(x, a) for x in inputs for a in arrays):
-        return None
-    return arrays
+def _writable_as_is(arrays: tuple[np.ndarray, ...] | None) -> bool:
+    """Whether the core may write a batch into ``out``'s arrays as they are (C-contiguous, aligned, native
+    float64); else the results are computed into fresh memory and copied (``call``, step 6)."""
+    return arrays is not None and all(a.dtype == np.float64 and a.dtype.isnative and a.flags.c_contiguous
+                                      and a.flags.aligned for a in arrays)
 
 
 #: the reference frames by their codes (the core's public calls read them by identity)
 REFERENCES = (LOCAL, WORLD, LOCAL_WORLD_ALIGNED)
 
-#: the core's kernel of each declaration, looked up once
-_KERNELS: dict[str, Any] = {}
 #: the public function of each declaration (Dask's blocks call it)
 _PUBLIC: dict[str, Callable[..., Any]] = {}
 
@@ -159,19 +150,17 @@ def call(decl: Declaration, model: Model, args: tuple[Any, ...], out: Any = None
         raise ShapeError(f"model: expected a featherdyn Model, got {type(model).__name__}")
     given_options = options or {}
     opts, ref_opts = _options(decl, model, given_options)
-    # 1. one state: the core takes the arguments as they are, or declines
+    arrays = None if out is None else _out_arrays(decl, out)
+    # 1. one state: the core takes the arguments as they are, or declines (None, or a non-zero status)
     h = core_path(model, backend)
     if h is not None:
-        kernel = _KERNELS.get(decl.name) or _KERNELS.setdefault(decl.name, _declared.kernel(decl.name))
-        try:
-            if out is None:
-                r = kernel.fresh(h.cm, args, **opts)
-                if r is not None:
-                    return r
-            elif kernel.into(h.cm, args, _out_arrays(decl, out), **opts) == 0:
-                return out
-        except TypeError:  # arguments the kernel does not take as they are: converted below
-            pass
+        kernel = _declared.kernel(decl.name)
+        if arrays is None:
+            r = kernel.fresh(h.cm, args, **opts)
+            if r is not None:
+                return r
+        elif kernel.into(h.cm, args, arrays, **opts) == 0:
+            return out
     # 2. Dask
     if _dask.lazy(*args):
         if out is not None:
@@ -199,10 +188,10 @@ def call(decl: Declaration, model: Model, args: tuple[Any, ...], out: Any = None
     if compiled:
         dtype = np.dtype(np.float64) if float64 else dtype
         f64 = [None if x is None else np.asarray(x, dtype=np.float64) for x in checked]
-        into = _writable_as_is(decl, out, f64) if dtype == np.float64 else None
+        into = arrays if dtype == np.float64 and _writable_as_is(arrays) else None
         outs = _declared.run(decl.name, model, batch, f64, out=into, options=opts)
         if into is not None:
-            return out  # written in place (the one rule holds: out shares no memory with an input)
+            return out  # written by the core (an out over an input: through fresh memory, declared.run's rule)
         outs = tuple(as_dtype(o, dtype) for o in outs)
     else:
         reference = functools.partial(decl.reference, **ref_opts) if ref_opts else decl.reference
@@ -212,7 +201,7 @@ def call(decl: Declaration, model: Model, args: tuple[Any, ...], out: Any = None
     if out is None:
         return _result(decl, outs)
     # 6. out=: written after the computation (so an out sharing memory with an input changes nothing)
-    arrays = _out_arrays(decl, out)
+    assert arrays is not None
     for name, dst, src in zip(decl.outputs, arrays, outs, strict=True):
         if dst.shape != src.shape:
             raise ShapeError(f"out: expected shape {src.shape} for {name}, got {dst.shape}")

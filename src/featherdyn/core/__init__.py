@@ -292,12 +292,7 @@ def _run_declared(spec: declared.Spec, h: CoreHandle, model: Model, inputs: list
     if out is None:
         return _result(declared.run(name, model, batch, xs, None, options))
     outs = _outs(out, len(shapes), shapes[0]) if len(shapes) > 1 else (_out(out, shapes[0]),)
-    if any(x is not None and np.may_share_memory(x, o) for x in xs for o in outs):
-        # the one rule for out= (docs/architecture.md): as if out shared no memory with an input
-        for o, r in zip(outs, declared.run(name, model, batch, xs, None, options), strict=True):
-            np.copyto(o, r)
-    else:
-        declared.run(name, model, batch, xs, outs, options)
+    declared.run(name, model, batch, xs, outs, options)  # (out over an input: declared.run's one rule)
     return out
 
 

@@ -71,8 +71,9 @@ def run(name: str, model: Model, batch: tuple[int, ...], inputs: list[np.ndarray
     """The outputs `(*batch, *shape)` of the declared algorithm ``name`` on checked float64 inputs.
 
     ``inputs`` are in the declaration's order, each broadcastable to ``batch`` plus its declared shape
-    (``None`` for an absent optional one); ``out``, when given, holds the outputs to write into (checked
-    C-contiguous float64 of the right shapes by the caller); ``options`` its scalar parameters (``gravity``,
+    (``None`` for an absent optional one); ``out``, when given, holds the outputs to write into (C-contiguous
+    float64, checked by the caller; their shapes are checked here, and an ``out`` that may share memory with an
+    input gets the results through fresh memory); ``options`` its scalar parameters (``gravity``,
     ``frame`` as an index, ``reference`` as a code). A failing row raises the reference's error for the whole
     batch (``_errors.raise_for``, naming the row as NumPy would); ``SINGULAR``, ABA's, as the reference words it
     (:func:`raise_singular`).
@@ -103,6 +104,12 @@ def run(name: str, model: Model, batch: tuple[int, ...], inputs: list[np.ndarray
     for o, shape in zip(out or (), shapes, strict=False):
         if o.shape != shape:
             raise ShapeError(f"out: expected shape {shape}, got {o.shape}")
+    if out is not None and any(x is not None and np.may_share_memory(x, o) for x in inputs for o in out):
+        # the one rule for out= (docs/architecture.md): the result is the call's without out — a kernel writing
+        # its rows while it reads the inputs' would read what it wrote, so it writes into fresh memory first
+        for o, r in zip(out, run(name, model, batch, inputs, None, options), strict=True):
+            np.copyto(o, r)
+        return tuple(out)
     outs = out if out is not None else tuple(result_array(shape) for shape in shapes)
     if N == 0:  # an empty batch: empty results
         return tuple(outs)

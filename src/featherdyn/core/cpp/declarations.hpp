@@ -26,9 +26,8 @@ namespace fdcore {
 // external forces f_ext (nb, 6) when given, gravity unless gravity=False (rnea.hpp; RBDA table 5.1).
 struct Rnea : Declared {
   static constexpr const char* name = "rnea";
-  static constexpr Operand inputs[] = {{"q", ARG_Q, {NQ}, 1, false}, {"v", ARG_V, {NV}, 1, false},
-                                       {"a", ARG_A, {NV}, 1, false}, {"f_ext", ARG_FEXT, {NB, 6}, 2, true}};
-  static constexpr Operand outputs[] = {{"tau", ARG_OUT, {NV}, 1, false}};
+  static constexpr Operand inputs[] = {operand::q, operand::v, operand::a, operand::f_ext};
+  static constexpr Operand outputs[] = {operand::vector("tau", NV)};
   static constexpr unsigned options = GRAVITY;
   static constexpr auto group = &fdgroup::GroupKernels::rnea;
   static std::int64_t run(const ModelView& mv, const double* const* in, double* const* out, const Options& opt) {
@@ -40,8 +39,8 @@ struct Rnea : Declared {
 // h (nv,) = C(q, q̇) q̇ + g(q) = RNEA(q, q̇, 0): RNEA with no acceleration given.
 struct NonlinearEffects : Declared {
   static constexpr const char* name = "nonlinear_effects";
-  static constexpr Operand inputs[] = {{"q", ARG_Q, {NQ}, 1, false}, {"v", ARG_V, {NV}, 1, false}};
-  static constexpr Operand outputs[] = {{"h", ARG_OUT, {NV}, 1, false}};
+  static constexpr Operand inputs[] = {operand::q, operand::v};
+  static constexpr Operand outputs[] = {operand::vector("h", NV)};
   static constexpr auto group = &fdgroup::GroupKernels::rnea;
   static std::int64_t run(const ModelView& mv, const double* const* in, double* const* out, const Options&) {
     rnea<double>(mv, in[0], in[1], nullptr, nullptr, true, out[0]);
@@ -52,8 +51,8 @@ struct NonlinearEffects : Declared {
 // g (nv,) = RNEA(q, 0, 0): RNEA with neither velocity nor acceleration given.
 struct GeneralizedGravity : Declared {
   static constexpr const char* name = "generalized_gravity";
-  static constexpr Operand inputs[] = {{"q", ARG_Q, {NQ}, 1, false}};
-  static constexpr Operand outputs[] = {{"g", ARG_OUT, {NV}, 1, false}};
+  static constexpr Operand inputs[] = {operand::q};
+  static constexpr Operand outputs[] = {operand::vector("g", NV)};
   static constexpr auto group = &fdgroup::GroupKernels::rnea;
   static std::int64_t run(const ModelView& mv, const double* const* in, double* const* out, const Options&) {
     rnea<double>(mv, in[0], nullptr, nullptr, nullptr, true, out[0]);
@@ -64,8 +63,8 @@ struct GeneralizedGravity : Declared {
 // M (nv, nv), full and exactly symmetric: T = ½ q̇ᵀ M q̇ (crba.hpp; RBDA table 6.2).
 struct Crba : Declared {
   static constexpr const char* name = "crba";
-  static constexpr Operand inputs[] = {{"q", ARG_Q, {NQ}, 1, false}};
-  static constexpr Operand outputs[] = {{"M", ARG_OUT, {NV, NV}, 2, false}};
+  static constexpr Operand inputs[] = {operand::q};
+  static constexpr Operand outputs[] = {operand::matrix("M", NV, NV)};
   static constexpr auto group = &fdgroup::GroupKernels::crba;
   static std::int64_t run(const ModelView& mv, const double* const* in, double* const* out, const Options&) {
     crba(mv, in[0], out[0]);
@@ -77,9 +76,8 @@ struct Crba : Declared {
 // leaf-most) whose articulated inertia Sᵀ Iᴬ S is not positive definite.
 struct Aba : Declared {
   static constexpr const char* name = "aba";
-  static constexpr Operand inputs[] = {{"q", ARG_Q, {NQ}, 1, false}, {"v", ARG_V, {NV}, 1, false},
-                                       {"tau", ARG_A, {NV}, 1, false}, {"f_ext", ARG_FEXT, {NB, 6}, 2, true}};
-  static constexpr Operand outputs[] = {{"qdd", ARG_OUT, {NV}, 1, false}};
+  static constexpr Operand inputs[] = {operand::q, operand::v, operand::tau, operand::f_ext};
+  static constexpr Operand outputs[] = {operand::vector("qdd", NV)};
   static constexpr unsigned options = GRAVITY;
   static constexpr auto group = &fdgroup::GroupKernels::aba;
   static std::int64_t run(const ModelView& mv, const double* const* in, double* const* out, const Options& opt) {
@@ -97,8 +95,8 @@ struct Aba : Declared {
 // J (6, nv), rows [ω; v], of a frame in a reference (frames.hpp): frame_velocity = J q̇ (getFrameJacobian).
 struct FrameJacobian : Declared {
   static constexpr const char* name = "frame_jacobian";
-  static constexpr Operand inputs[] = {{"q", ARG_Q, {NQ}, 1, false}};
-  static constexpr Operand outputs[] = {{"J", ARG_OUT, {6, NV}, 2, false}};
+  static constexpr Operand inputs[] = {operand::q};
+  static constexpr Operand outputs[] = {operand::matrix("J", 6, NV)};
   static constexpr unsigned options = FRAME | REFERENCE;
   static std::int64_t run(const ModelView& mv, const double* const* in, double* const* out, const Options& opt) {
     frame_jacobian(mv, in[0], opt.frame, opt.reference, out[0]);
@@ -109,8 +107,8 @@ struct FrameJacobian : Declared {
 // Every joint's columns in world coordinates (6, nv): J[:, k] = ⁰X_k S_k (jacobians.hpp; Pinocchio's data.J).
 struct JointJacobians : Declared {
   static constexpr const char* name = "joint_jacobians";
-  static constexpr Operand inputs[] = {{"q", ARG_Q, {NQ}, 1, false}};
-  static constexpr Operand outputs[] = {{"J", ARG_OUT, {6, NV}, 2, false}};
+  static constexpr Operand inputs[] = {operand::q};
+  static constexpr Operand outputs[] = {operand::matrix("J", 6, NV)};
   static std::int64_t run(const ModelView& mv, const double* const* in, double* const* out, const Options&) {
     joint_jacobians(mv, in[0], out[0]);
     return OK;
@@ -120,8 +118,8 @@ struct JointJacobians : Declared {
 // J̇ (6, nv) of a frame's Jacobian along q̇, in a reference (jacobians.hpp; getFrameJacobianTimeVariation).
 struct FrameJacobianTimeVariation : Declared {
   static constexpr const char* name = "frame_jacobian_time_variation";
-  static constexpr Operand inputs[] = {{"q", ARG_Q, {NQ}, 1, false}, {"v", ARG_V, {NV}, 1, false}};
-  static constexpr Operand outputs[] = {{"dJ", ARG_OUT, {6, NV}, 2, false}};
+  static constexpr Operand inputs[] = {operand::q, operand::v};
+  static constexpr Operand outputs[] = {operand::matrix("dJ", 6, NV)};
   static constexpr unsigned options = FRAME | REFERENCE;
   static std::int64_t run(const ModelView& mv, const double* const* in, double* const* out, const Options& opt) {
     frame_jacobian_time_variation(mv, in[0], in[1], opt.frame, opt.reference, out[0]);
@@ -132,8 +130,8 @@ struct FrameJacobianTimeVariation : Declared {
 // T = Σ ½ v_iᵀ I_i v_i (energy.hpp), one number.
 struct KineticEnergy : Declared {
   static constexpr const char* name = "kinetic_energy";
-  static constexpr Operand inputs[] = {{"q", ARG_Q, {NQ}, 1, false}, {"v", ARG_V, {NV}, 1, false}};
-  static constexpr Operand outputs[] = {{"T", ARG_OUT, {}, 0, false}};
+  static constexpr Operand inputs[] = {operand::q, operand::v};
+  static constexpr Operand outputs[] = {operand::scalar("T")};
   static std::int64_t run(const ModelView& mv, const double* const* in, double* const* out, const Options&) {
     out[0][0] = kinetic_energy(mv, in[0], in[1]);
     return OK;
@@ -143,8 +141,8 @@ struct KineticEnergy : Declared {
 // U = −Σ m_i gᵀ ⁰c_i (energy.hpp), zero at the world origin, one number.
 struct PotentialEnergy : Declared {
   static constexpr const char* name = "potential_energy";
-  static constexpr Operand inputs[] = {{"q", ARG_Q, {NQ}, 1, false}};
-  static constexpr Operand outputs[] = {{"U", ARG_OUT, {}, 0, false}};
+  static constexpr Operand inputs[] = {operand::q};
+  static constexpr Operand outputs[] = {operand::scalar("U")};
   static std::int64_t run(const ModelView& mv, const double* const* in, double* const* out, const Options&) {
     out[0][0] = potential_energy(mv, in[0]);
     return OK;
@@ -161,8 +159,8 @@ inline double total_mass(const ModelView& mv) {
 // A_G (6, nv), h_G = A_G q̇ (rows [k_G; p], world axes about the centre of mass; centroidal.hpp).
 struct CentroidalMomentumMatrix : Declared {
   static constexpr const char* name = "centroidal_momentum_matrix";
-  static constexpr Operand inputs[] = {{"q", ARG_Q, {NQ}, 1, false}};
-  static constexpr Operand outputs[] = {{"A", ARG_OUT, {6, NV}, 2, false}};
+  static constexpr Operand inputs[] = {operand::q};
+  static constexpr Operand outputs[] = {operand::matrix("A", 6, NV)};
   static std::int64_t run(const ModelView& mv, const double* const* in, double* const* out, const Options&) {
     const double mass = total_mass(mv);
     if (mass == 0.0) return make_status(NO_MASS, ARG_Q, 0);
@@ -175,11 +173,9 @@ struct CentroidalMomentumMatrix : Declared {
 // ∂/∂q along the tangent of fd.integrate.
 struct RneaDerivatives : Declared {
   static constexpr const char* name = "rnea_derivatives";
-  static constexpr Operand inputs[] = {{"q", ARG_Q, {NQ}, 1, false}, {"v", ARG_V, {NV}, 1, false},
-                                       {"a", ARG_A, {NV}, 1, false}, {"f_ext", ARG_FEXT, {NB, 6}, 2, true}};
-  static constexpr Operand outputs[] = {{"dtau_dq", ARG_OUT, {NV, NV}, 2, false},
-                                        {"dtau_dv", ARG_OUT, {NV, NV}, 2, false},
-                                        {"M", ARG_OUT, {NV, NV}, 2, false}};
+  static constexpr Operand inputs[] = {operand::q, operand::v, operand::a, operand::f_ext};
+  static constexpr Operand outputs[] = {operand::matrix("dtau_dq", NV, NV), operand::matrix("dtau_dv", NV, NV),
+                                        operand::matrix("M", NV, NV)};
   static constexpr unsigned options = GRAVITY;
   static constexpr auto group = &fdgroup::GroupKernels::rnea_derivatives_group;
   static std::int64_t run(const ModelView& mv, const double* const* in, double* const* out, const Options& opt) {
@@ -197,11 +193,9 @@ inline std::int64_t singular_at_rest(const ModelView& mv, const double* const* i
 // (∂q̈/∂q, ∂q̈/∂q̇, ∂q̈/∂τ = M⁻¹) (nv, nv) of q̈ = ABA(q, q̇, τ, f_ext): −M⁻¹ ∂τ/∂q, −M⁻¹ ∂τ/∂q̇ at q̈ = ABA.
 struct AbaDerivatives : Declared {
   static constexpr const char* name = "aba_derivatives";
-  static constexpr Operand inputs[] = {{"q", ARG_Q, {NQ}, 1, false}, {"v", ARG_V, {NV}, 1, false},
-                                       {"tau", ARG_A, {NV}, 1, false}, {"f_ext", ARG_FEXT, {NB, 6}, 2, true}};
-  static constexpr Operand outputs[] = {{"ddq_dq", ARG_OUT, {NV, NV}, 2, false},
-                                        {"ddq_dv", ARG_OUT, {NV, NV}, 2, false},
-                                        {"Minv", ARG_OUT, {NV, NV}, 2, false}};
+  static constexpr Operand inputs[] = {operand::q, operand::v, operand::tau, operand::f_ext};
+  static constexpr Operand outputs[] = {operand::matrix("ddq_dq", NV, NV), operand::matrix("ddq_dv", NV, NV),
+                                        operand::matrix("Minv", NV, NV)};
   static constexpr unsigned options = GRAVITY;
   static constexpr auto group = &fdgroup::GroupKernels::aba_derivatives_group;
   static constexpr SingularBlockFn singular_block = singular_at_rest;
@@ -218,8 +212,8 @@ struct AbaDerivatives : Declared {
 // M⁻¹ (nv, nv) from M's tree-sparse factor M = Lᵀ L: M⁻¹ = Zᵀ Z, Z = L⁻ᵀ (ltl.hpp).
 struct MassMatrixInverse : Declared {
   static constexpr const char* name = "mass_matrix_inverse";
-  static constexpr Operand inputs[] = {{"q", ARG_Q, {NQ}, 1, false}};
-  static constexpr Operand outputs[] = {{"Minv", ARG_OUT, {NV, NV}, 2, false}};
+  static constexpr Operand inputs[] = {operand::q};
+  static constexpr Operand outputs[] = {operand::matrix("Minv", NV, NV)};
   static constexpr SingularBlockFn singular_block = singular_at_rest;
   static std::int64_t run(const ModelView& mv, const double* const* in, double* const* out, const Options&) {
     const int bad = group_kernels().minverse(mv, in[0], out[0]);
@@ -230,9 +224,8 @@ struct MassMatrixInverse : Declared {
 // Y (nv, 10 nb) with RNEA(q, q̇, q̈) = Y π (regressor.hpp; π: fd.dynamic_parameters).
 struct JointTorqueRegressor : Declared {
   static constexpr const char* name = "joint_torque_regressor";
-  static constexpr Operand inputs[] = {{"q", ARG_Q, {NQ}, 1, false}, {"v", ARG_V, {NV}, 1, false},
-                                       {"a", ARG_A, {NV}, 1, false}};
-  static constexpr Operand outputs[] = {{"Y", ARG_OUT, {NV, NP}, 2, false}};
+  static constexpr Operand inputs[] = {operand::q, operand::v, operand::a};
+  static constexpr Operand outputs[] = {operand::matrix("Y", NV, NP)};
   static std::int64_t run(const ModelView& mv, const double* const* in, double* const* out, const Options&) {
     joint_torque_regressor(mv, in[0], in[1], in[2], out[0]);
     return OK;
@@ -242,8 +235,8 @@ struct JointTorqueRegressor : Declared {
 // (∂v_f/∂q, ∂v_f/∂q̇) (6, nv) of a frame's velocity in a reference (frame_derivatives.hpp).
 struct FrameVelocityDerivatives : Declared {
   static constexpr const char* name = "frame_velocity_derivatives";
-  static constexpr Operand inputs[] = {{"q", ARG_Q, {NQ}, 1, false}, {"v", ARG_V, {NV}, 1, false}};
-  static constexpr Operand outputs[] = {{"dv_dq", ARG_OUT, {6, NV}, 2, false}, {"dv_dv", ARG_OUT, {6, NV}, 2, false}};
+  static constexpr Operand inputs[] = {operand::q, operand::v};
+  static constexpr Operand outputs[] = {operand::matrix("dv_dq", 6, NV), operand::matrix("dv_dv", 6, NV)};
   static constexpr unsigned options = FRAME | REFERENCE;
   static std::int64_t run(const ModelView& mv, const double* const* in, double* const* out, const Options& opt) {
     frame_motion_derivatives(mv, in[0], in[1], nullptr, opt.frame, opt.reference, out[0], out[1], nullptr, nullptr,
@@ -255,10 +248,9 @@ struct FrameVelocityDerivatives : Declared {
 // (∂a_f/∂q, ∂a_f/∂q̇, ∂a_f/∂q̈) (6, nv) of a frame's spatial acceleration in a reference.
 struct FrameAccelerationDerivatives : Declared {
   static constexpr const char* name = "frame_acceleration_derivatives";
-  static constexpr Operand inputs[] = {{"q", ARG_Q, {NQ}, 1, false}, {"v", ARG_V, {NV}, 1, false},
-                                       {"a", ARG_A, {NV}, 1, false}};
-  static constexpr Operand outputs[] = {{"da_dq", ARG_OUT, {6, NV}, 2, false}, {"da_dv", ARG_OUT, {6, NV}, 2, false},
-                                        {"da_da", ARG_OUT, {6, NV}, 2, false}};
+  static constexpr Operand inputs[] = {operand::q, operand::v, operand::a};
+  static constexpr Operand outputs[] = {operand::matrix("da_dq", 6, NV), operand::matrix("da_dv", 6, NV),
+                                        operand::matrix("da_da", 6, NV)};
   static constexpr unsigned options = FRAME | REFERENCE;
   static std::int64_t run(const ModelView& mv, const double* const* in, double* const* out, const Options& opt) {
     thread_local std::vector<double> velocity;  // the velocity derivatives, formed on the way
@@ -274,8 +266,8 @@ struct FrameAccelerationDerivatives : Declared {
 // (Pinocchio's computeGeneralizedGravityDerivatives).
 struct GeneralizedGravityDerivatives : Declared {
   static constexpr const char* name = "generalized_gravity_derivatives";
-  static constexpr Operand inputs[] = {{"q", ARG_Q, {NQ}, 1, false}};
-  static constexpr Operand outputs[] = {{"dg_dq", ARG_OUT, {NV, NV}, 2, false}};
+  static constexpr Operand inputs[] = {operand::q};
+  static constexpr Operand outputs[] = {operand::matrix("dg_dq", NV, NV)};
   static std::int64_t run(const ModelView& mv, const double* const* in, double* const* out, const Options&) {
     group_kernels().rnea_derivatives(mv, in[0], nullptr, nullptr, nullptr, true, out[0], nullptr, nullptr);  // at rest
     return OK;
@@ -286,8 +278,8 @@ struct GeneralizedGravityDerivatives : Declared {
 // forces f_ext (nb, 6) held fixed in their bodies (Pinocchio's computeStaticTorqueDerivatives).
 struct StaticTorqueDerivatives : Declared {
   static constexpr const char* name = "static_torque_derivatives";
-  static constexpr Operand inputs[] = {{"q", ARG_Q, {NQ}, 1, false}, {"f_ext", ARG_FEXT, {NB, 6}, 2, false}};
-  static constexpr Operand outputs[] = {{"dtau_dq", ARG_OUT, {NV, NV}, 2, false}};
+  static constexpr Operand inputs[] = {operand::q, {"f_ext", ARG_FEXT, {NB, 6}, 2, false}};
+  static constexpr Operand outputs[] = {operand::matrix("dtau_dq", NV, NV)};
   static std::int64_t run(const ModelView& mv, const double* const* in, double* const* out, const Options&) {
     group_kernels().rnea_derivatives(mv, in[0], nullptr, nullptr, in[1], true, out[0], nullptr, nullptr);  // at rest
     return OK;

@@ -41,6 +41,16 @@ struct Operand {
   bool optional;
 };
 
+// The operands the declarations share: the state (q, q̇, q̈ or τ, and optional body-frame forces), and results of
+// one number, a vector or a matrix of symbolic lengths.
+namespace operand {
+constexpr Operand q{"q", ARG_Q, {NQ}, 1, false}, v{"v", ARG_V, {NV}, 1, false}, a{"a", ARG_A, {NV}, 1, false},
+    tau{"tau", ARG_A, {NV}, 1, false}, f_ext{"f_ext", ARG_FEXT, {NB, 6}, 2, true};
+constexpr Operand scalar(const char* name) { return {name, ARG_OUT, {}, 0, false}; }
+constexpr Operand vector(const char* name, int n) { return {name, ARG_OUT, {n}, 1, false}; }
+constexpr Operand matrix(const char* name, int rows, int cols) { return {name, ARG_OUT, {rows, cols}, 2, false}; }
+}  // namespace operand
+
 // The scalar parameters a declaration may take besides its arrays: the gravity flag (gravity=True), a frame
 // (its index) and a reference (0 LOCAL, 1 WORLD, 2 LOCAL_WORLD_ALIGNED: frames.hpp).
 enum OptionBits : unsigned { GRAVITY = 1u, FRAME = 2u, REFERENCE = 4u };
@@ -100,8 +110,7 @@ PyObject* declared_path(PublicCall* f, PyObject* const* args);  // (bind_public_
 
 namespace declared {
 
-// A public call's parameters: `first` (model, or nothing), the inputs, the positional options, then out and the
-// keyword-only gravity in the order `out_first` says.
+// A public call's parameters (Slots): fd.<name>'s with the model first, fd.compile's method's without it.
 inline void parameters(const Kernel& k, bool with_model, PublicCallKind& kind, Slots& at) {
   int n = 0, required = 0;
   auto add = [&](const char* name, bool needed) {
@@ -172,10 +181,6 @@ std::int64_t exact(const A& x, const ModelView& mv, const Operand& o) {
   for (int d = 0; same && d < o.nd; ++d) same = static_cast<std::int64_t>(x.shape(d)) == length_of(mv, o.dims[d]);
   return same ? OK : make_status(LENGTH, o.arg, x.ndim() == 1 ? static_cast<std::int64_t>(x.shape(0)) : -1);
 }
-
-}  // namespace declared
-
-namespace declared {
 
 // One state of the inputs (nullptr or None where absent) into outputs of the declared shapes (op): OK, NOT_TAKEN,
 // or the status of the first failure (lengths, the options, an output over an input, the state, the kernel,
