@@ -79,8 +79,13 @@ def model_key(model: Model) -> str:
 
 
 def _is_record(x: Any) -> bool:
-    """A result record whose fields may hold arrays (a dataclass instance other than the model)."""
-    return dataclasses.is_dataclass(x) and not isinstance(x, (type, Model))
+    """A result record whose fields may hold arrays: a dataclass instance other than the model, or a record that
+    names its fields (``FIELDS``: :class:`~featherdyn.results.Kinematics`)."""
+    return (dataclasses.is_dataclass(x) or hasattr(type(x), "FIELDS")) and not isinstance(x, (type, Model))
+
+
+def _fields(x: Any) -> tuple[str, ...]:
+    return tuple(type(x).FIELDS) if hasattr(type(x), "FIELDS") else tuple(f.name for f in dataclasses.fields(x))
 
 
 def _leaves(result: Any, out: list[np.ndarray]) -> None:
@@ -88,8 +93,8 @@ def _leaves(result: Any, out: list[np.ndarray]) -> None:
     if isinstance(result, (np.ndarray, np.generic)):
         out.append(np.asarray(result))
     elif _is_record(result):
-        for f in dataclasses.fields(result):
-            _leaves(getattr(result, f.name), out)
+        for name in _fields(result):
+            _leaves(getattr(result, name), out)
     elif isinstance(result, (tuple, list)):
         for item in result:
             _leaves(item, out)
@@ -99,6 +104,8 @@ def _rebuild(meta: Any, arrays: list[Any]) -> Any:
     """``meta`` with its arrays replaced, in order, by those popped from the front of ``arrays``."""
     if isinstance(meta, (np.ndarray, np.generic)):
         return arrays.pop(0)
+    if _is_record(meta) and hasattr(type(meta), "FIELDS"):
+        return type(meta)(*(_rebuild(getattr(meta, name), arrays) for name in _fields(meta)))
     if _is_record(meta):
         obj = object.__new__(type(meta))
         for f in dataclasses.fields(meta):  # frozen, slotted dataclasses: set the fields as their __init__ would

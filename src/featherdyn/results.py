@@ -7,7 +7,6 @@ caller unchanged, so they live below both, next to the model they describe.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from typing import NamedTuple
 
 import numpy as np
@@ -18,7 +17,6 @@ from .spatial import PluckerTransform, SpatialMotion
 __all__ = ["Kinematics", "CenterOfMass"]
 
 
-@dataclass(frozen=True)
 class Kinematics:
     """The result of :func:`featherdyn.forward_kinematics` (body axis last among the batch axes).
 
@@ -28,13 +26,71 @@ class Kinematics:
         accelerations: spatial accelerations ``a_i`` in body coordinates `(..., nb, 6)`,
             without gravity (``None`` if no ``a``).
         parent_placements: ``ᵖM_i``, the pose of each body in its parent, `(..., nb)`.
+
+    A frozen record. The compiled core fills it with arrays — the homogeneous placements `(..., nb, 4, 4)` and
+    the motions `(..., nb, 6)`, read-only — and the spatial values above are made from them on first access
+    (so a call that reads one body's placement does not pay for every body's).
     """
 
+    __slots__ = ("_H", "_Hp", "_acc", "_values", "_vel", "model")
+    #: the record's fields, in order (what Dask and pickling rebuild it from)
+    FIELDS = ("model", "placements", "velocities", "accelerations", "parent_placements")
+
     model: Model
-    placements: PluckerTransform
-    velocities: SpatialMotion | None
-    accelerations: SpatialMotion | None
-    parent_placements: PluckerTransform
+    _H: np.ndarray
+    _Hp: np.ndarray
+    _vel: np.ndarray | None
+    _acc: np.ndarray | None
+    _values: tuple[PluckerTransform, SpatialMotion | None, SpatialMotion | None, PluckerTransform]
+
+    def __init__(self, model: Model, placements: PluckerTransform, velocities: SpatialMotion | None,
+                 accelerations: SpatialMotion | None, parent_placements: PluckerTransform) -> None:
+        object.__setattr__(self, "model", model)
+        object.__setattr__(self, "_values", (placements, velocities, accelerations, parent_placements))
+
+    def _spatial(self) -> tuple[PluckerTransform, SpatialMotion | None, SpatialMotion | None, PluckerTransform]:
+        try:
+            return self._values
+        except AttributeError:  # filled by the core: made now, once
+            def pose(H: np.ndarray) -> PluckerTransform:
+                return PluckerTransform._wrap(H[..., :3, :3], H[..., :3, 3], None, None)
+
+            def motion(m: np.ndarray | None) -> SpatialMotion | None:
+                return None if m is None else SpatialMotion._wrap(m, None)
+
+            values = (pose(self._H), motion(self._vel), motion(self._acc), pose(self._Hp))
+            object.__setattr__(self, "_values", values)
+            return values
+
+    @property
+    def placements(self) -> PluckerTransform:
+        return self._spatial()[0]
+
+    @property
+    def velocities(self) -> SpatialMotion | None:
+        return self._spatial()[1]
+
+    @property
+    def accelerations(self) -> SpatialMotion | None:
+        return self._spatial()[2]
+
+    @property
+    def parent_placements(self) -> PluckerTransform:
+        return self._spatial()[3]
+
+    def __setattr__(self, name: str, value: object) -> None:
+        raise AttributeError(f"Kinematics is a frozen record: cannot set {name!r}")
+
+    def __delattr__(self, name: str) -> None:
+        raise AttributeError(f"Kinematics is a frozen record: cannot delete {name!r}")
+
+    def __reduce__(self) -> tuple[type, tuple[object, ...]]:
+        return Kinematics, tuple(getattr(self, f) for f in self.FIELDS)
+
+    def __repr__(self) -> str:
+        return (f"Kinematics(model={self.model.name!r}, placements batch shape {self.placements.shape}, "
+                f"velocities={'yes' if self.velocities is not None else 'None'}, "
+                f"accelerations={'yes' if self.accelerations is not None else 'None'})")
 
 
 class CenterOfMass(NamedTuple):

@@ -46,8 +46,8 @@ def test_batch_equals_loop_bit_for_bit(spec, N: int) -> None:  # type: ignore[no
         "gravity": (core.generalized_gravity(model, q), _loop(lambda x: core.generalized_gravity(model, x), q)),
         "crba": (core.crba(model, q), _loop(lambda x: core.crba(model, x), q)),
         "aba": (core.aba(model, q, v, tau, f), _loop(lambda *x: core.aba(model, *x), q, v, tau, f)),
-        "fk": (core.fk_batch(model, q), _loop(lambda x: core.fk(model, x), q)),
-        "frame_placement": (core.frame_placement_batch(model, q, fid), _loop(lambda x: core.frame_placement(model, x, fid), q)),
+        "fk": (core.placements(model, q), _loop(lambda x: core.placements(model, x), q)),
+        "frame_placement": (core.frame_placement(model, q, fid)[1], _loop(lambda x: core.frame_placement(model, x, fid)[1], q)),
     }
     for ref in (0, 1, 2):
         cases[f"frame_jacobian {ref}"] = (core.frame_jacobian(model, q, fid, ref),
@@ -317,7 +317,7 @@ for spec in TREES:
         (core.rnea(model, st.q, st.v, st.a, st.f_ext), [core.rnea(model, *x) for x in zip(st.q, st.v, st.a, st.f_ext)]),
         (core.crba(model, st.q), [core.crba(model, x) for x in st.q]),
         (core.aba(model, st.q, st.v, st.tau), [core.aba(model, *x) for x in zip(st.q, st.v, st.tau)]),
-        (core.fk_batch(model, st.q), [core.fk(model, x) for x in st.q]),
+        (core.placements(model, st.q), [core.placements(model, x) for x in st.q]),
     ]:
         assert np.array_equal(batch, np.stack(one)), spec.name
 print("ok")

@@ -184,9 +184,10 @@ def test_bad_input_raises_the_reference_error(case: str, batch: tuple[int, ...])
 def test_fk_accelerations_need_velocities() -> None:
     model = tree("free_branch")
     st = random_state(model, 28)
-    core.fk(model, st.q)  # the model's arrays are cached: the one-state fast path is live
-    with pytest.raises(fd.errors.ShapeError, match="need joint velocities"):
-        core.fk(model, st.q, a=st.a)
+    fd.forward_kinematics(model, st.q)  # the model's arrays are cached: the one-state fast path is live
+    for backend in (None, "reference"):
+        with pytest.raises(fd.errors.ShapeError, match="a: needs v as well"):
+            fd.forward_kinematics(model, st.q, a=st.a, backend=backend)
 
 
 def test_batch_shapes_that_do_not_broadcast() -> None:

@@ -1,8 +1,8 @@
-"""The public functions whose one-state calls are finished in C (``_core.public_call``).
+"""The public functions whose one-state calls are finished in C (``_core.declared_call``).
 
 ``fd.rnea``, ``fd.nonlinear_effects``, ``fd.generalized_gravity``, ``fd.crba``, ``fd.aba``,
-``fd.frame_jacobian``, ``fd.frame_placement`` and ``fd.compile(model).fk`` bind their arguments in
-the core, compute an exact native float64 ``numpy.ndarray`` state there, and hand every other call
+``fd.frame_jacobian``, ``fd.frame_placement`` (a record: a ``PluckerTransform`` made in C) and
+``fd.compile(model).fk`` (every declared algorithm's) bind their arguments in the core, compute an exact native float64 ``numpy.ndarray`` state there, and hand every other call
 to the Python function they wrap, unchanged. Checked here:
 
 * the fast path returns the numbers of the core's entry points bit for bit, and the reference's
@@ -33,7 +33,8 @@ from _models import TREES, random_state, tool_frames, tree
 import featherdyn as fd
 from featherdyn import core
 from featherdyn.api import _backend
-from featherdyn.api.kinematics import _general_frame_placement
+from featherdyn.api.declarations import DECLARATIONS
+from featherdyn.api.declared import _constants
 from featherdyn.core import _core
 from featherdyn.core._model_view import CoreHandle
 from featherdyn.errors import ModelError, NonFiniteError, ShapeError
@@ -65,7 +66,7 @@ def test_fast_path_equals_the_core_entry_points_bit_for_bit_and_the_reference(na
                                        rtol=0, atol=1e-12)
         X = fd.frame_placement(model, q, frame)
         R, p = np.empty((3, 3)), np.empty(3)
-        assert _core.frame_pose(cm, q, fid, R, p) == 0
+        assert K["frame_placement"].into(cm, [q], [R, p], frame=fid) == 0
         assert type(X) is fd.PluckerTransform and X.source is None and X.target is None
         np.testing.assert_array_equal(X.rotation, R)
         np.testing.assert_array_equal(X.translation, p)
@@ -75,7 +76,7 @@ def test_fast_path_equals_the_core_entry_points_bit_for_bit_and_the_reference(na
         np.testing.assert_allclose(X.rotation, ref_X.rotation, rtol=0, atol=1e-12)
         np.testing.assert_allclose(X.translation, ref_X.translation, rtol=0, atol=1e-12)
         H = np.empty((model.nbodies, 4, 4))
-        assert _core.placements(cm, q, H) == 0
+        assert K["placements"].into(cm, [q], [H]) == 0
         np.testing.assert_array_equal(fd.compile(model).fk(q), H)
 
 
@@ -95,9 +96,8 @@ K = _core.kernels
 
 def _spied(kind: str) -> tuple[object, Spy]:
     spy = Spy()
-    if kind == "frame_placement":
-        return _backend.public_call(kind, spy, (CoreHandle, fd.PluckerTransform, *SLOTS)), spy
-    return _core.declared_call(K[kind], spy, (CoreHandle, K[kind], *REFERENCES), None), spy  # a declared algorithm's
+    record = _constants(DECLARATIONS[kind], None)
+    return _core.declared_call(K[kind], spy, (CoreHandle, K[kind], *REFERENCES, record), None), spy
 
 
 DYNAMICS = ("rnea", "aba", "nonlinear_effects", "generalized_gravity", "crba")
@@ -249,11 +249,11 @@ def test_the_reference_default_backend_sends_every_call_to_the_general_function(
 
 
 def test_the_objects_look_like_their_functions() -> None:
-    pairs = [(fd.frame_placement, _general_frame_placement)]
-    pairs += [(getattr(fd, name), getattr(fd, name).__wrapped__) for name in (*DYNAMICS, "frame_jacobian")]  # declared
+    names = (*DYNAMICS, "frame_jacobian", "frame_placement", "forward_kinematics", "center_of_mass")
+    pairs = [(getattr(fd, name), getattr(fd, name).__wrapped__) for name in names]  # declared
     for f, general in pairs:
         name = f.__name__
-        module = "featherdyn.api.kinematics" if name == "frame_placement" else "featherdyn"
+        module = "featherdyn"
         assert getattr(fd, name) is f and f.__qualname__ == name
         assert f.__module__ == module and f.__wrapped__ is general
         assert f.__doc__ == general.__doc__ and "`(" in f.__doc__
@@ -268,31 +268,56 @@ def test_the_objects_look_like_their_functions() -> None:
 
         assert Holder.method is f and Holder().method is f  # it does not bind, as a builtin function
     cm = fd.compile(tree(TREE_NAMES[0]))
-    assert cm.fk.__qualname__ == "CompiledModel.fk" and "(nb, 4, 4)" in cm.fk.__doc__
+    assert cm.fk.__qualname__ == "CompiledModel.fk" and "(..., nb, 4, 4)" in cm.fk.__doc__
     assert list(inspect.signature(cm.fk).parameters) == ["q", "out"]
 
 
-def test_public_call_refuses_wrong_constants() -> None:
-    with pytest.raises(ValueError, match="unknown kind"):
-        _core.public_call("rnea_derivatives", print, (), None)
-    with pytest.raises(ValueError, match="unknown kind"):  # a declared algorithm's is made by declared_call
-        _core.public_call("rnea", print, (CoreHandle,), None)
+def test_declared_call_refuses_wrong_constants() -> None:
     with pytest.raises(ValueError, match="extra must be"):
-        _core.declared_call(K["rnea"], print, (CoreHandle, K["crba"], *REFERENCES), None)
-    with pytest.raises(ValueError, match="wrong constants"):
-        _core.public_call("frame_placement", print, (CoreHandle,), None)
-    with pytest.raises(TypeError, match="slot names"):
-        _core.public_call("frame_placement", print, (CoreHandle, fd.PluckerTransform, 1, 2, 3, 4), None)
-    with pytest.raises(TypeError, match="slot names"):  # not slots of the class
-        _core.public_call("frame_placement", print, (CoreHandle, fd.PluckerTransform, "rotation", "translation",
-                                                     "source", "inverse"), None)
-    other = ("name", "body", "placement", "kind")  # another class's slots
-    with pytest.raises(TypeError, match="slot names"):
-        _core.public_call("frame_placement", print, (CoreHandle, fd.PluckerTransform, *other), None)
-    with pytest.raises(TypeError, match="a class expected"):
-        _core.public_call("frame_placement", print, (CoreHandle, "PluckerTransform", *SLOTS), None)
+        _core.declared_call(K["rnea"], print, (CoreHandle, K["crba"], *REFERENCES, None), None)
+    with pytest.raises(ValueError, match="extra must be"):  # no record
+        _core.declared_call(K["rnea"], print, (CoreHandle, K["rnea"], *REFERENCES), None)
+    bad_records = [
+        "not callable",
+        ("PluckerTransform", ("rotation", 0)),  # not a class
+        (fd.PluckerTransform, ("rotation", 2)),  # frame_placement has two outputs
+        (fd.PluckerTransform, ("rotation", -2)),
+        (fd.PluckerTransform, ("rotation", 1 << 80)),
+        (fd.PluckerTransform, ("rotation",)),
+        (fd.PluckerTransform, (0, 0)),
+        (fd.PluckerTransform, ["rotation", 0]),
+    ]
+    for record in bad_records:
+        with pytest.raises(ValueError, match="record must be"):
+            _core.declared_call(K["frame_placement"], print, (CoreHandle, K["frame_placement"], *REFERENCES, record),
+                                None)
+    cm = core._view(tree(TREE_NAMES[0])).cm
+    with pytest.raises(ValueError, match="record must be"):  # a bound method has no model argument
+        _core.declared_call(K["frame_placement"], print, (K["frame_placement"], {}, *REFERENCES,
+                                                          (fd.PluckerTransform, ("rotation", -1))), cm)
     with pytest.raises(TypeError, match="core's Model"):
-        _core.public_call("fk", print, (), "not a core model")
+        _core.declared_call(K["placements"], print, (K["placements"], {}, *REFERENCES, None), "not a core model")
+
+
+def test_a_record_is_made_in_c_as_in_python() -> None:
+    model = tree(TREE_NAMES[2])
+    st = random_state(model, 3)
+    for args in [(st.q,), (st.q, st.v), (st.q, st.v, st.a)]:
+        kin = fd.forward_kinematics(model, *args)  # made in C
+        general = fd.forward_kinematics.__wrapped__(model, *args, backend="compiled")  # made in Python
+        assert type(kin) is fd.Kinematics and kin.model is model
+        for a, b in [(kin.placements, general.placements), (kin.parent_placements, general.parent_placements)]:
+            np.testing.assert_array_equal(a.rotation, b.rotation)
+            np.testing.assert_array_equal(a.translation, b.translation)
+            assert not a.rotation.flags.writeable
+        for a, b in [(kin.velocities, general.velocities), (kin.accelerations, general.accelerations)]:
+            assert (a is None) == (b is None) and (a is None or np.array_equal(a.vector, b.vector))
+        assert (kin.velocities is None) == (len(args) < 2) and (kin.accelerations is None) == (len(args) < 3)
+    c = fd.center_of_mass(model, st.q, st.v)  # a function of the outputs
+    assert type(c) is fd.CenterOfMass and c.velocity.shape == (3,)
+    assert type(fd.center_of_mass(model, st.q)) is np.ndarray
+    with pytest.raises(TypeError):  # a record's function takes no out=
+        fd.frame_placement(model, st.q, 0, out=np.empty((4, 4)))
 
 
 def test_compiled_fk_writes_out_or_declines() -> None:
@@ -468,7 +493,7 @@ def test_the_reference_backend_from_the_environment_switches_the_objects_off() -
         "calls = []\n"
         "k = core._core.kernels['crba']\n"
         "refs = (fd.LOCAL, fd.WORLD, fd.LOCAL_WORLD_ALIGNED)\n"
-        "crba = core._core.declared_call(k, lambda *a, **kw: calls.append(a) or 'general', (CoreHandle, k, *refs), None)\n"
+        "crba = core._core.declared_call(k, lambda *a, **kw: calls.append(a) or 'general', (CoreHandle, k, *refs, None), None)\n"
         "m = fd.load_robot('panda'); core._view(m)  # the core handle exists\n"
         "q = fd.neutral(m)\n"
         "r = crba(m, q)\n"

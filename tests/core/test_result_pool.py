@@ -112,8 +112,6 @@ def _calls() -> list[tuple[str, Callable[..., Any], Callable[..., Any]]]:
         ("crba", *one(cm.crba_batch, st.q)),
         ("fk", *one(cm.fk_batch, Q[:2000])),
         ("frame_jacobian", *one(cm.frame_jacobian_batch, Q[:2000], frame)),
-        ("frame_placement", lambda: core.frame_placement_batch(MODEL, Q, frame),
-         lambda out: core.frame_placement_batch(MODEL, Q, frame, out=out)),
         ("rnea_derivatives", *one(cm.rnea_derivatives_batch, st.q, st.v, st.a)),
         ("aba_derivatives", *one(cm.aba_derivatives_batch, st.q, st.v, st.tau)),
         ("mass_matrix_inverse", lambda: fd.mass_matrix_inverse(MODEL, st.q), None),

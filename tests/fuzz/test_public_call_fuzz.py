@@ -115,14 +115,13 @@ K = fd.core._core.kernels
 
 
 def _public(name: str, counting: Any) -> Any:
-    """The public object's kind around a counting function: a declared algorithm's, or frame_placement's."""
-    from featherdyn.api._backend import public_call
+    """The public object of a declared algorithm around a counting function."""
+    from featherdyn.api.declarations import DECLARATIONS
+    from featherdyn.api.declared import _constants
     from featherdyn.core._model_view import CoreHandle
 
-    if name == "frame_placement":
-        return public_call(name, counting, (CoreHandle, fd.PluckerTransform, "rotation", "translation", "source",
-                                            "target"))
-    return fd.core._core.declared_call(K[name], counting, (CoreHandle, K[name], *REFERENCES), None)
+    record = _constants(DECLARATIONS[name], None)
+    return fd.core._core.declared_call(K[name], counting, (CoreHandle, K[name], *REFERENCES, record), None)
 
 
 @pytest.mark.parametrize("name", sorted(SIGNATURES))
@@ -195,11 +194,8 @@ def test_compiled_methods_end_a_call_as_their_closures_do(name: str) -> None:
     closure = getattr(CM, name).__wrapped__
     counting = _Counting(closure)
     cm = fd.core._view(MODEL).cm
-    if name == "fk":
-        f = fd.core._core.public_call("fk", counting, (), cm)
-    else:
-        k = K[{"nle": "nonlinear_effects", "gravity": "generalized_gravity"}.get(name, name)]
-        f = fd.core._core.declared_call(k, counting, (k, MODEL._frame_index, *REFERENCES), cm)
+    k = K[{"nle": "nonlinear_effects", "gravity": "generalized_gravity", "fk": "placements"}.get(name, name)]
+    f = fd.core._core.declared_call(k, counting, (k, MODEL._frame_index, *REFERENCES, None), cm)
     params = CM_SIGNATURES[name]
     rng = np.random.default_rng(sum(map(ord, name)) + 1)
     finished_in_c = 0

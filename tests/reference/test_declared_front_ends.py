@@ -17,6 +17,7 @@ import pytest
 from _models import library_robot
 
 import featherdyn as fd
+from featherdyn.api import declarations
 from featherdyn.api.declarations import DECLARATIONS
 from featherdyn.errors import NonFiniteError, QuaternionNormError, ShapeError
 
@@ -24,8 +25,20 @@ NAMES = sorted(DECLARATIONS)
 
 
 def _parts(x: Any) -> tuple[np.ndarray, ...]:
-    """A result's arrays: the array, or each of a tuple's."""
+    """A result's arrays: the array, each of a tuple's, or a record's (its spatial values' arrays)."""
+    if isinstance(x, fd.Kinematics):
+        values = (x.placements, x.parent_placements, x.velocities, x.accelerations)
+        return tuple(a for v in values if v is not None for a in _parts(v))
+    if isinstance(x, fd.PluckerTransform):
+        return (x.rotation, x.translation)
+    if isinstance(x, (fd.SpatialForce, fd.SpatialMotion)):
+        return (x.vector,)
     return tuple(x) if isinstance(x, tuple) else (x,)
+
+
+def _function(name: str) -> Any:
+    """The declaration's public function (``placements`` is only fd.compile's ``fk``)."""
+    return getattr(declarations, name)
 
 
 def _rel(a: Any, b: Any) -> float:
@@ -65,7 +78,7 @@ def _call(fn: Any, model: fd.Model | None, name: str, q: Any, f_ext: Any, m: fd.
 
 def _shapes(model: fd.Model, name: str) -> tuple[tuple[int, ...], ...]:
     """The outputs' shapes of one state."""
-    r = _call(getattr(fd, name), model, name, fd.neutral(model), np.zeros((model.nbodies, 6)), model)
+    r = _call(_function(name), model, name, fd.neutral(model), np.zeros((model.nbodies, 6)), model)
     return tuple(np.shape(x) for x in _parts(r))
 
 
@@ -73,7 +86,7 @@ def _shapes(model: fd.Model, name: str) -> tuple[tuple[int, ...], ...]:
 def test_front_ends(name: str) -> None:
     model = library_robot("solo12", True)
     assert model is not None
-    fn = getattr(fd, name)
+    fn = _function(name)
     rng = np.random.default_rng(3)
     Q = fd.random_configuration(model, rng, size=(2, 3))
     FX = rng.normal(size=(2, 3, model.nbodies, 6))
@@ -89,7 +102,28 @@ def test_front_ends(name: str) -> None:
     # the reference agrees with the core
     ref = _call(fn, model, name, Q[0, 0], FX[0, 0], model, backend="reference")
     assert _rel(ref, one) < 1e-11
-    # out=: written and returned, in one state and in a batch
+    cm = fd.compile(model, warmup=False)
+    method = getattr(cm, DECLARATIONS[name].method or name)
+    assert _equal(_call(method, None, name, Q[0, 0], FX[0, 0], model), one)
+    if DECLARATIONS[name].result is not None:  # a record (or a function of the outputs) takes no out=
+        with pytest.raises(TypeError, match="out"):
+            _call(fn, model, name, Q[0, 0], FX[0, 0], model, out=_empty(shapes))
+        with pytest.raises(TypeError, match="out"):
+            _call(method, None, name, Q[0, 0], FX[0, 0], model, out=_empty(shapes))
+    else:
+        _out_forms(fn, method, model, name, Q, FX, shapes, one, batch)
+    # dtypes: native float64 spelled any way takes the same path; float32 stays float32
+    for dt in ("<f8", "=f8", "d", np.dtype("f8").newbyteorder("=")):
+        assert _equal(_call(fn, model, name, Q[0, 0].astype(dt), FX[0, 0].astype(dt), model), one)
+    assert _equal(_call(fn, model, name, Q[0, 0].astype(">f8"), FX[0, 0], model), one)
+    r32 = _call(fn, model, name, Q[0, 0].astype(np.float32), FX[0, 0].astype(np.float32), model)
+    assert all(x.dtype == np.float32 for x in _parts(r32)) and _rel(r32, one) < 1e-3
+    assert _equal(_call(fn, model, name, list(Q[0, 0]), FX[0, 0].tolist(), model), one)
+
+
+def _out_forms(fn: Any, method: Any, model: fd.Model, name: str, Q: np.ndarray, FX: np.ndarray,
+               shapes: tuple[tuple[int, ...], ...], one: Any, batch: Any) -> None:
+    """out=: written and returned, in one state and in a batch, by the function and the compiled method."""
     out = _empty(shapes)
     assert _call(fn, model, name, Q[0, 0], FX[0, 0], model, out=out) is out and _equal(out, one)
     outs = _empty(tuple((2, 3) + s for s in shapes))
@@ -102,26 +136,15 @@ def test_front_ends(name: str) -> None:
     shared = first if len(shapes) == 1 else (first, *(np.empty(s) for s in shapes[1:]))
     r = _call(fn, model, name, buf[:model.nq], FX[0, 0], model, out=shared)
     assert r is shared and _equal(shared, one)
-    # fd.compile(model)'s method, with and without out=
-    cm = fd.compile(model, warmup=False)
-    method = getattr(cm, DECLARATIONS[name].method or name)
-    assert _equal(_call(method, None, name, Q[0, 0], FX[0, 0], model), one)
     out2 = _empty(shapes)
     assert _call(method, None, name, Q[0, 0], FX[0, 0], model, out=out2) is out2 and _equal(out2, one)
-    # dtypes: native float64 spelled any way takes the same path; float32 stays float32
-    for dt in ("<f8", "=f8", "d", np.dtype("f8").newbyteorder("=")):
-        assert _equal(_call(fn, model, name, Q[0, 0].astype(dt), FX[0, 0].astype(dt), model), one)
-    assert _equal(_call(fn, model, name, Q[0, 0].astype(">f8"), FX[0, 0], model), one)
-    r32 = _call(fn, model, name, Q[0, 0].astype(np.float32), FX[0, 0].astype(np.float32), model)
-    assert all(x.dtype == np.float32 for x in _parts(r32)) and _rel(r32, one) < 1e-3
-    assert _equal(_call(fn, model, name, list(Q[0, 0]), FX[0, 0].tolist(), model), one)
 
 
 @pytest.mark.parametrize("name", NAMES)
 def test_bad_input(name: str) -> None:
     model = library_robot("solo12", True)
     assert model is not None
-    fn = getattr(fd, name)
+    fn = _function(name)
     decl = DECLARATIONS[name]
     rng = np.random.default_rng(4)
     q = fd.random_configuration(model, rng)
@@ -137,15 +160,16 @@ def test_bad_input(name: str) -> None:
     bad[3:7] *= 2
     with pytest.raises(QuaternionNormError):
         _call(fn, model, name, bad, fx, model)
-    with pytest.raises(ShapeError, match="out: expected"):
-        _call(fn, model, name, q, fx, model, out=_empty(tuple((3, 3, 3) for _ in shapes)))
-    ro = _empty(shapes)
-    for x in _parts(ro):
-        x.setflags(write=False)
-    with pytest.raises(ShapeError, match="read-only"):
-        _call(fn, model, name, q, fx, model, out=ro)
-    with pytest.raises(ShapeError, match="out"):
-        _call(fn, model, name, q, fx, model, out=[1, 2])
+    if decl.result is None:
+        with pytest.raises(ShapeError, match="out: expected"):
+            _call(fn, model, name, q, fx, model, out=_empty(tuple((3, 3, 3) for _ in shapes)))
+        ro = _empty(shapes)
+        for x in _parts(ro):
+            x.setflags(write=False)
+        with pytest.raises(ShapeError, match="read-only"):
+            _call(fn, model, name, q, fx, model, out=ro)
+        with pytest.raises(ShapeError, match="out"):
+            _call(fn, model, name, q, fx, model, out=[1, 2])
     with pytest.raises(TypeError, match=name):
         _call(fn, model, name, q, fx, model, no_such_option="x")
     with pytest.raises(ShapeError, match="model"):
@@ -173,7 +197,7 @@ def test_compiled_method_with_dask_arrays(name: str) -> None:
     rng = np.random.default_rng(6)
     Q = fd.random_configuration(model, rng, size=(4,))
     FX = rng.normal(size=(4, model.nbodies, 6))
-    expected = _call(getattr(fd, name), model, name, Q, FX, model)
+    expected = _call(_function(name), model, name, Q, FX, model)
     method = getattr(fd.compile(model, warmup=False), DECLARATIONS[name].method or name)
     lazy = _call(method, None, name, da.from_array(Q, chunks=(2, -1)), FX, model)
     assert all(type(x).__module__.startswith("dask") for x in _parts(lazy))

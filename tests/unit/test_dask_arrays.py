@@ -16,6 +16,7 @@ import numpy as np
 import pytest
 
 import featherdyn as fd
+from featherdyn.api import declarations
 from featherdyn.api.declarations import DECLARATIONS
 import featherdyn._dask
 
@@ -56,7 +57,7 @@ def _arrays(result: Any) -> list[Any]:
         return [result]
     if isinstance(result, (tuple, list)):
         return [x for item in result for x in _arrays(item)]
-    fields = getattr(result, "__dataclass_fields__", None)
+    fields = getattr(type(result), "FIELDS", None) or getattr(result, "__dataclass_fields__", None)
     assert fields is not None, type(result)
     return [x for name in fields for x in _arrays(getattr(result, name))]
 
@@ -97,7 +98,7 @@ CALLS: list[tuple[str, Callable[..., Any]]] = [
      lambda m, s, f: fd.frame_acceleration_derivatives(m, s["q"], s["v"], s["a"], f, reference=fd.WORLD)),
     ("joint_torque_regressor", lambda m, s, f: fd.joint_torque_regressor(m, s["q"], s["v"], s["a"])),
     # every declared algorithm (api/declarations.py), with its declared state arguments
-    *[(d.name, lambda m, s, f, d=d: getattr(fd, d.name)(m, *(s[n] for n in d.inputs),
+    *[(d.name, lambda m, s, f, d=d: getattr(declarations, d.name)(m, *(s[n] for n in d.inputs),
                                                         **({"frame": f} if "frame" in d.options else {})))
       for d in DECLARATIONS.values()],
     ("integrate", lambda m, s, f: fd.integrate(m, s["q"], s["v"])),

@@ -74,3 +74,8 @@ def centroidal_momentum(model: Model, kin: Kinematics, qd: np.ndarray) -> Spatia
     """
     A = centroidal_momentum_matrix(model, kin)
     return SpatialForce._wrap((A @ qd[..., None])[..., 0], None)
+
+
+def centroidal_momentum_at(model: Model, q: np.ndarray, qd: np.ndarray) -> np.ndarray:
+    """``h_G = A_G(q) q̇`` `(..., 6)` of the state, the declaration's reference (:func:`centroidal_momentum`)."""
+    return centroidal_momentum(model, forward_kinematics(model, q), qd).vector

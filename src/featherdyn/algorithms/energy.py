@@ -101,3 +101,10 @@ def kinetic_energy_at(model: Model, q: np.ndarray, qd: np.ndarray) -> np.ndarray
 def potential_energy_at(model: Model, q: np.ndarray) -> np.ndarray:
     """:func:`potential_energy` at ``q`` `(...)` (public: :func:`featherdyn.potential_energy`)."""
     return potential_energy(model, forward_kinematics(model, q))
+
+
+def center_of_mass_at(model: Model, q: np.ndarray, qd: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray | None]:
+    """``(c, ċ)`` `(..., 3)` of the state (``ċ`` ``None`` without ``qd``): :func:`center_of_mass` of its
+    kinematics, the declaration's reference."""
+    com = center_of_mass(model, forward_kinematics(model, q, qd))
+    return (com.position, com.velocity) if isinstance(com, CenterOfMass) else (com, None)

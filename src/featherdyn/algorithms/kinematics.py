@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..errors import ShapeError
 from ..frames import ReferenceFrame
 from ..model import Model
 from ..results import Kinematics
@@ -73,6 +74,29 @@ def forward_kinematics(model: Model, q: np.ndarray, qd: np.ndarray | None = None
         accelerations=stack_motions(acc, batch, dtype) if qdd is not None else None,
         parent_placements=stack_transforms(pM, batch, dtype),
     )
+
+
+def forward_kinematics_at(model: Model, q: np.ndarray, qd: np.ndarray | None = None, qdd: np.ndarray | None = None
+                          ) -> tuple[np.ndarray, np.ndarray, np.ndarray | None, np.ndarray | None]:
+    """:func:`forward_kinematics` as the core's arrays: ``(⁰M, ᵖM, v, a)``, homogeneous `(..., nb, 4, 4)` twice,
+    then `(..., nb, 6)` (``None`` without ``qd``, ``qdd``) — the declaration's reference."""
+    if qdd is not None and qd is None:
+        raise ShapeError("a: needs v as well (got v=None)")
+    kin = forward_kinematics(model, q, qd, qdd)
+    return (kin.placements.homogeneous(), kin.parent_placements.homogeneous(),
+            None if kin.velocities is None else kin.velocities.vector,
+            None if kin.accelerations is None else kin.accelerations.vector)
+
+
+def placements_at(model: Model, q: np.ndarray) -> np.ndarray:
+    """The bodies' world placements ``⁰M_i`` `(..., nb, 4, 4)` (homogeneous), the declaration's reference."""
+    return forward_kinematics(model, q).placements.homogeneous()
+
+
+def frame_placement_at(model: Model, q: np.ndarray, frame: int) -> tuple[np.ndarray, np.ndarray]:
+    """``(R, p)`` `(..., 3, 3)`, `(..., 3)` of a frame's world placement ``⁰M_f = ⁰M_body(f) · placement_f``."""
+    oMf = frame_pose(model, forward_kinematics(model, q), frame)
+    return oMf.rotation, oMf.translation
 
 
 def body_at(X: PluckerTransform, i: int) -> PluckerTransform:

@@ -113,7 +113,7 @@ __all__ = [
 
 
 #: fd.compile's methods that had a separate ``*_batch`` form (the same method now)
-_BATCH_ALIASES = ("rnea", "crba", "aba", "frame_jacobian", "rnea_derivatives", "aba_derivatives")
+_BATCH_ALIASES = ("rnea", "crba", "aba", "frame_jacobian", "rnea_derivatives", "aba_derivatives", "placements")
 
 
 def compile(model: Model, *, warmup: bool = True) -> CompiledModel:

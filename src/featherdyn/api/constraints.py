@@ -27,6 +27,7 @@ from .. import constraints as _con
 from .. import core as _compiled
 from ..algorithms import constraints as _alg
 from ..constraints import Constraint, ContactPlan, cached_contact_plan, cached_frames_plan
+from ..core import declared as _declared
 from ..errors import ConstraintError, FeatherdynError, ModelError
 from ..frames import LOCAL_WORLD_ALIGNED, ReferenceFrame
 from ..model import Model
@@ -50,7 +51,8 @@ def _jacobian(model: Model, st: State, backend: str | None) -> _alg.FrameJacobia
     forward kinematics, joint by joint)."""
     if select_backend(backend, st.dtype) != "compiled":
         return None
-    return lambda fid, ref: as_dtype(_compiled.frame_jacobian(model, st.q, fid, ref.code), st.dtype)
+    return lambda fid, ref: as_dtype(_declared.run("frame_jacobian", model, st.batch, [st.q],
+                                                   options={"frame": fid, "reference": ref.code})[0], st.dtype)
 
 
 def _rows(model: Model, st: State, qd: np.ndarray | None, items: list[Constraint], backend: str | None

@@ -8,20 +8,32 @@ public function: ``fd.<name>`` (one state, any batch shape, ``out=``, Dask array
 
 from __future__ import annotations
 
+import numpy as np
+
 from ..algorithms import aba as _aba
 from ..algorithms import centroidal as _centroidal
 from ..algorithms import crba as _crba
 from ..algorithms import derivatives as _ref
 from ..algorithms import energy as _energy
 from ..algorithms import jacobians as _jac
+from ..algorithms import kinematics as _kin
 from ..algorithms import rnea as _rnea
-from .declared import Declaration, public_function
+from ..results import CenterOfMass, Kinematics
+from ..spatial import PluckerTransform, SpatialForce
+from .declared import Declaration, Record, public_function
 
 __all__ = ["rnea", "nonlinear_effects", "generalized_gravity", "crba", "aba", "frame_jacobian", "rnea_derivatives",
            "aba_derivatives", "mass_matrix_inverse", "joint_torque_regressor", "frame_velocity_derivatives",
            "frame_acceleration_derivatives", "joint_jacobians", "frame_jacobian_time_variation", "kinetic_energy",
            "potential_energy", "centroidal_momentum_matrix", "generalized_gravity_derivatives",
-           "static_torque_derivatives"]
+           "static_torque_derivatives", "forward_kinematics", "frame_placement", "center_of_mass",
+           "centroidal_momentum"]  # (and ``placements``: fd.compile(model).fk only)
+
+
+def _center_of_mass(c: np.ndarray, cd: np.ndarray | None) -> np.ndarray | CenterOfMass:
+    """``c`` alone, or with its velocity the :class:`CenterOfMass` ``(c, ċ)``."""
+    return c if cd is None else CenterOfMass(c, cd)
+
 
 DECLARATIONS: dict[str, Declaration] = {d.name: d for d in [
     Declaration(
@@ -386,6 +398,107 @@ DECLARATIONS: dict[str, Declaration] = {d.name: d for d in [
             ∂τ_s/∂q[:, j] = d/dε RNEA(q ⊕ ε e_j, 0, 0, f_ext) |_{ε=0}
         """,
     ),
+    Declaration(
+        name="forward_kinematics",
+        inputs=("q", "v", "a"),
+        optional=("v", "a"),
+        needs=(("a", "v"),),
+        outputs=("H", "Hp", "vel", "acc"),
+        reference=_kin.forward_kinematics_at,
+        result=Record(Kinematics, (("model", "model"), ("_H", "H"), ("_Hp", "Hp"), ("_vel", "vel"), ("_acc", "acc"))),
+        doc="""World placements, body velocities and spatial accelerations of every body.
+
+        Args:
+            model: the tree.
+            q: `(..., nq)` configuration.
+            v: `(..., nv)` joint velocity (optional).
+            a: `(..., nv)` joint acceleration (optional; needs ``v``).
+            backend: ``None`` (compiled for float64), ``"reference"`` or ``"compiled"``.
+
+        Returns:
+            :class:`~featherdyn.results.Kinematics`, gravity *not* included in the accelerations::
+
+                ᵖM_i = ᵖM_J · M_J(q_i),   ⁰M_i = ⁰M_λ(i) · ᵖM_i
+                v_i = X_up[i] v_λ(i) + S_i q̇_i,   a_i = X_up[i] a_λ(i) + S_i q̈_i + v_i × S_i q̇_i
+        """,
+    ),
+    Declaration(
+        name="placements",
+        method="fk",
+        inputs=("q",),
+        outputs=("H",),
+        reference=_kin.placements_at,
+        doc="""World placements of the bodies as homogeneous matrices `(..., nb, 4, 4)` (``fd.compile(model).fk``).
+
+        Args:
+            q: `(..., nq)`.
+            out: optional `(..., nb, 4, 4)` float64 array to write into.
+
+        ::
+
+            ⁰M_i = ⁰M_λ(i) · Xtree_i · M_J(q_i)
+        """,
+    ),
+    Declaration(
+        name="frame_placement",
+        inputs=("q",),
+        options=("frame",),
+        outputs=("rotation", "translation"),
+        reference=_kin.frame_placement_at,
+        result=Record(PluckerTransform, (("rotation", "rotation"), ("translation", "translation"), ("source", None),
+                                         ("target", None))),
+        doc="""The world placement ``⁰M_f`` of a frame (name or index) as a :class:`PluckerTransform`, batch shape `(...)`.
+
+        Args:
+            q: `(..., nq)`.
+            frame: the frame's name or index.
+            backend: ``None`` (compiled for float64), ``"reference"`` or ``"compiled"``.
+
+        ::
+
+            ⁰M_f = ⁰M_body(f) · placement_f
+        """,
+    ),
+    Declaration(
+        name="center_of_mass",
+        inputs=("q", "v"),
+        optional=("v",),
+        outputs=("position", "velocity"),
+        reference=_energy.center_of_mass_at,
+        result=_center_of_mass,
+        doc="""The centre of mass of the whole tree in world coordinates.
+
+        Args:
+            q: `(..., nq)`; v: `(..., nv)` (optional).
+            backend: ``None`` (compiled for float64), ``"reference"`` or ``"compiled"``.
+
+        Returns:
+            ``c`` `(..., 3)` without ``v``; with ``v`` a :class:`~featherdyn.CenterOfMass`
+            ``(position, velocity)``::
+
+                c = Σ m_i ⁰c_i / m,    ċ = Σ m_i ⁰R_i (v_i + ω_i × c_i) / m
+
+        Raises:
+            ModelError: the tree has no mass (the centre of mass is undefined).
+        """,
+    ),
+    Declaration(
+        name="centroidal_momentum",
+        inputs=("q", "v"),
+        outputs=("h",),
+        reference=_centroidal.centroidal_momentum_at,
+        result=Record(SpatialForce, (("vector", "h"), ("frame", None))),
+        doc="""The centroidal momentum ``h_G = [k_G; p]`` `(..., 6)` as a :class:`SpatialForce`.
+
+        Args:
+            q: `(..., nq)`; v: `(..., nv)`.
+            backend: ``None`` (compiled for float64), ``"reference"`` or ``"compiled"``.
+
+        ::
+
+            h_G = A_G(q) q̇     (p = m ċ)
+        """,
+    ),
 ]}
 
 rnea = public_function(DECLARATIONS["rnea"])
@@ -407,3 +520,8 @@ potential_energy = public_function(DECLARATIONS["potential_energy"])
 centroidal_momentum_matrix = public_function(DECLARATIONS["centroidal_momentum_matrix"])
 generalized_gravity_derivatives = public_function(DECLARATIONS["generalized_gravity_derivatives"])
 static_torque_derivatives = public_function(DECLARATIONS["static_torque_derivatives"])
+forward_kinematics = public_function(DECLARATIONS["forward_kinematics"])
+placements = public_function(DECLARATIONS["placements"])
+frame_placement = public_function(DECLARATIONS["frame_placement"])
+center_of_mass = public_function(DECLARATIONS["center_of_mass"])
+centroidal_momentum = public_function(DECLARATIONS["centroidal_momentum"])

@@ -40,12 +40,40 @@ from ..model import Model
 from ._backend import CORE, core_path, select_backend
 from ._checks import State, as_dtype, batch_with_f_ext, check_f_ext, check_state, finite_result, quiet
 
-__all__ = ["Declaration", "call", "public_function", "compiled_method"]
+__all__ = ["Declaration", "Record", "call", "public_function", "compiled_method"]
 
 #: the state arguments a declaration may take, and how each is checked: a vector of length nq or nv, or f_ext
 STATE_ARGUMENTS = ("q", "v", "a", "tau", "f_ext")
 #: the options a declaration may take, and their defaults (``frame`` has none: it is required)
 OPTIONS: dict[str, Any] = {"frame": inspect.Parameter.empty, "reference": LOCAL, "gravity": True}
+
+
+@dataclass(frozen=True)
+class Record:
+    """The object a declaration's outputs make (``Declaration.result``): a new ``cls`` (``object.__new__``: its
+    ``__init__`` is not called) with each of ``fields`` — ``(field, source)`` — set as ``object.__setattr__`` sets
+    it to an output (``source`` its name; the array made read-only, as a record's arrays are), the model
+    (``"model"``) or ``None``. Made in C for the one-state call (``core/cpp/bind_public_calls.cpp``), here for the
+    others."""
+
+    cls: type
+    fields: tuple[tuple[str, str | None], ...]
+
+    def make(self, model: Model, outputs: dict[str, Any]) -> Any:
+        obj: Any = object.__new__(self.cls)
+        for field, source in self.fields:
+            value = model if source == "model" else None if source is None else outputs[source]
+            if isinstance(value, np.ndarray):
+                value.flags.writeable = False
+            object.__setattr__(obj, field, value)
+        return obj
+
+    def constants(self, decl: Declaration, model: Model | None) -> tuple[Any, ...]:
+        """The record as the core's public call reads it: ``(cls, (field, source), ...)``, each source an output's
+        index, ``-1`` for the model argument (``model`` itself for a bound method) or ``None``."""
+        index = {n: k for k, n in enumerate(decl.outputs)}
+        return (self.cls, *((f, (-1 if model is None else model) if s == "model" else None if s is None else index[s])
+                            for f, s in self.fields))
 
 
 @dataclass(frozen=True)
@@ -64,6 +92,10 @@ class Declaration:
         options: the scalar parameters it takes besides the state (``gravity``: keyword-only, default ``True``),
             passed by name to the kernel and to the reference.
         method: the name of ``fd.compile(model)``'s method, when not ``name``.
+        result: what the outputs make (``None``: the output, or the tuple of them): a :class:`Record`, or a function
+            of the outputs (``None`` for one formed only with an absent input). A function with a result takes no
+            ``out=``.
+        needs: ``(x, y)`` pairs of optional inputs: ``x`` is only taken with ``y`` (``a`` needs ``v``).
         derivative: the declared function whose outputs are the derivatives of this one's output with respect to
             each of its state inputs but ``f_ext``, in order (``∂/∂q`` along the tangent of ``fd.integrate``), when
             there is one: ``rnea`` → ``rnea_derivatives`` (∂τ/∂q, ∂τ/∂q̇, ∂τ/∂q̈). The frameworks' operations take
@@ -79,6 +111,8 @@ class Declaration:
     options: tuple[str, ...] = ()
     method: str | None = None
     derivative: str | None = None
+    result: Record | Callable[..., Any] | None = None
+    needs: tuple[tuple[str, str], ...] = ()
 
     def __post_init__(self) -> None:
         unknown = [n for n in self.inputs if n not in STATE_ARGUMENTS]
@@ -88,7 +122,11 @@ class Declaration:
             raise ValueError(f"declaration {self.name!r}: options must be among {tuple(OPTIONS)}")
 
 
-def _result(decl: Declaration, outs: tuple[np.ndarray, ...]) -> Any:
+def _result(decl: Declaration, model: Model, outs: tuple[Any, ...]) -> Any:
+    if isinstance(decl.result, Record):
+        return decl.result.make(model, dict(zip(decl.outputs, outs, strict=True)))
+    if decl.result is not None:
+        return decl.result(*outs)
     return outs[0] if len(decl.outputs) == 1 else outs
 
 
@@ -158,9 +196,13 @@ def call(decl: Declaration, model: Model, args: tuple[Any, ...], out: Any = None
         if arrays is None:
             r = kernel.fresh(h.cm, args, **opts)
             if r is not None:
-                return r
+                return r if decl.result is None else _result(decl, model, r if len(decl.outputs) > 1 else (r,))
         elif kernel.into(h.cm, args, arrays, **opts) == 0:
             return out
+    given = dict(zip(decl.inputs, args, strict=True))
+    for x, y in decl.needs:
+        if given[x] is not None and given[y] is None:
+            raise ShapeError(f"{x}: needs {y} as well (got {y}=None)")
     # 2. Dask
     if _dask.lazy(*args):
         if out is not None:
@@ -169,7 +211,6 @@ def call(decl: Declaration, model: Model, args: tuple[Any, ...], out: Any = None
                           **given_options)
     # 3. checks: f_ext, then the state, as every public function words them (their values only where the core
     # does not check them itself: it checks every state, and its error path words what it finds as these do)
-    given = dict(zip(decl.inputs, args, strict=True))
     vectors = {n: given[n] for n in decl.inputs if n in ("v", "a", "tau")}
 
     def checked_state(values: bool) -> tuple[np.ndarray | None, State]:
@@ -192,14 +233,15 @@ def call(decl: Declaration, model: Model, args: tuple[Any, ...], out: Any = None
         outs = _declared.run(decl.name, model, batch, f64, out=into, options=opts)
         if into is not None:
             return out  # written by the core (an out over an input: through fresh memory, declared.run's rule)
-        outs = tuple(as_dtype(o, dtype) for o in outs)
+        outs = tuple(None if o is None else as_dtype(o, dtype) for o in outs)
     else:
         reference = functools.partial(decl.reference, **ref_opts) if ref_opts else decl.reference
         r = quiet(reference, model, *checked)
-        outs = tuple(finite_result(as_dtype(np.asarray(o), dtype) if dtype.kind == "f" else np.asarray(o), decl.name)
+        outs = tuple(None if o is None else
+                     finite_result(as_dtype(np.asarray(o), dtype) if dtype.kind == "f" else np.asarray(o), decl.name)
                      for o in (r if isinstance(r, tuple) else (r,)))
     if out is None:
-        return _result(decl, outs)
+        return _result(decl, model, outs)
     # 6. out=: written after the computation (so an out sharing memory with an input changes nothing)
     assert arrays is not None
     for name, dst, src in zip(decl.outputs, arrays, outs, strict=True):
@@ -221,12 +263,13 @@ def _signature(decl: Declaration, bound: bool) -> inspect.Signature:
         if n in decl.options:
             params.append(P(n, P.POSITIONAL_OR_KEYWORD, default=OPTIONS[n],
                             annotation="str | int" if n == "frame" else "ReferenceFrame | str"))
-    if bound:  # fd.compile's methods take out by position too (as the core's public call binds them)
+    if bound and decl.result is None:  # fd.compile's methods take out by position too (as the core binds them)
         params.append(P("out", P.POSITIONAL_OR_KEYWORD, default=None))
     if "gravity" in decl.options:
         params.append(P("gravity", P.KEYWORD_ONLY, default=True, annotation="bool"))
     if not bound:
-        params.append(P("out", P.KEYWORD_ONLY, default=None))
+        if decl.result is None:
+            params.append(P("out", P.KEYWORD_ONLY, default=None))
         params.append(P("backend", P.KEYWORD_ONLY, default=None, annotation="str | None"))
     return inspect.Signature(params)
 
@@ -254,6 +297,11 @@ def _finished_in_c(general: Callable[..., Any], kernel: Any, extra: tuple[Any, .
     return fast
 
 
+def _constants(decl: Declaration, model: Model | None) -> Any:
+    """The record's constants for the core's public call (``None``, the function, or :meth:`Record.constants`)."""
+    return decl.result.constants(decl, model) if isinstance(decl.result, Record) else decl.result
+
+
 def public_function(decl: Declaration) -> Callable[..., Any]:
     """``fd.<name>(model, *inputs, out=None, backend=None)``, made from ``decl``."""
     sig = _signature(decl, bound=False)
@@ -261,7 +309,7 @@ def public_function(decl: Declaration) -> Callable[..., Any]:
     def general(*args: Any, **kwargs: Any) -> Any:
         ba = _bind(decl, sig, args, kwargs)
         a = ba.arguments
-        return call(decl, a["model"], tuple(a[k] for k in decl.inputs), a["out"], a["backend"],
+        return call(decl, a["model"], tuple(a[k] for k in decl.inputs), a.get("out"), a["backend"],
                     {n: a[n] for n in decl.options})
 
     general.__name__ = general.__qualname__ = decl.name
@@ -269,7 +317,8 @@ def public_function(decl: Declaration) -> Callable[..., Any]:
     general.__doc__ = decl.doc
     general.__signature__ = sig  # type: ignore[attr-defined]
     kernel = _declared.kernel(decl.name)
-    public = _PUBLIC[decl.name] = _finished_in_c(general, kernel, (CoreHandle, kernel, *REFERENCES), None)
+    public = _PUBLIC[decl.name] = _finished_in_c(general, kernel, (CoreHandle, kernel, *REFERENCES,
+                                                                   _constants(decl, None)), None)
     return cast(Callable[..., Any], public)
 
 
@@ -279,7 +328,7 @@ def compiled_method(decl: Declaration, model: Model) -> Callable[..., Any]:
 
     def general(*args: Any, **kwargs: Any) -> Any:
         a = _bind(decl, sig, args, kwargs).arguments
-        return call(decl, model, tuple(a[k] for k in decl.inputs), a["out"], None, {n: a[n] for n in decl.options},
+        return call(decl, model, tuple(a[k] for k in decl.inputs), a.get("out"), None, {n: a[n] for n in decl.options},
                     float64=True)
 
     general.__name__ = decl.method or decl.name
@@ -289,5 +338,6 @@ def compiled_method(decl: Declaration, model: Model) -> Callable[..., Any]:
     kernel = _declared.kernel(decl.name)
     h = core_path(model, None) if kernel is not None else None
     return cast(Callable[..., Any], _finished_in_c(general, kernel if h is not None else None,
-                                                   (kernel, h.frames if h is not None else {}, *REFERENCES),
+                                                   (kernel, h.frames if h is not None else {}, *REFERENCES,
+                                                    _constants(decl, model)),
                                                    h.cm if h is not None else None))

@@ -12,16 +12,15 @@
     TAU = cm.rnea_batch(Q, V, A)      # (N, nv), on the core's threads
     cm.rnea_derivatives_batch(Q, V, A, out=(DQ, DV, M))   # three (N, nv, nv), reused: no page faults
 
-The declared algorithms' methods (``rnea``, ``nle``, ``gravity``, ``crba``, ``aba`` and the
-others of ``featherdyn/api/declarations.py``; ``rnea_batch``, ``crba_batch`` and ``aba_batch``
-``rnea_derivatives_batch``, ``aba_derivatives_batch``, ``frame_jacobian_batch`` are the same methods under their
-former names) are added by ``fd.compile`` from the
-declarations; the rest are below.
+Every method is a declared algorithm's (``rnea``, ``nle``, ``gravity``, ``crba``, ``aba``, ``fk`` and the others
+of ``featherdyn/api/declarations.py``), added by ``fd.compile``; ``rnea_batch``, ``crba_batch``, ``aba_batch``,
+``rnea_derivatives_batch``, ``aba_derivatives_batch``, ``frame_jacobian_batch`` and ``fk_batch`` are the same
+methods under their former names. Each takes one state or any batch shape.
 
-The single-state methods hand their arguments to the core's binding as they
-are: native-endian, aligned, C-contiguous float64 arrays of the exact shapes
-go straight in; anything else (lists, float32, strided, big-endian, masked
-arrays) takes the general path of :mod:`featherdyn.core`, which converts it.
+A one-state call hands its arguments to the core as they are: native-endian,
+aligned, C-contiguous float64 arrays of the exact shapes go straight in;
+anything else (lists, float32, strided, big-endian, masked arrays) takes the
+declared call's general path, which converts it.
 The core checks every state it computes on — lengths, finiteness, unit
 quaternions — and a bad one raises the same featherdyn exception, with the
 same message, as ``fd.rnea`` & co.
@@ -33,17 +32,12 @@ used by several threads at once; the batched methods run on the core's pool
 
 from __future__ import annotations
 
-import functools
 import time
 from typing import Any
 
-import numpy as np
-
-from .._state_checks import check_f_ext, check_state
 from ..errors import ModelError
 from ..model import Model
-from . import _lib, _view, fk_batch
-from . import fk as _fk
+from . import _lib, _view
 
 __all__ = ["CompiledModel", "compile_model"]
 
@@ -58,43 +52,11 @@ class CompiledModel:
     """
 
     def __init__(self, model: Model, compile_seconds: float = 0.0) -> None:
-        core = _lib()
-        handle = _view(model)
+        _lib()
+        _view(model)  # the model's arrays in the core, made now (a model the core cannot take fails here)
         self.model = model
         self.nq, self.nv, self.nb = model.nq, model.nv, model.nbodies
         self.compile_seconds = compile_seconds
-        cm, nb = handle.cm, self.nb
-        shape_H = (nb, 4, 4)  # built once, not per call
-
-        # The methods' general paths: featherdyn.core's wrappers, which convert, compute or word the error. A
-        # native float64 state never reaches them: it is finished in C (below).
-
-        def lengths_first(q: Any, f_ext: Any = None, **vectors: Any) -> None:
-            # the public checks, in the public functions' order and words, before the wrappers convert: a wrong
-            # length is a ShapeError at once, not the MemoryError of copying a huge zero-stride view
-            check_f_ext(model, f_ext)
-            check_state(model, q, **vectors)
-
-        def fk(q: Any, out: Any = None) -> np.ndarray:
-            """World placements of the bodies, homogeneous `(nb, 4, 4)`."""
-            lengths_first(q)
-            return _fk(model, q, out=_one_state_out(out, shape_H))
-
-        # Each method: the closure above, with its one-state call finished in C when the arguments are as the
-        # binding takes them (core/cpp/public_calls.hpp); anything else goes to the closure unchanged.
-        def finished_in_c(name: str, closure: Any, constants: tuple[Any, ...] = ()) -> Any:
-            method = core.public_call("fk" if name == "fk" else f"cm_{name}", closure, constants, cm)
-            functools.update_wrapper(method, closure)
-            method.__qualname__ = f"CompiledModel.{name}"
-            return method
-
-        self.fk = finished_in_c("fk", fk)
-
-    # batched forms: any batch shape (leading axes broadcast), on the core's threads
-
-    def fk_batch(self, q: Any, out: Any = None) -> np.ndarray:
-        """World placements `(..., nb, 4, 4)` for a batch of configurations."""
-        return fk_batch(self.model, q, out)
 
     def __getattr__(self, name: str) -> Any:
         """(Only for names not found: the declared algorithms' methods are set by ``fd.compile``.)"""
@@ -105,18 +67,6 @@ class CompiledModel:
 
     def __repr__(self) -> str:
         return f"CompiledModel({self.model!r})"
-
-
-def _one_state_out(out: Any, shape: tuple[int, ...]) -> Any:
-    """``out`` for the general path of a single-state method: ``None``, or an array of exactly ``shape``.
-
-    (The general path takes batches too; a single-state method refuses to write a batch into ``out``.)
-    """
-    if out is not None and getattr(out, "shape", None) != shape:
-        from ..errors import ShapeError
-
-        raise ShapeError(f"out: expected shape {shape}, got {getattr(out, 'shape', type(out).__name__)}")
-    return out
 
 
 def compile_model(model: Model, *, warmup: bool = True) -> CompiledModel:

@@ -35,13 +35,14 @@ class Spec:
 
     Attributes:
         kernel: the binding's ``Kernel``.
-        inputs, outputs: ``(name, symbolic shape, optional)`` each.
+        inputs: ``(name, symbolic shape, optional)`` each.
+        outputs: ``(name, symbolic shape, when)`` each: ``when`` the input it is formed with (``None``: always).
         options: the options it takes (``frame``, ``reference``, ``gravity``), in their order.
     """
 
     kernel: Any
     inputs: tuple[tuple[str, tuple[Any, ...], bool], ...]
-    outputs: tuple[tuple[str, tuple[Any, ...], bool], ...]
+    outputs: tuple[tuple[str, tuple[Any, ...], str | None], ...]
     options: tuple[str, ...]
     input_names: tuple[str, ...]
 
@@ -67,8 +68,10 @@ def shape_of(h: CoreHandle, symbolic: tuple[Any, ...]) -> tuple[int, ...]:
 
 
 def run(name: str, model: Model, batch: tuple[int, ...], inputs: list[np.ndarray | None],
-        out: tuple[np.ndarray, ...] | None = None, options: dict[str, Any] | None = None) -> tuple[np.ndarray, ...]:
-    """The outputs `(*batch, *shape)` of the declared algorithm ``name`` on checked float64 inputs.
+        out: tuple[np.ndarray | None, ...] | None = None,
+        options: dict[str, Any] | None = None) -> tuple[Any, ...]:
+    """The outputs `(*batch, *shape)` of the declared algorithm ``name`` on checked float64 inputs (``None`` for an
+    output formed only with an input that is absent).
 
     ``inputs`` are in the declaration's order, each broadcastable to ``batch`` plus its declared shape
     (``None`` for an absent optional one); ``out``, when given, holds the outputs to write into (C-contiguous
@@ -100,24 +103,32 @@ def run(name: str, model: Model, batch: tuple[int, ...], inputs: list[np.ndarray
             rows.append(x.reshape(1, n))
         else:
             rows.append(np.ascontiguousarray(np.broadcast_to(x, batch + tail)).reshape(N, n))
-    shapes = [batch + shape_of(h, s) for _, s, _ in spec.outputs]
-    for o, shape in zip(out or (), shapes, strict=False):
-        if o.shape != shape:
-            raise ShapeError(f"out: expected shape {shape}, got {o.shape}")
-    if out is not None and any(x is not None and np.may_share_memory(x, o) for x in inputs for o in out):
+    given = dict(zip(spec.input_names, inputs, strict=True))
+    shapes: list[tuple[int, ...] | None] = [None if when is not None and given[when] is None
+                                            else batch + shape_of(h, s) for _, s, when in spec.outputs]
+    if out is not None and len(out) != len(shapes):
+        raise ShapeError(f"out: expected {len(shapes)} arrays, got {len(out)}")
+    for i, (o, expected) in enumerate(zip(out, shapes, strict=True) if out is not None else ()):
+        if getattr(o, "shape", None) != expected:
+            raise ShapeError(f"out: expected shape {expected}, got {getattr(o, 'shape', type(o).__name__)}")
+        if o is not None and any(p is not None and np.may_share_memory(o, p) for p in out[:i]):  # type: ignore[index]
+            raise ShapeError("out: the arrays must not overlap")
+    if out is not None and any(x is not None and o is not None and np.may_share_memory(x, o)
+                               for x in inputs for o in out):
         # the one rule for out= (docs/architecture.md): the result is the call's without out — a kernel writing
         # its rows while it reads the inputs' would read what it wrote, so it writes into fresh memory first
         for o, r in zip(out, run(name, model, batch, inputs, None, options), strict=True):
-            np.copyto(o, r)
+            if o is not None:
+                np.copyto(o, r)
         return tuple(out)
-    outs = out if out is not None else tuple(result_array(shape) for shape in shapes)
+    outs = out if out is not None else tuple(None if shape is None else result_array(shape) for shape in shapes)
     if N == 0:  # an empty batch: empty results
         return tuple(outs)
-    _row, status = k.batch(h.cm, rows, [o.reshape(N, -1) for o in outs], **(options or {}))
+    _row, status = k.batch(h.cm, rows, [None if o is None else o.reshape(N, -1) for o in outs], **(options or {}))
     if status:
         names = spec.input_names
         q = inputs[names.index("q")]
-        vectors = [(n, x) for n, x in zip(names, inputs, strict=True) if n in ("v", "a", "tau")]
+        vectors = [(n, x) for n, x in zip(names, inputs, strict=True) if n in ("v", "a", "tau") and x is not None]
         f_ext = inputs[names.index("f_ext")] if "f_ext" in names else None
         if _errors.decode(status)[0] == _errors.SINGULAR:
             _errors.validate(model, q, vectors, f_ext)
@@ -147,11 +158,9 @@ def raise_singular(spec: Spec, model: Model, h: CoreHandle, rows: list[np.ndarra
 
 
 def arg_names(spec: Spec) -> tuple[str, ...]:
-    """The names of a kernel's status arguments (``q``, ``v``, ``a`` or ``tau``, ``f_ext``, ``out``, ``frame``) as
-    its declaration names them."""
+    """The names of a kernel's status arguments (``q``, ``v``, ``a``, ``tau`` or ``b``, ``f_ext``, ``out``,
+    ``frame``) as its declaration names them."""
     names = list(_errors.ARG_NAMES)
-    by_code = {"q": 0, "v": 1, "a": 2, "tau": 2, "f_ext": 3}
-    for n in spec.input_names:
-        if n in by_code:
-            names[by_code[n]] = n
+    for n in spec.input_names:  # q, v, f_ext by their names; the other vector (q̈, τ, b) is the third argument
+        names[{"q": 0, "v": 1, "f_ext": 3}.get(n, 2)] = n
     return tuple(names)

@@ -1,5 +1,5 @@
-// The binding of the constraints (docs/architecture.md): the mass matrix's tree-sparse factor, its solves, the
-// Delassus matrix, the constrained KKT system, contacts in one call and Λ of frames.
+// The binding of the constraints (docs/architecture.md): the Delassus matrix, the constrained KKT system, contacts
+// in one call and Λ of frames (the mass matrix's factor and solve are declared: declarations.hpp).
 #include "contacts.hpp"
 #include "crba.hpp"
 #include "ltl.hpp"
@@ -15,61 +15,6 @@ namespace {
 // ---------------------------------------------------------------------------
 // the tree-sparse LᵀL factorisation (ltl.hpp)
 // ---------------------------------------------------------------------------
-
-// L (N, nv²): M(q) = Lᵀ L, lower triangular (zeros above the diagonal).
-RowStatus ltl_n(const ModelData& md, const In& q, Out L) {
-  const ModelView& mv = md.view;
-  std::int64_t N = 0;
-  Rows Q;
-  const std::int64_t n2 = static_cast<std::int64_t>(mv.nv) * mv.nv;
-  FD_TRY_ROWS(out_rows(L, n2, N));
-  FD_TRY_ROWS(rows(q, N, mv.nq, ARG_Q, Q));
-  std::vector<int> lambda(mv.nv);
-  dof_parents(mv, lambda.data());
-  double* out = L.data();
-  return for_rows(N, [&](std::int64_t r) -> std::int64_t {
-    FD_TRY(check_state(mv, Q.row(r), nullptr, nullptr, nullptr));
-    double* Lr = out + r * n2;
-    crba(mv, Q.row(r), Lr);
-    const int bad = ltl_factor(mv, lambda.data(), Lr);
-    if (bad >= 0) return make_status(SINGULAR, ARG_Q, dof_body(mv, bad));
-    for (int i = 0; i < mv.nv; ++i)
-      for (int j = i + 1; j < mv.nv; ++j) Lr[i * mv.nv + j] = 0.0;
-    return finite_result(Lr, n2);
-  });
-}
-
-// x (N, nv·k) solving M(q) x = b for b (N or 1, nv·k): k right-hand sides, row-major (nv, k).
-RowStatus mass_solve_n(const ModelData& md, const In& q, const In& b, int k, Out x) {
-  const ModelView& mv = md.view;
-  std::int64_t N = 0;
-  Rows Q, B;
-  const std::int64_t nk = static_cast<std::int64_t>(mv.nv) * k;
-  if (k < 1) throw nb::value_error("mass_solve: k must be positive");
-  FD_TRY_ROWS(out_rows(x, nk, N));
-  FD_TRY_ROWS(rows(q, N, mv.nq, ARG_Q, Q));
-  FD_TRY_ROWS(rows(b, N, nk, ARG_A, B));
-  std::vector<int> lambda(mv.nv);
-  dof_parents(mv, lambda.data());
-  const int nv = mv.nv;
-  double* out = x.data();
-  return for_rows(N, [&](std::int64_t r) -> std::int64_t {
-    FD_TRY(check_state(mv, Q.row(r), nullptr, nullptr, nullptr));
-    std::vector<double> L(static_cast<size_t>(nv) * nv), col(nv);
-    crba(mv, Q.row(r), L.data());
-    const int bad = ltl_factor(mv, lambda.data(), L.data());
-    if (bad >= 0) return make_status(SINGULAR, ARG_Q, dof_body(mv, bad));
-    const double* Br = B.row(r);
-    double* Xr = out + r * nk;
-    for (int c = 0; c < k; ++c) {
-      for (int i = 0; i < nv; ++i) col[i] = Br[i * k + c];
-      ltl_solve_Lt(mv, lambda.data(), L.data(), col.data());
-      ltl_solve_L(mv, lambda.data(), L.data(), col.data());
-      for (int i = 0; i < nv; ++i) Xr[i * k + c] = col[i];
-    }
-    return finite_result(Xr, nk);
-  });
-}
 
 // D (N, m²) = J M(q)⁻¹ Jᵀ for J (N or 1, m·nv).
 RowStatus delassus_n(const ModelData& md, const In& q, const In& J, int m, Out D) {
@@ -281,8 +226,6 @@ RowStatus osi_n(const ModelData& md, const In& q, const ContactPlan& plan, doubl
 }  // namespace
 
 void fdcore::bind_constraints(nb::module_& m) {
-  m.def("ltl_batch", &ltl_n, nb::arg("model"), arr("q"), arr("out"));
-  m.def("mass_solve_batch", &mass_solve_n, nb::arg("model"), arr("q"), arr("b"), nb::arg("k"), arr("out"));
   m.def("delassus_batch", &delassus_n, nb::arg("model"), arr("q"), arr("J"), nb::arg("m"), arr("out"));
   m.def("kkt_batch", &kkt_n, nb::arg("model"), arr("q"), arr("v"), arr("tau"), opt("f_ext"), arr("J"), arr("c"), nb::arg("m"),
         nb::arg("mu"), nb::arg("max_iter"), nb::arg("tol"), nb::arg("singular_tol"), arr("qdd"), arr("lam"), arr("info"));

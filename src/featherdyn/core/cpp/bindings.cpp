@@ -87,9 +87,9 @@ void sin_cos_n(const In& x, Out s, Out c, bool packs) {
   for (; k < n; ++k) sin_cos(X[k], So[k], Co[k]);
 }
 
-// A declaration's operands as Python sees them: (name, shape with "nq", "nv", "nb" for the symbolic lengths,
-// optional) each.
-nb::list operands(const std::vector<Operand>& ops) {
+// A declaration's operands as Python sees them: (name, shape with "nq", "nv", "nb", "np" for the symbolic lengths,
+// then for an input whether it is optional, for an output the name of the input it is formed with or None).
+nb::list operands(const std::vector<Operand>& ops, const std::vector<Operand>* inputs = nullptr) {
   nb::list out;
   for (const Operand& o : ops) {
     nb::list shape;
@@ -101,7 +101,10 @@ nb::list operands(const std::vector<Operand>& ops) {
       else if (n == NP) shape.append("np");
       else shape.append(n);
     }
-    out.append(nb::make_tuple(o.name, nb::tuple(shape), o.optional));
+    nb::object third = inputs == nullptr ? nb::object(nb::bool_(o.optional))
+                       : o.when < 0     ? nb::none()
+                                        : nb::object(nb::str((*inputs)[static_cast<size_t>(o.when)].name));
+    out.append(nb::make_tuple(o.name, nb::tuple(shape), third));
   }
   return out;
 }
@@ -134,9 +137,14 @@ nb::object fresh(const Kernel& k, const ModelData& md, const nb::sequence& input
                  int reference) {
   PyObject* ip[DECLARED_MAX];
   operand_objects(k, inputs, k.inputs.size(), ip);
-  PyObject* r = run_fresh(k, md.view, ip, Options{gravity, frame, reference});
-  if (r == nullptr && PyErr_Occurred()) throw nb::python_error();
-  return r == nullptr ? nb::none() : nb::steal(r);
+  PyObject* outs[DECLARED_MAX];
+  if (!run_fresh(k, md.view, ip, Options{gravity, frame, reference}, outs)) {
+    if (PyErr_Occurred()) throw nb::python_error();
+    return nb::none();
+  }
+  PyObject* r = as_result(outs, k.outputs.size());
+  if (r == nullptr) throw nb::python_error();
+  return nb::steal(r);
 }
 
 // A SINGULAR status's detail (declare.hpp): the joint, and its D in D36, for one state of checked arrays.
@@ -188,7 +196,6 @@ NB_MODULE(_core, m) {
       .def_prop_ro("nf", [](const ModelData& d) { return d.view.nf; });
 
   bind_dynamics(m);
-  bind_kinematics(m);
   bind_constraints(m);
   bind_public_calls(m);
 
@@ -196,7 +203,7 @@ NB_MODULE(_core, m) {
   nb::class_<Kernel>(m, "Kernel", "A declared algorithm of the core (core/cpp/declarations.hpp)")
       .def_ro("name", &Kernel::name)
       .def_prop_ro("inputs", [](const Kernel& k) { return operands(k.inputs); })
-      .def_prop_ro("outputs", [](const Kernel& k) { return operands(k.outputs); })
+      .def_prop_ro("outputs", [](const Kernel& k) { return operands(k.outputs, &k.inputs); })
       .def_prop_ro("options", [](const Kernel& k) { return option_names(k.options); })
       .def("into", &into, nb::arg("model"), nb::arg("inputs"), nb::arg("outputs"), nb::arg("gravity") = true,
            nb::arg("frame") = 0, nb::arg("reference") = 0,

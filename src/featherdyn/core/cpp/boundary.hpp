@@ -130,34 +130,14 @@ inline RowStatus for_rows(std::int64_t items, const F& body, std::int64_t group 
   return first;
 }
 
-
 // A result that finite input overflowed (products beyond float64's range): NONFINITE on the output,
 // so the caller words it instead of returning inf or NaN.
 // (all_finite (checks.hpp) first: a talos mass matrix's 2 500 entries cost 1.3 µs through first_nonfinite's
 // early exit, which does not vectorise, and 0.1 µs there)
-
 inline std::int64_t finite_result(const double* x, std::int64_t n) {
   if (all_finite(x, n)) return OK;
   const std::int64_t k = first_nonfinite(x, n);
   return k < 0 ? OK : make_status(NONFINITE, ARG_OUT, k);
-}
-
-// The same for nb homogeneous placements H (nb, 4, 4): only the translations H[i][0..2][3] can overflow
-// (a rotation's entries stay within ±1 for finite angles and unit quaternions, and the last row is
-// constant), so they are the first non-finite element whenever there is one.
-inline std::int64_t finite_placements(const double* H, std::int64_t nb) {
-  for (std::int64_t i = 0; i < nb; ++i)
-    for (const std::int64_t k : {16 * i + 3, 16 * i + 7, 16 * i + 11})
-      if (!std::isfinite(H[k])) return make_status(NONFINITE, ARG_OUT, k);
-  return OK;
-}
-
-// The same for a frame Jacobian J (6, nv): only the linear rows 3..5 can overflow (the angular rows are
-// rotated unit axes, within ±1), so the first non-finite element is there whenever there is one.
-inline std::int64_t finite_jacobian(const double* J, std::int64_t nv) {
-  if (all_finite(J + 3 * nv, 3 * nv)) return OK;
-  const std::int64_t k = first_nonfinite(J + 3 * nv, 3 * nv);
-  return k < 0 ? OK : make_status(NONFINITE, ARG_OUT, k + 3 * nv);
 }
 
 // Whether [a, a + na) and [b, b + nb) share memory (null: nothing to share).
@@ -165,29 +145,8 @@ inline bool overlaps(const double* a, std::int64_t na, const double* b, std::int
   return a != nullptr && b != nullptr && a < b + nb && b < a + na;
 }
 
-// The one rule for out= (docs/architecture.md, "One declaration per algorithm"): an output that shares memory
-// with an input is refused with an OVERLAP status naming the input (the Python side then computes into fresh
-// memory and copies: the result is the call's result without out=).
-inline std::int64_t disjoint(const F64Out& out, std::initializer_list<std::pair<const F64In*, std::int64_t>> inputs) {
-  if (!out.is_valid()) return OK;
-  for (const auto& [x, arg] : inputs)
-    if (x->is_valid() && overlaps(out.data(), static_cast<std::int64_t>(out.size()), x->data(),
-                                  static_cast<std::int64_t>(x->size())))
-      return make_status(OVERLAP, arg, 0);
-  return OK;
-}
-
-// A fresh C-contiguous float64 NumPy array (numpy_api.hpp: PyArray_SimpleNew), and its element storage.
-inline nb::object numpy_alloc(std::initializer_list<npy_intp> shape) {
-  PyObject* a = new_f64(static_cast<int>(shape.size()), shape.begin());
-  if (a == nullptr) throw nb::python_error();
-  return nb::steal(a);
-}
-inline double* array_data(const nb::object& a) { return f64_data(a.ptr()); }
-
 // The batched group kernels for this CPU (bindings.cpp).
 const fdgroup::GroupKernels& group_kernels();
-
 
 // Rows in groups of the kernels' width on the pool. Every row is checked; a full group runs the
 // Pack instantiation (lanes bit-identical to one state), the tail and any group whose packed run

@@ -4,6 +4,7 @@
 // out=, batch, Dask and fd.compile forms (docs/architecture.md, "Adding an algorithm").
 #pragma once
 
+#include <algorithm>
 #include <vector>
 
 #include "aba.hpp"
@@ -15,6 +16,7 @@
 #include "frame_derivatives.hpp"
 #include "frames.hpp"
 #include "jacobians.hpp"
+#include "kinematics.hpp"
 #include "ltl.hpp"
 #include "regressor.hpp"
 #include "scratch.hpp"
@@ -149,6 +151,51 @@ struct PotentialEnergy : Declared {
   }
 };
 
+// ⁰M_i (nb, 4, 4), the bodies' world placements, as homogeneous matrices: fd.compile's fk (kinematics.hpp).
+struct Placements : Declared {
+  static constexpr const char* name = "placements";
+  static constexpr Operand inputs[] = {operand::q};
+  static constexpr Operand outputs[] = {operand::placements("H")};
+  static constexpr auto group = &fdgroup::GroupKernels::fk;
+  static std::int64_t run(const ModelView& mv, const double* const* in, double* const* out, const Options&) {
+    forward_kinematics<double>(mv, in[0], nullptr, nullptr, out[0], nullptr, nullptr);
+    return OK;
+  }
+};
+
+// Every body's world placement ⁰M_i and placement in its parent ᵖM_i (nb, 4, 4), and with q̇ (and q̈) its
+// velocity v_i and spatial acceleration a_i without gravity (nb, 6) in body coordinates (kinematics.hpp):
+//     ᵖM_i = Xtree_i · M_J(q_i),   ⁰M_i = ⁰M_λ(i) · ᵖM_i
+//     v_i = X_up[i] v_λ(i) + S_i q̇_i,   a_i = X_up[i] a_λ(i) + S_i q̈_i + v_i × S_i q̇_i
+struct ForwardKinematics : Declared {
+  static constexpr const char* name = "forward_kinematics";
+  static constexpr Operand inputs[] = {operand::q, operand::optional(operand::v), operand::optional(operand::a)};
+  static constexpr Operand outputs[] = {operand::placements("H"), operand::placements("Hp"),
+                                        operand::when_given(operand::matrix("vel", NB, 6), 1),
+                                        operand::when_given(operand::matrix("acc", NB, 6), 2)};
+  static std::int64_t run(const ModelView& mv, const double* const* in, double* const* out, const Options&) {
+    if (in[2] != nullptr && in[1] == nullptr) return make_status(LENGTH, ARG_V, -1);  // q̈ needs q̇
+    forward_kinematics(mv, in[0], in[1], in[2], out[0], out[2], out[3], out[1]);
+    return OK;
+  }
+};
+
+// ⁰M_f of a frame as its rotation R (3, 3) and translation p (3,): ⁰M_f = ⁰M_body(f) · placement_f (frames.hpp).
+struct FramePlacement : Declared {
+  static constexpr const char* name = "frame_placement";
+  static constexpr Operand inputs[] = {operand::q};
+  static constexpr Operand outputs[] = {operand::matrix("rotation", 3, 3), operand::vector("translation", 3)};
+  static constexpr unsigned options = FRAME;
+  static std::int64_t run(const ModelView& mv, const double* const* in, double* const* out, const Options& opt) {
+    Mat3<double> R;
+    Vec3<double> p;
+    frame_pose(mv, in[0], opt.frame, R, p);
+    for (int k = 0; k < 9; ++k) out[0][k] = R.m[k];
+    out[1][0] = p.x, out[1][1] = p.y, out[1][2] = p.z;
+    return OK;
+  }
+};
+
 // The tree's total mass m = Σ m_i, or 0 when it has none (the centre of mass is then undefined: status NO_MASS).
 inline double total_mass(const ModelView& mv) {
   double m = 0.0;
@@ -165,6 +212,34 @@ struct CentroidalMomentumMatrix : Declared {
     const double mass = total_mass(mv);
     if (mass == 0.0) return make_status(NO_MASS, ARG_Q, 0);
     centroidal_momentum_matrix(mv, in[0], mass, out[0]);
+    return OK;
+  }
+};
+
+// The centre of mass c (3,) in world coordinates and, with q̇, its velocity ċ (3,) (energy.hpp):
+//     c = Σ m_i ⁰c_i / m,    ċ = Σ ⁰R_i (m_i v_i + ω_i × h_i) / m
+struct CenterOfMass : Declared {
+  static constexpr const char* name = "center_of_mass";
+  static constexpr Operand inputs[] = {operand::q, operand::optional(operand::v)};
+  static constexpr Operand outputs[] = {operand::vector("position", 3),
+                                        operand::when_given(operand::vector("velocity", 3), 1)};
+  static std::int64_t run(const ModelView& mv, const double* const* in, double* const* out, const Options&) {
+    const double mass = total_mass(mv);
+    if (mass == 0.0) return make_status(NO_MASS, ARG_Q, 0);
+    center_of_mass(mv, in[0], in[1], mass, out[0], out[1]);
+    return OK;
+  }
+};
+
+// The centroidal momentum h_G = [k_G; p] = A_G(q) q̇ (6,) (centroidal.hpp).
+struct CentroidalMomentum : Declared {
+  static constexpr const char* name = "centroidal_momentum";
+  static constexpr Operand inputs[] = {operand::q, operand::v};
+  static constexpr Operand outputs[] = {operand::vector("h", 6)};
+  static std::int64_t run(const ModelView& mv, const double* const* in, double* const* out, const Options&) {
+    const double mass = total_mass(mv);
+    if (mass == 0.0) return make_status(NO_MASS, ARG_Q, 0);
+    centroidal_momentum(mv, in[0], in[1], mass, aligned_scratch(6 * static_cast<size_t>(mv.nv)), out[0]);
     return OK;
   }
 };
@@ -189,6 +264,49 @@ inline std::int64_t singular_at_rest(const ModelView& mv, const double* const* i
   std::vector<double> zero(static_cast<size_t>(mv.nv), 0.0), qdd(static_cast<size_t>(mv.nv));
   return aba<double>(mv, in[0], zero.data(), zero.data(), nullptr, false, qdd.data(), D36);
 }
+
+// L (nv, nv), lower triangular with the tree's sparsity, M(q) = Lᵀ L (ltl.hpp; RBDA §6.5): L_kj ≠ 0 only for j = k
+// or j an ancestor dof of k. Status SINGULAR naming the body of the first non-positive pivot.
+struct MassMatrixFactor : Declared {
+  static constexpr const char* name = "mass_matrix_factor";
+  static constexpr Operand inputs[] = {operand::q};
+  static constexpr Operand outputs[] = {operand::matrix("L", NV, NV)};
+  static constexpr SingularBlockFn singular_block = singular_at_rest;
+  static std::int64_t run(const ModelView& mv, const double* const* in, double* const* out, const Options&) {
+    return factor(mv, in[0], out[0]);
+  }
+  // M(q) = Lᵀ L into L, zeros above the diagonal; the dofs' parents into lambda (nv)
+  static std::int64_t factor(const ModelView& mv, const double* q, double* L, std::vector<int>* lambda = nullptr) {
+    thread_local std::vector<int> parents;
+    std::vector<int>& lam = lambda != nullptr ? *lambda : parents;
+    lam.resize(static_cast<size_t>(mv.nv));
+    dof_parents(mv, lam.data());
+    crba(mv, q, L);
+    const int bad = ltl_factor(mv, lam.data(), L);
+    if (bad >= 0) return make_status(SINGULAR, ARG_Q, dof_body(mv, bad));
+    for (int i = 0; i < mv.nv; ++i)
+      for (int j = i + 1; j < mv.nv; ++j) L[i * mv.nv + j] = 0.0;
+    return OK;
+  }
+};
+
+// x = M(q)⁻¹ b (nv,) through the tree-sparse factor, M never inverted: Lᵀ y = b, L x = y, M = Lᵀ L.
+struct MassSolve : Declared {
+  static constexpr const char* name = "mass_solve";
+  static constexpr Operand inputs[] = {operand::q, {"b", ARG_A, {NV}, 1, false}};
+  static constexpr Operand outputs[] = {operand::vector("x", NV)};
+  static constexpr SingularBlockFn singular_block = singular_at_rest;
+  static std::int64_t run(const ModelView& mv, const double* const* in, double* const* out, const Options&) {
+    thread_local std::vector<double> L;
+    thread_local std::vector<int> lambda;
+    L.resize(static_cast<size_t>(mv.nv) * mv.nv);
+    FD_TRY(MassMatrixFactor::factor(mv, in[0], L.data(), &lambda));
+    std::copy(in[1], in[1] + mv.nv, out[0]);
+    ltl_solve_Lt(mv, lambda.data(), L.data(), out[0]);
+    ltl_solve_L(mv, lambda.data(), L.data(), out[0]);
+    return OK;
+  }
+};
 
 // (∂q̈/∂q, ∂q̈/∂q̇, ∂q̈/∂τ = M⁻¹) (nv, nv) of q̈ = ABA(q, q̇, τ, f_ext): −M⁻¹ ∂τ/∂q, −M⁻¹ ∂τ/∂q̇ at q̈ = ABA.
 struct AbaDerivatives : Declared {
@@ -294,7 +412,9 @@ inline const std::vector<Kernel>& declared_kernels() {
       declare<FrameVelocityDerivatives>(), declare<FrameAccelerationDerivatives>(), declare<JointJacobians>(),
       declare<FrameJacobianTimeVariation>(), declare<KineticEnergy>(), declare<PotentialEnergy>(),
       declare<CentroidalMomentumMatrix>(),
-      declare<GeneralizedGravityDerivatives>(), declare<StaticTorqueDerivatives>()};
+      declare<GeneralizedGravityDerivatives>(), declare<StaticTorqueDerivatives>(), declare<Placements>(),
+      declare<ForwardKinematics>(), declare<FramePlacement>(), declare<CenterOfMass>(), declare<CentroidalMomentum>(),
+      declare<MassMatrixFactor>(), declare<MassSolve>()};
   return kernels;
 }
 

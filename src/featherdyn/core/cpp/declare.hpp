@@ -32,13 +32,15 @@ namespace fdcore {
 enum SymbolicLength : int { NQ = -1, NV = -2, NB = -3, NP = -4 };
 
 // An input or output: its name, the status argument that names it in an error (checks.hpp: ARG_Q for q, ARG_V,
-// ARG_A for q̈ or τ, ARG_FEXT, ARG_OUT), its shape (up to three lengths) and whether an input may be absent.
+// ARG_A for q̈ or τ, ARG_FEXT, ARG_OUT), its shape (up to three lengths), whether an input may be absent, and for
+// an output formed only when an optional input is given, that input's index (`when`; −1: always formed).
 struct Operand {
   const char* name;
   std::int64_t arg;
   int dims[3];
   int nd;
   bool optional;
+  int when = -1;
 };
 
 // The operands the declarations share: the state (q, q̇, q̈ or τ, and optional body-frame forces), and results of
@@ -49,6 +51,10 @@ constexpr Operand q{"q", ARG_Q, {NQ}, 1, false}, v{"v", ARG_V, {NV}, 1, false}, 
 constexpr Operand scalar(const char* name) { return {name, ARG_OUT, {}, 0, false}; }
 constexpr Operand vector(const char* name, int n) { return {name, ARG_OUT, {n}, 1, false}; }
 constexpr Operand matrix(const char* name, int rows, int cols) { return {name, ARG_OUT, {rows, cols}, 2, false}; }
+constexpr Operand placements(const char* name) { return {name, ARG_OUT, {NB, 4, 4}, 3, false}; }  // (nb, 4, 4)
+// an optional input, and an output formed only when input `input` is given
+constexpr Operand optional(Operand o) { return o.optional = true, o; }
+constexpr Operand when_given(Operand o, int input) { return o.when = input, o; }
 }  // namespace operand
 
 // The scalar parameters a declaration may take besides its arrays: the gravity flag (gravity=True), a frame
@@ -170,7 +176,8 @@ inline std::int64_t run_checked(const Kernel& k, const ModelView& mv, const doub
                                 const Options& opt) {
   FD_TRY(check_inputs(k, mv, in));
   FD_TRY(k.run(mv, in, out, opt));
-  for (size_t o = 0; o < k.outputs.size(); ++o) FD_TRY(finite_result(out[o], size_of(mv, k.outputs[o])));
+  for (size_t o = 0; o < k.outputs.size(); ++o)
+    if (out[o] != nullptr) FD_TRY(finite_result(out[o], size_of(mv, k.outputs[o])));
   return OK;
 }
 
@@ -200,11 +207,19 @@ inline std::int64_t run_state(const Kernel& k, const ModelView& mv, PyObject* co
     FD_TRY(exact(in[i], mv, k.inputs[i]));
     ip[i] = in[i].data();
     for (size_t o = 0; out_sizes != nullptr && o < k.outputs.size(); ++o)
-      if (overlaps(op[o], out_sizes[o], ip[i], size_of(mv, k.inputs[i]))) return make_status(OVERLAP, k.inputs[i].arg, 0);
+      if (op[o] != nullptr && overlaps(op[o], out_sizes[o], ip[i], size_of(mv, k.inputs[i])))
+        return make_status(OVERLAP, k.inputs[i].arg, 0);
   }
   FD_TRY(check_options(k, mv, opt));
   return run_checked(k, mv, ip.data(), op, opt);
 }
+
+// Whether output o is formed: always, or when the input it depends on is given (`given(i)`).
+template <class Given>
+bool formed(const Kernel& k, size_t o, Given&& given) {
+  return k.outputs[o].when < 0 || given(static_cast<size_t>(k.outputs[o].when));
+}
+inline bool absent(PyObject* x) { return x == nullptr || x == Py_None; }
 
 }  // namespace declared
 
@@ -216,6 +231,10 @@ inline std::int64_t run_into(const Kernel& k, const ModelView& mv, PyObject* con
   std::array<double*, DECLARED_MAX> op{};
   std::array<std::int64_t, DECLARED_MAX> n{};
   for (size_t o = 0; o < k.outputs.size(); ++o) {
+    if (!declared::formed(k, o, [&](size_t i) { return !declared::absent(inputs[i]); })) {
+      if (!declared::absent(outputs[o])) return NOT_TAKEN;  // an array for an output not formed: the Python path
+      continue;
+    }
     if (!out[o].acquire(outputs[o])) return NOT_TAKEN;
     FD_TRY(declared::exact(out[o], mv, k.outputs[o]));
     op[o] = out[o].data();
@@ -226,27 +245,40 @@ inline std::int64_t run_into(const Kernel& k, const ModelView& mv, PyObject* con
   return declared::run_state(k, mv, inputs, op.data(), n.data(), opt);
 }
 
-// One state, the results allocated here: a new reference to the result (one array, or a tuple of them), or
-// nullptr — with an exception set if allocating failed, else for anything run_into would not return OK for (the
-// caller then declines: the Python path converts or words it).
-inline PyObject* run_fresh(const Kernel& k, const ModelView& mv, PyObject* const* inputs, const Options& opt) {
-  PyObject* outs[DECLARED_MAX] = {};
+// One state, the outputs allocated here (None where not formed): true with a new reference in each outs[o], or
+// false with none — an exception set if allocating failed, else for anything run_into would not return OK for
+// (the caller then declines: the Python path converts or words it).
+inline bool run_fresh(const Kernel& k, const ModelView& mv, PyObject* const* inputs, const Options& opt,
+                      PyObject** outs) {
   std::array<double*, DECLARED_MAX> op{};
   const size_t no = k.outputs.size();
   auto release = [&] {
-    for (PyObject*& o : outs) Py_CLEAR(o);
-    return nullptr;
+    for (size_t o = 0; o < no; ++o) Py_CLEAR(outs[o]);
+    return false;
   };
+  for (size_t o = 0; o < no; ++o) outs[o] = nullptr;
   for (size_t o = 0; o < no; ++o) {
+    if (!declared::formed(k, o, [&](size_t i) { return !declared::absent(inputs[i]); })) {
+      outs[o] = Py_NewRef(Py_None);
+      continue;
+    }
     npy_intp dims[3];
     for (int d = 0; d < k.outputs[o].nd; ++d) dims[d] = length_of(mv, k.outputs[o].dims[d]);
     if ((outs[o] = new_f64(k.outputs[o].nd, dims)) == nullptr) return release();
     op[o] = f64_data(outs[o]);
   }
-  if (declared::run_state(k, mv, inputs, op.data(), nullptr, opt) != OK) return release();
+  return declared::run_state(k, mv, inputs, op.data(), nullptr, opt) == OK || release();
+}
+
+// The outputs as one result (stolen): the array of a single output, else a tuple (new reference; nullptr with an
+// exception set).
+inline PyObject* as_result(PyObject** outs, size_t no) {
   if (no == 1) return outs[0];
   PyObject* t = PyTuple_New(static_cast<Py_ssize_t>(no));
-  if (t == nullptr) return release();
+  if (t == nullptr) {
+    for (size_t o = 0; o < no; ++o) Py_CLEAR(outs[o]);
+    return nullptr;
+  }
   for (size_t o = 0; o < no; ++o) PyTuple_SET_ITEM(t, static_cast<Py_ssize_t>(o), outs[o]);
   return t;
 }
@@ -265,8 +297,12 @@ inline RowStatus run_batch(const Kernel& k, const ModelView& mv, const nb::seque
   std::array<std::int64_t, DECLARED_MAX> n_out{};
   std::int64_t N = -1;
   for (size_t o = 0; o < k.outputs.size(); ++o) {
+    if (!declared::formed(k, o, [&](size_t i) { return !nb::handle(inputs[i]).is_none(); })) {
+      if (!nb::handle(outputs[o]).is_none()) throw nb::value_error("featherdyn.core: None expected for an output not formed");
+      continue;
+    }
     if (!out[o].acquire(nb::handle(outputs[o]).ptr()))
-      throw nb::type_error("featherdyn.core: writeable native float64 arrays expected");
+      throw nb::type_error("out: writeable, aligned, C-contiguous native float64 arrays expected");
     n_out[o] = size_of(mv, k.outputs[o]);
     const std::int64_t rows = out[o].ndim() >= 1 ? static_cast<std::int64_t>(out[o].shape(0)) : -1;
     if (rows < 0 || static_cast<std::int64_t>(out[o].size()) != rows * n_out[o] || (N >= 0 && rows != N))
@@ -290,13 +326,14 @@ inline RowStatus run_batch(const Kernel& k, const ModelView& mv, const nb::seque
     rows_in[i] = Rows{in[i].data(), R == 1 ? 0 : n};
     if (spec.arg <= ARG_FEXT) by_arg[spec.arg] = rows_in[i];
     for (size_t o = 0; o < k.outputs.size(); ++o)
-      if (overlaps(op[o], N * n_out[o], in[i].data(), R * n)) return {-1, make_status(OVERLAP, spec.arg, 0)};
+      if (op[o] != nullptr && overlaps(op[o], N * n_out[o], in[i].data(), R * n))
+        return {-1, make_status(OVERLAP, spec.arg, 0)};
   }
   if (const std::int64_t s = declared::check_options(k, mv, opt); s != OK) return {-1, s};
   auto state = [&](std::int64_t r, std::array<const double*, DECLARED_MAX>& ip,
                    std::array<double*, DECLARED_MAX>& opr) {
     for (size_t i = 0; i < k.inputs.size(); ++i) ip[i] = rows_in[i].row(r);
-    for (size_t o = 0; o < k.outputs.size(); ++o) opr[o] = op[o] + r * n_out[o];
+    for (size_t o = 0; o < k.outputs.size(); ++o) opr[o] = op[o] == nullptr ? nullptr : op[o] + r * n_out[o];
   };
   auto one = [&](std::int64_t r) -> std::int64_t {
     std::array<const double*, DECLARED_MAX> ip{};

@@ -1,6 +1,5 @@
 // The binding's families (docs/architecture.md, "The glue"): each bind_<family>.cpp defines its entry points and
-// registers them; the module (bindings.cpp) calls the five. Declared here: what one family's file uses of
-// another's — the one-state entry points the public calls finish in C (bind_public_calls.cpp).
+// registers them; the module (bindings.cpp) calls the three.
 #pragma once
 
 #include <nanobind/nanobind.h>
@@ -19,15 +18,11 @@ namespace nb = nanobind;
 
 // the families' registrations
 void bind_dynamics(nb::module_& m);
-void bind_kinematics(nb::module_& m);
 void bind_constraints(nb::module_& m);
 void bind_public_calls(nb::module_& m);
 
 // an array argument: noconvert (no implicit copies or casts); opt: an optional one, which accepts None
 inline auto arr(const char* name) { return nb::arg(name).noconvert(); }
 inline auto opt(const char* name) { return nb::arg(name).noconvert().none(); }
-
-// one state into out= (a status): bind_kinematics.cpp
-std::int64_t placements1(const ModelData& md, const F64In& q, const F64Out& H);
 
 }  // namespace fdcore
