@@ -315,6 +315,8 @@ def _all_table(reports: Sequence[VerifyReport]) -> str:
         lines.append(f"{name:<{width}}  {len(rep.results):>6}  {len(rep.failures):>6}  {err:>13}  {tol}")
     for name, rep in zip(names, reports, strict=True):
         lines += [f"FAIL {name}: {r.quantity}: {r.note}" for r in rep.failures]
+        if rep.failures:  # what the oracle's parser changed of the file: the likely reason of the failures above
+            lines += [f"  {name}: {n}" for n in rep.meta.get("oracle_notes", []) if "parser" in n]
     checks, failed = sum(len(r.results) for r in reports), sum(len(r.failures) for r in reports)
     bad = sum(1 for r in reports if r.failures)
     verdict = "all passed" if not failed else f"{failed} failed on {plural(bad, 'robot')}"
