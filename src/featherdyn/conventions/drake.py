@@ -287,12 +287,17 @@ class DrakeLayout:
     """Where each featherdyn joint's coordinates sit in a Drake plant's ``q`` and ``v``.
 
     Attributes:
-        q_start: per featherdyn joint (the model's order), Drake's ``Joint.position_start()``.
-        v_start: per featherdyn joint, Drake's ``Joint.velocity_start()``.
+        q_start: `(njoints,)` per featherdyn joint (the model's order), Drake's ``Joint.position_start()``.
+        v_start: `(njoints,)` per featherdyn joint, Drake's ``Joint.velocity_start()``.
 
     Drake's vectors have featherdyn's lengths (``nq``, ``nv``): every coordinate of
-    the plant belongs to one featherdyn joint (:func:`drake_velocity_map` checks it).
+    the plant belongs to one featherdyn joint (the converters check it)::
+
+        q_drake[q_start[i] : q_start[i] + nq_i]  ↔  q[idx_q[i] : idx_q[i] + nq_i]   (and so for v)
+
     ``featherdyn.verify.drake`` builds it from a plant, joints matched by name.
+
+    Source: Drake ``Joint::position_start``, ``Joint::velocity_start``.
     """
 
     q_start: tuple[int, ...]
