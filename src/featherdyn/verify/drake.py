@@ -197,8 +197,10 @@ def _layout(model: Model, plant: Any, instances: list[Any]) -> _conv.DrakeLayout
             "Drake's plant has other joints than featherdyn's model"
             + (f"; featherdyn's not in Drake: {missing[:6]}" if missing else "")
             + (f"; of another type: {wrong[:4]}" if wrong else "")
-            + f" (Drake's moving joints: {drake_moving[:8]}{' …' if len(drake_moving) > 8 else ''}); "
-            "nothing was compared with Drake")
+            + f" (Drake's moving joints: {drake_moving[:8]}{' …' if len(drake_moving) > 8 else ''})"
+            + ("; Drake's URDF parser welds a link named 'world' to its world, so such a robot has no floating base "
+               "there" if any(model.joints[model.joint_names.index(n)].kind == "free_flyer" for n in missing) else "")
+            + "; nothing was compared with Drake")
     if plant.num_positions() != model.nq or plant.num_velocities() != model.nv:
         raise ModelError(f"Drake's plant has nq={plant.num_positions()}, nv={plant.num_velocities()}; featherdyn's "
                          f"model nq={model.nq}, nv={model.nv} (a body floating in one and welded in the other?); "
