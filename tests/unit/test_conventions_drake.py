@@ -39,7 +39,8 @@ def skew(p: np.ndarray) -> np.ndarray:
     return np.array([[0, -p[2], p[1]], [p[2], 0, -p[0]], [-p[1], p[0], 0]])
 
 
-#: a floating base and two hinges, laid out as Drake would: the hinges first, the free joint last (nq 9, nv 8)
+#: a floating base, a hinge and a slider, placed in a plant's vectors hinge first, free joint last (nq 9, nv 8): a
+#: permutation the converters must undo whatever order a Drake version picks
 MODEL = SimpleNamespace(
     joints=[SimpleNamespace(kind="free_flyer"), SimpleNamespace(kind="revolute"), SimpleNamespace(kind="prismatic")],
     joint_names=("root", "j1", "j2"), idx_q=(0, 7, 8), nqs=(7, 1, 1), idx_v=(0, 6, 7), nvs=(6, 1, 1))

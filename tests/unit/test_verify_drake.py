@@ -148,6 +148,7 @@ def test_oracle_all_and_reports(tmp_path: Path) -> None:
     assert drake and all(r["passed"] and r["max_rel"] < 1e-9 for r in drake)
     page = html.read_text(encoding="utf-8")
     assert "CalcMassMatrix" in page and "CalcJacobianSpatialVelocity" in page
+    assert "What the oracles ignore or leave out" in page and "joint damping" in page  # panda's URDF has damping
     report = run("solo12", floating_base=True, oracle="all", samples=2)
     assert report.passed and "builds no free joint" in report.meta["oracles_skipped"]["mujoco"]
     assert {"pinocchio", "drake"} <= {r.group for r in report.results} and "mujoco" not in {

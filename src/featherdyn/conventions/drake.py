@@ -12,7 +12,7 @@ accelerations is the same for Pinocchio's ``getFrameClassicalAcceleration``::
 A plant's state differs from featherdyn's in three ways, converted here by the
 whole-model functions ``*_to_drake`` / ``*_from_drake`` (a :class:`DrakeLayout`
 says where each featherdyn joint's coordinates sit in Drake's vectors; Drake
-orders its joints its own way, the floating joints' after the others')::
+orders the coordinates its own way: in Drake 1.51 the floating joints' first)::
 
     free-flyer q:  featherdyn [x y z, qx qy qz qw]   Drake [qw qx qy qz, x y z]
     free-flyer v:  featherdyn [ω_b; v_b] (base axes)   Drake [ω_WB; v_WBo] (world axes):  v_drake = V v
