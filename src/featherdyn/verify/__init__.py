@@ -43,7 +43,8 @@ ORACLES = ("pinocchio", "mujoco", "both", "drake", "all")
 """What ``oracle`` takes: one library, ``both`` (Pinocchio and MuJoCo) or ``all`` (with Drake too)."""
 
 
-def _oracles(oracle: str, fmt: str, floating_base: bool, contacts: Sequence[str]) -> tuple[set[str], dict[str, str]]:
+def _oracles(oracle: str, path: os.PathLike[str], fmt: str, floating_base: bool,
+             contacts: Sequence[str]) -> tuple[set[str], dict[str, str]]:
     """The libraries ``oracle`` compares with on a ``fmt`` model, and (for ``all``) the ones left out with why.
 
     Raises:
@@ -58,18 +59,21 @@ def _oracles(oracle: str, fmt: str, floating_base: bool, contacts: Sequence[str]
               "drake": {"drake"}, "all": {"pinocchio", "mujoco", "drake"}}[oracle]
     refusals = {}
     if fmt == "mjcf":
-        refusals["pinocchio"] = ("an MJCF model is compared with MuJoCo (--oracle mujoco) or Drake; Pinocchio's MJCF "
-                                 "reader disagrees with MuJoCo's compiler on most public models (docs/mjcf-models.md)")
+        refusals["pinocchio"] = (f"{os.fspath(path)}: an MJCF model is compared with MuJoCo (--oracle mujoco) or "
+                                 "Drake (--oracle drake); Pinocchio's MJCF reader disagrees with MuJoCo's compiler on "
+                                 "most public models (docs/mjcf-models.md)")
     if fmt == "sdf":
-        refusals["pinocchio"] = "an SDFormat model is compared with Drake (--oracle drake): Pinocchio's wheel reads no SDF"
-        refusals["mujoco"] = "an SDFormat model is compared with Drake (--oracle drake): MuJoCo reads no SDF"
+        refusals["pinocchio"] = (f"{os.fspath(path)}: an SDFormat model is compared with Drake (--oracle drake): "
+                                 "Pinocchio's wheel reads no SDF")
+        refusals["mujoco"] = (f"{os.fspath(path)}: an SDFormat model is compared with Drake (--oracle drake): MuJoCo "
+                              "reads no SDF")
     if fmt == "urdf" and floating_base:
         refusals["mujoco"] = ("--floating-base with --oracle mujoco: MuJoCo's URDF importer builds no free joint; "
                               "compare the floating base with Pinocchio or Drake, or an MJCF model with a <freejoint/> "
                               "with MuJoCo")
     if oracle != "all":
         for name in sorted(wanted & set(refusals)):
-            raise ModelError(f"--oracle {oracle}: {refusals[name]}")
+            raise ModelError(refusals[name])
     skipped = {name: refusals[name] for name in sorted(wanted & set(refusals))}
     wanted -= set(skipped)
     if contacts and "pinocchio" not in wanted:
@@ -114,7 +118,7 @@ def run(robot: str | os.PathLike[str] | None = None, *, floating_base: bool = Fa
     name, path = resolve_robot(robot)
     fmt = "sdf" if path.suffix.lower() == ".sdf" else model_format(path)
     oracle = oracle or {"mjcf": "mujoco", "sdf": "drake"}.get(fmt, "pinocchio")
-    used, skipped = _oracles(oracle, fmt, floating_base, contacts)
+    used, skipped = _oracles(oracle, path, fmt, floating_base, contacts)
     use_pin, use_mj, use_dk = "pinocchio" in used, "mujoco" in used, "drake" in used
     if use_pin:
         from .pinocchio import pinocchio_version, require_pinocchio
