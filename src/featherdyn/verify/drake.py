@@ -32,6 +32,7 @@ purpose: the comparison is of the rigid-body tree (the applied force in
 
 from __future__ import annotations
 
+import importlib
 import logging
 import os
 from collections.abc import Iterator
@@ -248,8 +249,8 @@ def load_sdf_model(path: str | os.PathLike[str], strict: bool = False) -> Model:
         ModelError: featherdyn cannot load SDFormat here, or its SDF loader refuses the file (its words), with
             "nothing was compared".
     """
-    try:
-        from ..readers import sdf as _sdf  # type: ignore[attr-defined]
+    try:  # by name: the SDF loader is another change's (issue 34), absent from installations without it
+        _sdf = importlib.import_module("featherdyn.readers.sdf")
     except ImportError:
         raise ModelError(f"{os.fspath(path)}: featherdyn cannot load SDFormat in this installation (no "
                          "featherdyn.readers.sdf); nothing was compared with Drake") from None
