@@ -145,8 +145,13 @@ def solo12() -> Any:
     path = robot_path("solo12")
     model = fd.load_urdf(path, floating_base=True)
     plant = MultibodyPlant(0.0)
-    logging.getLogger("drake").setLevel(logging.ERROR)
-    Parser(plant).AddModels(str(path))
+    logger = logging.getLogger("drake")
+    level = logger.level
+    logger.setLevel(logging.ERROR)  # solo12's URDF draws no warning that matters here
+    try:
+        Parser(plant).AddModels(str(path))
+    finally:
+        logger.setLevel(level)
     plant.Finalize()
     joints = {plant.get_joint(JointIndex(j)).name(): plant.get_joint(JointIndex(j)) for j in range(plant.num_joints())}
     found = [joints["base_link"] if name == "root_joint" else joints[name] for name in model.joint_names]

@@ -97,14 +97,16 @@ def _drake_log() -> Iterator[list[str]]:
             caught.append(record.getMessage())
 
     logger = logging.getLogger("drake")
-    handler, propagate = _Keep(level=logging.WARNING), logger.propagate
+    handler, propagate, level = _Keep(level=logging.WARNING), logger.propagate, logger.level
     logger.addHandler(handler)
-    logger.propagate = False
+    logger.propagate = False  # kept for the report, not printed
+    logger.setLevel(logging.WARNING)  # even where the caller silenced Drake: the report must say what it ignored
     try:
         yield caught
     finally:
         logger.removeHandler(handler)
         logger.propagate = propagate
+        logger.setLevel(level)
 
 
 def _short(message: str) -> str:
