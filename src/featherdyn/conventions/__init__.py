@@ -48,6 +48,18 @@ featherdyn → other                     other → featherdyn                   
 ``drake_shift_force``                  (shift by ``−p``)                      ``τ_Bq = τ_Bo − p × f``
 ``drake_shift_acceleration``           (shift by ``−p``)                      ``a_Bq = a_Bo + α × p + ω × (ω × p)``
 ``drake_reexpress``                    (with ``R_AEᵀ``)                       both halves rotated
+**Drake** (a ``MultibodyPlant``'s state; a ``DrakeLayout`` places each joint)
+``freeflyer_q_to_drake``               ``freeflyer_q_from_drake``             ``[x y z, qx qy qz qw]`` ↔ ``[qw qx qy qz, x y z]``
+``freeflyer_v_to_drake``               ``freeflyer_v_from_drake``             ``[ω_b; v_b]`` ↔ ``[R ω_b; R v_b]`` (world axes)
+``q_to_drake``                         ``q_from_drake``                       ``q`` ↔ plant positions (joint order, free joints)
+``v_to_drake``                         ``v_from_drake``                       ``v_drake = V v``
+``a_to_drake``                         ``a_from_drake``                       ``v̇_drake = V a + V̇ v``
+``tau_to_drake``                       ``tau_from_drake``                     ``τ_drake = V τ``
+``generalized_gravity_to_drake``       ``generalized_gravity_from_drake``     ``τ_g = −V g`` (``CalcGravityGeneralizedForces``)
+``joint_matrix_to_drake``              ``joint_matrix_from_drake``            ``M_drake = V M Vᵀ`` (``CalcMassMatrix``)
+``velocity_to_drake``                  ``velocity_from_drake``                ``V_WF_W`` ↔ ``[ω; v]`` in LOCAL / WORLD / LOCAL_WORLD_ALIGNED
+``jacobian_to_drake``                  ``jacobian_from_drake``                ``J = W J_drake V`` (``CalcJacobianSpatialVelocity``)
+``drake_velocity_map``                 —                                      ``V``: the permutation, ``blockdiag(R, R)`` on free joints
 **ROS** (``geometry_msgs``)
 ``motion_to_ros_twist``                ``motion_from_ros_twist``              ``{"linear", "angular"}`` mapping
 ``force_to_ros_wrench``                ``force_from_ros_wrench``              ``{"force", "torque"}`` mapping
@@ -87,12 +99,34 @@ from .derivatives import (
     derivatives_to_pinocchio,
 )
 from .drake import (
+    DrakeLayout,
+    a_from_drake,
+    a_to_drake,
     classical_to_spatial_acceleration,
     drake_reexpress,
     drake_shift_acceleration,
     drake_shift_force,
     drake_shift_velocity,
+    drake_velocity_map,
+    freeflyer_q_from_drake,
+    freeflyer_q_to_drake,
+    freeflyer_v_from_drake,
+    freeflyer_v_to_drake,
+    generalized_gravity_from_drake,
+    generalized_gravity_to_drake,
+    jacobian_from_drake,
+    jacobian_to_drake,
+    joint_matrix_from_drake,
+    joint_matrix_to_drake,
+    q_from_drake,
+    q_to_drake,
     spatial_to_classical_acceleration,
+    tau_from_drake,
+    tau_to_drake,
+    v_from_drake,
+    v_to_drake,
+    velocity_from_drake,
+    velocity_to_drake,
 )
 from .modern_robotics import (
     ad_matrix,
@@ -162,6 +196,28 @@ from .ros import (
 )
 
 __all__ = [
+    "DrakeLayout",
+    "a_from_drake",
+    "a_to_drake",
+    "drake_velocity_map",
+    "freeflyer_q_from_drake",
+    "freeflyer_q_to_drake",
+    "freeflyer_v_from_drake",
+    "freeflyer_v_to_drake",
+    "generalized_gravity_from_drake",
+    "generalized_gravity_to_drake",
+    "jacobian_from_drake",
+    "jacobian_to_drake",
+    "joint_matrix_from_drake",
+    "joint_matrix_to_drake",
+    "q_from_drake",
+    "q_to_drake",
+    "tau_from_drake",
+    "tau_to_drake",
+    "v_from_drake",
+    "v_to_drake",
+    "velocity_from_drake",
+    "velocity_to_drake",
     "a_from_mujoco",
     "a_to_mujoco",
     "joint_matrix_from_mujoco",

@@ -2,7 +2,7 @@
 
 ::
 
-    featherdyn verify [ROBOT|URDF|MJCF] [--oracle pinocchio|mujoco|both] [--floating-base] [--samples N] [--seed S] [--tol T] [--contacts F1,F2]
+    featherdyn verify [ROBOT|URDF|MJCF|SDF] [--oracle pinocchio|mujoco|both|drake|all] [--floating-base] [--samples N] [--seed S] [--tol T] [--contacts F1,F2]
                       [--json FILE] [--report FILE.html] [--all [--scheduler local|ADDRESS] [--workers W]]
     featherdyn check VALUES.npz --robot ROBOT|URDF [--floating-base] [--convention featherdyn|pinocchio]
                      [--tol T] [--json FILE]
@@ -65,9 +65,9 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--version", action="version", version=f"featherdyn {__version__}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
     v = sub.add_parser("verify", help="compare featherdyn with Pinocchio on a robot and check oracle-free identities")
-    v.add_argument("robot", nargs="?", default=None, metavar="ROBOT|URDF|MJCF",
-                   help="a robot-library name (see `featherdyn list`), a URDF or an MJCF file; default: the default "
-                        "robot")
+    v.add_argument("robot", nargs="?", default=None, metavar="ROBOT|URDF|MJCF|SDF",
+                   help="a robot-library name (see `featherdyn list`), a URDF, an MJCF or (with Drake) an SDFormat "
+                        "file; default: the default robot")
     v.add_argument("--floating-base", action="store_true", help="put the root link on a free-flyer joint")
     v.add_argument("--samples", type=positive_int, default=10, help="random states per check (default 10)")
     v.add_argument("--seed", type=int, default=0, help="random seed (default 0; same seed, same report)")
@@ -79,9 +79,10 @@ def build_parser() -> argparse.ArgumentParser:
                    help="verify every robot of the library (seconds, not minutes: about 0.15 s a robot, "
                         "10 s for example-robot-data's 69 on two cores)")
     v.add_argument("--strict", action="store_true", help="physicality warnings of the URDF loader are errors")
-    v.add_argument("--oracle", choices=("pinocchio", "mujoco", "both"), default=None,
+    v.add_argument("--oracle", choices=("pinocchio", "mujoco", "both", "drake", "all"), default=None,
                    help="what to compare with: Pinocchio (the default for a URDF), MuJoCo (the default for an MJCF "
-                        "model; a URDF through MuJoCo's URDF importer) or both")
+                        "model; a URDF through MuJoCo's URDF importer), both, Drake (pip install drake; the default "
+                        "for an SDFormat file) or all three (those that cannot take the model are named and left out)")
     v.add_argument("--scheduler", default=None, metavar="local|ADDRESS",
                    help="with --all: spread the robots over Dask workers (local: a LocalCluster on this machine; "
                         "or a dask.distributed scheduler address)")
@@ -241,9 +242,15 @@ def _cmd_verify(args: argparse.Namespace) -> int:
     check_writable(args.json, "--json")
     check_writable(args.report, "--report")
     if args.all:  # (one robot: verify.run asks for the oracles it needs)
-        if args.oracle not in (None, "pinocchio"):
-            raise FeatherdynError("--all verifies the URDF library against Pinocchio; --oracle mujoco takes one model")
-        require_pinocchio()
+        if args.oracle not in (None, "pinocchio", "drake"):
+            raise FeatherdynError(f"--all verifies the URDF library against Pinocchio or Drake; --oracle {args.oracle} "
+                                  "takes one model")
+        if args.oracle == "drake":
+            from ..verify.drake import require_drake
+
+            require_drake()
+        else:
+            require_pinocchio()
     tty = sys.stderr.isatty()
     reports = []
     if args.all:
@@ -252,7 +259,7 @@ def _cmd_verify(args: argparse.Namespace) -> int:
         names = list_robots()
         _say(f"verifying {plural(len(names), 'robot')} of the library, one line per robot (a few seconds in all)…")
         options = {"floating_base": args.floating_base, "samples": args.samples, "seed": args.seed,
-                   "tol": args.tol, "strict": args.strict}
+                   "tol": args.tol, "strict": args.strict, "oracle": args.oracle}
         if args.scheduler is None:
             for k, name in enumerate(names, 1):
                 print(f"[{k}/{len(names)}] {name}", file=sys.stderr, flush=True)
@@ -308,6 +315,8 @@ def _all_table(reports: Sequence[VerifyReport]) -> str:
         lines.append(f"{name:<{width}}  {len(rep.results):>6}  {len(rep.failures):>6}  {err:>13}  {tol}")
     for name, rep in zip(names, reports, strict=True):
         lines += [f"FAIL {name}: {r.quantity}: {r.note}" for r in rep.failures]
+        if rep.failures:  # what the oracle's parser changed of the file: the likely reason of the failures above
+            lines += [f"  {name}: {n}" for n in rep.meta.get("oracle_notes", []) if "parser" in n]
     checks, failed = sum(len(r.results) for r in reports), sum(len(r.failures) for r in reports)
     bad = sum(1 for r in reports if r.failures)
     verdict = "all passed" if not failed else f"{failed} failed on {plural(bad, 'robot')}"

@@ -110,8 +110,11 @@ def _one(report: VerifyReport) -> str:
             + (f"<br>{html.escape(r.criterion)}" if r.criterion else "") + "</td></tr>"
         )
     meta = "".join(f"<tr><th>{html.escape(str(k))}</th><td>{html.escape(str(v))}</td></tr>"
-                   for k, v in report.meta.items() if k != "load_warnings")
+                   for k, v in report.meta.items() if k not in ("load_warnings", "drake_warnings", "oracle_notes"))
     warns = "".join(f"<li>{html.escape(w)}</li>" for w in report.meta.get("load_warnings", []))
+    notes = "".join(f"<li>{html.escape(n)}</li>" for n in report.meta.get("oracle_notes", []))
+    notes += "".join(f"<li>{html.escape(k)} left out: {html.escape(v)}</li>"
+                     for k, v in report.meta.get("oracles_skipped", {}).items())
     return (
         f"<h2>{html.escape(report.title)}</h2><p class='summary'>{status}</p>"
         f"<h3>Relative error per quantity (log scale; bar = worst state, dots = every state, red line = tolerance)</h3>{_error_chart(report)}"
@@ -119,6 +122,7 @@ def _one(report: VerifyReport) -> str:
         f"<th>worst state</th><th>tol</th><th>result</th><th>likely cause; how judged</th></tr>{''.join(rows)}</table>"
         f"<h3>Link inertias</h3>{_inertia_chart(report)}"
         + (f"<h3>Warnings while loading</h3><ul>{warns}</ul>" if warns else "")
+        + (f"<h3>What the oracles ignore or leave out</h3><ul>{notes}</ul>" if notes else "")
         + f"<h3>Run</h3><table>{meta}</table>"
     )
 
@@ -128,11 +132,12 @@ def reports_to_html(reports: Sequence[VerifyReport], title: str = "featherdyn ve
     summary = "".join(
         f"<tr><td>{html.escape(r.meta.get('robot', r.title))}</td>"
         f"<td>{'floating' if r.meta.get('floating_base') else 'fixed'}</td>"
+        f"<td>{html.escape(str(r.meta.get('oracle', '')))}</td>"
         f"<td>{len(r.results)}</td><td class='{'pass' if r.passed else 'fail'}'>{len(r.failures)}</td></tr>"
         for r in reports
     )
     head = f"<!DOCTYPE html><html><head><meta charset='utf-8'><title>{html.escape(title)}</title>" \
            f"<style>{_CSS}</style></head><body><h1>{html.escape(title)}</h1>"
-    table = f"<table><tr><th>robot</th><th>base</th><th>checks</th><th>failed</th></tr>{summary}</table>" \
+    table = f"<table><tr><th>robot</th><th>base</th><th>oracle</th><th>checks</th><th>failed</th></tr>{summary}</table>" \
         if len(reports) > 1 else ""
     return head + table + "".join(_one(r) for r in reports) + "</body></html>\n"

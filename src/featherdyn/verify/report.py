@@ -177,6 +177,14 @@ class RunMeta(TypedDict, total=False):
     format: str
     oracle: str
     mujoco: str
+    drake: str
+    sdf: str
+    #: what Drake's parser said of the file (every warning, deduplicated)
+    drake_warnings: list[str]
+    #: what an oracle refuses or ignores of the model, or leaves out of the comparison (printed under the table)
+    oracle_notes: list[str]
+    #: ``--oracle all``: the libraries that cannot take this model, and why
+    oracles_skipped: dict[str, str]
     floating_base: bool
     samples: int
     seed: int
@@ -263,6 +271,12 @@ class VerifyReport:
         warned = self.meta.get("load_warnings", [])
         if warned:  # what the loader said of the file (unknown names, odd inertias): never silent
             lines += ["", f"loader warning{'s' if len(warned) > 1 else ''}:", *(f"  {w}" for w in warned)]
+        skipped = self.meta.get("oracles_skipped", {})
+        if skipped:  # --oracle all: who could not take the model
+            lines += ["", "oracles left out:", *(f"  {k}: {why}" for k, why in skipped.items())]
+        notes = self.meta.get("oracle_notes", [])
+        if notes:  # what an oracle refuses or ignores: never silent
+            lines += ["", "what the oracles ignore or leave out:", *(f"  {n}" for n in notes)]
         rules: dict[str, list[str]] = {}  # a rule stated once, then each row's figures ("<rule>; <figures>")
         for r in self.results:
             if r.criterion:
