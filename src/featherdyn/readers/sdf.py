@@ -593,7 +593,7 @@ class _Reader:
         if "::" in name:
             raise self.error(f, elem, f"name={quote(name)}: '::' separates scopes and is not allowed in a name",
                              f"<{kind}>")
-        if name in ("world", "__model__") or (name.startswith("__") and name.endswith("__")):
+        if f.version >= (1, 7) and (name == _WORLD or (name.startswith("__") and name.endswith("__"))):
             raise self.error(f, elem, f"name={quote(name)}: the name is reserved by SDFormat", f"<{kind}>")
         return name
 
@@ -900,6 +900,9 @@ class _Reader:
         children: dict[str, list[_JointRec]] = {k: [] for k in [*self.links, _WORLD]}
         for j in self.joints:
             what = self.node_what(j.node)
+            if j.type != "fixed" and j.node.scope.static:
+                raise self.error(j.node.file, j.node.elem, f"type={quote(j.type)} in a static model: only fixed joints "
+                                 "are permitted there (as Drake says; Gazebo does not move them)", what)
             if j.parent_link == j.child_link:
                 raise self.error(j.node.file, j.node.elem, f"parent and child are the same link "
                                  f"{quote(self.nodes[j.child_link].name)} (a loop)", what)
@@ -961,9 +964,9 @@ class _Reader:
         for key, node in self.nodes.items():
             if node.kind != "frame":
                 continue
-            link = self.attached_link(key)
-            frames.append(FrameInfo(node.name, body_of[link], _plucker(
-                _compose(in_body[link], _compose(_inverse(X[link]), X[key]))), "frame"))
+            on = self.attached_link(key)
+            frames.append(FrameInfo(node.name, body_of[on], _plucker(
+                _compose(in_body[on], _compose(_inverse(X[on]), X[key]))), "frame"))
         if self.default_inertia:
             shown = ", ".join(quote(n) for n in self.default_inertia[:10])
             more = f" and {len(self.default_inertia) - 10} more" if len(self.default_inertia) > 10 else ""
