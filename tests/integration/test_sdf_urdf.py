@@ -26,7 +26,7 @@ import featherdyn as fd
 from featherdyn.errors import PhysicalityWarning
 
 sys.path.insert(0, str(Path(__file__).parent))
-from _urdf_to_sdf import STYLES, urdf_to_sdf  # noqa: E402
+from _urdf_to_sdf import STYLES, urdf_to_sdf
 
 ROBOTS = ["panda", "ur5_robot", "solo12", "double_pendulum", "talos_left_arm"]
 TOL = 1e-12

@@ -317,7 +317,7 @@ def test_include_at_world_level_and_errors(tmp_path):
     lib = tmp_path / "lib"
     _write_model(lib, "box", f'<link name="l">{inertial(2, 0.1, 0.1, 0.1)}</link>', config=False)
     (lib / "box" / "model.sdf").write_text((lib / "box" / "m.sdf").read_text())
-    world = f'<sdf version="1.9"><world name="w"><include><uri>model://box</uri></include></world></sdf>'
+    world = '<sdf version="1.9"><world name="w"><include><uri>model://box</uri></include></world></sdf>'
     assert load(world, search_path=[lib]).total_mass == 2.0
     with pytest.raises(SDFError, match=r"<string>: line 1: <include>: <uri>'model://nothere'</uri>: no model "
                                        r"'nothere' found in"):

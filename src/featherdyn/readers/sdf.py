@@ -267,6 +267,7 @@ class _Reader:
         self.joint_child_key: dict[str, str] = {}
         self.scope_of: dict[str, _Scope] = {}
         self.caught: list[warnings.WarningMessage] = []
+        self.complaints: list[str] = []
         self.label = ""
 
     # -- messages ----------------------------------------------------------
@@ -282,9 +283,10 @@ class _Reader:
         return SDFError(f"{self.where(f, elem, what)}: {msg}")
 
     def warn(self, msg: str) -> None:
+        """A physicality complaint: an error with ``strict=True``, else kept for :func:`load_sdf` to issue."""
         if self.strict:
             raise SDFError(msg + " (strict=True)")
-        warnings.warn(msg, PhysicalityWarning, stacklevel=4)
+        self.complaints.append(msg)
 
     # -- documents ---------------------------------------------------------
 
@@ -320,7 +322,7 @@ class _Reader:
             if name in read:
                 out.append((name, c))
             elif name.startswith("{") or name in _KNOWN_IGNORED.get(kind, ()):
-                what = f"<{kind}>/<{_ns_name(name)}>"
+                what = f"<{kind}>/<{shorten(name)}>"
                 self.ignored[what] = self.ignored.get(what, 0) + 1
             else:
                 what = f"<{kind}>/<{shorten(name)}>"
@@ -1051,11 +1053,6 @@ def _scopes(scope: _Scope) -> Iterable[_Scope]:
         yield from _scopes(inner)
 
 
-def _ns_name(name: str) -> str:
-    """``{uri}tag`` shown as ``{uri}tag`` shortened."""
-    return shorten(name)
-
-
 def _describe(elem: Any, ns: str) -> str:
     tag = local_name(elem.tag, ns) if isinstance(elem.tag, str) else ""
     name = elem.get("name")
@@ -1119,6 +1116,8 @@ def load_sdf(path_or_xml: str | os.PathLike[str] | bytes, model: str | None = No
         msg = f"{label}: ignored SDF elements without rigid-tree meaning: {shown}"
         if strict:
             raise SDFError(msg + " (strict=True refuses them)")
+        warnings.warn(msg, PhysicalityWarning, stacklevel=2)
+    for msg in reader.complaints:
         warnings.warn(msg, PhysicalityWarning, stacklevel=2)
     reissue_warnings(reader.caught, label)
     return built
