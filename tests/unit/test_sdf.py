@@ -348,6 +348,7 @@ def test_load_model_recognises_sdf_by_extension_and_root(tmp_path):
     path.write_text(text)
     assert fd.load_model(path).nv == 6
     assert fd.load_model(text).nv == 6
+    assert fd.load_robot(str(path)).nv == 6
     world = tmp_path / "x.world"
     world.write_text("not xml")  # the extension says SDF: the SDF reader's error
     with pytest.raises(SDFError, match=r"x\.world: line 1: malformed XML"):
@@ -461,3 +462,17 @@ def test_a_file_s_errors_name_the_file(tmp_path):
         load(tmp_path / "absent.sdf")
     with pytest.raises(SDFError, match=r"load_sdf: expected a path, an XML string or bytes, got int"):
         load(3)
+
+
+def test_mimic_is_recorded_as_the_urdf_loader_records_it():
+    """SDFormat 1.11: follower = multiplier (leader − reference) + offset → Mimic(offset − multiplier · reference)."""
+    text = sdf(WELD + L + '<link name="k">' + inertial(1, 1, 1, 1) + "</link>" + J
+               + '<joint name="f" type="revolute"><parent>l</parent><child>k</child><axis><xyz>0 1 0</xyz>'
+               '<mimic joint="j"><multiplier>2</multiplier><offset>0.5</offset><reference>0.1</reference></mimic>'
+               "</axis></joint>", "1.11")
+    model = load(text)
+    assert model.mimics == (fd.Mimic("f", "j", 2.0, 0.5 - 2 * 0.1),)
+    with pytest.raises(SDFError, match=r"<joint name='f'>: <mimic> joint 'nobody': no link, joint"):
+        load(text.replace('joint="j"', 'joint="nobody"'))
+    with pytest.raises(SDFError, match=r"<joint name='f'>: <mimic>: the axis mimics itself"):
+        load(text.replace('joint="j"', 'joint="f"'))

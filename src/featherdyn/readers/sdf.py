@@ -32,8 +32,11 @@ What is read (SDFormat 1.4–1.11, http://sdformat.org/spec):
   are refused. ``<axis>``/``<axis2>``: ``<xyz>`` (``expressed_in``, 1.7+;
   ``use_parent_model_frame``, 1.5–1.6; in 1.4 always the model frame),
   ``<limit>`` (``lower``/``upper``, ``effort``/``velocity``: a negative value
-  or none is unbounded, as SDFormat says) and ``<dynamics>`` (``damping``,
-  ``friction``: checked, not modelled, as the URDF loader does).
+  or none is unbounded, as SDFormat says), ``<dynamics>`` (``damping``,
+  ``friction``: checked, not modelled, as the URDF loader does) and
+  ``<mimic>`` (1.11: a :class:`~featherdyn.Mimic` with offset
+  ``offset − multiplier · reference``, recorded, not enforced, as the URDF
+  loader records ``<mimic>``).
 * Poses and frames (SDFormat 1.7+ semantics, which also hold for the defaults
   of 1.4–1.6): ``<pose>`` (6 numbers ``x y z roll pitch yaw``, or 7 with
   ``rotation_format="quat_xyzw"``; ``degrees="true"``) relative to
@@ -95,7 +98,7 @@ import numpy as np
 
 from ..errors import FeatherdynError, PhysicalityWarning, SDFError
 from ..joints import FreeFlyerJoint, Joint, PrismaticJoint, RevoluteJoint, SphericalJoint
-from ..model import FrameInfo, Model, ModelBuilder
+from ..model import FrameInfo, Mimic, Model, ModelBuilder
 from ..rotation import quat_to_matrix, rpy_to_matrix
 from ..spatial_algebra import PluckerTransform, SpatialInertia
 from ..tolerances import UNIT_AXIS, URDF_INERTIA_RTOL
@@ -127,7 +130,8 @@ _READ: dict[str, frozenset[str]] = {
     "inertial": frozenset({"mass", "pose", "inertia"}),
     "inertia": frozenset(_INERTIA_KEYS),
     "joint": frozenset({"parent", "child", "pose", "axis", "axis2"}),
-    "axis": frozenset({"xyz", "use_parent_model_frame", "limit", "dynamics"}),
+    "axis": frozenset({"xyz", "use_parent_model_frame", "limit", "dynamics", "mimic"}),
+    "mimic": frozenset({"multiplier", "offset", "reference"}),
     "limit": frozenset({"lower", "upper", "effort", "velocity"}),
     "dynamics": frozenset({"damping", "friction"}),
     "frame": frozenset({"pose"}),
@@ -146,7 +150,7 @@ _KNOWN_IGNORED: dict[str, frozenset[str]] = {
     "inertial": frozenset({"density", "auto_inertia_params", "fluid_added_mass"}),
     "joint": frozenset({"gearbox_ratio", "gearbox_reference_body", "thread_pitch", "screw_thread_pitch", "physics",
                         "sensor"}),
-    "axis": frozenset({"initial_position", "mimic"}),
+    "axis": frozenset({"initial_position"}),
     "limit": frozenset({"stiffness", "dissipation"}),
     "dynamics": frozenset({"spring_reference", "spring_stiffness"}),
     "include": frozenset({"plugin", "namespace"}),
@@ -239,6 +243,8 @@ class _JointRec:
     axes: list[tuple[np.ndarray, float, float, float, float, str, Any]]
     parent_link: str = ""  # link node keys, or "world"
     child_link: str = ""
+    # per axis: (leader joint as written, leader axis "axis"/"axis2", multiplier, offset, reference, <mimic>) or None
+    mimics: list[tuple[str, str, float, float, float, Any] | None] = field(default_factory=list)
 
 
 # ---------------------------------------------------------------------------
@@ -630,7 +636,23 @@ class _Reader:
         names = {"revolute": ("axis",), "continuous": ("axis",), "prismatic": ("axis",),
                  "universal": ("axis", "axis2"), "revolute2": ("axis", "axis2")}.get(jtype, ())
         axes = [self.read_axis(scope, elem, tag, jtype, what) for tag in names]
-        self.joints.append(_JointRec(node, jtype, parent, child, axes))
+        mimics = [self.read_mimic(f, self.child(f, elem, tag), what) for tag in names]
+        self.joints.append(_JointRec(node, jtype, parent, child, axes, mimics=mimics))
+
+    def read_mimic(self, f: _File, axis: Any, what: str) -> tuple[str, str, float, float, float, Any] | None:
+        """An axis's ``<mimic joint axis>`` (SDFormat 1.11): ``follower = multiplier (leader − reference) + offset``."""
+        elem = None if axis is None else self.child(f, axis, "mimic")
+        if elem is None:
+            return None
+        self.children(f, elem, "mimic")
+        leader = (elem.get("joint") or "").strip()
+        if not leader:
+            raise self.error(f, elem, "<mimic> needs a non-empty 'joint' attribute", what)
+        leader_axis = (elem.get("axis") or "axis").strip()
+        if leader_axis not in ("axis", "axis2"):
+            raise self.error(f, elem, f"<mimic> axis={quote(leader_axis)}: expected 'axis' or 'axis2'", what)
+        return (leader, leader_axis, self.number(f, elem, "multiplier", 1.0, what),
+                self.number(f, elem, "offset", 0.0, what), self.number(f, elem, "reference", 0.0, what), elem)
 
     def read_axis(self, scope: _Scope, joint: Any, tag: str, jtype: str,
                   what: str) -> tuple[np.ndarray, float, float, float, float, str, Any]:
@@ -969,6 +991,8 @@ class _Reader:
             on = self.attached_link(key)
             frames.append(FrameInfo(node.name, body_of[on], _plucker(
                 _compose(in_body[on], _compose(_inverse(X[on]), X[key]))), "frame"))
+        for m in self.mimic_records():
+            b.add_mimic(m)
         if self.default_inertia:
             shown = ", ".join(quote(n) for n in self.default_inertia[:10])
             more = f" and {len(self.default_inertia) - 10} more" if len(self.default_inertia) > 10 else ""
@@ -980,6 +1004,37 @@ class _Reader:
             model = b.build(strict=self.strict)
         self.caught = list(caught)
         return model
+
+    def mimic_records(self) -> list[Mimic]:
+        """Each ``<mimic>`` as a :class:`~featherdyn.Mimic` between featherdyn joints (recorded, not enforced, as
+        the URDF loader records them): ``q_follower = multiplier · q_leader + (offset − multiplier · reference)``."""
+        out = []
+        by_key = {j.node.key: j for j in self.joints}
+        for j in self.joints:
+            for k, mimic in enumerate(j.mimics):
+                if mimic is None:
+                    continue
+                leader, leader_axis, multiplier, offset, reference, elem = mimic
+                what = self.node_what(j.node)
+                key = self.resolve(j.node.scope, leader, j.node.file, elem, what, "<mimic> joint")
+                other = by_key.get(key)
+                if other is None or other.type not in ("revolute", "continuous", "prismatic", "universal",
+                                                       "revolute2"):
+                    raise self.error(j.node.file, elem, f"<mimic> joint={quote(leader)}: expected a moving joint "
+                                     "with an axis", what)
+                if leader_axis == "axis2" and len(other.axes) < 2:
+                    raise self.error(j.node.file, elem, f"<mimic> axis='axis2': joint {quote(leader)} has one axis",
+                                     what)
+                if other is j and (leader_axis == "axis") == (k == 0):
+                    raise self.error(j.node.file, elem, "<mimic>: the axis mimics itself", what)
+                out.append(Mimic(self.axis_joint_name(j, k), self.axis_joint_name(other, int(leader_axis == "axis2")),
+                                 multiplier, offset - multiplier * reference))
+        return out
+
+    @staticmethod
+    def axis_joint_name(j: _JointRec, k: int) -> str:
+        """The featherdyn joint of a joint's ``k``-th axis (``J``, or ``J/axis``, ``J/axis2`` for two axes)."""
+        return j.node.name if len(j.axes) == 1 else f"{j.node.name}/{('axis', 'axis2')[k]}"
 
     def link_inertia(self, key: str, X_body_link: Pose) -> SpatialInertia:
         """The link's inertia in its body's frame; SDFormat's default (1 kg, unit inertia) without ``<inertial>``."""
