@@ -158,6 +158,8 @@ _KNOWN_IGNORED: dict[str, frozenset[str]] = {
 
 Pose = tuple[np.ndarray, np.ndarray]  # (R (3, 3), p (3,)): a frame's pose, mapping its coordinates to the other's
 _IDENTITY: Pose = (np.eye(3), np.zeros(3))
+for _a in _IDENTITY:
+    _a.setflags(write=False)  # shared by every pose that is the identity
 
 
 def _compose(a: Pose, b: Pose) -> Pose:
@@ -239,7 +241,7 @@ class _JointRec:
     parent: str  # the parent reference as written
     child: str
     # (direction as written, lower, upper, velocity, effort, the frame it is written in: "" the joint's, else a
-    # node key, or a reference to resolve in the joint's scope), the <xyz> element
+    # reference resolved in the joint's scope, "__model__" for 1.4-1.6's model frame; the <xyz> element)
     axes: list[tuple[np.ndarray, float, float, float, float, str, Any]]
     parent_link: str = ""  # link node keys, or "world"
     child_link: str = ""
