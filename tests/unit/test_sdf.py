@@ -357,6 +357,11 @@ def test_load_model_recognises_sdf_by_extension_and_root(tmp_path):
 
     assert model_format(text) == "sdf" and model_format(str(path)) == "sdf"
     assert issubclass(SDFError, ModelError) and fd.SDFError is SDFError
+    # the other loaders point an SDF document to this one
+    with pytest.raises(fd.URDFError, match=r"got <sdf> \(an SDFormat document: use featherdyn.load_sdf"):
+        fd.load_urdf(text)
+    with pytest.raises(fd.MJCFError, match=r"got <sdf> \(an SDFormat document: use featherdyn.load_sdf"):
+        fd.load_mjcf(text)
 
 
 # --------------------------------------------------------------------------
