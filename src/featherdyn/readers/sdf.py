@@ -948,7 +948,7 @@ class _Reader:
         in_body: dict[str, Pose] = {}  # link key -> the link's pose in its body's frame
         X_world_model = self.model_pose
         order: list[str] = []
-        frames: list[FrameInfo] = []
+        frames: list[tuple[str, int, Pose, str]] = []  # (name, body, placement, kind), made FrameInfo at once
 
         def visit(start: list[_JointRec]) -> None:
             stack = list(reversed(start))
@@ -969,12 +969,12 @@ class _Reader:
                 body_of[key] = b.add_body(link.name, -1, FreeFlyerJoint(), inertia=self.link_inertia(key, _IDENTITY),
                                           joint_name=joint)
                 in_body[key] = _IDENTITY
-                frames.append(FrameInfo(joint, body_of[key], _plucker(_IDENTITY), "joint"))
-                frames.append(FrameInfo(link.name, body_of[key], _plucker(_IDENTITY), "body"))
+                frames.append((joint, body_of[key], _IDENTITY, "joint"))
+                frames.append((link.name, body_of[key], _IDENTITY, "body"))
             else:  # welded to the world at its pose: its inertia is dropped
                 body_of[key] = -1
                 in_body[key] = _compose(X_world_model, X[key])
-                frames.append(FrameInfo(link.name, -1, _plucker(in_body[key]), "link"))
+                frames.append((link.name, -1, in_body[key], "link"))
             visit(children[key])
         # joints hanging on the world, in document order
         in_body[_WORLD] = _IDENTITY
@@ -991,8 +991,7 @@ class _Reader:
             if node.kind != "frame":
                 continue
             on = self.attached_link(key)
-            frames.append(FrameInfo(node.name, body_of[on], _plucker(
-                _compose(in_body[on], _compose(_inverse(X[on]), X[key]))), "frame"))
+            frames.append((node.name, body_of[on], _compose(in_body[on], _compose(_inverse(X[on]), X[key])), "frame"))
         for m in self.mimic_records():
             b.add_mimic(m)
         if self.default_inertia:
@@ -1000,7 +999,11 @@ class _Reader:
             more = f" and {len(self.default_inertia) - 10} more" if len(self.default_inertia) > 10 else ""
             self.warn(f"{f.label}: moving links without <inertial> take SDFormat's default, 1 kg with a unit "
                       f"inertia (1 kg·m²) at the link origin: {shown}{more}")
-        b._append_frames(frames)
+        if frames:  # the placements as one batch of transforms (one check of the rotations)
+            X_frames = PluckerTransform(np.stack([pose[0] for _, _, pose, _ in frames]),
+                                        np.stack([pose[1] for _, _, pose, _ in frames]))
+            b._append_frames([FrameInfo(name, body, X_frames[k], kind)
+                              for k, (name, body, _, kind) in enumerate(frames)])
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always", PhysicalityWarning)
             model = b.build(strict=self.strict)
@@ -1049,7 +1052,7 @@ class _Reader:
         return _plucker(X_body_link).apply(inertia) if X_body_link is not _IDENTITY else inertia
 
     def add_joint(self, b: ModelBuilder, j: _JointRec, X: dict[str, Pose], body_of: dict[str, int],
-                  in_body: dict[str, Pose], frames: list[FrameInfo]) -> None:
+                  in_body: dict[str, Pose], frames: list[tuple[str, int, Pose, str]]) -> None:
         """Add the joint ``j`` and its child link (the parent is added)."""
         P, C, J = j.parent_link, j.child_link, j.node.key
         body = body_of[P]
@@ -1058,10 +1061,10 @@ class _Reader:
         X_J_C = _compose(_inverse(X[J]), X[C])
         child = self.nodes[C].name
         if j.type == "fixed":
-            frames.append(FrameInfo(j.node.name, body, _plucker(X_body_J), "fixed_joint"))
+            frames.append((j.node.name, body, X_body_J, "fixed_joint"))
             in_body[C] = _compose(X_body_J, X_J_C)
             body_of[C] = body
-            frames.append(FrameInfo(child, body, _plucker(in_body[C]), "link"))
+            frames.append((child, body, in_body[C], "link"))
             if body >= 0:
                 b.add_inertia(body, self.link_inertia(C, in_body[C]))
             return
@@ -1070,7 +1073,7 @@ class _Reader:
         if j.type == "ball":
             body_of[C] = b.add_body(child, body, SphericalJoint(), placement=_plucker(X_body_J), inertia=inertia,
                                     joint_name=j.node.name)
-            frames.append(FrameInfo(j.node.name, body_of[C], _plucker(_IDENTITY), "joint"))
+            frames.append((j.node.name, body_of[C], _IDENTITY, "joint"))
         elif len(axes) == 2:  # universal, revolute2: two revolute joints through a massless carrier
             (a1, lo1, hi1, v1, e1), (a2, lo2, hi2, v2, e2) = axes
             names = (f"{j.node.name}/axis", f"{j.node.name}/axis2")
@@ -1079,10 +1082,10 @@ class _Reader:
                       [0.0], [np.zeros(3)], [np.zeros(9)], [np.array([lo1])], [np.array([hi1])], [np.array([v1])],
                       [np.array([e1])], [np.zeros(1)], (carrier,))
             mid = b.nbodies - 1
-            frames.append(FrameInfo(names[0], mid, _plucker(_IDENTITY), "joint"))
+            frames.append((names[0], mid, _IDENTITY, "joint"))
             body_of[C] = b.add_body(child, mid, RevoluteJoint(a2), inertia=inertia, joint_name=names[1],
                                     lower=lo2, upper=hi2, velocity_limit=v2, effort_limit=e2)
-            frames.append(FrameInfo(names[1], body_of[C], _plucker(_IDENTITY), "joint"))
+            frames.append((names[1], body_of[C], _IDENTITY, "joint"))
         else:
             a, lo, hi, vel, eff = axes[0]
             bounded = j.type != "continuous"
@@ -1090,9 +1093,9 @@ class _Reader:
             body_of[C] = b.add_body(child, body, joint, placement=_plucker(X_body_J), inertia=inertia,
                                     joint_name=j.node.name, lower=lo if bounded else None,
                                     upper=hi if bounded else None, velocity_limit=vel, effort_limit=eff)
-            frames.append(FrameInfo(j.node.name, body_of[C], _plucker(_IDENTITY), "joint"))
+            frames.append((j.node.name, body_of[C], _IDENTITY, "joint"))
         in_body[C] = X_J_C
-        frames.append(FrameInfo(child, body_of[C], _plucker(X_J_C), "body"))
+        frames.append((child, body_of[C], X_J_C, "body"))
 
     def axis_in_joint(self, j: _JointRec, k: int, X: dict[str, Pose]) -> tuple[np.ndarray, float, float, float, float]:
         """The joint's ``k``-th axis in the joint frame (``a_J = R_Jᵀ R_E a_E`` for an axis written in frame E) and its
