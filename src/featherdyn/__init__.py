@@ -76,6 +76,7 @@ from .errors import (
     PhysicalityWarning,
     QuaternionNormError,
     RotationError,
+    SDFError,
     ShapeError,
     SpatialTypeError,
     URDFError,
@@ -108,6 +109,7 @@ __version__ = "0.1.0"
 _LAZY = {
     "load_urdf": "readers.urdf",
     "load_mjcf": "readers.mjcf",
+    "load_sdf": "readers.sdf",
     "load_model": "readers.mjcf",
     "load_robot": "robots",
     "list_robots": "robots",
@@ -171,6 +173,7 @@ __all__ = [
     "PhysicalityWarning",
     "QuaternionNormError",
     "RotationError",
+    "SDFError",
     "ShapeError",
     "SpatialTypeError",
     "URDFError",

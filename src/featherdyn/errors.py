@@ -28,6 +28,7 @@ __all__ = [
     "ModelError",
     "URDFError",
     "MJCFError",
+    "SDFError",
     "PhysicalityWarning",
     "MissingDependencyError",
     "SingularMassMatrixError",
@@ -108,6 +109,13 @@ class URDFError(ModelError):
 
 class MJCFError(ModelError):
     """An MJCF (MuJoCo XML) document is malformed, hostile, unsupported or refused by MuJoCo's compiler rules.
+
+    The message names the file, the line, the element and the attribute involved.
+    """
+
+
+class SDFError(ModelError):
+    """An SDFormat (SDF) document is malformed, hostile, unsupported or describes an impossible tree.
 
     The message names the file, the line, the element and the attribute involved.
     """

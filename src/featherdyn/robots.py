@@ -149,15 +149,15 @@ def robot_path(name: str) -> Path:
 
 
 def load_robot(name: str | os.PathLike[str] | None = None, floating_base: bool = False, strict: bool = False) -> Model:
-    """Load a robot of the library by name, or a URDF or MJCF file by path.
+    """Load a robot of the library by name, or a URDF, MJCF or SDFormat file by path.
 
     Args:
         name: a name from :func:`list_robots`; ``None`` loads
             :func:`default_robot` (``"panda"`` when example-robot-data is
             installed, else the bundled ``"two_link_arm"``); the path of an
-            existing ``.urdf`` or ``.xml`` file loads it with
-            :func:`featherdyn.load_model` (URDF or MJCF by its root element;
-            ``floating_base`` applies to a URDF only).
+            existing ``.urdf``, ``.xml``, ``.sdf`` or ``.world`` file loads it
+            with :func:`featherdyn.load_model` (URDF, MJCF or SDFormat by its
+            root element; ``floating_base`` applies to a URDF only).
         floating_base: put the root link on a free-flyer joint (see
             :func:`featherdyn.load_urdf`).
         strict: physicality warnings become errors (see :func:`featherdyn.load_urdf`).
@@ -175,10 +175,16 @@ def load_robot(name: str | os.PathLike[str] | None = None, floating_base: bool =
 
     if name is None:
         name = default_robot()
-    if isinstance(name, (str, os.PathLike)) and str(name).lower().endswith((".urdf", ".xml")) and Path(name).is_file():
+    if (isinstance(name, (str, os.PathLike)) and str(name).lower().endswith((".urdf", ".xml", ".sdf", ".world"))
+            and Path(name).is_file()):
         from .readers.mjcf import load_mjcf, model_format
 
-        if model_format(name) == "mjcf":
+        fmt = model_format(name)
+        if fmt == "mjcf":
             return load_mjcf(name, strict=strict)
+        if fmt == "sdf":
+            from .readers.sdf import load_sdf
+
+            return load_sdf(name, strict=strict)
         return load_urdf(name, floating_base=floating_base, strict=strict)
     return load_urdf(robot_path(os.fspath(name)), floating_base=floating_base, strict=strict)

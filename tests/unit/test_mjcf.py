@@ -163,15 +163,17 @@ def test_load_model_tells_urdf_from_mjcf(tmp_path: Path) -> None:
     p.write_text(ARM)
     mj = fd.load_model(p)
     assert mj.joint_names[0] == "upper/joint0"
-    with pytest.raises(MJCFError, match=r"<robot> \(URDF\) or <mujoco> \(MJCF\)"):
+    with pytest.raises(MJCFError, match=r"<robot> \(URDF\), <mujoco> \(MJCF\) or <sdf> \(SDFormat\), got <gazebo>"):
+        fd.load_model("<gazebo version='1.6'/>")
+    with pytest.raises(fd.SDFError, match=r"the document holds no <model>"):  # <sdf>: the SDF reader's
         fd.load_model("<sdf version='1.6'/>")
     # a malformed file named *.urdf is a URDF error (pybullet's humanoid.urdf ends with a NUL byte)
     bad = tmp_path / "robot.URDF"
     bad.write_bytes(b'<robot name="r"><link name="a"/></robot>\n\x00')
     with pytest.raises(fd.errors.URDFError, match=r"robot.URDF: line 2: malformed XML"):
         fd.load_model(bad)
-    (tmp_path / "x.urdf").write_text("<sdf/>")
-    with pytest.raises(fd.errors.URDFError, match=r"got <sdf>"):
+    (tmp_path / "x.urdf").write_text("<model/>")
+    with pytest.raises(fd.errors.URDFError, match=r"got <model>"):
         fd.load_model(tmp_path / "x.urdf")
 
 

@@ -1009,7 +1009,8 @@ def _load(path_or_xml: Any, source: tuple[str, str, str | None], path: str | Non
 
 
 def model_format(path_or_xml: str | os.PathLike[str] | bytes) -> str:
-    """``"urdf"`` or ``"mjcf"``: the format of a model file or text, by its root element (``<robot>`` / ``<mujoco>``).
+    """``"urdf"``, ``"mjcf"`` or ``"sdf"``: the format of a model file or text, by its root element (``<robot>`` /
+    ``<mujoco>`` / ``<sdf>``); a file named ``*.sdf`` or ``*.world`` is SDF without being read.
 
     Raises:
         MJCFError: unreadable, not XML, or another root element; a ``URDFError`` instead for a file named
@@ -1018,8 +1019,10 @@ def model_format(path_or_xml: str | os.PathLike[str] | bytes) -> str:
     from ..errors import URDFError
     from .xml import parse_xml
 
-    named_urdf = isinstance(path_or_xml, (str, os.PathLike)) and os.fspath(path_or_xml).lower().endswith(".urdf")
-    error: type[ModelError] = URDFError if named_urdf else MJCFError
+    name = os.fspath(path_or_xml).lower() if isinstance(path_or_xml, (str, os.PathLike)) else ""
+    if name.endswith((".sdf", ".world")) and not name.lstrip("\ufeff \t\r\n").startswith("<"):
+        return "sdf"
+    error: type[ModelError] = URDFError if name.endswith(".urdf") else MJCFError
     text, label, _ = read_source(path_or_xml, error, "model", "load_model")
     root, _ = parse_xml(text, label, error, "model", line_depth=1)
     tag = tag_name(root.tag).split("}", 1)[-1]
@@ -1027,20 +1030,31 @@ def model_format(path_or_xml: str | os.PathLike[str] | bytes) -> str:
         return "urdf"
     if tag == "mujoco":
         return "mjcf"
-    raise error(f"{label}: expected the root element <robot> (URDF) or <mujoco> (MJCF), got <{tag[:100]}>")
+    if tag == "sdf":
+        return "sdf"
+    raise error(f"{label}: expected the root element <robot> (URDF), <mujoco> (MJCF) or <sdf> (SDFormat), "
+                f"got <{tag[:100]}>")
 
 
 def load_model(path_or_xml: str | os.PathLike[str] | bytes, *, strict: bool = False) -> Model:
-    """Load a URDF or an MJCF model, told apart by the root element (``<robot>`` or ``<mujoco>``).
+    """Load a URDF, an MJCF or an SDFormat model, told apart by the root element (``<robot>``, ``<mujoco>`` or
+    ``<sdf>``; a file named ``*.sdf`` or ``*.world`` is SDFormat).
 
     A URDF loads with a fixed base (:func:`featherdyn.load_urdf` takes
-    ``floating_base=True``); an MJCF as :func:`load_mjcf`.
+    ``floating_base=True``); an MJCF as :func:`load_mjcf`; an SDF document as
+    :func:`featherdyn.load_sdf` (its only model; ``load_sdf(..., model=NAME)``
+    picks one of several).
 
     Raises:
-        MJCFError: neither root element; the loaders' errors otherwise.
+        MJCFError: none of the root elements; the loaders' errors otherwise.
     """
     from .urdf import load_urdf
 
-    if model_format(path_or_xml) == "urdf":
+    fmt = model_format(path_or_xml)
+    if fmt == "urdf":
         return load_urdf(path_or_xml, strict=strict)
+    if fmt == "sdf":
+        from .sdf import load_sdf
+
+        return load_sdf(path_or_xml, strict=strict)
     return load_mjcf(path_or_xml, strict=strict)

@@ -479,7 +479,8 @@ def read_document(path_or_xml: Any, strict: bool, source: tuple[str, str, str | 
     root, where, label, path = _read(path_or_xml, source)
     if tag_name(root.tag) != "mujoco":
         tag = shorten(tag_name(root.tag) or "?")
-        hint = " (a URDF: use featherdyn.load_urdf or load_model)" if tag == "robot" else ""
+        hint = {"robot": " (a URDF: use featherdyn.load_urdf or load_model)",
+                "sdf": " (an SDFormat document: use featherdyn.load_sdf or load_model)"}.get(tag, "")
         raise MJCFError(f"{label}: expected the root element <mujoco>, got <{tag}>{hint}")
     doc = Doc(root, where, label, path, strict)
     # an element's tag is in the text after "<": a text without "<include" has none (a scan instead of a tree walk)

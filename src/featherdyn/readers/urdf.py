@@ -776,8 +776,9 @@ def load_urdf(path_or_xml: str | os.PathLike[str] | bytes, floating_base: bool =
     tag = root_el.tag if isinstance(root_el.tag, str) else ""
     ns = tag[: tag.index("}") + 1] if tag.startswith("{") else ""
     if local_name(tag, ns) != "robot":
+        hint = " (an SDFormat document: use featherdyn.load_sdf or load_model)" if local_name(tag, ns) == "sdf" else ""
         raise URDFError(
-            f"{label}: line {lines.get(root_el, 1)}: expected the root element <robot>, got <{shorten(tag)}>"
+            f"{label}: line {lines.get(root_el, 1)}: expected the root element <robot>, got <{shorten(tag)}>{hint}"
         )
     doc = _Doc(label, lines, ns, strict)
     unknown = _unknown_names(root_el, ns, lines)
