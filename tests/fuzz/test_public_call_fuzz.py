@@ -1,4 +1,4 @@
-"""Argument fuzzing of the public functions finished in C (``_core.public_call``).
+"""Argument fuzzing of the public functions finished in C (``_core.declared_call``).
 
 Each example (400 per function, seeded) draws a call of ``fd.rnea``, ``fd.aba``, ``fd.nonlinear_effects``,
 ``fd.generalized_gravity``, ``fd.crba``, ``fd.frame_jacobian`` or ``fd.frame_placement`` —

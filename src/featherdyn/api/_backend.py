@@ -6,10 +6,8 @@ Every public function (``fd.rnea`` & co.) takes ``backend=None | "reference" |
 * :func:`select_backend` picks the compiled core (:mod:`featherdyn.core`,
   C++ built at install) for float64 input when it is built, the reference
   algorithms (:mod:`featherdyn.algorithms`) otherwise (float32, SymPy object arrays);
-* :func:`public_call` makes the public object of ``fd.rnea``, ``fd.crba``,
-  ``fd.aba``, ``fd.nonlinear_effects``, ``fd.generalized_gravity``,
-  ``fd.frame_jacobian`` and ``fd.frame_placement``: one float64 state is
-  finished in the core's C code, everything else goes to the Python function;
+* the declared functions' one float64 state is finished in the core's C code
+  (``api/declared.py``, ``_core.declared_call``), everything else goes to the Python function;
 * :func:`core_path` gives the core's handle of a model when another one-state call
   may hand its arguments to the binding as they are. The binding refuses
   (``TypeError``) anything but native-endian, aligned, C-contiguous float64
@@ -26,10 +24,8 @@ Every public function (``fd.rnea`` & co.) takes ``backend=None | "reference" |
 
 from __future__ import annotations
 
-import functools
 import os
-from collections.abc import Callable
-from typing import Any, TypeVar, cast
+from typing import Any
 
 import numpy as np
 
@@ -43,7 +39,6 @@ __all__ = [
     "default_backend",
     "select_backend",
     "core_path",
-    "public_call",
     "CORE",
     "set_num_threads",
     "get_num_threads",
@@ -85,29 +80,6 @@ def set_default_backend(backend: str | None) -> None:
 if CORE is not None:
     CORE.set_public_calls(_DEFAULT is None)
 
-_F = TypeVar("_F", bound=Callable[..., Any])
-
-
-def public_call(name: str, general: _F, constants: tuple[Any, ...]) -> _F:
-    """The public function ``name``: ``general`` with its common one-state call finished in the compiled core.
-
-    The core's ``public_call`` object binds the arguments and, for an exact
-    ``numpy.ndarray`` of native float64, a frame name or index and a reference
-    enum, computes the result in C (``core/cpp/public_calls.hpp``); every
-    other call — other keywords, conversions, a bad state, the reference as
-    the default backend — goes to ``general`` with the same arguments. It
-    carries ``general``'s docstring and signature (``__wrapped__``) under
-    ``name``, the module attribute it is assigned to (it pickles by that name).
-    Without the core, ``general`` itself is returned.
-    """
-    if CORE is None:
-        return general
-    fast = CORE.public_call(name, general, constants, None)
-    functools.update_wrapper(fast, general)
-    fast.__name__ = fast.__qualname__ = name
-    return cast(_F, fast)
-
-
 def default_backend() -> str | None:
     """The default set by :func:`set_default_backend` (``None``: the compiled core for float64 input)."""
     return _DEFAULT
@@ -147,7 +119,7 @@ def core_path(model: Any, backend: str | None) -> Any:
 
     The one-state calls of ``fd.forward_kinematics``, the derivatives and the
     constrained dynamics hand their arguments to the core's binding as they
-    are (``fd.rnea`` & co. do the same in C: :func:`public_call`); it takes only native-endian, aligned, C-contiguous float64 arrays
+    are (``fd.rnea`` & co. do the same in C: ``api/declared.py``); it takes only native-endian, aligned, C-contiguous float64 arrays
     of the exact lengths (exact ``numpy.ndarray``, so a masked array is never
     read through its mask) and raises ``TypeError`` for anything else. The
     ``_core.<alg>_new`` entry points return the freshly allocated result, or
