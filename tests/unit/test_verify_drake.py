@@ -210,6 +210,24 @@ def test_several_joints_on_one_mjcf_body(tmp_path: Path) -> None:
     assert report.passed and drake_rows(report)
 
 
+@needs_drake
+def test_armature_on_a_joint_without_actuator(tmp_path: Path) -> None:
+    """An MJCF armature on a hinge no motor drives (as swimmer's sliders): Drake's plant has nowhere to hold it
+    (rotor inertia lives on a JointActuator), so the model is refused naming the joint; with a motor it is
+    compared and agrees."""
+    from featherdyn.verify.drake import DrakeRefusedError
+
+    text = TWO_JOINTS.format(second="").replace('axis="0 0 1"/>', 'axis="0 0 1" armature="0.1"/>')
+    bare = tmp_path / "bare.xml"
+    bare.write_text(text, encoding="utf-8")
+    with pytest.raises(DrakeRefusedError, match=r"drops the armature of joints without an actuator.*jz \(armature 0\.1\)"):
+        run(str(bare), oracle="drake", samples=1)
+    motor = tmp_path / "motor.xml"
+    motor.write_text(text.replace("</mujoco>", '<actuator><motor joint="jz"/></actuator></mujoco>'), encoding="utf-8")
+    report = run(str(motor), oracle="drake", samples=2)
+    assert report.passed and drake_rows(report)["armature vs JointActuator reflected inertia"].max_rel < 1e-12
+
+
 SDF = """<?xml version="1.0"?>
 <sdf version="1.7">
   <model name="pendulum">
@@ -338,8 +356,10 @@ def test_all_with_refusals_exit_codes(tmp_path: Path, monkeypatch: pytest.Monkey
     bad.write_text(_urdf(_link("base") + _link("arm", 'ixx="0.001" iyy="0.001" izz="0.01"'),
                          _hinge("j", "base", "arm")), encoding="utf-8")
     monkeypatch.setattr(featherdyn.robots, "list_robots", lambda: ["panda", str(bad)])
-    js = tmp_path / "all.json"
-    assert main(["verify", "--all", "--oracle", "drake", "--samples", "1", "--json", str(js)]) == 0
+    js, page = tmp_path / "all.json", tmp_path / "all.html"
+    assert main(["verify", "--all", "--oracle", "drake", "--samples", "1", "--json", str(js), "--report",
+                 str(page)]) == 0
+    assert "refused by Drake: not compared" in page.read_text(encoding="utf-8")
     out = capsys.readouterr().out
     assert "refused by Drake (not compared; the oracle's reason):" in out
     assert f"  {bad}: bad_inertia.urdf: not comparable: Drake's parser changed the model" in out

@@ -29,7 +29,9 @@ a ``<mimic>`` of a joint that does not exist, ...); its parser changed the model
 (its warning: an inertia it judged unphysical and replaced, an MJCF
 ``settotalmass`` it ignores); its MJCF parser moves the axis of the first of
 several joints on a body (placed in the parent's frame without the body's
-``pos`` and ``quat``; MuJoCo agrees with featherdyn); or, with ``--floating-base``, Drake welds the body featherdyn floats
+``pos`` and ``quat``; MuJoCo agrees with featherdyn); its plant drops the
+armature of a joint no actuator drives (an MJCF ``armature`` on an unactuated
+joint: Drake holds rotor inertia on a ``JointActuator`` only); or, with ``--floating-base``, Drake welds the body featherdyn floats
 (its URDF parser welds a link named ``world`` to its world). What it ignores
 without changing the rigid-body tree (``frictionloss``, joint friction,
 ``<safety_controller>``, mechanical reductions) is said in the report. Joint
@@ -280,6 +282,12 @@ def build_drake(path: str | os.PathLike[str], model: Model, *, weld_root: bool) 
         notes.append(f"Drake applies joint damping on {len(damped)} joints ({', '.join(damped[:4])}"
                      f"{', …' if len(damped) > 4 else ''}): left out, the comparison is of the rigid-body tree")
     dk = DrakePlant(plant, plant.CreateDefaultContext(), instances, layout, warnings, notes)
+    unactuated = _armature_without_actuator(model, dk)
+    if unactuated:
+        raise DrakeRefusedError(f"{os.fspath(path)}: not comparable: Drake's plant drops the armature of joints "
+                                "without an actuator (it holds a rotor inertia on a JointActuator only): "
+                                + ", ".join(unactuated[:6]) + (" …" if len(unactuated) > 6 else "")
+                                + "; nothing was compared with Drake")
     moved = _moved_first_joints(model, dk)
     if moved:
         raise DrakeRefusedError(f"{os.fspath(path)}: not comparable: Drake's parser moved the axis of the first of several "
@@ -288,6 +296,19 @@ def build_drake(path: str | os.PathLike[str], model: Model, *, weld_root: bool) 
                            + (f"; and {len(moved) - 3} more" if len(moved) > 3 else "")
                            + "; nothing was compared with Drake")
     return dk
+
+
+def _armature_without_actuator(model: Model, dk: DrakePlant) -> list[str]:
+    """featherdyn's joints with an armature that no Drake actuator drives: ``"JOINT (armature A)"``."""
+    from pydrake.multibody.tree import JointActuatorIndex
+
+    plant = dk.plant
+    driven = {plant.get_joint_actuator(JointActuatorIndex(k)).joint().velocity_start()
+              for k in range(plant.num_actuators())}
+    armature = np.asarray(model.armature)
+    return [f"{name} (armature {float(armature[iv:iv + n].max()):.4g})"
+            for name, iv, n, dv in zip(model.joint_names, model.idx_v, model.nvs, dk.layout.v_start, strict=True)
+            if np.any(armature[iv:iv + n] != 0) and dv not in driven]
 
 
 def _axis_line(column: np.ndarray) -> str:
