@@ -38,7 +38,9 @@ def test_verify_all_ends_with_totals_and_says_why_counts_differ(capsys: pytest.C
     rows = [ln.split() for ln in out if re.match(r"^\S+\s+\d+\s+\d+\s+\S+e[-+]\d\d\s", ln)]
     assert len(rows) == len(fd.list_robots())
     checks = sum(int(r[1]) for r in rows)
-    assert out[-1] == f"total: {len(rows)} robots, {checks} checks, all passed", out[-1]
+    n = len(rows)
+    assert out[-1] == (f"total: {n} robots: {n} compared, {n} agree, 0 disagree, 0 refused by the oracle; "
+                       f"{checks} checks, all passed"), out[-1]
     assert len({int(r[1]) for r in rows}) > 1  # the counts do differ, so the output must say why
     assert any("number of checks follows the robot" in ln for ln in out)
     for r in rows:  # a worst error above the default tolerance passed on a scaled one, and says so

@@ -165,15 +165,67 @@ def test_an_mjcf_model_through_drakes_parser() -> None:
     report = run(str(ant), oracle="drake", samples=2)
     assert report.passed and max(r.max_rel for r in drake_rows(report).values()) < 1e-9
     assert report.meta["floating_base"] is True
-    # half_cheetah's settotalmass is ignored by Drake: the masses differ and the report says why
+    # half_cheetah's settotalmass is ignored by Drake: another model, refused with Drake's words, not compared
+    from featherdyn.verify.drake import DrakeRefusedError
+
     drake_log = logging.getLogger("drake")
     drake_log.setLevel(logging.ERROR)  # Drake silenced by the caller: the report still says what it ignored
     try:
-        cheetah = run(str(ant.parent / "half_cheetah.xml"), oracle="drake", samples=2)
+        with pytest.raises(DrakeRefusedError, match="not comparable: Drake's parser changed the model.*settotalmass"):
+            run(str(ant.parent / "half_cheetah.xml"), oracle="drake", samples=2)
+        cheetah = run(str(ant.parent / "half_cheetah.xml"), oracle="all", samples=2)
     finally:
         drake_log.setLevel(logging.NOTSET)
-    assert "total mass vs Drake body masses (moving bodies)" in {r.quantity for r in cheetah.failures}
-    assert any("settotalmass" in n for n in cheetah.meta["oracle_notes"])
+    assert cheetah.passed and "settotalmass" in cheetah.meta["oracles_skipped"]["drake"]
+    assert "drake" not in {r.group for r in cheetah.results} and "mujoco" in {r.group for r in cheetah.results}
+
+
+TWO_JOINTS = """<mujoco model="two">
+  <worldbody>
+    <body name="a" pos="1 0 0">
+      <joint name="jz" type="hinge" axis="0 0 1"/>{second}
+      <geom type="sphere" size="0.1" mass="1"/>
+    </body>
+  </worldbody>
+</mujoco>
+"""
+
+
+@needs_drake
+def test_several_joints_on_one_mjcf_body(tmp_path: Path) -> None:
+    """Two hinges on a body at x = 1: MuJoCo turns it about the line x = 1 (and agrees with featherdyn), Drake's
+    MJCF parser about x = 0: refused as another model, naming the joint and both lines; one hinge is compared."""
+    from featherdyn.verify.drake import DrakeRefusedError
+
+    two = tmp_path / "two.xml"
+    two.write_text(TWO_JOINTS.format(second='\n      <joint name="jy" type="hinge" axis="0 1 0"/>'), encoding="utf-8")
+    with pytest.raises(DrakeRefusedError, match=r"moved the axis.*'jz' of body 'a': featherdyn through \[1\.0, 0\.0"):
+        run(str(two), oracle="drake", samples=1)
+    both = run(str(two), oracle="all", samples=2)
+    assert both.passed and "'jz'" in both.meta["oracles_skipped"]["drake"]
+    assert all(r.max_rel < 1e-9 for r in both.results if r.group == "mujoco")
+    one = tmp_path / "one.xml"
+    one.write_text(TWO_JOINTS.format(second=""), encoding="utf-8")
+    report = run(str(one), oracle="drake", samples=2)
+    assert report.passed and drake_rows(report)
+
+
+@needs_drake
+def test_armature_on_a_joint_without_actuator(tmp_path: Path) -> None:
+    """An MJCF armature on a hinge no motor drives (as swimmer's sliders): Drake's plant has nowhere to hold it
+    (rotor inertia lives on a JointActuator), so the model is refused naming the joint; with a motor it is
+    compared and agrees."""
+    from featherdyn.verify.drake import DrakeRefusedError
+
+    text = TWO_JOINTS.format(second="").replace('axis="0 0 1"/>', 'axis="0 0 1" armature="0.1"/>')
+    bare = tmp_path / "bare.xml"
+    bare.write_text(text, encoding="utf-8")
+    with pytest.raises(DrakeRefusedError, match=r"drops the armature of joints without an actuator.*jz \(armature 0\.1\)"):
+        run(str(bare), oracle="drake", samples=1)
+    motor = tmp_path / "motor.xml"
+    motor.write_text(text.replace("</mujoco>", '<actuator><motor joint="jz"/></actuator></mujoco>'), encoding="utf-8")
+    report = run(str(motor), oracle="drake", samples=2)
+    assert report.passed and drake_rows(report)["armature vs JointActuator reflected inertia"].max_rel < 1e-12
 
 
 SDF = """<?xml version="1.0"?>
@@ -223,17 +275,124 @@ def test_a_file_drakes_parser_refuses_is_a_clean_error(tmp_path: Path) -> None:
         pytest.skip("featherdyn's URDF loader changed how it treats a dangling mimic")
     p = cli("verify", path, "--oracle", "drake", "--samples", "1")
     assert p.returncode == 2 and "Drake's parser refuses it" in p.stderr and "Traceback" not in p.stderr, p.stderr
+    assert "mimic" in p.stderr  # Drake's own words
+    from featherdyn.verify import refused_by, run_or_report
+
+    report = run_or_report(str(path), oracle="drake", samples=1)  # as verify --all: listed, not failed
+    assert report.passed and not report.results and "mimic" in refused_by(report)["drake"]
+
+
+def _urdf(links: str, joints: str) -> str:
+    return f'<robot name="r">{links}{joints}</robot>'
+
+
+def _link(name: str, inertia: str = 'ixx="0.1" iyy="0.1" izz="0.1"') -> str:
+    return (f'<link name="{name}"><inertial><mass value="1"/><inertia {inertia} ixy="0" ixz="0" iyz="0"/>'
+            "</inertial></link>")
+
+
+def _hinge(name: str, parent: str, child: str) -> str:
+    return (f'<joint name="{name}" type="revolute"><parent link="{parent}"/><child link="{child}"/>'
+            '<origin xyz="0 0 0.3"/><axis xyz="0 1 0"/><limit lower="-1" upper="1" effort="1" velocity="1"/></joint>')
 
 
 @needs_drake
-def test_all_robots_against_drake() -> None:
-    """--all --oracle drake: one row per robot; where Drake's parser changed a robot (an inertia it refused as
-    unphysical), the table says so under the robot's failures."""
-    p = cli("verify", "--all", "--oracle", "drake", "--samples", "1")
-    assert p.returncode in (0, 1) and "Traceback" not in p.stderr, p.stderr[-2000:]
-    lines = p.stdout.splitlines()
-    assert any(line.startswith("panda ") and line.split()[2] == "0" for line in lines)
-    for line in lines:
-        if line.startswith("FAIL ") and "CalcMassMatrix" in line:
-            robot = line.split()[1].rstrip(":")
-            assert any(n.startswith(f"  {robot}: Drake's parser") for n in lines), robot
+def test_an_inertia_drake_replaces_is_not_comparable(tmp_path: Path) -> None:
+    """A moving link whose inertia breaks the triangle inequality (0.001, 0.001, 0.01, as pr2's): Drake's parser
+    replaces it and warns; the model is listed as not comparable with that warning, never compared."""
+    from featherdyn.verify import refused_by, run_or_report
+
+    path = tmp_path / "bad_inertia.urdf"
+    path.write_text(_urdf(_link("base") + _link("arm", 'ixx="0.001" iyy="0.001" izz="0.01"'),
+                          _hinge("j", "base", "arm")), encoding="utf-8")
+    p = cli("verify", path, "--oracle", "drake", "--samples", "1")
+    assert p.returncode == 2 and "not comparable: Drake's parser changed the model" in p.stderr, p.stderr
+    assert "triangle inequality" in p.stderr and "FAIL" not in p.stdout
+    report = run_or_report(str(path), oracle="drake", samples=1)
+    assert report.passed and "an inertia it judged unphysical, replaced" in refused_by(report)["drake"]
+    # --oracle all: Pinocchio still compares it (MuJoCo refuses the inertia too, and builds no floating base)
+    every = run(str(path), oracle="all", samples=2, floating_base=True)
+    assert "CouldBePhysicallyValid" in every.meta["oracles_skipped"]["drake"]
+    assert "drake" not in {r.group for r in every.results} and "pinocchio" in {r.group for r in every.results}
+
+
+@needs_drake
+def test_a_world_link_with_floating_base(tmp_path: Path) -> None:
+    """A URDF whose root link is called 'world' (as the UR arms'): compared with a fixed base; with
+    --floating-base Drake welds it (featherdyn floats it), so it is refused with that reason."""
+    from featherdyn.verify import refused_by, run_or_report
+
+    path = tmp_path / "arm.urdf"
+    path.write_text(_urdf('<link name="world"/>' + _link("base") + _link("arm"),
+                          '<joint name="fix" type="fixed"><parent link="world"/><child link="base"/></joint>'
+                          + _hinge("j", "base", "arm")), encoding="utf-8")
+    fixed = run(str(path), oracle="drake", samples=2)
+    assert fixed.passed and max(r.max_rel for r in drake_rows(fixed).values()) < 1e-9
+    floating = run_or_report(str(path), oracle="drake", samples=1, floating_base=True)
+    assert floating.passed and not floating.results
+    assert "Drake welds body 'world' to its world, featherdyn floats it" in refused_by(floating)["drake"]
+
+
+@needs_drake
+def test_a_floating_base_with_a_singular_mass_matrix() -> None:
+    """two_link_arm floating (a massless base; M singular): compared with Drake, the identities that solve with M
+    left out as with Pinocchio (it used to stop the run with featherdyn's SingularMassMatrixError)."""
+    report = run("two_link_arm", floating_base=True, oracle="drake", samples=2)
+    assert report.passed and "ABA(RNEA(a)) = a" not in {r.quantity for r in report.results}
+    assert {q.split(" vs ")[0] for q in drake_rows(report)} >= {"crba", "generalized_gravity", "rnea"}
+
+
+@needs_drake
+def test_all_with_refusals_exit_codes(tmp_path: Path, monkeypatch: pytest.MonkeyPatch,
+                                      capsys: pytest.CaptureFixture[str]) -> None:
+    """verify --all --oracle drake over a compared robot and a refused one: exit 0, a 'refused by Drake' section,
+    the totals line, refusals in the JSON; a compared robot that disagrees makes it exit 1 with the refusal
+    still listed."""
+    import featherdyn.robots
+    from featherdyn.tools.cli import main
+    from featherdyn.verify import drake as oracle
+
+    bad = tmp_path / "bad_inertia.urdf"
+    bad.write_text(_urdf(_link("base") + _link("arm", 'ixx="0.001" iyy="0.001" izz="0.01"'),
+                         _hinge("j", "base", "arm")), encoding="utf-8")
+    monkeypatch.setattr(featherdyn.robots, "list_robots", lambda: ["panda", str(bad)])
+    js, page = tmp_path / "all.json", tmp_path / "all.html"
+    assert main(["verify", "--all", "--oracle", "drake", "--samples", "1", "--json", str(js), "--report",
+                 str(page)]) == 0
+    assert "refused by Drake: not compared" in page.read_text(encoding="utf-8")
+    out = capsys.readouterr().out
+    assert "refused by Drake (not compared; the oracle's reason):" in out
+    assert f"  {bad}: bad_inertia.urdf: not comparable: Drake's parser changed the model" in out
+    assert "total: 2 robots: 1 compared, 1 agree, 0 disagree, 1 refused by the oracle;" in out
+    data = json.loads(js.read_text(encoding="utf-8"))
+    assert list(data["refused"]) == [str(bad)] and "triangle inequality" in data["refused"][str(bad)]["drake"]
+    heavier = _heavier(robot_path("panda"), tmp_path, "panda_link4")
+    build = oracle.build_drake
+    monkeypatch.setattr(oracle, "build_drake", lambda path, model, **kw: build(
+        heavier if Path(path).name == "panda.urdf" else path, model, **kw))
+    assert main(["verify", "--all", "--oracle", "drake", "--samples", "1"]) == 1
+    out = capsys.readouterr().out
+    assert "total: 2 robots: 1 compared, 0 agree, 1 disagree, 1 refused by the oracle;" in out
+    assert "FAIL panda: crba vs CalcMassMatrix" in out and "refused by Drake" in out
+
+
+@needs_drake
+@pytest.mark.parametrize("floating", [False, True])
+def test_all_robots_against_drake(floating: bool) -> None:
+    """--all --oracle drake (fixed and floating): every compared robot agrees (exit 0); talos_reduced (a mimic of a
+    0-dof joint) and bolt (an inertia Drake replaces) are listed under 'refused by Drake' with Drake's words, and
+    with --floating-base ur5_robot (a link named 'world', which Drake welds)."""
+    p = cli("verify", "--all", "--oracle", "drake", "--samples", "1", *(["--floating-base"] if floating else []))
+    assert p.returncode == 0 and "Traceback" not in p.stderr, p.stdout[-3000:] + p.stderr[-2000:]
+    table, _, refused = p.stdout.partition("refused by Drake (not compared; the oracle's reason):")
+    assert any(line.startswith("panda ") and line.split()[2] == "0" for line in table.splitlines())
+    assert "FAIL" not in table
+    reasons = {line.split(": ", 1)[0].strip(): line.split(": ", 1)[1] for line in refused.splitlines()
+               if line.startswith("  ")}
+    assert "mimic" in reasons["talos_reduced"] and "Drake's parser refuses it" in reasons["talos_reduced"]
+    assert "an inertia it judged unphysical, replaced" in reasons["bolt"]
+    assert ("welds a link named 'world'" in reasons.get("ur5_robot", "")) is floating
+    assert "panda" not in reasons and "talos_reduced" not in table.split("refused by")[0]
+    total = next(line for line in p.stdout.splitlines() if line.startswith("total: 69 robots: "))
+    compared, agree = (int(total.split(": ")[2].split()[0]), int(total.split(", ")[1].split()[0]))
+    assert compared == agree and f"{len(reasons)} refused by the oracle" in total and compared + len(reasons) == 69

@@ -28,6 +28,7 @@ from __future__ import annotations
 import argparse
 import json
 import os
+import re
 import sys
 import warnings
 from collections.abc import Callable, Sequence
@@ -278,7 +279,9 @@ def _cmd_verify(args: argparse.Namespace) -> int:
         print(report.to_table())
     if args.json is not None:
         text = reports[0].to_json() if len(reports) == 1 else \
-            json.dumps({"reports": [json.loads(r.to_json()) for r in reports]}, indent=2, ensure_ascii=False)
+            json.dumps({"reports": [json.loads(r.to_json()) for r in reports],
+                        "refused": {str(r.meta.get("robot")): verify.refused_by(r) for r in reports
+                                    if verify.refused_by(r)}}, indent=2, ensure_ascii=False)
         _write(args.json, text + "\n")
         print(f"JSON report written to {args.json}")
     if args.report is not None:
@@ -301,27 +304,40 @@ _ALL_NOTES = (
 
 def _all_table(reports: Sequence[VerifyReport]) -> str:
     """``verify --all``'s table: one row per robot, the failures, notes, and a totals line."""
+    from ..verify import refused_by
     from ..verify.report import COND_SCALED
 
-    names = [str(rep.meta.get("robot", "?")) for rep in reports]
+    refused = {str(rep.meta.get("robot", "?")): refused_by(rep) for rep in reports if refused_by(rep)}
+    compared = [rep for rep in reports if str(rep.meta.get("robot", "?")) not in refused]
+    names = [str(rep.meta.get("robot", "?")) for rep in compared]
     width = max(len("robot"), *(len(n) for n in names))
     lines = [f"{'robot':<{width}}  checks  failed  worst rel err  its tol"]
-    for name, rep in zip(names, reports, strict=True):
+    for name, rep in zip(names, compared, strict=True):
         judged = [r for r in rep.results if r.max_rel == r.max_rel and r.tol > 0]  # not NaN
         worst = max(judged, key=lambda r: r.max_rel / r.tol, default=None)  # the closest to failing
         tol = "" if worst is None else f"{worst.tol:.0e}" + (" (scaled by cond(M))" if COND_SCALED in worst.quantity
                                                                else "")
         err = f"{worst.max_rel:.2e}" if worst is not None else "nan"
         lines.append(f"{name:<{width}}  {len(rep.results):>6}  {len(rep.failures):>6}  {err:>13}  {tol}")
-    for name, rep in zip(names, reports, strict=True):
+    for name, rep in zip(names, compared, strict=True):
         lines += [f"FAIL {name}: {r.quantity}: {r.note}" for r in rep.failures]
-        if rep.failures:  # what the oracle's parser changed of the file: the likely reason of the failures above
+        if rep.failures:  # what the oracle's parser said of the file: a likely reason of the failures above
             lines += [f"  {name}: {n}" for n in rep.meta.get("oracle_notes", []) if "parser" in n]
-    checks, failed = sum(len(r.results) for r in reports), sum(len(r.failures) for r in reports)
-    bad = sum(1 for r in reports if r.failures)
+    if refused:  # not failures: the oracle cannot take these as featherdyn's model (its parser's own words)
+        lines += ["", f"refused by {'/'.join(sorted({k.capitalize() for r in refused.values() for k in r}))} "
+                      f"(not compared; the oracle's reason):"]
+        lines += [f"  {name}: {_MODEL_PATH.sub('', why)}" for name, r in refused.items() for why in r.values()]
+    checks, failed = sum(len(r.results) for r in compared), sum(len(r.failures) for r in compared)
+    bad = sum(1 for r in compared if r.failures)
     verdict = "all passed" if not failed else f"{failed} failed on {plural(bad, 'robot')}"
-    lines += ["", *_ALL_NOTES, "", f"total: {plural(len(reports), 'robot')}, {plural(checks, 'check')}, {verdict}"]
+    lines += ["", *_ALL_NOTES, "",
+              f"total: {plural(len(reports), 'robot')}: {len(compared)} compared, {len(compared) - bad} agree, "
+              f"{bad} disagree, {len(refused)} refused by the oracle; {plural(checks, 'check')}, {verdict}"]
     return "\n".join(lines)
+
+
+#: the folders of a model file's path in a refusal's reason (the table names the robot; the file name stays)
+_MODEL_PATH = re.compile(r"/\S+/(?=[^/\s]+\.(?:urdf|xml|sdf)\b)", re.IGNORECASE)
 
 
 def _verify_distributed(names: list[str], options: dict[str, object], scheduler: str,

@@ -18,18 +18,19 @@ from collections.abc import Callable, Sequence
 
 import numpy as np
 
+from ..api import aba as fd_aba
 from ..api import coriolis_matrix as fd_coriolis_matrix
 from ..api import crba as fd_crba
 from ..api import rnea as fd_rnea
 from ..configuration import random_configuration as fd_random_configuration
-from ..model import massless_subtrees
+from ..model import Model, massless_subtrees
 from ..tolerances import VERIFY_ALGEBRA, VERIFY_DYNAMICS
 from .algebra import algebra_checks
 from .check import check_values
 from .report import CheckResult, VerifyReport, compare, machine_meta
 from .resolve import load_resolved, resolve_robot
 
-__all__ = ["run", "run_or_report", "resolve_robot", "load_resolved", "ORACLES", "check_values", "CheckResult", "VerifyReport", "compare", "ALGEBRA_TOL",
+__all__ = ["run", "run_or_report", "refused_by", "resolve_robot", "load_resolved", "ORACLES", "check_values", "CheckResult", "VerifyReport", "compare", "ALGEBRA_TOL",
            "DYNAMICS_TOL"]
 
 ALGEBRA_TOL = VERIFY_ALGEBRA
@@ -186,33 +187,66 @@ def run(robot: str | os.PathLike[str] | None = None, *, floating_base: bool = Fa
         report.meta["drake"] = drake_version()
         if progress:
             progress("parsing the model with Drake")
-        plant = _drake.build_drake(path, model, weld_root=fmt == "urdf" and not model.floating_base)
-        report.meta["drake_warnings"] = plant.warnings
-        report.meta["oracle_notes"] = [*(f"Drake's parser ignores: {w}" for w in _drake.dynamics_warnings(plant.warnings)),
-                                       *plant.notes]
-        report.results += _drake.drake_checks(model, plant, samples=samples, seed=seed, tol=tol)
+        try:
+            plant = _drake.build_drake(path, model, weld_root=fmt == "urdf" and not model.floating_base)
+        except _drake.DrakeRefusedError as exc:  # as a format an oracle cannot read: named, not a failed comparison
+            if oracle != "all":
+                raise
+            report.meta["oracles_skipped"] = {**skipped, "drake": str(exc)}
+        else:
+            report.meta["drake_warnings"] = plant.warnings
+            report.meta["oracle_notes"] = [*(f"Drake's parser ignores: {w}"
+                                             for w in _drake.dynamics_warnings(plant.warnings)), *plant.notes]
+            report.results += _drake.drake_checks(model, plant, samples=samples, seed=seed, tol=tol)
     if not use_pin:  # the laws that need no oracle (with Pinocchio they come with its checks)
         rng = np.random.default_rng(seed)
         q = fd_random_configuration(model, rng, samples)
         v, a = rng.normal(size=(2, samples, model.nv))
         M = fd_crba(model, q)
-        report.results += identity_checks(model, q, v, a, fd_rnea(model, q, v, a), M,
-                                          fd_coriolis_matrix(model, q, v), tol, singular=bool(massless_subtrees(model)))
+        tau = fd_rnea(model, q, v, a)
+        report.results += identity_checks(model, q, v, a, tau, M, fd_coriolis_matrix(model, q, v), tol,
+                                          singular=bool(massless_subtrees(model)) or _singular(model, q, v, tau))
     report.diagnostics = model_diagnostics(model).to_dict()
     report.meta["seconds"] = round(time.perf_counter() - t0, 3)
     return report
 
 
+def _singular(model: Model, q: np.ndarray, v: np.ndarray, tau: np.ndarray) -> bool:
+    """Whether ABA finds M singular at the states ``q`` (a massless floating base whose bodies cannot resist one
+    rotation, as two_link_arm's): the identities that solve with M are then left out, as with Pinocchio."""
+    from ..errors import SingularMassMatrixError
+
+    try:
+        fd_aba(model, q, v, tau)
+    except SingularMassMatrixError:
+        return True
+    return False
+
+
+def refused_by(report: VerifyReport) -> dict[str, str]:
+    """The oracle the report was asked for, with its reason, when it could not take the model (``{"drake":
+    Drake's reason}``: nothing was compared with it); empty when it was compared (``meta["oracles_skipped"]``)."""
+    return {k: why for k, why in report.meta.get("oracles_skipped", {}).items() if k == report.meta.get("oracle")}
+
+
 def run_or_report(robot: str, **options: object) -> VerifyReport:
     """:func:`run` on one robot of ``featherdyn verify --all``; a robot that does not load gives a
-    report with one failed ``load`` row (the error's words) instead of an exception.
+    report with one failed ``load`` row (the error's words) instead of an exception, and a robot Drake cannot
+    take as featherdyn's model (:class:`~featherdyn.verify.drake.DrakeRefusedError`) a report without rows whose
+    ``meta["oracles_skipped"]`` holds Drake's reason (:func:`refused_by`: listed, not failed).
 
     A top-level function, so that a Dask worker can run it (``--all --scheduler``).
     """
     from ..errors import FeatherdynError
+    from .drake import DrakeRefusedError  # (pydrake itself is imported only where Drake is used)
 
     try:
         return run(robot, **options)  # type: ignore[arg-type]
+    except DrakeRefusedError as exc:  # as run() names an oracle that cannot take the model under --oracle all
+        return VerifyReport(title=f"featherdyn verify {robot}: refused by Drake",
+                            meta={**machine_meta(), "robot": robot, "oracle": "drake",
+                                  "floating_base": bool(options.get("floating_base")),
+                                  "oracles_skipped": {"drake": str(exc)}})
     except FeatherdynError as exc:
         rep = VerifyReport(title=f"featherdyn verify {robot}: not loadable", meta={"robot": robot, "error": str(exc)})
         rep.results.append(CheckResult("load", "load_model", float("nan"), float("nan"), 0, 0.0, False, str(exc)))

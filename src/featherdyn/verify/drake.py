@@ -22,9 +22,19 @@ joint order, ``τ_g = −g``):
   measured and expressed in the world at the frame origin) in featherdyn's
   three references, on a link frame of each of the (up to) three deepest bodies.
 
-What Drake refuses (the parser's error, in the error) or ignores (its parser's
-warnings: unsupported tags and attributes, e.g. MJCF ``settotalmass``,
-``frictionloss``, URDF ``<safety_controller>``) is said in the report. Joint
+What Drake cannot take as featherdyn's model is a :class:`DrakeRefusedError`, not a
+failed comparison (``verify`` lists it with Drake's reason, as it lists the
+oracles ``--oracle all`` leaves out): its parser refuses the file (its error:
+a ``<mimic>`` of a joint that does not exist, ...); its parser changed the model
+(its warning: an inertia it judged unphysical and replaced, an MJCF
+``settotalmass`` it ignores); its MJCF parser moves the axis of the first of
+several joints on a body (placed in the parent's frame without the body's
+``pos`` and ``quat``; MuJoCo agrees with featherdyn); its plant drops the
+armature of a joint no actuator drives (an MJCF ``armature`` on an unactuated
+joint: Drake holds rotor inertia on a ``JointActuator`` only); or, with ``--floating-base``, Drake welds the body featherdyn floats
+(its URDF parser welds a link named ``world`` to its world). What it ignores
+without changing the rigid-body tree (``frictionloss``, joint friction,
+``<safety_controller>``, mechanical reductions) is said in the report. Joint
 damping, which Drake's plant applies as a force element, is left out on
 purpose: the comparison is of the rigid-body tree (the applied force in
 ``CalcInverseDynamics`` is gravity alone).
@@ -52,8 +62,8 @@ from ..model import Model
 from .dynamics import _pick_frames, forward_dynamics_result
 from .report import CheckResult, compare
 
-__all__ = ["require_drake", "drake_version", "DrakePlant", "build_drake", "drake_checks", "load_sdf_model",
-           "dynamics_warnings"]
+__all__ = ["require_drake", "drake_version", "DrakePlant", "DrakeRefusedError", "build_drake", "drake_checks",
+           "load_sdf_model", "dynamics_warnings", "model_changes"]
 
 GROUP = "drake"
 
@@ -65,6 +75,24 @@ _INSTALL = "pip install drake (or pip install 'featherdyn[drake]')"
 #: words of a Drake parser warning about something that enters the rigid-body dynamics
 _DYNAMICS_WORDS = ("mass", "inertia", "armature", "damping", "friction", "stiffness", "springref", "'ref'", "gear",
                    "reduction", "transmission", "actuator", "gravity", "inertial", "'range'", "limited")
+
+
+#: Drake parser warnings after which its plant is not the file's model: (what Drake changed, words of the warning)
+_CHANGES = (("an inertia it judged unphysical, replaced", ("while parsing inertia matrix",
+                                                           "while re-expressing as central inertia")),
+            ("the total mass: MJCF settotalmass ignored", ("settotalmass",)),
+            ("the rotor inertia: armature ignored", ("'armature'",)))
+
+
+class DrakeRefusedError(ModelError):
+    """Drake cannot take the file as featherdyn's model: its parser refuses it, changed the model, or welds a
+    body featherdyn floats. Not a failed comparison: ``verify`` lists the model with Drake's reason."""
+
+
+def model_changes(warnings: list[str]) -> list[str]:
+    """The Drake parser warnings after which its plant is another model than the file's, each as
+    ``"<what Drake changed>: <Drake's words>"`` (an inertia it replaced, a total mass it ignored, ...)."""
+    return [f"{what} ({w})" for w in warnings for what, words in _CHANGES if any(x in w.lower() for x in words)]
 
 
 def require_drake() -> Any:
@@ -155,7 +183,7 @@ def _parse(plant: Any, path: Path) -> tuple[list[Any], list[str]]:
             instances = list(Parser(plant).AddModels(path))
         except (RuntimeError, ValueError) as exc:
             first = " ".join(str(exc).split())[:400]
-            raise ModelError(f"{path}: Drake's parser refuses it ({first}); nothing was compared with Drake") from None
+            raise DrakeRefusedError(f"{path}: Drake's parser refuses it ({first}); nothing was compared with Drake") from None
     return instances, list(dict.fromkeys(_short(w) for w in caught))
 
 
@@ -178,11 +206,18 @@ def _layout(model: Model, plant: Any, instances: list[Any]) -> _conv.DrakeLayout
     joints = [plant.get_joint(JointIndex(j)) for j in range(plant.num_joints())]
     floating = {j.child_body().name(): j for j in joints if j.num_velocities() == 6 and j.num_positions() == 7}
     kinds = {"revolute": ("revolute",), "prismatic": ("prismatic",), "free_flyer": ("quaternion_floating",)}
+    welded = {b.name() for b in plant.GetBodiesWeldedTo(plant.world_body())}
     q_start, v_start, missing, wrong = [], [], [], []
     for i, (name, joint) in enumerate(zip(model.joint_names, model.joints, strict=True)):
         found = None
         if joint.kind == "free_flyer":
             found = floating.get(model.body_names[i])
+            if found is None and model.body_names[i] in welded:
+                raise DrakeRefusedError(
+                    f"not comparable: Drake welds body {model.body_names[i]!r} to its world, featherdyn floats it "
+                    f"(joint {name!r})" + ("; Drake's URDF parser welds a link named 'world' to its world, so this "
+                                           "robot has no floating base there" if model.body_names[i] == "world" else "")
+                    + "; nothing was compared with Drake")
         else:
             found = next((plant.GetJointByName(name, inst) for inst in instances if plant.HasJointNamed(name, inst)),
                          None)
@@ -229,6 +264,11 @@ def build_drake(path: str | os.PathLike[str], model: Model, *, weld_root: bool) 
 
     plant = MultibodyPlant(0.0)
     instances, warnings = _parse(plant, Path(path))
+    changed = model_changes(warnings)
+    if changed:
+        raise DrakeRefusedError(f"{os.fspath(path)}: not comparable: Drake's parser changed the model: "
+                           + "; ".join(changed[:3]) + (f"; and {len(changed) - 3} more" if len(changed) > 3 else "")
+                           + "; nothing was compared with Drake")
     if weld_root:
         _weld_roots(plant, instances)
     plant.Finalize()
@@ -241,7 +281,76 @@ def build_drake(path: str | os.PathLike[str], model: Model, *, weld_root: bool) 
     if damped:
         notes.append(f"Drake applies joint damping on {len(damped)} joints ({', '.join(damped[:4])}"
                      f"{', …' if len(damped) > 4 else ''}): left out, the comparison is of the rigid-body tree")
-    return DrakePlant(plant, plant.CreateDefaultContext(), instances, layout, warnings, notes)
+    dk = DrakePlant(plant, plant.CreateDefaultContext(), instances, layout, warnings, notes)
+    unactuated = _armature_without_actuator(model, dk)
+    if unactuated:
+        raise DrakeRefusedError(f"{os.fspath(path)}: not comparable: Drake's plant drops the armature of joints "
+                                "without an actuator (it holds a rotor inertia on a JointActuator only): "
+                                + ", ".join(unactuated[:6]) + (" …" if len(unactuated) > 6 else "")
+                                + "; nothing was compared with Drake")
+    moved = _moved_first_joints(model, dk)
+    if moved:
+        raise DrakeRefusedError(f"{os.fspath(path)}: not comparable: Drake's parser moved the axis of the first of several "
+                           "joints on a body (its parent frame taken without the body's pos and quat; MuJoCo "
+                           "places it as featherdyn does): " + "; ".join(moved[:3])
+                           + (f"; and {len(moved) - 3} more" if len(moved) > 3 else "")
+                           + "; nothing was compared with Drake")
+    return dk
+
+
+def _armature_without_actuator(model: Model, dk: DrakePlant) -> list[str]:
+    """featherdyn's joints with an armature that no Drake actuator drives: ``"JOINT (armature A)"``."""
+    from pydrake.multibody.tree import JointActuatorIndex
+
+    plant = dk.plant
+    driven = {plant.get_joint_actuator(JointActuatorIndex(k)).joint().velocity_start()
+              for k in range(plant.num_actuators())}
+    armature = np.asarray(model.armature)
+    return [f"{name} (armature {float(armature[iv:iv + n].max()):.4g})"
+            for name, iv, n, dv in zip(model.joint_names, model.idx_v, model.nvs, dk.layout.v_start, strict=True)
+            if np.any(armature[iv:iv + n] != 0) and dv not in driven]
+
+
+def _axis_line(column: np.ndarray) -> str:
+    """A joint's axis line from its Plücker column ``[ω; v_O]`` (world, at the world origin): ``"through p along ω"``."""
+    w, v = column[:3], column[3:]
+    n2 = float(w @ w)
+    if n2 == 0.0:  # a prismatic joint: a direction only
+        return f"along {np.round(v, 4).tolist()}"
+    return f"through {np.round(np.cross(w, v) / n2, 4).tolist()} along {np.round(w / np.sqrt(n2), 4).tolist()}"
+
+
+def _moved_first_joints(model: Model, dk: DrakePlant) -> list[str]:
+    """The first joints of bodies with several joints (featherdyn's inserted ``BODY#0``) whose axis, at the neutral
+    configuration, is another line in Drake's plant than in featherdyn's model: ``"JOINT of BODY: ... (Drake ...)"``."""
+    from pydrake.multibody.tree import JacobianWrtVariable
+
+    from ..configuration import neutral
+
+    firsts = [i for i, b in enumerate(model.body_names) if b.endswith("#0") and b in model.inserted_bodies]
+    if not firsts:
+        return []
+    plant, ctx, layout = dk.plant, dk.context, dk.layout
+    q = neutral(model)
+    plant.SetPositions(ctx, _conv.q_to_drake(model, layout, q))
+    frames = _link_frames(model, dk)
+    out = []
+    for i in firsts:
+        owner = model.body_names[i][:-2]
+        k = next((k for k, f in enumerate(model.frames) if f.name == owner and k in frames), None)
+        if k is None:
+            continue
+        body = frames[k].body_frame()
+        X = plant.CalcRelativeTransform(ctx, plant.world_frame(), body).GetAsMatrix4()
+        J = plant.CalcJacobianSpatialVelocity(ctx, JacobianWrtVariable.kV, body, np.zeros(3), plant.world_frame(),
+                                              plant.world_frame())
+        col = slice(model.idx_v[i], model.idx_v[i] + model.nvs[i])
+        ours = frame_jacobian(model, q, k, WORLD)[:, col]
+        theirs = _conv.jacobian_from_drake(model, layout, q, J, X, WORLD)[:, col]
+        if not compare(GROUP, "", ours[None], theirs[None], 1e-9).passed:
+            out.append(f"joint {model.joint_names[i]!r} of body {owner!r}: featherdyn {_axis_line(ours[:, 0])}, "
+                       f"Drake {_axis_line(theirs[:, 0])}")
+    return out
 
 
 def load_sdf_model(path: str | os.PathLike[str], strict: bool = False) -> Model:

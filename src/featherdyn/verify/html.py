@@ -97,9 +97,18 @@ def _inertia_chart(report: VerifyReport) -> str:
     return svg + table + (f"<p>singular subtrees:</p><ul>{sing}</ul>" if sing else "") + extra
 
 
+def _refused(report: VerifyReport) -> str:
+    """"refused by Drake" when the oracle asked for could not take the model (nothing compared), else ``""``."""
+    skipped = report.meta.get("oracles_skipped", {})
+    oracle = str(report.meta.get("oracle", ""))
+    return f"refused by {oracle.capitalize()}" if oracle in skipped else ""
+
+
 def _one(report: VerifyReport) -> str:
     status = '<span class="pass">all checks pass</span>' if report.passed else \
         f'<span class="fail">{len(report.failures)} checks fail</span>'
+    if _refused(report):  # not a failure: the oracle's reason is listed below
+        status = f"{_refused(report)}: not compared"
     rows = []
     for r in report.results:
         cls = "pass" if r.passed else "fail"
@@ -133,7 +142,8 @@ def reports_to_html(reports: Sequence[VerifyReport], title: str = "featherdyn ve
         f"<tr><td>{html.escape(r.meta.get('robot', r.title))}</td>"
         f"<td>{'floating' if r.meta.get('floating_base') else 'fixed'}</td>"
         f"<td>{html.escape(str(r.meta.get('oracle', '')))}</td>"
-        f"<td>{len(r.results)}</td><td class='{'pass' if r.passed else 'fail'}'>{len(r.failures)}</td></tr>"
+        f"<td>{len(r.results)}</td><td class='{'pass' if r.passed else 'fail'}'>"
+        f"{_refused(r) or len(r.failures)}</td></tr>"
         for r in reports
     )
     head = f"<!DOCTYPE html><html><head><meta charset='utf-8'><title>{html.escape(title)}</title>" \
