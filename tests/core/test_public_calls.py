@@ -291,6 +291,10 @@ def test_declared_call_refuses_wrong_constants() -> None:
         with pytest.raises(ValueError, match="record must be"):
             _core.declared_call(K["frame_placement"], print, (CoreHandle, K["frame_placement"], *REFERENCES, record),
                                 None)
+    for field in ("inverse", "no_such_field"):  # a method, and no attribute at all: not a data descriptor
+        with pytest.raises(ValueError, match="is not a field of"):
+            _core.declared_call(K["frame_placement"], print, (CoreHandle, K["frame_placement"], *REFERENCES,
+                                                              (fd.PluckerTransform, (field, 0))), None)
     cm = core._view(tree(TREE_NAMES[0])).cm
     with pytest.raises(ValueError, match="record must be"):  # a bound method has no model argument
         _core.declared_call(K["frame_placement"], print, (K["frame_placement"], {}, *REFERENCES,

@@ -115,10 +115,11 @@ bool flag_arg(PyObject* x, bool& out) {
 
 // The public result of a declared call's outputs (stolen; None where not formed): the outputs themselves (one
 // array, or a tuple), or the record the public function declares of them (`record`, the last of its constants): a
-// callable, called with the outputs; or (cls, (field, source), ...): a new cls (object.__new__) whose fields are
-// set as object.__setattr__ sets them (PyObject_GenericSetAttr: a frozen record's own __setattr__ is passed over),
-// each to an output (source: its index, the output made read-only as a record's arrays are), the model argument
-// (source −1) or the object given. New reference, or nullptr with an exception set.
+// callable, called with the outputs; or (cls, (descriptor, source), ...) (made by `record_of`): a new cls
+// (object.__new__) whose fields are set through their data descriptors, as object.__setattr__ sets them (a frozen
+// record's own __setattr__ is passed over), each to an output (source: its index; the outputs were made as
+// read-only views: run_fresh), the model argument (source −1) or the object given. New reference, or nullptr
+// with an exception set.
 PyObject* result_of(PyObject* record, PyObject* model, PyObject** outs, size_t no) {
   if (record == Py_None) return as_result(outs, no);
   nb::object held[DECLARED_MAX];
@@ -128,15 +129,14 @@ PyObject* result_of(PyObject* record, PyObject* model, PyObject** outs, size_t n
   nb::object x = nb::steal(PyType_GenericNew(reinterpret_cast<PyTypeObject*>(cls), nullptr, nullptr));
   if (!x.is_valid()) return nullptr;
   for (Py_ssize_t f = 1; f < PyTuple_GET_SIZE(record); ++f) {
-    PyObject* field = PyTuple_GET_ITEM(record, f);
-    PyObject* source = PyTuple_GET_ITEM(field, 1);
+    PyObject* descriptor = PyTuple_GET_ITEM(PyTuple_GET_ITEM(record, f), 0);
+    PyObject* source = PyTuple_GET_ITEM(PyTuple_GET_ITEM(record, f), 1);
     PyObject* value = source;
     if (PyLong_CheckExact(source)) {
       const long at = PyLong_AsLong(source);
       value = at < 0 ? model : outs[at];
-      if (at >= 0 && value != Py_None) PyArray_CLEARFLAGS(reinterpret_cast<PyArrayObject*>(value), NPY_ARRAY_WRITEABLE);
     }
-    if (PyObject_GenericSetAttr(x.ptr(), PyTuple_GET_ITEM(field, 0), value) != 0) return nullptr;
+    if (Py_TYPE(descriptor)->tp_descr_set(descriptor, x.ptr(), value) != 0) return nullptr;
   }
   return x.release().ptr();
 }
@@ -169,7 +169,7 @@ PyObject* fdcore::declared_path(PublicCall* f, PyObject* const* a) {
   PyObject* record = PyTuple_GET_ITEM(f->extra, 5);
   if (out == nullptr || out == Py_None) {
     PyObject* outs[DECLARED_MAX];
-    if (!run_fresh(k, md->view, a + at.inputs, opt, outs)) return nullptr;
+    if (!run_fresh(k, md->view, a + at.inputs, opt, outs, PyTuple_CheckExact(record))) return nullptr;
     return pc::result_of(record, is_bound ? Py_None : a[0], outs, k.outputs.size());
   }
   if (record != Py_None) return nullptr;
@@ -185,23 +185,39 @@ PyObject* fdcore::declared_path(PublicCall* f, PyObject* const* a) {
 namespace {
 namespace pc {
 
-// A record as result_of reads it: None, a callable, or (cls, (field name, source), ...) with each source an
-// output's index, −1 (the model argument: not for a bound method) or any other object.
-bool valid_record(PyObject* record, const Kernel& k, bool is_bound) {
-  if (record == Py_None) return true;
-  if (!PyTuple_CheckExact(record)) return PyCallable_Check(record) != 0;
+// A record as result_of reads it (new reference; nullptr with an exception set): None, a callable, or — from
+// (cls, (field name, source), ...) with each source an output's index, −1 (the model argument: not for a bound
+// method) or any other object — (cls, (the data descriptor of cls's field, source), ...).
+PyObject* record_of(PyObject* record, const Kernel& k, bool is_bound) {
+  auto refuse = [] {
+    PyErr_SetString(PyExc_ValueError, "declared_call: record must be None, a callable or (cls, (field, source), ...)");
+    return nullptr;
+  };
+  if (record == Py_None || (!PyTuple_CheckExact(record) && PyCallable_Check(record))) return Py_NewRef(record);
+  if (!PyTuple_CheckExact(record)) return refuse();
   const Py_ssize_t n = PyTuple_Size(record);
-  if (n < 1 || !PyType_Check(PyTuple_GetItem(record, 0))) return false;
+  if (n < 1 || !PyType_Check(PyTuple_GetItem(record, 0))) return refuse();
+  nb::handle cls = PyTuple_GetItem(record, 0);
+  nb::list fields;
+  fields.append(cls);
   for (Py_ssize_t i = 1; i < n; ++i) {
     PyObject* f = PyTuple_GetItem(record, i);
-    if (!PyTuple_CheckExact(f) || PyTuple_Size(f) != 2 || !PyUnicode_Check(PyTuple_GetItem(f, 0))) return false;
+    if (!PyTuple_CheckExact(f) || PyTuple_Size(f) != 2 || !PyUnicode_Check(PyTuple_GetItem(f, 0))) return refuse();
     PyObject* source = PyTuple_GetItem(f, 1);
-    if (!PyLong_CheckExact(source)) continue;
-    int overflow = 0;
-    const long at = PyLong_AsLongAndOverflow(source, &overflow);
-    if (overflow != 0 || at < -1 || at >= static_cast<long>(k.outputs.size()) || (at == -1 && is_bound)) return false;
+    if (PyLong_CheckExact(source)) {
+      int overflow = 0;
+      const long at = PyLong_AsLongAndOverflow(source, &overflow);
+      if (overflow != 0 || at < -1 || at >= static_cast<long>(k.outputs.size()) || (at == -1 && is_bound)) return refuse();
+    }
+    nb::object d = nb::steal(PyObject_GetAttr(cls.ptr(), PyTuple_GetItem(f, 0)));
+    if (!d.is_valid() || !PyDescr_IsData(d.ptr()) || Py_TYPE(d.ptr())->tp_descr_set == nullptr) {
+      PyErr_Clear();
+      PyErr_Format(PyExc_ValueError, "declared_call: %S is not a field of %S", PyTuple_GetItem(f, 0), cls.ptr());
+      return nullptr;
+    }
+    fields.append(nb::make_tuple(d, nb::handle(source)));
   }
-  return true;
+  return PyList_AsTuple(fields.ptr());
 }
 
 // At import: the interned names, and the PublicCall type.
@@ -226,10 +242,15 @@ void fdcore::bind_public_calls(nb::module_& m) {
               (is_bound && !PyDict_CheckExact(PyTuple_GET_ITEM(extra.ptr(), 1))))
             throw nb::value_error("declared_call: extra must be (CoreHandle, kernel, LOCAL, WORLD, LOCAL_WORLD_ALIGNED, "
                                   "record), or (kernel, frame table, LOCAL, WORLD, LOCAL_WORLD_ALIGNED, record) when bound");
-          const bool record_ok = pc::valid_record(PyTuple_GET_ITEM(extra.ptr(), 5), k, is_bound);
-          if (!record_ok) throw nb::value_error("declared_call: record must be None, a callable or (cls, (field, source), ...)");
           if (is_bound && !nb::isinstance<ModelData>(bound)) throw nb::type_error("declared_call: the core's Model expected");
-          PyObject* r = make_public_call(is_bound ? &k.bound : &k.free, general.ptr(), extra.ptr(),
+          // the constants as the fast path reads them: the record's fields as their descriptors
+          nb::object record = nb::steal(pc::record_of(PyTuple_GET_ITEM(extra.ptr(), 5), k, is_bound));
+          if (!record.is_valid()) throw nb::python_error();
+          nb::object constants = nb::steal(PyTuple_GetSlice(extra.ptr(), 0, 5));
+          if (!constants.is_valid()) throw nb::python_error();
+          constants = nb::steal(PySequence_Concat(constants.ptr(), nb::make_tuple(record).ptr()));
+          if (!constants.is_valid()) throw nb::python_error();
+          PyObject* r = make_public_call(is_bound ? &k.bound : &k.free, general.ptr(), constants.ptr(),
                                          is_bound ? bound.ptr() : nullptr);
           if (r == nullptr) throw nb::python_error();
           return nb::steal(r);

@@ -247,26 +247,37 @@ inline std::int64_t run_into(const Kernel& k, const ModelView& mv, PyObject* con
 
 // One state, the outputs allocated here (None where not formed): true with a new reference in each outs[o], or
 // false with none — an exception set if allocating failed, else for anything run_into would not return OK for
-// (the caller then declines: the Python path converts or words it).
+// (the caller then declines: the Python path converts or words it). `read_only`: the outputs as read-only views of
+// one block of memory (a bytes object: one allocation, outside NumPy's memory handler), as a record holds them.
 inline bool run_fresh(const Kernel& k, const ModelView& mv, PyObject* const* inputs, const Options& opt,
-                      PyObject** outs) {
+                      PyObject** outs, bool read_only = false) {
   std::array<double*, DECLARED_MAX> op{};
   const size_t no = k.outputs.size();
   auto release = [&] {
     for (size_t o = 0; o < no; ++o) Py_CLEAR(outs[o]);
     return false;
   };
+  auto formed = [&](size_t o) { return declared::formed(k, o, [&](size_t i) { return !declared::absent(inputs[i]); }); };
+  std::int64_t total = 0;
+  for (size_t o = 0; o < no; ++o) total += formed(o) ? size_of(mv, k.outputs[o]) : 0;
+  PyObject* block = read_only ? PyBytes_FromStringAndSize(nullptr, static_cast<Py_ssize_t>(total * 8)) : nullptr;
+  if (read_only && block == nullptr) return false;
+  char* at = read_only ? PyBytes_AS_STRING(block) : nullptr;
   for (size_t o = 0; o < no; ++o) outs[o] = nullptr;
   for (size_t o = 0; o < no; ++o) {
-    if (!declared::formed(k, o, [&](size_t i) { return !declared::absent(inputs[i]); })) {
+    if (!formed(o)) {
       outs[o] = Py_NewRef(Py_None);
       continue;
     }
     npy_intp dims[3];
     for (int d = 0; d < k.outputs[o].nd; ++d) dims[d] = length_of(mv, k.outputs[o].dims[d]);
-    if ((outs[o] = new_f64(k.outputs[o].nd, dims)) == nullptr) return release();
+    outs[o] = read_only ? f64_view(k.outputs[o].nd, dims, at, block) : new_f64(k.outputs[o].nd, dims);
+    if (outs[o] == nullptr) break;
     op[o] = f64_data(outs[o]);
+    if (read_only) at += 8 * size_of(mv, k.outputs[o]);
   }
+  Py_XDECREF(block);  // (held by the views)
+  if (PyErr_Occurred()) return release();
   return declared::run_state(k, mv, inputs, op.data(), nullptr, opt) == OK || release();
 }
 

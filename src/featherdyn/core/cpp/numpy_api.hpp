@@ -5,7 +5,7 @@
 //
 // Built against NumPy 2's headers for NumPy 1.23 and later (NPY_TARGET_VERSION): one binary for
 // NumPy 1.23-1.26 and 2.x. Only documented functions and macros (PyArray_CheckExact, PyArray_TYPE,
-// PyArray_CHKFLAGS, PyArray_DATA, PyArray_SimpleNew, PyArray_CLEARFLAGS, ...): no struct is read by
+// PyArray_CHKFLAGS, PyArray_DATA, PyArray_SimpleNew, PyArray_NewFromDescr, PyArray_SetBaseObject, ...): no struct is read by
 // hand and no table entry is taken by its index.
 #pragma once
 
@@ -39,6 +39,19 @@ inline bool is_native_f64(PyObject* o, bool writeable) noexcept {
 // A fresh C-contiguous float64 array of this shape (new reference; nullptr with an exception set).
 inline PyObject* new_f64(int nd, const npy_intp* dims) {
   return PyArray_SimpleNew(nd, const_cast<npy_intp*>(dims), NPY_DOUBLE);
+}
+
+// A read-only float64 array over `data`, kept alive by `owner` (new reference; nullptr with an exception set).
+inline PyObject* f64_view(int nd, const npy_intp* dims, char* data, PyObject* owner) {
+  PyObject* a = PyArray_NewFromDescr(&PyArray_Type, PyArray_DescrFromType(NPY_DOUBLE), nd,
+                                     const_cast<npy_intp*>(dims), nullptr, data, NPY_ARRAY_CARRAY_RO, nullptr);
+  if (a == nullptr) return nullptr;
+  Py_INCREF(owner);
+  if (PyArray_SetBaseObject(reinterpret_cast<PyArrayObject*>(a), owner) != 0) {  // (steals owner)
+    Py_DECREF(a);
+    return nullptr;
+  }
+  return a;
 }
 
 inline double* f64_data(PyObject* a) { return static_cast<double*>(PyArray_DATA(reinterpret_cast<PyArrayObject*>(a))); }
