@@ -54,7 +54,7 @@ def revealed(tmp_path_factory: pytest.TempPathFactory) -> dict[str, tuple[str, s
     found: dict[str, tuple[str, str]] = {}
     for m in re.finditer(r"([\w.]+):(\d+): note: Revealed type is \"(.*)\"", out):
         file = Path(m.group(1)).name
-        expr = re.fullmatch(r"reveal_type\((.*)\)", lines[file][int(m.group(2)) - 1].strip())
+        expr = re.fullmatch(r"reveal_type\((.*?)\)(\s*#.*)?", lines[file][int(m.group(2)) - 1].strip())
         assert expr, m.group(0)
         found[expr.group(1)] = (m.group(3), file)
     assert len(found) == 4 + len(names), out
