@@ -19,6 +19,18 @@ from hypothesis import settings
 
 import featherdyn as fd
 
+
+def pytest_configure(config: pytest.Config) -> None:
+    """FEATHERDYN_TEST_INSTALLED=1 (.ci/run's wheel job): the suite must test an installed featherdyn, not src/."""
+    import os
+    from pathlib import Path
+
+    if os.environ.get("FEATHERDYN_TEST_INSTALLED") == "1":
+        where = Path(fd.__file__).resolve().parts
+        if "site-packages" not in where:
+            raise pytest.UsageError(f"FEATHERDYN_TEST_INSTALLED=1 but featherdyn is imported from {fd.__file__}")
+
+
 settings.register_profile("featherdyn", derandomize=True, deadline=None, max_examples=50, print_blob=True)
 settings.load_profile("featherdyn")
 

@@ -8,6 +8,8 @@ the pose of frame A in frame B and maps A-coordinates to B-coordinates.
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 from . import algorithms, api, errors, frames, joints, model, results, rotation, spatial_algebra, tolerances
 from .api import (
     LOCAL,
@@ -130,6 +132,29 @@ _LAZY = {
     "verify": None,
     "compile": "api",
 }
+
+if TYPE_CHECKING:  # the lazy names as a type checker sees them (mypy, IDEs): the objects __getattr__ returns
+    from . import configuration as configuration
+    from . import conventions as conventions
+    from . import mjcf as mjcf
+    from . import robots as robots
+    from . import urdf as urdf
+    from . import verify as verify
+    from .api import compile as compile
+    from .configuration import difference as difference
+    from .configuration import difference_derivatives as difference_derivatives
+    from .configuration import integrate as integrate
+    from .configuration import integrate_derivatives as integrate_derivatives
+    from .configuration import interpolate as interpolate
+    from .configuration import is_normalized as is_normalized
+    from .configuration import neutral as neutral
+    from .configuration import normalize as normalize
+    from .configuration import random_configuration as random_configuration
+    from .readers.mjcf import load_mjcf as load_mjcf
+    from .readers.mjcf import load_model as load_model
+    from .readers.urdf import load_urdf as load_urdf
+    from .robots import list_robots as list_robots
+    from .robots import load_robot as load_robot
 
 
 def __getattr__(name: str) -> object:

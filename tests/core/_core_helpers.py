@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import featherdyn as fd
-from tests._models import library_robot, library_robot_names
+from _models import library_robot, library_robot_names
 
 #: core == reference to this, relative to the largest entry of the reference result
 RTOL = 1e-12

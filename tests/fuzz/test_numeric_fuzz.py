@@ -31,7 +31,7 @@ from hypothesis import strategies as st
 
 import featherdyn as fd
 from featherdyn.errors import FeatherdynError
-from tests._models import random_tree
+from _models import random_tree
 
 MODELS = {
     "panda": lambda: fd.load_robot("panda"),

@@ -20,7 +20,8 @@ import featherdyn as fd
 
 pytest.importorskip("pinocchio")
 
-SRC = Path(__file__).resolve().parents[2] / "src"
+# the featherdyn this test imports (the source tree, or an installed wheel), for the command it runs
+SRC = Path(fd.__file__).resolve().parents[1]
 
 
 def run(*args: str | Path) -> subprocess.CompletedProcess[str]:

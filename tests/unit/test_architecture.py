@@ -315,6 +315,8 @@ _PRIVATE_ACROSS_ROOMS_ALLOWED = [
     ("featherdyn.core*", "featherdyn._state_checks*", "_state_checks is placed by the glue work of issue 29"),
     ("featherdyn.tools.bench", "featherdyn.core._core*", "the kernels' SIMD width, _core.simd(), which core/ "
      "(rewritten in issue 29) does not wrap"),
+    ("featherdyn.tools.cli", "featherdyn.core._core*", "the binary's build_info() for `featherdyn info --build` "
+     "(issue 31), which core/ (rewritten in issue 29) does not wrap"),
     ("featherdyn.readers*", "featherdyn.joints._with_unit_axis", "an unchecked constructor of a public joint class "
      "(the loader has normalised the axis): not for the public API"),
 ]

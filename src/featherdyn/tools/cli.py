@@ -9,6 +9,7 @@
     featherdyn dataset ROBOT|URDF --states N --out DIR.zarr [--quantities tau,M,ddq] [--floating-base]
                        [--seed S] [--chunk C] [--scheduler auto|local|sync|ADDRESS] [--workers W]
     featherdyn info ROBOT|URDF [--floating-base]
+    featherdyn info --build
     featherdyn list
     featherdyn bench [ROBOT|URDF] [--floating-base] [--repeats N] [--batch N] [--chains 8,16,...] [--output FILE]
     featherdyn --version
@@ -92,9 +93,13 @@ def build_parser() -> argparse.ArgumentParser:
     v.add_argument("--contacts", default="", metavar="FRAME[,FRAME...]",
                    help="also compare constrained and impulse dynamics with these frames held (Pinocchio's "
                         "constraintDynamics / impulseDynamics)")
-    i = sub.add_parser("info", help="the kinematic tree, joints, masses and inertia validity of a robot")
-    i.add_argument("robot", metavar="ROBOT|URDF")
+    i = sub.add_parser("info", help="the kinematic tree, joints, masses and inertia validity of a robot; "
+                                    "--build: how the compiled core was built")
+    i.add_argument("robot", metavar="ROBOT|URDF", nargs="?")
     i.add_argument("--floating-base", action="store_true")
+    i.add_argument("--build", action="store_true",
+                   help="print how featherdyn's compiled core was built (compiler, SIMD kernels in use, NumPy's C API, "
+                        "nanobind, build type) instead of a robot")
     sub.add_parser("list", help="the names of the robot library (legged, humanoid and flying robots want "
                                 "--floating-base)")
     _add_check(sub)
@@ -386,7 +391,41 @@ def _limits(lower: np.ndarray, upper: np.ndarray, velocity: np.ndarray, effort: 
     return "limits " + ", ".join(parts) + "; " if parts else ""
 
 
+def build_report() -> list[str]:
+    """The lines of ``featherdyn info --build``: this installation and how its compiled core was built."""
+    from .. import __version__
+
+    lines = [f"featherdyn {__version__} ({Path(__file__).resolve().parents[1]})",
+             f"  Python {sys.version.split()[0]}, NumPy {np.__version__}"]
+    try:
+        from ..core import _core
+    except ImportError as exc:
+        return [*lines, f"  compiled core: not importable ({exc}); reinstall featherdyn with pip"]
+    info = _core.build_info()
+    simd = os.environ.get("FEATHERDYN_SIMD")
+    forced = f" (FEATHERDYN_SIMD={simd})" if simd else ""
+    compiled = ", ".join(str(x) for x in info["simd_compiled"]) if isinstance(info["simd_compiled"], tuple) else "?"
+    stub = Path(_core.__file__).with_name("_core.pyi")
+    return [
+        *lines,
+        f"  compiled core: {Path(_core.__file__).name}",
+        f"  compiler: {info['compiler']}, {info['build_type']} build, for {info['processor']}",
+        f"  SIMD: {info['simd']} × {info['simd_lanes']} lanes in use{forced}; compiled: {compiled} "
+        "(FEATHERDYN_SIMD=baseline forces the portable kernels)",
+        f"  NumPy C API: NumPy {info['numpy_headers']}'s headers (API {info['numpy_api']}), for NumPy >= "
+        f"{info['numpy_minimum']} (API {info['numpy_target_api']})",
+        f"  nanobind {info['nanobind']}; built for Python {info['python']}, stable ABI (abi3): "
+        f"{'yes' if info['stable_abi'] else 'no'}",
+        f"  type stub: {'_core.pyi' if stub.exists() else 'none (a source checkout: the wheel has one)'}",
+    ]
+
+
 def _cmd_info(args: argparse.Namespace) -> int:
+    if args.build:
+        print("\n".join(build_report()))
+        return EXIT_OK
+    if args.robot is None:
+        raise FeatherdynError("info: give a ROBOT or URDF, or --build")
     from ..verify import load_resolved, resolve_robot
     from ..verify.dynamics import inertia_problem
 

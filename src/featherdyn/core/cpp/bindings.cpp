@@ -30,9 +30,11 @@
 #include <utility>
 
 #include "boundary.hpp"
+#include "build_info.hpp"
 #include "entry_points.hpp"
 #include "buffer.hpp"
 #include "checks.hpp"
+#include "cpu_features.hpp"
 #include "declarations.hpp"
 #include "model_view.hpp"
 #include "simd_groups.hpp"
@@ -54,7 +56,7 @@ const fdgroup::GroupKernels& fdcore::group_kernels() {
 #if defined(FEATHERDYN_HAVE_AVX2)
     const char* env = std::getenv("FEATHERDYN_SIMD");
     const std::string want = env != nullptr ? env : "";
-    const bool avx512 = __builtin_cpu_supports("avx512f"), avx2 = __builtin_cpu_supports("avx2");
+    const bool avx512 = cpu::features().avx512f, avx2 = cpu::features().avx2;  // cpu_features.hpp
     if (want != "baseline" && want != "avx2" && avx512) return featherdyn_avx512_group_kernels();
     if (want != "baseline" && avx2) return featherdyn_avx2_group_kernels();
 #endif
@@ -230,4 +232,5 @@ NB_MODULE(_core, m) {
   m.def("available_cores", &available_cores);
   m.def("simd", [] { return std::make_pair(std::string(group_kernels().isa), group_kernels().width); },
         "(instruction set, lanes) of the batched kernels");
+  bind_build_info(m);  // build_info.cpp
 }

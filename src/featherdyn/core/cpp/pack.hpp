@@ -15,6 +15,10 @@
 #include <immintrin.h>
 #endif
 
+#if defined(_MSC_VER) && !defined(__clang__)
+#error "featherdyn's core uses GCC/Clang vector extensions: on Windows build it with clang-cl (CMake -T ClangCL)"
+#endif
+
 namespace fdcore {
 
 // The lanes: one vector register. Two doubles on the x86-64 baseline (SSE2), four where the

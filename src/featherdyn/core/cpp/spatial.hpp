@@ -17,7 +17,7 @@
 // which instantiates every kernel, GCC's unit-growth limits otherwise leave them as calls that pass
 // 3-vectors through memory (measured: talos forward kinematics 2.0 µs as called from Python against
 // 1.05 µs for the same kernel compiled alone).
-#if defined(__GNUC__)
+#if defined(__GNUC__) || defined(__clang__)  // (clang-cl defines no __GNUC__)
 #define FD_INLINE inline __attribute__((always_inline))
 #else
 #define FD_INLINE inline

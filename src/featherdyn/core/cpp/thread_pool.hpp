@@ -10,9 +10,16 @@
 //   its threads are gone) and builds a new one on first use (pthread_atfork, plus a pid check).
 #pragma once
 
+#if defined(_WIN32)
+#include <process.h>  // _getpid (Windows has no fork: no atfork handler either)
+#else
 #include <pthread.h>
 #include <sched.h>
 #include <unistd.h>
+#endif
+#if defined(_MSC_VER) && (defined(_M_X64) || defined(_M_IX86))
+#include <immintrin.h>  // _mm_pause
+#endif
 
 #include <algorithm>
 #include <atomic>
@@ -117,12 +124,14 @@ class ThreadPool {
     for (;;) {
       for (int k = 0; k < 32; ++k) {
         if (ready()) return;
-#if defined(__x86_64__) || defined(__i386__)
+#if defined(_MSC_VER) && (defined(_M_X64) || defined(_M_IX86))
+        _mm_pause();
+#elif defined(__x86_64__) || defined(__i386__)
         __builtin_ia32_pause();
 #endif
       }
       if (std::chrono::steady_clock::now() >= until) return;
-      sched_yield();
+      std::this_thread::yield();
     }
   }
 
@@ -171,6 +180,15 @@ inline int available_cores() {
   return static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
 }
 
+// This process's id (a forked child's differs from its parent's).
+#if defined(_WIN32)
+using process_id = int;
+inline process_id current_process() { return _getpid(); }
+#else
+using process_id = pid_t;
+inline process_id current_process() { return getpid(); }
+#endif
+
 // The process-wide pool, rebuilt after fork and by set_num_threads.
 class GlobalPool {
  public:
@@ -181,10 +199,10 @@ class GlobalPool {
 
   std::shared_ptr<ThreadPool> get() {
     std::lock_guard<std::mutex> lock(mutex_);
-    if (!pool_ || pid_ != getpid()) {
-      if (pid_ != getpid()) forget();
+    if (!pool_ || pid_ != current_process()) {
+      if (pid_ != current_process()) forget();
       pool_ = std::make_shared<ThreadPool>(nthreads_);
-      pid_ = getpid();
+      pid_ = current_process();
     }
     return pool_;
   }
@@ -194,7 +212,7 @@ class GlobalPool {
     {
       std::lock_guard<std::mutex> lock(mutex_);
       nthreads_ = n > 0 ? n : available_cores();
-      if (pid_ == getpid()) old.swap(pool_);  // running batches keep their pool until they finish
+      if (pid_ == current_process()) old.swap(pool_);  // running batches keep their pool until they finish
       else forget();
     }
   }
@@ -205,24 +223,26 @@ class GlobalPool {
   }
 
  private:
-  GlobalPool() : nthreads_(available_cores()), pid_(getpid()) {
+  GlobalPool() : nthreads_(available_cores()), pid_(current_process()) {
+#if !defined(_WIN32)
     pthread_atfork([] { instance().mutex_.lock(); }, [] { instance().mutex_.unlock(); },
                    [] {
                      GlobalPool& g = instance();
                      g.mutex_.unlock();
                      g.forget();
                    });
+#endif
   }
   // In a forked child the pool's threads do not exist: drop it without running its destructor.
   void forget() {
     new (&pool_) std::shared_ptr<ThreadPool>();
-    pid_ = getpid();
+    pid_ = current_process();
   }
 
   std::mutex mutex_;
   std::shared_ptr<ThreadPool> pool_;
   int nthreads_;
-  pid_t pid_;
+  process_id pid_;
 };
 
 }  // namespace fdcore

@@ -52,7 +52,10 @@ inline void kernel(const S& r, S& s, S& c) {
 }
 }  // namespace trig
 
-__attribute__((always_inline)) inline void sin_cos(double x, double& s, double& c) {
+#if defined(__GNUC__) || defined(__clang__)
+__attribute__((always_inline))
+#endif
+inline void sin_cos(double x, double& s, double& c) {
   using namespace trig;
   if (!(std::fabs(x) <= REDUCE_MAX)) {
     s = std::sin(x);
