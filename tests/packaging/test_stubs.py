@@ -72,7 +72,8 @@ def test_each_function_and_method_has_the_module_parameters(stub_text: str) -> N
                     assert args[0] == "self" and args[1:] == _parameters(getattr(getattr(_core, name), member.name)), (
                         name, member.name)
                     checked += 1
-    assert checked >= 30
+    # every function of the module and every method of its classes (the declared algorithms' Kernel among them)
+    assert checked >= 20 and {"declared_call", "set_num_threads"} <= set(_stub_tree(stub_text))
 
 
 def test_build_info_is_typed_in_the_stub(stub_text: str) -> None:

@@ -22,16 +22,9 @@ import featherdyn as fd
 
 HERE = Path(__file__).resolve().parent
 
-#: public functions of fd whose result a type checker sees as Any (their annotations are to be fixed)
-RETURNS_ANY = {
-    "aba", "aba_derivatives", "centroidal_momentum_matrix", "crba", "frame_acceleration_derivatives", "frame_jacobian",
-    "frame_jacobian_time_variation", "frame_velocity_derivatives", "generalized_gravity",
-    "generalized_gravity_derivatives", "joint_jacobians", "joint_torque_regressor", "kinetic_energy",
-    "mass_matrix_inverse", "nonlinear_effects", "potential_energy", "rnea", "rnea_derivatives",
-    "static_torque_derivatives",
-}
-#: of those, the ones the user's script calls, with fd.compile(model).aba (a CompiledModel's methods are all Any)
-SCRIPT_ANY = {"tau": "fd.rnea", "ddq": "fd.compile(model).aba"}
+#: public functions of fd whose result a type checker sees as Any: none (the declared algorithms are typed by their
+#: results in api/declarations.py, a compiled model's methods in core/compiled.py)
+RETURNS_ANY: set[str] = set()
 
 
 def _mypy(files: list[Path], cache: Path) -> str:
@@ -84,12 +77,6 @@ def test_the_public_functions_returning_any_are_the_known_ones(revealed: dict[st
     assert returns_any == RETURNS_ANY, (sorted(returns_any - RETURNS_ANY), sorted(RETURNS_ANY - returns_any))
 
 
-def test_the_script_results_still_any_are_the_known_ones(revealed: dict[str, tuple[str, str]]) -> None:
-    """tau = fd.rnea(...) and ddq = fd.compile(model).aba(...) are Any until api/ and core/ annotate them."""
-    still_any = {v for v in ("tau", "ddq", "held", "held.ddq") if _is_any(revealed[v][0])}
-    assert still_any == set(SCRIPT_ANY), {v: revealed[v][0] for v in revealed if v in ("tau", "ddq", "held")}
-
-
-@pytest.mark.xfail(strict=True, reason="fd.rnea and fd.compile(model).aba are typed Any (RETURNS_ANY): issue 29")
 def test_no_result_of_the_script_is_any(revealed: dict[str, tuple[str, str]]) -> None:
     assert not [v for v in ("tau", "ddq", "held", "held.ddq") if _is_any(revealed[v][0])]
+    assert revealed["tau"][0].startswith("numpy.ndarray[") and revealed["ddq"][0].startswith("numpy.ndarray[")

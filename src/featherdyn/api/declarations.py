@@ -8,7 +8,11 @@ public function: ``fd.<name>`` (one state, any batch shape, ``out=``, Dask array
 
 from __future__ import annotations
 
+from collections.abc import Callable
+from typing import Protocol, overload
+
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ..algorithms import aba as _aba
 from ..algorithms import centroidal as _centroidal
@@ -18,6 +22,7 @@ from ..algorithms import energy as _energy
 from ..algorithms import jacobians as _jac
 from ..algorithms import kinematics as _kin
 from ..algorithms import rnea as _rnea
+from ..model import Model
 from ..results import CenterOfMass, Kinematics
 from ..spatial import PluckerTransform, SpatialForce
 from .declared import Declaration, Record, public_function
@@ -28,6 +33,15 @@ __all__ = ["rnea", "nonlinear_effects", "generalized_gravity", "crba", "aba", "f
            "potential_energy", "centroidal_momentum_matrix", "generalized_gravity_derivatives",
            "static_torque_derivatives", "forward_kinematics", "frame_placement", "center_of_mass",
            "centroidal_momentum"]  # (and ``placements``: fd.compile(model).fk only)
+
+
+class _CenterOfMassFunction(Protocol):
+    """``fd.center_of_mass``'s type: the array without ``v``, a :class:`CenterOfMass` with it."""
+
+    @overload
+    def __call__(self, model: Model, q: ArrayLike, v: None = None, *, backend: str | None = None) -> np.ndarray: ...
+    @overload
+    def __call__(self, model: Model, q: ArrayLike, v: ArrayLike, *, backend: str | None = None) -> CenterOfMass: ...
 
 
 def _center_of_mass(c: np.ndarray, cd: np.ndarray | None) -> np.ndarray | CenterOfMass:
@@ -501,27 +515,28 @@ DECLARATIONS: dict[str, Declaration] = {d.name: d for d in [
     ),
 ]}
 
-rnea = public_function(DECLARATIONS["rnea"])
-nonlinear_effects = public_function(DECLARATIONS["nonlinear_effects"])
-generalized_gravity = public_function(DECLARATIONS["generalized_gravity"])
-crba = public_function(DECLARATIONS["crba"])
-aba = public_function(DECLARATIONS["aba"])
-frame_jacobian = public_function(DECLARATIONS["frame_jacobian"])
-rnea_derivatives = public_function(DECLARATIONS["rnea_derivatives"])
-aba_derivatives = public_function(DECLARATIONS["aba_derivatives"])
-mass_matrix_inverse = public_function(DECLARATIONS["mass_matrix_inverse"])
-joint_torque_regressor = public_function(DECLARATIONS["joint_torque_regressor"])
-frame_velocity_derivatives = public_function(DECLARATIONS["frame_velocity_derivatives"])
-frame_acceleration_derivatives = public_function(DECLARATIONS["frame_acceleration_derivatives"])
-joint_jacobians = public_function(DECLARATIONS["joint_jacobians"])
-frame_jacobian_time_variation = public_function(DECLARATIONS["frame_jacobian_time_variation"])
-kinetic_energy = public_function(DECLARATIONS["kinetic_energy"])
-potential_energy = public_function(DECLARATIONS["potential_energy"])
-centroidal_momentum_matrix = public_function(DECLARATIONS["centroidal_momentum_matrix"])
-generalized_gravity_derivatives = public_function(DECLARATIONS["generalized_gravity_derivatives"])
-static_torque_derivatives = public_function(DECLARATIONS["static_torque_derivatives"])
-forward_kinematics = public_function(DECLARATIONS["forward_kinematics"])
-placements = public_function(DECLARATIONS["placements"])
-frame_placement = public_function(DECLARATIONS["frame_placement"])
-center_of_mass = public_function(DECLARATIONS["center_of_mass"])
-centroidal_momentum = public_function(DECLARATIONS["centroidal_momentum"])
+# the public functions, typed by their results (the arguments are checked at the call: api/declared.py)
+rnea: Callable[..., np.ndarray] = public_function(DECLARATIONS["rnea"])
+nonlinear_effects: Callable[..., np.ndarray] = public_function(DECLARATIONS["nonlinear_effects"])
+generalized_gravity: Callable[..., np.ndarray] = public_function(DECLARATIONS["generalized_gravity"])
+crba: Callable[..., np.ndarray] = public_function(DECLARATIONS["crba"])
+aba: Callable[..., np.ndarray] = public_function(DECLARATIONS["aba"])
+frame_jacobian: Callable[..., np.ndarray] = public_function(DECLARATIONS["frame_jacobian"])
+rnea_derivatives: Callable[..., tuple[np.ndarray, np.ndarray, np.ndarray]] = public_function(DECLARATIONS["rnea_derivatives"])
+aba_derivatives: Callable[..., tuple[np.ndarray, np.ndarray, np.ndarray]] = public_function(DECLARATIONS["aba_derivatives"])
+mass_matrix_inverse: Callable[..., np.ndarray] = public_function(DECLARATIONS["mass_matrix_inverse"])
+joint_torque_regressor: Callable[..., np.ndarray] = public_function(DECLARATIONS["joint_torque_regressor"])
+frame_velocity_derivatives: Callable[..., tuple[np.ndarray, np.ndarray]] = public_function(DECLARATIONS["frame_velocity_derivatives"])
+frame_acceleration_derivatives: Callable[..., tuple[np.ndarray, np.ndarray, np.ndarray]] = public_function(DECLARATIONS["frame_acceleration_derivatives"])
+joint_jacobians: Callable[..., np.ndarray] = public_function(DECLARATIONS["joint_jacobians"])
+frame_jacobian_time_variation: Callable[..., np.ndarray] = public_function(DECLARATIONS["frame_jacobian_time_variation"])
+kinetic_energy: Callable[..., np.ndarray] = public_function(DECLARATIONS["kinetic_energy"])
+potential_energy: Callable[..., np.ndarray] = public_function(DECLARATIONS["potential_energy"])
+centroidal_momentum_matrix: Callable[..., np.ndarray] = public_function(DECLARATIONS["centroidal_momentum_matrix"])
+generalized_gravity_derivatives: Callable[..., np.ndarray] = public_function(DECLARATIONS["generalized_gravity_derivatives"])
+static_torque_derivatives: Callable[..., np.ndarray] = public_function(DECLARATIONS["static_torque_derivatives"])
+forward_kinematics: Callable[..., Kinematics] = public_function(DECLARATIONS["forward_kinematics"])
+placements: Callable[..., np.ndarray] = public_function(DECLARATIONS["placements"])
+frame_placement: Callable[..., PluckerTransform] = public_function(DECLARATIONS["frame_placement"])
+center_of_mass: _CenterOfMassFunction = public_function(DECLARATIONS["center_of_mass"])
+centroidal_momentum: Callable[..., SpatialForce] = public_function(DECLARATIONS["centroidal_momentum"])

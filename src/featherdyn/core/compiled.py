@@ -33,10 +33,14 @@ used by several threads at once; the batched methods run on the core's pool
 from __future__ import annotations
 
 import time
-from typing import Any
+from collections.abc import Callable
+
+import numpy as np
 
 from ..errors import ModelError
 from ..model import Model
+from ..results import CenterOfMass, Kinematics
+from ..spatial import PluckerTransform, SpatialForce
 from . import _lib, _view
 
 __all__ = ["CompiledModel", "compile_model"]
@@ -51,16 +55,45 @@ class CompiledModel:
         compile_seconds: how long :func:`compile_model` took (copying the model's arrays; nothing is compiled).
     """
 
+    # the declared algorithms' methods, set by fd.compile (api/declarations.py), typed by their results
+    rnea: Callable[..., np.ndarray]
+    nle: Callable[..., np.ndarray]
+    gravity: Callable[..., np.ndarray]
+    crba: Callable[..., np.ndarray]
+    aba: Callable[..., np.ndarray]
+    fk: Callable[..., np.ndarray]
+    frame_jacobian: Callable[..., np.ndarray]
+    joint_jacobians: Callable[..., np.ndarray]
+    frame_jacobian_time_variation: Callable[..., np.ndarray]
+    kinetic_energy: Callable[..., np.ndarray]
+    potential_energy: Callable[..., np.ndarray]
+    centroidal_momentum_matrix: Callable[..., np.ndarray]
+    rnea_derivatives: Callable[..., tuple[np.ndarray, np.ndarray, np.ndarray]]
+    aba_derivatives: Callable[..., tuple[np.ndarray, np.ndarray, np.ndarray]]
+    mass_matrix_inverse: Callable[..., np.ndarray]
+    joint_torque_regressor: Callable[..., np.ndarray]
+    frame_velocity_derivatives: Callable[..., tuple[np.ndarray, np.ndarray]]
+    frame_acceleration_derivatives: Callable[..., tuple[np.ndarray, np.ndarray, np.ndarray]]
+    generalized_gravity_derivatives: Callable[..., np.ndarray]
+    static_torque_derivatives: Callable[..., np.ndarray]
+    forward_kinematics: Callable[..., Kinematics]
+    frame_placement: Callable[..., PluckerTransform]
+    center_of_mass: Callable[..., np.ndarray | CenterOfMass]
+    centroidal_momentum: Callable[..., SpatialForce]
+    rnea_batch: Callable[..., np.ndarray]
+    crba_batch: Callable[..., np.ndarray]
+    aba_batch: Callable[..., np.ndarray]
+    frame_jacobian_batch: Callable[..., np.ndarray]
+    fk_batch: Callable[..., np.ndarray]
+    rnea_derivatives_batch: Callable[..., tuple[np.ndarray, np.ndarray, np.ndarray]]
+    aba_derivatives_batch: Callable[..., tuple[np.ndarray, np.ndarray, np.ndarray]]
+
     def __init__(self, model: Model, compile_seconds: float = 0.0) -> None:
         _lib()
         _view(model)  # the model's arrays in the core, made now (a model the core cannot take fails here)
         self.model = model
         self.nq, self.nv, self.nb = model.nq, model.nv, model.nbodies
         self.compile_seconds = compile_seconds
-
-    def __getattr__(self, name: str) -> Any:
-        """(Only for names not found: the declared algorithms' methods are set by ``fd.compile``.)"""
-        raise AttributeError(f"'CompiledModel' object has no attribute {name!r}")
 
     def warmup(self) -> None:
         """Kept for compatibility: the core is compiled at install, so there is nothing to warm up."""
