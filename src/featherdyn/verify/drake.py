@@ -60,7 +60,7 @@ from ..errors import FeatherdynError, MissingDependencyError, ModelError, Singul
 from ..frames import LOCAL, LOCAL_WORLD_ALIGNED, WORLD
 from ..model import Model
 from .dynamics import _pick_frames, forward_dynamics_result
-from .report import CheckResult, compare
+from .report import CheckResult, PairedRows, compare
 
 __all__ = ["require_drake", "drake_version", "DrakePlant", "DrakeRefusedError", "build_drake", "drake_checks",
            "load_sdf_model", "dynamics_warnings", "model_changes"]
@@ -420,13 +420,9 @@ def drake_checks(model: Model, dk: DrakePlant, *, samples: int = 10, seed: int =
     frames = _link_frames(model, dk)
     jac_frames = _pick_frames(model, frames)
     rng = np.random.default_rng(seed)
-    rows: dict[str, tuple[list[np.ndarray], list[np.ndarray]]] = {}
+    paired = PairedRows()
+    add = paired.add
     fwd: dict[str, list[np.ndarray]] = {}
-
-    def add(key: str, ours: np.ndarray, theirs: np.ndarray) -> None:
-        rows.setdefault(key, ([], []))
-        rows[key][0].append(np.asarray(ours, dtype=float))
-        rows[key][1].append(np.asarray(theirs, dtype=float))
 
     forces = MultibodyForces(plant)
     world = plant.world_frame()
@@ -476,8 +472,7 @@ def drake_checks(model: Model, dk: DrakePlant, *, samples: int = 10, seed: int =
         for key, x in (("q", q), ("v", v), ("tau", tau), ("M", M), ("ddq", ddq),
                        ("ddq_ref", _conv.a_from_drake(model, layout, qd, vd, vdot_d))):
             fwd.setdefault(key, []).append(x)
-    for key, (ours, theirs) in rows.items():
-        out.append(compare(GROUP, key, np.stack(ours), np.stack(theirs), tol))
+    out += paired.compare(GROUP, tol)
     if skipped:
         out.append(CheckResult(GROUP, FORWARD, float("nan"), 0.0, 0, tol, True, f"skipped: {skipped}"))
     elif model.nv:

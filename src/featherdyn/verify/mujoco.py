@@ -38,7 +38,7 @@ from ..conventions import mujoco as _conv
 from ..errors import MissingDependencyError, ModelError
 from ..model import Model
 from .dynamics import forward_dynamics_result
-from .report import CheckResult, compare
+from .report import CheckResult, PairedRows, compare
 
 __all__ = ["require_mujoco", "mujoco_version", "compile_mujoco", "mujoco_checks", "full_mass_matrix"]
 
@@ -202,13 +202,9 @@ def mujoco_checks(model: Model, m: Any, fmt: str, *, samples: int = 10, seed: in
     out.append(compare(GROUP, "armature vs dof_armature", [arm], [arm_mj if layout.same else arm_mj[layout.perm]],
                        tol))
     rng = np.random.default_rng(seed)
-    rows: dict[str, tuple[list[np.ndarray], list[np.ndarray]]] = {}
+    paired = PairedRows()
+    add = paired.add
     fwd: dict[str, list[np.ndarray]] = {}
-
-    def add(key: str, ours: np.ndarray, theirs: np.ndarray) -> None:
-        rows.setdefault(key, ([], []))
-        rows[key][0].append(np.asarray(ours, dtype=float))
-        rows[key][1].append(np.asarray(theirs, dtype=float))
 
     bodies = [(b, _body_of(model, _name(m, mujoco.mjtObj.mjOBJ_BODY, b))) for b in range(1, m.nbody)]
     for _ in range(samples):
@@ -247,8 +243,7 @@ def mujoco_checks(model: Model, m: Any, fmt: str, *, samples: int = 10, seed: in
         for key, x in (("q", q), ("v", v), ("tau", tau), ("M", crba(model, q)), ("ddq", aba(model, q, v, tau)),
                        ("ddq_ref", layout.a_from(qpos, qvel, np.asarray(d.qacc)))):
             fwd.setdefault(key, []).append(x)
-    for key, (ours, theirs) in rows.items():
-        out.append(compare(GROUP, key, np.stack(ours), np.stack(theirs), tol))
+    out += paired.compare(GROUP, tol)
     # forward dynamics judged like Pinocchio's ABA: backward error, and forward error within cond(M)
     F = {k: np.stack(x) for k, x in fwd.items()}
     out.append(forward_dynamics_result(GROUP, "aba vs mj_forward qacc (constraints, passive forces, actuators off)",

@@ -111,6 +111,23 @@ Cause = tuple[str, Callable[[np.ndarray], np.ndarray]]
 
 
 
+class PairedRows:
+    """An oracle's values beside featherdyn's, gathered per check over the sampled states, then compared stacked
+    (one :func:`compare` per check, in the order the checks were first added)."""
+
+    def __init__(self) -> None:
+        self.rows: dict[str, tuple[list[np.ndarray], list[np.ndarray]]] = {}
+
+    def add(self, key: str, ours: np.ndarray, theirs: np.ndarray) -> None:
+        """One state's values of check ``key``: featherdyn's, the oracle's."""
+        mine, other = self.rows.setdefault(key, ([], []))
+        mine.append(np.asarray(ours, dtype=float))
+        other.append(np.asarray(theirs, dtype=float))
+
+    def compare(self, group: str, tol: float) -> list[CheckResult]:
+        return [compare(group, key, np.stack(ours), np.stack(theirs), tol) for key, (ours, theirs) in self.rows.items()]
+
+
 def likely_cause(ours: np.ndarray, ref: np.ndarray, causes: Sequence[Cause], tol: float) -> str:
     """The cause that explains a mismatch of ``ours`` against ``ref`` `(N, ...)`, or where the difference is largest.
 
