@@ -172,6 +172,13 @@ class ConstraintError(FeatherdynError, ValueError):
                    "pass mu > 0 (e.g. mu=1e-8) for the minimum-norm forces")
 
     @classmethod
+    def singular_frames(cls, m: int) -> ConstraintError:
+        """Frames whose ``m`` stacked Jacobian rows make ``J M⁻¹ Jᵀ + μ 1`` singular: no operational-space Λ."""
+        return cls(f"operational_space_inertia: the {m} rows of the frames' Jacobians are dependent at this "
+                   "configuration (J M⁻¹ Jᵀ + μ 1 is singular: a kinematic singularity), so Λ does not exist; pass "
+                   "mu > 0 (e.g. mu=1e-8) for the damped Λ = (J M⁻¹ Jᵀ + μ 1)⁻¹")
+
+    @classmethod
     def not_converged(cls, max_iter: int, tol: float) -> ConstraintError:
         """Proximal iterations that did not reach ``tol`` in ``max_iter``."""
         return cls(f"the proximal iterations did not converge in max_iter={max_iter} (tol={tol:g}): "

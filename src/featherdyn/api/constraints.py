@@ -40,7 +40,8 @@ from .kinematics import kinematics_of
 _EMPTY = np.empty
 _NEW = object.__new__
 _SET = object.__setattr__
-_INF = float("inf")
+_CONTACTS = _declared.kernel("contact_dynamics")  # the declared kernels (core/cpp/declarations_constraints.hpp)
+_FRAMES = _declared.kernel("operational_space_inertia")
 
 __all__ = ["ConstrainedDynamics", "ImpulseDynamics", "OperationalSpace", "constraint_jacobian", "constraint_drift",
            "delassus", "constrained_dynamics", "impulse_dynamics", "operational_space_inertia", "operational_space"]
@@ -132,10 +133,10 @@ def _core_plan(model: Model, plan: ContactPlan) -> Any:
         return None
 
 
-def _core_frames(model: Model, plan: ContactPlan) -> tuple[Any, tuple[int, int]] | None:
-    """The core's plan of frames and the shape of their Λ, or ``None`` when the core cannot take the model."""
-    core_plan = _core_plan(model, plan)
-    return None if core_plan is None else (core_plan, (plan.size, plan.size))
+def _solver(core_plan: Any, mu: Any, max_iter: Any = 50, tol: Any = 1e-12) -> dict[str, Any]:
+    """The core's options of a solve with the contacts of ``core_plan`` (settings that are not numbers raise
+    ``TypeError`` in the kernel, settings out of range make it decline: the general path words both)."""
+    return {"plan": core_plan, "mu": mu, "max_iter": max_iter, "tol": tol, "singular_tol": DELASSUS_PIVOT_RTOL}
 
 
 def delassus(model: Model, q: ArrayLike, constraints: Sequence[Constraint] | Constraint, *,
@@ -171,27 +172,16 @@ def _split(lam: np.ndarray, items: list[Constraint]) -> list[np.ndarray]:
     return np.split(lam, np.cumsum([c.size for c in items])[:-1], axis=-1)
 
 
-def _contact_rows_batch(core: Any, q: np.ndarray, v: Any, tau: Any, plan: ContactPlan, mu: float, max_iter: int,
-                        tol: float) -> ConstrainedDynamics | None:
-    """A batch of rows `(N, nq)`, `(N | 1, nv)` ×2 handed to the core as it is (its checks run per row inside, and
-    its groups of states run on SIMD packs); ``None`` when the binding refuses an argument or any row fails (a bad
-    state, a singular M, dependent contacts, no convergence): the general path then checks and words the error."""
-    n = q.shape[0]
-    qdd, lam, info = _EMPTY((n, core.nv)), _EMPTY((n, plan.size)), _EMPTY((n, 2))
-    try:
-        if not (0.0 <= mu < _INF and max_iter >= 1 and 0.0 < tol < _INF) or CORE.contact_dynamics_batch(
-                core.cm, q, v, tau, None, plan.specs, mu, max_iter, tol, DELASSUS_PIVOT_RTOL, qdd, lam, info
-        )[1] != OK:
-            return None
-    except TypeError:
+def _contact_result(qdd: np.ndarray, lam: np.ndarray, info: np.ndarray, plan: ContactPlan) -> ConstrainedDynamics | None:
+    """The result of a solve the core finished (``None`` when a state's rows were dependent or did not converge:
+    the general path raises)."""
+    if not (info[..., 0] > 0.0).all():
         return None
-    if not (info[:, 0] > 0.0).all():
-        return None
-    out = _NEW(ConstrainedDynamics)
+    out = _NEW(ConstrainedDynamics)  # (a frozen dataclass's __init__ costs more than the solve's rows)
     _SET(out, "ddq", qdd)
-    _SET(out, "forces", [lam[:, s] for s in plan.slices])
+    _SET(out, "forces", [lam[..., s] for s in plan.slices])
     _SET(out, "lagrange", lam)
-    _SET(out, "residual", info[:, 1])
+    _SET(out, "residual", info[..., 1])
     return out
 
 
@@ -216,23 +206,18 @@ def constrained_dynamics(model: Model, q: ArrayLike, v: ArrayLike, tau: ArrayLik
         found = cached_contact_plan(model, constraints, _core_plan)
         if found is not None and found[1] is not None:
             plan, core_plan = found
-            qdd, lam, info = _EMPTY(core.nv), _EMPTY(plan.size), _EMPTY(2)
-            try:  # (solver arguments out of range, or not numbers: the general path words the error)
-                if 0.0 <= mu < _INF and max_iter >= 1 and 0.0 < tol < _INF and CORE.contact_dynamics(
-                        core.cm, q, v, tau, f_ext, core_plan, mu, max_iter, tol, DELASSUS_PIVOT_RTOL, qdd, lam,
-                        info) == OK and info[0] > 0:
-                    out = _NEW(ConstrainedDynamics)  # (a frozen dataclass's __init__ costs more than the solve's rows)
-                    _SET(out, "ddq", qdd)
-                    _SET(out, "forces", [lam[s] for s in plan.slices])
-                    _SET(out, "lagrange", lam)
-                    _SET(out, "residual", info[1])
-                    return out
+            try:  # one state as the kernel takes it; rows (N, nq) on its batch (its groups of states on SIMD packs)
+                opts = _solver(core_plan, mu, max_iter, tol)
+                r = _CONTACTS.fresh(core.cm, (q, v, tau, f_ext), **opts)
+                if r is None and type(q) is np.ndarray and q.ndim == 2 and f_ext is None:
+                    n = q.shape[0]
+                    r = _EMPTY((n, core.nv)), _EMPTY((n, plan.size)), _EMPTY((n, 2))
+                    r = r if _CONTACTS.batch(core.cm, [q, v, tau, None], r, **opts)[1] == OK else None
+                done = None if r is None else _contact_result(r[0], r[1], r[2], plan)
+                if done is not None:
+                    return done
             except TypeError:  # arguments the binding does not take as they are: the general path converts
                 pass
-            if type(q) is np.ndarray and q.ndim == 2 and f_ext is None:
-                batch = _contact_rows_batch(core, q, v, tau, plan, mu, max_iter, tol)
-                if batch is not None:
-                    return batch
     mu, max_iter, tol = _con.solver_settings(mu, max_iter, tol)
     if _dask.lazy(q, v, tau, f_ext):
         return _dask.call(constrained_dynamics, model, {"q": q, "v": v, "tau": tau, "f_ext": f_ext},
@@ -294,39 +279,34 @@ def operational_space_inertia(model: Model, q: ArrayLike, frames: Sequence[str |
         J M⁻¹ Jᵀ from M's tree-sparse factor (M is never inverted); μ > 0 regularises a singular J
     """
     core = core_path(model, backend)
-    if core is not None:
-        found = cached_frames_plan(model, frames, reference, _core_frames)
-        if found is not None and found[1] is not None:
-            core_plan, shape = found[1]
-            out = _EMPTY(shape)
-            try:
-                if 0.0 <= mu < _INF and CORE.operational_space_inertia(core.cm, q, core_plan, mu, DELASSUS_PIVOT_RTOL,
-                                                                       out) == OK:
+    found = None if core is None else cached_frames_plan(model, frames, reference, _core_plan)
+    if core is not None and found is not None and found[1] is not None:
+        try:  # one state as the kernel takes it; rows (N, nq) on its batch (its groups of states on SIMD packs)
+            opts = _solver(found[1], mu)
+            r = _FRAMES.fresh(core.cm, (q,), **opts)
+            if r is not None:
+                return r
+            if type(q) is np.ndarray and q.ndim == 2:
+                out = _EMPTY((q.shape[0], found[0].size, found[0].size))
+                if _FRAMES.batch(core.cm, [q], [out], **opts)[1] == OK:
                     return out
-            except TypeError:  # arguments the binding does not take as they are: the general path converts
-                pass
-            if type(q) is np.ndarray and q.ndim == 2:  # rows (N, nq): the core's batch, on SIMD packs
-                out = _EMPTY((q.shape[0], *shape))
-                try:
-                    if 0.0 <= mu < _INF and CORE.operational_space_inertia_batch(
-                            core.cm, q, core_plan, mu, DELASSUS_PIVOT_RTOL, out)[1] == OK:
-                        return out
-                except TypeError:
-                    pass
+        except TypeError:  # arguments the binding does not take as they are: the general path converts
+            pass
     mu = _con.solver_settings(mu, 1, 1.0)[0]
     if _dask.lazy(q):
         return _dask.call(operational_space_inertia, model, {"q": q}, frames=frames, reference=reference, mu=mu,
                           backend=backend)
     st = check_state(model, q)
     fids, ref = _con.resolve_frames(model, frames, reference)
+    if found is not None and found[1] is not None and select_backend(backend, st.dtype) == "compiled":
+        return as_dtype(_declared.run("operational_space_inertia", model, st.batch, [np.asarray(st.q, np.float64)],
+                                      options={"plan": found[1], "mu": mu, "singular_tol": DELASSUS_PIVOT_RTOL})[0],
+                        st.dtype)
     J = quiet(_alg.frames_jacobian, model, kinematics_of(model, st, None, None, backend), fids, ref,
               _jacobian(model, st, backend))
     D = _delassus(model, st.q, J, backend) + float(mu) * np.eye(J.shape[-2], dtype=J.dtype)
     if D.dtype.kind == "f" and not np.all(_alg.dense_cholesky(D, DELASSUS_PIVOT_RTOL)[1]):  # the core's rule
-        raise ConstraintError(
-            f"operational_space_inertia: the {D.shape[-1]} rows of the frames' Jacobians are dependent at this "
-            "configuration (J M⁻¹ Jᵀ + μ 1 is singular: a kinematic singularity), so Λ does not exist; pass mu > 0 "
-            "(e.g. mu=1e-8) for the damped Λ = (J M⁻¹ Jᵀ + μ 1)⁻¹")
+        raise ConstraintError.singular_frames(D.shape[-1])
     return np.linalg.inv(D)
 
 

@@ -14,7 +14,6 @@ the base frame, gravity from ``model.gravity`` entered as a base acceleration ``
 from __future__ import annotations
 
 import inspect
-import math
 from collections.abc import Callable
 from typing import Any
 
@@ -41,7 +40,7 @@ __all__ = [  # and one function per declared kernel (below)
     "contact_dynamics",
     "set_num_threads",
     "get_num_threads",
-    *declared.SPECS,
+    *(name for name, spec in declared.SPECS.items() if not spec.constrained),
 ]
 
 _F64 = np.dtype(np.float64)
@@ -78,21 +77,6 @@ def _f64(x: Any, name: str) -> np.ndarray:
                          "use the reference algorithms for symbolic input") from None
 
 
-def _apart(out: Any, *inputs: np.ndarray | None) -> tuple[Any, ...]:
-    """The inputs of a batch, each copied first if it may share memory with ``out`` (an array or a tuple of them).
-
-    The one rule for ``out=`` (docs/architecture.md, "One declaration per algorithm"): the result is the call's
-    result without ``out``. A kernel writes its rows while it reads its inputs' rows, so an output over an input's
-    memory (``cm.rnea_batch(Q, V, A, out=A)``) would read what it has written: the input is read from a copy.
-    ``np.may_share_memory`` compares the bounds only: no scan.
-    """
-    if out is None:
-        return inputs
-    outs = tuple(out) if isinstance(out, (tuple, list)) else (out,)
-    return tuple(x if x is None or not any(isinstance(o, np.ndarray) and np.may_share_memory(x, o) for o in outs)
-                 else x.copy() for x in inputs)
-
-
 def _batch_shape(model: Model, arrays: list[tuple[np.ndarray, int]], q: Any, vectors: list[tuple[str, Any]],
                  f_ext: Any) -> tuple[int, ...]:
     """The broadcast batch shape of ``(array, trailing ndim)`` pairs; the reference's error when there is none."""
@@ -101,28 +85,6 @@ def _batch_shape(model: Model, arrays: list[tuple[np.ndarray, int]], q: Any, vec
     except ValueError:
         _errors.validate(model, q, vectors, f_ext)
         raise
-
-
-def _rows(x: np.ndarray | None, batch: tuple[int, ...], tail: tuple[int, ...]) -> np.ndarray | None:
-    """``x`` with batch shape broadcastable to ``batch`` as `(N or 1, prod(tail))` rows (a copy only to broadcast)."""
-    if x is None:
-        return None
-    n = math.prod(tail)
-    if x.ndim < len(tail) or x.shape[x.ndim - len(tail):] != tail:
-        return x.reshape(-1, max(x.shape[-1] if x.ndim else 1, 1))  # wrong length: the core reports it
-    bx = x.shape[: x.ndim - len(tail)]
-    if bx == batch:
-        return x.reshape(math.prod(batch), n)
-    if math.prod(bx) == 1:
-        return x.reshape(1, n)
-    return np.ascontiguousarray(np.broadcast_to(x, batch + tail)).reshape(math.prod(batch), n)
-
-
-def _check_batch(status: tuple[int, int], model: Model, q: Any, vectors: list[tuple[str, Any]],
-                 f_ext: Any = None, what: str = "featherdyn.core") -> None:
-    _, s = status
-    if s:
-        _errors.raise_for(s, model, q, vectors, f_ext, what=what)
 
 
 # ---------------------------------------------------------------------------
@@ -201,7 +163,8 @@ def _signature_doc(spec: declared.Spec) -> str:
 mass_solve: Callable[..., Any]
 
 for _name, _spec in declared.SPECS.items():  # one function per declared kernel (rnea, crba, aba, ...)
-    globals()[_name] = _declared(_name, _signature_doc(_spec))
+    if not _spec.constrained:  # (the constraint family's are written below: their rows m come from J or specs)
+        globals()[_name] = _declared(_name, _signature_doc(_spec))
 
 
 def rnea_complex(model: Model, q: Any, v: Any, a: Any, f_ext: Any = None, gravity: bool = True) -> np.ndarray:
@@ -224,92 +187,56 @@ def rnea_complex(model: Model, q: Any, v: Any, a: Any, f_ext: Any = None, gravit
     return tau
 
 
-def _dynamics_rows(model: Model, q: Any, v: Any, x: Any, f_ext: Any, xname: str, out: Any = None
-                   ) -> tuple[CoreHandle, tuple[int, ...], list[Any], list[tuple[str, Any]]]:
-    """``(handle, batch shape, [Q, V, X, FX] rows, vectors)`` of a state ``(q, v, x)`` and ``f_ext`` (each apart
-    from ``out``: :func:`_apart`)."""
-    h = _view(model)
-    q_, v_, x_ = _f64(q, "q"), _f64(v, "v"), _f64(x, xname)
-    fx = None if f_ext is None else _f64(f_ext, "f_ext")
-    q_, v_, x_, fx = _apart(out, q_, v_, x_, fx)
-    vectors = [("v", v), (xname, x)]
-    parts = [(q_, 1), (v_, 1), (x_, 1)] + ([] if fx is None else [(fx, 2)])
-    batch = _batch_shape(model, parts, q, vectors, f_ext)
-    rows = [_rows(q_, batch, (h.nq,)), _rows(v_, batch, (h.nv,)), _rows(x_, batch, (h.nv,)),
-            _rows(fx, batch, (h.nb, 6))]
-    return h, batch, rows, vectors
+def _rows_of(J: Any, nv: int) -> tuple[np.ndarray, int]:
+    """``J`` `(..., m, nv)` as float64 and its rows ``m``."""
+    J_ = _f64(J, "J")
+    if J_.ndim < 2 or J_.shape[-1] != nv:
+        raise ShapeError(f"J: expected shape (..., m, {nv}), got {J_.shape}")
+    return J_, J_.shape[-2]
 
 
-def _raise_derivative_status(st: tuple[int, int], model: Model, q: Any, vectors: list[tuple[str, Any]], f_ext: Any,
-                             rows: list[Any], gravity: bool, what: str) -> None:
-    """The reference's error for a failed row; a singular mass matrix words it as ``fd.aba`` does."""
-    row, s = st
-    if not s:
-        return
-    if _errors.decode(s)[0] == _errors.SINGULAR:
-        _errors.validate(model, q, vectors, f_ext)
+def _solved(name: str, model: Model, q: Any, v: Any, tau: Any, f_ext: Any, extra: list[tuple[np.ndarray, int]],
+            options: dict[str, Any], max_iter: int, tol: float, check: bool = True
+            ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """``(q̈, λ, info)`` of the declared KKT solve ``name`` on the state and the ``extra`` inputs (array, trailing
+    ndim); ``check``: a state whose rows are dependent (``mu = 0``) or did not converge raises."""
+    from ..constraints import solver_settings
+    from ..errors import ConstraintError
+    from ..tolerances import DELASSUS_PIVOT_RTOL
 
-        def pick(x: Any) -> Any:
-            return None if x is None else x[0 if x.shape[0] == 1 else row]
-
-        fx = pick(rows[3])
-        _aba_at_rest(model, pick(rows[0]), None if fx is None else fx.reshape(model.nbodies, 6), gravity)
-    _errors.raise_for(s, model, q, vectors, f_ext, _ABA_ARGS if what == "aba_derivatives" else ARG_NAMES, what=what)
-
-
-def _aba_at_rest(model: Model, q: np.ndarray, f_ext: np.ndarray | None, gravity: bool) -> None:
-    """ABA of one state at rest: for a singular mass matrix, raises the error ``fd.aba`` raises."""
-    z = np.zeros(model.nv)
-    declared.run("aba", model, (), [np.ascontiguousarray(q, dtype=np.float64), z, z, f_ext],
-                 options={"gravity": gravity})
-
-
-ARG_NAMES = _errors.ARG_NAMES
-_ABA_ARGS = ("q", "v", "tau", "f_ext", "out")
-
-
-def _ltl_rows(model: Model, q: Any, extra: Any, name: str, tail: tuple[int, ...]
-              ) -> tuple[CoreHandle, tuple[int, ...], np.ndarray, np.ndarray | None]:
-    h = _view(model)
-    q_ = _f64(q, "q")
-    x_ = None if extra is None else _f64(extra, name)
-    parts = [(q_, 1)] + ([] if x_ is None else [(x_, len(tail))])
-    batch = _batch_shape(model, parts, q, [], None)
-    Q = _rows(q_, batch, (h.nq,))
-    assert Q is not None
-    return h, batch, Q, _rows(x_, batch, tail)
-
-
-def _raise_ltl(st: tuple[int, int], model: Model, q: Any, what: str) -> None:
-    """A factorisation's failure: the reference's words (``fd.aba``'s for a singular mass matrix)."""
-    if st[1] and _errors.decode(st[1])[0] == _errors.SINGULAR:
-        q_ = _f64(q, "q")
-        row = q_.reshape(-1, model.nq)[st[0] if q_.ndim > 1 else 0]
-        _aba_at_rest(model, row, None, False)
-    _check_batch(st, model, q, [], what=what)
+    mu, max_iter, tol = solver_settings(options.pop("mu"), max_iter, tol)
+    xs = [_f64(q, "q"), _f64(v, "v"), _f64(tau, "tau"), None if f_ext is None else _f64(f_ext, "f_ext")]
+    state = [(x, k) for x, k in zip(xs, (1, 1, 1, 2), strict=True) if x is not None]
+    batch = _batch_shape(model, state, q, [("v", v), ("tau", tau)], f_ext)
+    try:
+        batch = np.broadcast_shapes(batch, *(x.shape[: x.ndim - k] for x, k in extra))
+    except ValueError:
+        raise ShapeError(f"the rows {[x.shape for x, _ in extra]} and the state {batch}: batch shapes that do not "
+                         "broadcast") from None
+    qdd, lam, info = declared.run(name, model, batch, xs + [x for x, _ in extra],
+                                  options={**options, "mu": mu, "max_iter": max_iter, "tol": tol,
+                                           "singular_tol": DELASSUS_PIVOT_RTOL})
+    if check:
+        ConstraintError.check_iterations(info[..., 0], lam.shape[-1], max_iter, tol)
+    return qdd, lam, info
 
 
 def delassus(model: Model, q: Any, J: Any) -> np.ndarray:
-    """``J M(q)⁻¹ Jᵀ`` `(..., m, m)` for ``J`` `(..., m, nv)`, without forming M⁻¹::
+    """``J M(q)⁻¹ Jᵀ`` `(..., m, m)` for ``J`` `(..., m, nv)`, without forming M⁻¹ (the declared ``delassus``)::
 
         J M⁻¹ Jᵀ = (J L⁻¹)(J L⁻¹)ᵀ,   M = Lᵀ L
     """
-    J_ = _f64(J, "J")
-    if J_.ndim < 2 or J_.shape[-1] != model.nv:
-        raise ShapeError(f"J: expected shape (..., m, {model.nv}), got {J_.shape}")
-    m = J_.shape[-2]
-    h, batch, Q, JR = _ltl_rows(model, q, J_, "J", (m, model.nv))
-    D = np.empty(batch + (m, m))
-    st = _core.delassus_batch(h.cm, Q, JR, m, D.reshape(math.prod(batch), m * m))
-    _raise_ltl(st, model, q, "delassus")
-    return D
+    J_, m = _rows_of(J, model.nv)
+    q_ = _f64(q, "q")
+    batch = _batch_shape(model, [(q_, 1), (J_, 2)], q, [], None)
+    return declared.run("delassus", model, batch, [q_, J_], options={"rows": m})[0]
 
 
 def constrained_solve(model: Model, q: Any, v: Any, tau: Any, J: Any, c: Any, f_ext: Any = None, *, mu: float = 0.0,
                       max_iter: int = 50, tol: float = 1e-12) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """``(q̈, λ, residual)`` of ``M q̈ + h = τ + Jᵀ λ`` and ``J q̈ = c`` for ``J`` `(..., m, nv)`, ``c`` `(..., m)`.
 
-    By the Schur complement on M's tree-sparse factor (M is never inverted)::
+    By the Schur complement on M's tree-sparse factor (M is never inverted; the declared ``constrained_solve``)::
 
         q̈_f = M⁻¹ (τ − h),   D = J M⁻¹ Jᵀ,   D λ = c − J q̈_f,   q̈ = q̈_f + M⁻¹ Jᵀ λ
 
@@ -321,38 +248,12 @@ def constrained_solve(model: Model, q: Any, v: Any, tau: Any, J: Any, c: Any, f_
         ConstraintError: dependent rows with ``mu = 0`` (the message suggests ``mu``), or no convergence
             in ``max_iter`` proximal iterations.
     """
-    from ..errors import ConstraintError
-    from ..tolerances import DELASSUS_PIVOT_RTOL
-
-    J_ = _f64(J, "J")
-    if J_.ndim < 2 or J_.shape[-1] != model.nv:
-        raise ShapeError(f"J: expected shape (..., m, {model.nv}), got {J_.shape}")
-    m = J_.shape[-2]
-    h, batch, _, vectors = _dynamics_rows(model, q, v, tau, f_ext, "tau")
+    J_, m = _rows_of(J, model.nv)
     c_ = _f64(c, "c")
     if c_.shape[-1:] != (m,):
         raise ShapeError(f"c: expected shape (..., {m}) for J with {m} rows, got {c_.shape}")
-    try:
-        batch = np.broadcast_shapes(batch, J_.shape[:-2], c_.shape[:-1])
-    except ValueError:
-        raise ShapeError(f"J {J_.shape[:-2]}, c {c_.shape[:-1]} and the state {batch}: batch shapes that do not "
-                         "broadcast") from None
-    N, nv = math.prod(batch), h.nv
-    rows = [_rows(x, batch, tail) for x, tail in ((_f64(q, "q"), (h.nq,)), (_f64(v, "v"), (nv,)),
-                                                  (_f64(tau, "tau"), (nv,)))]
-    FXr = None if f_ext is None else _rows(_f64(f_ext, "f_ext"), batch, (h.nb, 6))
-    qdd, lam, info = np.empty(batch + (nv,)), np.empty(batch + (m,)), np.empty(batch + (2,))
-    st = _core.kkt_batch(h.cm, *rows, FXr, _rows(J_, batch, (m, nv)), _rows(c_, batch, (m,)), m, float(mu),
-                         int(max_iter), float(tol), DELASSUS_PIVOT_RTOL, qdd.reshape(N, nv), lam.reshape(N, m),
-                         info.reshape(N, 2))
-    if st[1]:
-        _raise_derivative_status(st, model, q, vectors, f_ext, [rows[0], rows[1], rows[2], FXr], True,
-                                 "constrained_solve")
-    its = info[..., 0]
-    if np.any(its == -1):
-        raise ConstraintError.dependent(m)
-    if np.any(its == -2):
-        raise ConstraintError.not_converged(max_iter, tol)
+    qdd, lam, info = _solved("constrained_solve", model, q, v, tau, f_ext, [(J_, 2), (c_, 1)], {"rows": m, "mu": mu},
+                             max_iter, tol)
     return qdd, lam, info[..., 1]
 
 
@@ -361,25 +262,19 @@ def contact_dynamics(model: Model, q: Any, v: Any, tau: Any, specs: np.ndarray, 
                      ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """``(q̈, λ, iterations, residual)`` under point and frame contacts, rows and solve in one core call.
 
-    ``specs`` `(nc, 4)` float64 rows ``[rows (3 | 6), frame index, reference code, K_d]`` (``contacts.hpp``)::
+    ``specs`` `(nc, 4)` float64 rows ``[rows (3 | 6), frame index, reference code, K_d]`` (``contacts.hpp``; the
+    declared ``contact_dynamics``)::
 
         point: J = linear rows of the frame Jacobian, γ = classical acceleration of the origin at q̈ = 0
         frame: J = the frame Jacobian, γ = its spatial acceleration at q̈ = 0;   c = −γ − K_d J q̇
         M q̈ + h = τ + Jᵀ λ,  J q̈ = c    (Schur complement on M's LᵀL factor)
 
-    ``iterations`` `(...)`: −1 dependent rows (with ``mu = 0``), −2 not converged; the caller raises.
+    ``iterations`` `(...)`: −1 dependent rows (with ``mu = 0``; q̈ and λ are then zero), −2 not converged; the
+    caller raises.
     """
-    from ..tolerances import DELASSUS_PIVOT_RTOL
-
-    m = int(specs[:, 0].sum())
-    h, batch, rows, vectors = _dynamics_rows(model, q, v, tau, f_ext, "tau")
-    N, nv = math.prod(batch), h.nv
-    qdd, lam, info = np.empty(batch + (nv,)), np.empty(batch + (m,)), np.empty(batch + (2,))
-    st = _core.contact_dynamics_batch(h.cm, *rows, np.ascontiguousarray(specs, dtype=np.float64), float(mu),
-                                      int(max_iter), float(tol), DELASSUS_PIVOT_RTOL, qdd.reshape(N, nv),
-                                      lam.reshape(N, m), info.reshape(N, 2))
-    if st[1]:
-        _raise_derivative_status(st, model, q, vectors, f_ext, rows, True, "constrained_dynamics")
+    plan = _lib().ContactPlan(_view(model).cm, np.ascontiguousarray(specs, dtype=np.float64))
+    qdd, lam, info = _solved("contact_dynamics", model, q, v, tau, f_ext, [], {"plan": plan, "mu": mu}, max_iter, tol,
+                             check=False)
     return qdd, lam, info[..., 0], info[..., 1]
 
 

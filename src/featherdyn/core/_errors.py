@@ -21,6 +21,7 @@ import numpy as np
 
 from .._state_checks import batch_with_f_ext, check_f_ext, check_state
 from ..errors import (
+    ConstraintError,
     FeatherdynError,
     ModelError,
     NonFiniteError,
@@ -30,12 +31,12 @@ from ..errors import (
 )
 from ..model import Model
 
-__all__ = ["OK", "LENGTH", "NONFINITE", "QUATERNION", "SINGULAR", "OVERLAP", "NO_MASS", "ARG_NAMES", "decode", "validate",
+__all__ = ["OK", "LENGTH", "NONFINITE", "QUATERNION", "SINGULAR", "OVERLAP", "NO_MASS", "CONSTRAINT", "ARG_NAMES", "decode", "validate",
            "raise_for", "singular_error"]
 
-OK, LENGTH, NONFINITE, QUATERNION, SINGULAR, OVERLAP, NO_MASS = range(7)
+OK, LENGTH, NONFINITE, QUATERNION, SINGULAR, OVERLAP, NO_MASS, CONSTRAINT = range(8)
 #: the ``arg`` field of a status
-ARG_NAMES = ("q", "v", "a", "f_ext", "out", "frame")
+ARG_NAMES = ("q", "v", "a", "f_ext", "out", "frame", "J", "c")
 
 
 def decode(status: int) -> tuple[int, int, int]:
@@ -83,6 +84,8 @@ def raise_for(status: int, model: Model, q: Any, vectors: Sequence[tuple[str, An
         raise SingularMassMatrixError.for_joint(model.joint_names[index], model.body_names[index])
     if code == NO_MASS:
         raise ModelError.no_mass(model.name)
+    if code == CONSTRAINT:
+        raise ConstraintError.singular_frames(index)
     if code == OVERLAP:
         raise ShapeError(f"out: shares memory with {name}; the public functions compute such a call into fresh memory")
     raise FeatherdynError(f"featherdyn.core: unexpected status {status}")

@@ -34,13 +34,13 @@ from __future__ import annotations
 
 import time
 from collections.abc import Callable
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from ..errors import ModelError
 from ..model import Model
-from ..results import CenterOfMass, Kinematics
-from ..spatial import PluckerTransform, SpatialForce
+from ..results import Kinematics
 from . import _lib, _view
 
 __all__ = ["CompiledModel", "compile_model"]
@@ -55,38 +55,18 @@ class CompiledModel:
         compile_seconds: how long :func:`compile_model` took (copying the model's arrays; nothing is compiled).
     """
 
-    # the declared algorithms' methods, set by fd.compile (api/declarations.py), typed by their results
+    # the declared algorithms' methods, set by fd.compile (api/declarations.py): the common ones typed by their results
     rnea: Callable[..., np.ndarray]
-    nle: Callable[..., np.ndarray]
-    gravity: Callable[..., np.ndarray]
     crba: Callable[..., np.ndarray]
     aba: Callable[..., np.ndarray]
     fk: Callable[..., np.ndarray]
     frame_jacobian: Callable[..., np.ndarray]
-    joint_jacobians: Callable[..., np.ndarray]
-    frame_jacobian_time_variation: Callable[..., np.ndarray]
-    kinetic_energy: Callable[..., np.ndarray]
-    potential_energy: Callable[..., np.ndarray]
-    centroidal_momentum_matrix: Callable[..., np.ndarray]
     rnea_derivatives: Callable[..., tuple[np.ndarray, np.ndarray, np.ndarray]]
     aba_derivatives: Callable[..., tuple[np.ndarray, np.ndarray, np.ndarray]]
-    mass_matrix_inverse: Callable[..., np.ndarray]
-    joint_torque_regressor: Callable[..., np.ndarray]
-    frame_velocity_derivatives: Callable[..., tuple[np.ndarray, np.ndarray]]
-    frame_acceleration_derivatives: Callable[..., tuple[np.ndarray, np.ndarray, np.ndarray]]
-    generalized_gravity_derivatives: Callable[..., np.ndarray]
-    static_torque_derivatives: Callable[..., np.ndarray]
     forward_kinematics: Callable[..., Kinematics]
-    frame_placement: Callable[..., PluckerTransform]
-    center_of_mass: Callable[..., np.ndarray | CenterOfMass]
-    centroidal_momentum: Callable[..., SpatialForce]
-    rnea_batch: Callable[..., np.ndarray]
-    crba_batch: Callable[..., np.ndarray]
-    aba_batch: Callable[..., np.ndarray]
-    frame_jacobian_batch: Callable[..., np.ndarray]
-    fk_batch: Callable[..., np.ndarray]
-    rnea_derivatives_batch: Callable[..., tuple[np.ndarray, np.ndarray, np.ndarray]]
-    aba_derivatives_batch: Callable[..., tuple[np.ndarray, np.ndarray, np.ndarray]]
+
+    if TYPE_CHECKING:  # every other declared algorithm's method (a new algorithm adds none here)
+        def __getattr__(self, name: str) -> Callable[..., Any]: ...
 
     def __init__(self, model: Model, compile_seconds: float = 0.0) -> None:
         _lib()

@@ -21,7 +21,7 @@ from . import _errors
 from ._model_view import CoreHandle, model_view
 from ._result_pool import result_array
 
-__all__ = ["Spec", "SPECS", "kernel", "shape_of", "run", "raise_singular", "arg_names"]
+__all__ = ["Spec", "SPECS", "kernel", "shape_of", "rows_of", "run", "raise_singular", "arg_names"]
 
 try:
     import featherdyn.core._core as _binding  # the compiled extension: a leaf, it imports no featherdyn module
@@ -46,6 +46,11 @@ class Spec:
     options: tuple[str, ...]
     input_names: tuple[str, ...]
 
+    @property
+    def constrained(self) -> bool:
+        """Whether its lengths include the call's constraint rows ``m`` (the constraint family: ``rows``, ``plan``)."""
+        return "rows" in self.options or "plan" in self.options
+
     @classmethod
     def of(cls, k: Any) -> Spec:
         inputs = tuple(k.inputs)
@@ -61,10 +66,17 @@ def kernel(name: str) -> Any:
     return None if _binding is None else _binding.kernels[name]
 
 
-def shape_of(h: CoreHandle, symbolic: tuple[Any, ...]) -> tuple[int, ...]:
-    """A declared shape with the model's lengths: ``("nv", "nv")`` → `(nv, nv)`."""
-    lengths = {"nq": h.nq, "nv": h.nv, "nb": h.nb, "np": 10 * h.nb}
+def shape_of(h: CoreHandle, symbolic: tuple[Any, ...], rows: int = 0) -> tuple[int, ...]:
+    """A declared shape with the model's lengths and the call's constraint rows ``m``: ``("nv", "nv")`` → `(nv, nv)`."""
+    lengths = {"nq": h.nq, "nv": h.nv, "nb": h.nb, "np": 10 * h.nb, "m": rows}
     return tuple(lengths[d] if isinstance(d, str) else int(d) for d in symbolic)
+
+
+def rows_of(options: dict[str, Any] | None) -> int:
+    """The call's constraint rows ``m``: its contact plan's, or ``rows`` (0 when it has none)."""
+    options = options or {}
+    plan = options.get("plan")
+    return int(plan.m) if plan is not None else int(options.get("rows", 0))
 
 
 def run(name: str, model: Model, batch: tuple[int, ...], inputs: list[np.ndarray | None],
@@ -76,22 +88,25 @@ def run(name: str, model: Model, batch: tuple[int, ...], inputs: list[np.ndarray
     ``inputs`` are in the declaration's order, each broadcastable to ``batch`` plus its declared shape
     (``None`` for an absent optional one); ``out``, when given, holds the outputs to write into (C-contiguous
     float64, checked by the caller; their shapes are checked here, and an ``out`` that may share memory with an
-    input gets the results through fresh memory); ``options`` its scalar parameters (``gravity``,
-    ``frame`` as an index, ``reference`` as a code). A failing row raises the reference's error for the whole
-    batch (``_errors.raise_for``, naming the row as NumPy would); ``SINGULAR``, ABA's, as the reference words it
+    input gets the results through fresh memory); ``options`` its parameters by name (``core/cpp/declare.hpp``:
+    ``gravity``, ``frame`` an index, ``reference`` a code, ``rows`` or a contact ``plan``, ``mu``, ``max_iter``, ``tol``,
+    ``singular_tol``). A failing row
+    raises the reference's error for the whole batch (``_errors.raise_for``, naming the row as NumPy would); ``SINGULAR``, ABA's, as the reference words it
     (:func:`raise_singular`).
     """
     spec = SPECS[name]
     k = spec.kernel
     h = model_view(model, _binding)
     N = math.prod(batch)
+    options = options or {}
+    rows_m = rows_of(options)
     rows: list[np.ndarray | None] = []
     for x, (_, shape, _) in zip(inputs, spec.inputs, strict=True):
         if x is None:
             rows.append(None)
             continue
         x = np.require(x, np.float64, ("C", "A"))  # native, C-contiguous and aligned: as the kernel reads rows
-        tail = shape_of(h, shape)
+        tail = shape_of(h, shape, rows_m)
         n = math.prod(tail)
         if x.ndim < len(tail) or x.shape[x.ndim - len(tail):] != tail:
             rows.append(x.reshape(-1, max(x.shape[-1] if x.ndim else 1, 1)))  # wrong length: the core reports it
@@ -105,7 +120,7 @@ def run(name: str, model: Model, batch: tuple[int, ...], inputs: list[np.ndarray
             rows.append(np.ascontiguousarray(np.broadcast_to(x, batch + tail)).reshape(N, n))
     given = dict(zip(spec.input_names, inputs, strict=True))
     shapes: list[tuple[int, ...] | None] = [None if when is not None and given[when] is None
-                                            else batch + shape_of(h, s) for _, s, when in spec.outputs]
+                                            else batch + shape_of(h, s, rows_m) for _, s, when in spec.outputs]
     if out is not None and len(out) != len(shapes):
         raise ShapeError(f"out: expected {len(shapes)} arrays, got {len(out)}")
     for i, (o, expected) in enumerate(zip(out, shapes, strict=True) if out is not None else ()):
@@ -124,7 +139,7 @@ def run(name: str, model: Model, batch: tuple[int, ...], inputs: list[np.ndarray
     outs = out if out is not None else tuple(None if shape is None else result_array(shape) for shape in shapes)
     if N == 0:  # an empty batch: empty results
         return tuple(outs)
-    _row, status = k.batch(h.cm, rows, [None if o is None else o.reshape(N, -1) for o in outs], **(options or {}))
+    _row, status = k.batch(h.cm, rows, [None if o is None else o.reshape(N, -1) for o in outs], **options)
     if status:
         names = spec.input_names
         q = inputs[names.index("q")]
@@ -132,7 +147,7 @@ def run(name: str, model: Model, batch: tuple[int, ...], inputs: list[np.ndarray
         f_ext = inputs[names.index("f_ext")] if "f_ext" in names else None
         if _errors.decode(status)[0] == _errors.SINGULAR:
             _errors.validate(model, q, vectors, f_ext)
-            raise_singular(spec, model, h, rows, options or {})
+            raise_singular(spec, model, h, rows, options)
         _errors.raise_for(status, model, q, vectors, f_ext, arg_names=arg_names(spec), what=name)
     return tuple(outs)
 
@@ -146,7 +161,7 @@ def raise_singular(spec: Spec, model: Model, h: CoreHandle, rows: list[np.ndarra
     D = np.empty(36)
     N = max(x.shape[0] for x in rows if x is not None)
     for r in range(N):
-        state = [None if x is None else x[0 if x.shape[0] == 1 else r].reshape(shape_of(h, shape))
+        state = [None if x is None else x[0 if x.shape[0] == 1 else r].reshape(shape_of(h, shape, rows_of(options)))
                  for x, (_, shape, _) in zip(rows, spec.inputs, strict=True)]
         joint = spec.kernel.singular_block(h.cm, state, D, **options)
         if joint >= 0:
@@ -162,5 +177,5 @@ def arg_names(spec: Spec) -> tuple[str, ...]:
     ``frame``) as its declaration names them."""
     names = list(_errors.ARG_NAMES)
     for n in spec.input_names:  # q, v, f_ext by their names; the other vector (q̈, τ, b) is the third argument
-        names[{"q": 0, "v": 1, "f_ext": 3}.get(n, 2)] = n
+        names[{"q": 0, "v": 1, "f_ext": 3, "J": 6, "c": 7}.get(n, 2)] = n
     return tuple(names)

@@ -89,7 +89,7 @@ void sin_cos_n(const In& x, Out s, Out c, bool packs) {
   for (; k < n; ++k) sin_cos(X[k], So[k], Co[k]);
 }
 
-// A declaration's operands as Python sees them: (name, shape with "nq", "nv", "nb", "np" for the symbolic lengths,
+// A declaration's operands as Python sees them: (name, shape with "nq", "nv", "nb", "np", "m" for the symbolic lengths,
 // then for an input whether it is optional, for an output the name of the input it is formed with or None).
 nb::list operands(const std::vector<Operand>& ops, const std::vector<Operand>* inputs = nullptr) {
   nb::list out;
@@ -101,6 +101,7 @@ nb::list operands(const std::vector<Operand>& ops, const std::vector<Operand>* i
       else if (n == NV) shape.append("nv");
       else if (n == NB) shape.append("nb");
       else if (n == NP) shape.append("np");
+      else if (n == NM) shape.append("m");
       else shape.append(n);
     }
     nb::object third = inputs == nullptr ? nb::object(nb::bool_(o.optional))
@@ -117,6 +118,9 @@ nb::tuple option_names(unsigned options) {
   if (options & FRAME) names.append("frame");
   if (options & REFERENCE) names.append("reference");
   if (options & GRAVITY) names.append("gravity");
+  if (options & ROWS) names.append("rows");
+  if (options & CONTACTS) names.append("plan");
+  if (options & SOLVER) names.append("solver");
   return nb::tuple(names);
 }
 
@@ -128,19 +132,18 @@ void operand_objects(const Kernel& k, const nb::sequence& xs, size_t n, PyObject
 }
 
 std::int64_t into(const Kernel& k, const ModelData& md, const nb::sequence& inputs, const nb::sequence& outputs,
-                  bool gravity, int frame, int reference) {
+                  const nb::kwargs& options) {
   PyObject *ip[DECLARED_MAX], *op[DECLARED_MAX];
   operand_objects(k, inputs, k.inputs.size(), ip);
   operand_objects(k, outputs, k.outputs.size(), op);
-  return run_into(k, md.view, ip, op, Options{gravity, frame, reference});
+  return run_into(k, md.view, ip, op, options_of(md, options));
 }
 
-nb::object fresh(const Kernel& k, const ModelData& md, const nb::sequence& inputs, bool gravity, int frame,
-                 int reference) {
+nb::object fresh(const Kernel& k, const ModelData& md, const nb::sequence& inputs, const nb::kwargs& options) {
   PyObject* ip[DECLARED_MAX];
   operand_objects(k, inputs, k.inputs.size(), ip);
   PyObject* outs[DECLARED_MAX];
-  if (!run_fresh(k, md.view, ip, Options{gravity, frame, reference}, outs)) {
+  if (!run_fresh(k, md.view, ip, options_of(md, options), outs)) {
     if (PyErr_Occurred()) throw nb::python_error();
     return nb::none();
   }
@@ -151,7 +154,8 @@ nb::object fresh(const Kernel& k, const ModelData& md, const nb::sequence& input
 
 // A SINGULAR status's detail (declare.hpp): the joint, and its D in D36, for one state of checked arrays.
 std::int64_t singular_block(const Kernel& k, const ModelData& md, const nb::sequence& inputs, const F64Out& D36,
-                            bool gravity, int frame, int reference) {
+                            const nb::kwargs& options) {
+  const Options opt = options_of(md, options);
   if (k.singular_block == nullptr) throw nb::value_error(("featherdyn.core." + k.name + ": no singular status").c_str());
   PyObject* ip[DECLARED_MAX];
   operand_objects(k, inputs, k.inputs.size(), ip);
@@ -159,12 +163,12 @@ std::int64_t singular_block(const Kernel& k, const ModelData& md, const nb::sequ
   const double* p[DECLARED_MAX] = {};
   for (size_t i = 0; i < k.inputs.size(); ++i) {
     if (ip[i] == Py_None) continue;
-    if (!in[i].acquire(ip[i]) || declared::exact(in[i], md.view, k.inputs[i]) != OK)
+    if (!in[i].acquire(ip[i]) || declared::exact(in[i], md.view, opt, k.inputs[i]) != OK)
       throw nb::value_error("singular_block: checked float64 arrays of one state expected");
     p[i] = in[i].data();
   }
   if (!D36.is_valid() || D36.size() != 36) throw nb::value_error("singular_block: D must be a float64 array of 36");
-  return k.singular_block(md.view, p, Options{gravity, frame, reference}, D36.data());
+  return k.singular_block(md.view, p, opt, D36.data());
 }
 
 ModelData* make_model(int nb, int nq, int nv, const Ints& body_ints, const In& body_reals, const In& gravity,
@@ -198,7 +202,7 @@ NB_MODULE(_core, m) {
       .def_prop_ro("nf", [](const ModelData& d) { return d.view.nf; });
 
   bind_dynamics(m);
-  bind_constraints(m);
+  bind_options(m);
   bind_public_calls(m);
 
   // the declared algorithms (declare.hpp, declarations.hpp): each bound once, by the same three front ends
@@ -207,20 +211,17 @@ NB_MODULE(_core, m) {
       .def_prop_ro("inputs", [](const Kernel& k) { return operands(k.inputs); })
       .def_prop_ro("outputs", [](const Kernel& k) { return operands(k.outputs, &k.inputs); })
       .def_prop_ro("options", [](const Kernel& k) { return option_names(k.options); })
-      .def("into", &into, nb::arg("model"), nb::arg("inputs"), nb::arg("outputs"), nb::arg("gravity") = true,
-           nb::arg("frame") = 0, nb::arg("reference") = 0,
-           "one state into the given outputs; the status (0: OK; -1: an argument not taken as it is)")
-      .def("fresh", &fresh, nb::arg("model"), nb::arg("inputs"), nb::arg("gravity") = true, nb::arg("frame") = 0,
-           nb::arg("reference") = 0,
+      .def("into", &into, nb::arg("model"), nb::arg("inputs"), nb::arg("outputs"), nb::arg("options"),
+           "one state into the given outputs (options by name: featherdyn/core/declared.py, run); the status (0: OK; "
+           "-1: an argument not taken as it is)")
+      .def("fresh", &fresh, nb::arg("model"), nb::arg("inputs"), nb::arg("options"),
            "one state; the result (an array or a tuple), or None where `into` would return a non-zero status")
-      .def("singular_block", &singular_block, nb::arg("model"), nb::arg("inputs"), nb::arg("D"),
-           nb::arg("gravity") = true, nb::arg("frame") = 0, nb::arg("reference") = 0,
+      .def("singular_block", &singular_block, nb::arg("model"), nb::arg("inputs"), nb::arg("D"), nb::arg("options"),
            "the joint a SINGULAR status names (-1: none) for one checked state, its D written into D (36,)")
       .def("batch", [](const Kernel& k, const ModelData& md, const nb::sequence& inputs, const nb::sequence& outputs,
-                       bool gravity, int frame, int reference) {
-             return run_batch(k, md.view, inputs, outputs, Options{gravity, frame, reference});
-           }, nb::arg("model"), nb::arg("inputs"), nb::arg("outputs"), nb::arg("gravity") = true,
-           nb::arg("frame") = 0, nb::arg("reference") = 0,
+                       const nb::kwargs& options) {
+             return run_batch(k, md.view, inputs, outputs, options_of(md, options));
+           }, nb::arg("model"), nb::arg("inputs"), nb::arg("outputs"), nb::arg("options"),
            "rows of a batch on the thread pool; (first failing row, status) or (-1, 0)");
   nb::dict kernels;
   for (const Kernel& k : declared_kernels()) kernels[k.name.c_str()] = nb::cast(&k, nb::rv_policy::reference);

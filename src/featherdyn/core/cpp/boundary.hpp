@@ -53,36 +53,8 @@ std::int64_t vec(const A& x, size_t n, std::int64_t arg) {
   return OK;
 }
 
-// A batch input: (R, n) with R = N rows, or R = 1 broadcast to every row.
+// A batch input: (R, n) with R = N rows, or R = 1 broadcast to every row (declare.hpp: run_batch).
 using fdgroup::Rows;
-
-inline std::int64_t rows(const In& x, std::int64_t N, size_t n, std::int64_t arg, Rows& out) {
-  require_aligned(x);
-  if (!x.is_valid()) return OK;
-  if (x.ndim() != 2 || x.shape(1) != n || !(x.shape(0) == static_cast<size_t>(N) || x.shape(0) == 1))
-    return make_status(LENGTH, arg, x.ndim() == 2 ? static_cast<std::int64_t>(x.shape(x.ndim() - 1)) : -1);
-  out.p = x.data();
-  out.stride = x.shape(0) == 1 ? 0 : static_cast<std::int64_t>(n);
-  return OK;
-}
-
-inline std::int64_t out_rows(const Out& x, size_t n, std::int64_t& N) {
-  require_aligned(x);
-  if (x.ndim() < 1) return make_status(LENGTH, ARG_OUT, -1);
-  size_t total = 1;
-  for (size_t d = 1; d < x.ndim(); ++d) total *= x.shape(d);
-  if (total != n) return make_status(LENGTH, ARG_OUT, static_cast<std::int64_t>(total));
-  N = static_cast<std::int64_t>(x.shape(0));
-  return OK;
-}
-
-// A further output of the same batch: (N, n) rows, N as the first output's.
-inline std::int64_t same_rows(const Out& x, size_t n, std::int64_t N) {
-  std::int64_t rows_x = 0;
-  const std::int64_t s = out_rows(x, n, rows_x);
-  if (s != OK) return s;
-  return rows_x == N ? OK : make_status(LENGTH, ARG_OUT, rows_x);
-}
 
 // An output (or a one-state f_ext) of exactly this shape.
 template <class A>

@@ -5,8 +5,10 @@
 //
 // code: OK, LENGTH (index = the wrong length), NONFINITE (index = the first bad element),
 // QUATERNION (index = the body whose quaternion is off unit norm), SINGULAR (index = the joint), OVERLAP (an
-// output shares memory with the input `arg`, or with another output: arg = ARG_OUT);
-// arg: which input (ARG_Q, ARG_V, ARG_A (a or τ), ARG_FEXT, ARG_OUT, ARG_FRAME).
+// output shares memory with the input `arg`, or with another output: arg = ARG_OUT), NO_MASS (a massless tree),
+// CONSTRAINT (index = m: constraint rows whose J M⁻¹ Jᵀ is singular, where no solver setting can go on);
+// arg: which input (ARG_Q, ARG_V, ARG_A (a or τ), ARG_FEXT, ARG_OUT, ARG_FRAME, ARG_J and ARG_C: constraint rows
+// J q̈ = c, which are not part of the state check).
 #pragma once
 
 #include <cmath>
@@ -18,8 +20,9 @@
 namespace fdcore {
 
 enum StatusCode : std::int64_t { OK = 0, LENGTH = 1, NONFINITE = 2, QUATERNION = 3, SINGULAR = 4, OVERLAP = 5,
-                                 NO_MASS = 6 };
-enum Arg : std::int64_t { ARG_Q = 0, ARG_V = 1, ARG_A = 2, ARG_FEXT = 3, ARG_OUT = 4, ARG_FRAME = 5 };
+                                 NO_MASS = 6, CONSTRAINT = 7 };
+enum Arg : std::int64_t { ARG_Q = 0, ARG_V = 1, ARG_A = 2, ARG_FEXT = 3, ARG_OUT = 4, ARG_FRAME = 5, ARG_J = 6,
+                          ARG_C = 7 };
 
 // (an unknown index, e.g. the length of an array that is not 1-D, is given as −1 and stored as 0)
 inline std::int64_t make_status(std::int64_t code, std::int64_t arg, std::int64_t index) {

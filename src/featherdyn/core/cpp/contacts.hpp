@@ -419,7 +419,7 @@ std::int64_t contact_dynamics(const ModelView& mv, const S* q, const S* qd, cons
 //
 // so the subtrees off the frames' chains cost O(bodies) instead of the factor's O(depth²) per dof. Then
 // J M⁻¹ Jᵀ = Y Yᵀ and its inverse through its Cholesky factor (M is never inverted). Returns OK, SINGULAR for
-// M, or LENGTH (ARG_OUT) when J M⁻¹ Jᵀ + μ 1 has a pivot below singular_tol (the caller's general path decides).
+// M, or CONSTRAINT (index m) when J M⁻¹ Jᵀ + μ 1 has a pivot below singular_tol.
 template <class S>
 std::int64_t operational_space_inertia(const ModelView& mv, const S* q, const ContactSpec* specs, int nc, double mu,
                                        double singular_tol, S* Lambda) {
@@ -484,7 +484,7 @@ std::int64_t operational_space_inertia(const ModelView& mv, const S* q, const Co
   S* D = w.D.data();
   delassus_rows(specs, nc, w, w.Y.data(), m, D);
   for (int i = 0; i < m; ++i) D[i * m + i] += S(mu);
-  if (dense_cholesky<S>(D, m, singular_tol)) return make_status(LENGTH, ARG_OUT, m);
+  if (dense_cholesky<S>(D, m, singular_tol)) return make_status(CONSTRAINT, ARG_OUT, m);
   w.D0.resize(static_cast<size_t>(m) * m);
   dense_cholesky_inverse<S>(D, m, w.D0.data(), Lambda);
   return OK;

@@ -10,6 +10,7 @@
 #include "aba.hpp"
 #include "crba.hpp"
 #include "declare.hpp"
+#include "declarations_constraints.hpp"
 #include "centroidal.hpp"
 #include "derivatives.hpp"
 #include "energy.hpp"
@@ -239,7 +240,7 @@ struct CentroidalMomentum : Declared {
   static std::int64_t run(const ModelView& mv, const double* const* in, double* const* out, const Options&) {
     const double mass = total_mass(mv);
     if (mass == 0.0) return make_status(NO_MASS, ARG_Q, 0);
-    centroidal_momentum(mv, in[0], in[1], mass, aligned_scratch(6 * static_cast<size_t>(mv.nv)), out[0]);
+    centroidal_momentum(mv, in[0], in[1], mass, out[0]);
     return OK;
   }
 };
@@ -258,12 +259,6 @@ struct RneaDerivatives : Declared {
     return OK;
   }
 };
-
-// The singular joint (−1: none) of q and its D = Sᵀ Iᴬ S: ABA at rest (the articulated inertias depend on q only).
-inline std::int64_t singular_at_rest(const ModelView& mv, const double* const* in, const Options&, double* D36) {
-  std::vector<double> zero(static_cast<size_t>(mv.nv), 0.0), qdd(static_cast<size_t>(mv.nv));
-  return aba<double>(mv, in[0], zero.data(), zero.data(), nullptr, false, qdd.data(), D36);
-}
 
 // L (nv, nv), lower triangular with the tree's sparsity, M(q) = Lᵀ L (ltl.hpp; RBDA §6.5): L_kj ≠ 0 only for j = k
 // or j an ancestor dof of k. Status SINGULAR naming the body of the first non-positive pivot.
@@ -414,7 +409,8 @@ inline const std::vector<Kernel>& declared_kernels() {
       declare<CentroidalMomentumMatrix>(),
       declare<GeneralizedGravityDerivatives>(), declare<StaticTorqueDerivatives>(), declare<Placements>(),
       declare<ForwardKinematics>(), declare<FramePlacement>(), declare<CenterOfMass>(), declare<CentroidalMomentum>(),
-      declare<MassMatrixFactor>(), declare<MassSolve>()};
+      declare<MassMatrixFactor>(), declare<MassSolve>(),
+      declare<Delassus>(), declare<ConstrainedSolve>(), declare<ContactDynamics>(), declare<OperationalSpaceInertia>()};
   return kernels;
 }
 

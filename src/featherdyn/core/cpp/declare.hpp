@@ -9,7 +9,8 @@
 //     static constexpr const char* name;
 //     static constexpr Operand inputs[] = {...}, outputs[] = {...};
 //     static std::int64_t run(const ModelView&, const double* const* in, double* const* out, const Options&);
-// and, where it has them, `options` (GRAVITY | FRAME | REFERENCE: the scalar parameters it takes) and `group`
+// and, where it has them, `options` (GRAVITY | FRAME | REFERENCE | ROWS | CONTACTS | SOLVER: the parameters it
+// takes besides its arrays) and `group`
 // (its SIMD kernel of one group of rows, simd_groups.hpp: the batch then runs in lanes). `run` gets each input
 // (nullptr for an absent optional one) and each output, all of the declared shapes and already checked
 // (lengths, finiteness, unit quaternions, the frame's index), and returns OK or its own status (checks.hpp:
@@ -22,14 +23,15 @@
 #include <vector>
 
 #include "boundary.hpp"
+#include "contact_spec.hpp"
 #include "groups.hpp"
 #include "public_calls.hpp"
 
 namespace fdcore {
 
-// A symbolic length: the model's nq, nv or nb, or np = 10 nb (the bodies' dynamic parameters); a non-negative
-// value is a literal length.
-enum SymbolicLength : int { NQ = -1, NV = -2, NB = -3, NP = -4 };
+// A symbolic length: the model's nq, nv or nb, np = 10 nb (the bodies' dynamic parameters), or the call's m (the
+// constraint rows: Options::rows); a non-negative value is a literal length.
+enum SymbolicLength : int { NQ = -1, NV = -2, NB = -3, NP = -4, NM = -5 };
 
 // An input or output: its name, the status argument that names it in an error (checks.hpp: ARG_Q for q, ARG_V,
 // ARG_A for q̈ or τ, ARG_FEXT, ARG_OUT), its shape (up to three lengths), whether an input may be absent, and for
@@ -57,13 +59,22 @@ constexpr Operand optional(Operand o) { return o.optional = true, o; }
 constexpr Operand when_given(Operand o, int input) { return o.when = input, o; }
 }  // namespace operand
 
-// The scalar parameters a declaration may take besides its arrays: the gravity flag (gravity=True), a frame
-// (its index) and a reference (0 LOCAL, 1 WORLD, 2 LOCAL_WORLD_ALIGNED: frames.hpp).
-enum OptionBits : unsigned { GRAVITY = 1u, FRAME = 2u, REFERENCE = 4u };
+// The parameters a declaration may take besides its arrays: the gravity flag (gravity=True), a frame (its index),
+// a reference (0 LOCAL, 1 WORLD, 2 LOCAL_WORLD_ALIGNED: frames.hpp), the constraint rows m (ROWS: the length NM),
+// contacts (CONTACTS: their specs, contact_spec.hpp, which also fix m) and the KKT solver's settings (SOLVER: the
+// proximal weight mu ≥ 0, its iterations and tolerance, and the pivot below which D = J M⁻¹ Jᵀ is singular).
+enum OptionBits : unsigned { GRAVITY = 1u, FRAME = 2u, REFERENCE = 4u, ROWS = 8u, CONTACTS = 16u, SOLVER = 32u };
 struct Options {
   bool gravity = true;
   int frame = 0;
   int reference = 0;
+  int rows = 0;
+  const ContactSpec* contacts = nullptr;
+  int nc = 0;
+  double mu = 0.0;
+  int max_iter = 50;
+  double tol = 1e-12;
+  double singular_tol = 0.0;
 };
 
 // What a declaration's status means beyond its code, for the error's words: ABA's SINGULAR names the joint, and
@@ -83,12 +94,12 @@ constexpr int DECLARED_MAX = 6;  // inputs, and outputs, of one declaration at m
 // user's mistake — the caller converts it (the Python path), or declines (the public call in C).
 constexpr std::int64_t NOT_TAKEN = -1;
 
-inline std::int64_t length_of(const ModelView& mv, int d) {
-  return d == NQ ? mv.nq : d == NV ? mv.nv : d == NB ? mv.nb : d == NP ? 10 * std::int64_t{mv.nb} : d;
+inline std::int64_t length_of(const ModelView& mv, const Options& opt, int d) {
+  return d == NQ ? mv.nq : d == NV ? mv.nv : d == NB ? mv.nb : d == NP ? 10 * std::int64_t{mv.nb} : d == NM ? opt.rows : d;
 }
-inline std::int64_t size_of(const ModelView& mv, const Operand& o) {
+inline std::int64_t size_of(const ModelView& mv, const Options& opt, const Operand& o) {
   std::int64_t n = 1;
-  for (int k = 0; k < o.nd; ++k) n *= length_of(mv, o.dims[k]);
+  for (int k = 0; k < o.nd; ++k) n *= length_of(mv, opt, o.dims[k]);
   return n;
 }
 
@@ -168,6 +179,9 @@ inline std::int64_t check_options(const Kernel& k, const ModelView& mv, const Op
   if ((k.options & FRAME) && (opt.frame < 0 || opt.frame >= mv.nf))
     return make_status(LENGTH, ARG_FRAME, opt.frame < 0 ? 0 : opt.frame);
   if ((k.options & REFERENCE) && (opt.reference < 0 || opt.reference > 2)) return NOT_TAKEN;
+  if ((k.options & (ROWS | CONTACTS)) && opt.rows < 0) return NOT_TAKEN;
+  if ((k.options & SOLVER) && !(opt.mu >= 0.0 && opt.mu < 1e300 && opt.max_iter >= 1 && opt.tol > 0.0 && opt.tol < 1e300))
+    return NOT_TAKEN;  // (the Python path words the error)
   return OK;
 }
 
@@ -177,15 +191,15 @@ inline std::int64_t run_checked(const Kernel& k, const ModelView& mv, const doub
   FD_TRY(check_inputs(k, mv, in));
   FD_TRY(k.run(mv, in, out, opt));
   for (size_t o = 0; o < k.outputs.size(); ++o)
-    if (out[o] != nullptr) FD_TRY(finite_result(out[o], size_of(mv, k.outputs[o])));
+    if (out[o] != nullptr) FD_TRY(finite_result(out[o], size_of(mv, opt, k.outputs[o])));
   return OK;
 }
 
 // An operand of one state: an array of exactly the declared shape (a wrong one: a LENGTH status naming it).
 template <class A>
-std::int64_t exact(const A& x, const ModelView& mv, const Operand& o) {
+std::int64_t exact(const A& x, const ModelView& mv, const Options& opt, const Operand& o) {
   bool same = x.ndim() == static_cast<size_t>(o.nd);
-  for (int d = 0; same && d < o.nd; ++d) same = static_cast<std::int64_t>(x.shape(d)) == length_of(mv, o.dims[d]);
+  for (int d = 0; same && d < o.nd; ++d) same = static_cast<std::int64_t>(x.shape(d)) == length_of(mv, opt, o.dims[d]);
   return same ? OK : make_status(LENGTH, o.arg, x.ndim() == 1 ? static_cast<std::int64_t>(x.shape(0)) : -1);
 }
 
@@ -204,10 +218,10 @@ inline std::int64_t run_state(const Kernel& k, const ModelView& mv, PyObject* co
       continue;
     }
     if (!in[i].acquire(x)) return NOT_TAKEN;
-    FD_TRY(exact(in[i], mv, k.inputs[i]));
+    FD_TRY(exact(in[i], mv, opt, k.inputs[i]));
     ip[i] = in[i].data();
     for (size_t o = 0; out_sizes != nullptr && o < k.outputs.size(); ++o)
-      if (op[o] != nullptr && overlaps(op[o], out_sizes[o], ip[i], size_of(mv, k.inputs[i])))
+      if (op[o] != nullptr && overlaps(op[o], out_sizes[o], ip[i], size_of(mv, opt, k.inputs[i])))
         return make_status(OVERLAP, k.inputs[i].arg, 0);
   }
   FD_TRY(check_options(k, mv, opt));
@@ -236,9 +250,9 @@ inline std::int64_t run_into(const Kernel& k, const ModelView& mv, PyObject* con
       continue;
     }
     if (!out[o].acquire(outputs[o])) return NOT_TAKEN;
-    FD_TRY(declared::exact(out[o], mv, k.outputs[o]));
+    FD_TRY(declared::exact(out[o], mv, opt, k.outputs[o]));
     op[o] = out[o].data();
-    n[o] = size_of(mv, k.outputs[o]);
+    n[o] = size_of(mv, opt, k.outputs[o]);
     for (size_t p = 0; p < o; ++p)
       if (overlaps(op[o], n[o], op[p], n[p])) return make_status(OVERLAP, ARG_OUT, 0);
   }
@@ -259,7 +273,7 @@ inline bool run_fresh(const Kernel& k, const ModelView& mv, PyObject* const* inp
   };
   auto formed = [&](size_t o) { return declared::formed(k, o, [&](size_t i) { return !declared::absent(inputs[i]); }); };
   std::int64_t total = 0;
-  for (size_t o = 0; o < no; ++o) total += formed(o) ? size_of(mv, k.outputs[o]) : 0;
+  for (size_t o = 0; o < no; ++o) total += formed(o) ? size_of(mv, opt, k.outputs[o]) : 0;
   PyObject* block = read_only ? PyBytes_FromStringAndSize(nullptr, static_cast<Py_ssize_t>(total * 8)) : nullptr;
   if (read_only && block == nullptr) return false;
   char* at = read_only ? PyBytes_AS_STRING(block) : nullptr;
@@ -270,11 +284,11 @@ inline bool run_fresh(const Kernel& k, const ModelView& mv, PyObject* const* inp
       continue;
     }
     npy_intp dims[3];
-    for (int d = 0; d < k.outputs[o].nd; ++d) dims[d] = length_of(mv, k.outputs[o].dims[d]);
+    for (int d = 0; d < k.outputs[o].nd; ++d) dims[d] = length_of(mv, opt, k.outputs[o].dims[d]);
     outs[o] = read_only ? f64_view(k.outputs[o].nd, dims, at, block) : new_f64(k.outputs[o].nd, dims);
     if (outs[o] == nullptr) break;
     op[o] = f64_data(outs[o]);
-    if (read_only) at += 8 * size_of(mv, k.outputs[o]);
+    if (read_only) at += 8 * size_of(mv, opt, k.outputs[o]);
   }
   Py_XDECREF(block);  // (held by the views)
   if (PyErr_Occurred()) return release();
@@ -314,7 +328,7 @@ inline RowStatus run_batch(const Kernel& k, const ModelView& mv, const nb::seque
     }
     if (!out[o].acquire(nb::handle(outputs[o]).ptr()))
       throw nb::type_error("out: writeable, aligned, C-contiguous native float64 arrays expected");
-    n_out[o] = size_of(mv, k.outputs[o]);
+    n_out[o] = size_of(mv, opt, k.outputs[o]);
     const std::int64_t rows = out[o].ndim() >= 1 ? static_cast<std::int64_t>(out[o].shape(0)) : -1;
     if (rows < 0 || static_cast<std::int64_t>(out[o].size()) != rows * n_out[o] || (N >= 0 && rows != N))
       return {-1, make_status(LENGTH, ARG_OUT, rows)};
@@ -330,7 +344,7 @@ inline RowStatus run_batch(const Kernel& k, const ModelView& mv, const nb::seque
       continue;
     }
     if (!in[i].acquire(x.ptr())) throw nb::type_error("featherdyn.core: native float64 arrays expected");
-    const std::int64_t n = size_of(mv, spec);
+    const std::int64_t n = size_of(mv, opt, spec);
     const std::int64_t R = in[i].ndim() >= 1 ? static_cast<std::int64_t>(in[i].shape(0)) : -1;
     if (!(R == N || R == 1) || static_cast<std::int64_t>(in[i].size()) != R * n)
       return {-1, make_status(LENGTH, spec.arg, R)};
@@ -359,6 +373,9 @@ inline RowStatus run_batch(const Kernel& k, const ModelView& mv, const nb::seque
   std::int64_t per_row = 0;
   for (size_t o = 0; o < k.outputs.size(); ++o) per_row += n_out[o];
   g.stream = fdgroup::stream_result(N, per_row);
+  const fdgroup::ContactArgs contacts{opt.contacts, opt.nc,    opt.rows, opt.mu, opt.max_iter,
+                                      opt.tol,      opt.singular_tol, g.out2,   g.out3};
+  if (k.options & CONTACTS) g.contacts = &contacts;  // (λ and the solve's info: the second and third outputs)
   auto check = [&](std::int64_t r) {  // (check_inputs on the rows of the group kernel's roles)
     return check_state(mv, by_arg[0].row(r), by_arg[1].row(r), by_arg[2].row(r), by_arg[3].row(r));
   };

@@ -1,5 +1,5 @@
 // The binding's families (docs/architecture.md, "The glue"): each bind_<family>.cpp defines its entry points and
-// registers them; the module (bindings.cpp) calls the three.
+// registers them; the module (bindings.cpp) calls them.
 #pragma once
 
 #include <nanobind/nanobind.h>
@@ -10,6 +10,7 @@
 #include <cstdint>
 
 #include "boundary.hpp"
+#include "declare.hpp"
 #include "model_view.hpp"
 
 namespace fdcore {
@@ -18,8 +19,12 @@ namespace nb = nanobind;
 
 // the families' registrations
 void bind_dynamics(nb::module_& m);
-void bind_constraints(nb::module_& m);
+void bind_options(nb::module_& m);
 void bind_public_calls(nb::module_& m);
+
+// A call's options (declare.hpp) as Python gives them, by name: gravity, frame (an index), reference (a code), rows,
+// plan (a ContactPlan made for `md`: its contacts and m), mu, max_iter, tol, singular_tol (TypeError for another).
+Options options_of(const ModelData& md, const nb::kwargs& given);
 
 // an array argument: noconvert (no implicit copies or casts); opt: an optional one, which accepts None
 inline auto arr(const char* name) { return nb::arg(name).noconvert(); }
