@@ -250,6 +250,59 @@ def test_the_package_root_holds_at_most_twenty_modules() -> None:
         "put a module with the concept it belongs to (a room of docs/architecture.md)")
 
 
+# --------------------------------------------------------------------------
+# the glue's budget (docs/architecture.md, "One declaration per algorithm"): the generic machinery of the binding
+# stays small next to the algorithms it serves
+# --------------------------------------------------------------------------
+
+CPP = SRC / "core" / "cpp"
+#: the binding's generic machinery: the module, its families, the declaration templates, the boundary
+GLUE = ("bindings.cpp", "bind_dynamics.cpp", "bind_options.cpp", "bind_public_calls.cpp", "declare.hpp",
+        "public_calls.hpp", "boundary.hpp", "buffer.hpp", "numpy_api.hpp", "entry_points.hpp", "build_info.cpp",
+        "build_info.hpp")
+#: what the algorithms state (name, operands, kernel call): one struct each, neither glue nor kernel
+DECLARATIONS = "declarations*.hpp"
+#: the kernels: the algorithms, their SIMD group kernels and the arithmetic they share
+KERNELS = ("aba.hpp", "centroidal.hpp", "contacts.hpp", "crba.hpp", "derivatives.hpp", "energy.hpp",
+           "frame_derivatives.hpp", "frames.hpp", "jacobians.hpp", "joints.hpp", "kinematics.hpp", "ltl.hpp",
+           "pack.hpp", "regressor.hpp", "rnea.hpp", "simd_groups.hpp", "spatial.hpp", "trig.hpp")
+#: counted as neither: the thread pool, the CPU's features, the model's layout, the checks, scratch memory
+INFRASTRUCTURE = ("thread_pool.hpp", "cpu_features.hpp", "model_view.hpp", "checks.hpp", "scratch.hpp", "groups.hpp")
+
+
+def _lines(path: Path) -> int:
+    return len(path.read_text(encoding="utf-8").splitlines())
+
+
+def test_no_cpp_file_is_over_700_lines() -> None:
+    long = {p.name: n for p in CPP.iterdir() if p.suffix in (".hpp", ".cpp", ".inc") and (n := _lines(p)) > 700}
+    assert not long, f"C++ files over 700 lines: {long}; split them by family"
+
+
+def test_the_glue_stays_under_six_tenths_of_the_kernels() -> None:
+    missing = [n for n in GLUE + KERNELS if not (CPP / n).exists()]
+    assert not missing, f"files named in GLUE or KERNELS that do not exist: {missing}"
+    glue, kernels = sum(_lines(CPP / n) for n in GLUE), sum(_lines(CPP / n) for n in KERNELS)
+    assert glue < 0.6 * kernels, f"the binding's machinery is {glue} lines for {kernels} lines of kernels"
+    new_kernel_headers = sorted(p.name for p in CPP.glob("*.hpp") if p.name not in GLUE + KERNELS + INFRASTRUCTURE
+                                and not p.match(DECLARATIONS) and _lines(p) > 150)
+    assert not new_kernel_headers, f"classify these headers in GLUE or KERNELS: {new_kernel_headers}"
+
+
+def test_the_core_python_side_stays_under_900_lines() -> None:
+    n = sum(_lines(p) for p in (SRC / "core").glob("*.py"))
+    assert n < 900, f"core/*.py holds {n} lines: the glue belongs to the declarations' generic code"
+
+
+def test_the_binding_reaches_numpy_only_through_its_documented_interfaces() -> None:
+    import re
+
+    patterns = [r"\bapi\s*\[\s*\d+\s*\]", r"PyArray_API\s*\[", r"PyArrayObject_fields", r"_ARRAY_API\s*\["]
+    found = [(p.name, pat) for p in CPP.iterdir() if p.suffix in (".hpp", ".cpp", ".inc")
+             for pat in patterns if re.search(pat, p.read_text(encoding="utf-8"))]
+    assert not found, f"undocumented NumPy ABI in the binding: {found}"
+
+
 def _room(module: str) -> str:
     """The top-level module or package a module belongs to: ``featherdyn.spatial.ops`` → ``featherdyn.spatial``."""
     return ".".join(module.split(".")[:2])
