@@ -41,18 +41,18 @@ def _calls(model: fd.Model, seed: int) -> list[tuple[str, object, object]]:
     assert K["nonlinear_effects"].into(cm, [st.q, st.v], [h]) == 0
     assert K["generalized_gravity"].into(cm, [st.q], [g]) == 0
     assert K["crba"].into(cm, [st.q], [M]) == 0
-    assert K["aba"].into(cm, [st.q, st.v, st.a, st.f_ext], [qdd], gravity=False) == 0
+    assert K["aba"].into(cm, [st.q, st.v, st.a, st.f_ext], [qdd], _core.Options(gravity=False)) == 0
     frame = len(model.frames) - 2  # a tool frame on the last body
     rows = [
         ("rnea", K["rnea"].fresh(cm, [st.q, st.v, st.a, st.f_ext]), tau),
         ("nle", K["nonlinear_effects"].fresh(cm, [st.q, st.v]), h),
         ("gravity", K["generalized_gravity"].fresh(cm, [st.q]), g),
         ("crba", K["crba"].fresh(cm, [st.q]), M),
-        ("aba", K["aba"].fresh(cm, [st.q, st.v, st.a, st.f_ext], gravity=False), qdd),
+        ("aba", K["aba"].fresh(cm, [st.q, st.v, st.a, st.f_ext], _core.Options(gravity=False)), qdd),
     ]
     for ref in (0, 1, 2):
-        assert K["frame_jacobian"].into(cm, [st.q], [J], frame=frame, reference=ref) == 0
-        rows.append((f"frame_jacobian {ref}", K["frame_jacobian"].fresh(cm, [st.q], frame=frame, reference=ref),
+        assert K["frame_jacobian"].into(cm, [st.q], [J], _core.Options(frame=frame, reference=ref)) == 0
+        rows.append((f"frame_jacobian {ref}", K["frame_jacobian"].fresh(cm, [st.q], _core.Options(frame=frame, reference=ref)),
                      J.copy()))
     return rows
 
@@ -77,9 +77,9 @@ def test_new_entry_points_return_none_for_a_state_the_general_path_words() -> No
         assert K["crba"].fresh(cm, [q]) is None
         assert K["generalized_gravity"].fresh(cm, [q]) is None
         assert K["rnea"].fresh(cm, [q, st.v, st.a, None]) is None
-        assert K["frame_jacobian"].fresh(cm, [q], frame=0, reference=0) is None
-    assert K["frame_jacobian"].fresh(cm, [st.q], frame=len(model.frames)) is None  # no such frame
-    assert K["frame_jacobian"].fresh(cm, [st.q], frame=0, reference=3) is None  # no such reference
+        assert K["frame_jacobian"].fresh(cm, [q], _core.Options(frame=0, reference=0)) is None
+    assert K["frame_jacobian"].fresh(cm, [st.q], _core.Options(frame=len(model.frames))) is None  # no such frame
+    assert K["frame_jacobian"].fresh(cm, [st.q], _core.Options(frame=0, reference=3)) is None  # no such reference
     with pytest.raises(fd.FeatherdynError):
         fd.crba(model, nan_q)  # and the public function words it
 

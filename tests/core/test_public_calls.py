@@ -59,14 +59,14 @@ def test_fast_path_equals_the_core_entry_points_bit_for_bit_and_the_reference(na
         for code, ref in enumerate(REFERENCES):
             J = fd.frame_jacobian(model, q, frame, ref)
             expected = np.empty((6, model.nv))
-            assert K["frame_jacobian"].into(cm, [q], [expected], frame=fid, reference=code) == 0
+            assert K["frame_jacobian"].into(cm, [q], [expected], _core.Options(frame=fid, reference=code)) == 0
             assert type(J) is np.ndarray and J.flags.c_contiguous and J.flags.writeable and J.flags.owndata
             np.testing.assert_array_equal(J, expected)
             np.testing.assert_allclose(J, fd.frame_jacobian(model, q, frame, ref, backend="reference"),
                                        rtol=0, atol=1e-12)
         X = fd.frame_placement(model, q, frame)
         R, p = np.empty((3, 3)), np.empty(3)
-        assert K["frame_placement"].into(cm, [q], [R, p], frame=fid) == 0
+        assert K["frame_placement"].into(cm, [q], [R, p], _core.Options(frame=fid)) == 0
         assert type(X) is fd.PluckerTransform and X.source is None and X.target is None
         np.testing.assert_array_equal(X.rotation, R)
         np.testing.assert_array_equal(X.translation, p)
@@ -113,9 +113,9 @@ def test_dynamics_fast_paths_equal_the_kernels_bit_for_bit(name: str) -> None:
         pairs = [
             (fd.rnea(model, q, v, a), K["rnea"].fresh(cm, [q, v, a, None])),
             (fd.rnea(model, q, v, a, fx), K["rnea"].fresh(cm, [q, v, a, fx])),
-            (fd.rnea(model, q, v, a, f_ext=fx, gravity=False), K["rnea"].fresh(cm, [q, v, a, fx], gravity=False)),
+            (fd.rnea(model, q, v, a, f_ext=fx, gravity=False), K["rnea"].fresh(cm, [q, v, a, fx], _core.Options(gravity=False))),
             (fd.aba(model, q, v, a), K["aba"].fresh(cm, [q, v, a, None])),
-            (fd.aba(model, q, v, a, fx, gravity=False), K["aba"].fresh(cm, [q, v, a, fx], gravity=False)),
+            (fd.aba(model, q, v, a, fx, gravity=False), K["aba"].fresh(cm, [q, v, a, fx], _core.Options(gravity=False))),
             (fd.nonlinear_effects(model, q, v), K["nonlinear_effects"].fresh(cm, [q, v])),
             (fd.generalized_gravity(model, q), K["generalized_gravity"].fresh(cm, [q])),
             (fd.crba(model, q), K["crba"].fresh(cm, [q])),
@@ -439,7 +439,7 @@ def test_an_overflowing_jacobian_is_a_non_finite_error_at_its_first_element() ->
     frame = model.frames[-1].name
     for code, ref in enumerate(REFERENCES):
         J = np.empty((6, model.nv))
-        status = K["frame_jacobian"].into(cm, [q], [J], frame=model.frame_id(frame), reference=code)
+        status = K["frame_jacobian"].into(cm, [q], [J], _core.Options(frame=model.frame_id(frame), reference=code))
         assert status & 7 == 2 and status >> 8 == np.flatnonzero(~np.isfinite(J))[0]  # NONFINITE, first element
         for backend in (None, "reference", "compiled"):
             with pytest.raises(NonFiniteError, match="overflowed"):
@@ -527,9 +527,8 @@ def test_compiled_methods_equal_their_entry_points_and_write_into_out(name: str)
         (lambda out=None: cm.nle(q, v, out=out), K["nonlinear_effects"].fresh(h, [q, v]), (nv,)),
         (lambda out=None: cm.gravity(q, out), K["generalized_gravity"].fresh(h, [q]), (nv,)),
         (lambda out=None: cm.crba(q, out=out), K["crba"].fresh(h, [q]), (nv, nv)),
-        (lambda out=None: cm.frame_jacobian(q, frame, fd.WORLD, out), K["frame_jacobian"].fresh(h, [q], frame=fid,
-                                                                                                  reference=1), (6, nv)),
-        (lambda out=None: cm.frame_jacobian(q, fid, out=out), K["frame_jacobian"].fresh(h, [q], frame=fid), (6, nv)),
+        (lambda out=None: cm.frame_jacobian(q, frame, fd.WORLD, out), K["frame_jacobian"].fresh(h, [q], _core.Options(frame=fid, reference=1)), (6, nv)),
+        (lambda out=None: cm.frame_jacobian(q, fid, out=out), K["frame_jacobian"].fresh(h, [q], _core.Options(frame=fid)), (6, nv)),
     ]
     for call, expected, shape in cases:
         got = call()

@@ -122,21 +122,30 @@ def _solve(model: Model, q: np.ndarray, v: np.ndarray, tau: np.ndarray, J: np.nd
     return sol.qdd, sol.lam, sol.residual
 
 
-def _core_plan(model: Model, plan: ContactPlan) -> Any:
-    """The core's ``ContactPlan`` of ``plan`` (its specs checked once, so that a one-state call converts no array),
-    or ``None`` when the core cannot take the model."""
+_DEFAULT_SOLVER = (0.0, 50, 1e-12)  # (mu, max_iter, tol) as the public functions default them
+
+
+def _core_plan(model: Model, plan: ContactPlan) -> tuple[Any, Any] | None:
+    """The core's ``ContactPlan`` of ``plan`` (its specs checked once, so that a one-state call converts no array)
+    and the ``Options`` of a solve with it at the default settings (made once too), or ``None`` when the core
+    cannot take the model."""
     if CORE is None:
         return None
     try:
-        return CORE.ContactPlan(_compiled._view(model).cm, plan.specs)
+        core_plan = CORE.ContactPlan(_compiled._view(model).cm, plan.specs)
     except (TypeError, ValueError, FeatherdynError):
         return None
+    return core_plan, _declared.call_options(plan=core_plan, singular_tol=DELASSUS_PIVOT_RTOL)
 
 
-def _solver(core_plan: Any, mu: Any, max_iter: Any = 50, tol: Any = 1e-12) -> dict[str, Any]:
-    """The core's options of a solve with the contacts of ``core_plan`` (settings that are not numbers raise
-    ``TypeError`` in the kernel, settings out of range make it decline: the general path words both)."""
-    return {"plan": core_plan, "mu": mu, "max_iter": max_iter, "tol": tol, "singular_tol": DELASSUS_PIVOT_RTOL}
+def _solver(compiled: tuple[Any, Any], mu: Any, max_iter: Any = 50, tol: Any = 1e-12) -> Any:
+    """The core's ``Options`` of a solve with a compiled plan: its own at the default settings, else made here
+    (``TypeError`` or ``ValueError`` for settings that are not numbers; settings out of range make the kernel
+    decline: the general path words both)."""
+    core_plan, default = compiled
+    if (mu, max_iter, tol) == _DEFAULT_SOLVER:
+        return default
+    return _declared.call_options(plan=core_plan, mu=mu, max_iter=max_iter, tol=tol, singular_tol=DELASSUS_PIVOT_RTOL)
 
 
 def delassus(model: Model, q: ArrayLike, constraints: Sequence[Constraint] | Constraint, *,
@@ -173,15 +182,16 @@ def _split(lam: np.ndarray, items: list[Constraint]) -> list[np.ndarray]:
 
 
 def _contact_result(qdd: np.ndarray, lam: np.ndarray, info: np.ndarray, plan: ContactPlan) -> ConstrainedDynamics | None:
-    """The result of a solve the core finished (``None`` when a state's rows were dependent or did not converge:
-    the general path raises)."""
-    if not (info[..., 0] > 0.0).all():
+    """The result of a solve the core finished, one state `(nv,)` or rows `(N, nv)` (``None`` when a state's rows
+    were dependent or did not converge: the general path raises)."""
+    one = info.ndim == 1
+    if not (info[0] > 0.0 if one else (info[:, 0] > 0.0).all()):
         return None
     out = _NEW(ConstrainedDynamics)  # (a frozen dataclass's __init__ costs more than the solve's rows)
     _SET(out, "ddq", qdd)
-    _SET(out, "forces", [lam[..., s] for s in plan.slices])
+    _SET(out, "forces", [lam[s] for s in plan.slices] if one else [lam[:, s] for s in plan.slices])
     _SET(out, "lagrange", lam)
-    _SET(out, "residual", info[..., 1])
+    _SET(out, "residual", info[1] if one else info[:, 1])
     return out
 
 
@@ -205,18 +215,18 @@ def constrained_dynamics(model: Model, q: ArrayLike, v: ArrayLike, tau: ArrayLik
     if core is not None:
         found = cached_contact_plan(model, constraints, _core_plan)
         if found is not None and found[1] is not None:
-            plan, core_plan = found
+            plan = found[0]
             try:  # one state as the kernel takes it; rows (N, nq) on its batch (its groups of states on SIMD packs)
-                opts = _solver(core_plan, mu, max_iter, tol)
-                r = _CONTACTS.fresh(core.cm, (q, v, tau, f_ext), **opts)
+                opts = _solver(found[1], mu, max_iter, tol)
+                r = _CONTACTS.fresh(core.cm, (q, v, tau, f_ext), opts)
                 if r is None and type(q) is np.ndarray and q.ndim == 2 and f_ext is None:
                     n = q.shape[0]
                     r = _EMPTY((n, core.nv)), _EMPTY((n, plan.size)), _EMPTY((n, 2))
-                    r = r if _CONTACTS.batch(core.cm, [q, v, tau, None], r, **opts)[1] == OK else None
+                    r = r if _CONTACTS.batch(core.cm, [q, v, tau, None], r, opts)[1] == OK else None
                 done = None if r is None else _contact_result(r[0], r[1], r[2], plan)
                 if done is not None:
                     return done
-            except TypeError:  # arguments the binding does not take as they are: the general path converts
+            except (TypeError, ValueError):  # arguments the binding does not take as they are: the general path
                 pass
     mu, max_iter, tol = _con.solver_settings(mu, max_iter, tol)
     if _dask.lazy(q, v, tau, f_ext):
@@ -283,14 +293,14 @@ def operational_space_inertia(model: Model, q: ArrayLike, frames: Sequence[str |
     if core is not None and found is not None and found[1] is not None:
         try:  # one state as the kernel takes it; rows (N, nq) on its batch (its groups of states on SIMD packs)
             opts = _solver(found[1], mu)
-            r = _FRAMES.fresh(core.cm, (q,), **opts)
+            r = _FRAMES.fresh(core.cm, (q,), opts)
             if r is not None:
                 return r
             if type(q) is np.ndarray and q.ndim == 2:
                 out = _EMPTY((q.shape[0], found[0].size, found[0].size))
-                if _FRAMES.batch(core.cm, [q], [out], **opts)[1] == OK:
+                if _FRAMES.batch(core.cm, [q], [out], opts)[1] == OK:
                     return out
-        except TypeError:  # arguments the binding does not take as they are: the general path converts
+        except (TypeError, ValueError):  # arguments the binding does not take as they are: the general path
             pass
     mu = _con.solver_settings(mu, 1, 1.0)[0]
     if _dask.lazy(q):
@@ -300,7 +310,7 @@ def operational_space_inertia(model: Model, q: ArrayLike, frames: Sequence[str |
     fids, ref = _con.resolve_frames(model, frames, reference)
     if found is not None and found[1] is not None and select_backend(backend, st.dtype) == "compiled":
         return as_dtype(_declared.run("operational_space_inertia", model, st.batch, [np.asarray(st.q, np.float64)],
-                                      options={"plan": found[1], "mu": mu, "singular_tol": DELASSUS_PIVOT_RTOL})[0],
+                                      options={"plan": found[1][0], "mu": mu, "singular_tol": DELASSUS_PIVOT_RTOL})[0],
                         st.dtype)
     J = quiet(_alg.frames_jacobian, model, kinematics_of(model, st, None, None, backend), fids, ref,
               _jacobian(model, st, backend))

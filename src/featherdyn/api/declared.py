@@ -193,11 +193,12 @@ def call(decl: Declaration, model: Model, args: tuple[Any, ...], out: Any = None
     h = core_path(model, backend)
     if h is not None:
         kernel = _declared.kernel(decl.name)
+        core_opts = _declared.call_options(**opts)
         if arrays is None:
-            r = kernel.fresh(h.cm, args, **opts)
+            r = kernel.fresh(h.cm, args, core_opts)
             if r is not None:
                 return r if decl.result is None else _result(decl, model, r if len(decl.outputs) > 1 else (r,))
-        elif kernel.into(h.cm, args, arrays, **opts) == 0:
+        elif kernel.into(h.cm, args, arrays, core_opts) == 0:
             return out
     given = dict(zip(decl.inputs, args, strict=True))
     for x, y in decl.needs:

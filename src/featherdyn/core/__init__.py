@@ -129,10 +129,10 @@ def _declared(name: str, doc: str) -> Callable[..., Any]:
         outs = None if out is None else tuple(out) if isinstance(out, (tuple, list)) else (out,)
         # one state as the kernel takes it (out=: arrays of the exact shapes); anything else: the batch below
         if outs is None:
-            r = spec.kernel.fresh(h.cm, xs, **options)
+            r = spec.kernel.fresh(h.cm, xs, declared.call_options(**options))
             if r is not None:
                 return r
-        elif spec.kernel.into(h.cm, xs, list(outs), **options) == 0:
+        elif spec.kernel.into(h.cm, xs, list(outs), declared.call_options(**options)) == 0:
             return out
         vectors = [(n, x) for n, x in zip(spec.input_names, inputs, strict=True) if n in ("v", "a", "tau")]
         tails = [len(s) for _, s, _ in spec.inputs]

@@ -21,7 +21,7 @@ from . import _errors
 from ._model_view import CoreHandle, model_view
 from ._result_pool import result_array
 
-__all__ = ["Spec", "SPECS", "kernel", "shape_of", "rows_of", "run", "raise_singular", "arg_names"]
+__all__ = ["Spec", "SPECS", "kernel", "shape_of", "call_options", "run", "raise_singular", "arg_names"]
 
 try:
     import featherdyn.core._core as _binding  # the compiled extension: a leaf, it imports no featherdyn module
@@ -72,11 +72,11 @@ def shape_of(h: CoreHandle, symbolic: tuple[Any, ...], rows: int = 0) -> tuple[i
     return tuple(lengths[d] if isinstance(d, str) else int(d) for d in symbolic)
 
 
-def rows_of(options: dict[str, Any] | None) -> int:
-    """The call's constraint rows ``m``: its contact plan's, or ``rows`` (0 when it has none)."""
-    options = options or {}
-    plan = options.get("plan")
-    return int(plan.m) if plan is not None else int(options.get("rows", 0))
+def call_options(**given: Any) -> Any:
+    """The binding's ``Options`` of a call (``core/cpp/declare.hpp``), ``None`` for the defaults: ``gravity``,
+    ``frame`` (an index), ``reference`` (a code), ``rows`` (m), ``plan`` (a ``ContactPlan``: its contacts, and m),
+    ``mu``, ``max_iter``, ``tol``, ``singular_tol``. Made once where a loop calls again (a contact plan's)."""
+    return _binding.Options(**given) if given else None
 
 
 def run(name: str, model: Model, batch: tuple[int, ...], inputs: list[np.ndarray | None],
@@ -88,9 +88,7 @@ def run(name: str, model: Model, batch: tuple[int, ...], inputs: list[np.ndarray
     ``inputs`` are in the declaration's order, each broadcastable to ``batch`` plus its declared shape
     (``None`` for an absent optional one); ``out``, when given, holds the outputs to write into (C-contiguous
     float64, checked by the caller; their shapes are checked here, and an ``out`` that may share memory with an
-    input gets the results through fresh memory); ``options`` its parameters by name (``core/cpp/declare.hpp``:
-    ``gravity``, ``frame`` an index, ``reference`` a code, ``rows`` or a contact ``plan``, ``mu``, ``max_iter``, ``tol``,
-    ``singular_tol``). A failing row
+    input gets the results through fresh memory); ``options`` its parameters by name (:func:`call_options`). A failing row
     raises the reference's error for the whole batch (``_errors.raise_for``, naming the row as NumPy would); ``SINGULAR``, ABA's, as the reference words it
     (:func:`raise_singular`).
     """
@@ -98,8 +96,8 @@ def run(name: str, model: Model, batch: tuple[int, ...], inputs: list[np.ndarray
     k = spec.kernel
     h = model_view(model, _binding)
     N = math.prod(batch)
-    options = options or {}
-    rows_m = rows_of(options)
+    opts = call_options(**(options or {}))
+    rows_m = 0 if opts is None else opts.rows
     rows: list[np.ndarray | None] = []
     for x, (_, shape, _) in zip(inputs, spec.inputs, strict=True):
         if x is None:
@@ -139,7 +137,7 @@ def run(name: str, model: Model, batch: tuple[int, ...], inputs: list[np.ndarray
     outs = out if out is not None else tuple(None if shape is None else result_array(shape) for shape in shapes)
     if N == 0:  # an empty batch: empty results
         return tuple(outs)
-    _row, status = k.batch(h.cm, rows, [None if o is None else o.reshape(N, -1) for o in outs], **options)
+    _row, status = k.batch(h.cm, rows, [None if o is None else o.reshape(N, -1) for o in outs], opts)
     if status:
         names = spec.input_names
         q = inputs[names.index("q")]
@@ -147,13 +145,12 @@ def run(name: str, model: Model, batch: tuple[int, ...], inputs: list[np.ndarray
         f_ext = inputs[names.index("f_ext")] if "f_ext" in names else None
         if _errors.decode(status)[0] == _errors.SINGULAR:
             _errors.validate(model, q, vectors, f_ext)
-            raise_singular(spec, model, h, rows, options)
+            raise_singular(spec, model, h, rows, opts)
         _errors.raise_for(status, model, q, vectors, f_ext, arg_names=arg_names(spec), what=name)
     return tuple(outs)
 
 
-def raise_singular(spec: Spec, model: Model, h: CoreHandle, rows: list[np.ndarray | None],
-                   options: dict[str, Any]) -> None:
+def raise_singular(spec: Spec, model: Model, h: CoreHandle, rows: list[np.ndarray | None], opts: Any) -> None:
     """The reference's error for a batch whose rows a kernel found singular: the singular joint nearest the
     leaves in any row, with the smallest eigenvalue of its ``D = Sᵀ Iᴬ S`` over those rows (the kernel's
     ``singular_block``, row by row: the error path)."""
@@ -161,9 +158,10 @@ def raise_singular(spec: Spec, model: Model, h: CoreHandle, rows: list[np.ndarra
     D = np.empty(36)
     N = max(x.shape[0] for x in rows if x is not None)
     for r in range(N):
-        state = [None if x is None else x[0 if x.shape[0] == 1 else r].reshape(shape_of(h, shape, rows_of(options)))
+        state = [None if x is None else x[0 if x.shape[0] == 1 else r].reshape(
+                     shape_of(h, shape, 0 if opts is None else opts.rows))
                  for x, (_, shape, _) in zip(rows, spec.inputs, strict=True)]
-        joint = spec.kernel.singular_block(h.cm, state, D, **options)
+        joint = spec.kernel.singular_block(h.cm, state, D, opts)
         if joint >= 0:
             e = _errors.eig_min(D, model.nvs[joint])
             found[joint] = min(found.get(joint, e), e)

@@ -1,11 +1,11 @@
 // The binding of a call's options (declare.hpp: Options; docs/architecture.md, "One declaration per algorithm"): the
-// parameters a declared algorithm takes besides its arrays, given to a Kernel's front ends by name, and the contacts'
-// plan they may carry (its specs checked once, kept by the caller's plan cache: featherdyn/constraints.py).
+// parameters a declared algorithm takes besides its arrays, given to a Kernel's front ends as one `Options` object
+// (made once where a loop calls again: one argument to pass, nothing to parse per call), and the contacts' plan they
+// may carry (its specs checked once, kept by the caller's plan cache: featherdyn/constraints.py).
 #include "declare.hpp"
 #include "frames.hpp"
 #include "entry_points.hpp"
 
-#include <string>
 
 namespace nb = nanobind;
 using namespace fdcore;
@@ -38,37 +38,32 @@ ContactPlan make_contact_plan(const ModelData& md, const F64In& specs) {
 
 }  // namespace
 
-Options fdcore::options_of(const ModelData& md, const nb::kwargs& given) {
-  Options o;
-  for (auto [key, value] : given) {
-    const std::string name = nb::cast<std::string>(key);
-    try {
-      if (name == "gravity") o.gravity = nb::cast<bool>(value);
-      else if (name == "frame") o.frame = nb::cast<int>(value);
-      else if (name == "reference") o.reference = nb::cast<int>(value);
-      else if (name == "rows") o.rows = nb::cast<int>(value);
-      else if (name == "mu") o.mu = nb::cast<double>(value);
-      else if (name == "max_iter") o.max_iter = nb::cast<int>(value);
-      else if (name == "tol") o.tol = nb::cast<double>(value);
-      else if (name == "singular_tol") o.singular_tol = nb::cast<double>(value);
-      else if (name != "plan") throw nb::type_error(("featherdyn.core: no option " + name).c_str());
-    } catch (const nb::cast_error&) {
-      throw nb::type_error(("featherdyn.core: option " + name + " of another type").c_str());
-    }
-  }
-  if (given.contains("plan") && !given["plan"].is_none()) {  // (after `rows`: the plan's m wins)
-    const ContactPlan* plan = nullptr;
-    if (!nb::try_cast(given["plan"], plan) || plan == nullptr) throw nb::type_error("featherdyn.core: plan: a ContactPlan");
-    if (plan->model != &md) throw nb::type_error("featherdyn.core: a contact plan made for another model");
-    o.contacts = plan->specs.data();
-    o.nc = static_cast<int>(plan->specs.size());
-    o.rows = plan->m;
-  }
-  return o;
+const Options& fdcore::options_of(const ModelData& md, const CallOptions* o) {
+  static const Options defaults{};
+  if (o == nullptr) return defaults;
+  if (o->model != nullptr && o->model != &md) throw nb::type_error("featherdyn.core: a contact plan made for another model");
+  return o->opt;
 }
 
 void fdcore::bind_options(nb::module_& m) {
   nb::class_<ContactPlan>(m, "ContactPlan", "contacts (nc, 4) specs checked for one model (contacts.hpp)")
       .def(nb::new_(&make_contact_plan), nb::arg("model"), arr("specs"))
       .def_prop_ro("m", [](const ContactPlan& p) { return p.m; });
+  nb::class_<CallOptions>(m, "Options", "a call's options (core/cpp/declare.hpp: Options), made once and reused")
+      .def("__init__",
+           [](CallOptions* o, bool gravity, int frame, int reference, int rows, const ContactPlan* plan, double mu,
+              int max_iter, double tol, double singular_tol) {
+             new (o) CallOptions{Options{gravity, frame, reference, rows, nullptr, 0, mu, max_iter, tol, singular_tol},
+                                 nullptr};
+             if (plan != nullptr) {  // (the plan's m wins over `rows`)
+               o->opt.contacts = plan->specs.data();
+               o->opt.nc = static_cast<int>(plan->specs.size());
+               o->opt.rows = plan->m;
+               o->model = plan->model;
+             }
+           },
+           nb::kw_only(), nb::arg("gravity") = true, nb::arg("frame") = 0, nb::arg("reference") = 0,
+           nb::arg("rows") = 0, nb::arg("plan").none() = nb::none(), nb::arg("mu") = 0.0, nb::arg("max_iter") = 50,
+           nb::arg("tol") = 1e-12, nb::arg("singular_tol") = 0.0, nb::keep_alive<1, 6>())
+      .def_prop_ro("rows", [](const CallOptions& o) { return o.opt.rows; });
 }

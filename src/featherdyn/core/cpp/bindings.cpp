@@ -132,14 +132,14 @@ void operand_objects(const Kernel& k, const nb::sequence& xs, size_t n, PyObject
 }
 
 std::int64_t into(const Kernel& k, const ModelData& md, const nb::sequence& inputs, const nb::sequence& outputs,
-                  const nb::kwargs& options) {
+                  const CallOptions* options) {
   PyObject *ip[DECLARED_MAX], *op[DECLARED_MAX];
   operand_objects(k, inputs, k.inputs.size(), ip);
   operand_objects(k, outputs, k.outputs.size(), op);
   return run_into(k, md.view, ip, op, options_of(md, options));
 }
 
-nb::object fresh(const Kernel& k, const ModelData& md, const nb::sequence& inputs, const nb::kwargs& options) {
+nb::object fresh(const Kernel& k, const ModelData& md, const nb::sequence& inputs, const CallOptions* options) {
   PyObject* ip[DECLARED_MAX];
   operand_objects(k, inputs, k.inputs.size(), ip);
   PyObject* outs[DECLARED_MAX];
@@ -154,8 +154,8 @@ nb::object fresh(const Kernel& k, const ModelData& md, const nb::sequence& input
 
 // A SINGULAR status's detail (declare.hpp): the joint, and its D in D36, for one state of checked arrays.
 std::int64_t singular_block(const Kernel& k, const ModelData& md, const nb::sequence& inputs, const F64Out& D36,
-                            const nb::kwargs& options) {
-  const Options opt = options_of(md, options);
+                            const CallOptions* options) {
+  const Options& opt = options_of(md, options);
   if (k.singular_block == nullptr) throw nb::value_error(("featherdyn.core." + k.name + ": no singular status").c_str());
   PyObject* ip[DECLARED_MAX];
   operand_objects(k, inputs, k.inputs.size(), ip);
@@ -211,17 +211,17 @@ NB_MODULE(_core, m) {
       .def_prop_ro("inputs", [](const Kernel& k) { return operands(k.inputs); })
       .def_prop_ro("outputs", [](const Kernel& k) { return operands(k.outputs, &k.inputs); })
       .def_prop_ro("options", [](const Kernel& k) { return option_names(k.options); })
-      .def("into", &into, nb::arg("model"), nb::arg("inputs"), nb::arg("outputs"), nb::arg("options"),
-           "one state into the given outputs (options by name: featherdyn/core/declared.py, run); the status (0: OK; "
-           "-1: an argument not taken as it is)")
-      .def("fresh", &fresh, nb::arg("model"), nb::arg("inputs"), nb::arg("options"),
+      .def("into", &into, nb::arg("model"), nb::arg("inputs"), nb::arg("outputs"), nb::arg("options").none() = nb::none(),
+           "one state into the given outputs (options: an Options or None); the status (0: OK; -1: an argument not "
+           "taken as it is)")
+      .def("fresh", &fresh, nb::arg("model"), nb::arg("inputs"), nb::arg("options").none() = nb::none(),
            "one state; the result (an array or a tuple), or None where `into` would return a non-zero status")
-      .def("singular_block", &singular_block, nb::arg("model"), nb::arg("inputs"), nb::arg("D"), nb::arg("options"),
+      .def("singular_block", &singular_block, nb::arg("model"), nb::arg("inputs"), nb::arg("D"), nb::arg("options").none() = nb::none(),
            "the joint a SINGULAR status names (-1: none) for one checked state, its D written into D (36,)")
       .def("batch", [](const Kernel& k, const ModelData& md, const nb::sequence& inputs, const nb::sequence& outputs,
-                       const nb::kwargs& options) {
+                       const CallOptions* options) {
              return run_batch(k, md.view, inputs, outputs, options_of(md, options));
-           }, nb::arg("model"), nb::arg("inputs"), nb::arg("outputs"), nb::arg("options"),
+           }, nb::arg("model"), nb::arg("inputs"), nb::arg("outputs"), nb::arg("options").none() = nb::none(),
            "rows of a batch on the thread pool; (first failing row, status) or (-1, 0)");
   nb::dict kernels;
   for (const Kernel& k : declared_kernels()) kernels[k.name.c_str()] = nb::cast(&k, nb::rv_policy::reference);

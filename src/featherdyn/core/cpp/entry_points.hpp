@@ -22,9 +22,14 @@ void bind_dynamics(nb::module_& m);
 void bind_options(nb::module_& m);
 void bind_public_calls(nb::module_& m);
 
-// A call's options (declare.hpp) as Python gives them, by name: gravity, frame (an index), reference (a code), rows,
-// plan (a ContactPlan made for `md`: its contacts and m), mu, max_iter, tol, singular_tol (TypeError for another).
-Options options_of(const ModelData& md, const nb::kwargs& given);
+// A call's options (declare.hpp) as Python gives them (featherdyn.core._core.Options), with the model its contacts
+// were checked against (nullptr: no contacts).
+struct CallOptions {
+  Options opt;
+  const ModelData* model = nullptr;
+};
+// The options of a call on `md` (nullptr: the defaults); TypeError for contacts made for another model.
+const Options& options_of(const ModelData& md, const CallOptions* o);
 
 // an array argument: noconvert (no implicit copies or casts); opt: an optional one, which accepts None
 inline auto arr(const char* name) { return nb::arg(name).noconvert(); }
