@@ -19,10 +19,11 @@ so no trigonometry is differentiated and the values keep their dtype: float64, o
 cases checked symbolically). The core (``core/cpp/second_order.hpp``) runs its first-order template on
 dual numbers seeded in ``q``'s coordinates instead: two independent routes to the same numbers.
 
-On a free-flyer or spherical joint the tangent fields ``X_j`` (``q ↦ d/dδ q ⊕ δ e_j``) do not commute, and
-``d2tau_dq2[i, j, k] − d2tau_dq2[i, k, j] = ([X_k, X_j] τ_i)``: the first order along the fields' bracket
-(e.g. ``[X_ω_a, X_ω_b] = X_ω_(a×b)``, ``[X_ω_a, X_v_b] = X_v_(a×b)``). It is symmetric on revolute and
-prismatic joints.
+On a free-flyer, spherical or planar joint the tangent fields ``X_j`` (``q ↦ d/dδ q ⊕ δ e_j``) do not
+commute, and ``d2tau_dq2[i, j, k] − d2tau_dq2[i, k, j] = ([X_k, X_j] τ)_i``: the first order along the fields'
+bracket, ``[X_k, X_j] = Σ_c (S_cᵀ (S_k × S_j)) X_c`` for two columns of one joint (e.g. a free-flyer's
+``[X_ω_k, X_ω_j] = X_ω_(e_k × e_j)``, ``[X_ω_k, X_v_j] = X_v_(e_k × e_j)``), zero otherwise. It is symmetric on
+revolute and prismatic joints (docs/derivatives.md).
 
 Forward dynamics: ``q̈ = FD(q, q̇, τ)`` solves ``RNEA(q, q̇, FD) = τ``; differentiating
 ``(X_j τ)(q, q̇, q̈) + M X_j q̈ = 0`` once more (the ``q̈``-derivative of ``X_j τ`` is ``X_j M``)::
