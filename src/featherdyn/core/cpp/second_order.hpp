@@ -64,17 +64,21 @@ inline void rnea_second_derivatives(const ModelView& mv, const double* q, const 
     }
     rnea_derivatives_to(mv, w.Q.data(), w.V.data(), w.A.data(), f_ext ? w.F.data() : nullptr, gravity,
                         StateOut<DualK>{{w.dq.data(), w.dv.data(), w.M.data()}});
-    for (int l = 0; l < lanes; ++l) {
-      const int dir = start + l;
-      const size_t k = static_cast<size_t>(dir < nv ? dir : dir - nv);
-      for (size_t ij = 0; ij < n2; ++ij) {
-        if (dir < nv) {  // along q ⊕ ε e_k: ∂τ/∂q and M
-          d2q[ij * n + k] = w.dq[ij].d[l];
-          dM[ij * n + k] = w.M[ij].d[l];
-        } else {  // along q̇ + ε e_k: ∂τ/∂q̇ and ∂τ/∂q
-          d2v[ij * n + k] = w.dv[ij].d[l];
-          dqdv[ij * n + k] = w.dq[ij].d[l];
-        }
+    // lane l is direction start + l: q's below nv, q̇'s from nv; each entry's lanes land side by side in the
+    // tensors' last index (contiguous writes)
+    const int nq_lanes = std::clamp(nv - start, 0, lanes);
+    const size_t k0 = static_cast<size_t>(start);
+    const int kv0 = start + nq_lanes - nv;  // q̇'s direction of lane nq_lanes
+    for (size_t ij = 0; ij < n2; ++ij) {
+      const DualK &x = w.dq[ij], &y = w.dv[ij], &m = w.M[ij];
+      for (int l = 0; l < nq_lanes; ++l) {  // along q ⊕ ε e_k: ∂τ/∂q and M
+        d2q[ij * n + k0 + l] = x.d[l];
+        dM[ij * n + k0 + l] = m.d[l];
+      }
+      for (int l = nq_lanes; l < lanes; ++l) {  // along q̇ + ε e_k: ∂τ/∂q̇ and ∂τ/∂q
+        const size_t k = static_cast<size_t>(kv0 + l - nq_lanes);
+        d2v[ij * n + k] = y.d[l];
+        dqdv[ij * n + k] = x.d[l];
       }
     }
   }
