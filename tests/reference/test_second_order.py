@@ -26,9 +26,13 @@ from featherdyn.spatial import crm
 ROBOTS = [("two_link_arm", False), ("panda", False), ("ur5_robot", False), ("solo12", True),
           ("talos_full_v2", True)]
 FIXED = [("two_link_arm", False), ("panda", False), ("ur5_robot", False)]
+#: random trees with spherical and planar joints, fixed and floating (tests/_models.py)
+TREE_CASES = [("fixed_branch_mixed", False), ("planar_root_branch", False), ("free_branch", True)]
 
 
 def _robot(name: str, floating: bool) -> fd.Model:
+    if name in {t.name for t in TREES}:
+        return tree(name)
     model = fd.load_robot(name) if name == "two_link_arm" else library_robot(name, floating)
     assert model is not None
     return model
@@ -56,7 +60,7 @@ def _unit(n: int, k: int, scale: float = 1.0) -> np.ndarray:
     return e
 
 
-@pytest.mark.parametrize(("name", "floating"), ROBOTS)
+@pytest.mark.parametrize(("name", "floating"), ROBOTS + TREE_CASES)
 def test_rnea_against_central_differences_of_the_first_order(name: str, floating: bool) -> None:
     model = _robot(name, floating)
     q, v, a, fx = _state(model, 1)
@@ -80,7 +84,7 @@ def test_rnea_against_central_differences_of_the_first_order(name: str, floating
     assert np.abs(d2q).max() > 1.0 and np.abs(dqdv).max() > 1e-3  # not trivially zero
 
 
-@pytest.mark.parametrize(("name", "floating"), ROBOTS)
+@pytest.mark.parametrize(("name", "floating"), ROBOTS + TREE_CASES)
 def test_aba_against_central_differences_of_the_first_order(name: str, floating: bool) -> None:
     model = _robot(name, floating)
     q, v, tau, fx = _state(model, 2)

@@ -84,18 +84,24 @@ inline void rnea_second_derivatives(const ModelView& mv, const double* q, const 
   }
 }
 
-// out ← −Minv R: the tensor R [r, j, k] read as an (nv, nv²) matrix, out likewise.
+// out ← −Minv R: the tensor R [r, j, k] read as an (nv, nv²) matrix, out likewise. By blocks of columns, so that
+// R's block (nv × 256 doubles) stays in cache while every row of out reads it.
 inline void minus_minv_times(int nv, const double* Minv, const double* R, double* out) {
+  constexpr size_t block = 256;
   const size_t n = static_cast<size_t>(nv), n2 = n * n;
-  std::fill(out, out + n * n2, 0.0);
-  for (size_t i = 0; i < n; ++i)
-    for (size_t r = 0; r < n; ++r) {
-      const double m = -Minv[i * n + r];
-      if (m == 0.0) continue;
-      const double* row = R + r * n2;
+  for (size_t c0 = 0; c0 < n2; c0 += block) {
+    const size_t c1 = std::min(n2, c0 + block);
+    for (size_t i = 0; i < n; ++i) {
       double* o = out + i * n2;
-      for (size_t c = 0; c < n2; ++c) o[c] += m * row[c];
+      std::fill(o + c0, o + c1, 0.0);
+      for (size_t r = 0; r < n; ++r) {
+        const double m = -Minv[i * n + r];
+        if (m == 0.0) continue;
+        const double* row = R + r * n2;
+        for (size_t c = c0; c < c1; ++c) o[c] += m * row[c];
+      }
     }
+  }
 }
 
 // P[r, j, k] = Σ_s ∂M_rs/∂q_j B[s, k]  (dM [r, s, j] as dM_dq; B (nv, nv)).
