@@ -62,8 +62,10 @@ inline void rnea_second_derivatives(const ModelView& mv, const double* q, const 
       if (dir < nv) seed_tangent(mv, q, dir, l, w.Q.data());
       else w.V[dir - nv].d[l] = 1.0;
     }
+    // a pass of q's directions only does not form ∂τ/∂q̇, one of q̇'s only not M (independent of q̇)
+    const bool q_only = start + lanes <= nv, v_only = start >= nv;
     rnea_derivatives_to(mv, w.Q.data(), w.V.data(), w.A.data(), f_ext ? w.F.data() : nullptr, gravity,
-                        StateOut<DualK>{{w.dq.data(), w.dv.data(), w.M.data()}});
+                        StateOut<DualK>{{w.dq.data(), q_only ? nullptr : w.dv.data(), v_only ? nullptr : w.M.data()}});
     // lane l is direction start + l: q's below nv, q̇'s from nv; each entry's lanes land side by side in the
     // tensors' last index (contiguous writes)
     const int nq_lanes = std::clamp(nv - start, 0, lanes);
