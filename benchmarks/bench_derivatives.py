@@ -14,6 +14,8 @@ featherdyn is faster), on panda (fixed base), solo12 and talos_full_v2 (floating
   reused ``out=`` arrays,
   against a Python loop of ``pin.computeRNEADerivatives`` / ``computeABADerivatives`` (which fill ``data``:
   nothing allocated); the issue's target: ≥ 8×.
+* one state: ``fd.rnea_second_derivatives`` / ``fd.aba_second_derivatives`` (Pinocchio's Python has no second
+  order) against the central differences of ``computeRNEADerivatives`` one would write instead (4 nv calls);
 * for comparison, ∂τ/∂q and ∂τ/∂q̇ by central finite differences (4 nv perturbed states in one batched
   ``fd.rnea`` call) against the analytical ``computeRNEADerivatives``. Fresh arrays of N·nv² doubles cost their page faults
   (the kernel zeroes every page the first time it is touched).
@@ -49,6 +51,22 @@ def main() -> int:
         t_fd, t_pin = median_pair(lambda: fd.aba_derivatives(p.model, q, v, tau),  # noqa: B023
                                   lambda: pin.computeABADerivatives(p.pm, p.pd, qp, vp, taup), 7, 0.2)  # noqa: B023
         rows.append((f"{name}: aba_derivatives / computeABADerivatives", t_fd, t_pin))
+        # second order (Pinocchio's Python has none): against the central differences of computeRNEADerivatives
+        # along integrate and q̇ that one would write instead (4 nv calls; inexact)
+        steps = [pin.integrate(p.pm, qp, e) for k in range(p.pm.nv) for e in (1e-6 * np.eye(p.pm.nv)[k],
+                                                                              -1e-6 * np.eye(p.pm.nv)[k])]
+        vsteps = [vp + e for k in range(p.pm.nv) for e in (1e-6 * np.eye(p.pm.nv)[k], -1e-6 * np.eye(p.pm.nv)[k])]
+
+        def pin_differences() -> None:
+            for qs in steps:  # noqa: B023
+                pin.computeRNEADerivatives(p.pm, p.pd, qs, vp, ap)  # noqa: B023
+            for vs in vsteps:  # noqa: B023
+                pin.computeRNEADerivatives(p.pm, p.pd, qp, vs, ap)  # noqa: B023
+
+        t_fd, t_pin = median_pair(lambda: fd.rnea_second_derivatives(p.model, q, v, a), pin_differences, 5, 0.2)  # noqa: B023
+        rows.append((f"{name}: rnea_second_derivatives / differences of computeRNEADerivatives (4 nv)", t_fd, t_pin))
+        t_fd, _ = median_pair(lambda: fd.aba_second_derivatives(p.model, q, v, tau), pin_differences, 5, 0.2)  # noqa: B023
+        rows.append((f"{name}: aba_second_derivatives / the same differences", t_fd, t_pin))
         # the declared algorithms (api/declarations.py): their one-state calls through the generic path
         f_ext = np.random.default_rng(1).normal(size=(p.model.nbodies, 6))
         fext_pin = [pin.Force.Zero() for _ in range(p.pm.njoints)]

@@ -14,7 +14,7 @@ import numpy as np
 from .model import Model
 from .spatial import PluckerTransform, SpatialMotion
 
-__all__ = ["Kinematics", "CenterOfMass"]
+__all__ = ["Kinematics", "CenterOfMass", "RneaSecondDerivatives", "AbaSecondDerivatives"]
 
 
 class Kinematics:
@@ -98,3 +98,23 @@ class CenterOfMass(NamedTuple):
 
     position: np.ndarray
     velocity: np.ndarray
+
+
+class RneaSecondDerivatives(NamedTuple):
+    """The second derivatives of ``τ = RNEA(q, q̇, q̈)``, each `(..., nv, nv, nv)`, ``[i, j, k]`` =
+    ``∂²τ_i/∂x_j∂y_k`` (``q`` along ``fd.integrate``'s tangent; :func:`featherdyn.rnea_second_derivatives`)."""
+
+    d2tau_dq2: np.ndarray  #: ∂(∂τ_i/∂q_j)/∂q_k
+    d2tau_dv2: np.ndarray  #: ∂²τ_i/∂q̇_j∂q̇_k
+    d2tau_dqdv: np.ndarray  #: ∂²τ_i/∂q_j∂q̇_k
+    dM_dq: np.ndarray  # noqa: N815 (the public name)  ∂M_ij/∂q_k
+
+
+class AbaSecondDerivatives(NamedTuple):
+    """The second derivatives of ``q̈ = ABA(q, q̇, τ)``, each `(..., nv, nv, nv)`, ``[i, j, k]`` =
+    ``∂²q̈_i/∂x_j∂y_k`` (:func:`featherdyn.aba_second_derivatives`)."""
+
+    d2ddq_dq2: np.ndarray  #: ∂(∂q̈_i/∂q_j)/∂q_k
+    d2ddq_dv2: np.ndarray  #: ∂²q̈_i/∂q̇_j∂q̇_k
+    d2ddq_dqdv: np.ndarray  #: ∂²q̈_i/∂q_j∂q̇_k
+    d2ddq_dqdtau: np.ndarray  #: ∂²q̈_i/∂q_j∂τ_k

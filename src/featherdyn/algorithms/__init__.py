@@ -14,6 +14,8 @@ public functions (``fd.rnea`` & co.) are there. See ``docs/architecture.md``.
 * :mod:`.coriolis` — the Coriolis matrix
 * :mod:`.energy` — kinetic and potential energy, centre of mass
 * :mod:`.centroidal` — centroidal momentum and its matrix
+* :mod:`.derivatives` — first-order derivatives of inverse and forward dynamics (analytical), the regressor
+* :mod:`.second_order` — their second order (the first order on dual numbers; ABA's from RNEA's)
 * :mod:`.constraints` — constraint rows (J, γ), M's LᵀL factor, constrained dynamics, impulses, operational space
 """
 

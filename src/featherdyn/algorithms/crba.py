@@ -41,7 +41,12 @@ def crba(model: Model, q: np.ndarray) -> np.ndarray:
         T = ½ q̇ᵀ M(q) q̇,    M_ij = S_iᵀ ⁱX_j^* I^C_j S_j   (j in the subtree of i)
     """
     batch, dtype = batch_dtype(q)
-    td = TreeData(model, dtype)
+    return mass_matrix_on(TreeData(model, dtype), batch, q)
+
+
+def mass_matrix_on(td: TreeData, batch: tuple[int, ...], q: np.ndarray) -> np.ndarray:
+    """:func:`crba` on the tree data ``td`` (its poses ``td.pose_in_parent``, its dtype) and ``batch``."""
+    model = td.model
     X_up, IC = composite_inertias(td, q)
     M = zeros(batch, (model.nv, model.nv), td.dtype)
     for i in range(td.nb):

@@ -38,7 +38,7 @@ import numpy as np
 
 from ..frames import ReferenceFrame
 from ..model import Model
-from ..spatial import PluckerTransform, SpatialForce, SpatialMotion, crf, crm
+from ..spatial import PluckerTransform, SpatialForce, SpatialMotion
 from ..spatial.ops import crf_apply, crm_apply, skew_unchecked
 from . import aba as _aba
 from . import crba as _crba
@@ -57,6 +57,13 @@ def _nominal(model: Model, td: TreeData, q: np.ndarray, qd: np.ndarray, qdd: np.
         if td.parents[i] != -1:
             F[td.parents[i]] = F[td.parents[i]] + X_up[i].apply_inverse(F[i])
     return X_up, vJs, vel, acc, F
+
+
+def _crm_matrix(v: np.ndarray) -> np.ndarray:
+    """``[v]×`` `(..., 6, 6)` of an array already checked, any dtype (:func:`featherdyn.spatial.crm`)."""
+    w, lin = skew_unchecked(v[..., :3]), skew_unchecked(v[..., 3:])
+    zero = np.zeros_like(w)
+    return np.concatenate([np.concatenate([w, zero], axis=-1), np.concatenate([lin, w], axis=-1)], axis=-2)
 
 
 def _momentum_cross(h: np.ndarray) -> np.ndarray:
@@ -78,7 +85,13 @@ def rnea_partials(model: Model, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray, 
                   gravity: bool = True) -> tuple[np.ndarray, np.ndarray]:
     """``(∂τ/∂q, ∂τ/∂q̇)`` `(..., nv, nv)` of ``τ = RNEA(q, q̇, q̈)`` on checked arrays (module docstring)."""
     batch, dtype = batch_dtype(q, qd, qdd, f_ext=f_ext)
-    td = TreeData(model, dtype)
+    return partials_on(TreeData(model, dtype), batch, q, qd, qdd, f_ext, gravity)
+
+
+def partials_on(td: TreeData, batch: tuple[int, ...], q: np.ndarray, qd: np.ndarray, qdd: np.ndarray,
+                f_ext: np.ndarray | None = None, gravity: bool = True) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`rnea_partials` on the tree data ``td`` (its poses ``td.pose_in_parent``, its dtype) and ``batch``."""
+    model = td.model
     nb, nv, parents = td.nb, model.nv, td.parents
     a0 = td.a0 if gravity else SpatialMotion._wrap(np.zeros(6, dtype=td.dtype), None)
     S, dV, dA, dAv = (zeros(batch, (nv, 6), td.dtype) for _ in range(4))  # per column: ʳS, ∂V/∂q, ∂A/∂q, ∂A/∂q̇
@@ -116,7 +129,8 @@ def rnea_partials(model: Model, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray, 
         v.append(v_i)
         a.append(a_i)
         Ic.append(np.broadcast_to(I, batch + (6, 6)))
-        Bc.append(crf(v_i) @ I - I @ crm(v_i))
+        vx = _crm_matrix(v_i)
+        Bc.append(-vx.swapaxes(-1, -2) @ I - I @ vx)  # [v]×* I − I [v]×
         hc.append(h)
         Fc.append(f)
         dV[..., cols[i], :] = crm_apply(v_lam[..., None, :], Sc)

@@ -14,7 +14,7 @@ from typing import TYPE_CHECKING
 
 from ..frames import LOCAL, LOCAL_WORLD_ALIGNED, WORLD, ReferenceFrame
 from ..model import Model
-from ..results import CenterOfMass, Kinematics
+from ..results import AbaSecondDerivatives, CenterOfMass, Kinematics, RneaSecondDerivatives
 from . import declarations as _declarations
 from ._backend import (
     default_backend,
@@ -70,6 +70,8 @@ __all__ = [
     "ReferenceFrame",
     "CenterOfMass",
     "Kinematics",
+    "RneaSecondDerivatives",
+    "AbaSecondDerivatives",
     "ConstrainedDynamics",
     "ImpulseDynamics",
     "OperationalSpace",

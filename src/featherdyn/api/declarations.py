@@ -22,13 +22,15 @@ from ..algorithms import energy as _energy
 from ..algorithms import jacobians as _jac
 from ..algorithms import kinematics as _kin
 from ..algorithms import rnea as _rnea
+from ..algorithms import second_order as _second
 from ..model import Model
-from ..results import CenterOfMass, Kinematics
+from ..results import AbaSecondDerivatives, CenterOfMass, Kinematics, RneaSecondDerivatives
 from ..spatial import PluckerTransform, SpatialForce
 from .declared import Declaration, Record, public_function
 
 __all__ = ["rnea", "nonlinear_effects", "generalized_gravity", "crba", "aba", "frame_jacobian", "rnea_derivatives",
-           "aba_derivatives", "mass_matrix_inverse", "joint_torque_regressor", "frame_velocity_derivatives",
+           "aba_derivatives", "rnea_second_derivatives", "aba_second_derivatives", "mass_matrix_inverse",
+           "joint_torque_regressor", "frame_velocity_derivatives",
            "frame_acceleration_derivatives", "joint_jacobians", "frame_jacobian_time_variation", "kinetic_energy",
            "potential_energy", "centroidal_momentum_matrix", "generalized_gravity_derivatives",
            "static_torque_derivatives", "forward_kinematics", "frame_placement", "center_of_mass",
@@ -513,6 +515,64 @@ DECLARATIONS: dict[str, Declaration] = {d.name: d for d in [
             h_G = A_G(q) q̇     (p = m ċ)
         """,
     ),
+    Declaration(
+        name="rnea_second_derivatives",
+        inputs=("q", "v", "a", "f_ext"),
+        optional=("f_ext",),
+        options=("gravity",),
+        outputs=("d2tau_dq2", "d2tau_dv2", "d2tau_dqdv", "dM_dq"),
+        reference=_second.rnea_second_derivatives,
+        result=RneaSecondDerivatives,
+        doc="""The second derivatives of ``τ = RNEA(q, q̇, q̈, f_ext)``, each `(..., nv, nv, nv)`.
+
+        Args:
+            q: `(..., nq)`; v, a: `(..., nv)`; f_ext: optional `(..., nb, 6)` body-frame forces ``[n; f]``.
+            gravity: set ``False`` to leave gravity out.
+            backend: ``None`` (compiled for float64), ``"reference"`` or ``"compiled"``.
+
+        Returns:
+            :class:`~featherdyn.RneaSecondDerivatives` ``(d2tau_dq2, d2tau_dv2, d2tau_dqdv, dM_dq)``, ``[i, j, k]``
+            the derivative of output i along input j, then along input k: the analytical first order
+            (:func:`featherdyn.rnea_derivatives`) differentiated exactly (forward mode, dual numbers), with ``q``
+            along ``fd.integrate``'s tangent ``q ⊕ ε e_k``::
+
+                d2tau_dq2[i, j, k] = d/dε (∂τ_i/∂q_j)(q ⊕ ε e_k),   d2tau_dv2[i, j, k] = ∂²τ_i/∂q̇_j∂q̇_k,
+                d2tau_dqdv[i, j, k] = ∂²τ_i/∂q_j∂q̇_k,              dM_dq[i, j, k] = ∂M_ij/∂q_k = ∂²τ_i/∂q_k∂q̈_j
+
+            (∂²τ/∂q̈² = 0). ``d2tau_dq2[i]`` is symmetric in ``j, k`` for revolute and prismatic joints; on a
+            free-flyer or spherical joint it is not: the difference is the first order along the tangent
+            fields' Lie bracket (docs/derivatives.md).
+        """,
+    ),
+    Declaration(
+        name="aba_second_derivatives",
+        inputs=("q", "v", "tau", "f_ext"),
+        optional=("f_ext",),
+        options=("gravity",),
+        outputs=("d2ddq_dq2", "d2ddq_dv2", "d2ddq_dqdv", "d2ddq_dqdtau"),
+        reference=_second.aba_second_derivatives,
+        result=AbaSecondDerivatives,
+        doc="""The second derivatives of ``q̈ = ABA(q, q̇, τ, f_ext)``, each `(..., nv, nv, nv)`.
+
+        Args:
+            q: `(..., nq)`; v, tau: `(..., nv)`; f_ext: optional `(..., nb, 6)` body-frame forces.
+            gravity: set ``False`` to leave gravity out.
+            backend: ``None`` (compiled for float64), ``"reference"`` or ``"compiled"``.
+
+        Returns:
+            :class:`~featherdyn.AbaSecondDerivatives` ``(d2ddq_dq2, d2ddq_dv2, d2ddq_dqdv, d2ddq_dqdtau)``,
+            ``[i, j, k] = ∂²q̈_i/∂x_j∂y_k`` (q along ``fd.integrate``'s tangent, as
+            :func:`featherdyn.rnea_second_derivatives`), from RNEA's at ``q̈`` (``RNEA(q, q̇, ABA(q, q̇, τ)) = τ``
+            differentiated twice; never by differences)::
+
+                d2ddq_dq2[:, j, k] = −M⁻¹ (∂²τ/∂q_j∂q_k + ∂M/∂q_j ∂q̈/∂q_k + ∂M/∂q_k ∂q̈/∂q_j)
+                d2ddq_dv2 = −M⁻¹ ∂²τ/∂q̇²,   d2ddq_dqdv[:, j, k] = −M⁻¹ (∂²τ/∂q_j∂q̇_k + ∂M/∂q_j ∂q̈/∂q̇_k)
+                d2ddq_dqdtau[:, j, k] = −(M⁻¹ ∂M/∂q_j M⁻¹)[:, k]
+
+        Raises:
+            SingularMassMatrixError: naming the joint, when M(q) is singular.
+        """,
+    ),
 ]}
 
 # the public functions, typed by their results (the arguments are checked at the call: api/declared.py)
@@ -524,6 +584,8 @@ aba: Callable[..., np.ndarray] = public_function(DECLARATIONS["aba"])
 frame_jacobian: Callable[..., np.ndarray] = public_function(DECLARATIONS["frame_jacobian"])
 rnea_derivatives: Callable[..., tuple[np.ndarray, np.ndarray, np.ndarray]] = public_function(DECLARATIONS["rnea_derivatives"])
 aba_derivatives: Callable[..., tuple[np.ndarray, np.ndarray, np.ndarray]] = public_function(DECLARATIONS["aba_derivatives"])
+rnea_second_derivatives: Callable[..., RneaSecondDerivatives] = public_function(DECLARATIONS["rnea_second_derivatives"])
+aba_second_derivatives: Callable[..., AbaSecondDerivatives] = public_function(DECLARATIONS["aba_second_derivatives"])
 mass_matrix_inverse: Callable[..., np.ndarray] = public_function(DECLARATIONS["mass_matrix_inverse"])
 joint_torque_regressor: Callable[..., np.ndarray] = public_function(DECLARATIONS["joint_torque_regressor"])
 frame_velocity_derivatives: Callable[..., tuple[np.ndarray, np.ndarray]] = public_function(DECLARATIONS["frame_velocity_derivatives"])

@@ -11,6 +11,7 @@
 #include "crba.hpp"
 #include "declare.hpp"
 #include "declarations_constraints.hpp"
+#include "declarations_second_order.hpp"
 #include "centroidal.hpp"
 #include "derivatives.hpp"
 #include "energy.hpp"
@@ -409,7 +410,7 @@ inline const std::vector<Kernel>& declared_kernels() {
       declare<CentroidalMomentumMatrix>(),
       declare<GeneralizedGravityDerivatives>(), declare<StaticTorqueDerivatives>(), declare<Placements>(),
       declare<ForwardKinematics>(), declare<FramePlacement>(), declare<CenterOfMass>(), declare<CentroidalMomentum>(),
-      declare<MassMatrixFactor>(), declare<MassSolve>(),
+      declare<MassMatrixFactor>(), declare<MassSolve>(), declare<RneaSecondDerivatives>(), declare<AbaSecondDerivatives>(),
       declare<Delassus>(), declare<ConstrainedSolve>(), declare<ContactDynamics>(), declare<OperationalSpaceInertia>()};
   return kernels;
 }

@@ -20,7 +20,8 @@
 namespace fdcore {
 
 // The singular joint (−1: none) of q and its D = Sᵀ Iᴬ S: ABA at rest (the articulated inertias depend on q only) —
-// the detail of a SINGULAR status of every algorithm that factors M(q) (here, and declarations.hpp's).
+// the detail of a SINGULAR status of every algorithm that factors or inverts M(q) (here, declarations.hpp's and
+// declarations_second_order.hpp's).
 inline std::int64_t singular_at_rest(const ModelView& mv, const double* const* in, const Options&, double* D36) {
   std::vector<double> zero(static_cast<size_t>(mv.nv), 0.0), qdd(static_cast<size_t>(mv.nv));
   return aba<double>(mv, in[0], zero.data(), zero.data(), nullptr, false, qdd.data(), D36);
