@@ -10,6 +10,7 @@
 #include "aba.hpp"
 #include "crba.hpp"
 #include "declare.hpp"
+#include "declarations_kinematics.hpp"
 #include "centroidal.hpp"
 #include "derivatives.hpp"
 #include "energy.hpp"
@@ -414,7 +415,9 @@ inline const std::vector<Kernel>& declared_kernels() {
       declare<CentroidalMomentumMatrix>(),
       declare<GeneralizedGravityDerivatives>(), declare<StaticTorqueDerivatives>(), declare<Placements>(),
       declare<ForwardKinematics>(), declare<FramePlacement>(), declare<CenterOfMass>(), declare<CentroidalMomentum>(),
-      declare<MassMatrixFactor>(), declare<MassSolve>()};
+      declare<MassMatrixFactor>(), declare<MassSolve>(), declare<KinematicsDerivatives>(),
+      declare<PointKinematicsDerivatives>(), declare<CenterOfMassDerivatives>(),
+      declare<CentroidalDynamicsDerivatives>()};
   return kernels;
 }
 
