@@ -24,6 +24,8 @@ from .api import (
     aba,
     aba_derivatives,
     center_of_mass,
+    center_of_mass_derivatives,
+    centroidal_dynamics_derivatives,
     centroidal_momentum,
     centroidal_momentum_matrix,
     constrained_dynamics,
@@ -49,6 +51,7 @@ from .api import (
     impulse_dynamics,
     joint_jacobians,
     joint_torque_regressor,
+    kinematics_derivatives,
     kinetic_energy,
     mass_matrix_inverse,
     nonlinear_effects,
@@ -64,6 +67,7 @@ from .api import (
     static_torque_derivatives,
 )
 from .constraints import FrameContact, LoopConstraint, PointContact
+from .results import CenterOfMassDerivatives, CentroidalDynamicsDerivatives, KinematicsDerivatives
 from .errors import (
     BackendError,
     ConstraintError,
@@ -274,6 +278,12 @@ __all__ = [
     "mass_matrix_inverse",
     "frame_velocity_derivatives",
     "frame_acceleration_derivatives",
+    "kinematics_derivatives",
+    "center_of_mass_derivatives",
+    "centroidal_dynamics_derivatives",
+    "KinematicsDerivatives",
+    "CenterOfMassDerivatives",
+    "CentroidalDynamicsDerivatives",
     "joint_torque_regressor",
     "dynamic_parameters",
     "set_default_backend",
