@@ -67,7 +67,6 @@ from .api import (
     static_torque_derivatives,
 )
 from .constraints import FrameContact, LoopConstraint, PointContact
-from .results import CenterOfMassDerivatives, CentroidalDynamicsDerivatives, KinematicsDerivatives
 from .errors import (
     BackendError,
     ConstraintError,
@@ -89,6 +88,7 @@ from .errors import (
 )
 from .joints import FreeFlyerJoint, Joint, PlanarJoint, PrismaticJoint, RevoluteJoint, SphericalJoint
 from .model import FrameInfo, Mimic, Model, ModelBuilder
+from .results import CenterOfMassDerivatives, CentroidalDynamicsDerivatives, KinematicsDerivatives
 from .spatial_algebra import (
     PluckerTransform,
     Screw,

@@ -678,7 +678,7 @@ def kinematics_derivatives(model: Model, q: ArrayLike, v: ArrayLike, a: ArrayLik
         raise ShapeError(f"point: batch shape {p.shape[:-1]} does not broadcast with the state's {st.batch}") from None
     dtype = np.result_type(st.dtype, p.dtype)
     if select_backend(backend, dtype) == "compiled":
-        f64 = [np.asarray(x, dtype=np.float64) for x in (st.q, st.arrays["v"], st.arrays["a"], p)]
+        f64: list[np.ndarray | None] = [np.asarray(x, dtype=np.float64) for x in (st.q, st.arrays["v"], st.arrays["a"], p)]
         outs = _core_declared.run("point_kinematics_derivatives", model, batch, f64,
                                   options={"frame": fid, "reference": ref.code})
         return _kinematics_derivatives(*(as_dtype(o, dtype) for o in outs))
