@@ -35,7 +35,7 @@ from ..results import (
     KinematicsDerivatives,
 )
 from ..spatial import PluckerTransform, SpatialForce
-from ._backend import select_backend
+from ._backend import core_path, select_backend
 from ._checks import as_dtype, check_state, finite_result, quiet
 from .declared import Declaration, Record, public_function
 
@@ -666,12 +666,20 @@ def kinematics_derivatives(model: Model, q: ArrayLike, v: ArrayLike, a: ArrayLik
                            reference: ReferenceFrame | str = LOCAL, point: ArrayLike | None = None, *,
                            backend: str | None = None) -> KinematicsDerivatives:
     if point is None:  # the declared function (one state finished in C, batches, Dask, the reference)
+        if backend is None:  # (as the C fast path takes it: no keyword)
+            return _frame_kinematics_derivatives(model, q, v, a, frame, reference)
         return _frame_kinematics_derivatives(model, q, v, a, frame, reference, backend=backend)
     if not isinstance(model, Model):
         raise ShapeError(f"model: expected a featherdyn Model, got {type(model).__name__}")
     fid, ref = model.resolve_frame(frame), as_reference_frame(reference)
-    st = check_state(model, q, v=v, a=a)
     p = _point(point)
+    h = core_path(model, backend)
+    if h is not None:  # one state as the kernel takes it (exact native float64 arrays, a sound state), else on
+        r = _core_declared.kernel("point_kinematics_derivatives").fresh(h.cm, (q, v, a, p), frame=fid,
+                                                                          reference=ref.code)
+        if r is not None:
+            return _kinematics_derivatives(*r)
+    st = check_state(model, q, v=v, a=a)
     try:
         batch = np.broadcast_shapes(st.batch, p.shape[:-1])
     except ValueError:

@@ -22,12 +22,9 @@ struct FrameMotionWork {
   }
 };
 
-// vel (6,) and, when qdd is given, acc (6,) of frame `frame` in `ref`; with `point` (3,), in the frame's
-// coordinates, those of the frame moved to that point (its orientation kept); with `classical` and qdd, the
-// classical acceleration there (6,): [ω̇; a_lin + ω × v_lin], each in `ref` (kinematics.frame_classical_acceleration).
+// vel (6,) and, when qdd is given, acc (6,) of frame `frame` in `ref`.
 template <class S>
-void frame_motion(const ModelView& mv, const S* q, const S* qd, const S* qdd, int frame, int ref, S* vel, S* acc,
-                  const double* point = nullptr, S* classical = nullptr) {
+void frame_motion(const ModelView& mv, const S* q, const S* qd, const S* qdd, int frame, int ref, S* vel, S* acc) {
   const S z(0.0);
   Motion<S> v{{z, z, z}, {z, z, z}}, a = v;
   Mat3<S> oR;
@@ -56,14 +53,13 @@ void frame_motion(const ModelView& mv, const S* q, const S* qd, const S* qdd, in
     }
   }
   const Mat3<S> Rfb = load9<S>(mv.frame_R + 9 * frame);
-  const Vec3<S> pfb = point ? load3<S>(mv.frame_p + 3 * frame) + Rfb * load3<S>(point)
-                            : load3<S>(mv.frame_p + 3 * frame);
+  const Vec3<S> pfb = load3<S>(mv.frame_p + 3 * frame);
   const Mat3<S> Rf = n ? oR * Rfb : Rfb;
   const Vec3<S> pf = n ? op + oR * pfb : pfb;
-  auto express = [&](const Motion<S>& m, S* out) -> Motion<S> {
+  auto express = [&](const Motion<S>& m, S* out) {
     if (n == 0) {  // a frame fixed to the world does not move
       for (int r = 0; r < 6; ++r) out[r] = z;
-      return Motion<S>{{z, z, z}, {z, z, z}};
+      return;
     }
     const Motion<S> loc{mul_transpose(Rfb, m.w), mul_transpose(Rfb, m.v - cross(pfb, m.w))};  // ᶠX_b m
     Motion<S> e = loc;
@@ -72,15 +68,9 @@ void frame_motion(const ModelView& mv, const S* q, const S* qd, const S* qdd, in
       e = ref == WORLD ? Motion<S>{w, Rf * loc.v + cross(pf, w)} : Motion<S>{w, Rf * loc.v};
     }
     out[0] = e.w.x, out[1] = e.w.y, out[2] = e.w.z, out[3] = e.v.x, out[4] = e.v.y, out[5] = e.v.z;
-    return e;
   };
-  const Motion<S> ev = express(v, vel);
-  if (!qdd) return;
-  const Motion<S> ea = express(a, acc);
-  if (!classical) return;
-  const Vec3<S> lin = ea.v + cross(ev.w, ev.v);
-  classical[0] = ea.w.x, classical[1] = ea.w.y, classical[2] = ea.w.z;
-  classical[3] = lin.x, classical[4] = lin.y, classical[5] = lin.z;
+  express(v, vel);
+  if (qdd) express(a, acc);
 }
 
 // ∂v_f/∂q, ∂v_f/∂q̇ and, when qdd is given, ∂a_f/∂q, ∂a_f/∂q̇, ∂a_f/∂q̈: (6, nv) row-major each.
