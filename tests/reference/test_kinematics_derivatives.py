@@ -237,6 +237,14 @@ def test_point_batches_broadcast_and_equal_the_loop() -> None:
             for j in range(3):
                 one = fd.kinematics_derivatives(model, Q[i, j], V[i, j], A, "HR_FOOT", ref, P[j])
                 assert all(np.array_equal(x[i, j], y) for x, y in zip(batch, one, strict=True))
+    # one state, a batch of points: the state broadcast (both backends)
+    for backend in (None, "reference"):
+        points = fd.kinematics_derivatives(model, Q[0, 0], V[0, 0], A, "HR_FOOT", fd.LOCAL_WORLD_ALIGNED, P,
+                                           backend=backend)
+        assert points.dac_dq.shape == (3, 6, model.nv)
+        one = fd.kinematics_derivatives(model, Q[0, 0], V[0, 0], A, "HR_FOOT", fd.LOCAL_WORLD_ALIGNED, P[1],
+                                        backend=backend)
+        assert all(_rel(x[1], y) < 1e-14 for x, y in zip(points, one, strict=True))
     # the point's own float32 stays float32 (the reference), as the state's does
     r32 = fd.kinematics_derivatives(model, Q[0, 0].astype(np.float32), V[0, 0].astype(np.float32),
                                     A.astype(np.float32), "HR_FOOT", fd.LOCAL, P[0].astype(np.float32))

@@ -86,9 +86,10 @@ def kinematics_derivatives(model: Model, q: np.ndarray, qd: np.ndarray, qdd: np.
         a^c = [ω̇; a_lin + ω × v_lin],    ∂a^c = ∂a + [0; ∂ω × v_lin + ω × ∂v_lin]
     """
     batch, dtype = batch_dtype(q, qd, qdd)
-    if point is not None:
+    if point is not None:  # the state broadcast to the points' batch as well
         batch = np.broadcast_shapes(batch, np.shape(point)[:-1])
         dtype = np.result_type(dtype, np.asarray(point).dtype) if dtype.kind != "O" else dtype
+        q, qd, qdd = (np.broadcast_to(x, batch + x.shape[-1:]) for x in (q, qd, qdd))
     dv_dq, dv_dv, da_dq, da_dv, _ = frame_motion_derivatives(model, q, qd, qdd, frame, reference, point)
     v, _ = _frame_motion(model, q, qd, qdd, frame, reference, point, batch, dtype)
     w, lin = v[..., None, :3], v[..., None, 3:]
