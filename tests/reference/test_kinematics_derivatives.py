@@ -15,7 +15,7 @@ from collections.abc import Callable
 
 import numpy as np
 import pytest
-from _models import library_robot, pinocchio_pair
+from _models import TREES, library_robot, pinocchio_pair, tree
 
 import featherdyn as fd
 from featherdyn.model import FrameInfo
@@ -196,6 +196,26 @@ def test_centroidal_dynamics_derivatives_are_central_differences(name: str, floa
     # and the rate of featherdyn's own h by time differences, differentiated in v (two nested differences)
     dv = _central(lambda x: _momentum_rate(model, q, x, a), model, v, False, eps=1e-4)
     assert _rel(c.dhdot_dv, dv) < 1e-5
+
+
+@pytest.mark.parametrize("spec", TREES, ids=lambda s: s.name)
+def test_every_joint_type_against_central_differences(spec) -> None:  # type: ignore[no-untyped-def]
+    """Random trees with revolute, prismatic, spherical, planar and free-flyer joints (branches too): the three
+    functions' q-derivatives against central differences, the core and the reference alike."""
+    model = tree(spec.name)
+    q, v, a = _state(model, 24)
+    frame = model.frames[-1].name
+    moved = _with_frame_at(model, frame, POINT)
+    for backend in (None, "reference"):
+        k = fd.kinematics_derivatives(model, q, v, a, frame, fd.LOCAL_WORLD_ALIGNED, POINT, backend=backend)
+        dq = _central(lambda x: fd.frame_classical_acceleration(moved, x, v, a, "moved_frame",
+                                                                 fd.LOCAL_WORLD_ALIGNED).vector, model, q, True)
+        assert _rel(k.dac_dq, dq) < 1e-6, (spec.name, backend, _rel(k.dac_dq, dq))
+        d = fd.center_of_mass_derivatives(model, q, v, backend=backend)
+        assert _rel(d.dcdot_dq, _central(lambda x: fd.center_of_mass(model, x, v).velocity, model, q, True)) < 1e-6
+        c = fd.centroidal_dynamics_derivatives(model, q, v, a, backend=backend)
+        assert _rel(c.dh_dq, _central(lambda x: fd.centroidal_momentum(model, x, v).vector, model, q, True)) < 1e-6
+        assert _rel(c.dh_dq @ v + c.dhdot_da @ a, _momentum_rate(model, q, v, a)) < 1e-6
 
 
 # ---------------------------------------------------------------------------------------------------------
