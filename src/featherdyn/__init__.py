@@ -27,6 +27,8 @@ from .api import (
     aba_derivatives,
     aba_second_derivatives,
     center_of_mass,
+    center_of_mass_derivatives,
+    centroidal_dynamics_derivatives,
     centroidal_momentum,
     centroidal_momentum_matrix,
     constrained_dynamics,
@@ -52,6 +54,7 @@ from .api import (
     impulse_dynamics,
     joint_jacobians,
     joint_torque_regressor,
+    kinematics_derivatives,
     kinetic_energy,
     mass_matrix_inverse,
     nonlinear_effects,
@@ -89,6 +92,7 @@ from .errors import (
 )
 from .joints import FreeFlyerJoint, Joint, PlanarJoint, PrismaticJoint, RevoluteJoint, SphericalJoint
 from .model import FrameInfo, Mimic, Model, ModelBuilder
+from .results import CenterOfMassDerivatives, CentroidalDynamicsDerivatives, KinematicsDerivatives
 from .spatial_algebra import (
     PluckerTransform,
     Screw,
@@ -282,6 +286,12 @@ __all__ = [
     "mass_matrix_inverse",
     "frame_velocity_derivatives",
     "frame_acceleration_derivatives",
+    "kinematics_derivatives",
+    "center_of_mass_derivatives",
+    "centroidal_dynamics_derivatives",
+    "KinematicsDerivatives",
+    "CenterOfMassDerivatives",
+    "CentroidalDynamicsDerivatives",
     "joint_torque_regressor",
     "dynamic_parameters",
     "set_default_backend",

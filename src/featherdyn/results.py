@@ -14,7 +14,8 @@ import numpy as np
 from .model import Model
 from .spatial import PluckerTransform, SpatialMotion
 
-__all__ = ["Kinematics", "CenterOfMass", "RneaSecondDerivatives", "AbaSecondDerivatives"]
+__all__ = ["Kinematics", "CenterOfMass", "RneaSecondDerivatives", "AbaSecondDerivatives", "KinematicsDerivatives",
+           "CenterOfMassDerivatives", "CentroidalDynamicsDerivatives"]
 
 
 class Kinematics:
@@ -118,3 +119,39 @@ class AbaSecondDerivatives(NamedTuple):
     d2ddq_dv2: np.ndarray  #: ∂²q̈_i/∂q̇_j∂q̇_k
     d2ddq_dqdv: np.ndarray  #: ∂²q̈_i/∂q_j∂q̇_k
     d2ddq_dqdtau: np.ndarray  #: ∂²q̈_i/∂q_j∂τ_k
+
+
+class KinematicsDerivatives(NamedTuple):
+    """The derivatives of a frame's motion (:func:`featherdyn.kinematics_derivatives`), each `(..., 6, nv)`, rows
+    ``[ω; v]`` in the reference asked for: of its spatial velocity ``v_f`` (``dv_*``), its spatial acceleration
+    ``a_f`` (``da_*``) and its classical acceleration ``a_f^c = [ω̇; a_lin + ω × v_lin]`` (``dac_*``, whose linear
+    rows are the acceleration of the frame's origin, or of the point given), against ``q`` (along the tangent of
+    ``fd.integrate``), ``q̇`` and ``q̈``. ``dv_dv = da_da = dac_da = J``, the frame's Jacobian."""
+
+    dv_dq: np.ndarray
+    dv_dv: np.ndarray
+    da_dq: np.ndarray
+    da_dv: np.ndarray
+    da_da: np.ndarray
+    dac_dq: np.ndarray
+    dac_dv: np.ndarray
+    dac_da: np.ndarray
+
+
+class CenterOfMassDerivatives(NamedTuple):
+    """``(∂c/∂q, ∂ċ/∂q)`` `(..., 3, nv)` of the centre of mass and its velocity in world coordinates
+    (:func:`featherdyn.center_of_mass_derivatives`); ``∂c/∂q = ∂ċ/∂q̇`` is the centre of mass's Jacobian."""
+
+    dc_dq: np.ndarray
+    dcdot_dq: np.ndarray
+
+
+class CentroidalDynamicsDerivatives(NamedTuple):
+    """``(∂h_G/∂q, ∂ḣ_G/∂q, ∂ḣ_G/∂q̇, ∂ḣ_G/∂q̈)`` `(..., 6, nv)` of the centroidal momentum ``h_G = [k_G; p]``
+    (about the centre of mass, world axes: :func:`featherdyn.centroidal_momentum`) and of its rate ``ḣ_G``
+    (:func:`featherdyn.centroidal_dynamics_derivatives`); ``∂ḣ_G/∂q̈ = ∂h_G/∂q̇ = A_G``."""
+
+    dh_dq: np.ndarray
+    dhdot_dq: np.ndarray
+    dhdot_dv: np.ndarray
+    dhdot_da: np.ndarray

@@ -284,8 +284,11 @@ def _crm(s: np.ndarray, m: np.ndarray) -> np.ndarray:
 
 
 def frame_motion_derivatives(model: Model, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray | None, fid: int,
-                             ref: ReferenceFrame) -> list[np.ndarray]:
+                             ref: ReferenceFrame, point: np.ndarray | None = None) -> list[np.ndarray]:
     """``[∂v_f/∂q, ∂v_f/∂q̇]`` and, with ``qdd``, ``[∂a_f/∂q, ∂a_f/∂q̇, ∂a_f/∂q̈]``, each `(..., 6, nv)`.
+
+    With ``point`` `(..., 3)` (in the frame's coordinates): those of the frame moved to that point, its
+    orientation kept (``⁰M_f`` followed by the translation ``point``; the same in WORLD).
 
     In world coordinates (``⁰S_k``: joint k's columns carried to the world, ``⁰v_k`` body k's velocity),
     the frame's body b has ``⁰v_b = Σ ⁰S_i q̇_i`` and ``⁰a_b = Σ ⁰S_i q̈_i + ⁰v_i × ⁰S_i q̇_i`` over its
@@ -341,6 +344,10 @@ def frame_motion_derivatives(model: Model, q: np.ndarray, qd: np.ndarray, qdd: n
             da_dv[..., :, j] = accv
     if ref is not ReferenceFrame.WORLD:
         oMf = frame_pose(model, kin, fid)
+        if point is not None:
+            p = np.broadcast_to(np.asarray(point, dtype=dtype), batch + (3,))
+            eye = np.broadcast_to(np.eye(3, dtype=dtype), batch + (3, 3))
+            oMf = oMf @ PluckerTransform._wrap(eye, p, None, None)
 
         def local(x: np.ndarray) -> np.ndarray:  # ᶠX_0 applied to every column of x (..., 6, n)
             cols = SpatialMotion._wrap(np.ascontiguousarray(np.swapaxes(x, -1, -2)), None)

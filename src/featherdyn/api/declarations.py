@@ -9,7 +9,7 @@ public function: ``fd.<name>`` (one state, any batch shape, ``out=``, Dask array
 from __future__ import annotations
 
 from collections.abc import Callable
-from typing import Protocol, overload
+from typing import Any, Protocol, overload
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -21,11 +21,25 @@ from ..algorithms import derivatives as _ref
 from ..algorithms import energy as _energy
 from ..algorithms import jacobians as _jac
 from ..algorithms import kinematics as _kin
+from ..algorithms import kinematics_derivatives as _kd
 from ..algorithms import rnea as _rnea
 from ..algorithms import second_order as _second
+from ..core import declared as _core_declared
+from ..errors import DTypeError, NonFiniteError, ShapeError
+from ..frames import LOCAL, ReferenceFrame, as_reference_frame
 from ..model import Model
-from ..results import AbaSecondDerivatives, CenterOfMass, Kinematics, RneaSecondDerivatives
+from ..results import (
+    AbaSecondDerivatives,
+    CenterOfMass,
+    CenterOfMassDerivatives,
+    CentroidalDynamicsDerivatives,
+    Kinematics,
+    KinematicsDerivatives,
+    RneaSecondDerivatives,
+)
 from ..spatial import PluckerTransform, SpatialForce
+from ._backend import core_path, select_backend
+from ._checks import as_dtype, check_state, finite_result, quiet
 from .declared import Declaration, Record, public_function
 
 __all__ = ["rnea", "nonlinear_effects", "generalized_gravity", "crba", "aba", "frame_jacobian", "rnea_derivatives",
@@ -34,7 +48,8 @@ __all__ = ["rnea", "nonlinear_effects", "generalized_gravity", "crba", "aba", "f
            "frame_acceleration_derivatives", "joint_jacobians", "frame_jacobian_time_variation", "kinetic_energy",
            "potential_energy", "centroidal_momentum_matrix", "generalized_gravity_derivatives",
            "static_torque_derivatives", "forward_kinematics", "frame_placement", "center_of_mass",
-           "centroidal_momentum"]  # (and ``placements``: fd.compile(model).fk only)
+           "centroidal_momentum", "kinematics_derivatives", "center_of_mass_derivatives",
+           "centroidal_dynamics_derivatives"]  # (and ``placements``: fd.compile(model).fk only)
 
 
 class _CenterOfMassFunction(Protocol):
@@ -50,6 +65,36 @@ def _center_of_mass(c: np.ndarray, cd: np.ndarray | None) -> np.ndarray | Center
     """``c`` alone, or with its velocity the :class:`CenterOfMass` ``(c, ċ)``."""
     return c if cd is None else CenterOfMass(c, cd)
 
+
+def _kinematics_derivatives(dv_dq: Any, dv_dv: Any, da_dq: Any, da_dv: Any, dac_dq: Any,
+                            dac_dv: Any) -> KinematicsDerivatives:
+    """The kernel's six outputs as the record of eight: ``∂a/∂q̈ = ∂a^c/∂q̈ = ∂v/∂q̇ = J`` (copies of it)."""
+    return KinematicsDerivatives(dv_dq, dv_dv, da_dq, da_dv, dv_dv.copy(), dac_dq, dac_dv, dv_dv.copy())
+
+
+_KINEMATICS_DERIVATIVES_DOC = """The derivatives of a frame's velocity, spatial and classical accelerations, or of a point's.
+
+        Args:
+            model: the tree.
+            q: `(..., nq)`; v, a: `(..., nv)`.
+            frame: the frame's name or index.
+            reference: ``fd.LOCAL`` (the default), ``fd.WORLD`` or ``fd.LOCAL_WORLD_ALIGNED`` (or their names).
+            point: optional `(..., 3)`, a point in the frame's coordinates: the derivatives are those of a frame
+                at that point with the frame's orientation (in ``WORLD`` the same as the frame's).
+            backend: ``None`` (compiled for float64), ``"reference"`` or ``"compiled"``.
+
+        Returns:
+            :class:`~featherdyn.KinematicsDerivatives` ``(dv_dq, dv_dv, da_dq, da_dv, da_da, dac_dq, dac_dv,
+            dac_da)``, each `(..., 6, nv)`, rows ``[ω; v]``, ∂/∂q along the tangent of ``fd.integrate``, of::
+
+                v_f = J q̇,    a_f = J q̈ + J̇ q̇  (spatial, no gravity),    a_f^c = [ω̇; a_lin + ω × v_lin]
+
+            (``fd.frame_velocity``, ``fd.frame_acceleration``, ``fd.frame_classical_acceleration`` in
+            ``reference``); ``dv_dv = da_da = dac_da = J``. The linear rows of ``dv_*`` and ``dac_*`` at a point
+            are Pinocchio's ``getPointVelocityDerivatives`` and ``getPointClassicAccelerationDerivatives``. In
+            ``LOCAL_WORLD_ALIGNED`` these are the derivatives of the functions themselves (the frame's axes and
+            origin move with q; see ``docs/derivatives.md`` for Pinocchio's frame functions there).
+        """
 
 DECLARATIONS: dict[str, Declaration] = {d.name: d for d in [
     Declaration(
@@ -573,6 +618,65 @@ DECLARATIONS: dict[str, Declaration] = {d.name: d for d in [
             SingularMassMatrixError: naming the joint, when M(q) is singular.
         """,
     ),
+    Declaration(
+        name="kinematics_derivatives",
+        inputs=("q", "v", "a"),
+        options=("frame", "reference"),
+        outputs=("dv_dq", "dv_dv", "da_dq", "da_dv", "dac_dq", "dac_dv"),
+        reference=_kd.kinematics_derivatives,
+        result=_kinematics_derivatives,
+        doc=_KINEMATICS_DERIVATIVES_DOC,
+    ),
+    Declaration(
+        name="center_of_mass_derivatives",
+        inputs=("q", "v"),
+        outputs=("dc_dq", "dcdot_dq"),
+        reference=_kd.center_of_mass_derivatives,
+        result=CenterOfMassDerivatives,
+        doc="""``(∂c/∂q, ∂ċ/∂q)`` `(..., 3, nv)` of the centre of mass and its velocity, world coordinates.
+
+        Args:
+            q: `(..., nq)`; v: `(..., nv)`.
+            backend: ``None`` (compiled for float64), ``"reference"`` or ``"compiled"``.
+
+        Returns:
+            :class:`~featherdyn.CenterOfMassDerivatives` ``(dc_dq, dcdot_dq)`` (a pair), ∂/∂q along the tangent
+            of ``fd.integrate``; ``dc_dq`` is the centre of mass's Jacobian (Pinocchio's ``jacobianCenterOfMass``)
+            and ``∂ċ/∂q̇``::
+
+                c = Σ m_i ⁰c_i / m,    ċ = J_c(q) q̇,    ∂c/∂q_j = lin(⁰I^C_k s_j) / m,
+                ∂ċ/∂q_j = lin(s_j ×* h^C_k − ⁰I^C_k (s_j × v_λ(k))) / m      (s_j = ⁰S_j, joint k)
+
+        Raises:
+            ModelError: the tree has no mass (the centre of mass is undefined).
+        """,
+    ),
+    Declaration(
+        name="centroidal_dynamics_derivatives",
+        inputs=("q", "v", "a"),
+        outputs=("dh_dq", "dhdot_dq", "dhdot_dv", "dhdot_da"),
+        reference=_kd.centroidal_dynamics_derivatives,
+        result=CentroidalDynamicsDerivatives,
+        doc="""The derivatives of the centroidal momentum and of its rate, each `(..., 6, nv)`.
+
+        Args:
+            q: `(..., nq)`; v, a: `(..., nv)`.
+            backend: ``None`` (compiled for float64), ``"reference"`` or ``"compiled"``.
+
+        Returns:
+            :class:`~featherdyn.CentroidalDynamicsDerivatives` ``(dh_dq, dhdot_dq, dhdot_dv, dhdot_da)``, rows
+            ``[k_G; p]`` about the centre of mass in world axes (``fd.centroidal_momentum``), ∂/∂q along the
+            tangent of ``fd.integrate``::
+
+                h_G = A_G(q) q̇,    ḣ_G = A_G q̈ + Ȧ_G q̇ = Σ_i ⁰X_i* (I_i a_i + v_i ×* I_i v_i) about c
+                ∂ḣ_G/∂q̈ = ∂h_G/∂q̇ = A_G
+
+            (Pinocchio's ``computeCentroidalDynamicsDerivatives``, its rows ``[p; k]``.)
+
+        Raises:
+            ModelError: the tree has no mass (the centre of mass is undefined).
+        """,
+    ),
 ]}
 
 # the public functions, typed by their results (the arguments are checked at the call: api/declared.py)
@@ -602,3 +706,57 @@ placements: Callable[..., np.ndarray] = public_function(DECLARATIONS["placements
 frame_placement: Callable[..., PluckerTransform] = public_function(DECLARATIONS["frame_placement"])
 center_of_mass: _CenterOfMassFunction = public_function(DECLARATIONS["center_of_mass"])
 centroidal_momentum: Callable[..., SpatialForce] = public_function(DECLARATIONS["centroidal_momentum"])
+center_of_mass_derivatives: Callable[..., CenterOfMassDerivatives] = public_function(
+    DECLARATIONS["center_of_mass_derivatives"])
+centroidal_dynamics_derivatives: Callable[..., CentroidalDynamicsDerivatives] = public_function(
+    DECLARATIONS["centroidal_dynamics_derivatives"])
+_frame_kinematics_derivatives: Callable[..., KinematicsDerivatives] = public_function(
+    DECLARATIONS["kinematics_derivatives"])
+
+
+def _point(point: Any) -> np.ndarray:
+    """``point`` as a real array `(..., 3)`, finite."""
+    p = np.asarray(point)
+    if p.dtype.kind not in "fiu":
+        raise DTypeError(f"point: expected real numbers, got dtype {p.dtype}")
+    if p.ndim < 1 or p.shape[-1] != 3:
+        raise ShapeError(f"point: expected an array of shape (..., 3), got shape {p.shape}")
+    if not np.isfinite(p).all():
+        raise NonFiniteError(f"point: non-finite value at index {tuple(int(i) for i in np.argwhere(~np.isfinite(p))[0])}")
+    return p if p.dtype.kind == "f" else p.astype(np.float64)
+
+
+def kinematics_derivatives(model: Model, q: ArrayLike, v: ArrayLike, a: ArrayLike, frame: str | int,
+                           reference: ReferenceFrame | str = LOCAL, point: ArrayLike | None = None, *,
+                           backend: str | None = None) -> KinematicsDerivatives:
+    if point is None:  # the declared function (one state finished in C, batches, Dask, the reference)
+        if backend is None:  # (as the C fast path takes it: no keyword)
+            return _frame_kinematics_derivatives(model, q, v, a, frame, reference)
+        return _frame_kinematics_derivatives(model, q, v, a, frame, reference, backend=backend)
+    if not isinstance(model, Model):
+        raise ShapeError(f"model: expected a featherdyn Model, got {type(model).__name__}")
+    fid, ref = model.resolve_frame(frame), as_reference_frame(reference)
+    p = _point(point)
+    h = core_path(model, backend)
+    if h is not None:  # one state as the kernel takes it (exact native float64 arrays, a sound state), else on
+        r = _core_declared.kernel("point_kinematics_derivatives").fresh(
+            h.cm, (q, v, a, p), _core_declared.call_options(frame=fid, reference=ref.code))
+        if r is not None:
+            return _kinematics_derivatives(*r)
+    st = check_state(model, q, v=v, a=a)
+    try:
+        batch = np.broadcast_shapes(st.batch, p.shape[:-1])
+    except ValueError:
+        raise ShapeError(f"point: batch shape {p.shape[:-1]} does not broadcast with the state's {st.batch}") from None
+    dtype = np.result_type(st.dtype, p.dtype)
+    if select_backend(backend, dtype) == "compiled":
+        f64: list[np.ndarray | None] = [np.asarray(x, dtype=np.float64) for x in (st.q, st.arrays["v"], st.arrays["a"], p)]
+        outs = _core_declared.run("point_kinematics_derivatives", model, batch, f64,
+                                  options={"frame": fid, "reference": ref.code})
+        return _kinematics_derivatives(*(as_dtype(o, dtype) for o in outs))
+    r = quiet(_kd.kinematics_derivatives, model, st.q, st.arrays["v"], st.arrays["a"], fid, ref, p)
+    return _kinematics_derivatives(*(finite_result(as_dtype(np.asarray(o), dtype) if dtype.kind == "f"
+                                                   else np.asarray(o), "kinematics_derivatives") for o in r))
+
+
+kinematics_derivatives.__doc__ = _KINEMATICS_DERIVATIVES_DOC

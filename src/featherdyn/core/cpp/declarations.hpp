@@ -12,6 +12,7 @@
 #include "declare.hpp"
 #include "declarations_constraints.hpp"
 #include "declarations_second_order.hpp"
+#include "declarations_kinematics.hpp"
 #include "centroidal.hpp"
 #include "derivatives.hpp"
 #include "energy.hpp"
@@ -411,7 +412,9 @@ inline const std::vector<Kernel>& declared_kernels() {
       declare<GeneralizedGravityDerivatives>(), declare<StaticTorqueDerivatives>(), declare<Placements>(),
       declare<ForwardKinematics>(), declare<FramePlacement>(), declare<CenterOfMass>(), declare<CentroidalMomentum>(),
       declare<MassMatrixFactor>(), declare<MassSolve>(), declare<RneaSecondDerivatives>(), declare<AbaSecondDerivatives>(),
-      declare<Delassus>(), declare<ConstrainedSolve>(), declare<ContactDynamics>(), declare<OperationalSpaceInertia>()};
+      declare<Delassus>(), declare<ConstrainedSolve>(), declare<ContactDynamics>(), declare<OperationalSpaceInertia>(),
+      declare<KinematicsDerivatives>(), declare<PointKinematicsDerivatives>(), declare<CenterOfMassDerivatives>(),
+      declare<CentroidalDynamicsDerivatives>()};
   return kernels;
 }
 

@@ -1,0 +1,71 @@
+// The declared derivatives of kinematic quantities (declare.hpp; listed in declarations.hpp's
+// declared_kernels()): a frame's velocity and accelerations, the centre of mass, the centroidal momentum and its
+// rate, each against the state (kinematics_derivatives.hpp). Their public declarations: featherdyn/api/declarations.py.
+#pragma once
+
+#include "declare.hpp"
+#include "kinematics_derivatives.hpp"
+
+namespace fdcore {
+
+inline double total_mass(const ModelView& mv);  // (declarations.hpp: 0 for a tree without mass)
+
+// (∂v/∂q, ∂v/∂q̇, ∂a/∂q, ∂a/∂q̇, ∂a^c/∂q, ∂a^c/∂q̇) (6, nv) of a frame's velocity v, spatial acceleration a and
+// classical acceleration a^c = [ω̇; a_lin + ω × v_lin] in a reference (∂a/∂q̈ = ∂a^c/∂q̈ = ∂v/∂q̇ = J).
+struct KinematicsDerivatives : Declared {
+  static constexpr const char* name = "kinematics_derivatives";
+  static constexpr Operand inputs[] = {operand::q, operand::v, operand::a};
+  static constexpr Operand outputs[] = {operand::matrix("dv_dq", 6, NV),  operand::matrix("dv_dv", 6, NV),
+                                        operand::matrix("da_dq", 6, NV),  operand::matrix("da_dv", 6, NV),
+                                        operand::matrix("dac_dq", 6, NV), operand::matrix("dac_dv", 6, NV)};
+  static constexpr unsigned options = FRAME | REFERENCE;
+  static std::int64_t run(const ModelView& mv, const double* const* in, double* const* out, const Options& opt) {
+    kinematics_derivatives(mv, in[0], in[1], in[2], opt.frame, nullptr, opt.reference, out);
+    return OK;
+  }
+};
+
+// The same at a point of the frame, `point` (3,) in the frame's coordinates: the derivatives of the frame moved
+// to that point with its orientation kept (Pinocchio's getPoint*Derivatives in the linear rows).
+struct PointKinematicsDerivatives : Declared {
+  static constexpr const char* name = "point_kinematics_derivatives";
+  static constexpr Operand inputs[] = {operand::q, operand::v, operand::a, {"point", ARG_FRAME, {3}, 1, false}};
+  static constexpr Operand outputs[] = {operand::matrix("dv_dq", 6, NV),  operand::matrix("dv_dv", 6, NV),
+                                        operand::matrix("da_dq", 6, NV),  operand::matrix("da_dv", 6, NV),
+                                        operand::matrix("dac_dq", 6, NV), operand::matrix("dac_dv", 6, NV)};
+  static constexpr unsigned options = FRAME | REFERENCE;
+  static std::int64_t run(const ModelView& mv, const double* const* in, double* const* out, const Options& opt) {
+    kinematics_derivatives(mv, in[0], in[1], in[2], opt.frame, in[3], opt.reference, out);
+    return OK;
+  }
+};
+
+// (∂c/∂q, ∂ċ/∂q) (3, nv) of the centre of mass c and its velocity ċ in world coordinates (∂ċ/∂q̇ = ∂c/∂q).
+struct CenterOfMassDerivatives : Declared {
+  static constexpr const char* name = "center_of_mass_derivatives";
+  static constexpr Operand inputs[] = {operand::q, operand::v};
+  static constexpr Operand outputs[] = {operand::matrix("dc_dq", 3, NV), operand::matrix("dcdot_dq", 3, NV)};
+  static std::int64_t run(const ModelView& mv, const double* const* in, double* const* out, const Options&) {
+    const double mass = total_mass(mv);
+    if (mass == 0.0) return make_status(NO_MASS, ARG_Q, 0);
+    center_of_mass_derivatives(mv, in[0], in[1], mass, out[0], out[1]);
+    return OK;
+  }
+};
+
+// (∂h_G/∂q, ∂ḣ_G/∂q, ∂ḣ_G/∂q̇, ∂ḣ_G/∂q̈) (6, nv) of the centroidal momentum h_G = [k_G; p] and its rate
+// (∂h_G/∂q̇ = ∂ḣ_G/∂q̈ = A_G).
+struct CentroidalDynamicsDerivatives : Declared {
+  static constexpr const char* name = "centroidal_dynamics_derivatives";
+  static constexpr Operand inputs[] = {operand::q, operand::v, operand::a};
+  static constexpr Operand outputs[] = {operand::matrix("dh_dq", 6, NV), operand::matrix("dhdot_dq", 6, NV),
+                                        operand::matrix("dhdot_dv", 6, NV), operand::matrix("dhdot_da", 6, NV)};
+  static std::int64_t run(const ModelView& mv, const double* const* in, double* const* out, const Options&) {
+    const double mass = total_mass(mv);
+    if (mass == 0.0) return make_status(NO_MASS, ARG_Q, 0);
+    centroidal_dynamics_derivatives(mv, in[0], in[1], in[2], mass, out);
+    return OK;
+  }
+};
+
+}  // namespace fdcore
