@@ -189,3 +189,21 @@ def frame_classical_acceleration(model: Model, kin: Kinematics, fid: int, ref: R
     acc = _express(model, kin, fid, motion_at(kin.accelerations, body), ref, batch)[0]
     lin = acc.linear + cross3(vel.angular, vel.linear)
     return SpatialMotion._wrap(np.concatenate([acc.angular, lin], axis=-1), None)
+
+
+def frame_velocity_at(model: Model, q: np.ndarray, qd: np.ndarray, frame: int, reference: ReferenceFrame
+                      ) -> np.ndarray:
+    """:func:`frame_velocity` of the state `(..., 6)` (the declaration's reference)."""
+    return frame_velocity(model, forward_kinematics(model, q, qd), frame, reference).vector
+
+
+def frame_acceleration_at(model: Model, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray, frame: int,
+                          reference: ReferenceFrame) -> np.ndarray:
+    """:func:`frame_acceleration` of the state `(..., 6)` (the declaration's reference)."""
+    return frame_acceleration(model, forward_kinematics(model, q, qd, qdd), frame, reference).vector
+
+
+def frame_classical_acceleration_at(model: Model, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray, frame: int,
+                                    reference: ReferenceFrame) -> np.ndarray:
+    """:func:`frame_classical_acceleration` of the state `(..., 6)` (the declaration's reference)."""
+    return frame_classical_acceleration(model, forward_kinematics(model, q, qd, qdd), frame, reference).vector

@@ -51,12 +51,9 @@ from .dynamics import coriolis_matrix
 from .energy import center_of_mass, centroidal_momentum, centroidal_momentum_matrix, kinetic_energy, potential_energy
 from .kinematics import (
     forward_kinematics,
-    frame_acceleration,
-    frame_classical_acceleration,
     frame_jacobian,
     frame_jacobian_time_variation,
     frame_placement,
-    frame_velocity,
     joint_jacobians,
 )
 
@@ -96,12 +93,9 @@ __all__ = [
     "coriolis_matrix",
     "default_backend",
     "forward_kinematics",
-    "frame_acceleration",
-    "frame_classical_acceleration",
     "frame_jacobian",
     "frame_jacobian_time_variation",
     "frame_placement",
-    "frame_velocity",
     "joint_jacobians",
     "kinetic_energy",
     "potential_energy",

@@ -37,7 +37,7 @@ from ..results import (
     KinematicsDerivatives,
     RneaSecondDerivatives,
 )
-from ..spatial import PluckerTransform, SpatialForce
+from ..spatial import PluckerTransform, SpatialForce, SpatialMotion
 from ._backend import core_path, select_backend
 from ._checks import as_dtype, check_state, finite_result, quiet
 from .declared import Declaration, Record, public_function
@@ -49,7 +49,7 @@ __all__ = ["rnea", "nonlinear_effects", "generalized_gravity", "crba", "aba", "f
            "potential_energy", "centroidal_momentum_matrix", "generalized_gravity_derivatives",
            "static_torque_derivatives", "forward_kinematics", "frame_placement", "center_of_mass",
            "centroidal_momentum", "kinematics_derivatives", "center_of_mass_derivatives",
-           "centroidal_dynamics_derivatives"]  # (and ``placements``: fd.compile(model).fk only)
+           "centroidal_dynamics_derivatives", "frame_velocity", "frame_acceleration", "frame_classical_acceleration"]  # (and ``placements``: fd.compile(model).fk only)
 
 
 class _CenterOfMassFunction(Protocol):
@@ -59,6 +59,10 @@ class _CenterOfMassFunction(Protocol):
     def __call__(self, model: Model, q: ArrayLike, v: None = None, *, backend: str | None = None) -> np.ndarray: ...
     @overload
     def __call__(self, model: Model, q: ArrayLike, v: ArrayLike, *, backend: str | None = None) -> CenterOfMass: ...
+
+
+#: a frame's motion as the :class:`SpatialMotion` the public functions return (no tags)
+_MOTION = Record(SpatialMotion, (("vector", "motion"), ("frame", None), ("body", None), ("relative_to", None)))
 
 
 def _center_of_mass(c: np.ndarray, cd: np.ndarray | None) -> np.ndarray | CenterOfMass:
@@ -501,6 +505,76 @@ DECLARATIONS: dict[str, Declaration] = {d.name: d for d in [
         """,
     ),
     Declaration(
+        name="frame_velocity",
+        inputs=("q", "v"),
+        options=("frame", "reference"),
+        outputs=("motion",),
+        reference=_kin.frame_velocity_at,
+        result=_MOTION,
+        doc="""The spatial velocity of a frame `(..., 6)` in ``reference`` (Pinocchio's ``getFrameVelocity``).
+
+        Args:
+            q: `(..., nq)`; v: `(..., nv)`.
+            frame: the frame's name or index.
+            reference: ``fd.LOCAL`` (default), ``fd.WORLD`` or ``fd.LOCAL_WORLD_ALIGNED``.
+            backend: ``None`` (compiled for float64), ``"reference"`` or ``"compiled"``.
+
+        Returns:
+            a :class:`~featherdyn.SpatialMotion` ``[ω; v]``::
+
+                LOCAL:  ᶠv = ᶠX_b v_b      WORLD: ⁰X_f ᶠv      LOCAL_WORLD_ALIGNED: [R ω; R v]
+        """,
+    ),
+    Declaration(
+        name="frame_acceleration",
+        inputs=("q", "v", "a"),
+        options=("frame", "reference"),
+        outputs=("motion",),
+        reference=_kin.frame_acceleration_at,
+        result=_MOTION,
+        doc="""The *spatial* acceleration of a frame `(..., 6)` in ``reference`` (``getFrameAcceleration``).
+
+        Args:
+            q: `(..., nq)`; v, a: `(..., nv)`.
+            frame: the frame's name or index.
+            reference: ``fd.LOCAL`` (default), ``fd.WORLD`` or ``fd.LOCAL_WORLD_ALIGNED``.
+            backend: ``None`` (compiled for float64), ``"reference"`` or ``"compiled"``.
+
+        Returns:
+            a :class:`~featherdyn.SpatialMotion`: the time derivative of the spatial velocity, without gravity,
+            re-expressed exactly like :func:`frame_velocity`. Its linear part is **not** the acceleration of the
+            frame origin: see :func:`frame_classical_acceleration`::
+
+                ᶠa = ᶠX_b a_b,    a_i = ⁱX_λ a_λ + S_i q̈_i + v_i × S_i q̇_i
+        """,
+    ),
+    Declaration(
+        name="frame_classical_acceleration",
+        inputs=("q", "v", "a"),
+        options=("frame", "reference"),
+        outputs=("motion",),
+        reference=_kin.frame_classical_acceleration_at,
+        result=_MOTION,
+        doc="""The classical acceleration of a frame `(..., 6)` (``getFrameClassicalAcceleration``).
+
+        Args:
+            q: `(..., nq)`; v, a: `(..., nv)`.
+            frame: the frame's name or index.
+            reference: ``fd.LOCAL`` (default), ``fd.WORLD`` or ``fd.LOCAL_WORLD_ALIGNED``.
+            backend: ``None`` (compiled for float64), ``"reference"`` or ``"compiled"``.
+
+        Returns:
+            a :class:`~featherdyn.SpatialMotion`: angular part ``ω̇``, linear part the classical acceleration
+            (chapter §7.2)::
+
+                a_classical = a_spatial + [0; ω × v]      (ω, v of the frame, in the same reference)
+
+            In ``LOCAL`` and ``LOCAL_WORLD_ALIGNED`` the linear part is the acceleration of the frame origin (in
+            frame or world axes). In ``WORLD`` it is that of the body point passing through the world origin
+            (Pinocchio's convention).
+        """,
+    ),
+    Declaration(
         name="frame_placement",
         inputs=("q",),
         options=("frame",),
@@ -706,6 +780,9 @@ placements: Callable[..., np.ndarray] = public_function(DECLARATIONS["placements
 frame_placement: Callable[..., PluckerTransform] = public_function(DECLARATIONS["frame_placement"])
 center_of_mass: _CenterOfMassFunction = public_function(DECLARATIONS["center_of_mass"])
 centroidal_momentum: Callable[..., SpatialForce] = public_function(DECLARATIONS["centroidal_momentum"])
+frame_velocity: Callable[..., SpatialMotion] = public_function(DECLARATIONS["frame_velocity"])
+frame_acceleration: Callable[..., SpatialMotion] = public_function(DECLARATIONS["frame_acceleration"])
+frame_classical_acceleration: Callable[..., SpatialMotion] = public_function(DECLARATIONS["frame_classical_acceleration"])
 center_of_mass_derivatives: Callable[..., CenterOfMassDerivatives] = public_function(
     DECLARATIONS["center_of_mass_derivatives"])
 centroidal_dynamics_derivatives: Callable[..., CentroidalDynamicsDerivatives] = public_function(

@@ -414,7 +414,8 @@ inline const std::vector<Kernel>& declared_kernels() {
       declare<MassMatrixFactor>(), declare<MassSolve>(), declare<RneaSecondDerivatives>(), declare<AbaSecondDerivatives>(),
       declare<Delassus>(), declare<ConstrainedSolve>(), declare<ContactDynamics>(), declare<OperationalSpaceInertia>(),
       declare<KinematicsDerivatives>(), declare<PointKinematicsDerivatives>(), declare<CenterOfMassDerivatives>(),
-      declare<CentroidalDynamicsDerivatives>()};
+      declare<CentroidalDynamicsDerivatives>(), declare<FrameVelocity>(), declare<FrameAcceleration>(),
+      declare<FrameClassicalAcceleration>()};
   return kernels;
 }
 

@@ -1,14 +1,54 @@
-// The declared derivatives of kinematic quantities (declare.hpp; listed in declarations.hpp's
-// declared_kernels()): a frame's velocity and accelerations, the centre of mass, the centroidal momentum and its
-// rate, each against the state (kinematics_derivatives.hpp). Their public declarations: featherdyn/api/declarations.py.
+// The declared motions of frames and the derivatives of kinematic quantities (declare.hpp; listed in
+// declarations.hpp's declared_kernels()): a frame's velocity and accelerations (frames.hpp), and their derivatives,
+// the centre of mass's, the centroidal momentum's and its rate's against the state (kinematics_derivatives.hpp).
+// Their public declarations: featherdyn/api/declarations.py.
 #pragma once
 
 #include "declare.hpp"
+#include "frames.hpp"
 #include "kinematics_derivatives.hpp"
 
 namespace fdcore {
 
 inline double total_mass(const ModelView& mv);  // (declarations.hpp: 0 for a tree without mass)
+
+// A frame's spatial velocity (6,) rows [ω; v] in `reference` (frames.hpp: frame_motion; Pinocchio's
+// getFrameVelocity): LOCAL ᶠX_b v_b, WORLD ⁰X_f ᶠv, LOCAL_WORLD_ALIGNED [⁰R_f ω; ⁰R_f v].
+struct FrameVelocity : Declared {
+  static constexpr const char* name = "frame_velocity";
+  static constexpr Operand inputs[] = {operand::q, operand::v};
+  static constexpr Operand outputs[] = {operand::vector("motion", 6)};
+  static constexpr unsigned options = FRAME | REFERENCE;
+  static std::int64_t run(const ModelView& mv, const double* const* in, double* const* out, const Options& opt) {
+    frame_motion<double>(mv, in[0], in[1], nullptr, opt.frame, opt.reference, out[0], nullptr, nullptr);
+    return OK;
+  }
+};
+
+// A frame's spatial acceleration (6,) (no gravity), expressed as its velocity (getFrameAcceleration).
+struct FrameAcceleration : Declared {
+  static constexpr const char* name = "frame_acceleration";
+  static constexpr Operand inputs[] = {operand::q, operand::v, operand::a};
+  static constexpr Operand outputs[] = {operand::vector("motion", 6)};
+  static constexpr unsigned options = FRAME | REFERENCE;
+  static std::int64_t run(const ModelView& mv, const double* const* in, double* const* out, const Options& opt) {
+    frame_motion<double>(mv, in[0], in[1], in[2], opt.frame, opt.reference, nullptr, out[0], nullptr);
+    return OK;
+  }
+};
+
+// A frame's classical acceleration (6,) [ω̇; a_lin + ω × v_lin] (getFrameClassicalAcceleration): in LOCAL and
+// LOCAL_WORLD_ALIGNED the acceleration of the frame's origin, in WORLD of the body point at the world origin.
+struct FrameClassicalAcceleration : Declared {
+  static constexpr const char* name = "frame_classical_acceleration";
+  static constexpr Operand inputs[] = {operand::q, operand::v, operand::a};
+  static constexpr Operand outputs[] = {operand::vector("motion", 6)};
+  static constexpr unsigned options = FRAME | REFERENCE;
+  static std::int64_t run(const ModelView& mv, const double* const* in, double* const* out, const Options& opt) {
+    frame_motion<double>(mv, in[0], in[1], in[2], opt.frame, opt.reference, nullptr, nullptr, out[0]);
+    return OK;
+  }
+};
 
 // (∂v/∂q, ∂v/∂q̇, ∂a/∂q, ∂a/∂q̇, ∂a^c/∂q, ∂a^c/∂q̇) (6, nv) of a frame's velocity v, spatial acceleration a and
 // classical acceleration a^c = [ω̇; a_lin + ω × v_lin] in a reference (∂a/∂q̈ = ∂a^c/∂q̈ = ∂v/∂q̇ = J).

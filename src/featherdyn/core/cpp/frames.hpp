@@ -60,6 +60,64 @@ void frame_pose(const ModelView& mv, const S* q, int frame, Mat3<S>& R, Vec3<S>&
   }
 }
 
+// A frame's spatial velocity, spatial acceleration (no gravity) and classical acceleration, each (6,) rows [ω; v] in
+// `ref` (reference: featherdyn/algorithms/kinematics.py, frame_velocity & co.): its body's motion by kinematics.hpp's
+// recursion on the support only (root → body(f)), then moved to the frame (ᶠM_b = placement_f⁻¹):
+//
+//     LOCAL: ᶠv = [Rᵀ ω_b; Rᵀ (v_b + ω_b × p)]      LOCAL_WORLD_ALIGNED: [⁰R_f ω; ⁰R_f v] of LOCAL's
+//     WORLD: ⁰X_f ᶠv = [ω; v + ⁰p_f × ω] of LOCAL_WORLD_ALIGNED's        (the same for the acceleration)
+//     classical: [ω̇; a_lin + ω × v_lin], ω and v the frame's in the same reference
+//
+// vel, acc, acc_classical: any may be nullptr (qdd is read only for the accelerations). A frame on the world
+// (body −1) does not move.
+template <class S>
+void frame_motion(const ModelView& mv, const S* q, const S* qd, const S* qdd, int frame, int ref, S* vel, S* acc,
+                  S* acc_classical) {
+  SupportWork<S>& w = thread_workspace<SupportWork<S>>(mv.nb);
+  const bool accelerations = acc != nullptr || acc_classical != nullptr;
+  int n = 0;
+  for (int j = mv.frame_body[frame]; j != -1; j = mv.parent[j]) ++n;
+  for (int j = mv.frame_body[frame], m = n; j != -1; j = mv.parent[j]) w.path[--m] = j;
+  const S z(0.0);
+  Motion<S> v{{z, z, z}, {z, z, z}}, a = v;
+  Mat3<S> R0 = Mat3<S>::identity();  // ⁰R_b, ⁰p_b of the body reached so far
+  Vec3<S> p0{z, z, z};
+  for (int s = 0; s < n; ++s) {
+    const int i = w.path[s];
+    Mat3<S> R;
+    Vec3<S> p;
+    pose_in_parent(mv, i, q, R, p);
+    const Xform<S> X_up{R.transpose(), p};
+    const Motion<S> vJ = S_times(mv, i, qd);
+    v = s == 0 ? vJ : X_up.apply(v) + vJ;
+    if (accelerations) {
+      const Motion<S> aJ = S_times(mv, i, qdd) + cross_motion(v, vJ);
+      a = s == 0 ? aJ : X_up.apply(a) + aJ;
+    }
+    p0 = p0 + R0 * p;
+    R0 = R0 * R;
+  }
+  const Mat3<S> Rf = load9<S>(mv.frame_R + 9 * frame);
+  const Vec3<S> pf = load3<S>(mv.frame_p + 3 * frame);
+  const Mat3<S> R0f = R0 * Rf;
+  const Vec3<S> p0f = p0 + R0 * pf;
+  auto express = [&](const Motion<S>& m) {  // the body's motion at the frame, in `ref`
+    const Motion<S> local{Rf.transpose() * m.w, Rf.transpose() * (m.v + cross(m.w, pf))};
+    if (ref == LOCAL) return local;
+    const Motion<S> aligned{R0f * local.w, R0f * local.v};
+    return ref == LOCAL_WORLD_ALIGNED ? aligned : Motion<S>{aligned.w, aligned.v + cross(p0f, aligned.w)};
+  };
+  auto store = [](const Motion<S>& m, S* out) {
+    out[0] = m.w.x, out[1] = m.w.y, out[2] = m.w.z, out[3] = m.v.x, out[4] = m.v.y, out[5] = m.v.z;
+  };
+  const Motion<S> vf = express(v);
+  if (vel) store(vf, vel);
+  if (!accelerations) return;
+  const Motion<S> af = express(a);
+  if (acc) store(af, acc);
+  if (acc_classical) store(Motion<S>{af.w, af.v + cross(vf.w, vf.v)}, acc_classical);
+}
+
 // ⁰M_f as a homogeneous matrix H (4, 4), row-major.
 template <class S>
 void frame_placement(const ModelView& mv, const S* q, int frame, S* H) {
