@@ -1,5 +1,8 @@
 """The declared kinematics records against Pinocchio, one state: best of 9 interleaved repeats, same process.
 
+Pinocchio's forwardKinematics writes its data and returns nothing; its frame velocity and acceleration are read
+after a forwardKinematics with v (and a), as a user calls them.
+
 Usage: ``python benchmarks/bench_records.py`` (needs pin and example-robot-data); prints robot, call, featherdyn
 µs, Pinocchio µs and their ratio (benchmarks/results-records-2026-11-29.md).
 """
@@ -41,6 +44,12 @@ def bench_robot(name: str, floating: bool) -> None:
          lambda: pin.computeCentroidalMomentum(pm, pd, qp, vp)),
         ("center_of_mass", lambda: fd.center_of_mass(m, q), lambda: pin.centerOfMass(pm, pd, qp)),
         ("rnea", lambda: fd.rnea(m, q, v, v), lambda: pin.rnea(pm, pd, qp, vp, vp)),
+        ("frame_velocity", lambda: fd.frame_velocity(m, q, v, frame, fd.LOCAL_WORLD_ALIGNED),
+         lambda: (pin.forwardKinematics(pm, pd, qp, vp),
+                  pin.getFrameVelocity(pm, pd, fid, pin.ReferenceFrame.LOCAL_WORLD_ALIGNED))),
+        ("frame_classical_acceleration", lambda: fd.frame_classical_acceleration(m, q, v, v, frame, fd.LOCAL),
+         lambda: (pin.forwardKinematics(pm, pd, qp, vp, vp),
+                  pin.getFrameClassicalAcceleration(pm, pd, fid, pin.ReferenceFrame.LOCAL))),
     ]
     for label, ours, theirs in calls:
         ta, tb = [], []
