@@ -490,6 +490,22 @@ void rnea_derivatives(const ModelView& mv, const S* q, const S* qd, const S* qdd
   rnea_derivatives_to(mv, q, qd, qdd, f_ext, gravity, StateOut<S>{{dtau_dq, dtau_dv, M}});
 }
 
+// The Dual state (Q, V) of a pass over the directions [start, start + lanes) of (q along the tangent, then q̇):
+// q and q̇ as constants, lane l seeded along direction start + l (below nv: q's tangent, from nv: q̇'s); the lanes.
+inline int seed_state_directions(const ModelView& mv, const double* q, const double* qd, int start, DualK* Q,
+                                 DualK* V) {
+  const int nv = mv.nv;
+  for (int k = 0; k < mv.nq; ++k) Q[k] = DualK(q[k]);
+  for (int k = 0; k < nv; ++k) V[k] = DualK(qd[k]);
+  const int lanes = std::min(DERIV_LANES, 2 * nv - start);
+  for (int l = 0; l < lanes; ++l) {
+    const int dir = start + l;
+    if (dir < nv) seed_tangent(mv, q, dir, l, Q);
+    else V[dir - nv].d[l] = 1.0;
+  }
+  return lanes;
+}
+
 // ∂τ/∂q and ∂τ/∂q̇ (nv, nv) row-major by forward-mode differentiation of the RNEA template on Dual
 // numbers: an independent check of the analytical algorithm (tests), eight directions a pass.
 inline void rnea_derivatives_dual(const ModelView& mv, const double* q, const double* qd, const double* qdd,
@@ -501,14 +517,7 @@ inline void rnea_derivatives_dual(const ModelView& mv, const double* q, const do
   for (int k = 0; k < nv; ++k) w.A[k] = DualK(qdd[k]);
   for (int k = 0; f_ext && k < nf; ++k) w.F[k] = DualK(f_ext[k]);
   for (int start = 0; start < 2 * nv; start += DERIV_LANES) {
-    for (int k = 0; k < nq; ++k) w.Q[k] = DualK(q[k]);
-    for (int k = 0; k < nv; ++k) w.V[k] = DualK(qd[k]);
-    const int lanes = std::min(DERIV_LANES, 2 * nv - start);
-    for (int l = 0; l < lanes; ++l) {
-      const int dir = start + l;
-      if (dir < nv) seed_tangent(mv, q, dir, l, w.Q.data());
-      else w.V[dir - nv].d[l] = 1.0;
-    }
+    const int lanes = seed_state_directions(mv, q, qd, start, w.Q.data(), w.V.data());
     rnea(mv, w.Q.data(), w.V.data(), w.A.data(), f_ext ? w.F.data() : nullptr, gravity, w.T.data());
     for (int l = 0; l < lanes; ++l) {
       const int dir = start + l;

@@ -54,14 +54,7 @@ inline void rnea_second_derivatives(const ModelView& mv, const double* q, const 
   for (int k = 0; k < nv; ++k) w.A[k] = DualK(qdd[k]);
   for (int k = 0; f_ext && k < nf; ++k) w.F[k] = DualK(f_ext[k]);
   for (int start = 0; start < 2 * nv; start += DERIV_LANES) {
-    for (int k = 0; k < nq; ++k) w.Q[k] = DualK(q[k]);
-    for (int k = 0; k < nv; ++k) w.V[k] = DualK(qd[k]);
-    const int lanes = std::min(DERIV_LANES, 2 * nv - start);
-    for (int l = 0; l < lanes; ++l) {
-      const int dir = start + l;
-      if (dir < nv) seed_tangent(mv, q, dir, l, w.Q.data());
-      else w.V[dir - nv].d[l] = 1.0;
-    }
+    const int lanes = seed_state_directions(mv, q, qd, start, w.Q.data(), w.V.data());
     // a pass of q's directions only does not form ∂τ/∂q̇, one of q̇'s only not M (independent of q̇)
     const bool q_only = start + lanes <= nv, v_only = start >= nv;
     rnea_derivatives_to(mv, w.Q.data(), w.V.data(), w.A.data(), f_ext ? w.F.data() : nullptr, gravity,
