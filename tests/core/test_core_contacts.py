@@ -224,3 +224,11 @@ def test_public_batch_that_does_not_converge_raises() -> None:
     with pytest.raises(fd.ConstraintError) as batch:
         fd.constrained_dynamics(model, Q, V, T, cons, mu=1e-3, max_iter=1)
     assert str(batch.value) == str(one.value)
+
+
+def test_bad_contact_specs_are_a_shape_error_naming_them() -> None:
+    model = _model("solo12")
+    q, v, tau, _ = _states(model, 3, 1)
+    for specs in (np.array([[5.0, 0.0, 0.0, 0.0]]), [[3, 0, 0]], np.array([[3.0, 1e6, 0.0, 0.0]])):
+        with pytest.raises(fd.ShapeError, match="specs"):
+            core.contact_dynamics(model, q[0], v[0], tau[0], specs)

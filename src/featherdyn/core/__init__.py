@@ -272,7 +272,11 @@ def contact_dynamics(model: Model, q: Any, v: Any, tau: Any, specs: np.ndarray, 
     ``iterations`` `(...)`: −1 dependent rows (with ``mu = 0``; q̈ and λ are then zero), −2 not converged; the
     caller raises.
     """
-    plan = _lib().ContactPlan(_view(model).cm, np.ascontiguousarray(specs, dtype=np.float64))
+    h = _view(model)
+    try:
+        plan = _lib().ContactPlan(h.cm, np.ascontiguousarray(specs, dtype=np.float64))
+    except (TypeError, ValueError) as exc:  # (the binding's words: the specs' shape or a row out of range)
+        raise ShapeError(f"specs: {exc}; got {np.shape(specs)} for a model with {len(model.frames)} frames") from None
     qdd, lam, info = _solved("contact_dynamics", model, q, v, tau, f_ext, [], {"plan": plan, "mu": mu}, max_iter, tol,
                              check=False)
     return qdd, lam, info[..., 0], info[..., 1]
