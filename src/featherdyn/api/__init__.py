@@ -24,6 +24,12 @@ from ._backend import (
     set_num_threads,
     set_result_cache_size,
 )
+from .constraint_derivatives import (
+    ConstrainedDynamicsDerivatives,
+    ImpulseDynamicsDerivatives,
+    constrained_dynamics_derivatives,
+    impulse_dynamics_derivatives,
+)
 from .constraints import (
     ConstrainedDynamics,
     ImpulseDynamics,
@@ -71,6 +77,10 @@ __all__ = [
     "AbaSecondDerivatives",
     "ConstrainedDynamics",
     "ImpulseDynamics",
+    "ConstrainedDynamicsDerivatives",
+    "ImpulseDynamicsDerivatives",
+    "constrained_dynamics_derivatives",
+    "impulse_dynamics_derivatives",
     "OperationalSpace",
     "constrained_dynamics",
     "constraint_drift",
