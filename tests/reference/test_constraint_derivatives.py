@@ -235,3 +235,22 @@ def test_against_pinocchio(name: str, frames: list[str], three_d: bool, ref: fd.
                          (i.dv_plus_dv - np.eye(model.nv), jm.matrix_from_pin(pd.ddq_dv.copy())),
                          (i.impulses_dq, rows(pd.dlambda_dq)), (i.impulses_dv, rows(pd.dlambda_dv))]:
         _close(ours, theirs, 1e-9)
+
+
+@pytest.mark.parametrize("ref", REFS, ids=lambda r: r.value)
+def test_core_equals_reference_and_batches_on_the_pool(solo: fd.Model, ref: fd.ReferenceFrame) -> None:
+    """Point and frame contacts take the core's kernel (contact_derivatives.hpp), one state and rows of a batch;
+    the reference backend composes the same equations from its own functions."""
+    rng = np.random.default_rng(11)
+    Q = fd.random_configuration(solo, rng, size=4)
+    V, T = rng.normal(size=(4, solo.nv)), rng.normal(size=(4, solo.nv))
+    cons = [fd.PointContact("FL_FOOT", ref, baumgarte=(0.0, 2.0)), fd.FrameContact("HR_FOOT", ref)]
+    d = fd.constrained_dynamics_derivatives(solo, Q, V, T, cons)
+    i = fd.impulse_dynamics_derivatives(solo, Q, V, cons, restitution=0.2)
+    for k in range(4):
+        r = fd.constrained_dynamics_derivatives(solo, Q[k], V[k], T[k], cons, backend="reference")
+        s = fd.impulse_dynamics_derivatives(solo, Q[k], V[k], cons, restitution=0.2, backend="reference")
+        for name in ("ddq_dq", "ddq_dv", "ddq_dtau", "forces_dq", "forces_dv", "forces_dtau", "ddq", "lagrange"):
+            _close(getattr(d, name)[k], getattr(r, name), 1e-10)
+        for name in ("dv_plus_dq", "dv_plus_dv", "impulses_dq", "impulses_dv", "v_plus", "lagrange"):
+            _close(getattr(i, name)[k], getattr(s, name), 1e-10)

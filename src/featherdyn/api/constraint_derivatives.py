@@ -15,6 +15,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -23,13 +24,16 @@ from .. import _dask
 from .. import constraints as _con
 from ..algorithms import constraint_derivatives as _alg
 from ..algorithms.constraints import selected_rows
-from ..constraints import Constraint, LoopConstraint, PointContact
+from ..constraints import Constraint, LoopConstraint, PointContact, cached_contact_plan
+from ..core import declared as _declared
 from ..frames import LOCAL, ReferenceFrame
 from ..model import Model
 from ..rotation import se3_log
 from ..spatial.ops import skew_unchecked
+from ..tolerances import DELASSUS_PIVOT_RTOL
+from ._backend import OK, core_path
 from ._checks import check_state
-from .constraints import constrained_dynamics, impulse_dynamics
+from .constraints import _core_plan, _solver, constrained_dynamics, impulse_dynamics
 from .declarations import (
     crba,
     frame_acceleration,
@@ -39,6 +43,10 @@ from .declarations import (
     mass_matrix_inverse,
     rnea_derivatives,
 )
+
+_CONTACTS = _declared.kernel("contact_dynamics_derivatives")  # core/cpp/declarations_constraints.hpp
+_IMPULSES = _declared.kernel("impulse_dynamics_derivatives")
+_EMPTY = np.empty
 
 __all__ = ["ConstrainedDynamicsDerivatives", "ImpulseDynamicsDerivatives", "constrained_dynamics_derivatives",
            "impulse_dynamics_derivatives"]
@@ -230,6 +238,29 @@ def _corrected(dtau_dq: np.ndarray, terms: list[_Terms]) -> np.ndarray:
     return dtau_dq
 
 
+def _core(kernel: Any, model: Model, args: tuple[Any, ...], opts: Any, rows: tuple[tuple[int, ...], ...],
+          backend: str | None) -> tuple[np.ndarray, ...] | None:
+    """The kernel's outputs for point and frame contacts: one state as the binding takes it, or rows `(N, nq)` on
+    its batch (the thread pool); ``None`` where it declines (dependent contacts, other input: the general path)."""
+    core = core_path(model, backend)
+    if core is None:
+        return None
+    try:
+        r = kernel.fresh(core.cm, args, opts)
+        q = args[0]
+        if r is None and type(q) is np.ndarray and q.ndim == 2 and (len(args) < 4 or args[3] is None):
+            n = q.shape[0]
+            r = tuple(_EMPTY((n, *shape)) for shape in rows)
+            r = r if kernel.batch(core.cm, list(args), list(r), opts)[1] == OK else None
+        return r
+    except (TypeError, ValueError):  # arguments the binding does not take as they are
+        return None
+
+
+def _shapes(nv: int, m: int, ddq_first: int) -> tuple[tuple[int, ...], ...]:
+    return ((nv, nv),) * ddq_first + ((m, nv),) * ddq_first + ((nv,), (m,))
+
+
 def constrained_dynamics_derivatives(model: Model, q: ArrayLike, v: ArrayLike, tau: ArrayLike,
                                      constraints: Sequence[Constraint] | Constraint, *, f_ext: ArrayLike | None = None,
                                      mu: float = 0.0, max_iter: int = 50, tol: float = 1e-12,
@@ -251,6 +282,16 @@ def constrained_dynamics_derivatives(model: Model, q: ArrayLike, v: ArrayLike, t
     Raises:
         ConstraintError: dependent constraints with ``mu = 0`` (as :func:`constrained_dynamics`).
     """
+    found = cached_contact_plan(model, constraints, _core_plan)
+    if found is not None and found[1] is not None:  # point and frame contacts: contact_derivatives.hpp
+        try:
+            opts = _solver(found[1], mu, max_iter, tol)
+        except (TypeError, ValueError):
+            opts = None
+        r = None if opts is None else _core(_CONTACTS, model, (q, v, tau, f_ext), opts,
+                                            _shapes(model.nv, found[0].size, 3), backend)
+        if r is not None:
+            return ConstrainedDynamicsDerivatives(*r)
     if _dask.lazy(q, v, tau, f_ext):
         return _dask.call(constrained_dynamics_derivatives, model, {"q": q, "v": v, "tau": tau, "f_ext": f_ext},
                           constraints=constraints, mu=mu, max_iter=max_iter, tol=tol, backend=backend)
@@ -288,6 +329,13 @@ def impulse_dynamics_derivatives(model: Model, q: ArrayLike, v: ArrayLike,
     Raises:
         ConstraintError: dependent constraints with ``mu = 0``; ModelError: restitution outside [0, 1].
     """
+    found = cached_contact_plan(model, constraints, _core_plan)
+    if found is not None and found[1] is not None and isinstance(restitution, (int, float)) \
+            and 0.0 <= restitution <= 1.0:  # point and frame contacts: contact_derivatives.hpp
+        opts = _declared.call_options(plan=found[1][0], restitution=float(restitution), singular_tol=DELASSUS_PIVOT_RTOL)
+        r = _core(_IMPULSES, model, (q, v), opts, _shapes(model.nv, found[0].size, 2), backend)
+        if r is not None:
+            return ImpulseDynamicsDerivatives(*r)
     if _dask.lazy(q, v):
         return _dask.call(impulse_dynamics_derivatives, model, {"q": q, "v": v}, constraints=constraints,
                           restitution=restitution, mu=mu, backend=backend)

@@ -52,8 +52,9 @@ void fdcore::bind_options(nb::module_& m) {
   nb::class_<CallOptions>(m, "Options", "a call's options (core/cpp/declare.hpp: Options), made once and reused")
       .def("__init__",
            [](CallOptions* o, bool gravity, int frame, int reference, int rows, const ContactPlan* plan, double mu,
-              int max_iter, double tol, double singular_tol) {
-             new (o) CallOptions{Options{gravity, frame, reference, rows, nullptr, 0, mu, max_iter, tol, singular_tol},
+              int max_iter, double tol, double singular_tol, double restitution) {
+             new (o) CallOptions{Options{gravity, frame, reference, rows, nullptr, 0, mu, max_iter, tol, singular_tol,
+                                         restitution},
                                  nullptr};
              if (plan != nullptr) {  // (the plan's m wins over `rows`)
                o->opt.contacts = plan->specs.data();
@@ -64,6 +65,7 @@ void fdcore::bind_options(nb::module_& m) {
            },
            nb::kw_only(), nb::arg("gravity") = true, nb::arg("frame") = 0, nb::arg("reference") = 0,
            nb::arg("rows") = 0, nb::arg("plan").none() = nb::none(), nb::arg("mu") = 0.0, nb::arg("max_iter") = 50,
-           nb::arg("tol") = 1e-12, nb::arg("singular_tol") = 0.0, nb::keep_alive<1, 6>())
+           nb::arg("tol") = 1e-12, nb::arg("singular_tol") = 0.0, nb::arg("restitution") = 0.0,
+           nb::keep_alive<1, 6>())
       .def_prop_ro("rows", [](const CallOptions& o) { return o.opt.rows; });
 }

@@ -121,6 +121,7 @@ nb::tuple option_names(unsigned options) {
   if (options & ROWS) names.append("rows");
   if (options & CONTACTS) names.append("plan");
   if (options & SOLVER) names.append("solver");
+  if (options & RESTITUTION) names.append("restitution");
   return nb::tuple(names);
 }
 

@@ -413,6 +413,7 @@ inline const std::vector<Kernel>& declared_kernels() {
       declare<ForwardKinematics>(), declare<FramePlacement>(), declare<CenterOfMass>(), declare<CentroidalMomentum>(),
       declare<MassMatrixFactor>(), declare<MassSolve>(), declare<RneaSecondDerivatives>(), declare<AbaSecondDerivatives>(),
       declare<Delassus>(), declare<ConstrainedSolve>(), declare<ContactDynamics>(), declare<OperationalSpaceInertia>(),
+      declare<ContactDynamicsDerivatives>(), declare<ImpulseDynamicsDerivatives>(),
       declare<KinematicsDerivatives>(), declare<PointKinematicsDerivatives>(), declare<CenterOfMassDerivatives>(),
       declare<CentroidalDynamicsDerivatives>(), declare<FrameVelocity>(), declare<FrameAcceleration>(),
       declare<FrameClassicalAcceleration>()};

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "aba.hpp"
+#include "contact_derivatives.hpp"
 #include "contacts.hpp"
 #include "declare.hpp"
 #include "ltl.hpp"
@@ -136,6 +137,47 @@ struct OperationalSpaceInertia : Declared {
   static constexpr SingularBlockFn singular_block = singular_at_rest;
   static std::int64_t run(const ModelView& mv, const double* const* in, double* const* out, const Options& opt) {
     return operational_space_inertia(mv, in[0], opt.contacts, opt.nc, opt.mu, opt.singular_tol, out[0]);
+  }
+};
+
+// The contacts' constrained dynamics q̈ (nv,), λ (m,) at (q, q̇, τ, f_ext) (ContactDynamics) and their derivatives
+// ∂q̈/∂(q, q̇, τ) (nv, nv), ∂λ/∂(q, q̇, τ) (m, nv), q along fd.integrate's tangent (contact_derivatives.hpp)::
+//     ∂λ/∂x = D⁻¹ (J M⁻¹ R₁ − R₂),   ∂q̈/∂x = M⁻¹ (Jᵀ ∂λ/∂x − R₁)
+// Status CONSTRAINT when the contacts are dependent or the proximal iterations did not converge (the reference
+// path words them, or takes them with mu > 0).
+struct ContactDynamicsDerivatives : Declared {
+  static constexpr const char* name = "contact_dynamics_derivatives";
+  static constexpr Operand inputs[] = {operand::q, operand::v, operand::tau, operand::f_ext};
+  static constexpr Operand outputs[] = {operand::matrix("ddq_dq", NV, NV),    operand::matrix("ddq_dv", NV, NV),
+                                        operand::matrix("ddq_dtau", NV, NV),  operand::matrix("forces_dq", NM, NV),
+                                        operand::matrix("forces_dv", NM, NV), operand::matrix("forces_dtau", NM, NV),
+                                        operand::vector("qdd", NV),           operand::vector("lam", NM)};
+  static constexpr unsigned options = CONTACTS | SOLVER;
+  static constexpr SingularBlockFn singular_block = singular_at_rest;
+  static std::int64_t run(const ModelView& mv, const double* const* in, double* const* out, const Options& opt) {
+    ContactResult<double> r;
+    FD_TRY(contact_dynamics(mv, in[0], in[1], in[2], in[3], opt.contacts, opt.nc, opt.mu, opt.max_iter, opt.tol,
+                            opt.singular_tol, out[6], out[7], r));
+    if (r.iterations < 0.0) return make_status(CONSTRAINT, ARG_OUT, opt.rows);
+    return contact_dynamics_derivatives(mv, in[0], in[1], in[3], out[6], out[7], opt.contacts, opt.nc, opt.rows,
+                                        opt.singular_tol, out);
+  }
+};
+
+// An impact with the contacts (restitution e): v⁺ (nv,), Λ (m,) of M (v⁺ − v⁻) = Jᵀ Λ, J v⁺ = −e J v⁻, and their
+// derivatives ∂v⁺/∂(q, v⁻) (nv, nv), ∂Λ/∂(q, v⁻) (m, nv) (contact_derivatives.hpp). Status CONSTRAINT when the
+// contacts are dependent (the reference path words it, or takes them with mu > 0).
+struct ImpulseDynamicsDerivatives : Declared {
+  static constexpr const char* name = "impulse_dynamics_derivatives";
+  static constexpr Operand inputs[] = {operand::q, operand::v};
+  static constexpr Operand outputs[] = {operand::matrix("dv_plus_dq", NV, NV), operand::matrix("dv_plus_dv", NV, NV),
+                                        operand::matrix("impulses_dq", NM, NV), operand::matrix("impulses_dv", NM, NV),
+                                        operand::vector("v_plus", NV),         operand::vector("lam", NM)};
+  static constexpr unsigned options = CONTACTS | RESTITUTION;
+  static constexpr SingularBlockFn singular_block = singular_at_rest;
+  static std::int64_t run(const ModelView& mv, const double* const* in, double* const* out, const Options& opt) {
+    return impulse_dynamics_derivatives(mv, in[0], in[1], opt.contacts, opt.nc, opt.rows, opt.restitution,
+                                        opt.singular_tol, out);
   }
 };
 

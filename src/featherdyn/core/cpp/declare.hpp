@@ -63,7 +63,8 @@ constexpr Operand when_given(Operand o, int input) { return o.when = input, o; }
 // a reference (0 LOCAL, 1 WORLD, 2 LOCAL_WORLD_ALIGNED: frames.hpp), the constraint rows m (ROWS: the length NM),
 // contacts (CONTACTS: their specs, contact_spec.hpp, which also fix m) and the KKT solver's settings (SOLVER: the
 // proximal weight mu ≥ 0, its iterations and tolerance, and the pivot below which D = J M⁻¹ Jᵀ is singular).
-enum OptionBits : unsigned { GRAVITY = 1u, FRAME = 2u, REFERENCE = 4u, ROWS = 8u, CONTACTS = 16u, SOLVER = 32u };
+enum OptionBits : unsigned { GRAVITY = 1u, FRAME = 2u, REFERENCE = 4u, ROWS = 8u, CONTACTS = 16u, SOLVER = 32u,
+                             RESTITUTION = 64u };
 struct Options {
   bool gravity = true;
   int frame = 0;
@@ -75,6 +76,7 @@ struct Options {
   int max_iter = 50;
   double tol = 1e-12;
   double singular_tol = 0.0;
+  double restitution = 0.0;  // an impact's coefficient e ∈ [0, 1]
 };
 
 // What a declaration's status means beyond its code, for the error's words: ABA's SINGULAR names the joint, and
@@ -88,7 +90,7 @@ struct Declared {
   static constexpr SingularBlockFn singular_block = nullptr;
 };
 
-constexpr int DECLARED_MAX = 6;  // inputs, and outputs, of one declaration at most
+constexpr int DECLARED_MAX = 8;  // inputs, and outputs, of one declaration at most
 
 // The status of an argument a front end does not take as it is (not an exact native float64 array): not the
 // user's mistake — the caller converts it (the Python path), or declines (the public call in C).
@@ -182,6 +184,7 @@ inline std::int64_t check_options(const Kernel& k, const ModelView& mv, const Op
   if ((k.options & (ROWS | CONTACTS)) && opt.rows < 0) return NOT_TAKEN;
   if ((k.options & SOLVER) && !(opt.mu >= 0.0 && opt.mu < 1e300 && opt.max_iter >= 1 && opt.tol > 0.0 && opt.tol < 1e300))
     return NOT_TAKEN;  // (the Python path words the error)
+  if ((k.options & RESTITUTION) && !(opt.restitution >= 0.0 && opt.restitution <= 1.0)) return NOT_TAKEN;
   return OK;
 }
 
