@@ -27,6 +27,23 @@ std::int64_t rnea_complex1(const ModelData& md, const InC& q, const InC& v, cons
   return OK;
 }
 
+// ∂τ/∂q, ∂τ/∂q̇ of one complex state (the analytical first order in complex arithmetic: complex-step checks of the
+// second order); no finiteness or quaternion checks.
+std::int64_t rnea_derivatives_complex1(const ModelData& md, const InC& q, const InC& v, const InC& a, OutC dq,
+                                       OutC dv) {
+  const ModelView& mv = md.view;
+  FD_TRY(vec(q, mv.nq, ARG_Q));
+  FD_TRY(vec(v, mv.nv, ARG_V));
+  FD_TRY(vec(a, mv.nv, ARG_A));
+  require_aligned(dq);
+  require_aligned(dv);
+  const size_t n2 = static_cast<size_t>(mv.nv) * mv.nv;
+  if (dq.size() != n2 || dv.size() != n2) return make_status(LENGTH, ARG_OUT, -1);
+  rnea_derivatives(mv, q.data(), v.data(), a.data(), static_cast<const std::complex<double>*>(nullptr), true,
+                   dq.data(), dv.data());
+  return OK;
+}
+
 // ∂τ/∂q, ∂τ/∂q̇ of one state by forward-mode differentiation (Dual numbers).
 std::int64_t rnea_derivatives_dual1(const ModelData& md, const In& q, const In& v, const In& a, Out dq, Out dv) {
   const ModelView& mv = md.view;
@@ -68,6 +85,8 @@ std::int64_t flops1(const ModelData& md, int kind, const In& q, const In& v, con
 void fdcore::bind_dynamics(nb::module_& m) {
   m.def("rnea_complex", &rnea_complex1, nb::arg("model"), arr("q"), arr("v"), arr("a"), opt("f_ext"), nb::arg("gravity"),
         arr("out"));
+  m.def("rnea_derivatives_complex", &rnea_derivatives_complex1, nb::arg("model"), arr("q"), arr("v"), arr("a"),
+        arr("dtau_dq"), arr("dtau_dv"));
   m.def("rnea_derivatives_dual", &rnea_derivatives_dual1, nb::arg("model"), arr("q"), arr("v"), arr("a"), arr("dtau_dq"),
         arr("dtau_dv"));
   m.def("flops", &flops1, nb::arg("model"), nb::arg("kind"), arr("q"), arr("v"), arr("b"),
