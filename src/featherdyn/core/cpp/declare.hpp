@@ -311,52 +311,16 @@ inline PyObject* as_result(PyObject** outs, size_t no) {
   return t;
 }
 
-// Rows of a batch: each input (R, *shape) with R = N or 1 (broadcast), or None where optional; each output
-// (N, *shape). In groups of the SIMD width where the declaration has a group kernel (the rows' roles q, v, a or
-// τ, f_ext by their status arguments), else row by row. (first failing row, its status), or (−1, OK).
-inline RowStatus run_batch(const Kernel& k, const ModelView& mv, const nb::sequence& inputs,
-                           const nb::sequence& outputs, const Options& opt) {
-  if (nb::len(inputs) != k.inputs.size() || nb::len(outputs) != k.outputs.size())
-    throw nb::value_error(("featherdyn.core." + k.name + ": wrong number of operands").c_str());
-  std::array<F64In, DECLARED_MAX> in;
-  std::array<F64Out, DECLARED_MAX> out;
-  std::array<Rows, DECLARED_MAX> rows_in{};
-  std::array<double*, DECLARED_MAX> op{};
-  std::array<std::int64_t, DECLARED_MAX> n_out{};
-  std::int64_t N = -1;
-  for (size_t o = 0; o < k.outputs.size(); ++o) {
-    if (!declared::formed(k, o, [&](size_t i) { return !nb::handle(inputs[i]).is_none(); })) {
-      if (!nb::handle(outputs[o]).is_none()) throw nb::value_error("featherdyn.core: None expected for an output not formed");
-      continue;
-    }
-    if (!out[o].acquire(nb::handle(outputs[o]).ptr()))
-      throw nb::type_error("out: writeable, aligned, C-contiguous native float64 arrays expected");
-    n_out[o] = size_of(mv, opt, k.outputs[o]);
-    const std::int64_t rows = out[o].ndim() >= 1 ? static_cast<std::int64_t>(out[o].shape(0)) : -1;
-    if (rows < 0 || static_cast<std::int64_t>(out[o].size()) != rows * n_out[o] || (N >= 0 && rows != N))
-      return {-1, make_status(LENGTH, ARG_OUT, rows)};
-    N = rows;
-    op[o] = out[o].data();
-  }
+// N rows of a batch from raw memory (checked by the caller: shapes, overlaps): input i's rows rows_in[i] (p nullptr
+// where absent; stride 0: one row broadcast), output o's rows at op[o] (nullptr where not formed), n_out[o] doubles
+// each. In groups of the SIMD width where the declaration has a group kernel (the rows' roles q, v, a or τ, f_ext by
+// their status arguments), else row by row, on the thread pool. (first failing row, its status), or (−1, OK).
+// The one batch path of every front end: run_batch (NumPy arrays) and the XLA FFI handler (bind_jax.cpp).
+inline RowStatus run_rows(const Kernel& k, const ModelView& mv, const Rows* rows_in, double* const* op,
+                          const std::int64_t* n_out, std::int64_t N, const Options& opt) {
   Rows by_arg[4];  // the group kernel's q, v, a or τ, f_ext
-  for (size_t i = 0; i < k.inputs.size(); ++i) {
-    nb::handle x = inputs[i];
-    const Operand& spec = k.inputs[i];
-    if (x.is_none()) {
-      if (!spec.optional) return {-1, make_status(LENGTH, spec.arg, -1)};
-      continue;
-    }
-    if (!in[i].acquire(x.ptr())) throw nb::type_error("featherdyn.core: native float64 arrays expected");
-    const std::int64_t n = size_of(mv, opt, spec);
-    const std::int64_t R = in[i].ndim() >= 1 ? static_cast<std::int64_t>(in[i].shape(0)) : -1;
-    if (!(R == N || R == 1) || static_cast<std::int64_t>(in[i].size()) != R * n)
-      return {-1, make_status(LENGTH, spec.arg, R)};
-    rows_in[i] = Rows{in[i].data(), R == 1 ? 0 : n};
-    if (spec.arg <= ARG_FEXT) by_arg[spec.arg] = rows_in[i];
-    for (size_t o = 0; o < k.outputs.size(); ++o)
-      if (op[o] != nullptr && overlaps(op[o], N * n_out[o], in[i].data(), R * n))
-        return {-1, make_status(OVERLAP, spec.arg, 0)};
-  }
+  for (size_t i = 0; i < k.inputs.size(); ++i)
+    if (k.inputs[i].arg <= ARG_FEXT) by_arg[k.inputs[i].arg] = rows_in[i];
   if (const std::int64_t s = declared::check_options(k, mv, opt); s != OK) return {-1, s};
   auto state = [&](std::int64_t r, std::array<const double*, DECLARED_MAX>& ip,
                    std::array<double*, DECLARED_MAX>& opr) {
@@ -383,6 +347,52 @@ inline RowStatus run_batch(const Kernel& k, const ModelView& mv, const nb::seque
     return check_state(mv, by_arg[0].row(r), by_arg[1].row(r), by_arg[2].row(r), by_arg[3].row(r));
   };
   return for_row_groups(N, check, one, group_kernels().*k.group, g);
+}
+
+// Rows of a batch: each input (R, *shape) with R = N or 1 (broadcast), or None where optional; each output
+// (N, *shape); run by run_rows. (first failing row, its status), or (−1, OK).
+inline RowStatus run_batch(const Kernel& k, const ModelView& mv, const nb::sequence& inputs,
+                           const nb::sequence& outputs, const Options& opt) {
+  if (nb::len(inputs) != k.inputs.size() || nb::len(outputs) != k.outputs.size())
+    throw nb::value_error(("featherdyn.core." + k.name + ": wrong number of operands").c_str());
+  std::array<F64In, DECLARED_MAX> in;
+  std::array<F64Out, DECLARED_MAX> out;
+  std::array<Rows, DECLARED_MAX> rows_in{};
+  std::array<double*, DECLARED_MAX> op{};
+  std::array<std::int64_t, DECLARED_MAX> n_out{};
+  std::int64_t N = -1;
+  for (size_t o = 0; o < k.outputs.size(); ++o) {
+    if (!declared::formed(k, o, [&](size_t i) { return !nb::handle(inputs[i]).is_none(); })) {
+      if (!nb::handle(outputs[o]).is_none()) throw nb::value_error("featherdyn.core: None expected for an output not formed");
+      continue;
+    }
+    if (!out[o].acquire(nb::handle(outputs[o]).ptr()))
+      throw nb::type_error("out: writeable, aligned, C-contiguous native float64 arrays expected");
+    n_out[o] = size_of(mv, opt, k.outputs[o]);
+    const std::int64_t rows = out[o].ndim() >= 1 ? static_cast<std::int64_t>(out[o].shape(0)) : -1;
+    if (rows < 0 || static_cast<std::int64_t>(out[o].size()) != rows * n_out[o] || (N >= 0 && rows != N))
+      return {-1, make_status(LENGTH, ARG_OUT, rows)};
+    N = rows;
+    op[o] = out[o].data();
+  }
+  for (size_t i = 0; i < k.inputs.size(); ++i) {
+    nb::handle x = inputs[i];
+    const Operand& spec = k.inputs[i];
+    if (x.is_none()) {
+      if (!spec.optional) return {-1, make_status(LENGTH, spec.arg, -1)};
+      continue;
+    }
+    if (!in[i].acquire(x.ptr())) throw nb::type_error("featherdyn.core: native float64 arrays expected");
+    const std::int64_t n = size_of(mv, opt, spec);
+    const std::int64_t R = in[i].ndim() >= 1 ? static_cast<std::int64_t>(in[i].shape(0)) : -1;
+    if (!(R == N || R == 1) || static_cast<std::int64_t>(in[i].size()) != R * n)
+      return {-1, make_status(LENGTH, spec.arg, R)};
+    rows_in[i] = Rows{in[i].data(), R == 1 ? 0 : n};
+    for (size_t o = 0; o < k.outputs.size(); ++o)
+      if (op[o] != nullptr && overlaps(op[o], N * n_out[o], in[i].data(), R * n))
+        return {-1, make_status(OVERLAP, spec.arg, 0)};
+  }
+  return run_rows(k, mv, rows_in.data(), op.data(), n_out.data(), N, opt);
 }
 
 }  // namespace fdcore
