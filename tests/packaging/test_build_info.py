@@ -17,7 +17,7 @@ from featherdyn.core import _core
 from featherdyn.tools.cli import main
 
 KEYS = {"compiler", "build_type", "processor", "simd_compiled", "simd", "simd_lanes", "numpy_headers", "numpy_api",
-        "numpy_target_api", "numpy_minimum", "nanobind", "python", "stable_abi"}
+        "numpy_target_api", "numpy_minimum", "nanobind", "python", "stable_abi", "jax_ffi"}
 
 
 def _version(text: str) -> tuple[int, ...]:
@@ -38,6 +38,10 @@ def test_build_info_names_the_build() -> None:
     assert _version(str(info["numpy_minimum"])) <= _version(np.__version__)
     assert int(str(info["numpy_target_api"]), 16) <= int(str(info["numpy_api"]), 16)
     assert _version(str(info["python"])) == sys.version_info[:2]
+    # featherdyn.jax's handler: built with jaxlib's headers where jaxlib has wheels (a build requirement there)
+    if platform.machine().lower() in ("x86_64", "amd64", "aarch64", "arm64"):
+        assert re.fullmatch(r"jaxlib \d+\.\d+\.\d+.*", str(info["jax_ffi"])), info["jax_ffi"]
+        assert hasattr(_core, "jax_handler")
 
 
 def test_x86_64_has_every_kernel_and_other_processors_the_portable_one() -> None:

@@ -406,6 +406,8 @@ def build_report() -> list[str]:
     forced = f" (FEATHERDYN_SIMD={simd})" if simd else ""
     compiled = ", ".join(str(x) for x in info["simd_compiled"]) if isinstance(info["simd_compiled"], tuple) else "?"
     stub = Path(_core.__file__).with_name("_core.pyi")
+    jax_ffi = (f"XLA FFI handler built with {info['jax_ffi']}'s headers" if info["jax_ffi"] else
+               "no XLA FFI handler (jaxlib was not in the build environment)")
     return [
         *lines,
         f"  compiled core: {Path(_core.__file__).name}",
@@ -417,6 +419,7 @@ def build_report() -> list[str]:
         f"  nanobind {info['nanobind']}; built for Python {info['python']}, stable ABI (abi3): "
         f"{'yes' if info['stable_abi'] else 'no'}",
         f"  type stub: {'_core.pyi' if stub.exists() else 'none (a source checkout: the wheel has one)'}",
+        f"  featherdyn.jax: {jax_ffi}",
     ]
 
 

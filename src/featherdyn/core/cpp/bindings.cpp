@@ -205,6 +205,7 @@ NB_MODULE(_core, m) {
   bind_dynamics(m);
   bind_options(m);
   bind_public_calls(m);
+  bind_jax(m);
 
   // the declared algorithms (declare.hpp, declarations.hpp): each bound once, by the same three front ends
   nb::class_<Kernel>(m, "Kernel", "A declared algorithm of the core (core/cpp/declarations.hpp)")

@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <complex>
+#include <optional>
 #include <cstdint>
 #include <initializer_list>
 #include <memory>
@@ -78,14 +79,16 @@ std::int64_t exact_shape(const A& x, std::initializer_list<size_t> shape, std::i
     if (s_ != OK) return RowStatus{-1, s_};            \
   } while (0)
 
-// Run body(item) → status over `items` items on the pool, GIL released; (first failing row, its
-// status). An item is `group` consecutive rows; a failing body adds (row − first row of the item) << 60.
+// Run body(item) → status over `items` items on the pool, GIL released (when the calling thread holds it: not on
+// an XLA thread, bind_jax.cpp); (first failing row, its status). An item is `group` consecutive rows; a failing
+// body adds (row − first row of the item) << 60.
 template <class F>
 inline RowStatus for_rows(std::int64_t items, const F& body, std::int64_t group = 1) {
   std::mutex m;
   RowStatus first{-1, OK};
   {
-    nb::gil_scoped_release release;
+    std::optional<nb::gil_scoped_release> release;
+    if (PyGILState_Check()) release.emplace();
     std::shared_ptr<ThreadPool> pool = GlobalPool::instance().get();
     pool->parallel_for(items, [&](std::int64_t begin, std::int64_t end) {
       for (std::int64_t g = begin; g < end; ++g) {

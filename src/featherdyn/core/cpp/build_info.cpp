@@ -27,6 +27,9 @@
 #ifndef FEATHERDYN_BUILD_PROCESSOR
 #define FEATHERDYN_BUILD_PROCESSOR "unknown"
 #endif
+#ifndef FEATHERDYN_BUILD_JAX_FFI
+#define FEATHERDYN_BUILD_JAX_FFI ""
+#endif
 
 namespace fdcore {
 
@@ -63,6 +66,7 @@ nanobind::dict build_info() {
   d["compiler"] = FEATHERDYN_BUILD_COMPILER;
   d["build_type"] = FEATHERDYN_BUILD_TYPE;
   d["processor"] = FEATHERDYN_BUILD_PROCESSOR;
+  d["jax_ffi"] = FEATHERDYN_BUILD_JAX_FFI;  // the jaxlib whose XLA FFI headers built featherdyn.jax's handler, or ""
 #if defined(FEATHERDYN_HAVE_AVX2)
   d["simd_compiled"] = nb::make_tuple("baseline", "avx2", "avx512");
 #else

@@ -20,6 +20,7 @@ namespace nb = nanobind;
 // the families' registrations
 void bind_dynamics(nb::module_& m);
 void bind_options(nb::module_& m);
+void bind_jax(nb::module_& m);  // (bind_jax.cpp: empty without XLA's FFI headers)
 void bind_public_calls(nb::module_& m);
 
 // A call's options (declare.hpp) as Python gives them (featherdyn.core._core.Options), with the model its contacts
