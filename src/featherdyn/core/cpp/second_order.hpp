@@ -32,52 +32,9 @@
 #include <vector>
 
 #include "derivatives.hpp"
-#include "scratch.hpp"
+#include "rnea_second_order.hpp"
 
 namespace fdcore {
-
-// The first-order outputs on Dual numbers and the Dual state, per thread.
-struct SecondOrderWork {
-  std::vector<DualK> Q, V, A, F, dq, dv, M;
-  void resize(size_t) {}
-};
-
-// ∂²τ (each (nv, nv, nv) row-major, [i, j, k] = ∂²τ_i/∂x_j∂y_k; file comment) of τ = RNEA(q, q̇, q̈, f_ext).
-inline void rnea_second_derivatives(const ModelView& mv, const double* q, const double* qd, const double* qdd,
-                                    const double* f_ext, bool gravity, double* d2q, double* d2v, double* dqdv,
-                                    double* dM) {
-  const int nq = mv.nq, nv = mv.nv, nf = 6 * mv.nb;
-  const size_t n = static_cast<size_t>(nv), n2 = n * n;
-  SecondOrderWork& w = thread_workspace<SecondOrderWork>(mv.nb);
-  w.Q.resize(static_cast<size_t>(nq)), w.V.resize(n), w.A.resize(n), w.F.resize(f_ext ? static_cast<size_t>(nf) : 0);
-  w.dq.resize(n2), w.dv.resize(n2), w.M.resize(n2);
-  for (int k = 0; k < nv; ++k) w.A[k] = DualK(qdd[k]);
-  for (int k = 0; f_ext && k < nf; ++k) w.F[k] = DualK(f_ext[k]);
-  for (int start = 0; start < 2 * nv; start += DERIV_LANES) {
-    const int lanes = seed_state_directions(mv, q, qd, start, w.Q.data(), w.V.data());
-    // a pass of q's directions only does not form ∂τ/∂q̇, one of q̇'s only not M (independent of q̇)
-    const bool q_only = start + lanes <= nv, v_only = start >= nv;
-    rnea_derivatives_to(mv, w.Q.data(), w.V.data(), w.A.data(), f_ext ? w.F.data() : nullptr, gravity,
-                        StateOut<DualK>{{w.dq.data(), q_only ? nullptr : w.dv.data(), v_only ? nullptr : w.M.data()}});
-    // lane l is direction start + l: q's below nv, q̇'s from nv; each entry's lanes land side by side in the
-    // tensors' last index (contiguous writes)
-    const int nq_lanes = std::clamp(nv - start, 0, lanes);
-    const size_t k0 = static_cast<size_t>(start);
-    const int kv0 = start + nq_lanes - nv;  // q̇'s direction of lane nq_lanes
-    for (size_t ij = 0; ij < n2; ++ij) {
-      const DualK &x = w.dq[ij], &y = w.dv[ij], &m = w.M[ij];
-      for (int l = 0; l < nq_lanes; ++l) {  // along q ⊕ ε e_k: ∂τ/∂q and M
-        d2q[ij * n + k0 + l] = x.d[l];
-        dM[ij * n + k0 + l] = m.d[l];
-      }
-      for (int l = nq_lanes; l < lanes; ++l) {  // along q̇ + ε e_k: ∂τ/∂q̇ and ∂τ/∂q
-        const size_t k = static_cast<size_t>(kv0 + l - nq_lanes);
-        d2v[ij * n + k] = y.d[l];
-        dqdv[ij * n + k] = x.d[l];
-      }
-    }
-  }
-}
 
 // out ← −Minv R: the tensor R [r, j, k] read as an (nv, nv²) matrix, out likewise. By blocks of columns, so that
 // R's block (nv × 256 doubles) stays in cache while every row of out reads it.

@@ -1,0 +1,153 @@
+// Second-order derivatives of inverse dynamics, analytically (reference: featherdyn/algorithms/second_order.py;
+// docs/derivatives.md, "Second order"; Singh, Russell & Wensing, "Analytical Second-Order Partial Derivatives
+// of Rigid-Body Inverse Dynamics", IROS 2022).
+//
+// The quantities of the first order (derivatives.hpp, its forward pass reused as is), all in the root body's
+// coordinates: per column j of joint k, S_j, ψ̇_j = v_λ(k) × S_j (∂V/∂q_j), ψ̈_j = a_λ(k) × S_j + v_λ(k) × ψ̇_j
+// (∂A/∂q_j), φ̇_j = v_k × S_j (so ∂A/∂q̇_j = ψ̇_j + φ̇_j); per body the composites over its subtree I^C, the
+// force F^C and D^C u = İ^C u + u ×* h^C (İ the inertia's rate, h the momentum). Moving q along the tangent
+// X_c of a column c of a joint on the path moves the columns below it rigidly:
+//
+//     X_c S_j = S_c × S_j        (c's joint an ancestor of j's, or the same joint: fd.integrate's tangent fields
+//                                 are the body-frame ones, so this holds between any two columns of one joint)
+//
+// and likewise I^C, F^C, h^C, ψ̇, ψ̈ pick up their own rigid-motion terms. Differentiating the first order's
+// expressions (∂τ_i/∂q_j = S_iᵀ (I^C ψ̈_j + D^C ψ̇_j) …) once more with these rules gives, for three columns
+// whose joints lie on one path, p of the deepest joint, q of a joint on its path and r above that
+// (joint(r) ⪯ joint(q) ⪯ joint(p)), every entry of the four tensors as dot products of S_r, ψ̇_r, ψ̈_r,
+// ψ̇_r + φ̇_r with a dozen forces formed per pair (p, q) from the operators of p (s = S_p, I = I^C_p, D = D^C_p):
+//
+//     r1 m = s ×* (I m) − I (s × m)                         (the rate of I under s; symmetric)
+//     r0 m = m ×* (I s)                                     (antisymmetric)
+//     r3 m = ψ̇ ×* (I m) − I (ψ̇ × m) + m ×* (I ψ̇) + s ×* (D m) − D (s × m)
+//
+// (Singh et al.'s B_i, r0 … r7 as 6 × 6 matrices; here their products with the columns, each an operator
+// applied: no 6 × 6 matrix is formed). Entries with the three joints not on one path are zero (a torque's
+// derivative along two branches below it has no cross term). Cost: O(nv · depth²) dot products of 6-vectors.
+//
+// Convention: the tangent fields are fd.integrate's (body-frame on free-flyer, spherical and planar joints),
+// the ones the rule X_c S_j = S_c × S_j expresses, so the recursion yields exactly
+// d2tau_dq2[i, j, k] = X_k (X_j τ_i) with its bracket on those joints (docs/derivatives.md): no correction.
+#pragma once
+
+#include <algorithm>
+#include <cstddef>
+#include <initializer_list>
+
+#include "derivatives.hpp"
+#include "scratch.hpp"
+
+namespace fdcore {
+
+// The four tensors (nv, nv, nv) row-major, [a, b, c] at (a nv + b) nv + c, written entry by entry.
+struct SecondOrderOut {
+  double *d2q, *d2v, *dqdv, *dM;
+  size_t n;
+  double& at(double* t, int a, int b, int c) const {
+    return t[(static_cast<size_t>(a) * n + static_cast<size_t>(b)) * n + static_cast<size_t>(c)];
+  }
+};
+
+// (∂²τ/∂q², ∂²τ/∂q̇², ∂²τ/∂q∂q̇, ∂M/∂q) (each (nv, nv, nv) row-major; [i, j, k] = ∂²τ_i/∂x_j∂y_k, q's
+// derivatives along fd.integrate's tangent, X_k applied last; dM [i, j, k] = X_k M_ij) of
+// τ = RNEA(q, q̇, q̈, f_ext). See the file comment.
+inline void rnea_second_derivatives(const ModelView& mv, const double* q, const double* qd, const double* qdd,
+                                    const double* f_ext, bool gravity, double* d2q, double* d2v, double* dqdv,
+                                    double* dM) {
+  using F6 = Force<double>;
+  using M6 = Motion<double>;
+  const size_t n = static_cast<size_t>(mv.nv), n3 = n * n * n;
+  for (double* t : {d2q, d2v, dqdv, dM}) std::fill(t, t + n3, 0.0);
+  RneaDerivWork<double>& w = thread_workspace<RneaDerivWork<double>>(mv.nb);
+  rnea_derivatives_forward(mv, w, q, qd, qdd, f_ext, gravity);  // S, ψ̇ (dV), ψ̈ (dA), ψ̇ + φ̇ (dAv), the bodies'
+  const M6* J = w.J.data();
+  const M6* dV = w.dV.data();
+  const M6* dA = w.dA.data();
+  const M6* dAv = w.dAv.data();
+  const SecondOrderOut o{d2q, d2v, dqdv, dM, n};
+  for (int i = mv.nb - 1; i >= 0; --i) {  // the composites of i's subtree are complete when i is reached
+    const RigidInertia<double>& Ic = w.Yc[i];
+    const RigidInertia<double>& Bc = w.Bc[i];  // İ^C (mass 0)
+    const F6& hc = w.hc[i];
+    const F6& Fc = w.Fc[i];
+    auto D = [&](const M6& m) { return Bc * m + cross_force(m, hc); };   // D^C m
+    auto Dt = [&](const M6& m) { return Bc * m - cross_force(m, hc); };  // D^Cᵀ m
+    for (int p = 0; p < mv.nv_i[i]; ++p) {
+      const int ip = mv.idx_v[i] + p;
+      const M6 &s = J[ip], &ps = dV[ip];
+      const F6 Is = Ic * s, Ips = Ic * ps, Dts = Dt(s);
+      const F6 f5 = D(ps) + Ic * dA[ip] + cross_force(s, Fc);  // r5 m = m ×* f5
+      const F6 f7 = D(s) + Ic * dAv[ip];                       // r7 m = m ×* f7
+      auto r1 = [&](const M6& m) { return cross_force(s, Ic * m) - Ic * cross_motion(s, m); };
+      auto rate_ps = [&](const M6& m) { return cross_force(ps, Ic * m) - Ic * cross_motion(ps, m); };
+      auto r3 = [&](const M6& m) { return rate_ps(m) + cross_force(m, Ips) + cross_force(s, D(m)) - D(cross_motion(s, m)); };
+      auto r3t = [&](const M6& m) {  // r3ᵀ m
+        return rate_ps(m) - cross_force(m, Ips) + cross_force(s, Dt(m)) - Dt(cross_motion(s, m));
+      };
+      for (int j = i; j != -1; j = mv.parent[j]) {
+        for (int qq = 0; qq < mv.nv_i[j]; ++qq) {
+          const int jq = mv.idx_v[j] + qq;
+          const M6 &Sj = J[jq], &psj = dV[jq];
+          const F6 u13 = r1(Sj);                                  // r1 S_j  (= u2ᵀ)
+          const F6 u9 = cross_force(Sj, Is);                      // r0 S_j
+          const F6 u10 = u13 + u9;                                // (r1 + r0) S_j
+          const F6 u11 = u13 - u9;                                // (r1 + r0)ᵀ S_j
+          const F6 u12 = r1(psj) - cross_force(psj, Is);          // (r1 + r0)ᵀ ψ̇_j  (= −u5)
+          const F6 u8 = cross_force(Sj, Dts);                     // r4 S_j
+          const F6 u4 = u9 + cross_force(s, Ic * Sj);             // r6 S_j
+          const F6 u6 = r1(psj) + cross_force(psj, Is) + cross_force(Sj, f7);
+          const F6 u7 = r3(Sj) + r1(dAv[jq]);
+          const F6 u3 = r3(psj) + r1(dA[jq]) + cross_force(Sj, f5);
+          const F6 u1 = r3t(Sj);
+          const F6 u8m12 = u8 - u12;
+          for (int k = j; k != -1; k = mv.parent[k]) {
+            for (int rr = 0; rr < mv.nv_i[k]; ++rr) {
+              const int kr = mv.idx_v[k] + rr;
+              const M6 &Sk = J[kr], &psk = dV[kr], &pdk = dA[kr], &avk = dAv[kr];
+              const double p1 = dot(psk, u11);
+              const double p2 = dot(pdk, u9) + dot(psk, u8m12);
+              o.at(d2q, ip, jq, kr) = p2;
+              o.at(dqdv, ip, kr, jq) = -p1;
+              const double Sk11 = dot(Sk, u11);
+              if (j != i) {
+                const double p4 = dot(Sk, u13);
+                o.at(d2q, jq, kr, ip) = o.at(d2q, jq, ip, kr) = dot(psk, u1) + dot(pdk, u13);
+                o.at(dqdv, jq, kr, ip) = p1;
+                o.at(dqdv, jq, ip, kr) = dot(Sk, u1) + dot(avk, u13);
+                o.at(d2v, jq, kr, ip) = o.at(d2v, jq, ip, kr) = Sk11;
+                o.at(dM, kr, jq, ip) = o.at(dM, jq, kr, ip) = p4;
+              }
+              if (k == j) {
+                o.at(d2v, ip, jq, kr) = -dot(Sk, u13);
+                continue;
+              }
+              const double p5 = dot(Sk, u9);
+              o.at(d2q, ip, kr, jq) = p2;
+              o.at(d2q, kr, ip, jq) = dot(Sk, u3);
+              o.at(d2v, ip, jq, kr) = o.at(d2v, ip, kr, jq) = -Sk11;
+              o.at(dqdv, ip, jq, kr) = dot(Sk, u8m12) + dot(avk, u9);
+              o.at(dqdv, kr, jq, ip) = dot(Sk, u6);
+              o.at(dM, kr, ip, jq) = o.at(dM, ip, kr, jq) = p5;
+              if (j != i) {
+                const double p6 = dot(Sk, u10);
+                o.at(d2q, kr, jq, ip) = o.at(d2q, kr, ip, jq);
+                o.at(d2v, kr, ip, jq) = o.at(d2v, kr, jq, ip) = p6;
+                o.at(dqdv, kr, ip, jq) = dot(Sk, u7);
+              } else {
+                o.at(d2v, kr, jq, ip) = dot(Sk, u4);
+              }
+            }
+          }
+        }
+      }
+    }
+    const int lam = mv.parent[i];
+    if (lam == -1) continue;
+    w.Yc[lam] = w.Yc[lam] + Ic;
+    w.Bc[lam] = w.Bc[lam] + Bc;
+    w.hc[lam] += hc;
+    w.Fc[lam] += Fc;
+  }
+}
+
+}  // namespace fdcore
