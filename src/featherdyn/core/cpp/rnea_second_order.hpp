@@ -70,68 +70,61 @@ inline void rnea_second_derivatives(const ModelView& mv, const double* q, const 
     const RigidInertia<double>& Bc = w.Bc[i];  // İ^C (mass 0)
     const F6& hc = w.hc[i];
     const F6& Fc = w.Fc[i];
-    auto D = [&](const M6& m) { return Bc * m + cross_force(m, hc); };   // D^C m
-    auto Dt = [&](const M6& m) { return Bc * m - cross_force(m, hc); };  // D^Cᵀ m
     for (int p = 0; p < mv.nv_i[i]; ++p) {
       const int ip = mv.idx_v[i] + p;
       const M6 &s = J[ip], &ps = dV[ip];
-      const F6 Is = Ic * s, Ips = Ic * ps, Dts = Dt(s);
-      const F6 f5 = D(ps) + Ic * dA[ip] + cross_force(s, Fc);  // r5 m = m ×* f5
-      const F6 f7 = D(s) + Ic * dAv[ip];                       // r7 m = m ×* f7
-      auto r1 = [&](const M6& m) { return cross_force(s, Ic * m) - Ic * cross_motion(s, m); };
-      auto rate_ps = [&](const M6& m) { return cross_force(ps, Ic * m) - Ic * cross_motion(ps, m); };
-      auto r3 = [&](const M6& m) { return rate_ps(m) + cross_force(m, Ips) + cross_force(s, D(m)) - D(cross_motion(s, m)); };
-      auto r3t = [&](const M6& m) {  // r3ᵀ m
-        return rate_ps(m) - cross_force(m, Ips) + cross_force(s, Dt(m)) - Dt(cross_motion(s, m));
-      };
+      // p's operators: r1 = the rate of I^C under s, r3 m = Q3 m + m ×* g3 (r3ᵀ m = Q3 m − m ×* g3), both Q's
+      // inertias' rates (symmetric); r4, r5, r7 m = m ×* (a force)
+      const RigidInertia<double> Q1 = inertia_rate(Ic, s);
+      const RigidInertia<double> Q3 = inertia_rate(Ic, ps) + inertia_rate(Bc, s);
+      const F6 Is = Ic * s, g3 = Ic * ps + cross_force(s, hc);
+      const F6 Dts = Bc * s - cross_force(s, hc);                                   // D^Cᵀ s
+      const F6 f5 = Bc * ps + cross_force(ps, hc) + Ic * dA[ip] + cross_force(s, Fc);
+      const F6 f7 = Bc * s + cross_force(s, hc) + Ic * dAv[ip];
       for (int j = i; j != -1; j = mv.parent[j]) {
         for (int qq = 0; qq < mv.nv_i[j]; ++qq) {
           const int jq = mv.idx_v[j] + qq;
           const M6 &Sj = J[jq], &psj = dV[jq];
-          const F6 u13 = r1(Sj);                                  // r1 S_j  (= u2ᵀ)
-          const F6 u9 = cross_force(Sj, Is);                      // r0 S_j
-          const F6 u10 = u13 + u9;                                // (r1 + r0) S_j
-          const F6 u11 = u13 - u9;                                // (r1 + r0)ᵀ S_j
-          const F6 u12 = r1(psj) - cross_force(psj, Is);          // (r1 + r0)ᵀ ψ̇_j  (= −u5)
-          const F6 u8 = cross_force(Sj, Dts);                     // r4 S_j
-          const F6 u4 = u9 + cross_force(s, Ic * Sj);             // r6 S_j
-          const F6 u6 = r1(psj) + cross_force(psj, Is) + cross_force(Sj, f7);
-          const F6 u7 = r3(Sj) + r1(dAv[jq]);
-          const F6 u3 = r3(psj) + r1(dA[jq]) + cross_force(Sj, f5);
-          const F6 u1 = r3t(Sj);
-          const F6 u8m12 = u8 - u12;
+          const F6 u13 = Q1 * Sj;                                  // r1 S_j
+          const F6 u9 = cross_force(Sj, Is);                       // r0 S_j
+          const F6 u11 = u13 - u9;                                 // (r1 + r0)ᵀ S_j
+          const F6 Q1ps = Q1 * psj, Jps = cross_force(psj, Is);
+          const F6 u8m12 = cross_force(Sj, Dts) - (Q1ps - Jps);    // r4 S_j − (r1 + r0)ᵀ ψ̇_j
+          const F6 u4 = u9 + cross_force(s, Ic * Sj);              // r6 S_j
+          const F6 u6 = Q1ps + Jps + cross_force(Sj, f7);          // (r1 + r0) ψ̇_j + r7 S_j
+          const F6 Q3S = Q3 * Sj, Sg3 = cross_force(Sj, g3);
+          const F6 u7 = Q3S + Sg3 + Q1 * dAv[jq];                  // r3 S_j + r1 (ψ̇_j + φ̇_j)
+          const F6 u1 = Q3S - Sg3;                                 // r3ᵀ S_j
+          const F6 u3 = Q3 * psj + cross_force(psj, g3) + Q1 * dA[jq] + cross_force(Sj, f5);
           for (int k = j; k != -1; k = mv.parent[k]) {
             for (int rr = 0; rr < mv.nv_i[k]; ++rr) {
               const int kr = mv.idx_v[k] + rr;
               const M6 &Sk = J[kr], &psk = dV[kr], &pdk = dA[kr], &avk = dAv[kr];
               const double p1 = dot(psk, u11);
               const double p2 = dot(pdk, u9) + dot(psk, u8m12);
+              const double p4 = dot(Sk, u13), p5 = dot(Sk, u9);
               o.at(d2q, ip, jq, kr) = p2;
               o.at(dqdv, ip, kr, jq) = -p1;
-              const double Sk11 = dot(Sk, u11);
               if (j != i) {
-                const double p4 = dot(Sk, u13);
                 o.at(d2q, jq, kr, ip) = o.at(d2q, jq, ip, kr) = dot(psk, u1) + dot(pdk, u13);
                 o.at(dqdv, jq, kr, ip) = p1;
                 o.at(dqdv, jq, ip, kr) = dot(Sk, u1) + dot(avk, u13);
-                o.at(d2v, jq, kr, ip) = o.at(d2v, jq, ip, kr) = Sk11;
+                o.at(d2v, jq, kr, ip) = o.at(d2v, jq, ip, kr) = p4 - p5;  // S_kᵀ u11
                 o.at(dM, kr, jq, ip) = o.at(dM, jq, kr, ip) = p4;
               }
               if (k == j) {
-                o.at(d2v, ip, jq, kr) = -dot(Sk, u13);
+                o.at(d2v, ip, jq, kr) = -p4;
                 continue;
               }
-              const double p5 = dot(Sk, u9);
               o.at(d2q, ip, kr, jq) = p2;
               o.at(d2q, kr, ip, jq) = dot(Sk, u3);
-              o.at(d2v, ip, jq, kr) = o.at(d2v, ip, kr, jq) = -Sk11;
+              o.at(d2v, ip, jq, kr) = o.at(d2v, ip, kr, jq) = p5 - p4;
               o.at(dqdv, ip, jq, kr) = dot(Sk, u8m12) + dot(avk, u9);
               o.at(dqdv, kr, jq, ip) = dot(Sk, u6);
               o.at(dM, kr, ip, jq) = o.at(dM, ip, kr, jq) = p5;
               if (j != i) {
-                const double p6 = dot(Sk, u10);
                 o.at(d2q, kr, jq, ip) = o.at(d2q, kr, ip, jq);
-                o.at(d2v, kr, ip, jq) = o.at(d2v, kr, jq, ip) = p6;
+                o.at(d2v, kr, ip, jq) = o.at(d2v, kr, jq, ip) = p4 + p5;  // S_kᵀ u10
                 o.at(dqdv, kr, ip, jq) = dot(Sk, u7);
               } else {
                 o.at(d2v, kr, jq, ip) = dot(Sk, u4);
