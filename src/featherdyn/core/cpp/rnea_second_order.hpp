@@ -33,6 +33,7 @@
 #include <algorithm>
 #include <cstddef>
 #include <initializer_list>
+#include <vector>
 
 #include "derivatives.hpp"
 #include "scratch.hpp"
@@ -45,6 +46,34 @@ struct SecondOrderOut {
   size_t n;
   double& at(double* t, int a, int b, int c) const {
     return t[(static_cast<size_t>(a) * n + static_cast<size_t>(b)) * n + static_cast<size_t>(c)];
+  }
+};
+
+// The motions of a column k the innermost loop reads, as components (w, v): S_k, ψ̇_k, ψ̈_k, ψ̇_k + φ̇_k.
+struct ColumnMotions {
+  double S[6], ps[6], pd[6], av[6];
+};
+struct SecondOrderWork {
+  std::vector<ColumnMotions> K;
+  void resize(size_t) {}
+};
+
+FD_INLINE void components(const Motion<double>& m, double* x) {
+  x[0] = m.w.x, x[1] = m.w.y, x[2] = m.w.z, x[3] = m.v.x, x[4] = m.v.y, x[5] = m.v.z;
+}
+
+// M forces as the columns of a (6, M) block, component-major, so that the M dot products with one motion x
+// are 6 scaled rows added (out[m] = Σ_c x_c U[c][m]: the compiler vectorises along m).
+template <int M>
+struct ForceBlock {
+  double U[6][M];
+  FD_INLINE void set(int m, const Force<double>& f) {
+    U[0][m] = f.n.x, U[1][m] = f.n.y, U[2][m] = f.n.z, U[3][m] = f.f.x, U[4][m] = f.f.y, U[5][m] = f.f.z;
+  }
+  FD_INLINE void dots(const double* x, double* out) const {
+    for (int m = 0; m < M; ++m) out[m] = x[0] * U[0][m];
+    for (int c = 1; c < 6; ++c)
+      for (int m = 0; m < M; ++m) out[m] += x[c] * U[c][m];
   }
 };
 
@@ -64,6 +93,11 @@ inline void rnea_second_derivatives(const ModelView& mv, const double* q, const 
   const M6* dV = w.dV.data();
   const M6* dA = w.dA.data();
   const M6* dAv = w.dAv.data();
+  SecondOrderWork& w2 = thread_workspace<SecondOrderWork>(mv.nb);
+  w2.K.resize(n);
+  for (size_t k = 0; k < n; ++k)
+    components(J[k], w2.K[k].S), components(dV[k], w2.K[k].ps), components(dA[k], w2.K[k].pd),
+        components(dAv[k], w2.K[k].av);
   const SecondOrderOut o{d2q, d2v, dqdv, dM, n};
   for (int i = mv.nb - 1; i >= 0; --i) {  // the composites of i's subtree are complete when i is reached
     const RigidInertia<double>& Ic = w.Yc[i];
@@ -96,19 +130,29 @@ inline void rnea_second_derivatives(const ModelView& mv, const double* q, const 
           const F6 u7 = Q3S + Sg3 + Q1 * dAv[jq];                  // r3 S_j + r1 (ψ̇_j + φ̇_j)
           const F6 u1 = Q3S - Sg3;                                 // r3ᵀ S_j
           const F6 u3 = Q3 * psj + cross_force(psj, g3) + Q1 * dA[jq] + cross_force(Sj, f5);
+          // the dot products of the innermost loop, by the motion they pair with
+          ForceBlock<8> US;  // S_k with u13, u9, u1, u3, u8m12, u6, u7, u4
+          ForceBlock<3> UP;  // ψ̇_k with u11, u8m12, u1
+          ForceBlock<2> UD;  // ψ̈_k, and ψ̇_k + φ̇_k, with u9, u13
+          const F6* s_forces[8] = {&u13, &u9, &u1, &u3, &u8m12, &u6, &u7, &u4};
+          for (int m = 0; m < 8; ++m) US.set(m, *s_forces[m]);
+          UP.set(0, u11), UP.set(1, u8m12), UP.set(2, u1);
+          UD.set(0, u9), UD.set(1, u13);
           for (int k = j; k != -1; k = mv.parent[k]) {
             for (int rr = 0; rr < mv.nv_i[k]; ++rr) {
               const int kr = mv.idx_v[k] + rr;
-              const M6 &Sk = J[kr], &psk = dV[kr], &pdk = dA[kr], &avk = dAv[kr];
-              const double p1 = dot(psk, u11);
-              const double p2 = dot(pdk, u9) + dot(psk, u8m12);
-              const double p4 = dot(Sk, u13), p5 = dot(Sk, u9);
+              const ColumnMotions& K = w2.K[static_cast<size_t>(kr)];
+              double sS[8], sP[3], sD[2], sA[2];
+              US.dots(K.S, sS), UP.dots(K.ps, sP), UD.dots(K.pd, sD), UD.dots(K.av, sA);
+              const double p1 = sP[0];                 // ψ̇_kᵀ u11
+              const double p2 = sD[0] + sP[1];         // ψ̈_kᵀ u9 + ψ̇_kᵀ u8m12
+              const double p4 = sS[0], p5 = sS[1];     // S_kᵀ u13, S_kᵀ u9
               o.at(d2q, ip, jq, kr) = p2;
               o.at(dqdv, ip, kr, jq) = -p1;
               if (j != i) {
-                o.at(d2q, jq, kr, ip) = o.at(d2q, jq, ip, kr) = dot(psk, u1) + dot(pdk, u13);
+                o.at(d2q, jq, kr, ip) = o.at(d2q, jq, ip, kr) = sP[2] + sD[1];
                 o.at(dqdv, jq, kr, ip) = p1;
-                o.at(dqdv, jq, ip, kr) = dot(Sk, u1) + dot(avk, u13);
+                o.at(dqdv, jq, ip, kr) = sS[2] + sA[1];
                 o.at(d2v, jq, kr, ip) = o.at(d2v, jq, ip, kr) = p4 - p5;  // S_kᵀ u11
                 o.at(dM, kr, jq, ip) = o.at(dM, jq, kr, ip) = p4;
               }
@@ -117,17 +161,17 @@ inline void rnea_second_derivatives(const ModelView& mv, const double* q, const 
                 continue;
               }
               o.at(d2q, ip, kr, jq) = p2;
-              o.at(d2q, kr, ip, jq) = dot(Sk, u3);
+              o.at(d2q, kr, ip, jq) = sS[3];
               o.at(d2v, ip, jq, kr) = o.at(d2v, ip, kr, jq) = p5 - p4;
-              o.at(dqdv, ip, jq, kr) = dot(Sk, u8m12) + dot(avk, u9);
-              o.at(dqdv, kr, jq, ip) = dot(Sk, u6);
+              o.at(dqdv, ip, jq, kr) = sS[4] + sA[0];
+              o.at(dqdv, kr, jq, ip) = sS[5];
               o.at(dM, kr, ip, jq) = o.at(dM, ip, kr, jq) = p5;
               if (j != i) {
                 o.at(d2q, kr, jq, ip) = o.at(d2q, kr, ip, jq);
                 o.at(d2v, kr, ip, jq) = o.at(d2v, kr, jq, ip) = p4 + p5;  // S_kᵀ u10
-                o.at(dqdv, kr, ip, jq) = dot(Sk, u7);
+                o.at(dqdv, kr, ip, jq) = sS[6];
               } else {
-                o.at(d2v, kr, jq, ip) = dot(Sk, u4);
+                o.at(d2v, kr, jq, ip) = sS[7];
               }
             }
           }
