@@ -32,6 +32,7 @@
 
 #include <algorithm>
 #include <cstddef>
+#include <cstring>
 #include <initializer_list>
 #include <vector>
 
@@ -62,18 +63,25 @@ FD_INLINE void components(const Motion<double>& m, double* x) {
   x[0] = m.w.x, x[1] = m.w.y, x[2] = m.w.z, x[3] = m.v.x, x[4] = m.v.y, x[5] = m.v.z;
 }
 
-// M forces as the columns of a (6, M) block, component-major, so that the M dot products with one motion x
-// are 6 scaled rows added (out[m] = Σ_c x_c U[c][m]: the compiler vectorises along m).
-template <int M>
+// Up to W forces as the columns of a (6, W) block, component-major, each row one vector of W doubles (ltl.hpp's
+// Cols: GCC/Clang vector extensions, a register or a pair where the instruction set has one; no vector crosses a
+// call): the W dot products with one motion x are 6 scaled rows added, out = Σ_c x_c U[c].
+template <int W>
 struct ForceBlock {
-  double U[6][M];
+  double U[6][W] = {};
   FD_INLINE void set(int m, const Force<double>& f) {
     U[0][m] = f.n.x, U[1][m] = f.n.y, U[2][m] = f.n.z, U[3][m] = f.f.x, U[4][m] = f.f.y, U[5][m] = f.f.z;
   }
   FD_INLINE void dots(const double* x, double* out) const {
-    for (int m = 0; m < M; ++m) out[m] = x[0] * U[0][m];
-    for (int c = 1; c < 6; ++c)
-      for (int m = 0; m < M; ++m) out[m] += x[c] * U[c][m];
+    using V = typename Cols<W>::V;
+    V acc, row;
+    std::memcpy(&acc, U[0], sizeof acc);
+    acc = x[0] * acc;
+    for (int c = 1; c < 6; ++c) {
+      std::memcpy(&row, U[c], sizeof row);
+      acc += x[c] * row;
+    }
+    std::memcpy(out, &acc, sizeof acc);
   }
 };
 
@@ -132,7 +140,7 @@ inline void rnea_second_derivatives(const ModelView& mv, const double* q, const 
           const F6 u3 = Q3 * psj + cross_force(psj, g3) + Q1 * dA[jq] + cross_force(Sj, f5);
           // the dot products of the innermost loop, by the motion they pair with
           ForceBlock<8> US;  // S_k with u13, u9, u1, u3, u8m12, u6, u7, u4
-          ForceBlock<3> UP;  // ψ̇_k with u11, u8m12, u1
+          ForceBlock<4> UP;  // ψ̇_k with u11, u8m12, u1
           ForceBlock<2> UD;  // ψ̈_k, and ψ̇_k + φ̇_k, with u9, u13
           const F6* s_forces[8] = {&u13, &u9, &u1, &u3, &u8m12, &u6, &u7, &u4};
           for (int m = 0; m < 8; ++m) US.set(m, *s_forces[m]);
@@ -142,7 +150,7 @@ inline void rnea_second_derivatives(const ModelView& mv, const double* q, const 
             for (int rr = 0; rr < mv.nv_i[k]; ++rr) {
               const int kr = mv.idx_v[k] + rr;
               const ColumnMotions& K = w2.K[static_cast<size_t>(kr)];
-              double sS[8], sP[3], sD[2], sA[2];
+              double sS[8], sP[4], sD[2], sA[2];
               US.dots(K.S, sS), UP.dots(K.ps, sP), UD.dots(K.pd, sD), UD.dots(K.av, sA);
               const double p1 = sP[0];                 // ψ̇_kᵀ u11
               const double p2 = sD[0] + sP[1];         // ψ̈_kᵀ u9 + ψ̇_kᵀ u8m12
