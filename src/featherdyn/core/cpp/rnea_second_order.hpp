@@ -130,14 +130,17 @@ inline void rnea_second_derivatives(const ModelView& mv, const double* q, const 
           const F6 u13 = Q1 * Sj;                                  // r1 S_j
           const F6 u9 = cross_force(Sj, Is);                       // r0 S_j
           const F6 u11 = u13 - u9;                                 // (r1 + r0)ᵀ S_j
-          const F6 Q1ps = Q1 * psj, Jps = cross_force(psj, Is);
+          // ψ̇_j = v_λ × S_j vanishes on a root joint (its parent, the world, is still): its terms are not formed
+          const bool moving = mv.parent[j] != -1;
+          const F6 zero{};
+          const F6 Q1ps = moving ? Q1 * psj : zero, Jps = moving ? cross_force(psj, Is) : zero;
           const F6 u8m12 = cross_force(Sj, Dts) - (Q1ps - Jps);    // r4 S_j − (r1 + r0)ᵀ ψ̇_j
           const F6 u4 = u9 + cross_force(s, Ic * Sj);              // r6 S_j
           const F6 u6 = Q1ps + Jps + cross_force(Sj, f7);          // (r1 + r0) ψ̇_j + r7 S_j
           const F6 Q3S = Q3 * Sj, Sg3 = cross_force(Sj, g3);
           const F6 u7 = Q3S + Sg3 + Q1 * dAv[jq];                  // r3 S_j + r1 (ψ̇_j + φ̇_j)
           const F6 u1 = Q3S - Sg3;                                 // r3ᵀ S_j
-          const F6 u3 = Q3 * psj + cross_force(psj, g3) + Q1 * dA[jq] + cross_force(Sj, f5);
+          const F6 u3 = (moving ? Q3 * psj + cross_force(psj, g3) : zero) + Q1 * dA[jq] + cross_force(Sj, f5);
           // the dot products of the innermost loop, by the motion they pair with
           ForceBlock<8> US;  // S_k with u13, u9, u1, u3, u8m12, u6, u7, u4
           ForceBlock<4> UP;  // ψ̇_k with u11, u8m12, u1
@@ -150,8 +153,9 @@ inline void rnea_second_derivatives(const ModelView& mv, const double* q, const 
             for (int rr = 0; rr < mv.nv_i[k]; ++rr) {
               const int kr = mv.idx_v[k] + rr;
               const ColumnMotions& K = w2.K[static_cast<size_t>(kr)];
-              double sS[8], sP[4], sD[2], sA[2];
-              US.dots(K.S, sS), UP.dots(K.ps, sP), UD.dots(K.pd, sD), UD.dots(K.av, sA);
+              double sS[8], sP[4] = {}, sD[2], sA[2];
+              US.dots(K.S, sS), UD.dots(K.pd, sD), UD.dots(K.av, sA);
+              if (mv.parent[k] != -1) UP.dots(K.ps, sP);  // (ψ̇_k = 0 on a root joint)
               const double p1 = sP[0];                 // ψ̇_kᵀ u11
               const double p2 = sD[0] + sP[1];         // ψ̈_kᵀ u9 + ψ̇_kᵀ u8m12
               const double p4 = sS[0], p5 = sS[1];     // S_kᵀ u13, S_kᵀ u9
