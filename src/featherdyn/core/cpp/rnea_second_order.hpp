@@ -17,12 +17,15 @@
 // (joint(r) ⪯ joint(q) ⪯ joint(p)), every entry of the four tensors as dot products of S_r, ψ̇_r, ψ̈_r,
 // ψ̇_r + φ̇_r with a dozen forces formed per pair (p, q) from the operators of p (s = S_p, I = I^C_p, D = D^C_p):
 //
-//     r1 m = s ×* (I m) − I (s × m)                         (the rate of I under s; symmetric)
-//     r0 m = m ×* (I s)                                     (antisymmetric)
-//     r3 m = ψ̇ ×* (I m) − I (ψ̇ × m) + m ×* (I ψ̇) + s ×* (D m) − D (s × m)
+//     r1 m = s ×* (I m) − I (s × m) = Q1 m           Q1 = the rate of I under s (inertia_rate: symmetric)
+//     r0 m = m ×* (I s)                              (antisymmetric)
+//     r3 m = ψ̇ ×* (I m) − I (ψ̇ × m) + m ×* (I ψ̇) + s ×* (D m) − D (s × m) = Q3 m + m ×* g3,
+//            Q3 = the rate of I under ψ̇ + the rate of İ^C under s,   g3 = I ψ̇ + s ×* h^C,   r3ᵀ m = Q3 m − m ×* g3
 //
-// (Singh et al.'s B_i, r0 … r7 as 6 × 6 matrices; here their products with the columns, each an operator
-// applied: no 6 × 6 matrix is formed). Entries with the three joints not on one path are zero (a torque's
+// (D m = İ^C m + m ×* h^C, and s ×* (m ×* h) − (s × m) ×* h = m ×* (s ×* h)). Singh et al. write these, and
+// r4 … r7 (m ↦ m ×* a force), as 6 × 6 matrices; here each is applied as an inertia or a cross product, and no
+// 6 × 6 matrix is formed. The pair's forces are laid out component-major (ForceBlock) so that the innermost
+// loop's dot products run as vectors. Entries with the three joints not on one path are zero (a torque's
 // derivative along two branches below it has no cross term). Cost: O(nv · depth²) dot products of 6-vectors.
 //
 // Convention: the tangent fields are fd.integrate's (body-frame on free-flyer, spherical and planar joints),
