@@ -257,7 +257,7 @@ def test_the_package_root_holds_at_most_twenty_modules() -> None:
 
 CPP = SRC / "core" / "cpp"
 #: the binding's generic machinery: the module, its families, the declaration templates, the boundary
-GLUE = ("bindings.cpp", "bind_dynamics.cpp", "bind_options.cpp", "bind_public_calls.cpp", "declare.hpp",
+GLUE = ("bindings.cpp", "bind_dynamics.cpp", "bind_options.cpp", "bind_public_calls.cpp", "bind_jax.cpp", "declare.hpp",
         "public_calls.hpp", "boundary.hpp", "buffer.hpp", "numpy_api.hpp", "entry_points.hpp", "build_info.cpp",
         "build_info.hpp")
 #: what the algorithms state (name, operands, kernel call): one struct each, neither glue nor kernel
@@ -266,7 +266,7 @@ DECLARATIONS = "declarations*.hpp"
 KERNELS = ("aba.hpp", "centroidal.hpp", "contacts.hpp", "crba.hpp", "derivatives.hpp", "energy.hpp",
            "frame_derivatives.hpp", "frames.hpp", "jacobians.hpp", "joints.hpp", "kinematics.hpp", "ltl.hpp",
            "pack.hpp", "regressor.hpp", "rnea.hpp", "simd_groups.hpp", "spatial.hpp", "trig.hpp", "second_order.hpp",
-           "kinematics_derivatives.hpp", "contact_derivatives.hpp")
+           "rnea_second_order.hpp", "kinematics_derivatives.hpp", "contact_derivatives.hpp")
 #: counted as neither: the thread pool, the CPU's features, the model's layout, the checks, scratch memory
 INFRASTRUCTURE = ("thread_pool.hpp", "cpu_features.hpp", "model_view.hpp", "checks.hpp", "scratch.hpp", "groups.hpp")
 

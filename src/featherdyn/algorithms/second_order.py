@@ -16,8 +16,8 @@ a column of joint i, ``fd.integrate``'s tangent) the pose moves as ``ᵖM_i exp(
     d/dε ᵖR_i = ᵖR_i [ω_c]×,    d/dε ᵖp_i = ᵖR_i u_c           (S_c = [ω_c; u_c] in body i)
 
 so no trigonometry is differentiated and the values keep their dtype: float64, or SymPy objects (small
-cases checked symbolically). The core (``core/cpp/second_order.hpp``) runs its first-order template on
-dual numbers seeded in ``q``'s coordinates instead: two independent routes to the same numbers.
+cases checked symbolically). The core (``core/cpp/rnea_second_order.hpp``) runs Singh, Russell & Wensing's
+analytical second-order recursion instead: two independent routes to the same numbers.
 
 On a free-flyer, spherical or planar joint the tangent fields ``X_j`` (``q ↦ d/dδ q ⊕ δ e_j``) do not
 commute, and ``d2tau_dq2[i, j, k] − d2tau_dq2[i, k, j] = ([X_k, X_j] τ)_i``: the first order along the fields'

@@ -652,8 +652,8 @@ DECLARATIONS: dict[str, Declaration] = {d.name: d for d in [
         Returns:
             :class:`~featherdyn.RneaSecondDerivatives` ``(d2tau_dq2, d2tau_dv2, d2tau_dqdv, dM_dq)``, ``[i, j, k]``
             the derivative of output i along input j, then along input k: the analytical first order
-            (:func:`featherdyn.rnea_derivatives`) differentiated exactly (forward mode, dual numbers), with ``q``
-            along ``fd.integrate``'s tangent ``q ⊕ ε e_k``::
+            (:func:`featherdyn.rnea_derivatives`) differentiated exactly (Singh, Russell & Wensing's analytical
+            recursion), with ``q`` along ``fd.integrate``'s tangent ``q ⊕ ε e_k``::
 
                 d2tau_dq2[i, j, k] = d/dε (∂τ_i/∂q_j)(q ⊕ ε e_k),   d2tau_dv2[i, j, k] = ∂²τ_i/∂q̇_j∂q̇_k,
                 d2tau_dqdv[i, j, k] = ∂²τ_i/∂q_j∂q̇_k,              dM_dq[i, j, k] = ∂M_ij/∂q_k = ∂²τ_i/∂q_k∂q̈_j

@@ -13,7 +13,7 @@ constexpr Operand tensor(const char* name) { return {name, ARG_OUT, {NV, NV, NV}
 }  // namespace operand
 
 // (∂²τ/∂q², ∂²τ/∂q̇², ∂²τ/∂q∂q̇, ∂M/∂q) (nv, nv, nv) of τ = RNEA(q, q̇, q̈, f_ext), [i, j, k] = ∂²τ_i/∂x_j∂y_k and
-// ∂M_ij/∂q_k: the first-order analytical derivatives differentiated on Dual numbers (second_order.hpp).
+// ∂M_ij/∂q_k: the analytical recursion of Singh, Russell & Wensing (rnea_second_order.hpp).
 struct RneaSecondDerivatives : Declared {
   static constexpr const char* name = "rnea_second_derivatives";
   static constexpr Operand inputs[] = {operand::q, operand::v, operand::a, operand::f_ext};
