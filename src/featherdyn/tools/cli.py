@@ -308,9 +308,10 @@ def _cmd_verify(args: argparse.Namespace) -> int:
 _ALL_NOTES = (
     "worst rel err: the relative error of the robot's check closest to its tolerance, and that tolerance "
     "('scaled by cond(M)': the condition number of M times the base tolerance, as for M⁻¹ and ABA's derivatives).",
-    "The number of checks follows the robot: 15 for each frame checked, a link frame on each of its (up to) 3 deepest "
-    "bodies (velocity, acceleration, classical acceleration, Jacobian and its time variation in 3 reference "
-    "frames), no forward-dynamics checks "
+    "The number of checks follows the robot: 26 for each frame checked, a link frame on each of its (up to) 3 deepest "
+    "bodies (velocity, acceleration, classical acceleration, Jacobian and its time variation, and the derivatives of "
+    "the velocity, acceleration and classical acceleration, in 3 reference frames; a point's derivatives in 2), "
+    "no forward-dynamics checks "
     "where M is singular, no joint-space ones without joints; the first robot also carries the "
     "spatial-algebra checks (run once).",
 )
