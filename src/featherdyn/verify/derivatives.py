@@ -110,6 +110,11 @@ LINEAR_FIRST_ROWS: Cause = ("featherdyn's rows are [v; ω] (Pinocchio's order), 
 PK_ROWS: Cause = ("featherdyn's rows are [p; k] (Pinocchio's order), not [k; p]", _rows_swapped)
 
 
+def _columns(st: States, m: PinValue, rows: int) -> np.ndarray:
+    """Pinocchio's `(rows, nv)` matrix with featherdyn's columns (a one-DoF model's comes flattened to `(rows,)`)."""
+    return st.jmap.columns_from_pin(np.asarray(m).copy().reshape(rows, st.model.nv))
+
+
 def _stack(st: States, fn: Callable[[int], np.ndarray]) -> np.ndarray:
     return np.stack([np.asarray(fn(s), dtype=np.float64) for s in range(st.n)])
 
@@ -136,14 +141,14 @@ def _pin_centroidal(field: int) -> Callable[[States, int], np.ndarray]:
 
 def _pin_com_jacobian(st: States, s: int) -> np.ndarray:
     pin = require_pinocchio()
-    return st.jmap.columns_from_pin(pin.jacobianCenterOfMass(st.pin_model, st.pin_data, st.qp[s]).copy())
+    return _columns(st, pin.jacobianCenterOfMass(st.pin_model, st.pin_data, st.qp[s]), 3)
 
 
 def _pin_com_velocity_derivatives(st: States, s: int) -> np.ndarray:
     pin = require_pinocchio()
     pm, pd = st.pin_model, st.pin_data
     pin.centerOfMass(pm, pd, st.qp[s], st.vp[s])
-    out = np.asarray(pin.getCenterOfMassVelocityDerivatives(pm, pd)).copy()
+    out = np.asarray(pin.getCenterOfMassVelocityDerivatives(pm, pd)).copy().reshape(3, pm.nv)
     # Pinocchio divides by each subtree's mass: the columns of a massless subtree (romeo's hands) are 0/0 there;
     # moving a massless subtree moves no mass, so those columns are zero
     for jid in range(1, pm.njoints):
@@ -192,13 +197,13 @@ def _frame_derivatives(st: States, s: int, fid: int, rname: str) -> tuple[list[n
     """Pinocchio's ``(∂v/∂q, ∂v/∂q̇)`` and ``(∂a/∂q, ∂a/∂q̇, ∂a/∂q̈)`` of frame ``fid`` at state ``s`` in
     featherdyn's layout, LOCAL_WORLD_ALIGNED as the derivative of the function (the moving origin's terms added)."""
     pin = require_pinocchio()
-    pm, pd, jm = st.pin_model, st.pin_data, st.jmap
+    pm, pd = st.pin_model, st.pin_data
     ref = getattr(pin, rname)
     pin.computeForwardKinematicsDerivatives(pm, pd, st.qp[s], st.vp[s], st.ap[s])
     pin.updateFramePlacements(pm, pd)
 
     def ours(m: np.ndarray) -> np.ndarray:
-        return jm.columns_from_pin(from_pin6_rows(np.asarray(m).copy()))
+        return st.jmap.columns_from_pin(from_pin6_rows(np.asarray(m).copy()))
 
     vel = [ours(x) for x in pin.getFrameVelocityDerivatives(pm, pd, fid, ref)]
     acc = [ours(x) for x in pin.getFrameAccelerationDerivatives(pm, pd, fid, ref)]
@@ -215,7 +220,7 @@ def _frame_derivatives(st: States, s: int, fid: int, rname: str) -> tuple[list[n
 def _classical(st: States, s: int, fid: int, rname: str) -> np.ndarray:
     """Pinocchio's ``(∂a^c/∂q, ∂a^c/∂q̇, ∂a^c/∂q̈)`` of the frame's classical acceleration, `(6, 3 nv)`."""
     pin = require_pinocchio()
-    pm, pd, jm = st.pin_model, st.pin_data, st.jmap
+    pm, pd = st.pin_model, st.pin_data
     vel, acc = _frame_derivatives(st, s, fid, rname)
     ref = getattr(pin, rname)
     out = [x.copy() for x in acc]
@@ -228,22 +233,21 @@ def _classical(st: States, s: int, fid: int, rname: str) -> np.ndarray:
         frame = pm.frames[fid]
         point = pin.getPointClassicAccelerationDerivatives(pm, pd, frame.parentJoint, frame.placement, ref)
         for k in range(3):
-            out[k][3:] = jm.columns_from_pin(np.asarray(point[k + 1]).copy())
+            out[k][3:] = _columns(st, point[k + 1], 3)
     return np.concatenate(out, axis=-1)
 
 
 def _point_rows(st: States, s: int, fid: int, rname: str) -> np.ndarray:
     """Pinocchio's point velocity and classical acceleration derivatives at :data:`POINT`, `(3, 5 nv)`."""
     pin = require_pinocchio()
-    pm, pd, jm = st.pin_model, st.pin_data, st.jmap
+    pm, pd = st.pin_model, st.pin_data
     ref = getattr(pin, rname)
     pin.computeForwardKinematicsDerivatives(pm, pd, st.qp[s], st.vp[s], st.ap[s])
     frame = pm.frames[fid]
     place = frame.placement * pin.SE3(np.eye(3), POINT)
     pv = pin.getPointVelocityDerivatives(pm, pd, frame.parentJoint, place, ref)
     pc = pin.getPointClassicAccelerationDerivatives(pm, pd, frame.parentJoint, place, ref)
-    return np.concatenate([jm.columns_from_pin(np.asarray(x).copy()) for x in (pv[0], pv[1], pc[1], pc[2], pc[3])],
-                          axis=-1)
+    return np.concatenate([_columns(st, x, 3) for x in (pv[0], pv[1], pc[1], pc[2], pc[3])], axis=-1)
 
 
 def _linear_rows(k: fd.KinematicsDerivatives) -> np.ndarray:
