@@ -87,6 +87,9 @@ class Row:
     ``ours(st)`` is `(N, ...)`; ``theirs(st, s)`` Pinocchio's value at state ``s`` in featherdyn's layout;
     ``causes(st)`` the mistakes a mismatch is tried against; ``scaled``: the tolerance is ``tol × cond(M)``
     (the quantity carries M⁻¹); ``needs_mass``: skipped when the moving bodies have no mass.
+
+    A row of the constrained or impulse dynamics' derivatives captures its constraints in its two functions
+    (``verify/contacts.py`` builds them, as it builds Pinocchio's constraint models) and sets ``scaled``.
     """
 
     quantity: str
