@@ -33,6 +33,7 @@ import featherdyn as fd
 from ..configuration import integrate
 from ..errors import SingularMassMatrixError
 from ..model import Model
+from ..tolerances import VERIFY_ABA_DIFFERENCE_ROUNDING, VERIFY_SECOND_ORDER
 from .bridge import SWAP6, JointMap, from_pin6_rows
 from .pinocchio import PinModel, PinValue, require_pinocchio
 from .report import COND_SCALED, Cause, CheckResult, compare, likely_cause
@@ -45,8 +46,8 @@ __all__ = ["States", "Row", "DERIVATIVE_ROWS", "frame_rows", "derivative_checks"
 #: derivatives are compared with Pinocchio's ``getPoint*Derivatives``
 POINT = np.array([0.05, -0.04, 0.1])
 
-#: relative tolerance of the central differences (ε = 1e-6, 1e-4 where M⁻¹ enters) against the second order
-SECOND_ORDER_TOL = 1e-5
+#: relative tolerance of the central differences against the second order (:mod:`featherdyn.tolerances`)
+SECOND_ORDER_TOL = VERIFY_SECOND_ORDER
 
 _REFS = (("LOCAL", fd.LOCAL), ("WORLD", fd.WORLD), ("LOCAL_WORLD_ALIGNED", fd.LOCAL_WORLD_ALIGNED))
 
@@ -395,9 +396,9 @@ def _extrapolated(f: Callable[..., tuple[np.ndarray, ...]], model: Model, x: np.
 SECOND_ORDER_STATES = 2
 SECOND_ORDER_DIRECTIONS = 24
 
-#: the rounding of the central differences of fd.aba_derivatives per unit of cond(M), with a factor 50
-#: (2.2e-16 / ε, ε = 1e-4): ABA's second-order rows are held to max(SECOND_ORDER_TOL, cond(M) × this)
-ABA_DIFFERENCE_ROUNDING = 1e-10
+#: the rounding of the central differences of fd.aba_derivatives per unit of cond(M) (:mod:`featherdyn.tolerances`):
+#: ABA's second-order rows are held to max(SECOND_ORDER_TOL, cond(M) × this)
+ABA_DIFFERENCE_ROUNDING = VERIFY_ABA_DIFFERENCE_ROUNDING
 
 
 def second_order_checks(model: Model, q: np.ndarray, v: np.ndarray, a: np.ndarray, tau: np.ndarray,
