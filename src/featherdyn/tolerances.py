@@ -32,6 +32,8 @@ __all__ = [
     "COMPARISON",
     "VERIFY_ALGEBRA",
     "VERIFY_DYNAMICS",
+    "VERIFY_SECOND_ORDER",
+    "VERIFY_ABA_DIFFERENCE_ROUNDING",
     "CHECK_VALUES",
     "default_tol",
 ]
@@ -103,6 +105,15 @@ VERIFY_ALGEBRA = 1e-12
 
 #: ``featherdyn verify``: default relative tolerance of the robot comparisons with Pinocchio.
 VERIFY_DYNAMICS = 1e-9
+
+#: ``featherdyn verify``: relative tolerance of the second-order derivatives against central differences of the
+#: first order (``verify/derivatives.py``; measured on the robot library: ≤ 2e-9 for RNEA's).
+VERIFY_SECOND_ORDER = 1e-5
+
+#: ``featherdyn verify``: the rounding of the central differences of ``fd.aba_derivatives`` per unit of cond(M)
+#: (2.2e-16 / ε at ε = 1e-4, with a factor 50): ABA's second-order rows are held to
+#: ``max(VERIFY_SECOND_ORDER, cond(M) × this)``.
+VERIFY_ABA_DIFFERENCE_ROUNDING = 1e-10
 
 #: ``featherdyn check``: default relative tolerance ``|a − b| / max(|b|, 1)`` for the user's values
 #: (float32-saved values of long arms carry ~1e-6 of round-off).

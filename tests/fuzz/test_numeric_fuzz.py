@@ -185,3 +185,72 @@ def test_f_ext_is_checked(data: st.DataObject, function: str) -> None:
     z = np.zeros(model.nv)
     f_ext = data.draw(bent_array(np.zeros((model.nbodies, 6))), "f_ext")
     _check(lambda: getattr(fd, function)(model, q, z, z, f_ext), q, f_ext)
+
+
+# ---------------------------------------------------------------------------------------------------------
+# the derivatives (issue 30): the same contract, with frames, references, points and external forces bent too
+# ---------------------------------------------------------------------------------------------------------
+
+DERIVATIVE_FUNCTIONS = ["rnea_derivatives", "aba_derivatives", "generalized_gravity_derivatives",
+                        "static_torque_derivatives", "kinematics_derivatives", "center_of_mass_derivatives",
+                        "centroidal_dynamics_derivatives", "rnea_second_derivatives", "aba_second_derivatives"]
+REFERENCES = [fd.LOCAL, fd.WORLD, fd.LOCAL_WORLD_ALIGNED, "local", "WORLD", "sideways", "", 0, 1.5, None, b"LOCAL",
+              ["LOCAL"]]
+
+
+def _finite_fields(out: Any) -> list[np.ndarray]:
+    """The arrays of a result: an array, or each field of a record (a named tuple of arrays)."""
+    if isinstance(out, np.ndarray):
+        return [out]
+    if isinstance(out, tuple):
+        return [x for x in out if isinstance(x, np.ndarray)]
+    return []
+
+
+def _check_derivative(call: Callable[[], Any], *inputs: Any) -> None:
+    """:func:`_check`'s contract for a record of derivative arrays."""
+    try:
+        with np.errstate(over="raise", invalid="raise", divide="raise", under="ignore"):
+            out = call()
+    except FeatherdynError:
+        return
+    values = _finite_fields(out)
+    assert values, f"no arrays in the result {type(out).__name__}"
+    if _all_finite(*inputs):
+        for v in values:
+            if v.dtype.kind == "f":
+                assert np.isfinite(v).all(), f"finite input gave a non-finite result: {v}"
+
+
+@settings(max_examples=800, suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large])
+@given(data=st.data(), model_name=st.sampled_from(sorted(MODELS)), function=st.sampled_from(DERIVATIVE_FUNCTIONS),
+       backend=st.sampled_from([None, None, "reference", "compiled"]))
+def test_derivative_calls_raise_featherdyn_errors_or_return_finite_numbers(data: st.DataObject, model_name: str,
+                                                                           function: str,
+                                                                           backend: str | None) -> None:
+    model = _model(model_name)
+    rng = np.random.default_rng(data.draw(st.integers(0, 2**16)))
+    q = data.draw(bent_array(fd.random_configuration(model, rng)), "q")
+    v = data.draw(bent_array(rng.normal(size=model.nv)), "v")
+    a = data.draw(bent_array(rng.normal(size=model.nv)), "a")
+    f_ext = data.draw(bent_array(rng.normal(size=(model.nbodies, 6))), "f_ext")
+    frame = data.draw(st.sampled_from([0, len(model.frames) - 1, -1, 2**70, "nope", 1.5, None, "",
+                                       model.frames[-1].name]), "frame")
+    reference = data.draw(st.sampled_from(REFERENCES), "reference")
+    point = data.draw(st.one_of(st.none(), bent_array(rng.normal(size=3) * 0.1)), "point")
+    f = getattr(fd, function)
+    kw = {"backend": backend}
+    calls: dict[str, tuple[Callable[[], Any], tuple[Any, ...]]] = {
+        "rnea_derivatives": (lambda: f(model, q, v, a, **kw), (q, v, a)),
+        "aba_derivatives": (lambda: f(model, q, v, a, **kw), (q, v, a)),
+        "generalized_gravity_derivatives": (lambda: f(model, q, **kw), (q,)),
+        "static_torque_derivatives": (lambda: f(model, q, f_ext, **kw), (q, f_ext)),
+        "kinematics_derivatives": (lambda: f(model, q, v, a, frame, reference, point, **kw),
+                                   (q, v, a) if point is None else (q, v, a, point)),
+        "center_of_mass_derivatives": (lambda: f(model, q, v, **kw), (q, v)),
+        "centroidal_dynamics_derivatives": (lambda: f(model, q, v, a, **kw), (q, v, a)),
+        "rnea_second_derivatives": (lambda: f(model, q, v, a, **kw), (q, v, a)),
+        "aba_second_derivatives": (lambda: f(model, q, v, a, **kw), (q, v, a)),
+    }
+    call, inputs = calls[function]
+    _check_derivative(call, *inputs)

@@ -116,3 +116,34 @@ def test_missing_robot_option_exit_2(tmp_path: Path) -> None:
     assert p.returncode == 2
     assert "--robot" in p.stderr
     assert_no_traceback(p)
+
+
+def test_frame_derivatives_need_frame_and_name_pinocchios_rows(tmp_path: Path) -> None:
+    """Pinocchio's getFrameVelocityDerivatives on panda (rows [v; ω]) given as featherdyn's: --frame and
+    --reference are taken, the suspect is named; without --frame: exit 2 with one line saying so."""
+    pin = pytest.importorskip("pinocchio")
+    from featherdyn.robots import robot_path
+    from featherdyn.verify.bridge import JointMap
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        model = fd.load_robot("panda")
+        pm = pin.buildModelFromUrdf(str(robot_path("panda")))
+    pd, jm = pm.createData(), JointMap(model, pm)
+    rng = np.random.default_rng(3)
+    q = fd.random_configuration(model, rng)
+    v, a = rng.normal(size=model.nv), rng.normal(size=model.nv)
+    pin.computeForwardKinematicsDerivatives(pm, pd, jm.q_to_pin(q), jm.v_to_pin(v), jm.v_to_pin(a))
+    dv_dq, dv_dv = pin.getFrameVelocityDerivatives(pm, pd, pm.getFrameId("panda_hand"), pin.WORLD)
+    np.savez(tmp_path / "frame.npz", q=q, v=v, dv_dq=jm.columns_from_pin(dv_dq), dv_dv=jm.columns_from_pin(dv_dv))
+    p = run(tmp_path / "frame.npz", "--robot", "panda", "--frame", "panda_hand", "--reference", "WORLD")
+    assert p.returncode == 1, p.stdout + p.stderr
+    assert "suspect: linear_first_rows" in p.stdout and "(panda_hand, WORLD)" in p.stdout
+    assert_no_traceback(p)
+    good = {"q": q, "v": v, "dv_dv": jm.columns_from_pin(dv_dv)[[3, 4, 5, 0, 1, 2]]}
+    np.savez(tmp_path / "good.npz", **good)
+    p = run(tmp_path / "good.npz", "--robot", "panda", "--frame", "panda_hand", "--reference", "WORLD")
+    assert p.returncode == 0, p.stdout + p.stderr
+    p = run(tmp_path / "good.npz", "--robot", "panda")
+    assert p.returncode == 2 and "--frame" in p.stderr and not p.stdout, p.stdout + p.stderr
+    assert_no_traceback(p)

@@ -264,3 +264,22 @@ def test_importing_featherdyn_does_not_import_dask() -> None:
     out = subprocess.run([sys.executable, "-c", "import sys, featherdyn; print('dask' in sys.modules)"],
                          capture_output=True, text=True, check=True)
     assert out.stdout.strip() == "False"
+
+
+def test_kinematics_derivatives_at_a_point_stay_lazy(solo: fd.Model) -> None:
+    """The point path (``point=``) took Dask arrays and returned NumPy arrays, computing every block at once; it now
+    returns Dask arrays like the frame's path, bit for bit the NumPy call's, a Dask point included."""
+    s = _states(solo, (9,), seed=3)
+    points = np.random.default_rng(4).normal(size=(9, 3)) * 0.1
+    expected = fd.kinematics_derivatives(solo, s["q"], s["v"], s["a"], "HR_FOOT", fd.LOCAL_WORLD_ALIGNED, points)
+    one = fd.kinematics_derivatives(solo, s["q"], s["v"], s["a"], "HR_FOOT", fd.LOCAL_WORLD_ALIGNED, points[0])
+    for point, want in ((points, expected), (_lazy(points, 4), expected), (points[0], one)):
+        got = fd.kinematics_derivatives(solo, _lazy(s["q"], 4), _lazy(s["v"], 3), s["a"], "HR_FOOT",
+                                        fd.LOCAL_WORLD_ALIGNED, point)
+        assert isinstance(got, fd.KinematicsDerivatives)
+        assert all(isinstance(x, da.Array) for x in got)
+        assert all(np.array_equal(x.compute(), y) for x, y in zip(got, want, strict=True))
+    with pytest.raises(fd.ShapeError, match="point"):  # checked before any block is computed
+        fd.kinematics_derivatives(solo, _lazy(s["q"], 4), s["v"], s["a"], "HR_FOOT", fd.LOCAL, np.zeros(2))
+    with pytest.raises(fd.ModelError, match="nope"):
+        fd.kinematics_derivatives(solo, _lazy(s["q"], 4), s["v"], s["a"], "nope", fd.LOCAL, points)

@@ -14,6 +14,7 @@ from typing import Any, Protocol, overload
 import numpy as np
 from numpy.typing import ArrayLike
 
+from .. import _dask
 from ..algorithms import aba as _aba
 from ..algorithms import centroidal as _centroidal
 from ..algorithms import crba as _crba
@@ -813,6 +814,9 @@ def kinematics_derivatives(model: Model, q: ArrayLike, v: ArrayLike, a: ArrayLik
     if not isinstance(model, Model):
         raise ShapeError(f"model: expected a featherdyn Model, got {type(model).__name__}")
     fid, ref = model.resolve_frame(frame), as_reference_frame(reference)
+    if _dask.lazy(q, v, a, point):  # Dask arrays (the point's too): Dask arrays back, lazily, as the frame's path
+        return _dask.call(kinematics_derivatives, model, {"q": q, "v": v, "a": a, "point": point}, frame=frame,
+                          reference=reference, backend=backend)
     p = _point(point)
     h = core_path(model, backend)
     if h is not None:  # one state as the kernel takes it (exact native float64 arrays, a sound state), else on

@@ -5,6 +5,7 @@
     featherdyn verify [ROBOT|URDF|MJCF|SDF] [--oracle pinocchio|mujoco|both|drake|all] [--floating-base] [--samples N] [--seed S] [--tol T] [--contacts F1,F2]
                       [--json FILE] [--report FILE.html] [--all [--scheduler local|ADDRESS] [--workers W]]
     featherdyn check VALUES.npz --robot ROBOT|URDF [--floating-base] [--convention featherdyn|pinocchio]
+                     [--frame FRAME] [--reference LOCAL|WORLD|LOCAL_WORLD_ALIGNED]
                      [--tol T] [--json FILE]
     featherdyn dataset ROBOT|URDF --states N --out DIR.zarr [--quantities tau,M,ddq] [--floating-base]
                        [--seed S] [--chunk C] [--scheduler auto|local|sync|ADDRESS] [--workers W]
@@ -117,10 +118,14 @@ def _add_check(sub: argparse._SubParsersAction[_Parser]) -> None:
     p = sub.add_parser(
         "check", help="check your own numbers (an .npz of q, v, a, tau, M, ddq) against featherdyn and "
                       "diagnose a mismatch",
-        description="Check the values in VALUES.npz (keys q, v, a and any of tau, M, ddq with tau; one state or a "
-                    "batch along a leading axis) against featherdyn. On a mismatch, try the usual suspects (6D "
+        description="Check the values in VALUES.npz (keys q, v, a and any of tau, M, ddq with tau, and derivative "
+                    "matrices: dtau_dq, dtau_dv, dddq_dq, dddq_dv, dg_dq, dc_dq, dcdot_dq, dh_dq, dhdot_dq, dhdot_dv, "
+                    "dhdot_da, and with --frame dv_dq, dv_dv, da_dq, da_dv, da_da, dac_dq, dac_dv, dac_da; one state "
+                    "or a batch along a leading axis) against featherdyn. On a mismatch, try the usual suspects (6D "
                     "order, world-frame base velocity, quaternion order, classical acceleration, gravity, "
-                    "continuous joints, joint order, triangular M) and say which one explains the numbers. "
+                    "continuous joints, joint order, triangular M; for derivative matrices: transposed, tangent, "
+                    "[v; ω] or [p; k] rows, reference frame, Pinocchio's LOCAL_WORLD_ALIGNED convention) and say "
+                    "which one explains the numbers. "
                     "Exit codes: 0 all agree, 1 a mismatch, 2 a usage or model error.")
     p.add_argument("values", metavar="VALUES.npz", help="an .npz archive of named arrays (numpy.savez)")
     p.add_argument("--robot", required=True, metavar="ROBOT|URDF",
@@ -131,6 +136,10 @@ def _add_check(sub: argparse._SubParsersAction[_Parser]) -> None:
                         "Pinocchio's joint order, free-flyer [v; ω] LOCAL)")
     p.add_argument("--tol", type=positive_float, default=DEFAULT_TOL,
                    help=f"relative tolerance |a − b| / max(|b|, 1) (default {DEFAULT_TOL:g})")
+    p.add_argument("--frame", default=None, metavar="FRAME",
+                   help="the frame of the frame derivatives dv_dq, dv_dv, da_*, dac_* (fd.kinematics_derivatives)")
+    p.add_argument("--reference", choices=("LOCAL", "WORLD", "LOCAL_WORLD_ALIGNED"), default="LOCAL",
+                   help="their reference frame (default LOCAL)")
     p.add_argument("--json", type=Path, default=None, metavar="FILE", help="write the full report as JSON")
 
 
@@ -197,7 +206,7 @@ def _cmd_check(args: argparse.Namespace) -> int:
     check_writable(args.json, "--json")
     try:
         report = check_values(args.values, args.robot, floating_base=args.floating_base,
-                              convention=args.convention, tol=args.tol)
+                              convention=args.convention, tol=args.tol, frame=args.frame, reference=args.reference)
     except TypeError as exc:  # a value of the wrong type inside the archive
         raise FeatherdynError(str(exc)) from None
     print(report.to_text())
@@ -299,9 +308,10 @@ def _cmd_verify(args: argparse.Namespace) -> int:
 _ALL_NOTES = (
     "worst rel err: the relative error of the robot's check closest to its tolerance, and that tolerance "
     "('scaled by cond(M)': the condition number of M times the base tolerance, as for M⁻¹ and ABA's derivatives).",
-    "The number of checks follows the robot: 15 for each frame checked, a link frame on each of its (up to) 3 deepest "
-    "bodies (velocity, acceleration, classical acceleration, Jacobian and its time variation in 3 reference "
-    "frames), no forward-dynamics checks "
+    "The number of checks follows the robot: 26 for each frame checked, a link frame on each of its (up to) 3 deepest "
+    "bodies (velocity, acceleration, classical acceleration, Jacobian and its time variation, and the derivatives of "
+    "the velocity, acceleration and classical acceleration, in 3 reference frames; a point's derivatives in 2), "
+    "no forward-dynamics checks "
     "where M is singular, no joint-space ones without joints; the first robot also carries the "
     "spatial-algebra checks (run once).",
 )

@@ -423,8 +423,16 @@ def dynamics_checks(pair: RobotPair, samples: int = 10, seed: int = 0, tol: floa
             results.append(CheckResult("pinocchio", quantity, 0.0, 0.0, 0, tol, True,
                                        "skipped: the moving bodies have no mass"))
 
+    note("derivatives of gravity, frames, centre of mass and centroidal momentum")
+    from .derivatives import DERIVATIVE_ROWS, States, derivative_checks, frame_rows, second_order_checks
+
+    states = States(model, pm, pd, jm, q, v, a, tau, fext, cond)
+    rows = [*DERIVATIVE_ROWS, *(r for frame in frames for r in frame_rows(model, frame, matched[frame]))]
+    results += derivative_checks(states, rows, tol)
     note("identities")
     results += identity_checks(model, q, v, a, tau, M, C, tol, singular)
+    note("second-order derivatives (central differences of the first order)")
+    results += second_order_checks(model, q, v, a, tau, cond)
     return results
 
 

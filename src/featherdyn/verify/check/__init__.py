@@ -11,13 +11,22 @@ key      shape                  compared with
 ``tau``  `(nv,)` or `(N, nv)`   ``fd.rnea(q, v, a)`` (when ``a`` is given)
 ``M``    `(nv, nv)` or ...      ``fd.crba(q)``
 ``ddq``  `(nv,)` or `(N, nv)`   forward dynamics: ``tau`` vs ``fd.rnea(q, v, ddq)``
-``dtau_dq``, ``dtau_dv``  `(nv, nv)`  ``fd.rnea_derivatives(q, v, a)`` (``dtau_dq`` also `(nv, nq)`)
-``dddq_dq``, ``dddq_dv``  `(nv, nv)`  ``fd.aba_derivatives(q, v, tau)`` (``dddq_dq`` also `(nv, nq)`)
+``dtau_dq``, ``dtau_dv``  `(nv, nv)`  ``fd.rnea_derivatives(q, v, a)``
+``dddq_dq``, ``dddq_dv``  `(nv, nv)`  ``fd.aba_derivatives(q, v, tau)``
+``dg_dq``                 `(nv, nv)`  ``fd.generalized_gravity_derivatives(q)``
+``dc_dq``, ``dcdot_dq``   `(3, nv)`   ``fd.center_of_mass_derivatives(q, v)``
+``dh_dq``, ``dhdot_dq``, ``dhdot_dv``, ``dhdot_da``  `(6, nv)`, rows ``[k; p]``
+                                      ``fd.centroidal_dynamics_derivatives(q, v, a)``
+``dv_dq``, ``dv_dv``, ``da_dq``, ``da_dv``, ``da_da``, ``dac_dq``, ``dac_dv``, ``dac_da``  `(6, nv)`, rows
+                                      ``[ω; v]``: ``fd.kinematics_derivatives(q, v, a, frame, reference)``
+                                      (``frame=`` is required with them; ``reference=`` LOCAL by default)
 =======  =====================  ==================================================
 
-Derivative matrices that disagree are read as described in :mod:`.derivatives`
-(transposed, a world-frame tangent, ``[v; ω]`` order, quaternion coordinates,
-a missing ``M⁻¹``).
+Every ``*_dq`` matrix may also be given with respect to q's coordinates (nq columns). The table is
+:data:`.values.DERIVATIVE_SPECS`. Derivative matrices that disagree are read as described in
+:mod:`.derivatives` (transposed, a world-frame tangent, ``[v; ω]`` or ``[p; k]`` rows, a free-flyer's ``[v; ω]``
+columns, another reference frame, Pinocchio's LOCAL_WORLD_ALIGNED convention, spatial for classical
+acceleration, a negated gravity derivative, quaternion coordinates, a missing ``M⁻¹``).
 
 in the featherdyn convention (``docs/conventions.md``) or in Pinocchio's (``q`` with
 continuous joints as ``(cos θ, sin θ)``, joints in Pinocchio's order, the
@@ -78,6 +87,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ...errors import FeatherdynError, ModelError
+from ...frames import LOCAL, ReferenceFrame, as_reference_frame
 from ...joints import RevoluteJoint
 from ...model import Model
 from ...tolerances import CHECK_VALUES
@@ -90,7 +100,7 @@ from .diagnosis import explain, largest_discrepancy
 from .readings import Checker, Hypothesis, Layout
 from .report import CheckReport, Finding, agree, one_line
 from .suspects import SUSPECTS, diagnose
-from .values import KEYS, ValuesError, load_npz, validate
+from .values import DERIVATIVE_KEYS, DERIVATIVE_SPECS, KEYS, ValuesError, load_npz, validate
 
 __all__ = [
     "check_values",
@@ -149,7 +159,8 @@ def _load_robot(robot: Robot, floating_base: bool, need_pin: bool
 
 
 def check_values(values: Mapping[str, ArrayLike] | str | os.PathLike[str], robot: Robot, floating_base: bool = False,
-                 convention: str = "featherdyn", tol: float = DEFAULT_TOL) -> CheckReport:
+                 convention: str = "featherdyn", tol: float = DEFAULT_TOL, frame: str | int | None = None,
+                 reference: ReferenceFrame | str = LOCAL) -> CheckReport:
     """Check the user's numbers against featherdyn and, on a mismatch, say which usual suspect explains them.
 
     Args:
@@ -161,13 +172,15 @@ def check_values(values: Mapping[str, ArrayLike] | str | os.PathLike[str], robot
         floating_base: put the root link on a free-flyer joint.
         convention: ``"featherdyn"`` or ``"pinocchio"`` (the layout of the values).
         tol: relative tolerance, ``|a − b| / max(|b|, 1)`` per state.
+        frame: the frame (name or index) of the frame derivatives ``dv_dq`` & co. (required with them);
+            reference: their reference frame (``LOCAL``, ``WORLD``, ``LOCAL_WORLD_ALIGNED`` or its name).
 
     Returns:
         a :class:`CheckReport`: ``.passed``, ``.results``, ``.diagnosis``,
         ``.to_text()``, ``.to_json()``.
 
     Raises:
-        ValuesError: no such file, not an ``.npz`` archive, or a key missing.
+        ValuesError: no such file, not an ``.npz`` archive, a key missing, or a frame's derivative without a frame.
         ShapeError, NonFiniteError, DTypeError: an array has the wrong shape, NaN or
             infinity, or is not numeric (the message names the key and the expected shape).
         ModelError, URDFError: the robot cannot be found or loaded.
@@ -184,7 +197,13 @@ def check_values(values: Mapping[str, ArrayLike] | str | os.PathLike[str], robot
     elif not isinstance(values, Mapping):
         raise ValuesError(f"values: expected a mapping of arrays or the path of an .npz file, got "
                           f"{type(values).__name__}")
+    ref = as_reference_frame(reference)  # (a bad name: ShapeError naming the three)
+    frame_keys = [k for k in DERIVATIVE_KEYS if DERIVATIVE_SPECS[k].frame and k in values]
+    if frame_keys and frame is None:
+        raise ValuesError(f"{', '.join(frame_keys)}: a frame's derivatives: name the frame (check_values(frame=...), "
+                          "featherdyn check --frame NAME) and its reference (default LOCAL)")
     name, path, model, pm, jm, load_warnings = _load_robot(robot, floating_base, convention == "pinocchio")
+    frame_index = model.resolve_frame(frame) if frame is not None else None  # (an unknown frame: ModelError)
 
     continuous = {e.fd_body for e in jm.entries if e.continuous} if jm is not None else \
         {i for i, j in enumerate(model.joints) if isinstance(j, RevoluteJoint)
@@ -202,7 +221,7 @@ def check_values(values: Mapping[str, ArrayLike] | str | os.PathLike[str], robot
         other = (nq_decl + 7, model.nv + 6, "with --floating-base")
     given = validate(values, nq_allowed, model.nv, other)
 
-    ch = Checker(model, pm, jm, convention, continuous, given, tol)
+    ch = Checker(model, pm, jm, convention, continuous, given, tol, frame_index, ref)
     forced = given.arrays["q"].shape[1] != nq_decl
     base = "floating" if model.floating_base else "fixed"
     states = f"{given.n} state{'s' if given.n != 1 else ''}" if given.batched else "one state"
@@ -213,6 +232,7 @@ def check_values(values: Mapping[str, ArrayLike] | str | os.PathLike[str], robot
         "convention": convention, "tol": tol, "states": given.n, "batched": given.batched,
         "keys": [k for k in KEYS if k in given.arrays], "ignored_keys": list(given.ignored),
         "dtypes": given.dtypes, "compared": ch.quantities() + ch.derivative_keys(), "load_warnings": load_warnings,
+        **({"frame": model.frames[frame_index].name, "reference": ref.name} if frame_index is not None else {}),
     })
     if forced:
         q_len = given.arrays["q"].shape[1]

@@ -16,15 +16,16 @@ from typing import TypedDict
 import numpy as np
 
 from ...errors import FeatherdynError, MissingDependencyError
+from ...frames import LOCAL, ReferenceFrame
 from ...joints import FreeFlyerJoint, Joint, PlanarJoint, SphericalJoint
 from ...model import Model
-from ..bridge import SWAP6, JointMap
+from ..bridge import SWAP6, JointMap, from_pin6_rows
 from ..pinocchio import PinModel
 from ..report import CheckResult, compare
 from .report import one_line
-from .values import DERIVATIVE_KEYS, VECTOR_KEYS, Given
+from .values import DERIVATIVE_KEYS, DERIVATIVE_SPECS, VECTOR_KEYS, Given
 
-__all__ = ["QUANTITIES", "DERIVATIVES", "Block", "Change", "Hypothesis", "UnreadableError", "Layout", "Checker"]
+__all__ = ["QUANTITIES", "DERIVATIVES", "COMPUTE", "Block", "Change", "Hypothesis", "UnreadableError", "Layout", "Checker"]
 
 QUANTITIES = {
     "tau": "tau vs fd.rnea(q, v, a)",
@@ -33,8 +34,64 @@ QUANTITIES = {
 }
 
 #: The derivative matrices compared, by key (:mod:`.derivatives` reads a mismatch of their own).
-DERIVATIVES = {"dtau_dq": "dtau_dq vs fd.rnea_derivatives", "dtau_dv": "dtau_dv vs fd.rnea_derivatives",
-               "dddq_dq": "dddq_dq vs fd.aba_derivatives", "dddq_dv": "dddq_dv vs fd.aba_derivatives"}
+DERIVATIVES = {k: f"{k} vs {spec.function}" for k, spec in DERIVATIVE_SPECS.items()}
+
+
+def _kinematics(model: Model, x: dict[str, np.ndarray], frame: int | None, reference: ReferenceFrame
+                ) -> dict[str, np.ndarray]:
+    import featherdyn as fd
+
+    assert frame is not None  # (check_values refuses a frame's key without a frame)
+    v = x["v"]
+    a = x["a"] if "a" in x else np.zeros_like(v)
+    return dict(fd.kinematics_derivatives(model, x["q"], v, a, frame, reference)._asdict())
+
+
+def _centroidal(model: Model, x: dict[str, np.ndarray], frame: int | None, reference: ReferenceFrame
+                ) -> dict[str, np.ndarray]:
+    import featherdyn as fd
+
+    v = x["v"]
+    return dict(fd.centroidal_dynamics_derivatives(model, x["q"], v, x["a"] if "a" in x else np.zeros_like(v))
+                ._asdict())
+
+
+def _center_of_mass(model: Model, x: dict[str, np.ndarray], frame: int | None, reference: ReferenceFrame
+                    ) -> dict[str, np.ndarray]:
+    import featherdyn as fd
+
+    v = x["v"] if "v" in x else np.zeros(x["q"].shape[:-1] + (model.nv,))
+    return dict(fd.center_of_mass_derivatives(model, x["q"], v)._asdict())
+
+
+def _rnea(model: Model, x: dict[str, np.ndarray], frame: int | None, reference: ReferenceFrame
+          ) -> dict[str, np.ndarray]:
+    import featherdyn as fd
+
+    dq, dv, _ = fd.rnea_derivatives(model, x["q"], x["v"], x["a"])
+    return {"dtau_dq": dq, "dtau_dv": dv}
+
+
+def _aba(model: Model, x: dict[str, np.ndarray], frame: int | None, reference: ReferenceFrame
+         ) -> dict[str, np.ndarray]:
+    import featherdyn as fd
+
+    dq, dv, _ = fd.aba_derivatives(model, x["q"], x["v"], x["tau"])
+    return {"dddq_dq": dq, "dddq_dv": dv}
+
+
+def _gravity(model: Model, x: dict[str, np.ndarray], frame: int | None, reference: ReferenceFrame
+             ) -> dict[str, np.ndarray]:
+    import featherdyn as fd
+
+    return {"dg_dq": fd.generalized_gravity_derivatives(model, x["q"])}
+
+
+#: featherdyn's derivative matrices by the function of :data:`~.values.DERIVATIVE_SPECS`: ``(model, the values
+#: read in featherdyn's convention, frame index, reference) → {key: (N, rows, nv)}``
+COMPUTE = {"fd.rnea_derivatives": _rnea, "fd.aba_derivatives": _aba, "fd.generalized_gravity_derivatives": _gravity,
+           "fd.center_of_mass_derivatives": _center_of_mass, "fd.centroidal_dynamics_derivatives": _centroidal,
+           "fd.kinematics_derivatives": _kinematics}
 
 
 @dataclass(frozen=True)
@@ -168,9 +225,11 @@ class Checker(Layout):
 
     def __init__(self, model: Model, pin_model: PinModel | None, jmap: JointMap | None, convention: str,
                  continuous: set[int],
-                 given: Given, tol: float) -> None:
+                 given: Given, tol: float, frame: int | None = None, reference: ReferenceFrame = LOCAL) -> None:
         super().__init__(model, pin_model, jmap, convention, continuous)
         self.given, self.tol = given, tol
+        #: the frame (index) and reference of the frame derivatives (``dv_dq`` & co.)
+        self.frame, self.reference = frame, reference
         self._reads: dict[tuple[object, ...], dict[str, np.ndarray] | Exception] = {}
         self._results: dict[tuple[Hypothesis, str], CheckResult] = {}
         self._derivatives: dict[tuple[object, ...], dict[str, np.ndarray]] = {}
@@ -233,9 +292,9 @@ class Checker(Layout):
             elif h.triangle == "lower":
                 M = np.tril(M) + np.swapaxes(np.tril(M, -1), -1, -2)
             out["M"] = M[:, src][:, :, src]
-        for k in DERIVATIVE_KEYS:  # rows and columns in v's layout, as M; an (nv, nq) matrix stays as given
+        for k in DERIVATIVE_KEYS:  # columns in v's layout (rows too for nv rows, as M); (·, nq) stays as given
             if k in g and g[k].shape[-1] == nv:
-                out[k] = g[k][:, src][:, :, src]
+                out[k] = g[k][:, src][:, :, src] if DERIVATIVE_SPECS[k].rows == "joint" else g[k][:, :, src]
         if self.convention == "pinocchio":
             jm = self.pinocchio_map()
             out["q"] = jm.q_from_pin(out["q"])
@@ -244,7 +303,11 @@ class Checker(Layout):
                     out[k] = jm.v_from_pin(out[k])
             for k in ("M", *DERIVATIVE_KEYS):
                 if k in out:
-                    out[k] = jm.matrix_from_pin(out[k])
+                    rows = "joint" if k == "M" else DERIVATIVE_SPECS[k].rows
+                    if rows == "joint":
+                        out[k] = jm.matrix_from_pin(out[k])
+                    else:  # Pinocchio's 6 rows are [v; ω] and [p; k]
+                        out[k] = jm.columns_from_pin(from_pin6_rows(out[k]) if rows != "point" else out[k])
         if h.world or h.classical:
             self._base_frame(out, h)
         return out
@@ -344,22 +407,26 @@ class Checker(Layout):
         return compare("check", name, given, expected, self.tol, "")
 
     def derivative_keys(self) -> list[str]:
-        """The derivative matrices given (``dtau_dq``, ``dtau_dv``, ``dddq_dq``, ``dddq_dv``)."""
+        """The derivative matrices given (the keys of :data:`~.values.DERIVATIVE_SPECS`)."""
         return [k for k in DERIVATIVE_KEYS if k in self.given.arrays]
 
-    def derivatives_at(self, h: Hypothesis) -> dict[str, np.ndarray]:
-        """featherdyn's derivative matrices at the state read under ``h`` (``fd.rnea_derivatives(q, v, a)``,
-        ``fd.aba_derivatives(q, v, tau)``), for the keys given; cached per state and gravity."""
-        import featherdyn as fd
+    def label(self, key: str) -> str:
+        """The row's name of derivative matrix ``key`` (a frame's with the frame and its reference)."""
+        if DERIVATIVE_SPECS[key].frame and self.frame is not None:
+            return f"{DERIVATIVES[key]} ({self.model.frames[self.frame].name}, {self.reference.name})"
+        return DERIVATIVES[key]
 
-        key = (h.cos_sin, h.order, h.swap6, h.quat_wxyz, h.world, h.classical, h.gravity)
+    def derivatives_at(self, h: Hypothesis, reference: ReferenceFrame | None = None) -> dict[str, np.ndarray]:
+        """featherdyn's derivative matrices at the state read under ``h`` (:data:`COMPUTE`: e.g.
+        ``fd.rnea_derivatives(q, v, a)``), for the keys given; cached per state and gravity. ``reference``:
+        the frame derivatives in another reference than the one declared."""
+        ref = self.reference if reference is None else reference
+        key = (h.cos_sin, h.order, h.swap6, h.quat_wxyz, h.world, h.classical, h.gravity, ref)
         if key not in self._derivatives:
-            x, model, g = self.read(h), self.model_for(h), self.given.arrays
+            x, model = self.read(h), self.model_for(h)
             ours: dict[str, np.ndarray] = {}
-            if "dtau_dq" in g or "dtau_dv" in g:
-                ours["dtau_dq"], ours["dtau_dv"], _ = fd.rnea_derivatives(model, x["q"], x["v"], x["a"])
-            if "dddq_dq" in g or "dddq_dv" in g:
-                ours["dddq_dq"], ours["dddq_dv"], _ = fd.aba_derivatives(model, x["q"], x["v"], x["tau"])
+            for function in dict.fromkeys(DERIVATIVE_SPECS[k].function for k in self.derivative_keys()):
+                ours.update(COMPUTE[function](model, x, self.frame, ref))
             self._derivatives[key] = ours
         return self._derivatives[key]
 
@@ -369,7 +436,7 @@ class Checker(Layout):
         The reading moves its rows and columns as it moves ``v``'s entries (joint order, 6D halves, the
         declared convention); a world-frame base or a classical acceleration has no conversion for a derivative
         matrix, so under those the matrix is compared as given and the row says so."""
-        name = DERIVATIVES[key]
+        name = self.label(key)
         cache = (dataclasses.replace(h, triangle=None), key)
         if cache not in self._results:
             raw = self.given.arrays[key]

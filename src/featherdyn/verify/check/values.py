@@ -14,12 +14,52 @@ from numpy.typing import ArrayLike
 from ...errors import DTypeError, FeatherdynError, NonFiniteError, ShapeError
 from ...readers.xml import open_regular_file
 
-__all__ = ["ValuesError", "KEYS", "VECTOR_KEYS", "DERIVATIVE_KEYS", "Given", "load_npz", "validate"]
+__all__ = ["ValuesError", "KEYS", "VECTOR_KEYS", "DERIVATIVE_KEYS", "DERIVATIVE_SPECS", "DerivativeKey", "ROW_COUNTS",
+           "Given", "load_npz", "validate"]
 
-KEYS = ("q", "v", "a", "tau", "M", "ddq", "dtau_dq", "dtau_dv", "dddq_dq", "dddq_dv")
+
+@dataclass(frozen=True)
+class DerivativeKey:
+    """A derivative matrix ``featherdyn check`` takes: what its rows are, where it is computed, by what.
+
+    ``rows``: ``"joint"`` (nv rows in v's layout, as ``∂τ/∂q``), ``"motion"`` (6 rows ``[ω; v]``),
+    ``"momentum"`` (6 rows ``[k; p]``) or ``"point"`` (3 rows, a point's coordinates); ``inputs``: the arrays
+    besides ``q`` it is computed at (missing ones are an error); ``function``: featherdyn's function it is
+    compared with; ``frame``: it is a frame's derivative (``check_values(frame=..., reference=...)``).
+    """
+
+    rows: str
+    inputs: tuple[str, ...]
+    function: str
+    frame: bool = False
+
+
+#: Every derivative matrix taken, by key; the ∂/∂q ones may also be given with respect to q's coordinates
+#: (nq columns). Adding one is an entry here and its computation in :mod:`.readings` (``COMPUTE``).
+DERIVATIVE_SPECS: dict[str, DerivativeKey] = {
+    "dtau_dq": DerivativeKey("joint", ("v", "a"), "fd.rnea_derivatives"),
+    "dtau_dv": DerivativeKey("joint", ("v", "a"), "fd.rnea_derivatives"),
+    "dddq_dq": DerivativeKey("joint", ("v", "tau"), "fd.aba_derivatives"),
+    "dddq_dv": DerivativeKey("joint", ("v", "tau"), "fd.aba_derivatives"),
+    "dg_dq": DerivativeKey("joint", (), "fd.generalized_gravity_derivatives"),
+    "dc_dq": DerivativeKey("point", (), "fd.center_of_mass_derivatives"),
+    "dcdot_dq": DerivativeKey("point", ("v",), "fd.center_of_mass_derivatives"),
+    "dh_dq": DerivativeKey("momentum", ("v",), "fd.centroidal_dynamics_derivatives"),
+    "dhdot_dq": DerivativeKey("momentum", ("v", "a"), "fd.centroidal_dynamics_derivatives"),
+    "dhdot_dv": DerivativeKey("momentum", ("v", "a"), "fd.centroidal_dynamics_derivatives"),
+    "dhdot_da": DerivativeKey("momentum", ("v", "a"), "fd.centroidal_dynamics_derivatives"),
+    **{k: DerivativeKey("motion", ("v",), "fd.kinematics_derivatives", frame=True) for k in ("dv_dq", "dv_dv")},
+    **{k: DerivativeKey("motion", ("v", "a"), "fd.kinematics_derivatives", frame=True)
+       for k in ("da_dq", "da_dv", "da_da", "dac_dq", "dac_dv", "dac_da")},
+}
+
+#: rows of each kind of derivative matrix (``"joint"``: nv)
+ROW_COUNTS = {"motion": 6, "momentum": 6, "point": 3}
+
+DERIVATIVE_KEYS = tuple(DERIVATIVE_SPECS)
+KEYS = ("q", "v", "a", "tau", "M", "ddq", *DERIVATIVE_KEYS)
 VECTOR_KEYS = ("v", "a", "tau", "ddq")
-#: derivative matrices (nv, nv); the ∂/∂q ones may also be given with respect to q's coordinates (nv, nq)
-DERIVATIVE_KEYS = ("dtau_dq", "dtau_dv", "dddq_dq", "dddq_dv")
+_ROWS = {"motion": "[ω; v]", "momentum": "[k; p]", "point": "x, y, z"}
 
 
 class ValuesError(FeatherdynError, ValueError):
@@ -128,7 +168,8 @@ def validate(values: Mapping[str, ArrayLike], nq_allowed: dict[int, str], nv: in
     present = [k for k in KEYS if k in values]
     ignored = tuple(sorted(str(k) for k in values if k not in KEYS))
     have = f" (given: {', '.join(sorted(map(str, values))) or 'nothing'})"
-    need = "expected q, v, a and any of tau, M, ddq (with tau), dtau_dq, dtau_dv, dddq_dq, dddq_dv (with tau)"
+    need = ("expected q, v, a and any of tau, M, ddq (with tau), or derivative matrices (" + ", ".join(DERIVATIVE_KEYS)
+            + ")")
 
     def missing(key: str, why: str) -> ValuesError:
         return ValuesError(f"missing key {key!r}: {why}{have}")
@@ -137,11 +178,11 @@ def validate(values: Mapping[str, ArrayLike], nq_allowed: dict[int, str], nv: in
         raise missing("q", "the configuration is always needed")
     if not any(k in values for k in ("tau", "M", "ddq", *DERIVATIVE_KEYS)):
         raise ValuesError(f"nothing to check: {need}{have}")
-    for key in DERIVATIVE_KEYS:
+    for key, spec in DERIVATIVE_SPECS.items():
         if key in values:
-            for needed in ("v", "tau" if key.startswith("dddq") else "a"):
+            for needed in spec.inputs:
                 if needed not in values:
-                    raise missing(needed, f"{key} is compared at the state (q, v, {needed if needed != 'v' else '…'})")
+                    raise missing(needed, f"{key} is compared with {spec.function} at (q, {', '.join(spec.inputs)})")
     if "ddq" in values and "tau" not in values:
         raise missing("tau", "ddq is checked against the joint forces tau that produced it")
     if ("tau" in values or "ddq" in values) and "v" not in values:
@@ -165,12 +206,16 @@ def validate(values: Mapping[str, ArrayLike], nq_allowed: dict[int, str], nv: in
             ok = arr.ndim in (1, 2) and arr.shape[-1] in nq_allowed
             hint = f" — {o_nq} is nq {o_flag}" if arr.ndim in (1, 2) and arr.shape[-1] == o_nq else ""
         elif key == "M" or key in DERIVATIVE_KEYS:
-            expected, unit = (nv, nv), f"nv={nv}"
+            kind = "joint" if key == "M" else DERIVATIVE_SPECS[key].rows
+            rows = ROW_COUNTS.get(kind, nv)
+            expected, unit = (rows, nv), f"nv={nv}" if kind == "joint" else f"{rows} rows ({_ROWS[kind]}), nv={nv}"
             cols = (nv, nq_main) if key.endswith("_dq") else (nv,)  # ∂/∂q also w.r.t. q's coordinates
-            ok = arr.ndim in (2, 3) and arr.shape[-2] == nv and arr.shape[-1] in cols
+            ok = arr.ndim in (2, 3) and arr.shape[-2] == rows and arr.shape[-1] in cols
             if key.endswith("_dq") and nq_main != nv:
-                unit += f"; or (nv, nq={nq_main}) for a derivative with respect to q's coordinates"
+                unit += f"; or ({rows}, nq={nq_main}) for a derivative with respect to q's coordinates"
             hint = f" — {o_nv} is nv {o_flag}" if arr.ndim in (2, 3) and arr.shape[-1] == o_nv else ""
+            if not ok and kind != "joint" and arr.ndim in (2, 3) and arr.shape[-2:] in ((nv, rows), (nq_main, rows)):
+                hint = f" — that is the transposed shape: featherdyn's rows are the {rows} outputs, its columns the nv inputs"
         else:
             expected, unit = (nv,), f"nv={nv}"
             ok = arr.ndim in (1, 2) and arr.shape[-1] == nv
