@@ -167,7 +167,9 @@ def test_contacts_compare_constrained_dynamics_with_pinocchio() -> None:
                           "--contacts", "FL_FOOT,HR_FOOT"], capture_output=True, text=True, timeout=600, check=False)
     assert res.returncode == 0, res.stdout + res.stderr
     rows = [ln for ln in res.stdout.splitlines() if ln.startswith("contacts")]
-    assert len(rows) == 6 and all(ln.rstrip().endswith("pass") for ln in rows), rows
+    # per setup (3D points, one 6D): q̈, forces, v⁺, and the ten derivative matrices of Pinocchio's two functions
+    assert len(rows) == 2 * (3 + 10) and all(ln.rstrip().endswith("pass") for ln in rows), rows
+    assert sum("computeConstraintDynamicsDerivatives" in ln for ln in rows) == 12, rows
     bad = subprocess.run([sys.executable, "-m", "featherdyn", "verify", "panda", "--contacts", "no_such_frame"],
                          capture_output=True, text=True, timeout=600, check=False)
     assert bad.returncode == 2 and "no_such_frame" in bad.stderr and not bad.stdout, bad.stdout + bad.stderr

@@ -5,7 +5,10 @@ Pinocchio's ``CONTACT_3D``) and, separately, the first one as a 6D contact
 (``fd.FrameContact``, LOCAL; ``CONTACT_6D``, whose wrenches are ``[f; n]``).
 Compared over the random states: q̈ and the contact forces of
 ``fd.constrained_dynamics`` with ``pin.constraintDynamics``, and the velocity
-after an impact of ``fd.impulse_dynamics`` with ``pin.impulseDynamics``.
+after an impact of ``fd.impulse_dynamics`` with ``pin.impulseDynamics``; their
+derivatives (``fd.constrained_dynamics_derivatives``, ``fd.impulse_dynamics_derivatives``)
+with ``computeConstraintDynamicsDerivatives`` and ``computeImpulseDynamicsDerivatives``
+(whose ``ddq_dv`` of an impulse is ``∂(v⁺ − v⁻)/∂v⁻``).
 """
 
 from __future__ import annotations
@@ -61,19 +64,38 @@ def contact_checks(pair: RobotPair, frames: list[str], samples: int = 10, seed: 
         try:
             res = fd.constrained_dynamics(model, q, v, tau, cons)
             vplus = fd.impulse_dynamics(model, q, v, cons).v_plus
+            d = fd.constrained_dynamics_derivatives(model, q, v, tau, cons)
+            di = fd.impulse_dynamics_derivatives(model, q, v, cons)
         except (ConstraintError, SingularMassMatrixError) as exc:
             results.append(CheckResult("contacts", f"constrained_dynamics, {label}", float("nan"), 0.0, 0, tol, True,
                                        f"skipped: {exc}"))
             continue
         pin.initConstraintDynamics(pm, pd, cms, cds)
         ddq_p, lam_p, vp_p = [], [], []
+        derivs: dict[str, list[np.ndarray]] = {}
+        rows = np.r_[3:6, 0:3] if six else np.arange(3 * len(cons))  # Pinocchio's 6D rows are [f; n]
+
+        def keep(name: str, value: np.ndarray) -> None:
+            derivs.setdefault(name, []).append(value)
+
         for s in range(samples):
             qp, vp = jm.q_to_pin(q[s]), jm.v_to_pin(v[s])
             ddq_p.append(jm.v_from_pin(pin.constraintDynamics(pm, pd, qp, vp, jm.v_to_pin(tau[s]), cms, cds,
                                                               settings).copy()))
             lam = pd.lambda_c.copy()
             lam_p.append(np.concatenate([lam[3:6], lam[:3]]) if six else lam)
+            pin.computeConstraintDynamicsDerivatives(pm, pd, cms, cds, settings)
+            for name, m in (("ddq_dq", pd.ddq_dq), ("ddq_dv", pd.ddq_dv), ("ddq_dtau", pd.ddq_dtau)):
+                keep(name, jm.matrix_from_pin(m.copy()))
+            for name, m in (("forces_dq", pd.dlambda_dq), ("forces_dv", pd.dlambda_dv),
+                            ("forces_dtau", pd.dlambda_dtau)):
+                keep(name, jm.columns_from_pin(m.copy())[rows])
             vp_p.append(jm.v_from_pin(pin.impulseDynamics(pm, pd, qp, vp, cms, cds, 0.0, settings).copy()))
+            pin.computeImpulseDynamicsDerivatives(pm, pd, cms, cds, 0.0, settings)
+            keep("dv_plus_dq", jm.matrix_from_pin(pd.ddq_dq.copy()))
+            keep("dv_plus_dv", jm.matrix_from_pin(pd.ddq_dv.copy()) + np.eye(model.nv))
+            keep("impulses_dq", jm.columns_from_pin(pd.dlambda_dq.copy())[rows])
+            keep("impulses_dv", jm.columns_from_pin(pd.dlambda_dv.copy())[rows])
         t = tol * max(1.0, float(np.max(np.linalg.cond(fd.crba(model, q)))))  # q̈ carries M⁻¹, as for ABA
         results.append(compare("contacts", f"constrained_dynamics q̈ vs constraintDynamics, {label}", res.ddq,
                                np.stack(ddq_p), t, ""))
@@ -81,4 +103,8 @@ def contact_checks(pair: RobotPair, frames: list[str], samples: int = 10, seed: 
                                np.stack(lam_p), t, ""))
         results.append(compare("contacts", f"impulse_dynamics v⁺ vs impulseDynamics, {label}", vplus,
                                np.stack(vp_p), t, ""))
+        for name, theirs in derivs.items():
+            ours = getattr(d, name) if hasattr(d, name) else getattr(di, name)
+            source = "computeImpulseDynamicsDerivatives" if hasattr(di, name) else "computeConstraintDynamicsDerivatives"
+            results.append(compare("contacts", f"{name} vs {source}, {label}", ours, np.stack(theirs), t, ""))
     return results
