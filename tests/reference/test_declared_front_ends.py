@@ -225,7 +225,7 @@ DIFFERENTIABLE = sorted(n for n, d in DECLARATIONS.items() if d.derivative)
 
 
 def test_the_declared_derivatives_are_declarations_with_an_output_per_input() -> None:
-    assert DIFFERENTIABLE == ["aba", "generalized_gravity", "rnea"]
+    assert DIFFERENTIABLE == ["aba", "frame_acceleration", "frame_velocity", "generalized_gravity", "rnea"]
     for name in DIFFERENTIABLE:
         decl, deriv = DECLARATIONS[name], DECLARATIONS[DECLARATIONS[name].derivative]  # type: ignore[index]
         inputs = tuple(n for n in decl.inputs if n != "f_ext")
@@ -245,7 +245,8 @@ def test_a_declared_derivative_is_the_derivative_of_its_function(name: str, robo
     state = {"q": fd.random_configuration(model, rng), "v": rng.normal(size=model.nv),
              "a": rng.normal(size=model.nv), "tau": rng.normal(size=model.nv), "f_ext": None}
     args = [state[n] for n in decl.inputs]
-    partials = _parts(deriv(model, *args))
+    frame = [model.frames[-1].name] if "frame" in decl.options else []  # (a frame at the end of a chain)
+    partials = _parts(deriv(model, *args, *frame))
     eps = 1e-6
     for k, n in enumerate(n for n in decl.inputs if n != "f_ext"):
         at = decl.inputs.index(n)
@@ -256,7 +257,8 @@ def test_a_declared_derivative_is_the_derivative_of_its_function(name: str, robo
             def moved(sign: float, at: int = at, n: str = n, step: np.ndarray = step) -> np.ndarray:
                 x = list(args)
                 x[at] = fd.integrate(model, args[at], sign * step) if n == "q" else args[at] + sign * step
-                return fn(model, *x)
+                r = fn(model, *x, *frame)
+                return np.asarray(getattr(r, "vector", r))  # (a frame's motion: its vector)
 
             column = (moved(1.0) - moved(-1.0)) / (2 * eps)
             scale = max(1.0, float(np.abs(partials[k]).max()))

@@ -511,6 +511,7 @@ DECLARATIONS: dict[str, Declaration] = {d.name: d for d in [
         options=("frame", "reference"),
         outputs=("motion",),
         reference=_kin.frame_velocity_at,
+        derivative="frame_velocity_derivatives",
         result=_MOTION,
         doc="""The spatial velocity of a frame `(..., 6)` in ``reference`` (Pinocchio's ``getFrameVelocity``).
 
@@ -532,6 +533,7 @@ DECLARATIONS: dict[str, Declaration] = {d.name: d for d in [
         options=("frame", "reference"),
         outputs=("motion",),
         reference=_kin.frame_acceleration_at,
+        derivative="frame_acceleration_derivatives",
         result=_MOTION,
         doc="""The *spatial* acceleration of a frame `(..., 6)` in ``reference`` (``getFrameAcceleration``).
 

@@ -40,7 +40,7 @@ from ..model import Model
 from ._backend import CORE, core_path, select_backend
 from ._checks import State, as_dtype, batch_with_f_ext, check_f_ext, check_state, finite_result, quiet
 
-__all__ = ["Declaration", "Record", "call", "public_function", "compiled_method"]
+__all__ = ["Declaration", "Record", "call", "public_function", "compiled_method", "kernel_options"]
 
 #: the state arguments a declaration may take, and how each is checked: a vector of length nq or nv, or f_ext
 STATE_ARGUMENTS = ("q", "v", "a", "tau", "f_ext")
@@ -163,6 +163,12 @@ def _options(decl: Declaration, model: Model, given: dict[str, Any]) -> tuple[di
             ref = as_reference_frame(value)
             kernel[name], reference[name] = ref.code, ref
     return kernel, reference
+
+
+def kernel_options(decl: Declaration, model: Model, given: dict[str, Any]) -> dict[str, Any]:
+    """The declaration's options as the core's kernels take them (``frame`` its index, ``reference`` its code),
+    checked as the public functions check them: for the other front ends (``featherdyn.jax``)."""
+    return _options(decl, model, given)[0]
 
 
 def _writable_as_is(arrays: tuple[np.ndarray, ...] | None) -> bool:

@@ -75,7 +75,7 @@ def contact_checks(pair: RobotPair, frames: list[str], samples: int = 10, seed: 
         derivs: dict[str, list[np.ndarray]] = {}
         rows = np.r_[3:6, 0:3] if six else np.arange(3 * len(cons))  # Pinocchio's 6D rows are [f; n]
 
-        def keep(name: str, value: np.ndarray) -> None:
+        def keep(name: str, value: np.ndarray, derivs: dict[str, list[np.ndarray]] = derivs) -> None:
             derivs.setdefault(name, []).append(value)
 
         for s in range(samples):

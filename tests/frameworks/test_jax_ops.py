@@ -1,0 +1,156 @@
+"""``featherdyn.jax``: the declared algorithms as XLA FFI operations (jit, vmap, gradients).
+
+Oracles: the NumPy functions (the same kernels: equal bit for bit), their declared derivatives
+(``fd.rnea_derivatives`` & co.), ``jax.test_util.check_grads`` (finite differences in JAX, fwd and rev modes),
+and the identities of the configuration's tangent.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from _models import library_robot
+
+import featherdyn as fd
+
+jax = pytest.importorskip("jax")  # CI installs the `jax` extra (test_frameworks_installed.py holds it there)
+import jax.numpy as jnp  # noqa: E402
+from jax.test_util import check_grads  # noqa: E402
+
+import featherdyn.jax as fj  # noqa: E402
+from featherdyn.api.declarations import DECLARATIONS  # noqa: E402
+
+ROBOTS = [("panda", False), ("solo12", True), ("talos_full_v2", True)]
+
+
+def _robot(name: str, floating: bool) -> fd.Model:
+    model = library_robot(name, floating)
+    assert model is not None
+    return model
+
+
+def _state(model: fd.Model, seed: int = 0, n: int | None = None) -> dict[str, np.ndarray]:
+    rng = np.random.default_rng(seed)
+    shape = () if n is None else (n,)
+    return {"q": fd.random_configuration(model, rng, size=n), "v": rng.normal(size=shape + (model.nv,)),
+            "a": rng.normal(size=shape + (model.nv,)), "tau": rng.normal(size=shape + (model.nv,)),
+            "f_ext": rng.normal(size=shape + (model.nbodies, 6))}
+
+
+def _arrays(result: object) -> list[np.ndarray]:
+    """A NumPy function's result as its arrays in the declaration's output order."""
+    if isinstance(result, np.ndarray):
+        return [result]
+    if isinstance(result, tuple):
+        return [np.asarray(x) for x in result]
+    if isinstance(result, (fd.SpatialMotion, fd.SpatialForce)):
+        return [result.vector]
+    if isinstance(result, fd.PluckerTransform):
+        return [result.rotation, result.translation]
+    raise TypeError(type(result))
+
+
+#: the declarations whose NumPy result is the outputs themselves (records are compared field by field elsewhere)
+PLAIN = sorted(n for n, d in DECLARATIONS.items()
+               if n not in ("forward_kinematics", "placements", "center_of_mass", "kinematics_derivatives",
+                            "center_of_mass_derivatives", "centroidal_dynamics_derivatives"))
+
+
+@pytest.mark.parametrize("robot", ROBOTS, ids=[r[0] for r in ROBOTS])
+def test_every_operation_equals_the_numpy_function(robot: tuple[str, bool]) -> None:
+    model = _robot(*robot)
+    st = _state(model, 1)
+    frame = model.frames[-1].name
+    for name in PLAIN:
+        decl = DECLARATIONS[name]
+        args = [st[n] for n in decl.inputs]
+        extra = [frame] if "frame" in decl.options else []
+        ours = getattr(fj, name)(model, *args, *extra)
+        ours = [ours] if not isinstance(ours, tuple) else list(ours)
+        theirs = _arrays(getattr(fd, name)(model, *args, *extra))
+        assert len(ours) == len(theirs), name
+        for o, t in zip(ours, theirs, strict=True):
+            np.testing.assert_array_equal(np.asarray(o), t, err_msg=name)
+
+
+@pytest.mark.parametrize("robot", ROBOTS, ids=[r[0] for r in ROBOTS])
+def test_jit_and_vmap_run_the_core_batch(robot: tuple[str, bool]) -> None:
+    model = _robot(*robot)
+    st = _state(model, 2, n=6)
+    one = _state(model, 3)
+    rnea = jax.jit(jax.vmap(lambda q, v: fj.rnea(model, q, v, one["a"])))
+    np.testing.assert_array_equal(np.asarray(rnea(st["q"], st["v"])), fd.rnea(model, st["q"], st["v"], one["a"]))
+    aba = jax.jit(jax.vmap(jax.vmap(lambda q, v, tau: fj.aba(model, q, v, tau)), in_axes=(None, 0, None)))
+    V = np.stack([st["v"], 2 * st["v"]])
+    np.testing.assert_array_equal(np.asarray(aba(st["q"], V, st["tau"])), fd.aba(model, st["q"], V, st["tau"]))
+    M = jax.jit(lambda q: fj.crba(model, q))(st["q"])  # explicit leading axes: the same batch
+    np.testing.assert_array_equal(np.asarray(M), fd.crba(model, st["q"]))
+
+
+@pytest.mark.parametrize("robot", ROBOTS, ids=[r[0] for r in ROBOTS])
+def test_gradients_are_the_declared_derivatives(robot: tuple[str, bool]) -> None:
+    """jax.grad / jacfwd / jacrev against fd.rnea_derivatives & co., q's through the tangent maps."""
+    model = _robot(*robot)
+    st = _state(model, 4)
+    q, v, a, tau = st["q"], st["v"], st["a"], st["tau"]
+    dq, dv, M = fd.rnea_derivatives(model, q, v, a)
+    w = np.random.default_rng(5).normal(size=model.nv)
+    np.testing.assert_allclose(jax.grad(lambda v: fj.rnea(model, q, v, a) @ w)(v), dv.T @ w, rtol=1e-12, atol=1e-12)
+    np.testing.assert_allclose(jax.jacrev(lambda a: fj.rnea(model, q, v, a))(a), M, rtol=1e-12, atol=1e-12)
+    np.testing.assert_allclose(fj.tangent_grad(lambda q: fj.rnea(model, q, v, a) @ w, model)(q), dq.T @ w,
+                               rtol=1e-10, atol=1e-10 * max(1.0, float(np.abs(dq).max())))
+    _, ddq_dv, Minv = fd.aba_derivatives(model, q, v, tau)
+    J = jax.jacfwd(lambda x: fj.aba(model, q, x[0], x[1]))(jnp.stack([v, tau]))
+    np.testing.assert_allclose(J[:, 0], ddq_dv, rtol=1e-12, atol=1e-12 * max(1.0, float(np.abs(ddq_dv).max())))
+    np.testing.assert_allclose(J[:, 1], Minv, rtol=1e-12, atol=1e-12 * max(1.0, float(np.abs(Minv).max())))
+    # q in coordinates: the tangent's Jacobian composed with the coordinates' map
+    Jq = jax.jacfwd(lambda q: fj.generalized_gravity(model, q))(q)
+    E = jax.jacfwd(lambda d: fj.coordinates_of_tangent(model, q, d))(np.zeros(model.nv))
+    dg = fd.generalized_gravity_derivatives(model, q)
+    np.testing.assert_allclose(Jq @ E, dg, rtol=1e-10, atol=1e-10 * max(1.0, float(np.abs(dg).max())))
+
+
+@pytest.mark.parametrize("robot", ROBOTS, ids=[r[0] for r in ROBOTS])
+def test_check_grads_first_order(robot: tuple[str, bool]) -> None:
+    """jax.test_util.check_grads (finite differences, fwd and rev) on each operation with a derivative; q goes
+    through fj.normalize first (the differences leave the unit quaternions)."""
+    model = _robot(*robot)
+    st = _state(model, 6)
+    frame = model.frames[-1].name
+    calls = {
+        "rnea": lambda q, v, a: fj.rnea(model, fj.normalize(model, q), v, a),
+        "aba": lambda q, v, a: fj.aba(model, fj.normalize(model, q), v, a),
+        "generalized_gravity": lambda q, v, a: fj.generalized_gravity(model, fj.normalize(model, q)),
+        "frame_velocity": lambda q, v, a: fj.frame_velocity(model, fj.normalize(model, q), v, frame),
+        "frame_acceleration": lambda q, v, a: fj.frame_acceleration(model, fj.normalize(model, q), v, a, frame),
+    }
+    assert sorted(calls) == sorted(n for n, d in DECLARATIONS.items() if d.derivative)
+    for f in calls.values():
+        check_grads(f, (st["q"], st["v"], st["a"]), order=1, modes=("fwd", "rev"), eps=1e-6, atol=1e-5, rtol=1e-5)
+
+
+def test_tangent_maps_are_inverse_on_the_tangent() -> None:
+    model = _robot("solo12", True)
+    q = fd.random_configuration(model, 7)
+    d = np.random.default_rng(8).normal(size=model.nv)
+    np.testing.assert_allclose(fj.tangent_of_coordinates(model, q, fj.coordinates_of_tangent(model, q, d)), d,
+                               rtol=1e-14, atol=1e-14)
+    eps = 1e-7  # E(q) δ is the direction of q ⊕ ε δ
+    np.testing.assert_allclose(fj.coordinates_of_tangent(model, q, d),
+                               (fd.integrate(model, q, eps * d) - fd.integrate(model, q, -eps * d)) / (2 * eps),
+                               atol=1e-7)
+
+
+def test_errors() -> None:
+    model = _robot("solo12", True)
+    st = _state(model, 9)
+    with pytest.raises(fd.ModelError, match="nope"):
+        fj.frame_velocity(model, st["q"], st["v"], "nope")
+    with pytest.raises(fd.ShapeError):
+        fj.rnea(model, st["q"][:-1], st["v"], st["a"])
+    with pytest.raises(fd.FeatherdynError, match="no derivative is declared"):
+        jax.grad(lambda q: fj.crba(model, q).sum())(st["q"])
+    with pytest.raises(fd.FeatherdynError, match="f_ext"):
+        jax.grad(lambda f: fj.rnea(model, st["q"], st["v"], st["a"], f).sum())(st["f_ext"])
+    with pytest.raises(Exception, match=r"featherdyn\.rnea: row 0: non-finite value"):
+        jax.block_until_ready(jax.jit(lambda q: fj.rnea(model, q, st["v"], st["a"]))(st["q"] * np.nan))
