@@ -64,9 +64,11 @@ _MODELS: list[Model] = []
 _KEYS: dict[int, int] = {}  # id(model) -> key (the model is held above, so its id is not reused)
 
 
+@torch.compiler.assume_constant_result
 def model_key(model: Model) -> int:
     """The integer that stands for ``model`` in the operators (``torch.ops.featherdyn.<name>(key, q, ...)``),
-    registering it on first use."""
+    registering it on first use. Under ``torch.compile`` it is called when tracing and its result is a constant
+    of the graph (the model is a guarded input of a compiled function: another model retraces)."""
     key = _KEYS.get(id(model))
     if key is None:
         if not isinstance(model, Model):
