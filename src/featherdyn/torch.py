@@ -41,9 +41,10 @@ backward of ``rnea`` and ``aba``).
 from __future__ import annotations
 
 import inspect
+from collections import namedtuple
 from collections.abc import Callable, Sequence
 from dataclasses import replace
-from typing import Any, NamedTuple
+from typing import Any
 
 import numpy as np
 import torch
@@ -511,8 +512,7 @@ _RAW: dict[str, Declaration] = {name: replace(d, result=None) for name, d in DEC
 def _result_type(decl: Declaration) -> type | None:
     if len(decl.outputs) == 1:
         return None
-    title = "".join(p.title() for p in decl.name.split("_"))
-    return NamedTuple(title, [(o, Any) for o in decl.outputs])  # type: ignore[misc]
+    return namedtuple("".join(p.title() for p in decl.name.split("_")), decl.outputs)
 
 
 def _front(decl: Declaration, op: Any) -> Callable[..., Any]:
@@ -548,9 +548,8 @@ def _front(decl: Declaration, op: Any) -> Callable[..., Any]:
         r = op(model_key(model), *(a.get(n) for n in decl.inputs), *options)
         if result is None:
             return r
-        given = {n: a.get(n) for n in decl.inputs}
-        return result(*(None if when.get(o) is not None and given[when[o]] is None else t
-                        for o, t in zip(decl.outputs, r, strict=True)))
+        absent = {n for n in decl.inputs if a.get(n) is None}
+        return result(*(None if when.get(o) in absent else t for o, t in zip(decl.outputs, r, strict=True)))
 
     front.__name__ = front.__qualname__ = decl.name
     front.__doc__ = f"``fd.{decl.name}`` on tensors (operator ``featherdyn::{decl.name}``).\n\n{decl.doc}"
