@@ -371,10 +371,10 @@ def _make_vjp(decl: Declaration, jacobians: Callable[..., tuple[np.ndarray, ...]
         assert yb is not None
         dtype, device = _result_dtype((*tensors, ybar)), ybar.device
         out = []
-        for J in Js:
+        ybf = yb.reshape(yb.shape[: yb.ndim - _y_dims(decl)] + (1, -1))  # ȳ as a row (its output dims flat)
+        for J in Js:  # (..., *y, nx): ȳ J (matmul: a third of einsum's time on batches)
             Jf = J.reshape(J.shape[: yb.ndim - _y_dims(decl)] + (-1, J.shape[-1]))
-            ybf = yb.reshape(yb.shape[: yb.ndim - _y_dims(decl)] + (-1,))
-            out.append(_tensor(np.einsum("...i,...ij->...j", ybf, Jf), dtype, device))
+            out.append(_tensor(np.matmul(ybf, Jf)[..., 0, :], dtype, device))
         return tuple(out) if len(out) > 1 else out[0]
 
     def fake(key: int, *args: Any) -> Any:
