@@ -29,6 +29,27 @@ import featherdyn.torch as ft
 ROBOTS = [("panda", False), ("solo12", True), ("talos_full_v2", True)]
 
 
+def robot_rows(name: str, floating: bool, n: int, n_grad: int) -> list[tuple[str, float, float]]:
+    """``(label, torch seconds, numpy seconds)`` of the three calls on one robot."""
+    model = fd.load_robot(name, floating_base=floating)
+    rng = np.random.default_rng(0)
+    q = fd.random_configuration(model, rng, size=n)
+    v, a = rng.normal(size=(n, model.nv)), rng.normal(size=(n, model.nv))
+    tq, tv, ta = (torch.from_numpy(x) for x in (q, v, a))
+    rows = []
+    t, f = median_pair(lambda: ft.rnea(model, tq, tv, ta), lambda: fd.rnea(model, q, v, a), 5, 0.5)
+    rows.append((f"rnea, {n} states", t, f))
+    t, f = median_pair(lambda: ft.rnea(model, tq[0], tv[0], ta[0]), lambda: fd.rnea(model, q[0], v[0], a[0]), 5, 0.3)
+    rows.append(("rnea, one state", t, f))
+    qg, vg, tg = (torch.from_numpy(x[:n_grad].copy()).requires_grad_() for x in (q, v, a))
+    ybar = torch.ones(n_grad, model.nv, dtype=torch.float64)
+    qn, vn, taun = (x[:n_grad] for x in (q, v, a))
+    t, f = median_pair(lambda: torch.autograd.grad(ft.aba(model, qg, vg, tg), (qg, vg, tg), ybar),
+                       lambda: fd.aba_derivatives(model, qn, vn, taun), 5, 0.5)
+    rows.append((f"grad aba / aba_derivatives, {n_grad}", t, f))
+    return rows
+
+
 def main(argv: list[str]) -> int:
     n = int(argv[1]) if len(argv) > 1 else 10_000
     n_grad = int(argv[2]) if len(argv) > 2 else 1_000
@@ -36,27 +57,7 @@ def main(argv: list[str]) -> int:
     print(f"torch {torch.__version__}, featherdyn threads {fd.get_num_threads()}, N = {n}, NGRAD = {n_grad}")
     print(f"{'robot':<15}{'call':<34}{'torch':>12}{'numpy':>12}{'ratio':>8}")
     for name, floating in ROBOTS:
-        model = fd.load_robot(name, floating_base=floating)
-        rng = np.random.default_rng(0)
-        q = fd.random_configuration(model, rng, size=n)
-        v, a = rng.normal(size=(n, model.nv)), rng.normal(size=(n, model.nv))
-        tq, tv, ta = (torch.from_numpy(x) for x in (q, v, a))
-        rows = []
-        t, f = median_pair(lambda: ft.rnea(model, tq, tv, ta), lambda: fd.rnea(model, q, v, a), 5, 0.5)
-        rows.append((f"rnea, {n} states", t, f))
-        t, f = median_pair(lambda: ft.rnea(model, tq[0], tv[0], ta[0]), lambda: fd.rnea(model, q[0], v[0], a[0]),
-                           5, 0.3)
-        rows.append(("rnea, one state", t, f))
-        qg, vg, tg = (torch.from_numpy(x[:n_grad].copy()).requires_grad_() for x in (q, v, a))
-        ybar = torch.ones(n_grad, model.nv, dtype=torch.float64)
-
-        def grad() -> None:
-            torch.autograd.grad(ft.aba(model, qg, vg, tg), (qg, vg, tg), ybar)
-
-        qn, vn, taun = (x[:n_grad] for x in (q, v, a))
-        t, f = median_pair(grad, lambda: fd.aba_derivatives(model, qn, vn, taun), 5, 0.5)
-        rows.append((f"grad aba / aba_derivatives, {n_grad}", t, f))
-        for label, t, f in rows:
+        for label, t, f in robot_rows(name, floating, n, n_grad):
             scale, unit = (1e3, "ms") if t > 1e-3 else (1e6, "µs")
             print(f"{name:<15}{label:<34}{t * scale:>9.3f} {unit}{f * scale:>9.3f} {unit}{t / f:>8.2f}")
     return 0
