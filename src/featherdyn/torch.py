@@ -12,7 +12,9 @@ small tables at the end of this docstring:
   (names are resolved by the wrapper, ``Model.resolve_frame``), ``reference`` a code (``ReferenceFrame.code``).
   The operator calls the declared call of ``fd.<name>`` (``api.declared.call``: the same checks, errors and
   core) on the tensors' NumPy views; its fake implementation gives the shapes the core declares
-  (``core.declared.SPECS``), so ``torch.compile(fullgraph=True)`` traces it without a graph break.
+  (``core.declared.SPECS``), so ``torch.compile(fullgraph=True)`` traces it without a graph break, and a vmap
+  rule (one call on the mapped batch). ``torch.func.grad`` does not reach the backward of PyTorch's custom
+  operators (docs/frameworks.md); ``torch.autograd`` does.
 * **Dtypes.** float64 CPU tensors go to NumPy without a copy (``Tensor.numpy()``); float32 tensors are
   converted to float64, computed by the core, and the results returned as float32 (where ``fd.<name>`` on
   float32 arrays uses the float32 reference). Results are float64 otherwise; other dtypes are handed to
@@ -190,7 +192,34 @@ def _make_operator(decl: Declaration) -> Any:
     op = torch.library.custom_op(f"featherdyn::{decl.name}", impl, mutates_args=(),
                                  schema=_schema(decl, len(decl.outputs)))
     op.register_fake(fake)
+    if spec is not None:
+        op.register_vmap(_vmap_rule(op, lambda model, _: {i: _tail(model, shape)
+                                                          for i, (_, shape, _) in enumerate(spec.inputs)}))
     return op
+
+
+def _vmap_rule(op: Any, tails: Callable[[Model, int], dict[int, tuple[int, ...]]]) -> Callable[..., Any]:
+    """``torch.vmap``'s rule of an operator. The operators take batch dimensions themselves: the mapped dimension
+    of each mapped tensor goes first, followed by singleton dimensions up to the widest input's batch (unmapped
+    tensors broadcast from the right), and the operator is called once. ``tails(model, len(args))``: the
+    trailing (declared) shape of each tensor argument, by position."""
+
+    def rule(info: Any, in_dims: tuple[int | None, ...], key: int, *args: Any) -> Any:
+        shapes = tails(_model(key), len(args))
+        args_ = list(args)
+        mapped = {i: d for i, d in enumerate(in_dims[1:]) if d is not None and args[i] is not None}
+        widest = max((args[i].dim() - (i in mapped) - len(tail) for i, tail in shapes.items() if args[i] is not None),
+                     default=0)
+        for i, d in mapped.items():
+            t = args[i].movedim(d, 0)
+            own = t.dim() - 1 - len(shapes[i])
+            args_[i] = t.reshape(t.shape[:1] + (1,) * (widest - own) + t.shape[1:])
+        out = op(key, *args_)
+        if isinstance(out, tuple):  # (an absent optional output stays the empty tensor, unmapped)
+            return out, tuple(None if o.dim() == 1 and o.shape[0] == 0 else 0 for o in out)
+        return out, 0
+
+    return rule
 
 
 # ---------------------------------------------------------------------------------------- tangent of q
@@ -202,7 +231,10 @@ def _joint_blocks(model: Model) -> list[tuple[str, int, int]]:
 
 
 def _cross(a: torch.Tensor, b: torch.Tensor) -> torch.Tensor:
-    return torch.linalg.cross(*torch.broadcast_tensors(a, b), dim=-1)
+    """``a × b`` on the last dimension, broadcasting (componentwise: vmap has no rule for broadcast_tensors)."""
+    a0, a1, a2 = a[..., 0], a[..., 1], a[..., 2]
+    b0, b1, b2 = b[..., 0], b[..., 1], b[..., 2]
+    return torch.stack([a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0], dim=-1)
 
 
 def _rotate(quat: torch.Tensor, x: torch.Tensor, transpose: bool = False) -> torch.Tensor:
@@ -386,6 +418,18 @@ def _make_vjp(decl: Declaration, jacobians: Callable[..., tuple[np.ndarray, ...]
 
     return torch.library.custom_op(f"featherdyn::{decl.name}_vjp", impl, mutates_args=(),
                                    schema=_schema(decl, len(xs), "Tensor ybar")), fake
+
+
+def _vjp_tails(decl: Declaration) -> Callable[[Model, int], dict[int, tuple[int, ...]]]:
+    """The trailing shapes of a VJP operator's tensors by position: the inputs', and the output's (``ȳ``, last)."""
+    spec = SPECS[decl.name]
+
+    def tails(model: Model, n_args: int) -> dict[int, tuple[int, ...]]:
+        out = {i: _tail(model, shape) for i, (_, shape, _) in enumerate(spec.inputs)}
+        out[n_args - 1] = _tail(model, spec.outputs[0][1])
+        return out
+
+    return tails
 
 
 def _y_dims(decl: Declaration) -> int:
@@ -578,6 +622,7 @@ for _decl in DECLARATIONS.values():
     if _source is not None:
         _vjp, _vjp_fake = _make_vjp(_decl, _source)
         _vjp.register_fake(_vjp_fake)
+        _vjp.register_vmap(_vmap_rule(_vjp, _vjp_tails(_decl)))
         _register_second(_decl, _vjp)
         VJP_OPERATORS[_decl.name] = _vjp
     _register_gradient(_decl, OPERATORS[_decl.name], _vjp)

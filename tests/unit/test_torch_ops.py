@@ -109,12 +109,19 @@ def test_results_with_several_outputs_are_named_tuples_and_absent_outputs_none()
 def test_float32_in_float32_out_computed_in_float64() -> None:
     model = MODELS["solo12"]()
     st = _state(model, 3)
-    f32 = {k: t.to(torch.float32) for k, t in st.items()}
+    f32 = {k: t.to(torch.float32).requires_grad_() for k, t in st.items()}
     tau = ft.rnea(model, f32["q"], f32["v"], f32["a"])
     assert tau.dtype == torch.float32
     # the float64 computation of the float32 values, rounded once
-    want = fd.rnea(model, *(f32[k].numpy().astype(np.float64) for k in ("q", "v", "a"))).astype(np.float32)
-    assert np.array_equal(tau.numpy(), want)
+    want = fd.rnea(model, *(f32[k].detach().numpy().astype(np.float64) for k in ("q", "v", "a"))).astype(np.float32)
+    assert np.array_equal(tau.detach().numpy(), want)
+    # gradients in float32 too, the float64 ones rounded
+    grads = torch.autograd.grad(tau.sum(), (f32["q"], f32["v"]))
+    q64, v64 = (f32[k].detach().double().requires_grad_() for k in ("q", "v"))
+    grads64 = torch.autograd.grad(ft.rnea(model, q64, v64, f32["a"].detach().double()).sum(), (q64, v64))
+    for g, g64 in zip(grads, grads64, strict=True):
+        assert g.dtype == torch.float32
+        torch.testing.assert_close(g, g64.float(), rtol=1e-6, atol=1e-5)
     assert ft.rnea(model, f32["q"], st["v"], st["a"]).dtype == torch.float64  # any float64 input: float64
 
 
@@ -201,6 +208,23 @@ def test_compiled_function_retraces_for_another_model() -> None:
     assert torch.equal(compiled(model, st["q"]), ft.generalized_gravity(model, st["q"]))
     assert torch.equal(compiled(light, st["q"]), ft.generalized_gravity(light, st["q"]))
     assert not torch.allclose(ft.generalized_gravity(light, st["q"]), ft.generalized_gravity(model, st["q"]))
+
+
+def test_vmap_maps_the_batch_in_one_call_and_vectorized_jacobians_work() -> None:
+    model = MODELS["solo12"]()
+    st = _state(model, 14, (3,))
+    q, v, a = st["q"], st["v"], st["a"]
+    r = torch.vmap(lambda q: ft.rnea(model, q, v, a))(q)  # q mapped, v and a (3, nv) unmapped: (3, 3, nv)
+    assert r.shape == (3, 3, model.nv)
+    for k in range(3):
+        assert torch.equal(r[k], ft.rnea(model, q[k], v, a))
+    vel = torch.vmap(lambda q, v: ft.forward_kinematics(model, q, v).vel, in_dims=(0, 1))(q, v.T)
+    assert torch.equal(vel, ft.forward_kinematics(model, q, v).vel)
+    panda = MODELS["panda"]()
+    s = _state(panda, 15)
+    J = torch.autograd.functional.jacobian(lambda q: ft.rnea(panda, q, s["v"], s["a"]), s["q"], vectorize=True)
+    dtau_dq = fd.rnea_derivatives(panda, s["q"].numpy(), s["v"].numpy(), s["a"].numpy())[0]
+    np.testing.assert_allclose(J.numpy(), dtau_dq, rtol=1e-12, atol=1e-12)
 
 
 # ------------------------------------------------------------------------------------------ gradients
