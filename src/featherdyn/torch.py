@@ -19,8 +19,9 @@ small tables at the end of this docstring:
   converted to float64, computed by the core, and the results returned as float32 (where ``fd.<name>`` on
   float32 arrays uses the float32 reference). Results are float64 otherwise; other dtypes are handed to
   ``fd`` as NumPy arrays, which raises its own errors (``DTypeError`` for complex and bool).
-* **Results.** One output: a tensor. Several: a NamedTuple named by the declaration's outputs (records such
-  as ``fd.forward_kinematics``'s ``Kinematics`` or ``fd.frame_placement``'s ``PluckerTransform`` become their
+* **Results.** One output: a tensor. Several: the NamedTuple ``fd.<name>`` returns when it is one
+  (``RneaSecondDerivatives`` & co.), else a NamedTuple named by the declaration's outputs (records such as
+  ``fd.forward_kinematics``'s ``Kinematics`` or ``fd.frame_placement``'s ``PluckerTransform`` become their
   arrays: ``ft.forward_kinematics(...)`` is ``(H, Hp, vel, acc)``); an output formed only with an absent
   optional input (``vel`` without ``v``) is ``None`` (an empty tensor from the operator itself).
 * **Gradients.** An operator whose declaration names a ``derivative`` has a backward: the vector-Jacobian
@@ -554,8 +555,13 @@ _RAW: dict[str, Declaration] = {name: replace(d, result=None) for name, d in DEC
 
 
 def _result_type(decl: Declaration) -> type | None:
+    """What ``ft.<name>`` returns: ``None`` (the tensor) for one output; the declaration's own NamedTuple (as
+    ``fd.<name>``: ``RneaSecondDerivatives`` & co.); else a NamedTuple named by the outputs."""
     if len(decl.outputs) == 1:
         return None
+    own = decl.result
+    if isinstance(own, type) and issubclass(own, tuple) and getattr(own, "_fields", ()) == decl.outputs:
+        return own
     return namedtuple("".join(p.title() for p in decl.name.split("_")), decl.outputs)
 
 

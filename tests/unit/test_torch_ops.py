@@ -104,6 +104,8 @@ def test_results_with_several_outputs_are_named_tuples_and_absent_outputs_none()
     d = ft.rnea_derivatives(model, st["q"], st["v"], st["a"])
     assert d._fields == ("dtau_dq", "dtau_dv", "M")
     assert torch.equal(d.M, ft.crba(model, st["q"]))
+    s = ft.rnea_second_derivatives(model, st["q"], st["v"], st["a"])
+    assert type(s) is fd.RneaSecondDerivatives and s.dM_dq.shape == (model.nv,) * 3
 
 
 def test_float32_in_float32_out_computed_in_float64() -> None:
