@@ -423,9 +423,8 @@ def _make_vjp(decl: Declaration, jacobians: Callable[..., tuple[np.ndarray, ...]
 
 def _vjp_tails(decl: Declaration) -> Callable[[Model, int], dict[int, tuple[int, ...]]]:
     """The trailing shapes of a VJP operator's tensors by position: the inputs', and the output's (``ȳ``, last)."""
-    spec = SPECS[decl.name]
-
     def tails(model: Model, n_args: int) -> dict[int, tuple[int, ...]]:
+        spec = SPECS[decl.name]
         out = {i: _tail(model, shape) for i, (_, shape, _) in enumerate(spec.inputs)}
         out[n_args - 1] = _tail(model, spec.outputs[0][1])
         return out
