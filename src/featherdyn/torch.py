@@ -47,14 +47,15 @@ import inspect
 from collections import namedtuple
 from collections.abc import Callable, Sequence
 from dataclasses import replace
-from typing import Any
+from types import SimpleNamespace
+from typing import Any, cast
 
 import numpy as np
 import torch
 
 from .api.declarations import DECLARATIONS
 from .api.declared import OPTIONS, REFERENCES, Declaration, call
-from .core.declared import SPECS
+from .core.declared import SPECS, shape_of
 from .errors import DTypeError, FeatherdynError, ShapeError
 from .frames import as_reference_frame
 from .model import Model
@@ -90,14 +91,10 @@ def _model(key: int) -> Model:
 
 # ------------------------------------------------------------------------------------------------- shapes
 
-def _lengths(model: Model) -> dict[str, int]:
-    return {"nq": model.nq, "nv": model.nv, "nb": model.nbodies, "np": 10 * model.nbodies}
-
-
 def _tail(model: Model, symbolic: tuple[Any, ...]) -> tuple[int, ...]:
-    """A declared shape (``core.declared.SPECS``) with the model's lengths: ``("nv", "nv")`` → ``(nv, nv)``."""
-    lengths = _lengths(model)
-    return tuple(lengths[d] if isinstance(d, str) else int(d) for d in symbolic)
+    """A declared shape (``core.declared.SPECS``) with the model's lengths: ``("nv", "nv")`` → ``(nv, nv)``
+    (``core.declared.shape_of``, which reads the lengths ``nq, nv, nb`` of the core's handle of a model)."""
+    return shape_of(cast(Any, SimpleNamespace(nq=model.nq, nv=model.nv, nb=model.nbodies)), symbolic)
 
 
 def _batch(model: Model, name: str, tensors: Sequence[torch.Tensor | None]) -> tuple[Any, ...]:
