@@ -18,7 +18,7 @@ small tables at the end of this docstring:
 * **Dtypes.** float64 CPU tensors go to NumPy without a copy (``Tensor.numpy()``); float32 tensors are
   converted to float64, computed by the core, and the results returned as float32 (where ``fd.<name>`` on
   float32 arrays uses the float32 reference). Results are float64 otherwise; other dtypes are handed to
-  ``fd`` as NumPy arrays, which raises its own errors (``DTypeError`` for complex and bool).
+  ``fd`` as NumPy arrays, which raises its own errors (``DTypeError`` for complex).
 * **Results.** One output: a tensor. Several: the NamedTuple ``fd.<name>`` returns when it is one
   (``RneaSecondDerivatives`` & co.), else a NamedTuple named by the declaration's outputs (records such as
   ``fd.forward_kinematics``'s ``Kinematics`` or ``fd.frame_placement``'s ``PluckerTransform`` become their
@@ -60,7 +60,7 @@ from .errors import DTypeError, FeatherdynError, ShapeError
 from .frames import as_reference_frame
 from .model import Model
 
-__all__ = ["model_key", "tangent_grad", "tangent_to_coordinates", "OPERATORS"]
+__all__ = ["model_key", "tangent_grad", "tangent_to_coordinates", "OPERATORS", "VJP_OPERATORS"]
 
 # --------------------------------------------------------------------------------------------------- models
 
