@@ -33,7 +33,7 @@ NEEDS = re.compile(r"# needs: featherdyn(?:\[([\w,]+)\]| \(no extra)")
 #: example-robot-data is robot files, found through its distribution's metadata)
 DIST_MODULES = {"pin": ("pinocchio",), "example-robot-data": (), "mujoco": ("mujoco",),
                 "sympy": ("sympy", "mpmath"), "gymnasium": ("gymnasium",), "dask": ("dask", "distributed"),
-                "zarr": ("zarr",), "drake": ("pydrake",), "jax": ("jax", "jaxlib")}
+                "zarr": ("zarr",), "drake": ("pydrake",), "jax": ("jax", "jaxlib"), "torch": ("torch",)}
 
 
 def _extras() -> dict[str, list[str]]:

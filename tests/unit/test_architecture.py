@@ -50,6 +50,7 @@ LAYER_OF: dict[str, str] = {
     "verify": "tools",
     "tools": "tools",
     "__main__": "tools",
+    "torch": "tools",
 }
 
 
