@@ -13,7 +13,7 @@ from _models import library_robot
 
 import featherdyn as fd
 
-jax = pytest.importorskip("jax")  # CI installs the `jax` extra (test_frameworks_installed.py holds it there)
+jax = pytest.importorskip("jax")  # CI installs the `jax` extra (test_extras_in_ci.py holds it there)
 import jax.numpy as jnp  # noqa: E402
 from jax.test_util import check_grads  # noqa: E402
 
