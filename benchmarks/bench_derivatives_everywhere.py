@@ -29,23 +29,13 @@ from typing import Any
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).parent))
+from bench_constraints import _pin_constraints
 from bench_core import Pair, median_pair, print_ratios
 
 import featherdyn as fd
 
 CONTACTS = {"solo12": (["FL_FOOT", "FR_FOOT", "HL_FOOT", "HR_FOOT"], True),
             "talos_full_v2": (["left_sole_link", "right_sole_link"], False)}
-
-
-def _pin_contacts(pin: Any, pm: Any, frames: list[str], three_d: bool) -> tuple[Any, Any]:
-    kind = pin.ContactType.CONTACT_3D if three_d else pin.ContactType.CONTACT_6D
-    cms, cds = pin.StdVec_RigidConstraintModel(), pin.StdVec_RigidConstraintData()
-    for f in frames:
-        fr = pm.frames[pm.getFrameId(f)]
-        cms.append(pin.RigidConstraintModel(kind, pm, fr.parentJoint, fr.placement, pin.LOCAL))
-    for c in cms:
-        cds.append(c.createData())
-    return cms, cds
 
 
 def _loop_time(f: Callable[[], Any], repeats: int = 3) -> float:
@@ -98,8 +88,7 @@ def main() -> int:
             continue
         frames, three_d = CONTACTS[name]
         cons = [fd.PointContact(f) if three_d else fd.FrameContact(f) for f in frames]
-        cms, cds = _pin_contacts(pin, pm, frames, three_d)
-        pin.initConstraintDynamics(pm, pd, cms, cds)
+        cms, cds = _pin_constraints(pin, p, frames, pin.ContactType.CONTACT_3D if three_d else pin.ContactType.CONTACT_6D)
         settings = pin.ProximalSettings(1e-12, 0.0, 1)
         tau = fd.rnea(m, q, v, a) * 0.5
         Tau = fd.rnea(m, Q, V, A) * 0.5

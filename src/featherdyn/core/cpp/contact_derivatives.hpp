@@ -200,6 +200,14 @@ inline void contact_terms(const ModelView& mv, const double* q, const double* qd
   }
 }
 
+// The calling thread's workspace with room for nc contacts' frame derivatives and m rows.
+inline ContactDerivWork& workspace(const ModelView& mv, int nc, int m) {
+  ContactDerivWork& w = thread_workspace<ContactDerivWork>(mv.nb);
+  w.kin.resize(static_cast<size_t>(36) * static_cast<size_t>(mv.nv) * static_cast<size_t>(nc));
+  w.J.resize(static_cast<size_t>(m) * static_cast<size_t>(mv.nv));
+  return w;
+}
+
 }  // namespace contact_deriv
 
 // ∂q̈/∂(q, q̇, τ) (nv, nv) and ∂λ/∂(q, q̇, τ) (m, nv) at the solution (qdd, lam) of the contacts' constrained
@@ -211,9 +219,7 @@ inline std::int64_t contact_dynamics_derivatives(const ModelView& mv, const doub
   using namespace contact_deriv;
   const int nv = mv.nv;
   const size_t n = static_cast<size_t>(nv);
-  ContactDerivWork& w = thread_workspace<ContactDerivWork>(mv.nb);
-  w.kin.resize(static_cast<size_t>(36) * n * nc);
-  w.J.resize(static_cast<size_t>(m) * n);
+  ContactDerivWork& w = workspace(mv, nc, m);
   w.f.assign(static_cast<size_t>(6) * mv.nb, 0.0);
   if (f_ext) std::copy(f_ext, f_ext + 6 * mv.nb, w.f.begin());
   w.dq.assign(n * n, 0.0);  // the turn first; RNEA's ∂τ/∂q added below
@@ -255,9 +261,7 @@ inline std::int64_t impulse_dynamics_derivatives(const ModelView& mv, const doub
   using namespace contact_deriv;
   const int nv = mv.nv;
   const size_t n = static_cast<size_t>(nv);
-  ContactDerivWork& w = thread_workspace<ContactDerivWork>(mv.nb);
-  w.kin.resize(static_cast<size_t>(36) * n * nc);
-  w.J.resize(static_cast<size_t>(m) * n);
+  ContactDerivWork& w = workspace(mv, nc, m);
   w.M.resize(n * n);
   crba(mv, q, w.M.data());
   contact_terms(mv, q, nullptr, nullptr, nullptr, specs, nc, w, nullptr);
