@@ -39,9 +39,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from .api.declarations import DECLARATIONS
-from .api.declared import Declaration, kernel_options
-from .core import _view
-from .core import declared as _core_declared
+from .api.declared import Declaration, kernel_options, operand_shapes, xla_entry, xla_ffi
 from .errors import FeatherdynError, ShapeError
 from .joints import FreeFlyerJoint, SphericalJoint
 from .model import Model
@@ -50,17 +48,17 @@ jax.config.update("jax_enable_x64", True)
 
 __all__ = ["tangent_of_coordinates", "coordinates_of_tangent", "normalize", "tangent_grad", *DECLARATIONS]
 
-_binding = _core_declared._binding
-if _binding is None or not hasattr(_binding, "jax_handler"):
+_HANDLER = xla_ffi()
+if _HANDLER is None:
     raise ImportError("featherdyn.jax: this build of featherdyn's core has no XLA FFI handler (jaxlib was not in "
                       "its build environment; `featherdyn info --build` says which); reinstall featherdyn with "
                       "jaxlib available, e.g. pip install --force-reinstall 'featherdyn[jax]'")
 _TARGET = "featherdyn_declared"
-jax.ffi.register_ffi_target(_TARGET, _binding.jax_handler(), platform="cpu")
-_ORDER = {name: k for k, name in enumerate(_binding.kernel_order)}
+jax.ffi.register_ffi_target(_TARGET, _HANDLER[0], platform="cpu")
+_ORDER = _HANDLER[1]
 
-#: the handler's entries: (model id, options) → (key, the model and its Options, held alive here)
-_ENTRIES: dict[tuple[int, tuple[tuple[str, Any], ...]], tuple[int, Model, Any]] = {}
+#: the handler's entries: (model id, options) → (key, the model, held alive here); and the models by key
+_ENTRIES: dict[tuple[int, tuple[tuple[str, Any], ...]], tuple[int, Model]] = {}
 _MODELS: dict[int, Model] = {}
 
 
@@ -69,9 +67,8 @@ def _entry(model: Model, options: dict[str, Any]) -> int:
     ident = (id(model), tuple(sorted(options.items())))
     found = _ENTRIES.get(ident)
     if found is None:
-        opts = _core_declared.call_options(**options)
-        key = _binding.jax_entry(_view(model).cm, opts)
-        found = _ENTRIES[ident] = (key, model, opts)
+        key = xla_entry(model, options)
+        found = _ENTRIES[ident] = (key, model)
         _MODELS[key] = model
     return found[0]
 
@@ -173,18 +170,12 @@ def tangent_grad(f: Callable[..., Any], model: Model) -> Callable[..., Any]:
 # --- the operations --------------------------------------------------------------------------------------------
 
 
-def _shapes(name: str, model: Model) -> list[tuple[int, ...]]:
-    h = _view(model)
-    return [_core_declared.shape_of(h, shape) for _, shape, _ in _core_declared.SPECS[name].outputs]
-
-
 def _ffi(name: str, key: int, present: int, arrays: Sequence[Any]) -> tuple[Any, ...]:
     """The handler's outputs of kernel ``name``; the batch is the inputs' leading axes, broadcast (``vmap``
     broadcasts its unmapped inputs too: ``broadcast_all``)."""
     model = _MODELS[key]
-    spec = _core_declared.SPECS[name]
-    h = _view(model)
-    shapes = [_core_declared.shape_of(h, shape) for k, (_, shape, _) in enumerate(spec.inputs) if (present >> k) & 1]
+    inputs, outputs = operand_shapes(name, model)
+    shapes = [shape for k, shape in enumerate(inputs) if (present >> k) & 1]
     batch: tuple[int, ...] = ()
     for x, shape in zip(arrays, shapes, strict=True):
         if x.shape[x.ndim - len(shape):] != shape or x.ndim < len(shape):
@@ -192,7 +183,7 @@ def _ffi(name: str, key: int, present: int, arrays: Sequence[Any]) -> tuple[Any,
                              f"{', '.join(map(str, shape))})")
         batch = jnp.broadcast_shapes(batch, x.shape[:x.ndim - len(shape)])
     arrays = [jnp.broadcast_to(x, batch + shape) for x, shape in zip(arrays, shapes, strict=True)]
-    results = [jax.ShapeDtypeStruct(batch + s, jnp.float64) for s in _shapes(name, model)]
+    results = [jax.ShapeDtypeStruct(batch + s, jnp.float64) for s in outputs]
     out = jax.ffi.ffi_call(_TARGET, results, vmap_method="broadcast_all")(
         *arrays, kernel=np.int64(_ORDER[name]), key=np.int64(key), present=np.int64(present))
     return tuple(out)
@@ -210,8 +201,7 @@ def _op_jvp(name: str, key: int, present: int, primals: tuple[Any, ...], tangent
     if decl.derivative is None:
         raise FeatherdynError(f"featherdyn.jax.{name}: no derivative is declared for it (api/declarations.py); "
                               "differentiate a function that has one (rnea, aba, generalized_gravity, …)")
-    spec = _core_declared.SPECS[name]
-    given = [n for k, (n, _, _) in enumerate(spec.inputs) if (present >> k) & 1]
+    given = [n for k, n in enumerate(decl.inputs) if (present >> k) & 1]
     derivs = _op(decl.derivative, key, present, *primals)
     model = _MODELS[key]
     t_out = jnp.zeros_like(out[0])
@@ -230,8 +220,7 @@ _op.defjvp(_op_jvp, symbolic_zeros=True)
 
 
 def _function(decl: Declaration) -> Callable[..., Any]:
-    spec = _core_declared.SPECS[decl.name]
-    outputs = NamedTuple(f"{decl.name}_result", [(n, Any) for n, _, _ in spec.outputs])  # type: ignore[misc]
+    outputs = NamedTuple(f"{decl.name}_result", [(n, Any) for n in decl.outputs])  # type: ignore[misc]
 
     def f(model: Model, *inputs: Any, **options: Any) -> Any:
         if not isinstance(model, Model):

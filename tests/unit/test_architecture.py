@@ -51,6 +51,7 @@ LAYER_OF: dict[str, str] = {
     "tools": "tools",
     "__main__": "tools",
     "torch": "tools",
+    "jax": "tools",
 }
 
 

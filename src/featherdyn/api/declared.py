@@ -40,7 +40,8 @@ from ..model import Model
 from ._backend import CORE, core_path, select_backend
 from ._checks import State, as_dtype, batch_with_f_ext, check_f_ext, check_state, finite_result, quiet
 
-__all__ = ["Declaration", "Record", "call", "public_function", "compiled_method", "kernel_options"]
+__all__ = ["Declaration", "Record", "call", "public_function", "compiled_method", "kernel_options", "xla_ffi",
+           "xla_entry", "operand_shapes"]
 
 #: the state arguments a declaration may take, and how each is checked: a vector of length nq or nv, or f_ext
 STATE_ARGUMENTS = ("q", "v", "a", "tau", "f_ext")
@@ -169,6 +170,31 @@ def kernel_options(decl: Declaration, model: Model, given: dict[str, Any]) -> di
     """The declaration's options as the core's kernels take them (``frame`` its index, ``reference`` its code),
     checked as the public functions check them: for the other front ends (``featherdyn.jax``)."""
     return _options(decl, model, given)[0]
+
+
+def xla_ffi() -> tuple[Any, dict[str, int]] | None:
+    """The core's XLA FFI handler of every declared algorithm (a capsule: ``core/cpp/bind_jax.cpp``) and each
+    kernel's index for it; ``None`` when the core was built without XLA's FFI headers (or is not built)."""
+    if CORE is None or not hasattr(CORE, "jax_handler"):
+        return None
+    return CORE.jax_handler(), {name: k for k, name in enumerate(CORE.kernel_order)}
+
+
+def xla_entry(model: Model, options: dict[str, Any]) -> int:
+    """Register ``model`` and a call's kernel options (:func:`kernel_options`) for the XLA FFI handler: its key.
+    The caller keeps ``model`` alive (the entry holds the core's view of it, not the model)."""
+    from ..core import _view
+
+    return int(CORE.jax_entry(_view(model).cm, _declared.call_options(**options)))
+
+
+def operand_shapes(name: str, model: Model) -> tuple[list[tuple[int, ...]], list[tuple[int, ...]]]:
+    """The declared kernel ``name``'s input and output shapes for ``model`` (one state)."""
+    from ..core import _view
+
+    spec, h = _declared.SPECS[name], _view(model)
+    return ([_declared.shape_of(h, shape) for _, shape, _ in spec.inputs],
+            [_declared.shape_of(h, shape) for _, shape, _ in spec.outputs])
 
 
 def _writable_as_is(arrays: tuple[np.ndarray, ...] | None) -> bool:
