@@ -40,7 +40,7 @@ import numpy as np
 
 from .api.declarations import DECLARATIONS
 from .api.declared import Declaration, kernel_options, operand_shapes, xla_entry, xla_ffi
-from .errors import FeatherdynError, ShapeError
+from .errors import DTypeError, FeatherdynError, ShapeError
 from .joints import FreeFlyerJoint, SphericalJoint
 from .model import Model
 
@@ -237,7 +237,10 @@ def _function(decl: Declaration) -> Callable[..., Any]:
             if x is None and names[k] not in decl.optional:
                 raise ShapeError(f"featherdyn.jax.{decl.name}: {names[k]} is required")
         present = sum(1 << k for k, x in enumerate(padded) if x is not None)
-        arrays = [jnp.asarray(x, dtype=jnp.float64) for x in padded if x is not None]
+        try:
+            arrays = [jnp.asarray(x, dtype=jnp.float64) for x in padded if x is not None]
+        except (TypeError, ValueError) as exc:
+            raise DTypeError(f"featherdyn.jax.{decl.name}: inputs must be real numbers (float64): {exc}") from None
         key = _entry(model, kernel_options(decl, model, options))
         out = _op(decl.name, key, present, *arrays)
         return out[0] if len(out) == 1 else outputs(*out)

@@ -167,6 +167,8 @@ def test_bad_input_gets_featherdyn_errors(solo: fd.Model) -> None:
         fd.impulse_dynamics_derivatives(solo, q, v[:3], fd.PointContact("FL_FOOT"))
     with pytest.raises(fd.ModelError, match="restitution"):
         fd.impulse_dynamics_derivatives(solo, q, v, fd.PointContact("FL_FOOT"), restitution=2.0)
+    with pytest.raises(fd.ModelError, match="restitution"):  # (not a number: was a raw ValueError)
+        fd.impulse_dynamics_derivatives(solo, q, v, fd.PointContact("FL_FOOT"), restitution="x")
     with pytest.raises(fd.ConstraintError):
         fd.constrained_dynamics_derivatives(solo, q, v, tau, fd.PointContact("FL_FOOT"), mu=-1.0)
     with pytest.raises(fd.ModelError):

@@ -148,6 +148,8 @@ def test_errors() -> None:
         fj.frame_velocity(model, st["q"], st["v"], "nope")
     with pytest.raises(fd.ShapeError):
         fj.rnea(model, st["q"][:-1], st["v"], st["a"])
+    with pytest.raises(fd.DTypeError, match="real numbers"):
+        fj.rnea(model, "abc", st["v"], st["a"])
     with pytest.raises(fd.FeatherdynError, match="no derivative is declared"):
         jax.grad(lambda q: fj.crba(model, q).sum())(st["q"])
     with pytest.raises(fd.FeatherdynError, match="f_ext"):

@@ -266,7 +266,11 @@ def impulse_dynamics(model: Model, q: ArrayLike, v: ArrayLike, constraints: Sequ
     if _dask.lazy(q, v):
         return _dask.call(impulse_dynamics, model, {"q": q, "v": v}, constraints=constraints,
                           restitution=restitution, mu=mu, backend=backend)
-    if not (0.0 <= float(restitution) <= 1.0):
+    try:
+        e = float(restitution)
+    except (TypeError, ValueError):
+        e = float("nan")
+    if not (0.0 <= e <= 1.0):
         raise ModelError(f"restitution: expected a number in [0, 1], got {restitution!r}")
     mu = _con.solver_settings(mu, 1, 1.0)[0]
     items = _con.as_constraints(constraints)
