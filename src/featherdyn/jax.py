@@ -38,8 +38,10 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
+from .api import jacobians as _jac
 from .api.declarations import DECLARATIONS
-from .api.declared import Declaration, kernel_options, operand_shapes, xla_entry, xla_ffi
+from .api.declared import REFERENCES, Declaration, kernel_options, operand_shapes, xla_entry, xla_ffi
+from .core.declared import SPECS
 from .errors import DTypeError, FeatherdynError, ShapeError
 from .joints import FreeFlyerJoint, SphericalJoint
 from .model import Model
@@ -59,7 +61,8 @@ _ORDER = _HANDLER[1]
 
 #: the handler's entries: (model id, options) → (key, the model, held alive here); and the models by key
 _ENTRIES: dict[tuple[int, tuple[tuple[str, Any], ...]], tuple[int, Model]] = {}
-_MODELS: dict[int, Model] = {}
+#: the model and the options (as the public functions take them: the frame's index, the reference) by key
+_MODELS: dict[int, tuple[Model, dict[str, Any]]] = {}
 
 
 def _entry(model: Model, options: dict[str, Any]) -> int:
@@ -69,76 +72,58 @@ def _entry(model: Model, options: dict[str, Any]) -> int:
     if found is None:
         key = xla_entry(model, options)
         found = _ENTRIES[ident] = (key, model)
-        _MODELS[key] = model
+        _MODELS[key] = (model, {n: REFERENCES[v] if n == "reference" else v for n, v in options.items()})
     return found[0]
 
 
-# --- the configuration's tangent ---------------------------------------------------------------------------------
+# --- the configuration's tangent (api/jacobians.py, shared with featherdyn.torch) -----------------------------------
 
 
-def _quat_mul(a: Any, b: Any) -> Any:
-    """Hamilton product of (x, y, z, w) quaternions."""
-    ax, ay, az, aw = a[..., 0], a[..., 1], a[..., 2], a[..., 3]
-    bx, by, bz, bw = b[..., 0], b[..., 1], b[..., 2], b[..., 3]
-    return jnp.stack([aw * bx + ax * bw + ay * bz - az * by, aw * by - ax * bz + ay * bw + az * bx,
-                      aw * bz + ax * by - ay * bx + az * bw, aw * bw - ax * bx - ay * by - az * bz], axis=-1)
+class _Jax:
+    """api/jacobians.py's :class:`~featherdyn.api.jacobians.Framework` in JAX: the operations of this module."""
+
+    einsum = staticmethod(jnp.einsum)
+    const = staticmethod(jnp.asarray)
+    cos = staticmethod(jnp.cos)
+    sin = staticmethod(jnp.sin)
+
+    @staticmethod
+    def call(name: str, model: Model, inputs: dict[str, Any], options: dict[str, Any]) -> tuple[Any, ...]:
+        r = globals()[name](model, *(inputs.get(n) for n in DECLARATIONS[name].inputs), **options)
+        return tuple(r) if isinstance(r, tuple) else (r,)
+
+    @staticmethod
+    def concat(xs: Sequence[Any], axis: int) -> Any:
+        return jnp.concatenate(list(xs), axis=axis)
+
+    @staticmethod
+    def stack(xs: Sequence[Any], axis: int) -> Any:
+        return jnp.stack(list(xs), axis=axis)
+
+    @staticmethod
+    def zeros(shape: tuple[int, ...]) -> Any:
+        return jnp.zeros(shape, dtype=jnp.float64)
 
 
-def _rotation(quat: Any) -> Any:
-    x, y, z, w = quat[..., 0], quat[..., 1], quat[..., 2], quat[..., 3]
-    return jnp.stack([jnp.stack([1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)], -1),
-                      jnp.stack([2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)], -1),
-                      jnp.stack([2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)], -1)], -2)
-
-
-def _conj(quat: Any) -> Any:
-    return quat * jnp.array([-1.0, -1.0, -1.0, 1.0])
+_FW = _Jax()
 
 
 def tangent_of_coordinates(model: Model, q: Any, dq: Any) -> Any:
     """``δ = T(q) q̇`` `(..., nv)`: the tangent (``fd.integrate``'s, ``v``'s layout) of a coordinate direction ``q̇``
-    `(..., nq)` at ``q``; the part of ``q̇`` off the unit quaternions has none::
+    `(..., nq)` at ``q``, with the quaternions normalised as featherdyn does (the radial part of ``q̇`` has none)::
 
-        revolute, prismatic, planar: δ = q̇;   spherical: ω = 2 vec(q̄ ⊗ q̇);
-        free-flyer [p, quat]: [ω; v] = [2 vec(q̄ ⊗ q̇_quat); R(quat)ᵀ ṗ]
+        revolute, prismatic: δ = q̇;   quaternion (u, w): ω = 2 vec(q̄ ⊗ q̇) / |q|²;
+        free-flyer [p, quat]: [ω; v] with v = R(quat)ᵀ ṗ;   planar [x, y, θ]: [θ̇, Rz(θ)ᵀ (ẋ, ẏ)]
     """
-    parts = []
-    for i, joint in enumerate(model.joints):
-        iq, nq = model.idx_q[i], type(joint).nq
-        if isinstance(joint, SphericalJoint):
-            quat = q[..., iq:iq + 4]
-            parts.append(2.0 * _quat_mul(_conj(quat), dq[..., iq:iq + 4])[..., :3])
-        elif isinstance(joint, FreeFlyerJoint):
-            quat = q[..., iq + 3:iq + 7]
-            w = 2.0 * _quat_mul(_conj(quat), dq[..., iq + 3:iq + 7])[..., :3]
-            v = jnp.einsum("...ji,...j->...i", _rotation(quat), dq[..., iq:iq + 3])
-            parts += [w, v]
-        elif nq:
-            parts.append(dq[..., iq:iq + nq])
-    return jnp.concatenate(parts, axis=-1) if parts else jnp.zeros(dq.shape[:-1] + (0,))
+    return _jac.tangent_of_coordinates(_FW, model, jnp.asarray(q), jnp.asarray(dq))
 
 
 def coordinates_of_tangent(model: Model, q: Any, delta: Any) -> Any:
     """``q̇ = E(q) δ`` `(..., nq)`: the coordinate direction of ``q ⊕ ε δ`` at ε = 0 (``T(q) E(q) = 1``)::
 
-        spherical: q̇ = ½ q ⊗ [ω; 0];   free-flyer: [ṗ; q̇_quat] = [R(quat) v; ½ quat ⊗ [ω; 0]]
+        quaternion: q̇ = ½ q ⊗ [ω; 0];   free-flyer: ṗ = R(quat) v;   planar: (ẋ, ẏ) = Rz(θ) (v_x, v_y), θ̇ = ω
     """
-    parts = []
-    for i, joint in enumerate(model.joints):
-        iv, nv = model.idx_v[i], type(joint).nv
-        if isinstance(joint, SphericalJoint):
-            iq = model.idx_q[i]
-            w = jnp.concatenate([delta[..., iv:iv + 3], jnp.zeros(delta.shape[:-1] + (1,))], -1)
-            parts.append(0.5 * _quat_mul(q[..., iq:iq + 4], w))
-        elif isinstance(joint, FreeFlyerJoint):
-            iq = model.idx_q[i]
-            quat = q[..., iq + 3:iq + 7]
-            w = jnp.concatenate([delta[..., iv:iv + 3], jnp.zeros(delta.shape[:-1] + (1,))], -1)
-            parts += [jnp.einsum("...ij,...j->...i", _rotation(quat), delta[..., iv + 3:iv + 6]),
-                      0.5 * _quat_mul(quat, w)]
-        elif nv:
-            parts.append(delta[..., iv:iv + nv])
-    return jnp.concatenate(parts, axis=-1) if parts else jnp.zeros(delta.shape[:-1] + (0,))
+    return _jac.coordinates_of_tangent(_FW, model, jnp.asarray(q), jnp.asarray(delta))
 
 
 def normalize(model: Model, q: Any) -> Any:
@@ -160,9 +145,8 @@ def tangent_grad(f: Callable[..., Any], model: Model) -> Callable[..., Any]:
     grad = jax.grad(f)
 
     def g(q: Any, *args: Any) -> Any:
-        gq = grad(q, *args)
-        _, vjp = jax.vjp(lambda d: coordinates_of_tangent(model, q, d), jnp.zeros(q.shape[:-1] + (model.nv,)))
-        return vjp(gq)[0]
+        q = jnp.asarray(q, dtype=jnp.float64)
+        return _jac.coordinates_transpose(_FW, model, q, grad(q, *args))
 
     return g
 
@@ -173,7 +157,7 @@ def tangent_grad(f: Callable[..., Any], model: Model) -> Callable[..., Any]:
 def _ffi(name: str, key: int, present: int, arrays: Sequence[Any]) -> tuple[Any, ...]:
     """The handler's outputs of kernel ``name``; the batch is the inputs' leading axes, broadcast (``vmap``
     broadcasts its unmapped inputs too: ``broadcast_all``)."""
-    model = _MODELS[key]
+    model = _MODELS[key][0]
     inputs, outputs = operand_shapes(name, model)
     shapes = [shape for k, shape in enumerate(inputs) if (present >> k) & 1]
     batch: tuple[int, ...] = ()
@@ -196,24 +180,40 @@ def _op(name: str, key: int, present: int, *arrays: Any) -> tuple[Any, ...]:
 
 def _op_jvp(name: str, key: int, present: int, primals: tuple[Any, ...], tangents: tuple[Any, ...]
             ) -> tuple[tuple[Any, ...], tuple[Any, ...]]:
+    """``ẏ_o = Σ_x J_ox · ẋ`` with the Jacobians of api/jacobians.py (``q̇`` mapped to the tangent first): made of this
+    module's operations, so differentiated again by their own rules (``jax.hessian``)."""
     decl = DECLARATIONS[name]
     out = _op(name, key, present, *primals)
-    if decl.derivative is None:
-        raise FeatherdynError(f"featherdyn.jax.{name}: no derivative is declared for it (api/declarations.py); "
-                              "differentiate a function that has one (rnea, aba, generalized_gravity, …)")
     given = [n for k, n in enumerate(decl.inputs) if (present >> k) & 1]
-    derivs = _op(decl.derivative, key, present, *primals)
-    model = _MODELS[key]
-    t_out = jnp.zeros_like(out[0])
-    for k, (n, x, t) in enumerate(zip(given, primals, tangents, strict=True)):
-        if isinstance(t, jax.custom_derivatives.SymbolicZero):
-            continue
-        if n == "f_ext":
-            raise FeatherdynError(f"featherdyn.jax.{name}: no derivative with respect to f_ext (its declaration's "
-                                  "derivative covers the state inputs); hold f_ext constant (jax.lax.stop_gradient)")
-        direction = tangent_of_coordinates(model, x, t) if n == "q" else t
-        t_out = t_out + jnp.einsum("...ij,...j->...i", derivs[k], direction)
-    return out, (t_out,) + tuple(jnp.zeros_like(o) for o in out[1:])
+    moving = {n: t for n, t in zip(given, tangents, strict=True)
+              if not isinstance(t, jax.custom_derivatives.SymbolicZero)}
+    if "f_ext" in moving:
+        raise FeatherdynError(f"featherdyn.jax.{name}: no derivative with respect to f_ext (the Jacobians cover the "
+                              "state inputs); hold f_ext constant (jax.lax.stop_gradient)")
+    zeros = tuple(jnp.zeros_like(o) for o in out)
+    if not moving:
+        return out, zeros
+    model, options = _MODELS[key]
+    if not _jac.has_jacobians(name):
+        raise FeatherdynError(f"featherdyn.jax.{name}: its derivatives are not available (docs/frameworks.md lists "
+                              "the operations with first and second derivatives)")
+    x = dict(zip(given, primals, strict=True))
+    table = _jac.jacobians(_FW, name, model, x, options)
+    directions = {n: tangent_of_coordinates(model, x["q"], t) if n == "q" else t for n, t in moving.items()}
+    t_out = []
+    for o_name, zero in zip(decl.outputs, zeros, strict=True):
+        t = zero
+        letters = "abcdefgh"[:len(_output_shape(name, model, o_name))]
+        for n, d in directions.items():
+            J = table.get(o_name, {}).get(n)
+            if J is not None:
+                t = t + jnp.einsum(f"...{letters}k,...k->...{letters}", J, d)
+        t_out.append(t)
+    return out, tuple(t_out)
+
+
+def _output_shape(name: str, model: Model, output: str) -> tuple[int, ...]:
+    return operand_shapes(name, model)[1][DECLARATIONS[name].outputs.index(output)]
 
 
 _op.defjvp(_op_jvp, symbolic_zeros=True)
@@ -221,6 +221,8 @@ _op.defjvp(_op_jvp, symbolic_zeros=True)
 
 def _function(decl: Declaration) -> Callable[..., Any]:
     outputs = NamedTuple(f"{decl.name}_result", [(n, Any) for n in decl.outputs])  # type: ignore[misc]
+
+    when = {o: w for o, _, w in SPECS[decl.name].outputs} if decl.name in SPECS else {}
 
     def f(model: Model, *inputs: Any, **options: Any) -> Any:
         if not isinstance(model, Model):
@@ -243,7 +245,10 @@ def _function(decl: Declaration) -> Callable[..., Any]:
             raise DTypeError(f"featherdyn.jax.{decl.name}: inputs must be real numbers (float64): {exc}") from None
         key = _entry(model, kernel_options(decl, model, options))
         out = _op(decl.name, key, present, *arrays)
-        return out[0] if len(out) == 1 else outputs(*out)
+        if len(out) == 1:
+            return out[0]
+        absent = {names[k] for k, x in enumerate(padded) if x is None}  # (an output formed only with one: None)
+        return outputs(*(None if when.get(o) in absent else r for o, r in zip(decl.outputs, out, strict=True)))
 
     f.__name__ = f.__qualname__ = decl.name
     f.__doc__ = (f"``fd.{decl.name}`` as a JAX operation (featherdyn.jax's module docstring): jit, vmap (the "

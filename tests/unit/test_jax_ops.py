@@ -19,6 +19,7 @@ from jax.test_util import check_grads  # noqa: E402
 
 import featherdyn.jax as fj  # noqa: E402
 from featherdyn.api.declarations import DECLARATIONS  # noqa: E402
+from featherdyn.api.jacobians import has_jacobians  # noqa: E402
 
 ROBOTS = [("panda", False), ("solo12", True), ("talos_full_v2", True)]
 
@@ -110,23 +111,72 @@ def test_gradients_are_the_declared_derivatives(robot: tuple[str, bool]) -> None
     np.testing.assert_allclose(Jq @ E, dg, rtol=1e-10, atol=1e-10 * max(1.0, float(np.abs(dg).max())))
 
 
+def _call(model: fd.Model, name: str, st: dict[str, np.ndarray], reference: fd.ReferenceFrame = fd.LOCAL
+          ) -> tuple[object, tuple[np.ndarray, ...]]:
+    """``fj.<name>`` as a function of its state inputs but ``f_ext`` (held), ``q`` through ``fj.normalize`` (the
+    differences leave the unit quaternions), and those inputs."""
+    decl = DECLARATIONS[name]
+    moving = [n for n in decl.inputs if n != "f_ext"]
+    options = {k: v for k, v in (("frame", model.frames[-1].name), ("reference", reference)) if k in decl.options}
+
+    def f(*xs: object) -> object:
+        given = dict(zip(moving, xs, strict=True))
+        given["q"] = fj.normalize(model, given["q"])
+        if "f_ext" in decl.inputs:
+            given["f_ext"] = st["f_ext"]
+        return getattr(fj, name)(model, *(given[n] for n in decl.inputs), **options)
+
+    return f, tuple(st[n] for n in moving)
+
+
+#: the operations with first derivatives (their declaration's derivative, or api/jacobians.py's rules)
+FIRST = sorted(n for n in DECLARATIONS if has_jacobians(n))
+#: the operations whose first derivatives are made of operations with derivatives: second order
+SECOND = ["rnea", "aba", "generalized_gravity", "nonlinear_effects", "kinetic_energy", "potential_energy"]
+
+
 @pytest.mark.parametrize("robot", ROBOTS, ids=[r[0] for r in ROBOTS])
-def test_check_grads_first_order(robot: tuple[str, bool]) -> None:
-    """jax.test_util.check_grads (finite differences, fwd and rev) on each operation with a derivative; q goes
-    through fj.normalize first (the differences leave the unit quaternions)."""
+def test_check_grads_first_order_on_every_operation_with_derivatives(robot: tuple[str, bool]) -> None:
+    """jax.test_util.check_grads (finite differences, fwd and rev modes) on each operation with derivatives; the
+    frame functions in each reference frame."""
     model = _robot(*robot)
     st = _state(model, 6)
-    frame = model.frames[-1].name
-    calls = {
-        "rnea": lambda q, v, a: fj.rnea(model, fj.normalize(model, q), v, a),
-        "aba": lambda q, v, a: fj.aba(model, fj.normalize(model, q), v, a),
-        "generalized_gravity": lambda q, v, a: fj.generalized_gravity(model, fj.normalize(model, q)),
-        "frame_velocity": lambda q, v, a: fj.frame_velocity(model, fj.normalize(model, q), v, frame),
-        "frame_acceleration": lambda q, v, a: fj.frame_acceleration(model, fj.normalize(model, q), v, a, frame),
-    }
-    assert sorted(calls) == sorted(n for n, d in DECLARATIONS.items() if d.derivative)
-    for f in calls.values():
-        check_grads(f, (st["q"], st["v"], st["a"]), order=1, modes=("fwd", "rev"), eps=1e-6, atol=1e-5, rtol=1e-5)
+    assert {"rnea", "aba", "crba", "nonlinear_effects", "mass_matrix_inverse", "forward_kinematics",
+            "frame_placement", "frame_jacobian", "frame_velocity", "frame_classical_acceleration", "center_of_mass",
+            "centroidal_momentum", "rnea_derivatives", "aba_derivatives"} <= set(FIRST)
+    for name in FIRST:
+        refs = fd.ReferenceFrame if "reference" in DECLARATIONS[name].options else [fd.LOCAL]
+        for ref in refs:
+            f, args = _call(model, name, st, ref)
+            check_grads(f, args, order=1, modes=("fwd", "rev"), eps=1e-5, atol=1e-5, rtol=1e-5)
+
+
+@pytest.mark.parametrize("robot", ROBOTS, ids=[r[0] for r in ROBOTS])
+def test_check_grads_second_order(robot: tuple[str, bool]) -> None:
+    """Order 2 (jvp of jvp, vjp of jvp …) where the second derivatives exist: each first derivative is made of
+    operations that have their own (rnea's of fd.rnea_derivatives, whose are fd.rnea_second_derivatives')."""
+    model = _robot(*robot)
+    st = _state(model, 7)
+    for name in SECOND:
+        f, args = _call(model, name, st)
+        check_grads(f, args, order=2, modes=("fwd", "rev"), eps=1e-5, atol=1e-4, rtol=1e-4)
+
+
+def test_hessian_of_rnea_is_the_second_derivatives() -> None:
+    """jax.hessian in the tangent (q ⊕ δ at δ = 0) equals fd.rnea_second_derivatives (its symmetric part in q: the
+    tangent's second derivative of the function q ↦ τ), and the v block exactly."""
+    model = _robot("solo12", True)
+    st = _state(model, 8)
+    q, v, a = st["q"], st["v"], st["a"]
+    w = np.random.default_rng(9).normal(size=model.nv)
+    S = fd.rnea_second_derivatives(model, q, v, a)
+    Hv = jax.hessian(lambda v: fj.rnea(model, q, v, a) @ w)(v)
+    np.testing.assert_allclose(Hv, np.einsum("i,ijk->jk", w, S.d2tau_dv2), rtol=1e-10, atol=1e-10)
+    Hq = jax.hessian(lambda d: fj.rnea(model, fj.coordinates_of_tangent(model, q, d) + q, v, a) @ w)(
+        np.zeros(model.nv))
+    ref = np.einsum("i,ijk->jk", w, S.d2tau_dq2)
+    assert np.abs(Hq - Hq.T).max() <= 1e-9 * max(1.0, np.abs(Hq).max())
+    np.testing.assert_allclose(Hq, 0.5 * (ref + ref.T), rtol=1e-6, atol=1e-6 * max(1.0, np.abs(ref).max()))
 
 
 def test_tangent_maps_are_inverse_on_the_tangent() -> None:
@@ -150,8 +200,10 @@ def test_errors() -> None:
         fj.rnea(model, st["q"][:-1], st["v"], st["a"])
     with pytest.raises(fd.DTypeError, match="real numbers"):
         fj.rnea(model, "abc", st["v"], st["a"])
-    with pytest.raises(fd.FeatherdynError, match="no derivative is declared"):
-        jax.grad(lambda q: fj.crba(model, q).sum())(st["q"])
+    with pytest.raises(fd.FeatherdynError, match="not available"):
+        jax.grad(lambda q: fj.joint_torque_regressor(model, q, st["v"], st["a"]).sum())(st["q"])
+    with pytest.raises(fd.FeatherdynError, match="rnea_second_derivatives: its derivatives are not available"):
+        jax.jacfwd(jax.jacfwd(lambda q: fj.crba(model, q)))(st["q"])  # a third derivative of τ
     with pytest.raises(fd.FeatherdynError, match="f_ext"):
         jax.grad(lambda f: fj.rnea(model, st["q"], st["v"], st["a"], f).sum())(st["f_ext"])
     with pytest.raises(Exception, match=r"featherdyn\.rnea: row 0: non-finite value"):

@@ -9,6 +9,7 @@
 // alive there); bit i of `present` whether input i is passed (optional inputs may be absent). Each buffer is
 // float64 with the declared shape last and any leading (batch) dimensions; an input's rows are 1 (broadcast) or
 // the outputs' N. A status (non-finite input, a singular mass matrix …) is the handler's error, naming the row.
+#include <algorithm>
 #include <mutex>
 #include <string>
 #include <vector>
@@ -82,6 +83,10 @@ ffi::Error declared_call(ffi::RemainingArgs args, ffi::RemainingRets rets, std::
       return ffi::Error(ffi::ErrorCode::kInvalidArgument, "featherdyn." + k.name + ": results of mixed batches");
     N = rows;
     op[o] = buf->typed_data<double>();
+    if (!declared::formed(k, o, [&](size_t i) { return ((present >> i) & 1) != 0; })) {  // zeros, not formed
+      std::fill(op[o], op[o] + buf->element_count(), 0.0);
+      op[o] = nullptr;
+    }
   }
   std::array<Rows, DECLARED_MAX> rows_in{};
   size_t a = 0;
