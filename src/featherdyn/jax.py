@@ -61,18 +61,21 @@ _ORDER = _HANDLER[1]
 
 #: the handler's entries: (model id, options) → (key, the model, held alive here); and the models by key
 _ENTRIES: dict[tuple[int, tuple[tuple[str, Any], ...]], tuple[int, Model]] = {}
-#: the model and the options (as the public functions take them: the frame's index, the reference) by key
-_MODELS: dict[int, tuple[Model, dict[str, Any]]] = {}
+#: by key: the model, the options (as the public functions take them: the frame's index, the reference; a contact
+#: plan's as the kernel does), and the constraint rows m
+_MODELS: dict[int, tuple[Model, dict[str, Any], int]] = {}
 
 
 def _entry(model: Model, options: dict[str, Any]) -> int:
-    """The handler's key of (model, kernel options), registered once (the model stays registered)."""
+    """The handler's key of (model, kernel options), registered once (the model, and a contact plan among the
+    options, stay registered)."""
     ident = (id(model), tuple(sorted(options.items())))
     found = _ENTRIES.get(ident)
     if found is None:
         key = xla_entry(model, options)
         found = _ENTRIES[ident] = (key, model)
-        _MODELS[key] = (model, {n: REFERENCES[v] if n == "reference" else v for n, v in options.items()})
+        _MODELS[key] = (model, {n: REFERENCES[v] if n == "reference" else v for n, v in options.items()},
+                        int(options.get("rows", 0)))
     return found[0]
 
 
@@ -157,8 +160,8 @@ def tangent_grad(f: Callable[..., Any], model: Model) -> Callable[..., Any]:
 def _ffi(name: str, key: int, present: int, arrays: Sequence[Any]) -> tuple[Any, ...]:
     """The handler's outputs of kernel ``name``; the batch is the inputs' leading axes, broadcast (``vmap``
     broadcasts its unmapped inputs too: ``broadcast_all``)."""
-    model = _MODELS[key][0]
-    inputs, outputs = operand_shapes(name, model)
+    model, _, rows = _MODELS[key]
+    inputs, outputs = operand_shapes(name, model, rows)
     shapes = [shape for k, shape in enumerate(inputs) if (present >> k) & 1]
     batch: tuple[int, ...] = ()
     for x, shape in zip(arrays, shapes, strict=True):
@@ -182,8 +185,13 @@ def _op_jvp(name: str, key: int, present: int, primals: tuple[Any, ...], tangent
             ) -> tuple[tuple[Any, ...], tuple[Any, ...]]:
     """``ẏ_o = Σ_x J_ox · ẋ`` with the Jacobians of api/jacobians.py (``q̇`` mapped to the tangent first): made of this
     module's operations, so differentiated again by their own rules (``jax.hessian``)."""
-    decl = DECLARATIONS[name]
     out = _op(name, key, present, *primals)
+    decl = DECLARATIONS.get(name)
+    if decl is None:  # a kernel without a public declaration (the contact derivatives): no derivatives of its own
+        if any(not isinstance(t, jax.custom_derivatives.SymbolicZero) for t in tangents):
+            raise FeatherdynError(f"featherdyn.jax.{name}: its derivatives are not available (a second derivative "
+                                  "of constrained or impulse dynamics; docs/frameworks.md)")
+        return out, tuple(jnp.zeros_like(o) for o in out)
     given = [n for k, n in enumerate(decl.inputs) if (present >> k) & 1]
     moving = {n: t for n, t in zip(given, tangents, strict=True)
               if not isinstance(t, jax.custom_derivatives.SymbolicZero)}
@@ -193,7 +201,7 @@ def _op_jvp(name: str, key: int, present: int, primals: tuple[Any, ...], tangent
     zeros = tuple(jnp.zeros_like(o) for o in out)
     if not moving:
         return out, zeros
-    model, options = _MODELS[key]
+    model, options, _ = _MODELS[key]
     if not _jac.has_jacobians(name):
         raise FeatherdynError(f"featherdyn.jax.{name}: its derivatives are not available (docs/frameworks.md lists "
                               "the operations with first and second derivatives)")
@@ -258,3 +266,132 @@ def _function(decl: Declaration) -> Callable[..., Any]:
 
 for _name, _decl in DECLARATIONS.items():
     globals()[_name] = _function(_decl)
+
+
+# --- constrained and impulse dynamics (contacts: the core's contact kernels, core/cpp/declarations_constraints.hpp) --
+
+
+class ConstrainedDynamics(NamedTuple):
+    """``fd.constrained_dynamics``' result in JAX: ``ddq`` `(..., nv)`, ``forces`` (one array per constraint),
+    ``lagrange`` `(..., m)`, ``residual`` `(...)`."""
+
+    ddq: Any
+    forces: tuple[Any, ...]
+    lagrange: Any
+    residual: Any
+
+
+class ImpulseDynamics(NamedTuple):
+    """``fd.impulse_dynamics``' result in JAX: ``v_plus`` `(..., nv)`, ``impulses`` (one per constraint),
+    ``lagrange`` `(..., m)`."""
+
+    v_plus: Any
+    impulses: tuple[Any, ...]
+    lagrange: Any
+
+
+def _contact_key(model: Model, constraints: Any, options: dict[str, Any], caller: str) -> tuple[int, Any]:
+    """The handler's key of the contact set's plan (cached on the model, as ``fd.constrained_dynamics`` caches it) and
+    the solver's options; the plan."""
+    from .api.constraints import _core_plan
+    from .constraints import as_constraints, cached_contact_plan
+    from .tolerances import DELASSUS_PIVOT_RTOL
+
+    if not isinstance(model, Model):
+        raise ShapeError(f"model: expected a featherdyn Model, got {type(model).__name__}")
+    as_constraints(constraints)  # (its errors: not constraints, unknown frames)
+    found = cached_contact_plan(model, constraints, _core_plan)
+    if found is None or found[1] is None:
+        raise FeatherdynError(f"featherdyn.jax.{caller}: point and frame contacts only (fd.PointContact, "
+                              "fd.FrameContact); a loop closure runs in the NumPy function")
+    plan = found[0]
+    return _entry(model, {"plan": found[1][0], "rows": plan.size, "singular_tol": DELASSUS_PIVOT_RTOL, **options}), plan
+
+
+def _floats(name: str, *xs: Any) -> list[Any]:
+    try:
+        return [jnp.asarray(x, dtype=jnp.float64) for x in xs]
+    except (TypeError, ValueError) as exc:
+        raise DTypeError(f"featherdyn.jax.{name}: inputs must be real numbers (float64): {exc}") from None
+
+
+@partial(jax.custom_jvp, nondiff_argnums=(0, 1, 2, 3))
+def _solved(kernel: str, derivative: str, key: int, present: int, *arrays: Any) -> tuple[Any, ...]:
+    """The outputs of a contact ``kernel``; differentiated by its ``derivative`` kernel (``∂/∂x`` of each state
+    input in order, per output; the derivatives are operations without derivatives of their own)."""
+    return _op(kernel, key, present, *arrays)
+
+
+def _solved_jvp(kernel: str, derivative: str, key: int, present: int, primals: tuple[Any, ...],
+                tangents: tuple[Any, ...]) -> tuple[tuple[Any, ...], tuple[Any, ...]]:
+    out = _solved(kernel, derivative, key, present, *primals)
+    model = _MODELS[key][0]
+    names = [n for k, n in enumerate(("q", "v", "tau", "f_ext")) if (present >> k) & 1]
+    if any(n == "f_ext" and not isinstance(t, jax.custom_derivatives.SymbolicZero)
+           for n, t in zip(names, tangents, strict=True)):
+        raise FeatherdynError(f"featherdyn.jax.{kernel}: no derivative with respect to f_ext; hold it constant")
+    d = _op(derivative, key, present, *primals)
+    # the derivative's blocks: (q, v, τ) per output of q̈, λ (outputs 0, 1; the solve's info has none), or (q, v)
+    # per output of v⁺, λ (outputs 4, 5 of the impulse kernel, which are its values too)
+    n_in, first = (3, 0) if kernel == "contact_dynamics" else (2, 4)
+    t_out = []
+    for o in range(len(out)):
+        t = jnp.zeros_like(out[o])
+        if first <= o < first + 2:
+            for k, (n, dx) in enumerate(zip(names, tangents, strict=False)):
+                if k >= n_in or isinstance(dx, jax.custom_derivatives.SymbolicZero):
+                    continue
+                direction = tangent_of_coordinates(model, primals[0], dx) if n == "q" else dx
+                t = t + jnp.einsum("...ij,...j->...i", d[(o - first) * n_in + k], direction)
+        t_out.append(t)
+    return out, tuple(t_out)
+
+
+_solved.defjvp(_solved_jvp, symbolic_zeros=True)
+
+
+def constrained_dynamics(model: Model, q: Any, v: Any, tau: Any, constraints: Any, f_ext: Any = None, *,
+                         mu: float = 0.0, max_iter: int = 50, tol: float = 1e-12) -> ConstrainedDynamics:
+    """``fd.constrained_dynamics`` with contacts as a JAX operation (the core's contact kernel; loops: the NumPy
+    function)::
+
+        M q̈ + h = τ + Jᵀ λ,     J q̈ + γ = −K_p e − K_d J v
+
+    Differentiable in ``q, v, τ`` (``fd.constrained_dynamics_derivatives``' kernel). Under ``jit`` a solve that
+    does not converge (``mu > 0``) is not an error: read ``residual``.
+    """
+    from .constraints import solver_settings
+
+    mu, max_iter, tol = solver_settings(mu, max_iter, tol)
+    key, plan = _contact_key(model, constraints, {"mu": mu, "max_iter": max_iter, "tol": tol},
+                             "constrained_dynamics")
+    arrays = _floats("constrained_dynamics", *(x for x in (q, v, tau, f_ext) if x is not None))
+    qdd, lam, info = _solved("contact_dynamics", "contact_dynamics_derivatives", key, 7 | (8 if f_ext is not None
+                                                                                         else 0), *arrays)
+    return ConstrainedDynamics(qdd, tuple(lam[..., s] for s in plan.slices), lam, info[..., 1])
+
+
+def impulse_dynamics(model: Model, q: Any, v: Any, constraints: Any, *, restitution: float = 0.0,
+                     mu: float = 0.0) -> ImpulseDynamics:
+    """``fd.impulse_dynamics`` with contacts as a JAX operation (the core's impulse kernel, which forms the
+    derivatives with the velocity: the operation costs ``fd.impulse_dynamics_derivatives``)::
+
+        M (v⁺ − v⁻) = Jᵀ Λ,     J v⁺ = −e J v⁻
+
+    Differentiable in ``q, v``.
+    """
+    from .constraints import solver_settings
+    from .errors import ModelError
+
+    try:
+        e = float(restitution)
+    except (TypeError, ValueError):
+        e = float("nan")
+    if not 0.0 <= e <= 1.0:
+        raise ModelError(f"restitution: expected a number in [0, 1], got {restitution!r}")
+    mu = solver_settings(mu, 1, 1.0)[0]
+    key, plan = _contact_key(model, constraints, {"mu": mu, "restitution": e}, "impulse_dynamics")
+    out = _solved("impulse_dynamics_derivatives", "impulse_dynamics_derivatives", key, 3,
+                  *_floats("impulse_dynamics", q, v))
+    v_plus, lam = out[4], out[5]
+    return ImpulseDynamics(v_plus, tuple(lam[..., s] for s in plan.slices), lam)

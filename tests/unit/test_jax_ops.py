@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from _models import library_robot
+from _models import TREES, library_robot, tree
 
 import featherdyn as fd
 
@@ -149,6 +149,74 @@ def test_check_grads_first_order_on_every_operation_with_derivatives(robot: tupl
         for ref in refs:
             f, args = _call(model, name, st, ref)
             check_grads(f, args, order=1, modes=("fwd", "rev"), eps=1e-5, atol=1e-5, rtol=1e-5)
+
+
+@pytest.mark.parametrize("name", [t.name for t in TREES])
+def test_check_grads_first_order_on_every_joint_kind(name: str) -> None:
+    """The rules' assumptions per joint kind (a spherical, planar or free-flyer joint's columns moving with its own
+    tangent; the planar and quaternion tangent maps) on the random trees of every joint kind."""
+    model = tree(name)
+    st = _state(model, 6)
+    for fn in FIRST:
+        f, args = _call(model, fn, st, fd.WORLD)
+        check_grads(f, args, order=1, modes=("fwd", "rev"), eps=1e-5, atol=1e-5, rtol=1e-5)
+
+
+SOLO_FEET = ["FL_FOOT", "FR_FOOT", "HL_FOOT", "HR_FOOT"]
+
+
+def _contacts(model: fd.Model) -> list[object]:
+    if model.name.startswith("talos"):
+        return [fd.FrameContact("left_sole_link", fd.LOCAL), fd.FrameContact("right_sole_link", fd.LOCAL_WORLD_ALIGNED)]
+    return [fd.PointContact(f, ref) for f, ref in zip(SOLO_FEET, (fd.LOCAL, fd.WORLD, fd.LOCAL_WORLD_ALIGNED,
+                                                                   fd.LOCAL), strict=True)]
+
+
+@pytest.mark.parametrize("robot", ROBOTS[1:], ids=[r[0] for r in ROBOTS[1:]])
+def test_constrained_and_impulse_dynamics(robot: tuple[str, bool]) -> None:
+    """The contact operations: the NumPy functions' values (constrained: the same kernel, bit for bit; impulse: its
+    derivative kernel's v⁺, 1e-12), vmap on the core's batch, check_grads order 1 (the contact derivative
+    kernels), and a second derivative refused."""
+    model = _robot(*robot)
+    st = _state(model, 10)
+    cs = _contacts(model)
+    q, v, tau = st["q"], st["v"], st["tau"]
+    r, ref = fj.constrained_dynamics(model, q, v, tau, cs), fd.constrained_dynamics(model, q, v, tau, cs)
+    np.testing.assert_array_equal(r.ddq, ref.ddq)
+    np.testing.assert_array_equal(r.lagrange, ref.lagrange)
+    for mine, theirs in zip(r.forces, ref.forces, strict=True):
+        np.testing.assert_array_equal(mine, theirs)
+    i, iref = fj.impulse_dynamics(model, q, v, cs, restitution=0.4), fd.impulse_dynamics(model, q, v, cs,
+                                                                                        restitution=0.4)
+    np.testing.assert_allclose(i.v_plus, iref.v_plus, rtol=1e-12, atol=1e-12)
+    np.testing.assert_allclose(i.lagrange, iref.lagrange, rtol=1e-10, atol=1e-10 * np.abs(iref.lagrange).max())
+    b = _state(model, 11, n=6)
+    ddq = jax.jit(jax.vmap(lambda q, v, t: fj.constrained_dynamics(model, q, v, t, cs).ddq))(b["q"], b["v"], b["tau"])
+    np.testing.assert_array_equal(ddq, fd.constrained_dynamics(model, b["q"], b["v"], b["tau"], cs).ddq)
+    check_grads(lambda q, v, t: fj.constrained_dynamics(model, fj.normalize(model, q), v, t, cs)[::2], (q, v, tau),
+                order=1, modes=("fwd", "rev"), eps=1e-5, atol=1e-5, rtol=1e-5)
+    check_grads(lambda q, v: fj.impulse_dynamics(model, fj.normalize(model, q), v, cs, restitution=0.4)[::2],
+                (q, v), order=1, modes=("fwd", "rev"), eps=1e-5, atol=1e-5, rtol=1e-5)
+    d = fd.constrained_dynamics_derivatives(model, q, v, tau, cs)
+    J = jax.jacfwd(lambda x: fj.constrained_dynamics(model, q, x[0], x[1], cs).ddq)(jnp.stack([v, tau]))
+    np.testing.assert_allclose(J[:, 0], d.ddq_dv, rtol=1e-12, atol=1e-12 * np.abs(d.ddq_dv).max())
+    np.testing.assert_allclose(J[:, 1], d.ddq_dtau, rtol=1e-12, atol=1e-12 * np.abs(d.ddq_dtau).max())
+    with pytest.raises(fd.FeatherdynError, match="not available"):
+        jax.hessian(lambda v: fj.constrained_dynamics(model, q, v, tau, cs).ddq.sum())(v)
+
+
+def test_contact_errors() -> None:
+    model = _robot("solo12", True)
+    st = _state(model, 12)
+    with pytest.raises(fd.FeatherdynError, match="point and frame contacts only"):
+        fj.constrained_dynamics(model, st["q"], st["v"], st["tau"], [fd.LoopConstraint("FL_FOOT", "FR_FOOT")])
+    with pytest.raises(fd.ModelError, match="nope"):
+        fj.constrained_dynamics(model, st["q"], st["v"], st["tau"], [fd.PointContact("nope")])
+    with pytest.raises(fd.ModelError, match="restitution"):
+        fj.impulse_dynamics(model, st["q"], st["v"], [fd.PointContact("FL_FOOT")], restitution=2.0)
+    with pytest.raises(fd.FeatherdynError, match="f_ext"):
+        jax.grad(lambda f: fj.constrained_dynamics(model, st["q"], st["v"], st["tau"], [fd.PointContact("FL_FOOT")],
+                                                   f).ddq.sum())(st["f_ext"])
 
 
 @pytest.mark.parametrize("robot", ROBOTS, ids=[r[0] for r in ROBOTS])

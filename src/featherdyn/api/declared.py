@@ -188,13 +188,14 @@ def xla_entry(model: Model, options: dict[str, Any]) -> int:
     return int(CORE.jax_entry(_view(model).cm, _declared.call_options(**options)))
 
 
-def operand_shapes(name: str, model: Model) -> tuple[list[tuple[int, ...]], list[tuple[int, ...]]]:
-    """The declared kernel ``name``'s input and output shapes for ``model`` (one state)."""
+def operand_shapes(name: str, model: Model, rows: int = 0) -> tuple[list[tuple[int, ...]], list[tuple[int, ...]]]:
+    """The declared kernel ``name``'s input and output shapes for ``model`` (one state; ``rows``: the constraint rows
+    ``m`` of a contact kernel)."""
     from ..core import _view
 
     spec, h = _declared.SPECS[name], _view(model)
-    return ([_declared.shape_of(h, shape) for _, shape, _ in spec.inputs],
-            [_declared.shape_of(h, shape) for _, shape, _ in spec.outputs])
+    return ([_declared.shape_of(h, shape, rows) for _, shape, _ in spec.inputs],
+            [_declared.shape_of(h, shape, rows) for _, shape, _ in spec.outputs])
 
 
 def _writable_as_is(arrays: tuple[np.ndarray, ...] | None) -> bool:
