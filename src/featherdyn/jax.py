@@ -12,16 +12,19 @@ an ``jax.ffi.ffi_call`` of the core's one handler (``core/cpp/bind_jax.cpp``) wi
 as a registered entry; no Python runs when the compiled computation runs. Under ``vmap`` the handler gets the
 batch and runs the core's batch path (``declare.hpp: run_rows``), as ``fd.<name>`` does on a batch.
 
-**Gradients** come from the declaration's ``derivative`` (``rnea`` → ``fd.rnea_derivatives``, ``aba`` →
-``fd.aba_derivatives``, ``generalized_gravity``, ``frame_velocity``, ``frame_acceleration``): a JVP rule
-``ẏ = Σ ∂y/∂x_i · ẋ_i`` (so ``jvp``, ``jacfwd`` and, by JAX's transposition, ``grad``, ``vjp``, ``jacrev``).
-A function without one raises :class:`featherdyn.errors.FeatherdynError` when differentiated, never a zero.
-``f_ext`` has no derivative (differentiating with respect to it raises).
+**Gradients** come from ``api/jacobians.py``: each function's Jacobians made of declared functions (the
+declaration's ``derivative``, or a rule there), computed by this module's operations, so a JVP rule
+``ẏ = Σ ∂y/∂x_i · ẋ_i`` (``jvp``, ``jacfwd`` and, by JAX's transposition, ``grad``, ``vjp``, ``jacrev``) that is
+itself differentiable where its Jacobians are (``jax.hessian`` of ``rnea``, ``aba``, …). A function without them
+raises :class:`featherdyn.errors.FeatherdynError` when differentiated, never a zero; so does ``f_ext``.
+``constrained_dynamics`` and ``impulse_dynamics`` (contacts) are the core's contact kernels, differentiated by the
+contact derivative kernels.
 
 **The configuration's tangent.** featherdyn's ``∂/∂q`` is along ``fd.integrate``'s tangent (``nv`` columns);
 JAX differentiates with respect to ``q``'s coordinates (``nq``). The JVP maps a coordinate direction ``q̇`` to
-the tangent ``δ = T(q) q̇`` (:func:`tangent_of_coordinates`: identity on revolute, prismatic and planar
-coordinates; ``ω = 2 vec(q̄ ⊗ q̇)`` on a quaternion, ``Rᵀ ṗ`` on a free-flyer's position), so ``jax.grad``
+the tangent ``δ = T(q) q̇`` (:func:`tangent_of_coordinates`: identity on revolute and prismatic coordinates;
+``ω = 2 vec(q̄ ⊗ q̇)/|q|²`` on a quaternion, ``Rᵀ ṗ`` on a free-flyer's position, ``[θ̇; Rz(θ)ᵀ (ẋ, ẏ)]`` on a
+planar joint), so ``jax.grad``
 with respect to ``q`` is ``T(q)ᵀ g`` — the gradient in coordinates, tangent to the unit quaternions. For the
 gradient on the manifold (``nv`` entries, what ``fd.rnea_derivatives`` gives) use :func:`tangent_grad`.
 
@@ -48,7 +51,8 @@ from .model import Model
 
 jax.config.update("jax_enable_x64", True)
 
-__all__ = ["tangent_of_coordinates", "coordinates_of_tangent", "normalize", "tangent_grad", *DECLARATIONS]
+__all__ = ["tangent_of_coordinates", "coordinates_of_tangent", "normalize", "tangent_grad", "constrained_dynamics",
+           "impulse_dynamics", "ConstrainedDynamics", "ImpulseDynamics", *DECLARATIONS]
 
 _HANDLER = xla_ffi()
 if _HANDLER is None:
