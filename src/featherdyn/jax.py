@@ -16,7 +16,8 @@ batch and runs the core's batch path (``declare.hpp: run_rows``), as ``fd.<name>
 declaration's ``derivative``, or a rule there), computed by this module's operations, so a JVP rule
 ``ẏ = Σ ∂y/∂x_i · ẋ_i`` (``jvp``, ``jacfwd`` and, by JAX's transposition, ``grad``, ``vjp``, ``jacrev``) that is
 itself differentiable where its Jacobians are (``jax.hessian`` of ``rnea``, ``aba``, …). A function without them
-raises :class:`featherdyn.errors.FeatherdynError` when differentiated, never a zero; so does ``f_ext``.
+raises :class:`featherdyn.errors.FeatherdynError` when differentiated, never a zero; ``f_ext`` differentiates in
+``rnea`` and ``aba`` (``∂τ/∂f_b = −J_bᵀ``) and raises elsewhere.
 ``constrained_dynamics`` and ``impulse_dynamics`` (contacts) are the core's contact kernels, differentiated by the
 contact derivative kernels.
 
@@ -199,9 +200,6 @@ def _op_jvp(name: str, key: int, present: int, primals: tuple[Any, ...], tangent
     given = [n for k, n in enumerate(decl.inputs) if (present >> k) & 1]
     moving = {n: t for n, t in zip(given, tangents, strict=True)
               if not isinstance(t, jax.custom_derivatives.SymbolicZero)}
-    if "f_ext" in moving:
-        raise FeatherdynError(f"featherdyn.jax.{name}: no derivative with respect to f_ext (the Jacobians cover the "
-                              "state inputs); hold f_ext constant (jax.lax.stop_gradient)")
     zeros = tuple(jnp.zeros_like(o) for o in out)
     if not moving:
         return out, zeros
@@ -210,7 +208,7 @@ def _op_jvp(name: str, key: int, present: int, primals: tuple[Any, ...], tangent
         raise FeatherdynError(f"featherdyn.jax.{name}: its derivatives are not available (docs/frameworks.md lists "
                               "the operations with first and second derivatives)")
     x = dict(zip(given, primals, strict=True))
-    table = _jac.jacobians(_FW, name, model, x, options)
+    table = _jac.jacobians(_FW, name, model, x, options, f_ext="f_ext" in moving)
     directions = {n: tangent_of_coordinates(model, x["q"], t) if n == "q" else t for n, t in moving.items()}
     t_out = []
     for o_name, zero in zip(decl.outputs, zeros, strict=True):
@@ -219,7 +217,8 @@ def _op_jvp(name: str, key: int, present: int, primals: tuple[Any, ...], tangent
         for n, d in directions.items():
             J = table.get(o_name, {}).get(n)
             if J is not None:
-                t = t + jnp.einsum(f"...{letters}k,...k->...{letters}", J, d)
+                ins = "yz" if n == "f_ext" else "z"  # (f_ext: (nb, 6) per state)
+                t = t + jnp.einsum(f"...{letters}{ins},...{ins}->...{letters}", J, d)
         t_out.append(t)
     return out, tuple(t_out)
 

@@ -151,6 +151,25 @@ def test_check_grads_first_order_on_every_operation_with_derivatives(robot: tupl
             check_grads(f, args, order=1, modes=("fwd", "rev"), eps=1e-5, atol=1e-5, rtol=1e-5)
 
 
+@pytest.mark.parametrize("robot", ROBOTS, ids=[r[0] for r in ROBOTS])
+def test_check_grads_with_respect_to_f_ext(robot: tuple[str, bool]) -> None:
+    """rnea and aba in f_ext too (∂τ/∂f_b = −J_bᵀ, ∂q̈/∂f_b = M⁻¹ J_bᵀ, body coordinates), with the state."""
+    model = _robot(*robot)
+    st = _state(model, 13)
+    args = (st["q"], st["v"], st["a"], st["f_ext"])
+    check_grads(lambda q, v, a, f: fj.rnea(model, fj.normalize(model, q), v, a, f), args, order=1,
+                modes=("fwd", "rev"), eps=1e-5, atol=1e-5, rtol=1e-5)
+    check_grads(lambda q, v, t, f: fj.aba(model, fj.normalize(model, q), v, t, f), args, order=1,
+                modes=("fwd", "rev"), eps=1e-5, atol=1e-5, rtol=1e-5)
+    # against the NumPy function: τ is affine in f_ext
+    w = np.random.default_rng(14).normal(size=model.nv)
+    g = jax.grad(lambda f: fj.rnea(model, st["q"], st["v"], st["a"], f) @ w)(st["f_ext"])
+    e = np.zeros_like(st["f_ext"])
+    e[-1, 4] = 1.0
+    dtau = fd.rnea(model, st["q"], st["v"], st["a"], f_ext=e) - fd.rnea(model, st["q"], st["v"], st["a"])
+    assert abs(g[-1, 4] - dtau @ w) <= 1e-10 * max(1.0, abs(dtau @ w))
+
+
 @pytest.mark.parametrize("name", [t.name for t in TREES])
 def test_check_grads_first_order_on_every_joint_kind(name: str) -> None:
     """The rules' assumptions per joint kind (a spherical, planar or free-flyer joint's columns moving with its own
@@ -273,6 +292,6 @@ def test_errors() -> None:
     with pytest.raises(fd.FeatherdynError, match="rnea_second_derivatives: its derivatives are not available"):
         jax.jacfwd(jax.jacfwd(lambda q: fj.crba(model, q)))(st["q"])  # a third derivative of τ
     with pytest.raises(fd.FeatherdynError, match="f_ext"):
-        jax.grad(lambda f: fj.rnea(model, st["q"], st["v"], st["a"], f).sum())(st["f_ext"])
+        jax.grad(lambda f: fj.static_torque_derivatives(model, st["q"], f).sum())(st["f_ext"])
     with pytest.raises(Exception, match=r"featherdyn\.rnea: row 0: non-finite value"):
         jax.block_until_ready(jax.jit(lambda q: fj.rnea(model, q, st["v"], st["a"]))(st["q"] * np.nan))

@@ -8,8 +8,8 @@ runs ``rnea_derivatives``' rule, which reads ``fd.rnea_second_derivatives``).
 :func:`jacobians` ``(fw, name, model, x, options)`` → ``{output: {input: J}}``, ``J`` `(..., *output, n)` with
 ``J[..., o, k] = ∂output_o/∂x_k``; ``n`` is ``nv`` for ``q`` (along ``fd.integrate``'s tangent, as the NumPy
 derivative functions) and the input's length otherwise. An input missing from an output's table does not enter
-it (its Jacobian is zero, as ``∂τ/∂q̈`` of ``nonlinear_effects``); ``f_ext`` has none here (the frameworks say
-what they do with it). A function with neither a rule nor a declared ``derivative`` raises
+it (its Jacobian is zero, as ``∂τ/∂q̈`` of ``nonlinear_effects``); ``f_ext``'s, of ``rnea`` and ``aba`` only, when
+asked for (``f_ext=True``). A function with neither a rule nor a declared ``derivative`` raises
 :class:`~featherdyn.errors.FeatherdynError` naming it: never a silent zero.
 
 * A declaration with ``derivative`` needs nothing here (its derivative's outputs, in order, are the Jacobians);
@@ -32,7 +32,7 @@ from ..frames import LOCAL, LOCAL_WORLD_ALIGNED
 from ..model import Model
 from .declarations import DECLARATIONS
 
-__all__ = ["Framework", "RULES", "jacobians", "has_jacobians", "tangent_of_coordinates", "coordinates_of_tangent",
+__all__ = ["Framework", "RULES", "F_EXT", "jacobians", "has_jacobians", "tangent_of_coordinates", "coordinates_of_tangent",
            "tangent_transpose", "coordinates_transpose"]
 
 
@@ -217,19 +217,38 @@ def _body_frames(model: Model) -> list[int]:
     return frames
 
 
+def _body_columns(fw: Framework, model: Model, q: Any, H: Any) -> Any:
+    """``ᵇS_k = [Rᵀω_k; Rᵀ(v_k + ω_k × p)]`` `(..., nb, 6, nv)`: each joint column in each body's coordinates
+    (``H = [R p]`` the body's placement, ``[ω_k; v_k]`` ``fd.joint_jacobians``' world column), all pairs."""
+    J = fw.call("joint_jacobians", model, {"q": q}, {})[0]
+    R, p = H[..., :3, :3], H[..., :3, 3]
+    w_b = fw.einsum("...bji,...jk->...bik", R, J[..., :3, :])
+    v_w = J[..., None, 3:, :] + fw.einsum("iac,...ak,...bc->...bik", fw.const(_EPS), J[..., :3, :], p)  # v + ω × p
+    return fw.concat([w_b, fw.einsum("...bji,...bjk->...bik", R, v_w)], -2)
+
+
+def _f_ext(fw: Framework, name: str, model: Model, x: dict[str, Any], table: Table) -> Any:
+    """``∂y/∂f_ext`` `(..., nv, nb, 6)` of ``rnea`` and ``aba``: ``f_ext`` enters as the generalized force
+    ``Σ_b J_bᵀ f_b`` (``J_b``: body ``b``'s Jacobian in its own coordinates, the columns of :func:`_body_columns`
+    on ``b``'s support), so ``∂τ/∂f_b = −J_bᵀ`` and ``∂q̈/∂f_b = M⁻¹ J_bᵀ`` (``M⁻¹ = ∂q̈/∂τ``)."""
+    H = fw.call("placements", model, {"q": x["q"]}, {})[0]
+    JbT = fw.einsum("...bsi,bi->...ibs", _body_columns(fw, model, x["q"], H), fw.const(_supports(model)[1]))
+    if name == "rnea":
+        return -JbT
+    return fw.einsum("...ij,...jbs->...ibs", table["qdd"]["tau"], JbT)
+
+
+#: the functions differentiated with respect to ``f_ext`` (:func:`_f_ext`)
+F_EXT = ("rnea", "aba")
+
+
 def _forward_kinematics(fw: Framework, model: Model, x: dict[str, Any], o: dict[str, Any]) -> Table:
     """``H``: :func:`_placements_dq`; ``Hp = ᵖM_b(q_b)``: ``∂Hp_b/∂q_k = Hp_b hat(ᵇS_k)`` for ``k`` of ``b``'s joint,
     ``ᵇS = [Rᵀω; Rᵀ(v + ω × p)]`` the column in the body's coordinates; ``vel``, ``acc``: each body frame's
     ``fd.frame_velocity_derivatives`` / ``fd.frame_acceleration_derivatives`` in ``LOCAL``."""
     q, v, a = x["q"], x.get("v"), x.get("a")
     H, Hp = fw.call("forward_kinematics", model, {"q": q, "v": v, "a": a}, {})[:2]
-    J = fw.call("joint_jacobians", model, {"q": q}, {})[0]
-    R, p = H[..., :3, :3], H[..., :3, 3]
-    eps = fw.const(_EPS)
-    w_b = fw.einsum("...bji,...jk->...bik", R, J[..., :3, :])
-    v_w = J[..., None, 3:, :] + fw.einsum("iac,...ak,...bc->...bik", eps, J[..., :3, :], p)  # v + ω × p
-    v_b = fw.einsum("...bji,...bjk->...bik", R, v_w)
-    S_b = fw.concat([w_b, v_b], -2)  # (..., nb, 6, nv)
+    S_b = _body_columns(fw, model, q, H)
     own = fw.const(_supports(model)[2])
     table: Table = {"H": {"q": _placements_dq(fw, model, q, H)},
                     "Hp": {"q": fw.einsum("...brc,cts,...bsk,bk->...brtk", Hp, fw.const(_HAT), S_b, own)}}
@@ -304,18 +323,27 @@ def has_jacobians(name: str) -> bool:
     return name in RULES or DECLARATIONS[name].derivative is not None
 
 
-def jacobians(fw: Framework, name: str, model: Model, x: dict[str, Any], options: dict[str, Any]) -> Table:
+def jacobians(fw: Framework, name: str, model: Model, x: dict[str, Any], options: dict[str, Any],
+              f_ext: bool = False) -> Table:
     """``{output: {input: J}}`` of ``fd.<name>`` at the inputs ``x`` (by name; ``None`` when absent), ``options``
-    by name as the public function takes them (module docstring)."""
+    by name as the public function takes them (module docstring); with ``f_ext``, ``∂y/∂f_ext`` `(..., *y, nb, 6)`
+    too (``rnea``, ``aba``: :data:`F_EXT`; others raise)."""
     rule = RULES.get(name)
-    if rule is not None:
-        return rule(fw, model, x, options)
     decl = DECLARATIONS[name]
-    if decl.derivative is None:
+    if rule is not None:
+        table = rule(fw, model, x, options)
+    elif decl.derivative is None:
         raise FeatherdynError(f"{name}: its derivatives are not available (a function's derivatives come from its "
                               "declaration's derivative or api/jacobians.py; docs/frameworks.md lists them)")
-    outs = _own(decl.derivative, fw, model, x, options)
-    return {decl.outputs[0]: dict(zip((n for n in decl.inputs if n != "f_ext"), outs, strict=False))}
+    else:
+        outs = _own(decl.derivative, fw, model, x, options)
+        table = {decl.outputs[0]: dict(zip((n for n in decl.inputs if n != "f_ext"), outs, strict=False))}
+    if f_ext:
+        if name not in F_EXT:
+            raise FeatherdynError(f"{name}: no derivative with respect to f_ext (rnea's and aba's only); hold f_ext "
+                                  "constant")
+        table[decl.outputs[0]]["f_ext"] = _f_ext(fw, name, model, x, table)
+    return table
 
 
 # --- the configuration's tangent --------------------------------------------------------------------------------
