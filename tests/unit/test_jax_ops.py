@@ -22,6 +22,13 @@ from featherdyn.api.declarations import DECLARATIONS  # noqa: E402
 from featherdyn.api.jacobians import has_jacobians  # noqa: E402
 
 ROBOTS = [("panda", False), ("solo12", True), ("talos_full_v2", True)]
+#: each robot the other way round (panda on a free-flyer, solo12 and talos fixed at the base)
+OTHER_BASE = [("panda", True), ("solo12", False), ("talos_full_v2", False)]
+BOTH = ROBOTS + OTHER_BASE
+
+
+def _id(robot: tuple[str, bool]) -> str:
+    return f"{robot[0]}-{'floating' if robot[1] else 'fixed'}"
 
 
 def _robot(name: str, floating: bool) -> fd.Model:
@@ -57,7 +64,7 @@ PLAIN = sorted(n for n, d in DECLARATIONS.items()
                             "center_of_mass_derivatives", "centroidal_dynamics_derivatives"))
 
 
-@pytest.mark.parametrize("robot", ROBOTS, ids=[r[0] for r in ROBOTS])
+@pytest.mark.parametrize("robot", BOTH, ids=_id)
 def test_every_operation_equals_the_numpy_function(robot: tuple[str, bool]) -> None:
     model = _robot(*robot)
     st = _state(model, 1)
@@ -135,7 +142,7 @@ FIRST = sorted(n for n in DECLARATIONS if has_jacobians(n))
 SECOND = ["rnea", "aba", "generalized_gravity", "nonlinear_effects", "kinetic_energy", "potential_energy"]
 
 
-@pytest.mark.parametrize("robot", ROBOTS, ids=[r[0] for r in ROBOTS])
+@pytest.mark.parametrize("robot", BOTH, ids=_id)
 def test_check_grads_first_order_on_every_operation_with_derivatives(robot: tuple[str, bool]) -> None:
     """jax.test_util.check_grads (finite differences, fwd and rev modes) on each operation with derivatives; the
     frame functions in each reference frame."""
