@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-#include "declarations.hpp"
+#include "declare.hpp"
 #include "entry_points.hpp"
 
 #if defined(FEATHERDYN_JAX_FFI)

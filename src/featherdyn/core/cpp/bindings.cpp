@@ -43,6 +43,12 @@
 namespace nb = nanobind;
 using namespace fdcore;
 
+// declare.hpp's list of every declared algorithm: the one translation unit that instantiates the kernels
+const std::vector<Kernel>& fdcore::declared_kernels() {
+  static const std::vector<Kernel> kernels = make_declared_kernels();
+  return kernels;
+}
+
 #if defined(FEATHERDYN_HAVE_AVX2)
 fdgroup::GroupKernels featherdyn_avx2_group_kernels();    // simd_avx2.cpp
 fdgroup::GroupKernels featherdyn_avx512_group_kernels();  // simd_avx512.cpp

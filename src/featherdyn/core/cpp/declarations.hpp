@@ -401,9 +401,10 @@ struct StaticTorqueDerivatives : Declared {
   }
 };
 
-// Every declared algorithm, made once (their addresses are kept by the binding's public calls).
-inline const std::vector<Kernel>& declared_kernels() {
-  static const std::vector<Kernel> kernels = {
+// Every declared algorithm's Kernel, in the binding's order: made once, by declared_kernels() (declare.hpp; defined
+// in bindings.cpp, the one translation unit that instantiates the kernels: the others only read the list).
+inline std::vector<Kernel> make_declared_kernels() {
+  return {
       declare<Rnea>(), declare<NonlinearEffects>(), declare<GeneralizedGravity>(), declare<Crba>(), declare<Aba>(), declare<FrameJacobian>(), declare<RneaDerivatives>(),
       declare<AbaDerivatives>(), declare<MassMatrixInverse>(), declare<JointTorqueRegressor>(),
       declare<FrameVelocityDerivatives>(), declare<FrameAccelerationDerivatives>(), declare<JointJacobians>(),
@@ -417,7 +418,6 @@ inline const std::vector<Kernel>& declared_kernels() {
       declare<KinematicsDerivatives>(), declare<PointKinematicsDerivatives>(), declare<CenterOfMassDerivatives>(),
       declare<CentroidalDynamicsDerivatives>(), declare<FrameVelocity>(), declare<FrameAcceleration>(),
       declare<FrameClassicalAcceleration>()};
-  return kernels;
 }
 
 }  // namespace fdcore

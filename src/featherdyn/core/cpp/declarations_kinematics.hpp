@@ -1,5 +1,5 @@
 // The declared motions of frames and the derivatives of kinematic quantities (declare.hpp; listed in
-// declarations.hpp's declared_kernels()): a frame's velocity and accelerations (frames.hpp), and their derivatives,
+// declarations.hpp's make_declared_kernels()): a frame's velocity and accelerations (frames.hpp), and their derivatives,
 // the centre of mass's, the centroidal momentum's and its rate's against the state (kinematics_derivatives.hpp).
 // Their public declarations: featherdyn/api/declarations.py.
 #pragma once

@@ -1,5 +1,5 @@
 // The declarations (declare.hpp) of the second-order derivatives (second_order.hpp): listed in
-// declarations.hpp's declared_kernels().
+// declarations.hpp's make_declared_kernels().
 #pragma once
 
 #include "declarations_constraints.hpp"  // (singular_at_rest)

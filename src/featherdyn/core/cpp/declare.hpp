@@ -311,6 +311,10 @@ inline PyObject* as_result(PyObject** outs, size_t no) {
   return t;
 }
 
+// Every declared algorithm (declarations.hpp's list), made once; their addresses are kept by the binding's public
+// calls. Defined in bindings.cpp, so that the kernels are instantiated in one translation unit.
+const std::vector<Kernel>& declared_kernels();
+
 // N rows of a batch from raw memory (checked by the caller: shapes, overlaps): input i's rows rows_in[i] (p nullptr
 // where absent; stride 0: one row broadcast), output o's rows at op[o] (nullptr where not formed), n_out[o] doubles
 // each. In groups of the SIMD width where the declaration has a group kernel (the rows' roles q, v, a or τ, f_ext by
