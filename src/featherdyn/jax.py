@@ -296,14 +296,14 @@ class ImpulseDynamics(NamedTuple):
 def _contact_key(model: Model, constraints: Any, options: dict[str, Any], caller: str) -> tuple[int, Any]:
     """The handler's key of the contact set's plan (cached on the model, as ``fd.constrained_dynamics`` caches it) and
     the solver's options; the plan."""
-    from .api.constraints import _core_plan
+    from .api.constraints import core_contact_plan
     from .constraints import as_constraints, cached_contact_plan
     from .tolerances import DELASSUS_PIVOT_RTOL
 
     if not isinstance(model, Model):
         raise ShapeError(f"model: expected a featherdyn Model, got {type(model).__name__}")
     as_constraints(constraints)  # (its errors: not constraints, unknown frames)
-    found = cached_contact_plan(model, constraints, _core_plan)
+    found = cached_contact_plan(model, constraints, core_contact_plan)
     if found is None or found[1] is None:
         raise FeatherdynError(f"featherdyn.jax.{caller}: point and frame contacts only (fd.PointContact, "
                               "fd.FrameContact); a loop closure runs in the NumPy function")

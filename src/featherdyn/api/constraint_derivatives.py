@@ -33,7 +33,7 @@ from ..spatial.ops import skew_unchecked
 from ..tolerances import DELASSUS_PIVOT_RTOL
 from ._backend import OK, core_path
 from ._checks import check_state
-from .constraints import _core_plan, _solver, constrained_dynamics, impulse_dynamics
+from .constraints import _solver, constrained_dynamics, core_contact_plan, impulse_dynamics
 from .declarations import (
     crba,
     frame_acceleration,
@@ -282,7 +282,7 @@ def constrained_dynamics_derivatives(model: Model, q: ArrayLike, v: ArrayLike, t
     Raises:
         ConstraintError: dependent constraints with ``mu = 0`` (as :func:`constrained_dynamics`).
     """
-    found = cached_contact_plan(model, constraints, _core_plan)
+    found = cached_contact_plan(model, constraints, core_contact_plan)
     if found is not None and found[1] is not None:  # point and frame contacts: contact_derivatives.hpp
         try:
             opts = _solver(found[1], mu, max_iter, tol)
@@ -329,7 +329,7 @@ def impulse_dynamics_derivatives(model: Model, q: ArrayLike, v: ArrayLike,
     Raises:
         ConstraintError: dependent constraints with ``mu = 0``; ModelError: restitution outside [0, 1].
     """
-    found = cached_contact_plan(model, constraints, _core_plan)
+    found = cached_contact_plan(model, constraints, core_contact_plan)
     if found is not None and found[1] is not None and isinstance(restitution, (int, float)) \
             and 0.0 <= restitution <= 1.0:  # point and frame contacts: contact_derivatives.hpp
         opts = _declared.call_options(plan=found[1][0], restitution=float(restitution), singular_tol=DELASSUS_PIVOT_RTOL)

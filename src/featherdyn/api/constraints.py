@@ -125,7 +125,7 @@ def _solve(model: Model, q: np.ndarray, v: np.ndarray, tau: np.ndarray, J: np.nd
 _DEFAULT_SOLVER = (0.0, 50, 1e-12)  # (mu, max_iter, tol) as the public functions default them
 
 
-def _core_plan(model: Model, plan: ContactPlan) -> tuple[Any, Any] | None:
+def core_contact_plan(model: Model, plan: ContactPlan) -> tuple[Any, Any] | None:
     """The core's ``ContactPlan`` of ``plan`` (its specs checked once, so that a one-state call converts no array)
     and the ``Options`` of a solve with it at the default settings (made once too), or ``None`` when the core
     cannot take the model."""
@@ -213,7 +213,7 @@ def constrained_dynamics(model: Model, q: ArrayLike, v: ArrayLike, tau: ArrayLik
     """
     core = core_path(model, backend)
     if core is not None:
-        found = cached_contact_plan(model, constraints, _core_plan)
+        found = cached_contact_plan(model, constraints, core_contact_plan)
         if found is not None and found[1] is not None:
             plan = found[0]
             try:  # one state as the kernel takes it; rows (N, nq) on its batch (its groups of states on SIMD packs)
@@ -235,7 +235,7 @@ def constrained_dynamics(model: Model, q: ArrayLike, v: ArrayLike, tau: ArrayLik
     items = _con.as_constraints(constraints)
     st = check_state(model, q, v=v, tau=tau)
     qd = st.arrays["v"]
-    found = cached_contact_plan(model, constraints, _core_plan)
+    found = cached_contact_plan(model, constraints, core_contact_plan)
     if found is not None and select_backend(backend, st.dtype) == "compiled":
         ddq, lam, its, res = _compiled.contact_dynamics(model, st.q, qd, st.arrays["tau"], found[0].specs, f_ext,
                                                         mu=mu, max_iter=max_iter, tol=tol)
@@ -293,7 +293,7 @@ def operational_space_inertia(model: Model, q: ArrayLike, frames: Sequence[str |
         J M⁻¹ Jᵀ from M's tree-sparse factor (M is never inverted); μ > 0 regularises a singular J
     """
     core = core_path(model, backend)
-    found = None if core is None else cached_frames_plan(model, frames, reference, _core_plan)
+    found = None if core is None else cached_frames_plan(model, frames, reference, core_contact_plan)
     if core is not None and found is not None and found[1] is not None:
         try:  # one state as the kernel takes it; rows (N, nq) on its batch (its groups of states on SIMD packs)
             opts = _solver(found[1], mu)
