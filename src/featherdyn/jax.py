@@ -209,22 +209,24 @@ def _op_jvp(name: str, key: int, present: int, primals: tuple[Any, ...], tangent
                               "the operations with first and second derivatives)")
     x = dict(zip(given, primals, strict=True))
     table = _jac.jacobians(_FW, name, model, x, options, f_ext="f_ext" in moving)
-    directions = {n: tangent_of_coordinates(model, x["q"], t) if n == "q" else t for n, t in moving.items()}
+    spec = SPECS[name]
+    configuration = {n for n, shape, _ in (*spec.inputs, *spec.outputs) if shape == ("nq",)}  # (q, q0, q1, q')
+    directions = {n: tangent_of_coordinates(model, x[n], t) if n in configuration else t for n, t in moving.items()}
     t_out = []
-    for o_name, zero in zip(decl.outputs, zeros, strict=True):
-        t = zero
-        letters = "abcdefgh"[:len(_output_shape(name, model, o_name))]
+    for o_name, o, zero, (_, shape, _) in zip(decl.outputs, out, zeros, spec.outputs, strict=True):
+        t = None
+        letters = "abcdefgh"[:len(shape)]
         for n, d in directions.items():
             J = table.get(o_name, {}).get(n)
             if J is not None:
                 ins = "yz" if n == "f_ext" else "z"  # (f_ext: (nb, 6) per state)
-                t = t + jnp.einsum(f"...{letters}{ins},...{ins}->...{letters}", J, d)
-        t_out.append(t)
+                term = jnp.einsum(f"...{letters}{ins},...{ins}->...{letters}", J, d)
+                t = term if t is None else t + term
+        if t is None:
+            t_out.append(zero)
+        else:  # (a configuration's Jacobians are along its tangent: its coordinates move by E(q') δ')
+            t_out.append(coordinates_of_tangent(model, o, t) if o_name in configuration else t + zero)
     return out, tuple(t_out)
-
-
-def _output_shape(name: str, model: Model, output: str) -> tuple[int, ...]:
-    return operand_shapes(name, model)[1][DECLARATIONS[name].outputs.index(output)]
 
 
 _op.defjvp(_op_jvp, symbolic_zeros=True)
