@@ -1,6 +1,53 @@
 """featherdyn's declared functions as PyTorch operators, with analytical gradients (docs/frameworks.md).
 
-DOCSTRING-PLACEHOLDER
+``import featherdyn.torch as ft``: ``ft.<name>(model, q, ...)`` takes and returns tensors, with the names,
+arguments and results of ``fd.<name>``. Everything here is made from the declarations
+(``api/declarations.py``, docs/architecture.md "The glue") and the Jacobians of ``api/jacobians.py`` (shared
+with ``featherdyn.jax``); nothing is written per algorithm but ``_F_EXT`` (two lines, below):
+
+* **Operators.** Each declared function is a ``torch.library.custom_op`` ``featherdyn::<name>`` (no mutation):
+  ``(int model, Tensor q, ..., Tensor? f_ext, <options>) -> Tensor or (Tensor, ...)``. The model is not a
+  tensor: ``model`` is its key in this module's registry (:func:`model_key`; a model once registered stays
+  registered for the life of the process). Options are arguments: ``gravity`` a bool, ``frame`` an index
+  (names are resolved by the wrapper, ``Model.resolve_frame``), ``reference`` a code (``ReferenceFrame.code``).
+  The operator calls the declared call of ``fd.<name>`` (``api.declared.call``: the same checks, errors and
+  core) on the tensors' NumPy views; its fake implementation gives the shapes the core declares
+  (``core.declared.SPECS``), so ``torch.compile(fullgraph=True)`` traces it without a graph break, and a vmap
+  rule (one call on the mapped batch).
+* **Functions.** ``ft.<name>`` calls the operator through a ``torch.autograd.Function`` made per declaration
+  (:data:`FUNCTIONS`) with ``setup_context``, a backward, a forward-mode ``jvp`` and ``generate_vmap_rule``:
+  what ``torch.func`` (grad, jacrev, jacfwd, vmap, hessian) needs, which PyTorch's custom operators alone do
+  not give (their autograd has no ``setup_context`` for functorch). Under ``torch.compile`` the Function is a
+  node of the graph (``torch.compiler.allow_in_graph``: Dynamo does not trace a Function with a ``jvp``), run by
+  AOTAutograd on fake tensors. The operators keep the same backward (``register_autograd``):
+  ``torch.ops.featherdyn.<name>`` alone differentiates under ``torch.autograd``.
+* **Gradients** (api/jacobians.py: ``jacobians(fw, name, model, x, options)`` → ``{output: {input: J}}``, for
+  every function with ``has_jacobians``). Backward: ``x̄ = Σ_o ȳ_o · J[o][x]`` (the output dimensions
+  contracted), ``q``'s through ``T(q)ᵀ`` (``tangent_transpose``: the Jacobians in ``q`` are along
+  ``fd.integrate``'s tangent, ``nv`` columns; featherdyn normalises the quaternions, so their radial direction
+  has derivative zero), summed to the input's broadcast shape. Forward mode: ``ẏ_o = Σ_x J[o][x] · ẋ``, ``q̇``
+  through ``T(q)``. The Jacobians are computed by calling the Functions themselves (the framework adapter
+  ``_Torch``), so they have their own backward and ``jvp``: the double backward, ``jacfwd(jacrev)`` and
+  ``hessian`` come from differentiating them (``rnea``'s through ``rnea_derivatives``, whose Jacobians are
+  ``rnea_second_derivatives``'). An operator without Jacobians, or a derivative order that does not exist (the
+  second-derivative functions' own), raises :class:`~featherdyn.FeatherdynError` naming it: never a silent
+  zero. :func:`tangent_grad` turns a coordinate gradient into the tangent gradient (``E(q)ᵀ g``),
+  :func:`tangent_to_coordinates` the other way (``T(q)ᵀ g``); :func:`normalize` divides the quaternions by
+  their norms (differentiable: what finite differences in coordinates call first).
+* **f_ext** (``_F_EXT``): it enters ``rnea`` and ``aba`` as the generalized force ``Σ_b J_bᵀ f_b``; its
+  gradient is ``J_b w`` (``fd.forward_kinematics(q, w).vel``), its tangent ``−RNEA(q, 0, 0, ḟ)``. First order
+  only: a second derivative involving ``f_ext`` raises (with ``f_ext`` requiring grad, the double backward of
+  ``rnea``/``aba`` raises even for ``q``: detach it).
+* **Dtypes.** float64 CPU tensors go to NumPy without a copy (``Tensor.numpy()``); float32 tensors are
+  converted to float64, computed by the core, and the results returned as float32 (where ``fd.<name>`` on
+  float32 arrays uses the float32 reference). Results are float64 otherwise; other dtypes are handed to
+  ``fd`` as NumPy arrays, which raises its own errors (``DTypeError`` for complex). The Jacobians of float32
+  inputs are computed in float64 too; gradients and tangents are rounded once to the input's (output's) dtype.
+* **Results.** One output: a tensor. Several: the NamedTuple ``fd.<name>`` returns when it is one
+  (``RneaSecondDerivatives`` & co.), else a NamedTuple named by the declaration's outputs (records such as
+  ``fd.forward_kinematics``'s ``Kinematics`` or ``fd.frame_placement``'s ``PluckerTransform`` become their
+  arrays: ``ft.forward_kinematics(...)`` is ``(H, Hp, vel, acc)``); an output formed only with an absent
+  optional input (``vel`` without ``v``) is ``None`` (an empty tensor from the operator itself).
 """
 
 from __future__ import annotations
@@ -182,8 +229,6 @@ def _vmap_rule(op: Any, tails: Callable[[Model, int], dict[int, tuple[int, ...]]
     return rule
 
 
-
-
 # ------------------------------------------------------------------------- api/jacobians.py in PyTorch
 
 class _Torch:
@@ -191,7 +236,6 @@ class _Torch:
     their ``autograd.Function`` (:data:`FUNCTIONS`: a Jacobian is differentiable again, by ``torch.autograd``
     and ``torch.func`` alike), new arrays of one dtype and device."""
 
-    einsum = staticmethod(torch.einsum)
     cos = staticmethod(torch.cos)
     sin = staticmethod(torch.sin)
 
@@ -204,6 +248,13 @@ class _Torch:
                   else options.get(k, OPTIONS[k]) for k in decl.options]
         r = _apply(name, model_key(model), *(inputs.get(n) for n in decl.inputs), *values)
         return tuple(r) if isinstance(r, tuple) else (r,)
+
+    @staticmethod
+    def einsum(spec: str, *xs: torch.Tensor) -> torch.Tensor:
+        """``torch.einsum`` without opt_einsum's search of a contraction order: on these small operands the
+        search (~0.2 ms a call) costs more than the contraction."""
+        with torch.backends.opt_einsum.flags(enabled=False):
+            return torch.einsum(spec, *xs)
 
     def const(self, a: np.ndarray) -> torch.Tensor:
         return torch.as_tensor(a, dtype=self.dtype, device=self.device)
@@ -363,6 +414,7 @@ def _vjp(name: str, key: int, option_values: Sequence[Any], ins: Sequence[torch.
     if "f_ext" in wanted and decl.name not in _F_EXT:
         raise _no_derivative(f"the derivative of {decl.name} with respect to f_ext")
     model, fw, x, table = _jacobians(decl, key, option_values, ins)
+    q = cast(torch.Tensor, x["q"])
     tangent: dict[str, torch.Tensor] = {}
     for n in decl.inputs:
         if n == "f_ext" or x[n] is None:
@@ -384,11 +436,11 @@ def _vjp(name: str, key: int, option_values: Sequence[Any], ins: Sequence[torch.
             ybar = ybars[0]
             assert ybar is not None
             w = _F_EXT[decl.name](ybar.to(fw.dtype), tangent)
-            g = _apply("forward_kinematics", key, x["q"], w, None)[2]
+            g = _apply("forward_kinematics", key, q, w, None)[2]
         elif n not in tangent:  # the input enters none of the outputs whose cotangent came
             g = torch.zeros_like(t)
         elif n == "q":
-            g = _jac.tangent_transpose(fw, model, x["q"], tangent["q"])
+            g = _jac.tangent_transpose(fw, model, q, tangent["q"])
         else:
             g = tangent[n]
         out.append(_sum_to(g, t.shape).to(t.dtype))
@@ -410,15 +462,16 @@ def _jvp(name: str, key: int, option_values: Sequence[Any], ins: Sequence[torch.
     if "f_ext" in moving and decl.name not in _F_EXT:
         raise _no_derivative(f"the derivative of {decl.name} with respect to f_ext")
     _, fw, x, table = _jacobians(decl, key, option_values, ins)
+    q = cast(torch.Tensor, x["q"])
     directions = {n: d.to(fw.dtype) for n, d in moving.items() if n != "f_ext"}
     if "q" in directions:
-        directions["q"] = _jac.tangent_of_coordinates(fw, model, x["q"], directions["q"])
+        directions["q"] = _jac.tangent_of_coordinates(fw, model, q, directions["q"])
     out = []
     for o, shape in zip(decl.outputs, shapes, strict=True):
         terms = [_times_column(J, directions[n], _out_dims(decl, o))
                  for n, J in table.get(o, {}).items() if n in directions]
         if o == decl.outputs[0] and "f_ext" in moving:
-            u = _f_ext_force(key, x["q"], moving["f_ext"])
+            u = _f_ext_force(key, q, moving["f_ext"])
             terms.append(-u if decl.name == "rnea" else _times_column(table[o]["tau"], u, 1))
         if not terms or shape == (0,):  # (an output that no moving input enters; an absent output)
             out.append(ref.new_zeros(shape, dtype=dtype))
@@ -427,19 +480,8 @@ def _jvp(name: str, key: int, option_values: Sequence[Any], ins: Sequence[torch.
     return tuple(out)
 
 
-def _register_gradient(decl: Declaration, op: Any) -> None:
-    """The operator's own backward (``torch.ops.featherdyn.<name>`` under ``torch.autograd``): :func:`_vjp`."""
-    n = len(decl.inputs)
-
-    def setup(ctx: Any, inputs: tuple[Any, ...], output: Any) -> None:
-        ctx.key, ctx.options = inputs[0], inputs[1 + n:]
-        ctx.save_for_backward(*inputs[1: 1 + n])
-
-    def backward(ctx: Any, *ybars: Any) -> Any:
-        grads = _vjp(decl.name, ctx.key, ctx.options, ctx.saved_tensors, ybars, ctx.needs_input_grad[1: 1 + n])
-        return (None, *grads, *(None for _ in decl.options))
-
-    op.register_autograd(backward, setup_context=setup)
+_FORWARD_SIGNATURE = inspect.Signature([inspect.Parameter("key", inspect.Parameter.POSITIONAL_ONLY),
+                                        inspect.Parameter("args", inspect.Parameter.VAR_POSITIONAL)])
 
 
 def _function(decl: Declaration) -> type[torch.autograd.Function]:
@@ -451,6 +493,9 @@ def _function(decl: Declaration) -> type[torch.autograd.Function]:
 
     def forward(key: int, *args: Any) -> Any:
         return getattr(torch.ops.featherdyn, name)(key, *args)
+
+    # (Function.apply binds the arguments to forward's signature at every call: given, it is not re-read)
+    forward.__signature__ = _FORWARD_SIGNATURE  # type: ignore[attr-defined]
 
     def setup_context(ctx: Any, inputs: tuple[Any, ...], output: Any) -> None:
         ctx.key, ctx.options = inputs[0], inputs[1 + n:]
@@ -556,8 +601,10 @@ for _decl in DECLARATIONS.values():
     if not _is_state_function(_decl):
         continue
     OPERATORS[_decl.name] = _make_operator(_decl)
-    _register_gradient(_decl, OPERATORS[_decl.name])
     FUNCTIONS[_decl.name] = _function(_decl)
+    # the operator's own backward (torch.ops.featherdyn.<name> under torch.autograd alone): the same
+    OPERATORS[_decl.name].register_autograd(FUNCTIONS[_decl.name].backward,
+                                            setup_context=FUNCTIONS[_decl.name].setup_context)
     globals()[_decl.name] = _front(_decl)
     __all__.append(_decl.name)
 del _decl
