@@ -327,6 +327,19 @@ def test_gradgradcheck_where_second_derivatives_exist(robot: str) -> None:
         assert torch.autograd.gradgradcheck(f, args, atol=atol, fast_mode=fast), name
 
 
+@pytest.mark.parametrize("robot", ["panda", "solo12"])
+def test_gradgradcheck_of_the_kinematics(robot: str) -> None:
+    """Second order of the placements: their Jacobians are made of joint_jacobians, placements, frame_placement
+    and frame_jacobian, which have their own (forward_kinematics: H and Hp, v and a held)."""
+    model = MODELS[robot]()
+    st = _state(model, 17, grad=True)
+    for name in ("joint_jacobians", "placements", "frame_placement"):
+        f, args = _call(model, name, st)
+        assert torch.autograd.gradgradcheck(f, args, fast_mode=True), name
+    f, (q, v, a) = _call(model, "forward_kinematics", st)
+    assert torch.autograd.gradgradcheck(lambda q: f(q, v.detach(), a.detach())[:2], (q,), fast_mode=True)
+
+
 def test_mixed_tree_first_and_second_order() -> None:
     """Every joint kind whose q is not its tangent (free-flyer, spherical, planar): rnea and aba."""
     model = MODELS["mixed_tree"]()
