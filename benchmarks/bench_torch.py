@@ -8,8 +8,11 @@ operator on a batch, ≤ 1.5 for a gradient), on panda (fixed base), solo12 and 
   result's tensor, without a copy);
 * ``ft.rnea`` / ``fd.rnea`` on one state (the dispatcher's fixed cost);
 * a gradient through ``ft.aba`` on NGRAD states (default 1 000): ``torch.autograd.grad(ft.aba(q, v, τ),
-  (q, v, τ), ȳ)`` (the forward, ``fd.aba_derivatives`` inside the backward, the products with ``ȳ`` and the
-  tangent's map to ``q``'s coordinates) / ``fd.aba_derivatives(model, q, v, τ)`` (the Jacobians alone).
+  (q, v, τ), ȳ)`` (the forward, ``fd.aba_derivatives`` inside the backward — api/jacobians.py, through the
+  operator's ``autograd.Function`` —, the products with ``ȳ`` and the tangent's map ``T(q)ᵀ`` to ``q``'s
+  coordinates) / ``fd.aba_derivatives(model, q, v, τ)`` (the Jacobians alone); the same for ``ft.rnea`` /
+  ``fd.rnea_derivatives``, on NGRAD states and on one;
+* ``torch.func.grad`` of ``w · ft.rnea`` in ``v`` on one state / ``fd.rnea_derivatives`` on one state.
 """
 
 from __future__ import annotations
@@ -47,6 +50,17 @@ def robot_rows(name: str, floating: bool, n: int, n_grad: int) -> list[tuple[str
     t, f = median_pair(lambda: torch.autograd.grad(ft.aba(model, qg, vg, tg), (qg, vg, tg), ybar),
                        lambda: fd.aba_derivatives(model, qn, vn, taun), 5, 0.5)
     rows.append((f"grad aba / aba_derivatives, {n_grad}", t, f))
+    t, f = median_pair(lambda: torch.autograd.grad(ft.rnea(model, qg, vg, tg), (qg, vg, tg), ybar),
+                       lambda: fd.rnea_derivatives(model, qn, vn, taun), 5, 0.5)
+    rows.append((f"grad rnea / rnea_derivatives, {n_grad}", t, f))
+    q1, v1, a1 = (x[0].detach().clone().requires_grad_() for x in (qg, vg, tg))
+    t, f = median_pair(lambda: torch.autograd.grad(ft.rnea(model, q1, v1, a1), (q1, v1, a1), ybar[0]),
+                       lambda: fd.rnea_derivatives(model, qn[0], vn[0], taun[0]), 5, 0.3)
+    rows.append(("grad rnea / rnea_derivatives, one", t, f))
+    w = ybar[0]
+    grad_v = torch.func.grad(lambda v: ft.rnea(model, q1.detach(), v, a1.detach()) @ w)
+    t, f = median_pair(lambda: grad_v(v1.detach()), lambda: fd.rnea_derivatives(model, qn[0], vn[0], taun[0]), 5, 0.3)
+    rows.append(("torch.func.grad rnea (v), one", t, f))
     return rows
 
 
@@ -55,11 +69,11 @@ def main(argv: list[str]) -> int:
     n_grad = int(argv[2]) if len(argv) > 2 else 1_000
     torch.set_num_threads(1)
     print(f"torch {torch.__version__}, featherdyn threads {fd.get_num_threads()}, N = {n}, NGRAD = {n_grad}")
-    print(f"{'robot':<15}{'call':<34}{'torch':>12}{'numpy':>12}{'ratio':>8}")
+    print(f"{'robot':<15}{'call':<38}{'torch':>12}{'numpy':>12}{'ratio':>8}")
     for name, floating in ROBOTS:
         for label, t, f in robot_rows(name, floating, n, n_grad):
             scale, unit = (1e3, "ms") if t > 1e-3 else (1e6, "µs")
-            print(f"{name:<15}{label:<34}{t * scale:>9.3f} {unit}{f * scale:>9.3f} {unit}{t / f:>8.2f}")
+            print(f"{name:<15}{label:<38}{t * scale:>9.3f} {unit}{f * scale:>9.3f} {unit}{t / f:>8.2f}")
     return 0
 
 

@@ -1,9 +1,9 @@
-"""featherdyn's declared functions as PyTorch custom operators, with analytical gradients (docs/frameworks.md).
+"""featherdyn's declared functions as PyTorch operators, with analytical gradients (docs/frameworks.md).
 
 ``import featherdyn.torch as ft``: ``ft.<name>(model, q, ...)`` takes and returns tensors, with the names,
 arguments and results of ``fd.<name>``. Everything here is made from the declarations
-(``api/declarations.py``, docs/architecture.md "The glue"); nothing is written per algorithm but the three
-small tables at the end of this docstring:
+(``api/declarations.py``, docs/architecture.md "The glue") and the Jacobians of ``api/jacobians.py`` (shared
+with ``featherdyn.jax``); nothing is written per algorithm but ``_F_EXT`` (two lines, below):
 
 * **Operators.** Each declared function is a ``torch.library.custom_op`` ``featherdyn::<name>`` (no mutation):
   ``(int model, Tensor q, ..., Tensor? f_ext, <options>) -> Tensor or (Tensor, ...)``. The model is not a
@@ -13,32 +13,41 @@ small tables at the end of this docstring:
   The operator calls the declared call of ``fd.<name>`` (``api.declared.call``: the same checks, errors and
   core) on the tensors' NumPy views; its fake implementation gives the shapes the core declares
   (``core.declared.SPECS``), so ``torch.compile(fullgraph=True)`` traces it without a graph break, and a vmap
-  rule (one call on the mapped batch). ``torch.func.grad`` does not reach the backward of PyTorch's custom
-  operators (docs/frameworks.md); ``torch.autograd`` does.
+  rule (one call on the mapped batch).
+* **Functions.** ``ft.<name>`` calls the operator through a ``torch.autograd.Function`` made per declaration
+  (:data:`FUNCTIONS`) with ``setup_context``, a backward, a forward-mode ``jvp`` and ``generate_vmap_rule``:
+  what ``torch.func`` (grad, jacrev, jacfwd, vmap, hessian) needs, which PyTorch's custom operators alone do
+  not give (their autograd has no ``setup_context`` for functorch). Under ``torch.compile`` the Function is a
+  node of the graph (``torch.compiler.allow_in_graph``: Dynamo does not trace a Function with a ``jvp``), run by
+  AOTAutograd on fake tensors. The operators keep the same backward (``register_autograd``):
+  ``torch.ops.featherdyn.<name>`` alone differentiates under ``torch.autograd``.
+* **Gradients** (api/jacobians.py: ``jacobians(fw, name, model, x, options)`` → ``{output: {input: J}}``, for
+  every function with ``has_jacobians``). Backward: ``x̄ = Σ_o ȳ_o · J[o][x]`` (the output dimensions
+  contracted), ``q``'s through ``T(q)ᵀ`` (``tangent_transpose``: the Jacobians in ``q`` are along
+  ``fd.integrate``'s tangent, ``nv`` columns; featherdyn normalises the quaternions, so their radial direction
+  has derivative zero), summed to the input's broadcast shape. Forward mode: ``ẏ_o = Σ_x J[o][x] · ẋ``, ``q̇``
+  through ``T(q)``. The Jacobians are computed by calling the Functions themselves (the framework adapter
+  ``_Torch``), so they have their own backward and ``jvp``: the double backward, ``jacfwd(jacrev)`` and
+  ``hessian`` come from differentiating them (``rnea``'s through ``rnea_derivatives``, whose Jacobians are
+  ``rnea_second_derivatives``'). An operator without Jacobians, or a derivative order that does not exist (the
+  second-derivative functions' own), raises :class:`~featherdyn.FeatherdynError` naming it: never a silent
+  zero. :func:`tangent_grad` turns a coordinate gradient into the tangent gradient (``E(q)ᵀ g``),
+  :func:`tangent_to_coordinates` the other way (``T(q)ᵀ g``); :func:`normalize` divides the quaternions by
+  their norms (differentiable: what finite differences in coordinates call first).
+* **f_ext** (``_F_EXT``): it enters ``rnea`` and ``aba`` as the generalized force ``Σ_b J_bᵀ f_b``; its
+  gradient is ``J_b w`` (``fd.forward_kinematics(q, w).vel``), its tangent ``−RNEA(q, 0, 0, ḟ)``. First order
+  only: a second derivative involving ``f_ext`` raises (with ``f_ext`` requiring grad, the double backward of
+  ``rnea``/``aba`` raises even for ``q``: detach it).
 * **Dtypes.** float64 CPU tensors go to NumPy without a copy (``Tensor.numpy()``); float32 tensors are
   converted to float64, computed by the core, and the results returned as float32 (where ``fd.<name>`` on
   float32 arrays uses the float32 reference). Results are float64 otherwise; other dtypes are handed to
-  ``fd`` as NumPy arrays, which raises its own errors (``DTypeError`` for complex).
+  ``fd`` as NumPy arrays, which raises its own errors (``DTypeError`` for complex). The Jacobians of float32
+  inputs are computed in float64 too; gradients and tangents are rounded once to the input's (output's) dtype.
 * **Results.** One output: a tensor. Several: the NamedTuple ``fd.<name>`` returns when it is one
   (``RneaSecondDerivatives`` & co.), else a NamedTuple named by the declaration's outputs (records such as
   ``fd.forward_kinematics``'s ``Kinematics`` or ``fd.frame_placement``'s ``PluckerTransform`` become their
   arrays: ``ft.forward_kinematics(...)`` is ``(H, Hp, vel, acc)``); an output formed only with an absent
   optional input (``vel`` without ``v``) is ``None`` (an empty tensor from the operator itself).
-* **Gradients.** An operator whose declaration names a ``derivative`` has a backward: the vector-Jacobian
-  product of the derivative's outputs (operator ``featherdyn::<name>_vjp``, itself traced). The derivative
-  with respect to ``q`` is along ``fd.integrate``'s tangent (``nv``); the backward maps it to ``q``'s
-  coordinates with ``∂δ/∂q`` of the joints (:func:`tangent_to_coordinates`: unit quaternions are normalised by
-  featherdyn, so the radial direction has derivative zero), which is what ``torch.autograd.gradcheck`` in
-  coordinates measures. :func:`tangent_grad` turns any coordinate gradient back into the tangent gradient.
-  Every other operator has a backward that raises :class:`~featherdyn.FeatherdynError` naming what is missing
-  (never a silent zero).
-
-The tables (hand-written, each a few lines): ``_EXTRA_JACOBIANS`` (``crba``: ``∂M/∂q`` is
-``fd.rnea_second_derivatives(q, 0, 0).dM_dq``, which the declaration's ``derivative`` field — one output per
-state input, of the same declared function — cannot state), ``_F_EXT`` (the generalized force of ``f_ext``
-in ``rnea`` and ``aba``: its gradient is a body velocity, ``∂τ/∂f_b = −J_bᵀ``), and ``_SECOND`` (which
-output of ``fd.rnea_second_derivatives`` / ``fd.aba_second_derivatives`` is which pair of inputs: the double
-backward of ``rnea`` and ``aba``).
 """
 
 from __future__ import annotations
@@ -53,14 +62,17 @@ from typing import Any, cast
 import numpy as np
 import torch
 
+from .api import jacobians as _jac
 from .api.declarations import DECLARATIONS
 from .api.declared import OPTIONS, REFERENCES, Declaration, call
 from .core.declared import SPECS, shape_of
 from .errors import DTypeError, FeatherdynError, ShapeError
 from .frames import as_reference_frame
+from .joints import FreeFlyerJoint, SphericalJoint
 from .model import Model
 
-__all__ = ["model_key", "tangent_grad", "tangent_to_coordinates", "OPERATORS", "VJP_OPERATORS"]
+__all__ = ["model_key", "tangent_grad", "tangent_to_coordinates", "coordinates_of_tangent", "normalize",
+           "OPERATORS", "FUNCTIONS"]
 
 # --------------------------------------------------------------------------------------------------- models
 
@@ -179,12 +191,9 @@ def _make_operator(decl: Declaration) -> Any:
     def fake(key: int, *args: Any) -> Any:
         if spec is None:
             raise FeatherdynError(f"featherdyn.torch.{decl.name}: tracing needs the compiled core's declared shapes")
-        model, tensors = _model(key), args[:n]
-        batch, dtype = _batch(model, decl.name, tensors), _result_dtype(tensors)
-        given = dict(zip(decl.inputs, tensors, strict=True))
-        r = tuple(tensors[0].new_empty((0,) if when is not None and given[when] is None
-                                       else batch + _tail(model, shape), dtype=dtype)
-                  for _, shape, when in spec.outputs)
+        tensors = args[:n]
+        dtype = _result_dtype(tensors)
+        r = tuple(tensors[0].new_empty(s, dtype=dtype) for s in _output_shapes(decl, _model(key), tensors))
         return r if len(r) > 1 else r[0]
 
     op = torch.library.custom_op(f"featherdyn::{decl.name}", impl, mutates_args=(),
@@ -220,104 +229,111 @@ def _vmap_rule(op: Any, tails: Callable[[Model, int], dict[int, tuple[int, ...]]
     return rule
 
 
+# ------------------------------------------------------------------------- api/jacobians.py in PyTorch
+
+class _Torch:
+    """api/jacobians.py's :class:`~featherdyn.api.jacobians.Framework` in PyTorch: the declared functions through
+    their ``autograd.Function`` (:data:`FUNCTIONS`: a Jacobian is differentiable again, by ``torch.autograd``
+    and ``torch.func`` alike), new arrays of one dtype and device."""
+
+    cos = staticmethod(torch.cos)
+    sin = staticmethod(torch.sin)
+
+    def __init__(self, dtype: torch.dtype, device: torch.device) -> None:
+        self.dtype, self.device = dtype, device
+
+    def call(self, name: str, model: Model, inputs: dict[str, Any], options: dict[str, Any]) -> tuple[Any, ...]:
+        decl = DECLARATIONS[name]
+        values = [as_reference_frame(options.get(k, OPTIONS[k])).code if k == "reference"
+                  else options.get(k, OPTIONS[k]) for k in decl.options]
+        r = _apply(name, model_key(model), *(inputs.get(n) for n in decl.inputs), *values)
+        return tuple(r) if isinstance(r, tuple) else (r,)
+
+    @staticmethod
+    def einsum(spec: str, *xs: torch.Tensor) -> torch.Tensor:
+        """``torch.einsum`` without opt_einsum's search of a contraction order: on these small operands the
+        search (~0.2 ms a call) costs more than the contraction."""
+        with torch.backends.opt_einsum.flags(enabled=False):
+            return torch.einsum(spec, *xs)
+
+    def const(self, a: np.ndarray) -> torch.Tensor:
+        return torch.as_tensor(a, dtype=self.dtype, device=self.device)
+
+    def concat(self, xs: Sequence[torch.Tensor], axis: int) -> torch.Tensor:
+        return torch.cat(list(xs), dim=axis)
+
+    def stack(self, xs: Sequence[torch.Tensor], axis: int) -> torch.Tensor:
+        return torch.stack(list(xs), dim=axis)
+
+    def zeros(self, shape: tuple[int, ...]) -> torch.Tensor:
+        return torch.zeros(shape, dtype=self.dtype, device=self.device)
+
+
+@torch.compiler.allow_in_graph
+def _apply(name: str, *args: Any) -> Any:
+    """``FUNCTIONS[name].apply(*args)``, a node of the graph under ``torch.compile`` (Dynamo does not trace an
+    autograd.Function with a ``jvp``; AOTAutograd runs it on fake tensors, under ``torch.func`` transforms too)."""
+    return FUNCTIONS[name].apply(*args)
+
+
+def _fw(*tensors: torch.Tensor | None) -> _Torch:
+    """The framework of these tensors: their promoted floating dtype (float64 from integers), their device."""
+    given = [t for t in tensors if t is not None]
+    dtype = torch.float64
+    floats = [t.dtype for t in given if t.is_floating_point()]
+    if floats:
+        dtype = floats[0]
+        for d in floats[1:]:
+            dtype = torch.promote_types(dtype, d)
+    return _Torch(dtype, given[0].device)
+
+
 # ---------------------------------------------------------------------------------------- tangent of q
-
-def _joint_blocks(model: Model) -> list[tuple[str, int, int]]:
-    """``(kind, index in q, index in v)`` of each joint whose ``q`` is not its tangent's coordinates."""
-    return [(j.kind, iq, iv) for j, iq, iv in zip(model.joints, model.idx_q, model.idx_v, strict=True)
-            if j.kind in ("spherical", "free_flyer", "planar")]
-
-
-def _cross(a: torch.Tensor, b: torch.Tensor) -> torch.Tensor:
-    """``a × b`` on the last dimension, broadcasting (componentwise: vmap has no rule for broadcast_tensors)."""
-    a0, a1, a2 = a[..., 0], a[..., 1], a[..., 2]
-    b0, b1, b2 = b[..., 0], b[..., 1], b[..., 2]
-    return torch.stack([a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0], dim=-1)
-
-
-def _rotate(quat: torch.Tensor, x: torch.Tensor, transpose: bool = False) -> torch.Tensor:
-    """``R(q/|q|) x`` (or ``Rᵀ x``) for quaternions ``(x, y, z, w)``: ``x + 2w (u × x) + 2 u × (u × x)``."""
-    u = quat / torch.linalg.vector_norm(quat, dim=-1, keepdim=True)
-    vec, w = u[..., :3], u[..., 3:]
-    if transpose:
-        vec = -vec
-    t = _cross(vec, x)
-    return x + 2 * w * t + 2 * _cross(vec, t)
-
-
-def _planar_rotate(theta: torch.Tensor, xy: torch.Tensor, transpose: bool = False) -> torch.Tensor:
-    c, s = torch.cos(theta), torch.sin(theta)
-    if transpose:
-        s = -s
-    return torch.stack([c * xy[..., 0] - s * xy[..., 1], s * xy[..., 0] + c * xy[..., 1]], dim=-1)
-
 
 def tangent_to_coordinates(model: Model, q: torch.Tensor, g: torch.Tensor) -> torch.Tensor:
     """The gradient in ``q``'s coordinates `(..., nq)` of a gradient ``g`` `(..., nv)` along ``fd.integrate``'s
-    tangent: ``Tᵀ g`` with ``T = ∂δ/∂q`` `(nv, nq)`, ``δ = fd.difference(q, q')`` at ``q' = q``. Per joint (others
-    the identity): a quaternion ``q = (u, w)`` (featherdyn normalises it, ``R = R(q/|q|)``) has
-    ``T = 2/|q|² [w 1 − [u]×, −u]`` (``δq = ½ q ⊗ (ω, 0)``); a free-flyer's position ``δv = Rᵀ δp``; a planar
-    joint's ``ω = δθ``, ``(v_x, v_y) = Rz(θ)ᵀ (δx, δy)``. Differentiable (torch operations)."""
-    blocks = _joint_blocks(model)
-    if not blocks:
-        return g
-    pieces: list[torch.Tensor] = []
-    done_q = done_v = 0
-    for kind, iq, iv in blocks:
-        if iq > done_q:  # the vector joints before this one
-            pieces.append(g[..., done_v: iv])
-        quat_at = {"spherical": iq, "free_flyer": iq + 3}.get(kind)
-        if kind == "planar":
-            th = q[..., iq + 2]
-            pieces += [_planar_rotate(th, g[..., iv + 1: iv + 3]), g[..., iv: iv + 1]]
-        else:
-            assert quat_at is not None
-            quat = q[..., quat_at: quat_at + 4]
-            gw = g[..., iv: iv + 3]
-            if kind == "free_flyer":
-                pieces.append(_rotate(quat, g[..., iv + 3: iv + 6]))
-            c = 2 / torch.sum(quat * quat, dim=-1, keepdim=True)
-            u, w = quat[..., :3], quat[..., 3:]
-            pieces += [c * (w * gw + _cross(u, gw)), -c * torch.sum(u * gw, dim=-1, keepdim=True)]
-        done_q, done_v = iq + {"spherical": 4, "free_flyer": 7, "planar": 3}[kind], iv + (6 if kind == "free_flyer"
-                                                                                          else 3)
-    if done_v < g.shape[-1]:
-        pieces.append(g[..., done_v:])
-    batch = torch.broadcast_shapes(q.shape[:-1], g.shape[:-1])
-    return torch.cat([p.expand(*batch, p.shape[-1]) for p in pieces], dim=-1)
+    tangent: ``T(q)ᵀ g`` (api/jacobians.py's ``tangent_transpose``), with ``δ = T(q) q̇`` the tangent of a
+    coordinate direction (featherdyn normalises the quaternions: their radial direction has none)::
+
+        quaternion (u, w): ω = 2 (w u̇ − ẇ u − u × u̇) / |q|²;   free-flyer [p, quat]: v = R(quat)ᵀ ṗ;
+        planar [x, y, θ]: [ω, v_x, v_y] = [θ̇, Rz(θ)ᵀ (ẋ, ẏ)];   other joints: the identity
+
+    What the backward of every operator does with ``q``'s Jacobians. Differentiable (torch operations)."""
+    return _jac.tangent_transpose(_fw(q, g), model, q, g)
 
 
 def tangent_grad(model: Model, q: torch.Tensor, grad_q: torch.Tensor) -> torch.Tensor:
     """The gradient `(..., nv)` along ``fd.integrate``'s tangent of a function whose gradient in ``q``'s
-    coordinates is ``grad_q`` `(..., nq)`: ``Eᵀ grad_q``, ``E = ∂(q ⊕ δ)/∂δ`` at ``δ = 0`` `(nq, nv)`, i.e.
-    ``d/dδ L(fd.integrate(q, δ))``. For the gradient of featherdyn's operators (``Tᵀ g``, ``T E = 1``) it is
-    their tangent gradient ``g`` exactly. A step on the manifold: ``fd.integrate(model, q, -lr * g)``.
-    Per joint: a quaternion ``E = ½ [w 1 + [u]×; −uᵀ]``, a free-flyer's position ``R``, a planar joint's
-    ``(δx, δy) = Rz(θ) (v_x, v_y)``, ``δθ = ω``."""
-    blocks = _joint_blocks(model)
-    if not blocks:
-        return grad_q
-    pieces: list[torch.Tensor] = []
-    done_q = 0
-    for kind, iq, _iv in blocks:
-        if iq > done_q:
-            pieces.append(grad_q[..., done_q: iq])
-        if kind == "planar":
-            pieces += [grad_q[..., iq + 2: iq + 3],
-                       _planar_rotate(q[..., iq + 2], grad_q[..., iq: iq + 2], transpose=True)]
-            done_q = iq + 3
-            continue
-        at = iq if kind == "spherical" else iq + 3
-        quat, gq = q[..., at: at + 4], grad_q[..., at: at + 4]
-        u, w = quat[..., :3], quat[..., 3:]
-        pieces.append(0.5 * (w * gq[..., :3] - _cross(u, gq[..., :3]) - u * gq[..., 3:]))
-        if kind == "free_flyer":
-            pieces.append(_rotate(quat, grad_q[..., iq: iq + 3], transpose=True))
-        done_q = at + 4
-    if done_q < grad_q.shape[-1]:
-        pieces.append(grad_q[..., done_q:])
-    batch = torch.broadcast_shapes(q.shape[:-1], grad_q.shape[:-1])
-    return torch.cat([p.expand(*batch, p.shape[-1]) for p in pieces], dim=-1)
+    coordinates is ``grad_q`` `(..., nq)`: ``E(q)ᵀ grad_q`` (api/jacobians.py's ``coordinates_transpose``),
+    ``E = ∂(q ⊕ δ)/∂δ`` at ``δ = 0`` `(nq, nv)`, i.e. ``d/dδ L(fd.integrate(q, δ))``. For the gradient of
+    featherdyn's operators (``Tᵀ g``, ``T E = 1``) it is their tangent gradient ``g`` exactly. A step on the
+    manifold: ``fd.integrate(model, q, -lr * g)``::
+
+        quaternion: E = ½ [w 1 + [u]×; −uᵀ];  free-flyer's position: R(quat);  planar: Rz(θ) on (x, y), θ̇ = ω
+    """
+    return _jac.coordinates_transpose(_fw(q, grad_q), model, q, grad_q)
+
+
+def coordinates_of_tangent(model: Model, q: torch.Tensor, delta: torch.Tensor) -> torch.Tensor:
+    """``q̇ = E(q) δ`` `(..., nq)`: the coordinate direction of ``fd.integrate(q, ε δ)`` at ε = 0 (``T E = 1``;
+    api/jacobians.py): ``q + coordinates_of_tangent(model, q, δ)`` is ``q ⊕ δ`` to first order, so a function of
+    ``δ`` differentiated at 0 (``torch.func.hessian``) is differentiated along the tangent."""
+    return _jac.coordinates_of_tangent(_fw(q, delta), model, q, delta)
+
+
+def normalize(model: Model, q: torch.Tensor) -> torch.Tensor:
+    """``q`` `(..., nq)` with each quaternion divided by its norm (``fd.normalize`` on tensors, differentiable):
+    what a function differentiated in coordinates off the unit quaternions (finite differences,
+    ``torch.autograd.gradcheck``) calls first; at a unit quaternion its Jacobian removes the radial direction,
+    which ``T(q)`` ignores anyway."""
+    parts, done = [], 0
+    for joint, iq in zip(model.joints, model.idx_q, strict=True):
+        if isinstance(joint, (SphericalJoint, FreeFlyerJoint)):
+            at = iq + (3 if isinstance(joint, FreeFlyerJoint) else 0)
+            quat = q[..., at:at + 4]
+            parts += [q[..., done:at], quat / torch.linalg.vector_norm(quat, dim=-1, keepdim=True)]
+            done = at + 4
+    return torch.cat([*parts, q[..., done:]], dim=-1) if parts else q
 
 
 def _sum_to(g: torch.Tensor, shape: torch.Size) -> torch.Tensor:
@@ -332,106 +348,15 @@ def _sum_to(g: torch.Tensor, shape: torch.Size) -> torch.Tensor:
 
 # ------------------------------------------------------------------------------------------- gradients
 
-def _jacobians_declared(decl: Declaration) -> Callable[..., tuple[np.ndarray, ...]]:
-    """The Jacobians of ``decl``'s output, one per state input but ``f_ext``: its declared derivative's outputs."""
-    deriv = DECLARATIONS[str(decl.derivative)]
-
-    def jacobians(model: Model, arrays: dict[str, np.ndarray | None], options: dict[str, Any]) -> tuple[Any, ...]:
-        outs = _declared(deriv, model, [arrays[n] for n in deriv.inputs],
-                         {k: v for k, v in options.items() if k in deriv.options})
-        return outs[: len(_differentiated(decl))]
-
-    return jacobians
-
-
-def _crba_jacobians(model: Model, arrays: dict[str, np.ndarray | None], options: dict[str, Any]) -> tuple[Any, ...]:
-    """``∂M/∂q`` `(..., nv, nv, nv)` (``[i, j, k] = ∂M_ij/∂q_k``): ``fd.rnea_second_derivatives(q, 0, 0).dM_dq``
-    (it does not depend on ``q̇, q̈``)."""
-    q = arrays["q"]
-    assert q is not None
-    zero = np.zeros(q.shape[:-1] + (model.nv,))
-    return (_declared(DECLARATIONS["rnea_second_derivatives"], model, [q, zero, zero, None], {"gravity": False})[3],)
-
-
-#: the Jacobians of the operators without a declared ``derivative`` that have one anyway (module docstring)
-_EXTRA_JACOBIANS: dict[str, Callable[..., tuple[np.ndarray, ...]]] = {"crba": _crba_jacobians}
-
-
-def _jacobian_source(decl: Declaration) -> Callable[..., tuple[np.ndarray, ...]] | None:
-    if decl.derivative is not None:
-        return _jacobians_declared(decl)
-    return _EXTRA_JACOBIANS.get(decl.name)
-
-
-def _differentiated(decl: Declaration) -> tuple[str, ...]:
-    """The inputs whose Jacobians the derivative gives (the state inputs but ``f_ext``)."""
-    return tuple(n for n in decl.inputs if n != "f_ext")
-
-
-#: ``f_ext`` enters ``rnea`` and ``aba`` as the generalized force ``Σ_b J_bᵀ f_b`` (body-frame ``J_b``, ``f_b``):
-#: the gradient ``w`` with respect to that force, from the output's cotangent and the other inputs' gradients;
-#: ``f_ext``'s gradient is then ``J_b w`` for each body: the bodies' velocities at ``q̇ = w``
-#: (``fd.forward_kinematics(q, w).vel``, body coordinates)
+#: ``f_ext`` enters ``rnea`` and ``aba`` as the generalized force ``u = Σ_b J_bᵀ f_b`` (body-frame ``J_b``,
+#: ``f_b``): ``τ = RNEA(q, q̇, q̈) − u``, ``q̈ = ABA(q, q̇, τ + u)``. Reverse: the gradient ``w`` with respect to
+#: ``u``, from the output's cotangent ``ȳ`` and the tangent gradients of the other inputs; ``f_ext``'s gradient is
+#: then ``J_b w`` for each body, the bodies' velocities at ``q̇ = w`` (``fd.forward_kinematics(q, w).vel``).
+#: Forward: ``u̇ = −RNEA(q, 0, 0, ḟ)`` without gravity, entering as ``−u̇`` (``rnea``) or as ``τ̇`` (``aba``).
 _F_EXT: dict[str, Callable[[torch.Tensor, dict[str, torch.Tensor]], torch.Tensor]] = {
-    "rnea": lambda ybar, grads: -ybar,           # τ = RNEA(q, q̇, q̈) − Σ J_bᵀ f_b
-    "aba": lambda ybar, grads: grads["tau"],     # q̈ = ABA(q, q̇, τ + Σ J_bᵀ f_b)
+    "rnea": lambda ybar, grads: -ybar,
+    "aba": lambda ybar, grads: grads["tau"],
 }
-
-#: the second derivatives of ``rnea`` and ``aba``: ``(x, z)`` → the output ``[i, x_j, z_k] = ∂²y_i/∂x_j∂z_k`` of
-#: the declared function (pairs not listed, either way round, are zero: ``∂²τ/∂q̈², ∂²τ/∂q̇∂q̈, ∂²q̈/∂τ², ...``)
-_SECOND: dict[str, tuple[str, dict[tuple[str, str], str]]] = {
-    "rnea": ("rnea_second_derivatives", {("q", "q"): "d2tau_dq2", ("v", "v"): "d2tau_dv2",
-                                         ("q", "v"): "d2tau_dqdv", ("a", "q"): "dM_dq"}),
-    "aba": ("aba_second_derivatives", {("q", "q"): "d2ddq_dq2", ("v", "v"): "d2ddq_dv2",
-                                       ("q", "v"): "d2ddq_dqdv", ("q", "tau"): "d2ddq_dqdtau"}),
-}
-
-
-def _make_vjp(decl: Declaration, jacobians: Callable[..., tuple[np.ndarray, ...]]) -> Any:
-    """``featherdyn::<name>_vjp(model, inputs..., options..., ybar)``: ``ȳ · ∂y/∂x`` for each differentiated
-    input ``x`` (``q`` along the tangent, `(..., nv)`), batch shape that of ``y``."""
-    n = len(decl.inputs)
-    xs = _differentiated(decl)
-
-    def impl(key: int, *args: Any) -> Any:
-        model, tensors, ybar = _model(key), args[:n], args[-1]
-        arrays = dict(zip(decl.inputs, (_numpy(t) for t in tensors), strict=True))
-        Js = jacobians(model, arrays, _options(decl, args[n:-1]))
-        yb = _numpy(ybar)
-        assert yb is not None
-        dtype, device = _result_dtype((*tensors, ybar)), ybar.device
-        out = []
-        ybf = yb.reshape(yb.shape[: yb.ndim - _y_dims(decl)] + (1, -1))  # ȳ as a row (its output dims flat)
-        for J in Js:  # (..., *y, nx): ȳ J (matmul: a third of einsum's time on batches)
-            Jf = J.reshape(J.shape[: yb.ndim - _y_dims(decl)] + (-1, J.shape[-1]))
-            out.append(_tensor(np.matmul(ybf, Jf)[..., 0, :], dtype, device))
-        return tuple(out) if len(out) > 1 else out[0]
-
-    def fake(key: int, *args: Any) -> Any:
-        model, tensors, ybar = _model(key), args[:n], args[-1]
-        batch = torch.broadcast_shapes(_batch(model, decl.name, tensors), ybar.shape[: ybar.dim() - _y_dims(decl)])
-        dtype = _result_dtype((*tensors, ybar))
-        r = tuple(ybar.new_empty(tuple(batch) + (model.nv,), dtype=dtype) for _ in xs)
-        return r if len(r) > 1 else r[0]
-
-    return torch.library.custom_op(f"featherdyn::{decl.name}_vjp", impl, mutates_args=(),
-                                   schema=_schema(decl, len(xs), "Tensor ybar")), fake
-
-
-def _vjp_tails(decl: Declaration) -> Callable[[Model, int], dict[int, tuple[int, ...]]]:
-    """The trailing shapes of a VJP operator's tensors by position: the inputs', and the output's (``ȳ``, last)."""
-    def tails(model: Model, n_args: int) -> dict[int, tuple[int, ...]]:
-        spec = SPECS[decl.name]
-        out = {i: _tail(model, shape) for i, (_, shape, _) in enumerate(spec.inputs)}
-        out[n_args - 1] = _tail(model, spec.outputs[0][1])
-        return out
-
-    return tails
-
-
-def _y_dims(decl: Declaration) -> int:
-    """The number of trailing dimensions of the (one) output."""
-    return len(SPECS[decl.name].outputs[0][1])
 
 
 def _no_derivative(what: str) -> FeatherdynError:
@@ -439,110 +364,166 @@ def _no_derivative(what: str) -> FeatherdynError:
                            "with first and second derivatives)")
 
 
-def _saved(ctx: Any, inputs: tuple[Any, ...], n: int) -> None:
-    ctx.key = inputs[0]
-    ctx.options = inputs[1 + n:]
-    ctx.save_for_backward(*inputs[1: 1 + n])
+def _out_dims(decl: Declaration, output: str) -> int:
+    """The number of trailing (declared) dimensions of ``output``."""
+    return len(SPECS[decl.name].outputs[decl.outputs.index(output)][1])
 
 
-def _q_and_vectors(decl: Declaration, model: Model, ins: Sequence[torch.Tensor | None],
-                   tangent: dict[str, torch.Tensor], needs: Sequence[bool]) -> dict[str, torch.Tensor | None]:
-    """The gradients of the inputs from their tangent gradients: ``q`` mapped to its coordinates, each summed to
-    its input's shape (``None`` where not needed)."""
+def _row_times(ybar: torch.Tensor, J: torch.Tensor, d: int) -> torch.Tensor:
+    """``ȳ · J`` `(..., n)`: ``ȳ`` `(..., *out)` against ``J`` `(..., *out, n)`, the ``d`` output dims contracted
+    (one batched matmul: a fraction of einsum's time on small matrices)."""
+    rows = ybar.reshape(ybar.shape[:ybar.dim() - d] + (1, -1))
+    return (rows @ J.reshape(J.shape[:J.dim() - 1 - d] + (-1, J.shape[-1])))[..., 0, :]
+
+
+def _times_column(J: torch.Tensor, x: torch.Tensor, d: int) -> torch.Tensor:
+    """``J · ẋ`` `(..., *out)`: ``J`` `(..., *out, n)` against ``ẋ`` `(..., n)`."""
+    out = J.shape[J.dim() - 1 - d: J.dim() - 1]
+    y = J.reshape(J.shape[:J.dim() - 1 - d] + (-1, J.shape[-1])) @ x[..., None]
+    return y.reshape(y.shape[:-2] + out)
+
+
+def _jacobians(decl: Declaration, key: int, option_values: Sequence[Any], ins: Sequence[torch.Tensor | None]
+               ) -> tuple[Model, _Torch, dict[str, torch.Tensor | None], dict[str, dict[str, Any]]]:
+    """``(model, framework, inputs, {output: {input: J}})`` of api/jacobians.py, computed in float64 (float32 inputs
+    cast: the Jacobians are the float64 computation's, the gradients rounded once to the input's dtype)."""
+    if not _jac.has_jacobians(decl.name):
+        raise _no_derivative(f"the derivative of {decl.name}")
+    model = _model(key)
+    x = {n: t.to(torch.float64) if t is not None and t.dtype == torch.float32 else t
+         for n, t in zip(decl.inputs, ins, strict=True)}
+    fw = _fw(*x.values())
+    return model, fw, x, _jac.jacobians(fw, decl.name, model, x, _options(decl, option_values))
+
+
+def _f_ext_force(key: int, q: torch.Tensor, f_dot: torch.Tensor) -> torch.Tensor:
+    """``u̇ = Σ_b J_bᵀ ḟ_b = −RNEA(q, 0, 0, ḟ)`` without gravity (``_F_EXT``)."""
+    zero = torch.zeros((), dtype=q.dtype, device=q.device).expand(q.shape[:-1] + (_model(key).nv,))
+    return -_apply("rnea", key, q, zero, zero, f_dot.to(q.dtype), False)
+
+
+def _vjp(name: str, key: int, option_values: Sequence[Any], ins: Sequence[torch.Tensor | None],
+         ybars: Sequence[torch.Tensor | None], needs: Sequence[bool]) -> tuple[torch.Tensor | None, ...]:
+    """The gradients of the inputs (``None`` where not needed): ``x̄ = Σ_o ȳ_o · J[o][x]`` (the output dims
+    contracted), ``q``'s through ``T(q)ᵀ``, ``f_ext``'s by ``_F_EXT``, each summed to its input's shape."""
+    decl = DECLARATIONS[name]
     given = dict(zip(decl.inputs, ins, strict=True))
-    out: dict[str, torch.Tensor | None] = {}
-    for name, need in zip(decl.inputs, needs, strict=True):
-        t = given[name]
-        if not need or t is None or name not in tangent:
-            out[name] = None
+    wanted = {n for n, need in zip(decl.inputs, needs, strict=True) if need and given[n] is not None}
+    if not wanted or all(y is None for y in ybars):  # (no cotangent came: the gradients are undefined)
+        return (None,) * len(decl.inputs)
+    if "f_ext" in wanted and decl.name not in _F_EXT:
+        raise _no_derivative(f"the derivative of {decl.name} with respect to f_ext")
+    model, fw, x, table = _jacobians(decl, key, option_values, ins)
+    q = cast(torch.Tensor, x["q"])
+    tangent: dict[str, torch.Tensor] = {}
+    for n in decl.inputs:
+        if n == "f_ext" or x[n] is None:
             continue
-        g = tangent[name]
-        if name == "q":
-            g = tangent_to_coordinates(model, t, g)
-        out[name] = _sum_to(g, t.shape).to(t.dtype)
-    return out
+        terms = []
+        for o, ybar in zip(decl.outputs, ybars, strict=True):
+            J = table.get(o, {}).get(n)
+            if J is not None and ybar is not None:
+                terms.append(_row_times(ybar.to(J.dtype), J, _out_dims(decl, o)))
+        if terms:
+            tangent[n] = sum(terms[1:], terms[0])
+    out: list[torch.Tensor | None] = []
+    for n in decl.inputs:
+        t = given[n]
+        if n not in wanted or t is None:
+            out.append(None)
+            continue
+        if n == "f_ext":
+            ybar = ybars[0]
+            assert ybar is not None
+            w = _F_EXT[decl.name](ybar.to(fw.dtype), tangent)
+            g = _apply("forward_kinematics", key, q, w, None)[2]
+        elif n not in tangent:  # the input enters none of the outputs whose cotangent came
+            g = torch.zeros_like(t)
+        elif n == "q":
+            g = _jac.tangent_transpose(fw, model, q, tangent["q"])
+        else:
+            g = tangent[n]
+        out.append(_sum_to(g, t.shape).to(t.dtype))
+    return tuple(out)
 
 
-def _register_gradient(decl: Declaration, op: Any, vjp: Any | None) -> None:
-    n = len(decl.inputs)
-    xs = _differentiated(decl)
+def _jvp(name: str, key: int, option_values: Sequence[Any], ins: Sequence[torch.Tensor | None],
+         dots: Sequence[torch.Tensor | None]) -> tuple[torch.Tensor, ...]:
+    """The outputs' tangents: ``ẏ_o = Σ_x J[o][x] · ẋ``, ``q̇`` mapped to the tangent ``T(q) q̇`` first, ``ḟ_ext``
+    by ``_F_EXT``; each output's shape and dtype (an absent output: its empty tensor)."""
+    decl = DECLARATIONS[name]
+    model = _model(key)
+    moving = {n: d for n, d, t in zip(decl.inputs, dots, ins, strict=True) if d is not None and t is not None}
+    dtype = _result_dtype(ins)
+    shapes = _output_shapes(decl, model, ins)
+    ref = next(t for t in ins if t is not None)
+    if not moving:
+        return tuple(ref.new_zeros(s, dtype=dtype) for s in shapes)
+    if "f_ext" in moving and decl.name not in _F_EXT:
+        raise _no_derivative(f"the derivative of {decl.name} with respect to f_ext")
+    _, fw, x, table = _jacobians(decl, key, option_values, ins)
+    q = cast(torch.Tensor, x["q"])
+    directions = {n: d.to(fw.dtype) for n, d in moving.items() if n != "f_ext"}
+    if "q" in directions:
+        directions["q"] = _jac.tangent_of_coordinates(fw, model, q, directions["q"])
+    out = []
+    for o, shape in zip(decl.outputs, shapes, strict=True):
+        terms = [_times_column(J, directions[n], _out_dims(decl, o))
+                 for n, J in table.get(o, {}).items() if n in directions]
+        if o == decl.outputs[0] and "f_ext" in moving:
+            u = _f_ext_force(key, q, moving["f_ext"])
+            terms.append(-u if decl.name == "rnea" else _times_column(table[o]["tau"], u, 1))
+        if not terms or shape == (0,):  # (an output that no moving input enters; an absent output)
+            out.append(ref.new_zeros(shape, dtype=dtype))
+        else:
+            out.append(torch.broadcast_to(sum(terms[1:], terms[0]).to(dtype), shape))
+    return tuple(out)
 
-    def backward(ctx: Any, *grads: Any) -> Any:
-        needs = ctx.needs_input_grad[1: 1 + n]
-        if vjp is None:
-            if any(needs):
-                raise _no_derivative(f"the derivative of {decl.name}")
-            return (None,) * (1 + n + len(decl.options))
-        model, ins, ybar = _model(ctx.key), ctx.saved_tensors, grads[0]
-        r = vjp(ctx.key, *ins, *ctx.options, ybar)
-        tangent = dict(zip(xs, r if len(xs) > 1 else (r,), strict=True))
-        out = _q_and_vectors(decl, model, ins, tangent, needs)
-        if "f_ext" in decl.inputs and needs[decl.inputs.index("f_ext")]:
-            f_ext = ins[decl.inputs.index("f_ext")]
-            if decl.name not in _F_EXT:
-                raise _no_derivative(f"the derivative of {decl.name} with respect to f_ext")
-            w = _F_EXT[decl.name](ybar, tangent)
-            q = ins[decl.inputs.index("q")]
-            vel = torch.ops.featherdyn.forward_kinematics(ctx.key, q, w.to(q.dtype), None)[2]
-            out["f_ext"] = _sum_to(vel, f_ext.shape).to(f_ext.dtype)
-        return (None, *(out[k] for k in decl.inputs), *(None for _ in decl.options))
 
-    op.register_autograd(backward, setup_context=lambda ctx, inputs, output: _saved(ctx, inputs, n))
+_FORWARD_SIGNATURE = inspect.Signature([inspect.Parameter("key", inspect.Parameter.POSITIONAL_ONLY),
+                                        inspect.Parameter("args", inspect.Parameter.VAR_POSITIONAL)])
 
 
-def _register_second(decl: Declaration, vjp: Any) -> None:
-    """The backward of ``<name>_vjp``: ``ȳ`` gets ``Σ_x J_x h_x``, each input ``z`` ``Σ_x ȳ_i h_x,j ∂²y_i/∂x_j∂z_k``
-    (``_SECOND``)."""
-    n = len(decl.inputs)
-    xs = _differentiated(decl)
-    second = _SECOND.get(decl.name)
-    deriv = decl.derivative
+def _function(decl: Declaration) -> type[torch.autograd.Function]:
+    """``featherdyn.torch.FUNCTIONS[name]``: the operator as a ``torch.autograd.Function`` with ``setup_context``
+    (what ``torch.func`` needs), the backward :func:`_vjp`, the forward-mode ``jvp`` :func:`_jvp`, and vmap by
+    ``generate_vmap_rule`` (the operator's own vmap rule: the batch in one call). Its methods close over the name
+    and counts only (what Dynamo traces)."""
+    name, n, n_options = decl.name, len(decl.inputs), len(decl.options)
 
-    def backward(ctx: Any, *hs: Any) -> Any:
-        needs = ctx.needs_input_grad[1: 1 + n]
-        need_ybar = ctx.needs_input_grad[-1]
-        if not (any(needs) or need_ybar):
-            return (None,) * (2 + n + len(decl.options))
-        if second is None or deriv is None:
-            raise _no_derivative(f"the second derivative of {decl.name}")
-        if "f_ext" in decl.inputs and needs[decl.inputs.index("f_ext")]:
-            raise _no_derivative(f"the second derivative of {decl.name} with respect to f_ext")
-        model, (*ins, ybar) = _model(ctx.key), ctx.saved_tensors
-        h = dict(zip(xs, hs, strict=True))
-        ybar_grad = None
-        if need_ybar:
-            Js = getattr(torch.ops.featherdyn, deriv)(ctx.key, *ins, *ctx.options)
-            terms = [torch.einsum("...ij,...j->...i", J, h[x]) for J, x in zip(Js[: len(xs)], xs, strict=True)]
-            ybar_grad = sum(terms[1:], terms[0])
-        tangent: dict[str, torch.Tensor] = {}
-        if any(needs):
-            name, table = second
-            sdecl = DECLARATIONS[name]
-            S = dict(zip(sdecl.outputs, getattr(torch.ops.featherdyn, name)(ctx.key, *ins, *ctx.options),
-                         strict=True))
-            for z in xs:
-                terms = []
-                for x in xs:
-                    if (x, z) in table:
-                        terms.append(torch.einsum("...i,...j,...ijk->...k", ybar, h[x], S[table[x, z]]))
-                    elif (z, x) in table:
-                        terms.append(torch.einsum("...i,...j,...ikj->...k", ybar, h[x], S[table[z, x]]))
-                if terms:
-                    tangent[z] = sum(terms[1:], terms[0])
-                else:
-                    tangent[z] = torch.zeros_like(h[z])
-        out = _q_and_vectors(decl, model, ins, tangent, needs)
-        if ybar_grad is not None:
-            ybar_grad = _sum_to(ybar_grad, ybar.shape).to(ybar.dtype)
-        return (None, *(out[k] for k in decl.inputs), *(None for _ in decl.options), ybar_grad)
+    def forward(key: int, *args: Any) -> Any:
+        return getattr(torch.ops.featherdyn, name)(key, *args)
 
-    def setup(ctx: Any, inputs: tuple[Any, ...], output: Any) -> None:
-        ctx.key = inputs[0]
-        ctx.options = inputs[1 + n: -1]
-        ctx.save_for_backward(*inputs[1: 1 + n], inputs[-1])
+    # (Function.apply binds the arguments to forward's signature at every call: given, it is not re-read)
+    forward.__signature__ = _FORWARD_SIGNATURE  # type: ignore[attr-defined]
 
-    vjp.register_autograd(backward, setup_context=setup)
+    def setup_context(ctx: Any, inputs: tuple[Any, ...], output: Any) -> None:
+        ctx.key, ctx.options = inputs[0], inputs[1 + n:]
+        ctx.set_materialize_grads(False)  # (an input without a tangent: None, not zeros; f_ext's raises where none)
+        ctx.save_for_backward(*inputs[1: 1 + n])
+        ctx.save_for_forward(*inputs[1: 1 + n])
 
+    def backward(ctx: Any, *ybars: Any) -> Any:
+        grads = _vjp(name, ctx.key, ctx.options, ctx.saved_tensors, ybars, ctx.needs_input_grad[1: 1 + n])
+        return (None, *grads, *(None,) * n_options)
+
+    def jvp(ctx: Any, *dots: Any) -> Any:
+        r = _jvp(name, ctx.key, ctx.options, ctx.saved_tensors, dots[1: 1 + n])
+        return r if len(r) > 1 else r[0]
+
+    body = {"forward": staticmethod(forward), "setup_context": staticmethod(setup_context),
+            "backward": staticmethod(backward), "jvp": staticmethod(jvp), "generate_vmap_rule": True,
+            "__doc__": f"``featherdyn::{name}`` as an autograd.Function (featherdyn.torch._function)."}
+    return cast(type[torch.autograd.Function], type(f"_{name}_function", (torch.autograd.Function,), body))
+
+
+def _output_shapes(decl: Declaration, model: Model, tensors: Sequence[torch.Tensor | None]) -> list[tuple[int, ...]]:
+    """The outputs' shapes (the declared trailing shapes on the inputs' batch; ``(0,)`` for an output formed only
+    with an absent optional input)."""
+    batch = _batch(model, decl.name, tensors)
+    given = dict(zip(decl.inputs, tensors, strict=True))
+    return [(0,) if when is not None and given[when] is None else tuple(batch) + _tail(model, shape)
+            for _, shape, when in SPECS[decl.name].outputs]
 
 # ------------------------------------------------------------------------------------------- the front
 
@@ -561,8 +542,9 @@ def _result_type(decl: Declaration) -> type | None:
     return namedtuple("".join(p.title() for p in decl.name.split("_")), decl.outputs)
 
 
-def _front(decl: Declaration, op: Any) -> Callable[..., Any]:
-    """``ft.<name>(model, *inputs, frame, reference, *, gravity=True)``: the operator on ``model``'s key."""
+def _front(decl: Declaration) -> Callable[..., Any]:
+    """``ft.<name>(model, *inputs, frame, reference, *, gravity=True)``: the operator on ``model``'s key, through its
+    ``autograd.Function`` (:data:`FUNCTIONS`)."""
     P = inspect.Parameter
     params = [P("model", P.POSITIONAL_OR_KEYWORD)]
     params += [P(n, P.POSITIONAL_OR_KEYWORD, default=None if n in decl.optional else P.empty) for n in decl.inputs]
@@ -591,7 +573,10 @@ def _front(decl: Declaration, op: Any) -> Callable[..., Any]:
             else:
                 value = bool(value)
             options.append(value)
-        r = op(model_key(model), *(a.get(n) for n in decl.inputs), *options)
+        args = (model_key(model), *(a.get(n) for n in decl.inputs), *options)
+        # (Dynamo does not trace an autograd.Function with a jvp: under torch.compile the operator itself, whose
+        # registered backward AOTAutograd traces)
+        r = _apply(decl.name, *args)
         if result is None:
             return r
         absent = {n for n in decl.inputs if a.get(n) is None}
@@ -609,25 +594,17 @@ def _is_state_function(decl: Declaration) -> bool:
 
 #: the operators (``torch.ops.featherdyn.<name>``), by name
 OPERATORS: dict[str, Any] = {}
-#: the vector-Jacobian operators (``torch.ops.featherdyn.<name>_vjp``) of the operators with a derivative
-VJP_OPERATORS: dict[str, Any] = {}
+#: the operators as ``torch.autograd.Function`` classes (what ``ft.<name>`` calls), by name
+FUNCTIONS: dict[str, type[torch.autograd.Function]] = {}
 
 for _decl in DECLARATIONS.values():
     if not _is_state_function(_decl):
         continue
     OPERATORS[_decl.name] = _make_operator(_decl)
-for _decl in DECLARATIONS.values():
-    if _decl.name not in OPERATORS:
-        continue
-    _source = _jacobian_source(_decl)
-    _vjp = None
-    if _source is not None:
-        _vjp, _vjp_fake = _make_vjp(_decl, _source)
-        _vjp.register_fake(_vjp_fake)
-        _vjp.register_vmap(_vmap_rule(_vjp, _vjp_tails(_decl)))
-        _register_second(_decl, _vjp)
-        VJP_OPERATORS[_decl.name] = _vjp
-    _register_gradient(_decl, OPERATORS[_decl.name], _vjp)
-    globals()[_decl.name] = _front(_decl, OPERATORS[_decl.name])
+    FUNCTIONS[_decl.name] = _function(_decl)
+    # the operator's own backward (torch.ops.featherdyn.<name> under torch.autograd alone): the same
+    OPERATORS[_decl.name].register_autograd(FUNCTIONS[_decl.name].backward,
+                                            setup_context=FUNCTIONS[_decl.name].setup_context)
+    globals()[_decl.name] = _front(_decl)
     __all__.append(_decl.name)
 del _decl

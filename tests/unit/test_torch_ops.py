@@ -1,11 +1,13 @@
 """featherdyn.torch: the declared functions as PyTorch operators (docs/frameworks.md).
 
 Values against the NumPy functions (bit for bit in float64), float32, batches, the featherdyn errors,
-``torch.library.opcheck`` on every operator, ``torch.compile(fullgraph=True)``, and the gradients:
-``gradcheck`` (finite differences in ``q``'s coordinates, against the analytical backward) on every operator
-with a derivative, ``gradgradcheck`` on ``rnea`` and ``aba``, on panda (fixed), solo12 and talos_full_v2
-(floating) and a random tree with spherical and planar joints; the tangent gradient against a finite difference
-along ``fd.integrate``.
+``torch.library.opcheck`` on every operator, ``torch.compile(fullgraph=True)`` of functions and of their
+gradients, and the gradients (api/jacobians.py): ``gradcheck`` (finite differences in ``q``'s coordinates,
+``q`` through ``ft.normalize``; reverse and forward mode) on every operator with Jacobians, the frame functions
+in each reference frame, ``gradgradcheck`` on those whose Jacobians are differentiable again, on panda (fixed),
+solo12 and talos_full_v2 (floating) and a random tree with spherical and planar joints; ``torch.func`` (grad,
+jacrev, jacfwd, vmap, hessian) against the NumPy derivative functions; the tangent gradient against a finite
+difference along ``fd.integrate``.
 
 torch is in the ``test`` extra, which CI installs; without it this module is skipped, and
 ``test_optional_dependency_is_installed_in_ci[torch]`` (tests/unit/test_extras_in_ci.py) fails in CI so the skip cannot hide there.
@@ -25,6 +27,17 @@ import featherdyn.torch as ft  # noqa: E402
 from featherdyn.api import declarations  # noqa: E402
 from featherdyn.api.declarations import DECLARATIONS  # noqa: E402
 from featherdyn.api.declared import Record  # noqa: E402
+from featherdyn.api.jacobians import has_jacobians  # noqa: E402
+
+
+@pytest.fixture(autouse=True, scope="module")
+def _one_torch_thread():  # type: ignore[no-untyped-def]
+    """torch's intra-op pool at one thread for this module: the tensors are small (a few hundred entries), and on
+    CI's two cores, beside featherdyn's own pool, two OpenMP threads make each matmul milliseconds, not µs."""
+    threads = torch.get_num_threads()
+    torch.set_num_threads(1)
+    yield
+    torch.set_num_threads(threads)
 
 
 def _robot(name: str, floating: bool) -> fd.Model:
@@ -158,25 +171,33 @@ def test_bad_input_raises_the_featherdyn_errors() -> None:
 
 # ------------------------------------------------------------------------------------------ operators
 
-def test_opcheck_on_every_operator() -> None:
-    model = MODELS["solo12"]()
+#: the operators with Jacobians (api/jacobians.py: a declared derivative or a rule)
+FIRST = sorted(n for n in DECLARATIONS if has_jacobians(n))
+#: the operators whose Jacobians are made of operators with Jacobians: second order (as tests/unit/test_jax_ops.py)
+SECOND = ["rnea", "aba", "generalized_gravity", "nonlinear_effects", "kinetic_energy", "potential_energy"]
+ROBOTS = ["panda", "solo12", "talos_full_v2"]
+
+
+@pytest.mark.parametrize("robot", ROBOTS)
+def test_opcheck_on_every_operator(robot: str) -> None:
+    """opcheck on every operator; the inputs of the operators with Jacobians require grad (but f_ext outside rnea
+    and aba: its gradient raises there). All of opcheck's tests on solo12; on panda and talos the ones that read
+    the model's shapes (schema, fake implementation, autograd registration): AOTAutograd's (static and dynamic
+    dispatch, ~0.8 s per operator) trace the same Python on every robot, and would take a minute per robot."""
+    model = MODELS[robot]()
+    tests = None if robot == "solo12" else ("test_schema", "test_autograd_registration", "test_faketensor")
     key = ft.model_key(model)
     st = _state(model, 6, (2,), grad=True)
     options = {"gravity": True, "frame": len(model.frames) - 1, "reference": 1}
     for name, op in ft.OPERATORS.items():
         decl = DECLARATIONS[name]
-        differentiable = name in ft.VJP_OPERATORS  # (the others' backward raises: they take constants here)
-        args = (key, *(st[n] if differentiable else st[n].detach() for n in decl.inputs),
-                *(options[n] for n in decl.options))
-        torch.library.opcheck(op, args)
-        if name in ft.VJP_OPERATORS:  # (f_ext has first derivatives only: a constant of the VJP here)
-            second = name in ("rnea", "aba")  # the others' VJP has no derivative: constants here
-            args = tuple(a.detach() if a is st["f_ext"] or (torch.is_tensor(a) and not second) else a for a in args)
-            ybar = torch.ones_like(op(*args)).requires_grad_(second)
-            torch.library.opcheck(ft.VJP_OPERATORS[name], (*args, ybar))
+        differentiable = has_jacobians(name)
+        args = (key, *(st[n] if differentiable and (n != "f_ext" or name in ("rnea", "aba")) else st[n].detach()
+                       for n in decl.inputs), *(options[n] for n in decl.options))
+        torch.library.opcheck(op, args, test_utils=tests) if tests else torch.library.opcheck(op, args)
 
 
-def test_compile_fullgraph_of_several_operators() -> None:
+def test_compile_fullgraph_of_several_operators_and_of_their_gradient() -> None:
     model = MODELS["solo12"]()
     st = _state(model, 7, (4,))
     frame = model.frames[-1].name
@@ -187,7 +208,7 @@ def test_compile_fullgraph_of_several_operators() -> None:
         M = ft.crba(model, q)
         J = ft.frame_jacobian(model, q, frame, "world")
         k = ft.forward_kinematics(model, q, v)
-        return (qdd - a).square().sum() + M.sum() + (J.sum() + k.vel.sum()).detach()
+        return (qdd - a).square().sum() + M.sum() + J.sum() + k.vel.sum()
 
     # aot_eager: Dynamo's capture (fullgraph: no graph break), the fake implementations and AOTAutograd's
     # backward, without Inductor's C++ code generation (CI runs this file where no compiler is installed)
@@ -200,6 +221,10 @@ def test_compile_fullgraph_of_several_operators() -> None:
     (grad2,) = torch.autograd.grad(value2, q2)
     torch.testing.assert_close(value, value2)
     torch.testing.assert_close(grad, grad2)
+    # the gradient itself compiled: torch.func.grad inside the graph
+    compiled_grad = torch.compile(torch.func.grad(lambda q: f(q, st["v"], st["a"])), fullgraph=True,
+                                  backend="aot_eager")
+    torch.testing.assert_close(compiled_grad(st["q"]), grad2)
 
 
 def test_compiled_function_retraces_for_another_model() -> None:
@@ -226,48 +251,184 @@ def test_vmap_maps_the_batch_in_one_call_and_vectorized_jacobians_work() -> None
     assert torch.equal(vel, ft.forward_kinematics(model, q, v).vel)
     panda = MODELS["panda"]()
     s = _state(panda, 15)
-    J = torch.autograd.functional.jacobian(lambda q: ft.rnea(panda, q, s["v"], s["a"]), s["q"], vectorize=True)
     dtau_dq = fd.rnea_derivatives(panda, s["q"].numpy(), s["v"].numpy(), s["a"].numpy())[0]
+    J = torch.autograd.functional.jacobian(lambda q: ft.rnea(panda, q, s["v"], s["a"]), s["q"], vectorize=True)
     np.testing.assert_allclose(J.numpy(), dtau_dq, rtol=1e-12, atol=1e-12)
 
 
 # ------------------------------------------------------------------------------------------ gradients
 
-@pytest.mark.parametrize("robot", ["panda", "solo12", "talos_full_v2", "mixed_tree"])
-def test_gradcheck_first_order(robot: str) -> None:
+def _call(model: fd.Model, name: str, st: dict[str, torch.Tensor], reference: fd.ReferenceFrame = fd.LOCAL):
+    """``ft.<name>`` as a function of its state inputs but ``f_ext`` (held), ``q`` through ``ft.normalize`` (the
+    differences leave the unit quaternions), returning its outputs as a tuple; and those inputs."""
+    decl = DECLARATIONS[name]
+    moving = [n for n in decl.inputs if n != "f_ext"]
+    options = {k: v for k, v in (("frame", model.frames[-1].name), ("reference", reference)) if k in decl.options}
+
+    def f(*xs: torch.Tensor):  # type: ignore[no-untyped-def]
+        given = dict(zip(moving, xs, strict=True))
+        given["q"] = ft.normalize(model, given["q"])
+        if "f_ext" in decl.inputs:
+            given["f_ext"] = st["f_ext"].detach()
+        r = getattr(ft, name)(model, *(given[n] for n in decl.inputs), **options)
+        return tuple(r) if isinstance(r, tuple) else r
+
+    return f, tuple(st[n] for n in moving)
+
+
+@pytest.mark.parametrize("robot", ROBOTS)
+def test_gradcheck_every_operator_with_jacobians(robot: str) -> None:
+    """gradcheck, reverse and forward mode, on each operator with Jacobians (the frame functions in each reference
+    frame). talos (nv = 50) and the outputs of more than 400 numbers in gradcheck's fast mode (random projections
+    of the Jacobian: one backward and one forward-mode product each, not one per row and column)."""
     model = MODELS[robot]()
+    st = _state(model, 6, grad=True)
+    assert {"rnea", "aba", "crba", "nonlinear_effects", "mass_matrix_inverse", "forward_kinematics",
+            "frame_placement", "frame_jacobian", "frame_velocity", "frame_classical_acceleration", "center_of_mass",
+            "centroidal_momentum", "rnea_derivatives", "aba_derivatives"} <= set(FIRST)
+    for name in FIRST:
+        refs = fd.ReferenceFrame if "reference" in DECLARATIONS[name].options else [fd.LOCAL]
+        for ref in refs:
+            f, args = _call(model, name, st, ref)
+            size = sum(o.numel() for o in (f(*args) if name in ("forward_kinematics", "placements", "frame_placement",
+                                                                "center_of_mass")
+                                           or len(DECLARATIONS[name].outputs) > 1 else (f(*args),)))
+            fast = robot == "talos_full_v2" or size > 400
+            # aba's and the inverse mass matrix's Jacobians reach 1e4 on talos: central differences are off by
+            # ~1e-8 of that
+            atol = 1e-3 if robot == "talos_full_v2" else 1e-5
+            assert torch.autograd.gradcheck(f, args, atol=atol, fast_mode=fast, check_forward_ad=True), (name, ref)
+
+
+def test_gradcheck_f_ext_and_a_shared_configuration() -> None:
+    """f_ext's gradient and tangent (rnea, aba: ``_F_EXT``), and a configuration broadcast against a batch."""
+    model = MODELS["solo12"]()
     st = _state(model, 9, grad=True)
     q, v, a, tau, f = st["q"], st["v"], st["a"], st["tau"], st["f_ext"]
-    # talos (nv = 50): gradcheck's fast mode (random projections of the Jacobians: one backward each, not nv²)
-    fast = robot == "talos_full_v2"
-
-    def gc(fn, inputs, atol=1e-5):  # type: ignore[no-untyped-def]
-        return torch.autograd.gradcheck(fn, inputs, atol=atol, fast_mode=fast)
-
-    assert gc(lambda q, v, a, f: ft.rnea(model, q, v, a, f), (q, v, a, f))
-    # talos' ∂q̈/∂q reaches 4e4 (∂q̈/∂f_ext 1e5): central differences of q̈ are off by ~1e-4 there (1e-8 relative)
-    atol = 1e-3 if robot == "talos_full_v2" else 1e-5
-    assert gc(lambda q, v, t, f: ft.aba(model, q, v, t, f), (q, v, tau, f), atol=atol)
-    assert gc(lambda q: ft.generalized_gravity(model, q), (q,))
-    assert gc(lambda q: ft.crba(model, q), (q,))
-    assert gc(lambda q, v, a: ft.rnea(model, q, v, a, gravity=False), (q, v, a))
+    n = lambda q: ft.normalize(model, q)  # noqa: E731
+    assert torch.autograd.gradcheck(lambda q, v, a, f: ft.rnea(model, n(q), v, a, f), (q, v, a, f),
+                                     check_forward_ad=True)
+    assert torch.autograd.gradcheck(lambda q, v, t, f: ft.aba(model, n(q), v, t, f), (q, v, tau, f),
+                                     check_forward_ad=True)
+    sb = _state(model, 10, (3,), grad=True)
+    q0 = sb["q"][0].detach().clone().requires_grad_()  # (nq,) broadcast against (3, nv)
+    assert torch.autograd.gradcheck(lambda q, v, a: ft.rnea(model, n(q), v, a), (q0, sb["v"], sb["a"]),
+                                     check_forward_ad=True)
 
 
-def test_gradcheck_on_a_batch_with_a_shared_configuration() -> None:
-    model = MODELS["solo12"]()
-    st = _state(model, 10, (3,), grad=True)
-    q = st["q"][0].detach().clone().requires_grad_()  # (nq,) broadcast against (3, nv)
-    assert torch.autograd.gradcheck(lambda q, v, a: ft.rnea(model, q, v, a), (q, st["v"], st["a"]))
-
-
-@pytest.mark.parametrize("robot", ["panda", "solo12", "mixed_tree"])
-def test_gradgradcheck_rnea_and_aba(robot: str) -> None:
+@pytest.mark.parametrize("robot", ROBOTS)
+def test_gradgradcheck_where_second_derivatives_exist(robot: str) -> None:
     model = MODELS[robot]()
     st = _state(model, 11, grad=True)
-    q, v, a, tau = st["q"], st["v"], st["a"], st["tau"]
-    fast = robot != "panda"  # the floating ones in gradcheck's fast mode (random projections; ~40 s each in full)
-    assert torch.autograd.gradgradcheck(lambda q, v, a: ft.rnea(model, q, v, a), (q, v, a), fast_mode=fast)
-    assert torch.autograd.gradgradcheck(lambda q, v, t: ft.aba(model, q, v, t), (q, v, tau), fast_mode=fast)
+    fast = robot != "panda"  # the floating ones in gradcheck's fast mode (random projections)
+    for name in SECOND:
+        f, args = _call(model, name, st)
+        atol = 1e-3 if robot == "talos_full_v2" and name == "aba" else 1e-5
+        assert torch.autograd.gradgradcheck(f, args, atol=atol, fast_mode=fast), name
+
+
+@pytest.mark.parametrize("robot", ["panda", "solo12"])
+def test_gradgradcheck_of_the_kinematics(robot: str) -> None:
+    """Second order of the placements: their Jacobians are made of joint_jacobians, placements, frame_placement
+    and frame_jacobian, which have their own (forward_kinematics: H and Hp, v and a held)."""
+    model = MODELS[robot]()
+    st = _state(model, 17, grad=True)
+    for name in ("joint_jacobians", "placements", "frame_placement"):
+        f, args = _call(model, name, st)
+        assert torch.autograd.gradgradcheck(f, args, fast_mode=True), name
+    f, (q, v, a) = _call(model, "forward_kinematics", st)
+    assert torch.autograd.gradgradcheck(lambda q: f(q, v.detach(), a.detach())[:2], (q,), fast_mode=True)
+
+
+def test_mixed_tree_first_and_second_order() -> None:
+    """Every joint kind whose q is not its tangent (free-flyer, spherical, planar): rnea and aba."""
+    model = MODELS["mixed_tree"]()
+    st = _state(model, 11, grad=True)
+    for name in ("rnea", "aba", "crba", "frame_placement"):
+        f, args = _call(model, name, st)
+        assert torch.autograd.gradcheck(f, args, check_forward_ad=True), name
+    for name in ("rnea", "aba"):
+        f, args = _call(model, name, st)
+        assert torch.autograd.gradgradcheck(f, args, fast_mode=True), name
+
+
+# ------------------------------------------------------------------------------------------ torch.func
+
+def _numpy_state(model: fd.Model, seed: int) -> dict[str, np.ndarray]:
+    s = random_state(model, seed)
+    return {k: getattr(s, k) for k in ("q", "v", "a", "tau")}
+
+
+@pytest.mark.parametrize("robot", ["panda", "solo12"])
+def test_torch_func_grad_jacrev_jacfwd_are_the_declared_derivatives(robot: str) -> None:
+    model = MODELS[robot]()
+    s = _numpy_state(model, 4)
+    q, v, a, tau = (torch.tensor(s[k]) for k in ("q", "v", "a", "tau"))
+    dq, dv, M = fd.rnea_derivatives(model, s["q"], s["v"], s["a"])
+    w = torch.tensor(np.random.default_rng(5).normal(size=model.nv))
+    tol = {"rtol": 1e-12, "atol": 1e-12}
+    torch.testing.assert_close(torch.func.grad(lambda v: ft.rnea(model, q, v, a) @ w)(v).numpy(), dv.T @ w.numpy(),
+                               **tol)
+    torch.testing.assert_close(torch.func.jacrev(lambda a: ft.rnea(model, q, v, a))(a).numpy(), M, **tol)
+    gq = torch.func.grad(lambda q: ft.rnea(model, q, v, a) @ w)(q)
+    torch.testing.assert_close(ft.tangent_grad(model, q, gq).numpy(), dq.T @ w.numpy(), rtol=1e-10,
+                               atol=1e-10 * max(1.0, float(np.abs(dq).max())))
+    _, ddq_dv, Minv = fd.aba_derivatives(model, s["q"], s["v"], s["tau"])
+    J = torch.func.jacfwd(lambda x: ft.aba(model, q, x[0], x[1]))(torch.stack([v, tau]))
+    torch.testing.assert_close(J[:, 0].numpy(), ddq_dv, rtol=1e-12, atol=1e-12 * max(1.0, np.abs(ddq_dv).max()))
+    torch.testing.assert_close(J[:, 1].numpy(), Minv, rtol=1e-12, atol=1e-12 * max(1.0, np.abs(Minv).max()))
+    # q in coordinates: the tangent's Jacobian composed with the coordinates' map, forward and reverse
+    E = torch.func.jacfwd(lambda d: ft.coordinates_of_tangent(model, q, d))(torch.zeros(model.nv,
+                                                                                         dtype=torch.float64))
+    dg = fd.generalized_gravity_derivatives(model, s["q"])
+    for jac in (torch.func.jacfwd, torch.func.jacrev):
+        Jq = jac(lambda q: ft.generalized_gravity(model, q))(q)
+        torch.testing.assert_close((Jq @ E).numpy(), dg, rtol=1e-10, atol=1e-10 * max(1.0, np.abs(dg).max()))
+    # a frame's Jacobian is the derivative of its velocity (fd.frame_velocity_derivatives.dv_dv)
+    frame = model.frames[-1].name
+    Jv = torch.func.jacrev(lambda v: ft.frame_velocity(model, q, v, frame, "world"))(v)
+    torch.testing.assert_close(Jv, ft.frame_jacobian(model, q, frame, "world"), rtol=1e-12, atol=1e-12)
+
+
+def test_torch_func_hessian_is_the_second_derivatives() -> None:
+    """torch.func.hessian (jacfwd of jacrev) of w·rnea: in v, w·d2tau_dv2 exactly; in the tangent (q ⊕ δ at
+    δ = 0), the symmetric part of w·d2tau_dq2 (the tangent's second derivative of q ↦ τ)."""
+    model = MODELS["solo12"]()
+    s = _numpy_state(model, 8)
+    q, v, a = (torch.tensor(s[k]) for k in ("q", "v", "a"))
+    w = np.random.default_rng(9).normal(size=model.nv)
+    wt = torch.tensor(w)
+    S = fd.rnea_second_derivatives(model, s["q"], s["v"], s["a"])
+    Hv = torch.func.hessian(lambda v: ft.rnea(model, q, v, a) @ wt)(v)
+    torch.testing.assert_close(Hv.numpy(), np.einsum("i,ijk->jk", w, S.d2tau_dv2), rtol=1e-10, atol=1e-10)
+    zero = torch.zeros(model.nv, dtype=torch.float64)
+    Hq = torch.func.hessian(lambda d: ft.rnea(model, ft.coordinates_of_tangent(model, q, d) + q, v, a) @ wt)(zero)
+    ref = np.einsum("i,ijk->jk", w, S.d2tau_dq2)
+    Hq = Hq.numpy()
+    assert np.abs(Hq - Hq.T).max() <= 1e-9 * max(1.0, np.abs(Hq).max())
+    np.testing.assert_allclose(Hq, 0.5 * (ref + ref.T), rtol=1e-6, atol=1e-6 * max(1.0, np.abs(ref).max()))
+    # the mixed block by double backward (torch.autograd.grad, create_graph): ∂²(w·τ)/∂q̇∂q̈ = 0, ∂(w·M q̈)/∂q
+    v_ = v.clone().requires_grad_()
+    (gv,) = torch.autograd.grad(ft.rnea(model, q, v_, a) @ wt, v_, create_graph=True)
+    (Hvv,) = torch.autograd.grad(gv @ wt, v_)
+    torch.testing.assert_close(Hvv.numpy(), np.einsum("i,ijk,j->k", w, S.d2tau_dv2, w), rtol=1e-10, atol=1e-10)
+
+
+def test_torch_func_vmap_of_grad_is_the_loop() -> None:
+    model = MODELS["solo12"]()
+    st = _state(model, 16, (4,))
+    q, v, a = st["q"], st["v"], st["a"]
+    w = torch.tensor(np.random.default_rng(3).normal(size=model.nv))
+    loss = lambda q, v: ft.aba(model, q, v, a[0]) @ w  # noqa: E731
+    g = torch.func.vmap(torch.func.grad(loss, argnums=(0, 1)))(q, v)
+    for k in range(4):
+        q_, v_ = q[k].clone().requires_grad_(), v[k].clone().requires_grad_()
+        want = torch.autograd.grad(loss(q_, v_), (q_, v_))
+        torch.testing.assert_close(g[0][k], want[0], rtol=1e-12, atol=1e-12)
+        torch.testing.assert_close(g[1][k], want[1], rtol=1e-12, atol=1e-12)
+    # float32 in forward mode too: the tangents have the outputs' dtype
+    J32 = torch.func.jacfwd(lambda v: ft.rnea(model, q[0].float(), v, a[0].float()))(v[0].float())
+    assert J32.dtype == torch.float32
 
 
 def test_tangent_grad_is_the_derivative_along_integrate() -> None:
@@ -295,20 +456,29 @@ def test_tangent_grad_is_the_derivative_along_integrate() -> None:
     gt2 = torch.tensor(np.random.default_rng(1).normal(size=model.nv))
     torch.testing.assert_close(ft.tangent_grad(model, q.detach(),
                                                ft.tangent_to_coordinates(model, q.detach(), gt2)), gt2)
+    # coordinates_of_tangent is the direction of fd.integrate
+    d = torch.tensor(np.random.default_rng(2).normal(size=model.nv))
+    h = 1e-7
+    qn = st["q"].numpy()
+    np.testing.assert_allclose(ft.coordinates_of_tangent(model, st["q"], d).numpy(),
+                               (fd.integrate(model, qn, h * d.numpy()) - fd.integrate(model, qn, -h * d.numpy()))
+                               / (2 * h), atol=1e-7)
 
 
-def test_a_missing_derivative_raises_a_featherdyn_error_at_backward() -> None:
+def test_a_missing_derivative_raises_a_featherdyn_error() -> None:
     model = MODELS["solo12"]()
     st = _state(model, 13, grad=True)
-    J = ft.frame_jacobian(model, st["q"], model.frames[-1].name)
-    with pytest.raises(fd.FeatherdynError, match="derivative of frame_jacobian is not available"):
-        J.sum().backward()
-    # third order: the second-derivative operators have none
-    y = ft.generalized_gravity(model, st["q"])
-    (g,) = torch.autograd.grad(y.sum(), st["q"], create_graph=True)
-    with pytest.raises(fd.FeatherdynError, match="second derivative of generalized_gravity is not available"):
+    Y = ft.joint_torque_regressor(model, st["q"], st["v"], st["a"])
+    with pytest.raises(fd.FeatherdynError, match="derivative of joint_torque_regressor is not available"):
+        Y.sum().backward()
+    with pytest.raises(fd.FeatherdynError, match="derivative of joint_torque_regressor is not available"):
+        torch.func.jacfwd(lambda q: ft.joint_torque_regressor(model, q, st["v"], st["a"]))(st["q"].detach())
+    # third order: crba's ∂M/∂q is rnea_second_derivatives', which has none
+    (g,) = torch.autograd.grad(ft.crba(model, st["q"]).sum(), st["q"], create_graph=True)
+    with pytest.raises(fd.FeatherdynError, match="derivative of rnea_second_derivatives is not available"):
         g.sum().backward()
+    # f_ext: first derivatives of rnea and aba only
     y = ft.rnea(model, st["q"], st["v"], st["a"], st["f_ext"])
     (g,) = torch.autograd.grad(y.sum(), st["q"], create_graph=True)
-    with pytest.raises(fd.FeatherdynError, match="with respect to f_ext is not available"):
+    with pytest.raises(fd.FeatherdynError, match="rnea_derivatives with respect to f_ext is not available"):
         torch.autograd.grad(g.sum(), st["f_ext"])
