@@ -57,7 +57,7 @@ from collections import namedtuple
 from collections.abc import Callable, Sequence
 from dataclasses import replace
 from types import SimpleNamespace
-from typing import Any, cast
+from typing import Any, NamedTuple, cast
 
 import numpy as np
 import torch
@@ -608,3 +608,228 @@ for _decl in DECLARATIONS.values():
     globals()[_decl.name] = _front(_decl)
     __all__.append(_decl.name)
 del _decl
+
+
+# ----------------------------------------------------------------- constrained and impulse dynamics (contacts)
+
+class ConstrainedDynamics(NamedTuple):
+    """``fd.constrained_dynamics``' result on tensors: ``ddq`` `(..., nv)`, ``forces`` (one tensor per constraint),
+    ``lagrange`` `(..., m)`, ``residual`` `(...)`."""
+
+    ddq: torch.Tensor
+    forces: tuple[torch.Tensor, ...]
+    lagrange: torch.Tensor
+    residual: torch.Tensor
+
+
+class ImpulseDynamics(NamedTuple):
+    """``fd.impulse_dynamics``' result on tensors: ``v_plus`` `(..., nv)`, ``impulses``, ``lagrange`` `(..., m)`."""
+
+    v_plus: torch.Tensor
+    impulses: tuple[torch.Tensor, ...]
+    lagrange: torch.Tensor
+
+
+#: the contact problems the operator ``featherdyn::contact_solve`` solves, by key: (kind, model, constraints,
+#: settings); registered once each (the key is a graph constant, like a model's)
+_CONTACT_SETS: list[tuple[str, Model, Any, dict[str, Any]]] = []
+_CONTACT_KEYS: dict[Any, int] = {}
+
+
+def _contact_key(kind: str, model: Model, constraints: Any, settings: dict[str, Any]) -> int:
+    from .constraints import as_constraints
+
+    items = tuple(as_constraints(constraints))
+    ident: Any = (kind, model_key(model), items, tuple(sorted(settings.items())))
+    try:
+        key = _CONTACT_KEYS.get(ident)
+    except TypeError:  # (an unhashable setting: registered anew)
+        key, ident = None, None
+    if key is None:
+        key = len(_CONTACT_SETS)
+        _CONTACT_SETS.append((kind, model, list(items), dict(settings)))
+        if ident is not None:
+            _CONTACT_KEYS[ident] = key
+    return key
+
+
+@torch.library.custom_op("featherdyn::contact_solve", mutates_args=())
+def _contact_solve(key: int, q: torch.Tensor, v: torch.Tensor, tau: torch.Tensor | None, f_ext: torch.Tensor | None,
+                   derivatives: bool) -> list[torch.Tensor]:
+    """The contact problem ``key``'s values ``[q̈ or v⁺, λ, residual]`` (``fd.constrained_dynamics`` /
+    ``fd.impulse_dynamics``), or with ``derivatives`` the blocks of their ``_derivatives`` (``∂q̈/∂(q, v, τ)``,
+    ``∂λ/∂(q, v, τ)``; impulses: ``∂v⁺/∂(q, v)``, ``∂Λ/∂(q, v)``)."""
+    from .api.constraint_derivatives import constrained_dynamics_derivatives, impulse_dynamics_derivatives
+    from .api.constraints import constrained_dynamics, impulse_dynamics
+
+    kind, model, constraints, settings = _CONTACT_SETS[key]
+    tensors = (q, v, tau, f_ext)
+    a: list[Any] = [_numpy(t) for t in tensors]
+    dtype, device = _result_dtype(tensors), _device(tensors)
+    r: Any
+    if kind == "constrained":
+        f: Callable[..., Any] = constrained_dynamics_derivatives if derivatives else constrained_dynamics
+        r = f(model, a[0], a[1], a[2], constraints, f_ext=a[3], **settings)
+        out = ([r.ddq_dq, r.ddq_dv, r.ddq_dtau, r.forces_dq, r.forces_dv, r.forces_dtau] if derivatives
+               else [r.ddq, r.lagrange, r.residual])
+    else:
+        f = impulse_dynamics_derivatives if derivatives else impulse_dynamics
+        r = f(model, a[0], a[1], constraints, **settings)
+        out = ([r.dv_plus_dq, r.dv_plus_dv, r.impulses_dq, r.impulses_dv] if derivatives
+               else [r.v_plus, r.lagrange, np.zeros(np.shape(r.v_plus)[:-1])])
+    return [_tensor(np.asarray(x), dtype, device) for x in out]
+
+
+@_contact_solve.register_vmap
+def _contact_solve_vmap(info: Any, in_dims: tuple[Any, ...], key: int, *args: Any) -> Any:
+    """One call on the mapped batch: each mapped tensor's dimension first, then singletons up to the widest
+    input's own batch (unmapped tensors broadcast from the right), as the declared operators' rule."""
+    tensors, derivatives = args[:4], args[4]
+    tails = (1, 1, 1, 2)  # q, v, τ vectors; f_ext (nb, 6)
+    dims = in_dims[1:5]
+    own = [t.dim() - (d is not None) - n for t, d, n in zip(tensors, dims, tails, strict=True) if t is not None]
+    widest = max(own, default=0)
+    moved = []
+    for t, d, n in zip(tensors, dims, tails, strict=True):
+        if t is None or d is None:
+            moved.append(t)
+            continue
+        m = t.movedim(d, 0)
+        moved.append(m.reshape(m.shape[:1] + (1,) * (widest - (m.dim() - 1 - n)) + m.shape[1:]))
+    out = _contact_solve(key, *moved, derivatives)
+    return out, [0] * len(out)
+
+
+class _Contacts(torch.autograd.Function):
+    """The contact solves as one autograd node (``featherdyn::contact_solve``: the NumPy functions, the core's
+    contact kernels), the backward and forward mode from their ``_derivatives`` (``q`` through ``T(q)``); first
+    order only (:class:`_ContactJacobians`)."""
+
+    generate_vmap_rule = True
+
+    @staticmethod
+    def forward(key: int, *tensors: Any) -> Any:
+        return tuple(_contact_solve(key, *tensors, False))
+
+    @staticmethod
+    def setup_context(ctx: Any, inputs: tuple[Any, ...], output: Any) -> None:
+        ctx.key = inputs[0]
+        ctx.kind, ctx.model = _CONTACT_SETS[ctx.key][:2]
+        ctx.given = [t is not None for t in inputs[1:]]
+        given = [t for t in inputs[1:] if t is not None]
+        ctx.save_for_backward(*given)
+        ctx.save_for_forward(*given)  # (the jvp reads them too)
+        ctx.mark_non_differentiable(output[2])
+
+    @staticmethod
+    def _jacobians(ctx: Any) -> tuple[list[torch.Tensor | None], list[list[torch.Tensor]]]:
+        it = iter(ctx.saved_tensors)
+        ins = [next(it) if g else None for g in ctx.given]
+        ins += [None] * (4 - len(ins))
+        d = _ContactJacobians.apply(ctx.key, *ins)
+        n = 3 if ctx.kind == "constrained" else 2
+        return ins, [list(d[:n]), list(d[n:])]
+
+    @staticmethod
+    def backward(ctx: Any, *ybars: Any) -> Any:
+        needs = ctx.needs_input_grad[1:]
+        if len(needs) > 3 and needs[3]:
+            raise _no_derivative(f"the derivative of {ctx.kind} dynamics with respect to f_ext")
+        ins, blocks = _Contacts._jacobians(ctx)
+        grads: list[torch.Tensor | None] = []
+        for k, t in enumerate(ins):
+            if t is None or k >= len(blocks[0]) or not needs[k]:
+                grads.append(None)
+                continue
+            terms = [torch.einsum("...i,...ij->...j", ybars[o].to(blocks[o][k].dtype), blocks[o][k])
+                     for o in (0, 1) if ybars[o] is not None]
+            if not terms:
+                grads.append(None)
+                continue
+            g = sum(terms[1:], terms[0])
+            g = tangent_to_coordinates(ctx.model, t, g) if k == 0 else g
+            grads.append(_sum_to(g, t.shape).to(t.dtype))
+        return (None, *grads[:len(ctx.given)])
+
+    @staticmethod
+    def jvp(ctx: Any, *dots: Any) -> Any:
+        tangents = dots[1:]  # (the key's tangent is None)
+        if len(tangents) > 3 and tangents[3] is not None:
+            raise _no_derivative(f"the derivative of {ctx.kind} dynamics with respect to f_ext")
+        ins, blocks = _Contacts._jacobians(ctx)
+        outs: list[torch.Tensor | None] = []
+        for row in blocks:
+            t = None
+            for k, (J, dx) in enumerate(zip(row, tangents, strict=False)):
+                if dx is None:
+                    continue
+                q = ins[0]
+                assert q is not None
+                d = _jac.tangent_of_coordinates(_fw(q, dx), ctx.model, q, dx) if k == 0 else dx
+                term = torch.einsum("...ij,...j->...i", J, d.to(J.dtype))
+                t = term if t is None else t + term
+            outs.append(t)
+        return (*outs, None)
+
+
+class _ContactJacobians(torch.autograd.Function):
+    """The contact derivative blocks (``featherdyn::contact_solve`` with ``derivatives``) as an autograd node whose
+    own derivative raises: the contact derivatives have none, so a double backward or ``hessian`` through the
+    contact solves is refused rather than a silent zero (a gradient's derivative in the cotangent is fine)."""
+
+    generate_vmap_rule = True
+
+    @staticmethod
+    def forward(key: int, *tensors: Any) -> Any:
+        return tuple(_contact_solve(key, *tensors, True))
+
+    @staticmethod
+    def setup_context(ctx: Any, inputs: tuple[Any, ...], output: Any) -> None:
+        ctx.kind = _CONTACT_SETS[inputs[0]][0]
+
+    @staticmethod
+    def backward(ctx: Any, *grads: Any) -> Any:
+        raise _no_derivative(f"the second derivative of {ctx.kind} dynamics (its first derivatives are the "
+                             "contact derivative functions', which have none)")
+
+    @staticmethod
+    def jvp(ctx: Any, *dots: Any) -> Any:
+        raise _no_derivative(f"the second derivative of {ctx.kind} dynamics")
+
+
+def constrained_dynamics(model: Model, q: torch.Tensor, v: torch.Tensor, tau: torch.Tensor, constraints: Any,
+                         f_ext: torch.Tensor | None = None, *, mu: float = 0.0, max_iter: int = 50,
+                         tol: float = 1e-12) -> ConstrainedDynamics:
+    """``fd.constrained_dynamics`` on tensors (the core's contact kernels; loops too, through the NumPy
+    function), differentiable once in ``q, v, τ`` (``fd.constrained_dynamics_derivatives``)::
+
+        M q̈ + h = τ + Jᵀ λ,     J q̈ + γ = −K_p e − K_d J v
+    """
+    from .constraints import as_constraints
+
+    items = as_constraints(constraints)
+    key = _contact_key("constrained", model, constraints, {"mu": mu, "max_iter": max_iter, "tol": tol})
+    ddq, lam, residual = _Contacts.apply(key, q, v, tau, f_ext)
+    return ConstrainedDynamics(ddq, _split(lam, items), lam, residual)
+
+
+def impulse_dynamics(model: Model, q: torch.Tensor, v: torch.Tensor, constraints: Any, *,
+                     restitution: float = 0.0, mu: float = 0.0) -> ImpulseDynamics:
+    """``fd.impulse_dynamics`` on tensors, differentiable once in ``q, v`` (``fd.impulse_dynamics_derivatives``)::
+
+        M (v⁺ − v⁻) = Jᵀ Λ,     J v⁺ = −e J v⁻
+    """
+    from .constraints import as_constraints
+
+    items = as_constraints(constraints)
+    key = _contact_key("impulse", model, constraints, {"restitution": restitution, "mu": mu})
+    v_plus, lam, _ = _Contacts.apply(key, q, v, None, None)
+    return ImpulseDynamics(v_plus, _split(lam, items), lam)
+
+
+def _split(lam: torch.Tensor, items: Sequence[Any]) -> tuple[torch.Tensor, ...]:
+    sizes = [c.size for c in items]
+    return tuple(torch.split(lam, sizes, dim=-1))
+
+
+__all__ += ["constrained_dynamics", "impulse_dynamics", "ConstrainedDynamics", "ImpulseDynamics"]

@@ -139,7 +139,8 @@ def _call(model: fd.Model, name: str, st: dict[str, np.ndarray], reference: fd.R
 #: the operations with first derivatives (their declaration's derivative, or api/jacobians.py's rules)
 FIRST = sorted(n for n in DECLARATIONS if has_jacobians(n))
 #: the operations whose first derivatives are made of operations with derivatives: second order
-SECOND = ["rnea", "aba", "generalized_gravity", "nonlinear_effects", "kinetic_energy", "potential_energy"]
+SECOND = ["rnea", "aba", "generalized_gravity", "nonlinear_effects", "kinetic_energy", "potential_energy",
+          "joint_jacobians", "placements", "frame_placement"]
 
 
 @pytest.mark.parametrize("robot", BOTH, ids=_id)

@@ -482,3 +482,61 @@ def test_a_missing_derivative_raises_a_featherdyn_error() -> None:
     (g,) = torch.autograd.grad(y.sum(), st["q"], create_graph=True)
     with pytest.raises(fd.FeatherdynError, match="rnea_derivatives with respect to f_ext is not available"):
         torch.autograd.grad(g.sum(), st["f_ext"])
+
+
+CONTACTS = {"solo12": [("FL_FOOT", fd.LOCAL), ("FR_FOOT", fd.WORLD), ("HL_FOOT", fd.LOCAL_WORLD_ALIGNED),
+                       ("HR_FOOT", fd.LOCAL)],
+            "talos_full_v2": [("left_sole_link", fd.LOCAL), ("right_sole_link", fd.LOCAL_WORLD_ALIGNED)]}
+
+
+@pytest.mark.parametrize("name", sorted(CONTACTS))
+def test_constrained_and_impulse_dynamics(name: str) -> None:
+    """ft.constrained_dynamics / ft.impulse_dynamics: the NumPy functions' values bit for bit, gradcheck in both
+    modes against finite differences (their derivative functions), torch.func.grad against
+    fd.constrained_dynamics_derivatives, vmap in one call, and a second derivative refused."""
+    model = _robot(name, True)
+    point = name == "solo12"
+    cs = [fd.PointContact(f, r) if point else fd.FrameContact(f, r) for f, r in CONTACTS[name]]
+    rng = np.random.default_rng(21)
+    q0 = fd.random_configuration(model, rng)
+    v0, t0 = rng.normal(size=(2, model.nv))
+    q, v, tau = (torch.tensor(x, requires_grad=True) for x in (q0, v0, t0))
+    r, ref = ft.constrained_dynamics(model, q, v, tau, cs), fd.constrained_dynamics(model, q0, v0, t0, cs)
+    np.testing.assert_array_equal(r.ddq.detach().numpy(), ref.ddq)
+    np.testing.assert_array_equal(r.lagrange.detach().numpy(), ref.lagrange)
+    assert [f.shape[-1] for f in r.forces] == [3 if point else 6] * len(cs)
+    i = ft.impulse_dynamics(model, q, v, cs, restitution=0.4)
+    np.testing.assert_array_equal(i.v_plus.detach().numpy(),
+                                  fd.impulse_dynamics(model, q0, v0, cs, restitution=0.4).v_plus)
+    fast = not point  # (talos: 50 columns)
+
+    def f(q: torch.Tensor, v: torch.Tensor, t: torch.Tensor) -> tuple[torch.Tensor, ...]:
+        out = ft.constrained_dynamics(model, ft.normalize(model, q), v, t, cs)
+        return out.ddq, out.lagrange
+
+    # talos: accelerations of ~1e4 under its sole contacts; central differences carry ~1e-3 of rounding there
+    eps, atol = (1e-5, 1e-3) if fast else (1e-6, 1e-5)
+    assert torch.autograd.gradcheck(f, (q, v, tau), eps=eps, atol=atol, rtol=1e-5, fast_mode=fast)
+    assert torch.autograd.gradcheck(f, (q, v, tau), eps=eps, atol=atol, rtol=1e-5, fast_mode=fast, check_forward_ad=True,
+                                    check_backward_ad=False, check_undefined_grad=False)
+    assert torch.autograd.gradcheck(lambda q, v: ft.impulse_dynamics(model, ft.normalize(model, q), v, cs,
+                                                                     restitution=0.4).v_plus,
+                                    (q, v), eps=eps, atol=atol, rtol=1e-5, fast_mode=fast)
+    d = fd.constrained_dynamics_derivatives(model, q0, v0, t0, cs)
+    w = torch.tensor(rng.normal(size=model.nv))
+    gv = torch.func.grad(lambda v: ft.constrained_dynamics(model, q.detach(), v, tau.detach(), cs).ddq @ w)(
+        v.detach())
+    np.testing.assert_allclose(gv.numpy(), d.ddq_dv.T @ w.numpy(), rtol=1e-12, atol=1e-12 * np.abs(d.ddq_dv).max())
+    Q = torch.tensor(fd.random_configuration(model, rng, size=3))
+    V = torch.tensor(rng.normal(size=(3, model.nv)))
+    batch = torch.func.vmap(lambda q, v: ft.constrained_dynamics(model, q, v, tau.detach(), cs).ddq)(Q, V)
+    np.testing.assert_array_equal(batch.numpy(), fd.constrained_dynamics(model, Q.numpy(), V.numpy(), t0, cs).ddq)
+    (g,) = torch.autograd.grad(r.ddq @ w, v, create_graph=True)
+    with pytest.raises(fd.FeatherdynError, match="second derivative of constrained dynamics"):
+        torch.autograd.grad(g.sum(), v)
+    with pytest.raises(fd.FeatherdynError, match="second derivative"):
+        torch.func.hessian(lambda v: ft.constrained_dynamics(model, q.detach(), v, tau.detach(), cs).ddq @ w)(
+            v.detach())
+    f_ext = torch.zeros(model.nbodies, 6, dtype=torch.float64, requires_grad=True)
+    with pytest.raises(fd.FeatherdynError, match="f_ext"):
+        torch.autograd.grad(ft.constrained_dynamics(model, q, v, tau, cs, f_ext).ddq.sum(), f_ext)
