@@ -133,8 +133,9 @@ def homogeneous(p: Any, quat: Any, xp: Any) -> Any:
 
 
 def patch_adam_jax_device() -> None:
-    """adam's JAX arrays are made with ``device=`` its reference array's device; under ``jax.vmap`` jax 0.10 refuses
-    that (``'SingleDeviceSharding' object has no attribute 'spec'``; adam's ``[jax]`` extra pins jax ≤ 0.6.0).
+    """adam's JAX arrays are made with ``device=`` its reference array's device; on traced values (``jax.jit``,
+    ``jax.vmap``) jax 0.10 refuses that (``'SingleDeviceSharding' object has no attribute 'spec'``; adam's ``[jax]``
+    extra pins jax ≤ 0.6.0).
     Its JAX class is given a spec without a device (JAX's default device: the CPU here, the same arrays)."""
     import dataclasses
 
