@@ -139,8 +139,8 @@ def _call(model: fd.Model, name: str, st: dict[str, np.ndarray], reference: fd.R
 #: the operations with first derivatives (their declaration's derivative, or api/jacobians.py's rules)
 FIRST = sorted(n for n in DECLARATIONS if has_jacobians(n))
 #: the operations whose first derivatives are made of operations with derivatives: second order
-SECOND = ["rnea", "aba", "generalized_gravity", "nonlinear_effects", "kinetic_energy", "potential_energy",
-          "joint_jacobians", "placements", "frame_placement"]
+SECOND = ["rnea", "aba", "crba", "mass_matrix_inverse", "generalized_gravity", "nonlinear_effects", "kinetic_energy",
+          "potential_energy", "joint_jacobians", "placements", "frame_placement"]
 
 
 @pytest.mark.parametrize("robot", BOTH, ids=_id)
@@ -298,7 +298,7 @@ def test_errors() -> None:
     with pytest.raises(fd.FeatherdynError, match="not available"):
         jax.grad(lambda q: fj.joint_torque_regressor(model, q, st["v"], st["a"]).sum())(st["q"])
     with pytest.raises(fd.FeatherdynError, match="rnea_second_derivatives: its derivatives are not available"):
-        jax.jacfwd(jax.jacfwd(lambda q: fj.crba(model, q)))(st["q"])  # a third derivative of τ
+        jax.jacfwd(jax.jacfwd(jax.jacfwd(lambda q: fj.crba(model, q))))(st["q"])  # a fourth derivative of τ
     with pytest.raises(fd.FeatherdynError, match="f_ext"):
         jax.grad(lambda f: fj.static_torque_derivatives(model, st["q"], f).sum())(st["f_ext"])
     with pytest.raises(Exception, match=r"featherdyn\.rnea: row 0: non-finite value"):

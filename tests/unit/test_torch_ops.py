@@ -174,7 +174,8 @@ def test_bad_input_raises_the_featherdyn_errors() -> None:
 #: the operators with Jacobians (api/jacobians.py: a declared derivative or a rule)
 FIRST = sorted(n for n in DECLARATIONS if has_jacobians(n))
 #: the operators whose Jacobians are made of operators with Jacobians: second order (as tests/unit/test_jax_ops.py)
-SECOND = ["rnea", "aba", "generalized_gravity", "nonlinear_effects", "kinetic_energy", "potential_energy"]
+SECOND = ["rnea", "aba", "crba", "mass_matrix_inverse", "generalized_gravity", "nonlinear_effects", "kinetic_energy",
+          "potential_energy"]
 ROBOTS = ["panda", "solo12", "talos_full_v2"]
 
 
@@ -473,10 +474,11 @@ def test_a_missing_derivative_raises_a_featherdyn_error() -> None:
         Y.sum().backward()
     with pytest.raises(fd.FeatherdynError, match="derivative of joint_torque_regressor is not available"):
         torch.func.jacfwd(lambda q: ft.joint_torque_regressor(model, q, st["v"], st["a"]))(st["q"].detach())
-    # third order: crba's ∂M/∂q is rnea_second_derivatives', which has none
+    # third order: crba's ∂²M/∂q² is rnea_derivatives' derivative, fd.rnea_second_derivatives, which has none
     (g,) = torch.autograd.grad(ft.crba(model, st["q"]).sum(), st["q"], create_graph=True)
+    (h,) = torch.autograd.grad(g.sum(), st["q"], create_graph=True)
     with pytest.raises(fd.FeatherdynError, match="derivative of rnea_second_derivatives is not available"):
-        g.sum().backward()
+        h.sum().backward()
     # f_ext: first derivatives of rnea and aba only
     y = ft.rnea(model, st["q"], st["v"], st["a"], st["f_ext"])
     (g,) = torch.autograd.grad(y.sum(), st["q"], create_graph=True)

@@ -87,9 +87,13 @@ def _nonlinear_effects(fw: Framework, model: Model, x: dict[str, Any], o: dict[s
 
 
 def _dM_dq(fw: Framework, model: Model, q: Any) -> Any:
-    """``∂M/∂q`` `(..., nv, nv, nv)`, ``[i, j, k] = ∂M_ij/∂q_k``: ``fd.rnea_second_derivatives(q, 0, 0).dM_dq``."""
-    zero = fw.zeros((model.nv,))
-    return fw.call("rnea_second_derivatives", model, {"q": q, "v": zero, "a": zero}, {"gravity": False})[3]
+    """``∂M/∂q`` `(..., nv, nv, nv)`, ``[i, j, k] = ∂M_ij/∂q_k``: column ``j`` of ``M`` is ``RNEA(q, 0, e_j)`` without
+    gravity, so ``∂(M e_j)/∂q`` is ``fd.rnea_derivatives(q, 0, e_j).dtau_dq`` — all columns in one batched call
+    (half the time of ``fd.rnea_second_derivatives(q, 0, 0).dM_dq``, which forms three more tensors; and
+    differentiable again through ``rnea_derivatives``' Jacobians)."""
+    q1, E = _unit_columns(fw, model, q)
+    d = fw.call("rnea_derivatives", model, {"q": q1, "v": fw.zeros((model.nv,)), "a": E}, {"gravity": False})
+    return fw.einsum("...jik->...ijk", d[0])
 
 
 def _crba(fw: Framework, model: Model, x: dict[str, Any], o: dict[str, Any]) -> Table:
