@@ -22,11 +22,13 @@ from .model import Model
 from .spatial.validation import as_array, numeric_value, result_dtype
 from .tolerances import QUATERNION_NORM
 
-__all__ = ["State", "CONFIGURATIONS", "check_state", "check_quaternions", "check_f_ext", "batch_with_f_ext"]
+__all__ = ["State", "CONFIGURATIONS", "VECTORS", "check_state", "check_quaternions", "check_f_ext", "batch_with_f_ext"]
 
 #: the state arguments that are configurations `(..., nq)`, whose quaternions are checked (``q``; ``q0`` and ``q1`` of
 #: ``fd.difference``); every other state vector is `(..., nv)`
 CONFIGURATIONS = ("q", "q0", "q1")
+#: the state arguments :func:`check_state` takes among its vectors, after the first configuration (``q`` or ``q0``)
+VECTORS = ("v", "a", "tau", "q1")
 
 
 @dataclass(frozen=True)

@@ -369,6 +369,8 @@ _PRIVATE_ACROSS_ROOMS_ALLOWED = [
     ("featherdyn.configuration", "featherdyn._dask*", "_dask is placed by the glue work of issue 29"),
     ("featherdyn.api*", "featherdyn._state_checks*", "_state_checks is placed by the glue work of issue 29"),
     ("featherdyn.core*", "featherdyn._state_checks*", "_state_checks is placed by the glue work of issue 29"),
+    ("featherdyn.configuration", "featherdyn._state_checks*",
+     "the configuration functions (fd.integrate's reference) check a state as the declared functions do"),
     ("featherdyn.tools.bench", "featherdyn.core._core*", "the kernels' SIMD width, _core.simd(), which core/ "
      "(rewritten in issue 29) does not wrap"),
     ("featherdyn.tools.cli", "featherdyn.core._core*", "the binary's build_info() for `featherdyn info --build` "

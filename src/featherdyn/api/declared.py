@@ -38,7 +38,7 @@ from ..errors import DTypeError, NotAModelError, ShapeError
 from ..frames import LOCAL, LOCAL_WORLD_ALIGNED, WORLD, as_reference_frame
 from ..model import Model
 from ._backend import CORE, core_path, select_backend
-from ._checks import CONFIGURATIONS, State, as_dtype, batch_with_f_ext, check_f_ext, check_state, finite_result, quiet
+from ._checks import VECTORS, State, as_dtype, batch_with_f_ext, check_f_ext, check_state, finite_result, quiet
 
 __all__ = ["Declaration", "Record", "call", "public_function", "compiled_method", "kernel_options", "xla_ffi",
            "xla_entry", "operand_shapes"]
@@ -251,7 +251,7 @@ def call(decl: Declaration, model: Model, args: tuple[Any, ...], out: Any = None
     # 3. checks: f_ext, then the state, as every public function words them (their values only where the core
     # does not check them itself: it checks every state, and its error path words what it finds as these do)
     first = decl.inputs[0]  # the configuration q (or q0; a second one, q1, is checked among the vectors, as q is)
-    vectors = {n: given[n] for n in decl.inputs[1:] if n in ("v", "a", "tau") or n in CONFIGURATIONS}
+    vectors = {n: given[n] for n in decl.inputs if n in VECTORS}
 
     def checked_state(values: bool) -> tuple[np.ndarray | None, State]:
         fx = check_f_ext(model, given.get("f_ext"), values) if "f_ext" in given else None

@@ -19,7 +19,6 @@ from typing import Any
 
 import numpy as np
 
-from .._state_checks import CONFIGURATIONS
 from ..errors import DTypeError, ShapeError
 from ..frames import LOCAL, as_reference_frame
 from ..model import Model
@@ -80,8 +79,7 @@ def _f64(x: Any, name: str) -> np.ndarray:
 
 def _batch_shape(model: Model, arrays: list[tuple[np.ndarray, int]], q: Any, vectors: list[tuple[str, Any]],
                  f_ext: Any, name: str = "q") -> tuple[int, ...]:
-    """The broadcast batch shape of ``(array, trailing ndim)`` pairs; the reference's error when there is none
-    (``name``: the configuration ``q``'s, ``q0`` for ``difference``)."""
+    """The broadcast batch shape of ``(array, trailing ndim)`` pairs; the reference's error when there is none."""
     try:
         return np.broadcast_shapes(*(a.shape[: a.ndim - k] for a, k in arrays))
     except ValueError:
@@ -136,12 +134,10 @@ def _declared(name: str, doc: str) -> Callable[..., Any]:
                 return r
         elif spec.kernel.into(h.cm, xs, list(outs), declared.call_options(**options)) == 0:
             return out
-        first = spec.input_names[0]  # q (or q0, and then q1 among the vectors)
-        vectors = [(n, x) for n, x in zip(spec.input_names[1:], inputs[1:], strict=True)
-                   if n in ("v", "a", "tau") or n in CONFIGURATIONS]
+        vectors = [(n, x) for n, x in zip(spec.input_names, inputs, strict=True) if n in _errors.VECTORS]  # (q1 too)
         tails = [len(s) for _, s, _ in spec.inputs]
         batch = _batch_shape(model, [(x, t) for x, t in zip(xs, tails, strict=True) if x is not None],
-                             given[first], vectors, given.get("f_ext"), first)
+                             given[spec.input_names[0]], vectors, given.get("f_ext"), spec.input_names[0])
         r = declared.run(name, model, batch, xs, outs, options)  # (out over an input: declared.run's one rule)
         return out if out is not None else r[0] if len(r) == 1 else r
 

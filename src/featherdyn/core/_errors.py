@@ -19,7 +19,7 @@ from typing import Any, NoReturn
 
 import numpy as np
 
-from .._state_checks import batch_with_f_ext, check_f_ext, check_state
+from .._state_checks import VECTORS, batch_with_f_ext, check_f_ext, check_state
 from ..errors import (
     ConstraintError,
     FeatherdynError,
@@ -31,8 +31,8 @@ from ..errors import (
 )
 from ..model import Model
 
-__all__ = ["OK", "LENGTH", "NONFINITE", "QUATERNION", "SINGULAR", "OVERLAP", "NO_MASS", "CONSTRAINT", "ARG_NAMES", "decode", "validate",
-           "raise_for", "singular_error"]
+__all__ = ["OK", "LENGTH", "NONFINITE", "QUATERNION", "SINGULAR", "OVERLAP", "NO_MASS", "CONSTRAINT", "ARG_NAMES", "VECTORS",
+           "decode", "validate", "raise_for", "singular_error"]
 
 OK, LENGTH, NONFINITE, QUATERNION, SINGULAR, OVERLAP, NO_MASS, CONSTRAINT = range(8)
 #: the ``arg`` field of a status (``q1``: a second configuration, ``fd.difference``'s; its ``q0`` is ``q``'s field)
@@ -45,8 +45,7 @@ def decode(status: int) -> tuple[int, int, int]:
 
 
 def validate(model: Model, q: Any, vectors: Sequence[tuple[str, Any]] = (), f_ext: Any = None, name: str = "q") -> None:
-    """Raise what the public functions raise for these arguments (``f_ext``, then ``q`` — named ``name`` —, the
-    vectors, quaternions)."""
+    """Raise what the public functions raise for these arguments (``f_ext``, then ``q`` or ``name``, vectors, quaternions)."""
     fx = check_f_ext(model, f_ext)
     st = check_state(model, q, name=name, **dict(vectors))
     batch_with_f_ext(st, fx)
@@ -67,8 +66,7 @@ def raise_for(status: int, model: Model, q: Any, vectors: Sequence[tuple[str, An
               arg_names: Sequence[str] = ARG_NAMES, what: str = "featherdyn.core") -> NoReturn:
     """Raise the reference's exception for a failed core call (see the module docstring).
 
-    ``what`` names the computation in the overflow message (as the public functions do); ``arg_names[0]`` is the
-    name of ``q`` (``q0`` for ``fd.difference``).
+    ``what`` names the computation in the overflow message (as the public functions do); ``arg_names[0]``: q's name.
     """
     validate(model, q, vectors, f_ext, arg_names[0])
     code, arg, index = decode(status)

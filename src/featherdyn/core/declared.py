@@ -15,7 +15,6 @@ from typing import Any
 
 import numpy as np
 
-from .._state_checks import CONFIGURATIONS
 from ..errors import ShapeError
 from ..model import Model
 from . import _errors
@@ -141,9 +140,8 @@ def run(name: str, model: Model, batch: tuple[int, ...], inputs: list[np.ndarray
     _row, status = k.batch(h.cm, rows, [None if o is None else o.reshape(N, -1) for o in outs], opts)
     if status:
         names = spec.input_names
-        q = inputs[0]  # (q, or q0 and then q1 among the vectors: the first input is a configuration)
-        vectors = [(n, x) for n, x in zip(names[1:], inputs[1:], strict=True)
-                   if (n in ("v", "a", "tau") or n in CONFIGURATIONS) and x is not None]
+        q = inputs[0]  # (q, or q0 and then q1 among the vectors)
+        vectors = [(n, x) for n, x in zip(names, inputs, strict=True) if n in _errors.VECTORS and x is not None]
         f_ext = inputs[names.index("f_ext")] if "f_ext" in names else None
         if _errors.decode(status)[0] == _errors.SINGULAR:
             _errors.validate(model, q, vectors, f_ext)
