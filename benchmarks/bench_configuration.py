@@ -63,10 +63,10 @@ def main(argv: list[str]) -> int:
             ("difference", configuration.difference, fd.difference, (q, q1), (Q, Q1)),
         ):
             assert np.abs(before(model, *one) - after(model, *one)).max() < 1e-12
-            t_np1 = _median_time(lambda before=before, one=one: before(model, *one), 15, 200)
-            t_c1 = _median_time(lambda after=after, one=one: after(model, *one), 15, 2000)
-            t_npN = _median_time(lambda before=before, many=many: before(model, *many), 7, 3)
-            t_cN = _median_time(lambda after=after, many=many: after(model, *many), 7, 10)
+            t_np1 = _median_time(lambda before=before, one=one, model=model: before(model, *one), 15, 200)
+            t_c1 = _median_time(lambda after=after, one=one, model=model: after(model, *one), 15, 2000)
+            t_npN = _median_time(lambda before=before, many=many, model=model: before(model, *many), 7, 3)
+            t_cN = _median_time(lambda after=after, many=many, model=model: after(model, *many), 7, 10)
             pin1 = pinN = float("nan")
             if pin_pair is not None:
                 pin, pm = pin_pair
@@ -74,7 +74,7 @@ def main(argv: list[str]) -> int:
                 pq, pq1, pv = pin.randomConfiguration(pm), pin.randomConfiguration(pm), np.zeros(pm.nv)
                 f = pin.integrate if call == "integrate" else pin.difference
                 second = pv if call == "integrate" else pq1
-                pin1 = _median_time(lambda f=f, second=second: f(pm, pq, second), 15, 2000)
+                pin1 = _median_time(lambda f=f, second=second, pm=pm, pq=pq: f(pm, pq, second), 15, 2000)
                 pinN = pin1 * N  # (N × its one-state time: a lower bound of a Python loop over the states)
             print(f"{name:<16}{call:<12}{t_np1 * 1e6:>10.1f}{t_c1 * 1e6:>9.2f}{t_np1 / t_c1:>7.0f}{pin1 * 1e6:>13.2f}"
                   f"{t_npN * 1e6:>11.0f}{t_cN * 1e6:>10.0f}{t_npN / t_cN:>7.1f}{pinN * 1e6:>13.0f}")
