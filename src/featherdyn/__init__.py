@@ -129,10 +129,10 @@ _LAZY = {
     "list_robots": "robots",
     "neutral": "configuration",
     "random_configuration": "configuration",
-    "integrate": "configuration",
-    "difference": "configuration",
-    "integrate_derivatives": "configuration",
-    "difference_derivatives": "configuration",
+    "integrate": "api",
+    "difference": "api",
+    "integrate_derivatives": "api",
+    "difference_derivatives": "api",
     "normalize": "configuration",
     "is_normalized": "configuration",
     "interpolate": "configuration",
@@ -153,10 +153,10 @@ if TYPE_CHECKING:  # the lazy names as a type checker sees them (mypy, IDEs): th
     from . import urdf as urdf
     from . import verify as verify
     from .api import compile as compile
-    from .configuration import difference as difference
-    from .configuration import difference_derivatives as difference_derivatives
-    from .configuration import integrate as integrate
-    from .configuration import integrate_derivatives as integrate_derivatives
+    from .api import difference as difference
+    from .api import difference_derivatives as difference_derivatives
+    from .api import integrate as integrate
+    from .api import integrate_derivatives as integrate_derivatives
     from .configuration import interpolate as interpolate
     from .configuration import is_normalized as is_normalized
     from .configuration import neutral as neutral

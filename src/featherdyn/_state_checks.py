@@ -22,7 +22,13 @@ from .model import Model
 from .spatial.validation import as_array, numeric_value, result_dtype
 from .tolerances import QUATERNION_NORM
 
-__all__ = ["State", "check_state", "check_f_ext", "batch_with_f_ext"]
+__all__ = ["State", "CONFIGURATIONS", "VECTORS", "check_state", "check_quaternions", "check_f_ext", "batch_with_f_ext"]
+
+#: the state arguments that are configurations `(..., nq)`, whose quaternions are checked (``q``; ``q0`` and ``q1`` of
+#: ``fd.difference``); every other state vector is `(..., nv)`
+CONFIGURATIONS = ("q", "q0", "q1")
+#: the state arguments :func:`check_state` takes among its vectors, after the first configuration (``q`` or ``q0``)
+VECTORS = ("v", "a", "tau", "q1")
 
 
 @dataclass(frozen=True)
@@ -36,8 +42,9 @@ class State:
 
 
 def check_state(model: Model, q: Any, check_finite: bool = True, optional: tuple[str, ...] = (), values: bool = True,
-                **vectors: Any) -> State:
-    """Validate ``q`` `(..., nq)` and every named vector `(..., nv)`.
+                name: str = "q", **vectors: Any) -> State:
+    """Validate ``q`` `(..., nq)` (named ``name`` in the messages: ``q0`` for ``fd.difference``) and every named vector
+    `(..., nv)` — `(..., nq)` for a configuration (:data:`CONFIGURATIONS`: ``q1``).
 
     A vector named in ``optional`` may be ``None`` (it is then left out of
     :attr:`State.arrays`); ``None`` for ``q`` or any other vector is a
@@ -52,21 +59,25 @@ def check_state(model: Model, q: Any, check_finite: bool = True, optional: tuple
     check_finite = check_finite and values
     if not isinstance(model, Model):
         raise ShapeError(f"model: expected a featherdyn Model, got {type(model).__name__}")
-    qq = _vec(q, "q", model.nq, "nq", check_finite)
+    qq = _vec(q, name, model.nq, "nq", check_finite)
     arrays = {}
-    for name, val in vectors.items():
-        if val is not None or name not in optional:
-            arrays[name] = _vec(val, name, model.nv, "nv", check_finite)
+    for n, val in vectors.items():
+        if val is not None or n not in optional:
+            arrays[n] = (_vec(val, n, model.nq, "nq", check_finite) if n in CONFIGURATIONS
+                         else _vec(val, n, model.nv, "nv", check_finite))
     all_arrays = [qq, *arrays.values()]
     batches = {a.shape[:-1] for a in all_arrays}
     try:
         batch = batches.pop() if len(batches) == 1 else np.broadcast_shapes(*(a.shape[:-1] for a in all_arrays))
     except ValueError:
-        shapes = ", ".join(f"{n}: {a.shape}" for n, a in [("q", qq), *arrays.items()])
+        shapes = ", ".join(f"{n}: {a.shape}" for n, a in [(name, qq), *arrays.items()])
         raise ShapeError(f"batch shapes do not broadcast ({shapes})") from None
     dtype = result_dtype(*all_arrays)
     if values:
-        _check_quaternions(model, qq if qq.dtype.kind != "O" else _numeric_part(qq))
+        check_quaternions(model, qq, name)
+        for n, a in arrays.items():
+            if n in CONFIGURATIONS:
+                check_quaternions(model, a, n)
     return State(batch, dtype, qq, arrays)
 
 
@@ -84,24 +95,28 @@ def _vec(x: Any, name: str, n: int, what: str, check_finite: bool) -> np.ndarray
     return as_array(arr, name) if check_finite else arr
 
 
-def _check_quaternions(model: Model, q: np.ndarray) -> None:
+def check_quaternions(model: Model, q: np.ndarray, name: str = "q") -> None:
+    """Raise :class:`QuaternionNormError` naming the argument, the joint, the norm and the first batch index unless each
+    quaternion of the configuration ``q`` `(..., nq)` (spherical, free-flyer) is unit within
+    :data:`featherdyn.tolerances.QUATERNION_NORM`. A symbolic entry (object arrays) is not checked."""
+    numeric = q if q.dtype.kind != "O" else _numeric_part(q)
     tol = QUATERNION_NORM.of(q.dtype)
     for i, joint in enumerate(model.joints):
-        if isinstance(joint, SphericalJoint):
-            quat = q[..., model.idx_q[i] : model.idx_q[i] + 4]
-        elif isinstance(joint, FreeFlyerJoint):
-            quat = q[..., model.idx_q[i] + 3 : model.idx_q[i] + 7]
+        if isinstance(joint, (SphericalJoint, FreeFlyerJoint)):
+            start = model.idx_q[i] + (3 if isinstance(joint, FreeFlyerJoint) else 0)
         else:
             continue
+        quat = numeric[..., start : start + 4]
         with np.errstate(over="ignore", invalid="ignore"):  # a huge entry: inf norm, refused below
-            err = np.abs(np.sqrt(np.sum(quat * quat, axis=-1)) - 1)
-        err = err[~np.isnan(err)]  # a symbolic quaternion (object arrays) is not checked
-        if np.any(err > tol):
-            worst = float(np.max(err))
+            norm = np.sqrt(np.sum(quat * quat, axis=-1))
+        bad = np.abs(norm - 1) > tol  # (NaN, a symbolic quaternion: not refused)
+        if np.any(bad):
+            idx = tuple(int(k) for k in np.argwhere(bad)[0]) if bad.ndim else ()
+            where = f" at batch index {idx}" if idx else ""
             raise QuaternionNormError(
-                f"q: the quaternion of joint {model.joint_names[i]!r} (q[{model.idx_q[i]}:{model.idx_q[i] + joint.nq}]) "
-                f"is off unit norm by {worst:.3g} > {tol:g}; featherdyn quaternions are (x, y, z, w) — "
-                "normalise with fd.normalize(model, q)"
+                f"{name}: joint {model.joint_names[i]!r} ({joint.kind}, {name}[{start}:{start + 4}]): "
+                f"expected a unit quaternion (x, y, z, w), got norm {float(norm[idx]):.9g}{where} "
+                f"(tolerance {tol:g}); normalise q with featherdyn.normalize(model, q)"
             )
 
 

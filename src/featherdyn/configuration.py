@@ -35,11 +35,10 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from . import _dask
+from ._state_checks import check_state
 from .errors import QuaternionNormError, ShapeError
-from .joints import FreeFlyerJoint, SphericalJoint
 from .model import Model
 from .spatial.validation import as_array, result_dtype
-from .tolerances import QUATERNION_NORM
 
 __all__ = [
     "integrate_derivatives",
@@ -52,9 +51,6 @@ __all__ = [
     "normalize",
     "is_normalized",
 ]
-
-# the same thresholds as featherdyn.rotation and featherdyn.joints
-
 
 # --------------------------------------------------------------------------
 # private helpers
@@ -75,44 +71,9 @@ def _vector(x: Any, name: str, size_name: str, n: int) -> np.ndarray:
     return as_array(arr, name, (n,))  # finiteness, with the index of the first bad value
 
 
-def _quat_slices(model: Model) -> list[tuple[int, slice]]:
-    """``(body, slice of q)`` of every quaternion in ``q``."""
-    out = []
-    for i, joint in enumerate(model.joints):
-        start = model.idx_q[i]
-        if isinstance(joint, SphericalJoint):
-            out.append((i, slice(start, start + 4)))
-        elif isinstance(joint, FreeFlyerJoint):
-            out.append((i, slice(start + 3, start + 7)))
-    return out
-
-
-def _check_quaternions(model: Model, q: np.ndarray, name: str) -> None:
-    """Raise :class:`QuaternionNormError` naming the joint unless each quaternion of ``q`` is unit."""
-    if q.dtype.kind == "O":
-        return
-    tol = QUATERNION_NORM.of(q.dtype)
-    for i, sl in _quat_slices(model):
-        quat = q[..., sl]
-        norm = np.sqrt(np.sum(quat * quat, axis=-1))
-        bad = np.abs(norm - 1) > tol
-        if np.any(bad):
-            idx = tuple(int(k) for k in np.argwhere(bad)[0]) if bad.ndim else ()
-            where = f" at batch index {idx}" if idx else ""
-            raise QuaternionNormError(
-                f"{name}: joint {model.joint_names[i]!r} ({model.joints[i].kind}, {name}[{sl.start}:{sl.stop}]): "
-                f"expected a unit quaternion (x, y, z, w), got norm {float(norm[idx]):.9g}{where} "
-                f"(tolerance {tol:g}); normalise q with featherdyn.normalize(model, q)"
-            )
-
-
 def _broadcast_batch(a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray, tuple[int, ...]]:
-    try:
-        batch = np.broadcast_shapes(a.shape[:-1], b.shape[:-1])
-    except ValueError:
-        raise ShapeError(
-            f"batch shapes {a.shape[:-1]} and {b.shape[:-1]} do not broadcast (batch axes lead: (..., n))"
-        ) from None
+    """``a`` and ``b`` (checked: their batch shapes broadcast) broadcast to their common batch shape."""
+    batch = np.broadcast_shapes(a.shape[:-1], b.shape[:-1])
     return np.broadcast_to(a, batch + a.shape[-1:]), np.broadcast_to(b, batch + b.shape[-1:]), batch
 
 
@@ -206,11 +167,8 @@ def integrate(model: Model, q: ArrayLike, v: ArrayLike) -> np.ndarray:
     """
     if _dask.lazy(q, v):
         return _dask.call(integrate, model, {"q": q, "v": v})
-    model = _check_model(model)
-    qq = _vector(q, "q", "nq", model.nq)
-    vv = _vector(v, "v", "nv", model.nv)
-    _check_quaternions(model, qq, "q")
-    qq, vv, batch = _broadcast_batch(qq, vv)
+    st = check_state(_check_model(model), q, v=v)
+    qq, vv, batch = _broadcast_batch(st.q, st.arrays["v"])
     out = np.empty(batch + (model.nq,), dtype=result_dtype(qq, vv))
     for i, joint in enumerate(model.joints):
         sq, sv = _slices(model, i)
@@ -242,12 +200,8 @@ def difference(model: Model, q0: ArrayLike, q1: ArrayLike) -> np.ndarray:
     """
     if _dask.lazy(q0, q1):
         return _dask.call(difference, model, {"q0": q0, "q1": q1})
-    model = _check_model(model)
-    a0 = _vector(q0, "q0", "nq", model.nq)
-    a1 = _vector(q1, "q1", "nq", model.nq)
-    _check_quaternions(model, a0, "q0")
-    _check_quaternions(model, a1, "q1")
-    a0, a1, batch = _broadcast_batch(a0, a1)
+    st = check_state(_check_model(model), q0, name="q0", q1=q1)
+    a0, a1, batch = _broadcast_batch(st.q, st.arrays["q1"])
     out = np.empty(batch + (model.nv,), dtype=result_dtype(a0, a1))
     for i, joint in enumerate(model.joints):
         sq, sv = _slices(model, i)
@@ -303,11 +257,8 @@ def integrate_derivatives(model: Model, q: ArrayLike, v: ArrayLike) -> tuple[np.
     """
     if _dask.lazy(q, v):
         return _dask.call(integrate_derivatives, model, {"q": q, "v": v})
-    model = _check_model(model)
-    qq = _vector(q, "q", "nq", model.nq)
-    vv = _vector(v, "v", "nv", model.nv)
-    _check_quaternions(model, qq, "q")
-    return _joint_blocks(model, "integrate", qq, vv)
+    st = check_state(_check_model(model), q, v=v)
+    return _joint_blocks(model, "integrate", st.q, st.arrays["v"])
 
 
 def difference_derivatives(model: Model, q0: ArrayLike, q1: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
@@ -323,12 +274,8 @@ def difference_derivatives(model: Model, q0: ArrayLike, q1: ArrayLike) -> tuple[
     """
     if _dask.lazy(q0, q1):
         return _dask.call(difference_derivatives, model, {"q0": q0, "q1": q1})
-    model = _check_model(model)
-    a0 = _vector(q0, "q0", "nq", model.nq)
-    a1 = _vector(q1, "q1", "nq", model.nq)
-    _check_quaternions(model, a0, "q0")
-    _check_quaternions(model, a1, "q1")
-    return _joint_blocks(model, "difference", a0, a1)
+    st = check_state(_check_model(model), q0, name="q0", q1=q1)
+    return _joint_blocks(model, "difference", st.q, st.arrays["q1"])
 
 
 def interpolate(model: Model, q0: ArrayLike, q1: ArrayLike, t: ArrayLike) -> np.ndarray:

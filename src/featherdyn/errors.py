@@ -18,6 +18,7 @@ __all__ = [
     "FeatherdynError",
     "DatasetError",
     "ShapeError",
+    "NotAModelError",
     "NonFiniteError",
     "DTypeError",
     "RotationError",
@@ -42,6 +43,11 @@ class FeatherdynError(Exception):
 
 class ShapeError(FeatherdynError, ValueError):
     """An array argument has the wrong shape (names the argument and the expected shape)."""
+
+
+class NotAModelError(ShapeError, TypeError):
+    """A model argument is not a featherdyn :class:`~featherdyn.model.Model`: a :class:`ShapeError`, as every declared
+    function has raised it, and a ``TypeError``, as ``fd.integrate`` & co. raised it before they were declared."""
 
 
 class NonFiniteError(FeatherdynError, ValueError):

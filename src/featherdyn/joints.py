@@ -549,7 +549,7 @@ class PlanarJoint(Joint):
         small = np.abs(w) < 1e-8
         ws = np.where(small, 1.0, w)
         a = np.where(small, 1 - w * w / 6, np.sin(w) / ws)
-        b = np.where(small, w / 2 - w**3 / 24, (1 - np.cos(w)) / ws)
+        b = np.where(small, w / 2 - w**3 / 24, 2 * np.sin(ws / 2) ** 2 / ws)  # (1 − cos θ)/θ without cancellation
         dx, dy = a * vx - b * vy, b * vx + a * vy
         th = qq[..., 2]
         c, s = np.cos(th), np.sin(th)
@@ -565,7 +565,7 @@ class PlanarJoint(Joint):
         small = np.abs(dth) < 1e-8
         ws = np.where(small, 1.0, dth)
         a = np.where(small, 1 - dth * dth / 6, np.sin(dth) / ws)
-        b = np.where(small, dth / 2 - dth**3 / 24, (1 - np.cos(dth)) / ws)
+        b = np.where(small, dth / 2 - dth**3 / 24, 2 * np.sin(ws / 2) ** 2 / ws)
         det = a * a + b * b
         vx, vy = (a * dx + b * dy) / det, (-b * dx + a * dy) / det
         return np.stack(np.broadcast_arrays(dth, vx, vy), axis=-1).astype(np.result_type(a0, a1))

@@ -19,6 +19,7 @@ from _models import library_robot
 import featherdyn as fd
 from featherdyn.api import declarations
 from featherdyn.api.declarations import DECLARATIONS
+from featherdyn.core.declared import SPECS
 from featherdyn.errors import NonFiniteError, QuaternionNormError, ShapeError
 
 NAMES = sorted(DECLARATIONS)
@@ -56,13 +57,15 @@ def _empty(shapes: tuple[tuple[int, ...], ...], fill: float = np.nan) -> Any:
 
 
 def _args(model: fd.Model, name: str, q: Any, f_ext: Any) -> tuple[tuple[Any, ...], dict[str, Any]]:
-    """The declaration's inputs for configurations ``q`` (velocities and accelerations made from q's batch shape
-    and dtype), and its options: a frame on the last body, in WORLD."""
+    """The declaration's inputs for configurations ``q`` (``q0``; velocities, accelerations and a second configuration
+    ``q1`` made from q's batch shape and dtype), and its options: a frame on the last body, in WORLD."""
     decl = DECLARATIONS[name]
     qa = np.asarray(q)
     dtype = qa.dtype if qa.dtype.kind == "f" else np.dtype(np.float64)
     vector = (0.3 * np.cos(0.7 * np.arange(model.nv)) * np.ones(qa.shape[:-1] + (1,))).astype(dtype)
-    args = tuple(q if n == "q" else f_ext if n == "f_ext" else vector for n in decl.inputs)
+    q1 = np.broadcast_to(fd.random_configuration(model, 99).astype(dtype), qa.shape[:-1] + (model.nq,))
+    args = tuple(q if n in ("q", "q0") else q1 if n == "q1" else f_ext if n == "f_ext" else vector
+                 for n in decl.inputs)
     kwargs: dict[str, Any] = {}
     if "frame" in decl.options:
         kwargs["frame"] = model.frames[-1].name
@@ -150,7 +153,7 @@ def test_bad_input(name: str) -> None:
     q = fd.random_configuration(model, rng)
     fx = rng.normal(size=(model.nbodies, 6))
     shapes = _shapes(model, name)
-    with pytest.raises(ShapeError, match="q: expected trailing dimension nq=19"):
+    with pytest.raises(ShapeError, match=f"{decl.inputs[0]}: expected trailing dimension nq=19"):  # (q or q0)
         _call(fn, model, name, q[:5], fx, model)
     bad = q.copy()
     bad[2] = np.nan
@@ -225,7 +228,8 @@ DIFFERENTIABLE = sorted(n for n, d in DECLARATIONS.items() if d.derivative)
 
 
 def test_the_declared_derivatives_are_declarations_with_an_output_per_input() -> None:
-    assert DIFFERENTIABLE == ["aba", "frame_acceleration", "frame_velocity", "generalized_gravity", "rnea"]
+    assert DIFFERENTIABLE == ["aba", "difference", "frame_acceleration", "frame_velocity", "generalized_gravity",
+                              "integrate", "rnea"]
     for name in DIFFERENTIABLE:
         decl, deriv = DECLARATIONS[name], DECLARATIONS[DECLARATIONS[name].derivative]  # type: ignore[index]
         inputs = tuple(n for n in decl.inputs if n != "f_ext")
@@ -236,7 +240,7 @@ def test_the_declared_derivatives_are_declarations_with_an_output_per_input() ->
 @pytest.mark.parametrize("robot", [("solo12", True), ("panda", False)])
 def test_a_declared_derivative_is_the_derivative_of_its_function(name: str, robot: tuple[str, bool]) -> None:
     """Each output of the declared derivative against central differences of the function: along the tangent of
-    fd.integrate for q, plainly for the vectors."""
+    fd.integrate for a configuration (q, q0, q1; and for integrate's output), plainly for the vectors."""
     model = library_robot(*robot)
     assert model is not None
     decl = DECLARATIONS[name]
@@ -244,6 +248,8 @@ def test_a_declared_derivative_is_the_derivative_of_its_function(name: str, robo
     rng = np.random.default_rng(11)
     state = {"q": fd.random_configuration(model, rng), "v": rng.normal(size=model.nv),
              "a": rng.normal(size=model.nv), "tau": rng.normal(size=model.nv), "f_ext": None}
+    state["q0"], state["q1"] = state["q"], fd.random_configuration(model, rng)
+    configuration_output = SPECS[name].outputs[0][1] == ("nq",)  # (integrate: its output moves on the group too)
     args = [state[n] for n in decl.inputs]
     frame = [model.frames[-1].name] if "frame" in decl.options else []  # (a frame at the end of a chain)
     partials = _parts(deriv(model, *args, *frame))
@@ -256,9 +262,9 @@ def test_a_declared_derivative_is_the_derivative_of_its_function(name: str, robo
 
             def moved(sign: float, at: int = at, n: str = n, step: np.ndarray = step) -> np.ndarray:
                 x = list(args)
-                x[at] = fd.integrate(model, args[at], sign * step) if n == "q" else args[at] + sign * step
-                r = fn(model, *x, *frame)
-                return np.asarray(getattr(r, "vector", r))  # (a frame's motion: its vector)
+                x[at] = fd.integrate(model, args[at], sign * step) if n in ("q", "q0", "q1") else args[at] + sign * step
+                r = np.asarray(getattr((r := fn(model, *x, *frame)), "vector", r))  # (a frame's motion: its vector)
+                return fd.difference(model, fn(model, *args, *frame), r) if configuration_output else r
 
             column = (moved(1.0) - moved(-1.0)) / (2 * eps)
             scale = max(1.0, float(np.abs(partials[k]).max()))

@@ -268,7 +268,7 @@ DECLARATIONS = "declarations*.hpp"
 KERNELS = ("aba.hpp", "centroidal.hpp", "contacts.hpp", "crba.hpp", "derivatives.hpp", "energy.hpp",
            "frame_derivatives.hpp", "frames.hpp", "jacobians.hpp", "joints.hpp", "kinematics.hpp", "ltl.hpp",
            "pack.hpp", "regressor.hpp", "rnea.hpp", "simd_groups.hpp", "spatial.hpp", "trig.hpp", "second_order.hpp",
-           "rnea_second_order.hpp", "kinematics_derivatives.hpp", "contact_derivatives.hpp")
+           "rnea_second_order.hpp", "kinematics_derivatives.hpp", "contact_derivatives.hpp", "configuration.hpp")
 #: counted as neither: the thread pool, the CPU's features, the model's layout, the checks, scratch memory
 INFRASTRUCTURE = ("thread_pool.hpp", "cpu_features.hpp", "model_view.hpp", "checks.hpp", "scratch.hpp", "groups.hpp")
 
@@ -369,6 +369,8 @@ _PRIVATE_ACROSS_ROOMS_ALLOWED = [
     ("featherdyn.configuration", "featherdyn._dask*", "_dask is placed by the glue work of issue 29"),
     ("featherdyn.api*", "featherdyn._state_checks*", "_state_checks is placed by the glue work of issue 29"),
     ("featherdyn.core*", "featherdyn._state_checks*", "_state_checks is placed by the glue work of issue 29"),
+    ("featherdyn.configuration", "featherdyn._state_checks*",
+     "the configuration functions (fd.integrate's reference) check a state as the declared functions do"),
     ("featherdyn.tools.bench", "featherdyn.core._core*", "the kernels' SIMD width, _core.simd(), which core/ "
      "(rewritten in issue 29) does not wrap"),
     ("featherdyn.tools.cli", "featherdyn.core._core*", "the binary's build_info() for `featherdyn info --build` "

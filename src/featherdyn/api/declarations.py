@@ -15,6 +15,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from .. import _dask
+from .. import configuration as _configuration
 from ..algorithms import aba as _aba
 from ..algorithms import centroidal as _centroidal
 from ..algorithms import crba as _crba
@@ -50,7 +51,8 @@ __all__ = ["rnea", "nonlinear_effects", "generalized_gravity", "crba", "aba", "f
            "potential_energy", "centroidal_momentum_matrix", "generalized_gravity_derivatives",
            "static_torque_derivatives", "forward_kinematics", "frame_placement", "center_of_mass",
            "centroidal_momentum", "kinematics_derivatives", "center_of_mass_derivatives",
-           "centroidal_dynamics_derivatives", "frame_velocity", "frame_acceleration", "frame_classical_acceleration"]  # (and ``placements``: fd.compile(model).fk only)
+           "centroidal_dynamics_derivatives", "frame_velocity", "frame_acceleration", "frame_classical_acceleration",
+           "integrate", "difference", "integrate_derivatives", "difference_derivatives"]  # (and ``placements``: fd.compile(model).fk only)
 
 
 class _CenterOfMassFunction(Protocol):
@@ -695,6 +697,37 @@ DECLARATIONS: dict[str, Declaration] = {d.name: d for d in [
             SingularMassMatrixError: naming the joint, when M(q) is singular.
         """,
     ),
+    # the configuration space (featherdyn/configuration.py: the reference and the docstrings; core/cpp/configuration.hpp)
+    Declaration(
+        name="integrate",
+        derivative="integrate_derivatives",
+        inputs=("q", "v"),
+        outputs=("q_next",),
+        reference=_configuration.integrate,
+        doc=_configuration.integrate.__doc__ or "",
+    ),
+    Declaration(
+        name="difference",
+        derivative="difference_derivatives",
+        inputs=("q0", "q1"),
+        outputs=("v",),
+        reference=_configuration.difference,
+        doc=_configuration.difference.__doc__ or "",
+    ),
+    Declaration(
+        name="integrate_derivatives",
+        inputs=("q", "v"),
+        outputs=("J_q", "J_v"),
+        reference=_configuration.integrate_derivatives,
+        doc=_configuration.integrate_derivatives.__doc__ or "",
+    ),
+    Declaration(
+        name="difference_derivatives",
+        inputs=("q0", "q1"),
+        outputs=("J_0", "J_1"),
+        reference=_configuration.difference_derivatives,
+        doc=_configuration.difference_derivatives.__doc__ or "",
+    ),
     Declaration(
         name="kinematics_derivatives",
         inputs=("q", "v", "a"),
@@ -790,6 +823,12 @@ center_of_mass_derivatives: Callable[..., CenterOfMassDerivatives] = public_func
     DECLARATIONS["center_of_mass_derivatives"])
 centroidal_dynamics_derivatives: Callable[..., CentroidalDynamicsDerivatives] = public_function(
     DECLARATIONS["centroidal_dynamics_derivatives"])
+integrate: Callable[..., np.ndarray] = public_function(DECLARATIONS["integrate"])
+difference: Callable[..., np.ndarray] = public_function(DECLARATIONS["difference"])
+integrate_derivatives: Callable[..., tuple[np.ndarray, np.ndarray]] = public_function(
+    DECLARATIONS["integrate_derivatives"])
+difference_derivatives: Callable[..., tuple[np.ndarray, np.ndarray]] = public_function(
+    DECLARATIONS["difference_derivatives"])
 _frame_kinematics_derivatives: Callable[..., KinematicsDerivatives] = public_function(
     DECLARATIONS["kinematics_derivatives"])
 

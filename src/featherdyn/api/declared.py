@@ -34,17 +34,18 @@ import numpy as np
 from .. import _dask
 from ..core import declared as _declared
 from ..core._model_view import CoreHandle
-from ..errors import DTypeError, ShapeError
+from ..errors import DTypeError, NotAModelError, ShapeError
 from ..frames import LOCAL, LOCAL_WORLD_ALIGNED, WORLD, as_reference_frame
 from ..model import Model
 from ._backend import CORE, core_path, select_backend
-from ._checks import State, as_dtype, batch_with_f_ext, check_f_ext, check_state, finite_result, quiet
+from ._checks import VECTORS, State, as_dtype, batch_with_f_ext, check_f_ext, check_state, finite_result, quiet
 
 __all__ = ["Declaration", "Record", "call", "public_function", "compiled_method", "kernel_options", "xla_ffi",
            "xla_entry", "operand_shapes"]
 
-#: the state arguments a declaration may take, and how each is checked: a vector of length nq or nv, or f_ext
-STATE_ARGUMENTS = ("q", "v", "a", "tau", "f_ext")
+#: the state arguments a declaration may take, and how each is checked: a configuration (length nq, unit quaternions:
+#: q, or q0 and q1), a vector of length nv, or f_ext
+STATE_ARGUMENTS = ("q", "q0", "q1", "v", "a", "tau", "f_ext")
 #: the options a declaration may take, and their defaults (``frame`` has none: it is required)
 OPTIONS: dict[str, Any] = {"frame": inspect.Parameter.empty, "reference": LOCAL, "gravity": True}
 
@@ -83,7 +84,8 @@ class Declaration:
 
     Attributes:
         name: the public name (``fd.<name>``) and the name of the core's kernel.
-        inputs: the state arguments in order, each one of ``q, v, a, tau, f_ext``.
+        inputs: the state arguments in order, each one of ``q, q0, q1, v, a, tau, f_ext``, the first a configuration
+            (``q``, or ``q0`` followed by ``q1``: two configurations, ``fd.difference``'s).
         optional: the inputs that may be ``None``.
         outputs: the names of the results, in order (their shapes are the kernel's).
         reference: the reference function ``reference(model, *inputs) -> output or tuple of outputs`` on
@@ -98,7 +100,8 @@ class Declaration:
             ``out=``.
         needs: ``(x, y)`` pairs of optional inputs: ``x`` is only taken with ``y`` (``a`` needs ``v``).
         derivative: the declared function whose outputs are the derivatives of this one's output with respect to
-            each of its state inputs but ``f_ext``, in order (``∂/∂q`` along the tangent of ``fd.integrate``), when
+            each of its state inputs but ``f_ext``, in order (``∂/∂q`` along the tangent of ``fd.integrate``, for
+            every configuration input and for a configuration output: ``integrate`` → ``integrate_derivatives``), when
             there is one: ``rnea`` → ``rnea_derivatives`` (∂τ/∂q, ∂τ/∂q̇, ∂τ/∂q̈). The frameworks' operations take
             their gradients from it.
     """
@@ -117,8 +120,10 @@ class Declaration:
 
     def __post_init__(self) -> None:
         unknown = [n for n in self.inputs if n not in STATE_ARGUMENTS]
-        if unknown or "q" not in self.inputs or not set(self.optional) <= set(self.inputs):
-            raise ValueError(f"declaration {self.name!r}: inputs must be among {STATE_ARGUMENTS}, with q")
+        if (unknown or self.inputs[:1] not in (("q",), ("q0",)) or ("q0" in self.inputs) != ("q1" in self.inputs)
+                or not set(self.optional) <= set(self.inputs)):
+            raise ValueError(f"declaration {self.name!r}: inputs must be among {STATE_ARGUMENTS}, q or q0 (with q1) "
+                             "first")
         if not set(self.options) <= set(OPTIONS):
             raise ValueError(f"declaration {self.name!r}: options must be among {tuple(OPTIONS)}")
 
@@ -218,7 +223,7 @@ def call(decl: Declaration, model: Model, args: tuple[Any, ...], out: Any = None
     front end (module docstring). ``float64``: the core on any input that has float64 values, results in float64
     (``fd.compile``'s methods), where ``backend="compiled"`` returns float32 results for float32 input."""
     if not isinstance(model, Model):
-        raise ShapeError(f"model: expected a featherdyn Model, got {type(model).__name__}")
+        raise NotAModelError(f"model: expected a featherdyn Model, got {type(model).__name__}")
     given_options = options or {}
     opts, ref_opts = _options(decl, model, given_options)
     arrays = None if out is None else _out_arrays(decl, out)
@@ -245,13 +250,14 @@ def call(decl: Declaration, model: Model, args: tuple[Any, ...], out: Any = None
                           **given_options)
     # 3. checks: f_ext, then the state, as every public function words them (their values only where the core
     # does not check them itself: it checks every state, and its error path words what it finds as these do)
-    vectors = {n: given[n] for n in decl.inputs if n in ("v", "a", "tau")}
+    first = decl.inputs[0]  # the configuration q (or q0; a second one, q1, is checked among the vectors, as q is)
+    vectors = {n: given[n] for n in decl.inputs if n in VECTORS}
 
     def checked_state(values: bool) -> tuple[np.ndarray | None, State]:
         fx = check_f_ext(model, given.get("f_ext"), values) if "f_ext" in given else None
         if "f_ext" in given and fx is None and "f_ext" not in decl.optional:
             raise ShapeError(f"f_ext: expected an array of shape (..., nb={model.nbodies}, 6), got None")
-        return fx, check_state(model, given["q"], optional=decl.optional, values=values, **vectors)
+        return fx, check_state(model, given[first], optional=decl.optional, values=values, name=first, **vectors)
 
     fx, st = checked_state(False)
     batch, dtype = batch_with_f_ext(st, fx)
@@ -259,7 +265,7 @@ def call(decl: Declaration, model: Model, args: tuple[Any, ...], out: Any = None
     compiled = float64 or select_backend(backend, dtype) == "compiled"
     if not compiled:
         fx, st = checked_state(True)
-    checked = [fx if n == "f_ext" else st.q if n == "q" else st.arrays.get(n) for n in decl.inputs]
+    checked = [fx if n == "f_ext" else st.q if n == first else st.arrays.get(n) for n in decl.inputs]
     if compiled:
         dtype = np.dtype(np.float64) if float64 else dtype
         f64 = [None if x is None else np.asarray(x, dtype=np.float64) for x in checked]

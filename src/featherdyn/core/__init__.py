@@ -78,12 +78,12 @@ def _f64(x: Any, name: str) -> np.ndarray:
 
 
 def _batch_shape(model: Model, arrays: list[tuple[np.ndarray, int]], q: Any, vectors: list[tuple[str, Any]],
-                 f_ext: Any) -> tuple[int, ...]:
+                 f_ext: Any, name: str = "q") -> tuple[int, ...]:
     """The broadcast batch shape of ``(array, trailing ndim)`` pairs; the reference's error when there is none."""
     try:
         return np.broadcast_shapes(*(a.shape[: a.ndim - k] for a, k in arrays))
     except ValueError:
-        _errors.validate(model, q, vectors, f_ext)
+        _errors.validate(model, q, vectors, f_ext, name)
         raise
 
 
@@ -134,10 +134,10 @@ def _declared(name: str, doc: str) -> Callable[..., Any]:
                 return r
         elif spec.kernel.into(h.cm, xs, list(outs), declared.call_options(**options)) == 0:
             return out
-        vectors = [(n, x) for n, x in zip(spec.input_names, inputs, strict=True) if n in ("v", "a", "tau")]
+        vectors = [(n, x) for n, x in zip(spec.input_names, inputs, strict=True) if n in _errors.VECTORS]  # (q1 too)
         tails = [len(s) for _, s, _ in spec.inputs]
         batch = _batch_shape(model, [(x, t) for x, t in zip(xs, tails, strict=True) if x is not None],
-                             given["q"], vectors, given.get("f_ext"))
+                             given[spec.input_names[0]], vectors, given.get("f_ext"), spec.input_names[0])
         r = declared.run(name, model, batch, xs, outs, options)  # (out over an input: declared.run's one rule)
         return out if out is not None else r[0] if len(r) == 1 else r
 

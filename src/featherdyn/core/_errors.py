@@ -19,7 +19,7 @@ from typing import Any, NoReturn
 
 import numpy as np
 
-from .._state_checks import batch_with_f_ext, check_f_ext, check_state
+from .._state_checks import VECTORS, batch_with_f_ext, check_f_ext, check_state
 from ..errors import (
     ConstraintError,
     FeatherdynError,
@@ -31,12 +31,12 @@ from ..errors import (
 )
 from ..model import Model
 
-__all__ = ["OK", "LENGTH", "NONFINITE", "QUATERNION", "SINGULAR", "OVERLAP", "NO_MASS", "CONSTRAINT", "ARG_NAMES", "decode", "validate",
-           "raise_for", "singular_error"]
+__all__ = ["OK", "LENGTH", "NONFINITE", "QUATERNION", "SINGULAR", "OVERLAP", "NO_MASS", "CONSTRAINT", "ARG_NAMES", "VECTORS",
+           "decode", "validate", "raise_for", "singular_error"]
 
 OK, LENGTH, NONFINITE, QUATERNION, SINGULAR, OVERLAP, NO_MASS, CONSTRAINT = range(8)
-#: the ``arg`` field of a status
-ARG_NAMES = ("q", "v", "a", "f_ext", "out", "frame", "J", "c")
+#: the ``arg`` field of a status (``q1``: a second configuration, ``fd.difference``'s; its ``q0`` is ``q``'s field)
+ARG_NAMES = ("q", "v", "a", "f_ext", "out", "frame", "J", "c", "q1")
 
 
 def decode(status: int) -> tuple[int, int, int]:
@@ -44,10 +44,10 @@ def decode(status: int) -> tuple[int, int, int]:
     return status & 7, (status >> 3) & 31, status >> 8
 
 
-def validate(model: Model, q: Any, vectors: Sequence[tuple[str, Any]] = (), f_ext: Any = None) -> None:
-    """Raise what the public functions raise for these arguments (``f_ext``, then ``q``, the vectors, quaternions)."""
+def validate(model: Model, q: Any, vectors: Sequence[tuple[str, Any]] = (), f_ext: Any = None, name: str = "q") -> None:
+    """Raise what the public functions raise for these arguments (``f_ext``, then ``q`` or ``name``, vectors, quaternions)."""
     fx = check_f_ext(model, f_ext)
-    st = check_state(model, q, **dict(vectors))
+    st = check_state(model, q, name=name, **dict(vectors))
     batch_with_f_ext(st, fx)
 
 
@@ -66,9 +66,9 @@ def raise_for(status: int, model: Model, q: Any, vectors: Sequence[tuple[str, An
               arg_names: Sequence[str] = ARG_NAMES, what: str = "featherdyn.core") -> NoReturn:
     """Raise the reference's exception for a failed core call (see the module docstring).
 
-    ``what`` names the computation in the overflow message (as the public functions do).
+    ``what`` names the computation in the overflow message (as the public functions do); ``arg_names[0]``: q's name.
     """
-    validate(model, q, vectors, f_ext)
+    validate(model, q, vectors, f_ext, arg_names[0])
     code, arg, index = decode(status)
     name = arg_names[arg] if arg < len(arg_names) else f"argument {arg}"
     if code == LENGTH:
@@ -79,7 +79,7 @@ def raise_for(status: int, model: Model, q: Any, vectors: Sequence[tuple[str, An
     if code == NONFINITE:
         raise NonFiniteError(f"{name}: expected finite numbers, got a non-finite value at flat index {index}")
     if code == QUATERNION:
-        raise QuaternionNormError(f"q: the quaternion of joint {model.joint_names[index]!r} is off unit norm")
+        raise QuaternionNormError(f"{name}: the quaternion of joint {model.joint_names[index]!r} is off unit norm")
     if code == SINGULAR:
         raise SingularMassMatrixError.for_joint(model.joint_names[index], model.body_names[index])
     if code == NO_MASS:

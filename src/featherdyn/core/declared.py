@@ -140,8 +140,8 @@ def run(name: str, model: Model, batch: tuple[int, ...], inputs: list[np.ndarray
     _row, status = k.batch(h.cm, rows, [None if o is None else o.reshape(N, -1) for o in outs], opts)
     if status:
         names = spec.input_names
-        q = inputs[names.index("q")]
-        vectors = [(n, x) for n, x in zip(names, inputs, strict=True) if n in ("v", "a", "tau") and x is not None]
+        q = inputs[0]  # (q, or q0 and then q1 among the vectors)
+        vectors = [(n, x) for n, x in zip(names, inputs, strict=True) if n in _errors.VECTORS and x is not None]
         f_ext = inputs[names.index("f_ext")] if "f_ext" in names else None
         if _errors.decode(status)[0] == _errors.SINGULAR:
             _errors.validate(model, q, vectors, f_ext)
@@ -171,9 +171,9 @@ def raise_singular(spec: Spec, model: Model, h: CoreHandle, rows: list[np.ndarra
 
 
 def arg_names(spec: Spec) -> tuple[str, ...]:
-    """The names of a kernel's status arguments (``q``, ``v``, ``a``, ``tau`` or ``b``, ``f_ext``, ``out``,
-    ``frame``) as its declaration names them."""
+    """The names of a kernel's status arguments (``q`` or ``q0``, ``v``, ``a``, ``tau`` or ``b``, ``f_ext``, ``out``,
+    ``frame``, ``q1``) as its declaration names them."""
     names = list(_errors.ARG_NAMES)
     for n in spec.input_names:  # q, v, f_ext by their names; the other vector (q̈, τ, b) is the third argument
-        names[{"q": 0, "v": 1, "f_ext": 3, "J": 6, "c": 7}.get(n, 2)] = n
+        names[{"q": 0, "q0": 0, "v": 1, "f_ext": 3, "J": 6, "c": 7, "q1": 8}.get(n, 2)] = n
     return tuple(names)

@@ -10,6 +10,7 @@
 // float64 with the declared shape last and any leading (batch) dimensions; an input's rows are 1 (broadcast) or
 // the outputs' N. A status (non-finite input, a singular mass matrix …) is the handler's error, naming the row.
 #include <algorithm>
+#include <iterator>
 #include <mutex>
 #include <string>
 #include <vector>
@@ -41,14 +42,14 @@ std::vector<Entry>& entries() {
 const char* const CODE_NAMES[] = {"ok", "wrong length", "non-finite value", "quaternion off unit norm",
                                   "singular mass matrix", "output overlaps an input", "no mass",
                                   "dependent constraints"};
-const char* const ARG_NAMES[] = {"q", "v", "a or tau", "f_ext", "out", "frame", "J", "c"};
 
 std::string status_words(const Kernel& k, std::int64_t row, std::int64_t status) {
   const std::int64_t code = status & 7, arg = (status >> 3) & 31, index = status >> 8;
   std::string s = "featherdyn." + k.name + ": ";
   if (row >= 0) s += "row " + std::to_string(row) + ": ";
   s += code < 8 ? CODE_NAMES[code] : "status " + std::to_string(status);
-  if (arg < 8) s += std::string(" (") + ARG_NAMES[arg] + ", index " + std::to_string(index) + ")";
+  if (arg < static_cast<std::int64_t>(std::size(ARG_WORDS)))
+    s += std::string(" (") + ARG_WORDS[arg] + ", index " + std::to_string(index) + ")";
   return s;
 }
 

@@ -8,7 +8,8 @@
 // output shares memory with the input `arg`, or with another output: arg = ARG_OUT), NO_MASS (a massless tree),
 // CONSTRAINT (index = m: constraint rows whose J M⁻¹ Jᵀ is singular, where no solver setting can go on);
 // arg: which input (ARG_Q, ARG_V, ARG_A (a or τ), ARG_FEXT, ARG_OUT, ARG_FRAME, ARG_J and ARG_C: constraint rows
-// J q̈ = c, which are not part of the state check).
+// J q̈ = c, which are not part of the state check; ARG_Q1: a second configuration, fd.difference's q1, checked as q
+// is — its first, q0, takes ARG_Q).
 #pragma once
 
 #include <cmath>
@@ -22,7 +23,9 @@ namespace fdcore {
 enum StatusCode : std::int64_t { OK = 0, LENGTH = 1, NONFINITE = 2, QUATERNION = 3, SINGULAR = 4, OVERLAP = 5,
                                  NO_MASS = 6, CONSTRAINT = 7 };
 enum Arg : std::int64_t { ARG_Q = 0, ARG_V = 1, ARG_A = 2, ARG_FEXT = 3, ARG_OUT = 4, ARG_FRAME = 5, ARG_J = 6,
-                          ARG_C = 7 };
+                          ARG_C = 7, ARG_Q1 = 8 };
+// The names of the status arguments, for a status worded in C++ (the XLA FFI handler's errors).
+constexpr const char* ARG_WORDS[] = {"q", "v", "a or tau", "f_ext", "out", "frame", "J", "c", "q1"};
 
 // (an unknown index, e.g. the length of an array that is not 1-D, is given as −1 and stored as 0)
 inline std::int64_t make_status(std::int64_t code, std::int64_t arg, std::int64_t index) {
@@ -77,6 +80,14 @@ inline std::int64_t check_state(const ModelView& mv, const double* q, const doub
   const int i = first_bad_quaternion(mv, q);
   if (i >= 0) return make_status(QUATERNION, ARG_Q, i);
   return OK;
+}
+
+// A configuration besides q (status argument `arg`: ARG_Q1), checked as q is: finite, then unit quaternions.
+inline std::int64_t check_configuration(const ModelView& mv, const double* q, std::int64_t arg) {
+  if (all_finite(q, mv.nq) && first_bad_quaternion(mv, q) < 0) return OK;
+  const std::int64_t k = first_nonfinite(q, mv.nq);
+  if (k >= 0) return make_status(NONFINITE, arg, k);
+  return make_status(QUATERNION, arg, first_bad_quaternion(mv, q));
 }
 
 }  // namespace fdcore

@@ -10,6 +10,7 @@
 #include "aba.hpp"
 #include "crba.hpp"
 #include "declare.hpp"
+#include "declarations_configuration.hpp"
 #include "declarations_constraints.hpp"
 #include "declarations_second_order.hpp"
 #include "declarations_kinematics.hpp"
@@ -417,7 +418,8 @@ inline std::vector<Kernel> make_declared_kernels() {
       declare<ContactDynamicsDerivatives>(), declare<ImpulseDynamicsDerivatives>(),
       declare<KinematicsDerivatives>(), declare<PointKinematicsDerivatives>(), declare<CenterOfMassDerivatives>(),
       declare<CentroidalDynamicsDerivatives>(), declare<FrameVelocity>(), declare<FrameAcceleration>(),
-      declare<FrameClassicalAcceleration>()};
+      declare<FrameClassicalAcceleration>(), declare<Integrate>(), declare<Difference>(),
+      declare<IntegrateDerivatives>(), declare<DifferenceDerivatives>()};
 }
 
 }  // namespace fdcore

@@ -34,7 +34,7 @@ namespace fdcore {
 enum SymbolicLength : int { NQ = -1, NV = -2, NB = -3, NP = -4, NM = -5 };
 
 // An input or output: its name, the status argument that names it in an error (checks.hpp: ARG_Q for q, ARG_V,
-// ARG_A for q̈ or τ, ARG_FEXT, ARG_OUT), its shape (up to three lengths), whether an input may be absent, and for
+// ARG_A for q̈ or τ, ARG_FEXT, ARG_Q1 for a second configuration, ARG_OUT), its shape (up to three lengths), whether an input may be absent, and for
 // an output formed only when an optional input is given, that input's index (`when`; −1: always formed).
 struct Operand {
   const char* name;
@@ -45,11 +45,13 @@ struct Operand {
   int when = -1;
 };
 
-// The operands the declarations share: the state (q, q̇, q̈ or τ, and optional body-frame forces), and results of
-// one number, a vector or a matrix of symbolic lengths.
+// The operands the declarations share: the state (q, q̇, q̈ or τ, and optional body-frame forces), two
+// configurations (q0 checked as q is, q1 as a second one: fd.difference's), and results of one number, a vector or a
+// matrix of symbolic lengths.
 namespace operand {
 constexpr Operand q{"q", ARG_Q, {NQ}, 1, false}, v{"v", ARG_V, {NV}, 1, false}, a{"a", ARG_A, {NV}, 1, false},
     tau{"tau", ARG_A, {NV}, 1, false}, f_ext{"f_ext", ARG_FEXT, {NB, 6}, 2, true};
+constexpr Operand q0{"q0", ARG_Q, {NQ}, 1, false}, q1{"q1", ARG_Q1, {NQ}, 1, false};
 constexpr Operand scalar(const char* name) { return {name, ARG_OUT, {}, 0, false}; }
 constexpr Operand vector(const char* name, int n) { return {name, ARG_OUT, {n}, 1, false}; }
 constexpr Operand matrix(const char* name, int rows, int cols) { return {name, ARG_OUT, {rows, cols}, 2, false}; }
@@ -168,12 +170,17 @@ Kernel declare() {
 
 namespace declared {
 
-// The state check of the inputs (finiteness, unit quaternions): by the status argument each one names.
+// The state check of the inputs (finiteness, unit quaternions): by the status argument each one names; a second
+// configuration (ARG_Q1) after the state.
 inline std::int64_t check_inputs(const Kernel& k, const ModelView& mv, const double* const* in) {
   const double* by_arg[4] = {nullptr, nullptr, nullptr, nullptr};  // q, v, a or τ, f_ext
-  for (size_t i = 0; i < k.inputs.size(); ++i)
+  const double* q1 = nullptr;
+  for (size_t i = 0; i < k.inputs.size(); ++i) {
     if (k.inputs[i].arg <= ARG_FEXT) by_arg[k.inputs[i].arg] = in[i];
-  return check_state(mv, by_arg[0], by_arg[1], by_arg[2], by_arg[3]);
+    if (k.inputs[i].arg == ARG_Q1) q1 = in[i];
+  }
+  FD_TRY(check_state(mv, by_arg[0], by_arg[1], by_arg[2], by_arg[3]));
+  return q1 != nullptr ? check_configuration(mv, q1, ARG_Q1) : OK;
 }
 
 // The options' values: a frame index within [0, nf) (a LENGTH status naming the frame), a reference 0, 1 or 2.
