@@ -396,6 +396,25 @@ def _jacobians(decl: Declaration, key: int, option_values: Sequence[Any], ins: S
     return model, fw, x, _jac.jacobians(fw, decl.name, model, x, _options(decl, option_values))
 
 
+def _configurations(decl: Declaration) -> set[str]:
+    """The inputs and outputs of ``decl`` that are configurations (declared shape ``(nq,)``: ``q``, ``q0``, ``q1``,
+    ``integrate``'s result): their Jacobians are along ``fd.integrate``'s tangent."""
+    spec = SPECS[decl.name]
+    return {n for n, shape, _ in (*spec.inputs, *spec.outputs) if shape == ("nq",)}
+
+
+def _configuration_outputs(decl: Declaration, key: int, option_values: Sequence[Any],
+                           ins: Sequence[torch.Tensor | None]) -> dict[str, torch.Tensor]:
+    """The outputs of ``decl`` that are configurations, recomputed (their tangent maps need them: ``E(y)``)."""
+    wanted = [o for o in decl.outputs if o in _configurations(decl)]
+    if not wanted:
+        return {}
+    with torch.no_grad():
+        r = _apply(decl.name, key, *(t.detach() if t is not None else None for t in ins), *option_values)
+    r = r if isinstance(r, tuple) else (r,)
+    return {o: y for o, y in zip(decl.outputs, r, strict=True) if o in wanted}
+
+
 def _f_ext_force(key: int, q: torch.Tensor, f_dot: torch.Tensor) -> torch.Tensor:
     """``u̇ = Σ_b J_bᵀ ḟ_b = −RNEA(q, 0, 0, ḟ)`` without gravity (``_F_EXT``)."""
     zero = torch.zeros((), dtype=q.dtype, device=q.device).expand(q.shape[:-1] + (_model(key).nv,))
@@ -414,7 +433,12 @@ def _vjp(name: str, key: int, option_values: Sequence[Any], ins: Sequence[torch.
     if "f_ext" in wanted and decl.name not in _F_EXT:
         raise _no_derivative(f"the derivative of {decl.name} with respect to f_ext")
     model, fw, x, table = _jacobians(decl, key, option_values, ins)
-    q = cast(torch.Tensor, x["q"])
+    q = cast(torch.Tensor, x.get("q"))
+    configurations = _configurations(decl)
+    outs = _configuration_outputs(decl, key, option_values, ins)
+    # a configuration output's cotangent as the tangent's: Eᵀ ȳ (its Jacobians are along its tangent)
+    ybars = [_jac.coordinates_transpose(fw, model, outs[o].to(fw.dtype), y.to(fw.dtype)) if o in outs and y is not None
+             else y for o, y in zip(decl.outputs, ybars, strict=True)]
     tangent: dict[str, torch.Tensor] = {}
     for n in decl.inputs:
         if n == "f_ext" or x[n] is None:
@@ -439,8 +463,8 @@ def _vjp(name: str, key: int, option_values: Sequence[Any], ins: Sequence[torch.
             g = _apply("forward_kinematics", key, q, w, None)[2]
         elif n not in tangent:  # the input enters none of the outputs whose cotangent came
             g = torch.zeros_like(t)
-        elif n == "q":
-            g = _jac.tangent_transpose(fw, model, q, tangent["q"])
+        elif n in configurations:
+            g = _jac.tangent_transpose(fw, model, cast(torch.Tensor, x[n]), tangent[n])
         else:
             g = tangent[n]
         out.append(_sum_to(g, t.shape).to(t.dtype))
@@ -462,10 +486,12 @@ def _jvp(name: str, key: int, option_values: Sequence[Any], ins: Sequence[torch.
     if "f_ext" in moving and decl.name not in _F_EXT:
         raise _no_derivative(f"the derivative of {decl.name} with respect to f_ext")
     _, fw, x, table = _jacobians(decl, key, option_values, ins)
-    q = cast(torch.Tensor, x["q"])
+    q = cast(torch.Tensor, x.get("q"))
+    configurations = _configurations(decl)
+    outs = _configuration_outputs(decl, key, option_values, ins)
     directions = {n: d.to(fw.dtype) for n, d in moving.items() if n != "f_ext"}
-    if "q" in directions:
-        directions["q"] = _jac.tangent_of_coordinates(fw, model, q, directions["q"])
+    for n in configurations & set(directions):
+        directions[n] = _jac.tangent_of_coordinates(fw, model, cast(torch.Tensor, x[n]), directions[n])
     out = []
     for o, shape in zip(decl.outputs, shapes, strict=True):
         terms = [_times_column(J, directions[n], _out_dims(decl, o))
@@ -475,8 +501,11 @@ def _jvp(name: str, key: int, option_values: Sequence[Any], ins: Sequence[torch.
             terms.append(-u if decl.name == "rnea" else _times_column(table[o]["tau"], u, 1))
         if not terms or shape == (0,):  # (an output that no moving input enters; an absent output)
             out.append(ref.new_zeros(shape, dtype=dtype))
-        else:
-            out.append(torch.broadcast_to(sum(terms[1:], terms[0]).to(dtype), shape))
+            continue
+        t = sum(terms[1:], terms[0])
+        if o in outs:  # a configuration's tangent as its coordinates' direction: E(y) δ
+            t = _jac.coordinates_of_tangent(fw, model, outs[o].to(fw.dtype), t)
+        out.append(torch.broadcast_to(t.to(dtype), shape))
     return tuple(out)
 
 
@@ -589,7 +618,7 @@ def _front(decl: Declaration) -> Callable[..., Any]:
 
 
 def _is_state_function(decl: Declaration) -> bool:
-    return all(n in ("q", "v", "a", "tau", "f_ext") for n in decl.inputs)
+    return all(n in ("q", "q0", "q1", "v", "a", "tau", "f_ext") for n in decl.inputs)
 
 
 #: the operators (``torch.ops.featherdyn.<name>``), by name

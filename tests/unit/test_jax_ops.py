@@ -40,7 +40,8 @@ def _robot(name: str, floating: bool) -> fd.Model:
 def _state(model: fd.Model, seed: int = 0, n: int | None = None) -> dict[str, np.ndarray]:
     rng = np.random.default_rng(seed)
     shape = () if n is None else (n,)
-    return {"q": fd.random_configuration(model, rng, size=n), "v": rng.normal(size=shape + (model.nv,)),
+    q0, q1 = fd.random_configuration(model, rng, size=n), fd.random_configuration(model, rng, size=n)
+    return {"q": q0, "q0": q0, "q1": q1, "v": rng.normal(size=shape + (model.nv,)),
             "a": rng.normal(size=shape + (model.nv,)), "tau": rng.normal(size=shape + (model.nv,)),
             "f_ext": rng.normal(size=shape + (model.nbodies, 6))}
 
@@ -128,7 +129,9 @@ def _call(model: fd.Model, name: str, st: dict[str, np.ndarray], reference: fd.R
 
     def f(*xs: object) -> object:
         given = dict(zip(moving, xs, strict=True))
-        given["q"] = fj.normalize(model, given["q"])
+        for c in ("q", "q0", "q1"):  # (the configurations)
+            if c in given:
+                given[c] = fj.normalize(model, given[c])
         if "f_ext" in decl.inputs:
             given["f_ext"] = st["f_ext"]
         return getattr(fj, name)(model, *(given[n] for n in decl.inputs), **options)

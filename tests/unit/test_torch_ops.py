@@ -58,7 +58,11 @@ MODELS = {"panda": lambda: _robot("panda", False), "solo12": lambda: _robot("sol
 
 def _state(model: fd.Model, seed: int = 0, size: tuple[int, ...] = (), grad: bool = False) -> dict[str, torch.Tensor]:
     s = random_state(model, seed, size)
-    return {k: torch.tensor(getattr(s, k), requires_grad=grad) for k in ("q", "v", "a", "tau", "f_ext")}
+    st = {k: torch.tensor(getattr(s, k), requires_grad=grad) for k in ("q", "v", "a", "tau", "f_ext")}
+    q1 = fd.random_configuration(model, np.random.default_rng(seed + 1000), size=size or None)
+    st["q0"] = torch.tensor(s.q, requires_grad=grad)  # (fd.difference's configurations)
+    st["q1"] = torch.tensor(q1, requires_grad=grad)
+    return st
 
 
 def _args(decl, model, st, frame=None):  # type: ignore[no-untyped-def]
@@ -268,7 +272,9 @@ def _call(model: fd.Model, name: str, st: dict[str, torch.Tensor], reference: fd
 
     def f(*xs: torch.Tensor):  # type: ignore[no-untyped-def]
         given = dict(zip(moving, xs, strict=True))
-        given["q"] = ft.normalize(model, given["q"])
+        for c in ("q", "q0", "q1"):  # (the configurations)
+            if c in given:
+                given[c] = ft.normalize(model, given[c])
         if "f_ext" in decl.inputs:
             given["f_ext"] = st["f_ext"].detach()
         r = getattr(ft, name)(model, *(given[n] for n in decl.inputs), **options)

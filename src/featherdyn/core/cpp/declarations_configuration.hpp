@@ -1,5 +1,5 @@
 // The declarations (declare.hpp) of the configuration space's maps (configuration.hpp): listed in
-// declarations.hpp's declared_kernels(). difference takes two configurations: q0 checked as q is (ARG_Q), q1 as the
+// declarations.hpp's make_declared_kernels(). difference takes two configurations: q0 checked as q is (ARG_Q), q1 as the
 // second configuration (ARG_Q1: length nq, finite, unit quaternions).
 #pragma once
 
