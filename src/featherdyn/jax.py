@@ -47,7 +47,6 @@ from .api.declarations import DECLARATIONS
 from .api.declared import REFERENCES, Declaration, kernel_options, operand_shapes, xla_entry, xla_ffi
 from .core.declared import SPECS
 from .errors import DTypeError, FeatherdynError, ShapeError
-from .joints import FreeFlyerJoint, SphericalJoint
 from .model import Model
 
 jax.config.update("jax_enable_x64", True)
@@ -138,13 +137,7 @@ def normalize(model: Model, q: Any) -> Any:
     """``q`` `(..., nq)` with each quaternion divided by its norm (``fd.normalize`` in JAX): what a function
     differentiated in coordinates off the unit quaternions (finite differences, ``check_grads``) calls first;
     at a unit quaternion its Jacobian removes the radial direction, which ``T(q)`` ignores anyway."""
-    q = jnp.asarray(q, dtype=jnp.float64)
-    for i, joint in enumerate(model.joints):
-        iq = model.idx_q[i] + (3 if isinstance(joint, FreeFlyerJoint) else 0)
-        if isinstance(joint, (SphericalJoint, FreeFlyerJoint)):
-            quat = q[..., iq:iq + 4]
-            q = q.at[..., iq:iq + 4].set(quat / jnp.linalg.norm(quat, axis=-1, keepdims=True))
-    return q
+    return _jac.normalize(_FW, model, jnp.asarray(q, dtype=jnp.float64))
 
 
 def tangent_grad(f: Callable[..., Any], model: Model) -> Callable[..., Any]:

@@ -68,7 +68,6 @@ from .api.declared import OPTIONS, REFERENCES, Declaration, call
 from .core.declared import SPECS, shape_of
 from .errors import DTypeError, FeatherdynError, ShapeError
 from .frames import as_reference_frame
-from .joints import FreeFlyerJoint, SphericalJoint
 from .model import Model
 
 __all__ = ["model_key", "tangent_grad", "tangent_to_coordinates", "coordinates_of_tangent", "normalize",
@@ -326,14 +325,7 @@ def normalize(model: Model, q: torch.Tensor) -> torch.Tensor:
     what a function differentiated in coordinates off the unit quaternions (finite differences,
     ``torch.autograd.gradcheck``) calls first; at a unit quaternion its Jacobian removes the radial direction,
     which ``T(q)`` ignores anyway."""
-    parts, done = [], 0
-    for joint, iq in zip(model.joints, model.idx_q, strict=True):
-        if isinstance(joint, (SphericalJoint, FreeFlyerJoint)):
-            at = iq + (3 if isinstance(joint, FreeFlyerJoint) else 0)
-            quat = q[..., at:at + 4]
-            parts += [q[..., done:at], quat / torch.linalg.vector_norm(quat, dim=-1, keepdim=True)]
-            done = at + 4
-    return torch.cat([*parts, q[..., done:]], dim=-1) if parts else q
+    return _jac.normalize(_fw(q), model, q)
 
 
 def _sum_to(g: torch.Tensor, shape: torch.Size) -> torch.Tensor:

@@ -33,7 +33,7 @@ from ..model import Model
 from .declarations import DECLARATIONS
 
 __all__ = ["Framework", "RULES", "F_EXT", "jacobians", "has_jacobians", "tangent_of_coordinates", "coordinates_of_tangent",
-           "tangent_transpose", "coordinates_transpose"]
+           "tangent_transpose", "coordinates_transpose", "normalize"]
 
 
 class Framework(Protocol):
@@ -466,6 +466,19 @@ def coordinates_transpose(fw: Framework, model: Model, q: Any, gq: Any) -> Any:
         elif nv:
             parts.append(gq[..., iq:iq + nq])
     return _joined(fw, parts, q, gq)
+
+
+def normalize(fw: Framework, model: Model, q: Any) -> Any:
+    """``q`` `(..., nq)` with each quaternion divided by its norm (``fd.normalize`` in the framework,
+    differentiable): what a function differentiated in coordinates off the unit quaternions calls first."""
+    parts, done = [], 0
+    for kind, iq, _nq, _iv, _nv in _blocks(model):
+        if kind in ("spherical", "free_flyer"):
+            at = iq + (3 if kind == "free_flyer" else 0)
+            quat = q[..., at:at + 4]
+            parts += [q[..., done:at], quat / fw.einsum("...i,...i->...", quat, quat)[..., None] ** 0.5]
+            done = at + 4
+    return fw.concat([*parts, q[..., done:]], -1) if parts else q
 
 
 def _joined(fw: Framework, parts: list[Any], q: Any, x: Any) -> Any:
