@@ -58,7 +58,9 @@ def closure() -> torch.Tensor:
 for _ in range(2):
     opt.step(closure)
 pi_hat = pi.detach()
-lstsq = torch.linalg.lstsq(Y[train].reshape(-1, Y.shape[-1]), measured[train].reshape(-1)).solution
+# (driver gelsd: the SVD's minimum-norm solution, right for a rank-deficient Y; the default driver differs between
+# PyTorch releases, and torch 2.13's CPU default returned a wrong solution here)
+lstsq = torch.linalg.lstsq(Y[train].reshape(-1, Y.shape[-1]), measured[train].reshape(-1), driver="gelsd").solution
 error = (Y[test] @ pi_hat - tau[test]).abs().max()
 print(f"  held-out torque error {float(error):.2e} N·m (noise 1e-3), "
       f"{int(torch.linalg.matrix_rank(Y[train].reshape(-1, Y.shape[-1])))} of {Y.shape[-1]} combinations identifiable")

@@ -93,6 +93,7 @@ class _Jax:
     const = staticmethod(jnp.asarray)
     cos = staticmethod(jnp.cos)
     sin = staticmethod(jnp.sin)
+    sqrt = staticmethod(jnp.sqrt)
 
     @staticmethod
     def call(name: str, model: Model, inputs: dict[str, Any], options: dict[str, Any]) -> tuple[Any, ...]:

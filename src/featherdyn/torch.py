@@ -237,6 +237,7 @@ class _Torch:
 
     cos = staticmethod(torch.cos)
     sin = staticmethod(torch.sin)
+    sqrt = staticmethod(torch.sqrt)
 
     def __init__(self, dtype: torch.dtype, device: torch.device) -> None:
         self.dtype, self.device = dtype, device
@@ -424,6 +425,8 @@ def _vjp(name: str, key: int, option_values: Sequence[Any], ins: Sequence[torch.
         return (None,) * len(decl.inputs)
     if "f_ext" in wanted and decl.name not in _F_EXT:
         raise _no_derivative(f"the derivative of {decl.name} with respect to f_ext")
+    if name in _jac.VJPS and not torch.is_grad_enabled():  # first order only: contracted as it goes (VJPS)
+        return _contracted(decl, key, ins, ybars, wanted)
     model, fw, x, table = _jacobians(decl, key, option_values, ins)
     q = cast(torch.Tensor, x.get("q"))
     configurations = _configurations(decl)
@@ -459,6 +462,27 @@ def _vjp(name: str, key: int, option_values: Sequence[Any], ins: Sequence[torch.
             g = _jac.tangent_transpose(fw, model, cast(torch.Tensor, x[n]), tangent[n])
         else:
             g = tangent[n]
+        out.append(_sum_to(g, t.shape).to(t.dtype))
+    return tuple(out)
+
+
+def _contracted(decl: Declaration, key: int, ins: Sequence[torch.Tensor | None], ybars: Sequence[torch.Tensor | None],
+                wanted: set[str]) -> tuple[torch.Tensor | None, ...]:
+    """:func:`_vjp` by api/jacobians.py's ``VJPS`` (``x̄`` without the Jacobian; ``q``'s through ``T(q)ᵀ``)."""
+    model = _model(key)
+    x = {n: t.to(torch.float64) if t is not None and t.dtype == torch.float32 else t
+         for n, t in zip(decl.inputs, ins, strict=True)}
+    fw = _fw(*x.values())
+    given = {o: y.to(fw.dtype) for o, y in zip(decl.outputs, ybars, strict=True) if y is not None}
+    grads = _jac.VJPS[decl.name](fw, model, x, given)
+    out: list[torch.Tensor | None] = []
+    for n, t in zip(decl.inputs, ins, strict=True):
+        if n not in wanted or t is None:
+            out.append(None)
+            continue
+        g = grads[n]
+        if n in _configurations(decl):
+            g = _jac.tangent_transpose(fw, model, cast(torch.Tensor, x[n]), g)
         out.append(_sum_to(g, t.shape).to(t.dtype))
     return tuple(out)
 

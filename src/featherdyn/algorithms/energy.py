@@ -16,9 +16,12 @@ from ..model import Model
 from ..results import CenterOfMass, Kinematics
 from ..spatial.ops import cross3
 from ._common import TreeData, zeros
+from .crba import crba
+from .derivatives import rnea_partials
 from .kinematics import body_at, forward_kinematics, motion_at
 
-__all__ = ["kinetic_energy", "kinetic_energy_at", "potential_energy", "potential_energy_at", "center_of_mass"]
+__all__ = ["kinetic_energy", "kinetic_energy_at", "kinetic_energy_derivatives_at", "potential_energy",
+           "potential_energy_at", "center_of_mass"]
 
 
 def kinetic_energy(model: Model, kin: Kinematics, qd: np.ndarray | None = None) -> np.ndarray:
@@ -96,6 +99,18 @@ def center_of_mass(model: Model, kin: Kinematics) -> np.ndarray | CenterOfMass:
 def kinetic_energy_at(model: Model, q: np.ndarray, qd: np.ndarray) -> np.ndarray:
     """:func:`kinetic_energy` at the state ``(q, q̇)`` `(...)` (public: :func:`featherdyn.kinetic_energy`)."""
     return kinetic_energy(model, forward_kinematics(model, q, qd), qd)
+
+
+def kinetic_energy_derivatives_at(model: Model, q: np.ndarray, qd: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """``(∂T/∂q, ∂T/∂q̇)`` `(..., nv)` each (public: :func:`featherdyn.kinetic_energy_derivatives`), from RNEA's
+    derivatives at rest: ``M(q) q̇ = RNEA(q, 0, q̇)`` without gravity, so::
+
+        ∂T/∂q = ½ q̇ᵀ ∂(M q̇)/∂q = ½ q̇ᵀ (∂τ/∂q)(q, 0, q̇),     ∂T/∂q̇ = M q̇
+
+    (the compiled kernel's O(nb) recursion is a different derivation of the same numbers; ∂/∂q along
+    ``fd.integrate``'s tangent)."""
+    dq = rnea_partials(model, q, qd * 0, qd, None, False)[0]
+    return 0.5 * np.einsum("...i,...ik->...k", qd, dq), np.einsum("...ij,...j->...i", crba(model, q), qd)
 
 
 def potential_energy_at(model: Model, q: np.ndarray) -> np.ndarray:

@@ -54,7 +54,14 @@ from .derivatives import (
     rnea_derivatives,
 )
 from .dynamics import coriolis_matrix
-from .energy import center_of_mass, centroidal_momentum, centroidal_momentum_matrix, kinetic_energy, potential_energy
+from .energy import (
+    center_of_mass,
+    centroidal_momentum,
+    centroidal_momentum_matrix,
+    kinetic_energy,
+    kinetic_energy_derivatives,
+    potential_energy,
+)
 from .kinematics import (
     forward_kinematics,
     frame_jacobian,
@@ -108,6 +115,7 @@ __all__ = [
     "frame_placement",
     "joint_jacobians",
     "kinetic_energy",
+    "kinetic_energy_derivatives",
     "potential_energy",
     "set_default_backend",
     "set_num_threads",

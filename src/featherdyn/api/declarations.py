@@ -48,6 +48,7 @@ __all__ = ["rnea", "nonlinear_effects", "generalized_gravity", "crba", "aba", "f
            "aba_derivatives", "rnea_second_derivatives", "aba_second_derivatives", "mass_matrix_inverse",
            "joint_torque_regressor", "frame_velocity_derivatives",
            "frame_acceleration_derivatives", "joint_jacobians", "frame_jacobian_time_variation", "kinetic_energy",
+           "kinetic_energy_derivatives",
            "potential_energy", "centroidal_momentum_matrix", "generalized_gravity_derivatives",
            "static_torque_derivatives", "forward_kinematics", "frame_placement", "center_of_mass",
            "centroidal_momentum", "kinematics_derivatives", "center_of_mass_derivatives",
@@ -263,6 +264,7 @@ DECLARATIONS: dict[str, Declaration] = {d.name: d for d in [
     ),
     Declaration(
         name="kinetic_energy",
+        derivative="kinetic_energy_derivatives",
         inputs=("q", "v"),
         outputs=("T",),
         reference=_energy.kinetic_energy_at,
@@ -275,6 +277,28 @@ DECLARATIONS: dict[str, Declaration] = {d.name: d for d in [
         ::
 
             T = Σ_i ½ v_iᵀ I_i v_i + ½ Σ_k armature_k q̇_k² = ½ q̇ᵀ M(q) q̇
+        """,
+    ),
+    Declaration(
+        name="kinetic_energy_derivatives",
+        inputs=("q", "v"),
+        outputs=("dT_dq", "dT_dv"),
+        reference=_energy.kinetic_energy_derivatives_at,
+        doc="""``(∂T/∂q, ∂T/∂q̇)`` `(..., nv)` each: the kinetic energy's gradient, in O(nb).
+
+        Args:
+            q: `(..., nq)`; v: `(..., nv)`.
+            out: optional tuple of two `(..., nv)` float64 arrays to write into.
+
+        ∂/∂q along the tangent of ``fd.integrate``. With body ``i``'s velocity ``v_i``, its parent's ``v_λ(i)``
+        and the momentum of its subtree ``h^C_i`` (all in body ``i``'s coordinates), for each column ``k`` of
+        joint ``i``::
+
+            ∂T/∂q_k = −S_kᵀ (v_λ(i) ×* h^C_i) = ½ q̇ᵀ (∂M/∂q_k) q̇,     ∂T/∂q̇ = M(q) q̇
+
+        (moving ``q_k`` turns the subtree and its momentum rigidly: only the ancestors' joints stay behind).
+        The gradient of ``⟨W, M(q)⟩`` for any ``W`` follows by polarisation, ``xᵀ M y = T(x + y) − T(x − y)``:
+        ``featherdyn.torch``'s backward of ``crba`` and ``mass_matrix_inverse`` (docs/frameworks.md).
         """,
     ),
     Declaration(
@@ -807,6 +831,8 @@ frame_acceleration_derivatives: Callable[..., tuple[np.ndarray, np.ndarray, np.n
 joint_jacobians: Callable[..., np.ndarray] = public_function(DECLARATIONS["joint_jacobians"])
 frame_jacobian_time_variation: Callable[..., np.ndarray] = public_function(DECLARATIONS["frame_jacobian_time_variation"])
 kinetic_energy: Callable[..., np.ndarray] = public_function(DECLARATIONS["kinetic_energy"])
+kinetic_energy_derivatives: Callable[..., tuple[np.ndarray, np.ndarray]] = public_function(
+    DECLARATIONS["kinetic_energy_derivatives"])
 potential_energy: Callable[..., np.ndarray] = public_function(DECLARATIONS["potential_energy"])
 centroidal_momentum_matrix: Callable[..., np.ndarray] = public_function(DECLARATIONS["centroidal_momentum_matrix"])
 generalized_gravity_derivatives: Callable[..., np.ndarray] = public_function(DECLARATIONS["generalized_gravity_derivatives"])

@@ -13,8 +13,9 @@ from .declarations import (
     centroidal_momentum,
     centroidal_momentum_matrix,
     kinetic_energy,
+    kinetic_energy_derivatives,
     potential_energy,
 )
 
-__all__ = ["kinetic_energy", "potential_energy", "center_of_mass", "centroidal_momentum_matrix",
+__all__ = ["kinetic_energy", "kinetic_energy_derivatives", "potential_energy", "center_of_mass", "centroidal_momentum_matrix",
            "centroidal_momentum"]

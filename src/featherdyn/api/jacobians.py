@@ -32,7 +32,7 @@ from ..frames import LOCAL, LOCAL_WORLD_ALIGNED
 from ..model import Model
 from .declarations import DECLARATIONS
 
-__all__ = ["Framework", "RULES", "F_EXT", "jacobians", "has_jacobians", "tangent_of_coordinates", "coordinates_of_tangent",
+__all__ = ["Framework", "RULES", "VJPS", "F_EXT", "jacobians", "mass_matrix_vjp", "has_jacobians", "tangent_of_coordinates", "coordinates_of_tangent",
            "tangent_transpose", "coordinates_transpose", "normalize"]
 
 
@@ -51,6 +51,7 @@ class Framework(Protocol):
     def zeros(self, shape: tuple[int, ...]) -> Any: ...
     def cos(self, x: Any) -> Any: ...
     def sin(self, x: Any) -> Any: ...
+    def sqrt(self, x: Any) -> Any: ...
 
 
 Table = dict[str, dict[str, Any]]
@@ -106,12 +107,23 @@ def _mass_matrix_inverse(fw: Framework, model: Model, x: dict[str, Any], o: dict
     return {"Minv": {"q": -fw.einsum("...ia,...abk,...bj->...ijk", Minv, _dM_dq(fw, model, x["q"]), Minv)}}
 
 
-def _kinetic_energy(fw: Framework, model: Model, x: dict[str, Any], o: dict[str, Any]) -> Table:
-    """``T = ½ q̇ᵀ M q̇``: ``∂T/∂q̇ = M q̇``, ``∂T/∂q = ½ q̇ᵀ ∂(M q̇)/∂q`` (RNEA's ``∂τ/∂q`` at ``(q, 0, q̇)`` without
-    gravity: ``τ = M(q) q̇`` there)."""
+def _kinetic_energy_derivatives(fw: Framework, model: Model, x: dict[str, Any], o: dict[str, Any]) -> Table:
+    """``T = ½ q̇ᵀ M q̇``'s gradient ``(½ q̇ᵀ ∂(M q̇)/∂q, M q̇)`` differentiated: ``M q̇ = RNEA(q, 0, q̇)`` without
+    gravity, so with ``τ`` that RNEA and its derivatives ``∂τ/∂q``, ``∂²τ/∂q²``::
+
+        ∂(∂T/∂q_k)/∂q_l = ½ Σ_i q̇_i ∂²τ_i/∂q_k∂q_l,   ∂(∂T/∂q_k)/∂q̇_j = (∂τ/∂q)_jk,
+        ∂(M q̇)/∂q = ∂τ/∂q,                           ∂(M q̇)/∂q̇ = M
+    """
     v = x["v"]
-    d = fw.call("rnea_derivatives", model, {"q": x["q"], "v": fw.zeros((model.nv,)), "a": v}, {"gravity": False})
-    return {"T": {"q": 0.5 * fw.einsum("...i,...ik->...k", v, d[0]), "v": fw.einsum("...ij,...j->...i", d[2], v)}}
+    at_rest = {"q": x["q"], "v": fw.zeros((model.nv,)), "a": v}
+    d = fw.call("rnea_derivatives", model, at_rest, {"gravity": False})
+    d2 = fw.call("rnea_second_derivatives", model, at_rest, {"gravity": False})
+    return {"dT_dq": {"q": 0.5 * fw.einsum("...i,...ikl->...kl", v, d2[0]), "v": _transpose(fw, d[0])},
+            "dT_dv": {"q": d[0], "v": d[2]}}
+
+
+def _transpose(fw: Framework, A: Any) -> Any:
+    return fw.einsum("...ij->...ji", A)
 
 
 def _potential_energy(fw: Framework, model: Model, x: dict[str, Any], o: dict[str, Any]) -> Table:
@@ -311,7 +323,7 @@ def _static_torque_derivatives(fw: Framework, model: Model, x: dict[str, Any], o
 #: the rules of the functions whose declaration has no ``derivative`` (module docstring)
 RULES: dict[str, Rule] = {
     "nonlinear_effects": _nonlinear_effects, "crba": _crba, "mass_matrix_inverse": _mass_matrix_inverse,
-    "kinetic_energy": _kinetic_energy, "potential_energy": _potential_energy,
+    "kinetic_energy_derivatives": _kinetic_energy_derivatives, "potential_energy": _potential_energy,
     "centroidal_momentum": _centroidal_momentum, "center_of_mass": _center_of_mass,
     "frame_classical_acceleration": _frame_classical_acceleration, "frame_jacobian": _frame_jacobian,
     "centroidal_momentum_matrix": _centroidal_momentum_matrix, "joint_jacobians": _joint_jacobians,
@@ -320,6 +332,43 @@ RULES: dict[str, Rule] = {
     "generalized_gravity_derivatives": _generalized_gravity_derivatives,
     "static_torque_derivatives": _static_torque_derivatives,
 }
+
+
+# --- vector-Jacobian products that contract as they go -----------------------------------------------------------
+
+def mass_matrix_vjp(fw: Framework, model: Model, q: Any, W: Any) -> Any:
+    """``∂⟨W, M(q)⟩/∂q`` `(..., nv)` along ``fd.integrate``'s tangent, for ``W`` `(..., nv, nv)`, without forming
+    ``∂M/∂q`` (nv³ a state): ``⟨W, M⟩ = Σ_i x_iᵀ M y_i`` with ``x_i = s_i e_i``, ``y_i = W[i, :] / s_i``, and by
+    polarisation ``xᵀ M y = ½ (T(x + y) − T(x − y))`` (``T(z) = ½ zᵀ M z``), so the gradient is 2 nv kinetic-energy
+    gradients (``fd.kinetic_energy_derivatives``, O(nb) each) in one batched call: O(nv·nb) a state against the
+    Jacobian's O(nv²·nb). ``s_i = ‖W[i, :]‖^½`` balances the pair, so ``T(x ± y)`` do not cancel more than
+    ``x_iᵀ M y_i`` itself does."""
+    nv = model.nv
+    s = fw.sqrt(fw.sqrt(fw.einsum("...ij,...ij->...i", W, W) + 1e-300))  # (…, nv): 0-rows give y = 0
+    X = fw.einsum("...i,ij->...ij", s, fw.const(np.eye(nv)))
+    Y = W / s[..., :, None]
+    d = fw.call("kinetic_energy_derivatives", model, {"q": q[..., None, :], "v": fw.concat([X + Y, X - Y], -2)}, {})
+    plus, minus = fw.einsum("...rk->...k", d[0][..., :nv, :]), fw.einsum("...rk->...k", d[0][..., nv:, :])
+    return 0.5 * (plus - minus)  # (the same sums: W = 0 gives exactly 0)
+
+
+def _crba_vjp(fw: Framework, model: Model, x: dict[str, Any], ybars: dict[str, Any]) -> dict[str, Any]:
+    return {"q": mass_matrix_vjp(fw, model, x["q"], ybars["M"])}
+
+
+def _mass_matrix_inverse_vjp(fw: Framework, model: Model, x: dict[str, Any], ybars: dict[str, Any]) -> dict[str, Any]:
+    """``∂⟨W, M⁻¹⟩/∂q = ∂⟨−M⁻¹ W M⁻¹, M⟩/∂q`` (``∂M⁻¹ = −M⁻¹ ∂M M⁻¹``, ``M⁻¹`` symmetric)."""
+    Minv = fw.call("mass_matrix_inverse", model, {"q": x["q"]}, {})[0]
+    return {"q": mass_matrix_vjp(fw, model, x["q"], -fw.einsum("...ia,...ab,...bj->...ij", Minv, ybars["Minv"], Minv))}
+
+
+Vjp = Callable[[Framework, Model, dict[str, Any], dict[str, Any]], dict[str, Any]]
+#: ``{name: vjp(fw, model, x, {output: ȳ}) → {input: x̄}}`` (``q``'s along the tangent): the first-order reverse
+#: products that contract as they go where the Jacobian would be nv³ a state. featherdyn.torch's backward takes
+#: them when no graph is made of the backward (``create_graph=False``); a second order goes through :data:`RULES`,
+#: whose Jacobians are differentiable again. (JAX differentiates in reverse by transposing the forward rule, which
+#: needs the Jacobian: docs/frameworks.md.)
+VJPS: dict[str, Vjp] = {"crba": _crba_vjp, "mass_matrix_inverse": _mass_matrix_inverse_vjp}
 
 
 def has_jacobians(name: str) -> bool:

@@ -144,6 +144,18 @@ struct KineticEnergy : Declared {
   }
 };
 
+// (∂T/∂q, ∂T/∂q̇) (nv,) each, ∂/∂q along fd.integrate's tangent, in O(nb) (energy.hpp): the gradient of
+// ⟨W, M(q)⟩ = Σ_i (x_iᵀ M y_i) that featherdyn.torch's backward of crba takes by polarisation (api/jacobians.py).
+struct KineticEnergyDerivatives : Declared {
+  static constexpr const char* name = "kinetic_energy_derivatives";
+  static constexpr Operand inputs[] = {operand::q, operand::v};
+  static constexpr Operand outputs[] = {operand::vector("dT_dq", NV), operand::vector("dT_dv", NV)};
+  static std::int64_t run(const ModelView& mv, const double* const* in, double* const* out, const Options&) {
+    kinetic_energy_derivatives(mv, in[0], in[1], out[0], out[1]);
+    return OK;
+  }
+};
+
 // U = −Σ m_i gᵀ ⁰c_i (energy.hpp), zero at the world origin, one number.
 struct PotentialEnergy : Declared {
   static constexpr const char* name = "potential_energy";
@@ -409,7 +421,7 @@ inline std::vector<Kernel> make_declared_kernels() {
       declare<Rnea>(), declare<NonlinearEffects>(), declare<GeneralizedGravity>(), declare<Crba>(), declare<Aba>(), declare<FrameJacobian>(), declare<RneaDerivatives>(),
       declare<AbaDerivatives>(), declare<MassMatrixInverse>(), declare<JointTorqueRegressor>(),
       declare<FrameVelocityDerivatives>(), declare<FrameAccelerationDerivatives>(), declare<JointJacobians>(),
-      declare<FrameJacobianTimeVariation>(), declare<KineticEnergy>(), declare<PotentialEnergy>(),
+      declare<FrameJacobianTimeVariation>(), declare<KineticEnergy>(), declare<KineticEnergyDerivatives>(), declare<PotentialEnergy>(),
       declare<CentroidalMomentumMatrix>(),
       declare<GeneralizedGravityDerivatives>(), declare<StaticTorqueDerivatives>(), declare<Placements>(),
       declare<ForwardKinematics>(), declare<FramePlacement>(), declare<CenterOfMass>(), declare<CentroidalMomentum>(),

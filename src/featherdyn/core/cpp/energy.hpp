@@ -43,6 +43,48 @@ S kinetic_energy(const ModelView& mv, const S* q, const S* qd) {
   return T;
 }
 
+// The kinetic energy's gradient (∂T/∂q along fd.integrate's tangent, ∂T/∂q̇ = M q̇), in O(nb): with body velocities
+// v_i, the subtree's momentum h^C_i = Σ_{j ∈ subtree(i)} ⁱX_j* I_j v_j and v_λ(i) the parent's velocity (in body i's
+// coordinates, v_i − S_i q̇_i), for each column k of joint i
+//
+//     ∂T/∂q_k = −S_kᵀ (v_λ(i) ×* h^C_i),     ∂T/∂q̇_k = S_kᵀ h^C_i + armature_k q̇_k
+//
+// (moving q_k turns subtree(i) and its momentum rigidly by S_k: only the ancestors' columns stay behind, and
+// ⟨v, I v⟩ changes by −2 S_kᵀ (v_λ ×* h^C): docs/derivatives.md, "The kinetic energy's gradient").
+template <class S>
+struct KineticWork {
+  std::vector<Xform<S>> X_up;
+  std::vector<Motion<S>> v, vp;
+  std::vector<Force<S>> hC;
+  void resize(size_t nb) {
+    if (v.size() < nb) X_up.resize(nb), v.resize(nb), vp.resize(nb), hC.resize(nb);
+  }
+};
+
+template <class S>
+void kinetic_energy_derivatives(const ModelView& mv, const S* q, const S* qd, S* dT_dq, S* dT_dv) {
+  KineticWork<S>& w = thread_workspace<KineticWork<S>>(mv.nb);
+  const S z(0.0);
+  const Motion<S> zero{{z, z, z}, {z, z, z}};
+  for (int i = 0; i < mv.nb; ++i) {
+    const int lam = mv.parent[i];
+    w.X_up[i] = joint_X_up(mv, i, q);
+    w.vp[i] = lam == -1 ? zero : w.X_up[i].apply(w.v[lam]);
+    w.v[i] = w.vp[i] + S_times(mv, i, qd);
+    w.hC[i] = body_inertia<S>(mv, i) * w.v[i];
+  }
+  for (int i = mv.nb - 1; i >= 0; --i) {
+    const int lam = mv.parent[i];
+    if (lam != -1) w.hC[lam] += w.X_up[i].apply_transpose(w.hC[i]);
+    const Force<S> turn = cross_force(w.vp[i], w.hC[i]);
+    St_times(mv, i, turn, dT_dq + mv.idx_v[i]);
+    St_times(mv, i, w.hC[i], dT_dv + mv.idx_v[i]);
+    for (int c = 0; c < mv.nv_i[i]; ++c) dT_dq[mv.idx_v[i] + c] = -dT_dq[mv.idx_v[i] + c];
+  }
+  if (mv.armature)
+    for (int k = 0; k < mv.nv; ++k) dT_dv[k] = dT_dv[k] + S(mv.armature[k]) * qd[k];
+}
+
 // U(q), zero at the world origin
 template <class S>
 S potential_energy(const ModelView& mv, const S* q) {
