@@ -41,6 +41,9 @@ from typing import Any, NamedTuple
 import jax
 import jax.numpy as jnp
 import numpy as np
+from jax.core import ShapedArray
+from jax.extend.core import Primitive
+from jax.interpreters import ad, batching, mlir
 
 from .api import jacobians as _jac
 from .api.declarations import DECLARATIONS
@@ -202,10 +205,13 @@ def _op_jvp(name: str, key: int, present: int, primals: tuple[Any, ...], tangent
         raise FeatherdynError(f"featherdyn.jax.{name}: its derivatives are not available (docs/frameworks.md lists "
                               "the operations with first and second derivatives)")
     x = dict(zip(given, primals, strict=True))
-    table = _jac.jacobians(_FW, name, model, x, options, f_ext="f_ext" in moving)
     spec = SPECS[name]
     configuration = {n for n, shape, _ in (*spec.inputs, *spec.outputs) if shape == ("nq",)}  # (q, q0, q1, q')
     directions = {n: tangent_of_coordinates(model, x[n], t) if n in configuration else t for n, t in moving.items()}
+    if name in _jac.VJPS:  # (q alone: crba, mass_matrix_inverse) the tangent as a linear primitive (_LINEAR)
+        return out, tuple(t + z for t, z in zip(_LINEAR.bind(x["q"], directions["q"], name=name, key=key), zeros,
+                                                strict=True))
+    table = _jac.jacobians(_FW, name, model, x, options, f_ext="f_ext" in moving)
     t_out = []
     for o_name, o, zero, (_, shape, _) in zip(decl.outputs, out, zeros, spec.outputs, strict=True):
         t = None
@@ -224,6 +230,70 @@ def _op_jvp(name: str, key: int, present: int, primals: tuple[Any, ...], tangent
 
 
 _op.defjvp(_op_jvp, symbolic_zeros=True)
+
+
+# --- a tangent whose transpose contracts as it goes ----------------------------------------------------------------
+# JAX differentiates in reverse by transposing the forward rule, ẏ = J · δ: for crba that needs ∂M/∂q, nv³ numbers a
+# state. `_LINEAR` is that product as a primitive that is linear in δ (JAX's primitive interface: docs.jax.dev,
+# "JAX Internals: primitives"), with the transpose rule api/jacobians.py's VJPS (⟨W, ∂M/∂q⟩ from kinetic-energy
+# gradients, no ∂M/∂q): `grad`, `vjp`, `jacrev` take it; forward mode and its own derivatives evaluate J · δ.
+
+_LINEAR = Primitive("featherdyn_linear_tangent")
+_LINEAR.multiple_results = True
+
+
+def _linear(q: Any, delta: Any, *, name: str, key: int) -> list[Any]:
+    """``[J_o · δ for each output o]`` with api/jacobians.py's Jacobians of ``fd.<name>`` in ``q`` (its only input)."""
+    model, options, _ = _MODELS[key]
+    table = _jac.jacobians(_FW, name, model, {"q": q}, options)
+    return [jnp.einsum("...abz,...z->...ab", table[o]["q"], delta) for o in DECLARATIONS[name].outputs]
+
+
+def _linear_shapes(q: Any, delta: Any, *, name: str, key: int) -> list[ShapedArray]:
+    model, _, rows = _MODELS[key]
+    batch = jnp.broadcast_shapes(q.shape[:-1], delta.shape[:-1])
+    return [ShapedArray(batch + shape, jnp.float64) for shape in operand_shapes(name, model, rows)[1]]
+
+
+def _linear_transpose(cts: Sequence[Any], q: Any, delta: Any, *, name: str, key: int) -> tuple[None, Any]:
+    """``δ̄ = Jᵀ ȳ`` by api/jacobians.py's ``VJPS[name]`` (``q`` is known here, ``δ`` the linear input)."""
+    assert ad.is_undefined_primal(delta) and not ad.is_undefined_primal(q)
+    model, _, _ = _MODELS[key]
+    aval = delta.aval
+    given = {o: ct for o, ct in zip(DECLARATIONS[name].outputs, cts, strict=True) if type(ct) is not ad.Zero}
+    if not given:
+        return None, ad.Zero(aval)
+    g = _jac.VJPS[name](_FW, model, {"q": q}, given)["q"]
+    return None, g if g.shape == aval.shape else _sum_to(g, aval.shape)
+
+
+def _sum_to(g: Any, shape: tuple[int, ...]) -> Any:
+    """``g`` summed over the leading axes it has beyond ``shape`` (``δ`` broadcast against a batch of ``q``)."""
+    g = jnp.sum(g, axis=tuple(range(g.ndim - len(shape))))
+    return jnp.sum(g, axis=tuple(k for k, n in enumerate(shape) if n == 1 and g.shape[k] != 1), keepdims=True)
+
+
+def _linear_jvp(primals: Sequence[Any], tangents: Sequence[Any], *, name: str, key: int) -> tuple[Any, Any]:
+    tangents = [ad.instantiate_zeros(t) for t in tangents]
+    return jax.jvp(partial(_linear, name=name, key=key), tuple(primals), tuple(tangents))
+
+
+def _linear_batch(args: Sequence[Any], dims: Sequence[int | None], *, name: str, key: int
+                  ) -> tuple[list[Any], list[int]]:
+    """The mapped axis first: the operations take any leading batch axes (an unmapped input broadcasts)."""
+    moved = [x if d is None else jnp.moveaxis(x, d, 0) for x, d in zip(args, dims, strict=True)]
+    size = next(x.shape[0] for x, d in zip(moved, dims, strict=True) if d is not None)
+    moved = [x if d is not None else jnp.broadcast_to(x, (size, *x.shape)) for x, d in zip(moved, dims, strict=True)]
+    out = _LINEAR.bind(*moved, name=name, key=key)
+    return out, [0] * len(out)
+
+
+_LINEAR.def_impl(_linear)
+_LINEAR.def_abstract_eval(_linear_shapes)
+mlir.register_lowering(_LINEAR, mlir.lower_fun(_linear, multiple_results=True))
+ad.primitive_jvps[_LINEAR] = _linear_jvp
+ad.primitive_transposes[_LINEAR] = _linear_transpose
+batching.primitive_batchers[_LINEAR] = _linear_batch
 
 
 def _function(decl: Declaration) -> Callable[..., Any]:

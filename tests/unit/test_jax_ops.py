@@ -285,6 +285,38 @@ def test_hessian_of_rnea_is_the_second_derivatives() -> None:
     np.testing.assert_allclose(Hq, 0.5 * (ref + ref.T), rtol=1e-6, atol=1e-6 * max(1.0, np.abs(ref).max()))
 
 
+@pytest.mark.parametrize("name", ["crba", "mass_matrix_inverse"])
+def test_reverse_mode_of_the_mass_matrix_contracts_as_it_goes(name: str) -> None:
+    """jax.grad of ``Σ W ∘ M(q)`` (and of ``M⁻¹``) through the linear primitive's transpose (api/jacobians.py's
+    VJPS, kinetic-energy gradients): equal to the contraction of ``∂M/∂q`` of ``fd.rnea_second_derivatives``, the same
+    under jit and vmap, and the reverse-mode program holds no array of ``∂M/∂q``'s shape (nv³ a state)."""
+    model = _robot("solo12", True)
+    nv = model.nv
+    rng = np.random.default_rng(12)
+    Q = jnp.asarray(np.stack([fd.random_configuration(model, rng) for _ in range(3)]))
+    W = jnp.asarray(rng.normal(size=(3, nv, nv)))
+    f = getattr(fj, name)
+
+    def loss(q):  # type: ignore[no-untyped-def]
+        return jnp.sum(W * f(model, q))
+
+    g = fj.tangent_grad(loss, model)(Q)  # (3, nv): along fd.integrate's tangent
+    dM_dq = fd.rnea_second_derivatives(model, np.asarray(Q), np.zeros((3, nv)), np.zeros((3, nv))).dM_dq
+    if name == "crba":
+        expected = np.einsum("bij,bijk->bk", W, dM_dq)
+    else:
+        Minv = fd.mass_matrix_inverse(model, np.asarray(Q))
+        expected = -np.einsum("nij,nia,nabk,nbj->nk", W, Minv, dM_dq, Minv)
+    np.testing.assert_allclose(g, expected, rtol=1e-9, atol=1e-9 * np.abs(expected).max())
+    grad = jax.grad(loss)
+    np.testing.assert_allclose(jax.jit(grad)(Q), grad(Q), rtol=1e-13, atol=1e-13)
+    per_state = jax.vmap(jax.grad(lambda q, w: jnp.sum(w * f(model, q))))(Q, W)
+    np.testing.assert_allclose(per_state, grad(Q), rtol=1e-13, atol=1e-13)
+    program = str(jax.make_jaxpr(grad)(Q))
+    assert f"{nv},{nv},{nv}]" not in program and "featherdyn_linear_tangent" not in program
+    assert "featherdyn_linear_tangent" in str(jax.make_jaxpr(jax.jacfwd(loss))(Q))  # (forward mode: J · δ)
+
+
 def test_tangent_maps_are_inverse_on_the_tangent() -> None:
     model = _robot("solo12", True)
     q = fd.random_configuration(model, 7)

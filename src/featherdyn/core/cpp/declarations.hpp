@@ -150,6 +150,7 @@ struct KineticEnergyDerivatives : Declared {
   static constexpr const char* name = "kinetic_energy_derivatives";
   static constexpr Operand inputs[] = {operand::q, operand::v};
   static constexpr Operand outputs[] = {operand::vector("dT_dq", NV), operand::vector("dT_dv", NV)};
+  static constexpr auto group = &fdgroup::GroupKernels::kinetic_energy_derivatives;
   static std::int64_t run(const ModelView& mv, const double* const* in, double* const* out, const Options&) {
     kinetic_energy_derivatives(mv, in[0], in[1], out[0], out[1]);
     return OK;

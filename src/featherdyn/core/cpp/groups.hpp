@@ -70,6 +70,7 @@ struct GroupKernels {
   AbaDerivativesFn aba_derivatives;
   GroupFn aba_derivatives_group;
   GroupFn contact_dynamics, operational_space_inertia;
+  GroupFn kinetic_energy_derivatives;
 };
 
 }  // namespace fdgroup

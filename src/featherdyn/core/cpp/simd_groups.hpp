@@ -15,6 +15,7 @@
 #include "contacts.hpp"
 #include "crba.hpp"
 #include "derivatives.hpp"
+#include "energy.hpp"
 #include "groups.hpp"
 #include "kinematics.hpp"
 #include "pack.hpp"
@@ -279,10 +280,27 @@ inline std::int64_t operational_space_inertia_group(const fdgroup::GroupArgs& g,
   return 0;
 }
 
+// (∂T/∂q, ∂T/∂q̇) of W rows (energy.hpp) — featherdyn.torch's and featherdyn.jax's crba gradients call it on
+// 2 nv rows a state.
+inline std::int64_t kinetic_energy_derivatives_group(const fdgroup::GroupArgs& g, std::int64_t r0) {
+  const ModelView& mv = *g.mv;
+  const size_t nq = mv.nq, nv = mv.nv;
+  Lanes& L = thread_lanes(nq + 3 * nv);
+  const Pack* q = L.gather(g.Q, r0, nq, 0);
+  const Pack* v = L.gather(g.V, r0, nv, nq);
+  Pack* dq = L.space(nq + nv);
+  Pack* dv = dq + nv;
+  kinetic_energy_derivatives(mv, q, v, dq, dv);
+  if (!all_finite(dq, 2 * nv)) return 1;
+  scatter(dq, nv, g.out + r0 * g.out_stride, g.out_stride);
+  scatter(dv, nv, g.out2 + r0 * g.out_stride, g.out_stride);
+  return 0;
+}
+
 inline fdgroup::GroupKernels group_kernels(const char* isa) {
   return {isa, PACK_WIDTH, &rnea_group, &crba_group, &aba_group, &fk_group, &rnea_derivatives_group,
           &rnea_derivatives<double>, &mass_matrix_inverse, &aba_derivatives, &aba_derivatives_group,
-          &contact_dynamics_group, &operational_space_inertia_group};
+          &contact_dynamics_group, &operational_space_inertia_group, &kinetic_energy_derivatives_group};
 }
 
 }  // namespace fdcore
