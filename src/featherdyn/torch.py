@@ -842,6 +842,7 @@ class _ContactJacobians(torch.autograd.Function):
         raise _no_derivative(f"the second derivative of {ctx.kind} dynamics")
 
 
+@torch.compiler.disable  # (Dynamo cannot take the constraint objects into a graph: eager, a graph break)
 def constrained_dynamics(model: Model, q: torch.Tensor, v: torch.Tensor, tau: torch.Tensor, constraints: Any,
                          f_ext: torch.Tensor | None = None, *, mu: float = 0.0, max_iter: int = 50,
                          tol: float = 1e-12) -> ConstrainedDynamics:
@@ -858,6 +859,7 @@ def constrained_dynamics(model: Model, q: torch.Tensor, v: torch.Tensor, tau: to
     return ConstrainedDynamics(ddq, _split(lam, items), lam, residual)
 
 
+@torch.compiler.disable  # (as constrained_dynamics)
 def impulse_dynamics(model: Model, q: torch.Tensor, v: torch.Tensor, constraints: Any, *,
                      restitution: float = 0.0, mu: float = 0.0) -> ImpulseDynamics:
     """``fd.impulse_dynamics`` on tensors, differentiable once in ``q, v`` (``fd.impulse_dynamics_derivatives``)::
