@@ -211,7 +211,11 @@ def _op_jvp(name: str, key: int, present: int, primals: tuple[Any, ...], tangent
     if name in _jac.VJPS:  # (q alone: crba, mass_matrix_inverse) the tangent as a linear primitive (_LINEAR)
         return out, tuple(t + z for t, z in zip(_LINEAR.bind(x["q"], directions["q"], name=name, key=key), zeros,
                                                 strict=True))
-    table = _jac.jacobians(_FW, name, model, x, options, f_ext="f_ext" in moving)
+    f_dot = directions.pop("f_ext", None)
+    if f_dot is not None and name not in _jac.F_EXT:
+        raise FeatherdynError(f"{name}: no derivative with respect to f_ext (rnea's and aba's only); hold f_ext "
+                              "constant")
+    table = _jac.jacobians(_FW, name, model, x, options)
     t_out = []
     for o_name, o, zero, (_, shape, _) in zip(decl.outputs, out, zeros, spec.outputs, strict=True):
         t = None
@@ -219,9 +223,11 @@ def _op_jvp(name: str, key: int, present: int, primals: tuple[Any, ...], tangent
         for n, d in directions.items():
             J = table.get(o_name, {}).get(n)
             if J is not None:
-                ins = "yz" if n == "f_ext" else "z"  # (f_ext: (nb, 6) per state)
-                term = jnp.einsum(f"...{letters}{ins},...{ins}->...{letters}", J, d)
+                term = jnp.einsum(f"...{letters}z,...z->...{letters}", J, d)
                 t = term if t is None else t + term
+        if f_dot is not None and o_name == decl.outputs[0]:  # (f_ext: through the generalized force, _FORCE)
+            term = _jac.f_ext_tangent(_FW, name, table, _FORCE.bind(x["q"], f_dot, key=key)[0])
+            t = term if t is None else t + term
         if t is None:
             t_out.append(zero)
         else:  # (a configuration's Jacobians are along its tangent: its coordinates move by E(q') δ')
@@ -278,14 +284,22 @@ def _linear_jvp(primals: Sequence[Any], tangents: Sequence[Any], *, name: str, k
     return jax.jvp(partial(_linear, name=name, key=key), tuple(primals), tuple(tangents))
 
 
-def _linear_batch(args: Sequence[Any], dims: Sequence[int | None], *, name: str, key: int
-                  ) -> tuple[list[Any], list[int]]:
-    """The mapped axis first: the operations take any leading batch axes (an unmapped input broadcasts)."""
-    moved = [x if d is None else jnp.moveaxis(x, d, 0) for x, d in zip(args, dims, strict=True)]
-    size = next(x.shape[0] for x, d in zip(moved, dims, strict=True) if d is not None)
-    moved = [x if d is not None else jnp.broadcast_to(x, (size, *x.shape)) for x, d in zip(moved, dims, strict=True)]
-    out = _LINEAR.bind(*moved, name=name, key=key)
-    return out, [0] * len(out)
+def _batch_rule(primitive: Primitive, tails: tuple[int, ...]) -> Callable[..., Any]:
+    """vmap of a primitive whose operands take any leading batch axes (``tails``: each operand's own trailing
+    dimensions): the mapped axis first, then singletons up to the widest operand's own batch, so that every operand
+    broadcasts against the others (an unmapped operand from the right); the results mapped on axis 0."""
+
+    def rule(args: Sequence[Any], dims: Sequence[int | None], **params: Any) -> tuple[list[Any], list[int]]:
+        own = [x.ndim - (d is not None) - n for x, d, n in zip(args, dims, tails, strict=True)]
+        widest = max(own)
+        moved = []
+        for x, d, k in zip(args, dims, own, strict=True):
+            x = x[None] if d is None else jnp.moveaxis(x, d, 0)
+            moved.append(x.reshape(x.shape[:1] + (1,) * (widest - k) + x.shape[1:]))
+        out = primitive.bind(*moved, **params)
+        return out, [0] * len(out)
+
+    return rule
 
 
 _LINEAR.def_impl(_linear)
@@ -293,7 +307,46 @@ _LINEAR.def_abstract_eval(_linear_shapes)
 mlir.register_lowering(_LINEAR, mlir.lower_fun(_linear, multiple_results=True))
 ad.primitive_jvps[_LINEAR] = _linear_jvp
 ad.primitive_transposes[_LINEAR] = _linear_transpose
-batching.primitive_batchers[_LINEAR] = _linear_batch
+batching.primitive_batchers[_LINEAR] = _batch_rule(_LINEAR, (1, 1))
+
+
+# f_ext enters rnea and aba as the generalized force u = Σ_b J_bᵀ f_b (api/jacobians.py: generalized_force); `_FORCE`
+# is u̇ = u(ḟ) as a primitive linear in ḟ whose transpose is J_b w per body (generalized_force_transpose): reverse
+# mode never forms ∂u/∂f (nv × nb × 6 a state).
+
+_FORCE = Primitive("featherdyn_generalized_force")
+_FORCE.multiple_results = True
+
+
+def _force(q: Any, f: Any, *, key: int) -> list[Any]:
+    return [_jac.generalized_force(_FW, _MODELS[key][0], q, f)]
+
+
+def _force_shapes(q: Any, f: Any, *, key: int) -> list[ShapedArray]:
+    return [ShapedArray(jnp.broadcast_shapes(q.shape[:-1], f.shape[:-2]) + (_MODELS[key][0].nv,), jnp.float64)]
+
+
+def _force_transpose(cts: Sequence[Any], q: Any, f: Any, *, key: int) -> tuple[None, Any]:
+    """``f̄_b = J_b ū`` (``q`` known, ``f`` the linear input)."""
+    assert ad.is_undefined_primal(f) and not ad.is_undefined_primal(q)
+    aval = f.aval
+    if type(cts[0]) is ad.Zero:
+        return None, ad.Zero(aval)
+    g = _jac.generalized_force_transpose(_FW, _MODELS[key][0], q, cts[0])
+    return None, g if g.shape == aval.shape else _sum_to(g, aval.shape)
+
+
+def _force_jvp(primals: Sequence[Any], tangents: Sequence[Any], *, key: int) -> tuple[Any, Any]:
+    tangents = [ad.instantiate_zeros(t) for t in tangents]
+    return jax.jvp(partial(_force, key=key), tuple(primals), tuple(tangents))
+
+
+_FORCE.def_impl(_force)
+_FORCE.def_abstract_eval(_force_shapes)
+mlir.register_lowering(_FORCE, mlir.lower_fun(_force, multiple_results=True))
+ad.primitive_jvps[_FORCE] = _force_jvp
+ad.primitive_transposes[_FORCE] = _force_transpose
+batching.primitive_batchers[_FORCE] = _batch_rule(_FORCE, (1, 2))
 
 
 def _function(decl: Declaration) -> Callable[..., Any]:

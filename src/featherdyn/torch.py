@@ -3,7 +3,7 @@
 ``import featherdyn.torch as ft``: ``ft.<name>(model, q, ...)`` takes and returns tensors, with the names,
 arguments and results of ``fd.<name>``. Everything here is made from the declarations
 (``api/declarations.py``, docs/architecture.md "The glue") and the Jacobians of ``api/jacobians.py`` (shared
-with ``featherdyn.jax``); nothing is written per algorithm but ``_F_EXT`` (two lines, below):
+with ``featherdyn.jax``); nothing is written per algorithm:
 
 * **Operators.** Each declared function is a ``torch.library.custom_op`` ``featherdyn::<name>`` (no mutation):
   ``(int model, Tensor q, ..., Tensor? f_ext, <options>) -> Tensor or (Tensor, ...)``. The model is not a
@@ -34,8 +34,9 @@ with ``featherdyn.jax``); nothing is written per algorithm but ``_F_EXT`` (two l
   zero. :func:`tangent_grad` turns a coordinate gradient into the tangent gradient (``E(q)ᵀ g``),
   :func:`tangent_to_coordinates` the other way (``T(q)ᵀ g``); :func:`normalize` divides the quaternions by
   their norms (differentiable: what finite differences in coordinates call first).
-* **f_ext** (``_F_EXT``): it enters ``rnea`` and ``aba`` as the generalized force ``Σ_b J_bᵀ f_b``; its
-  gradient is ``J_b w`` (``fd.forward_kinematics(q, w).vel``), its tangent ``−RNEA(q, 0, 0, ḟ)``. First order
+* **f_ext** (api/jacobians.py's ``generalized_force`` & co.): it enters ``rnea`` and ``aba`` as the generalized
+  force ``Σ_b J_bᵀ f_b``; its gradient is ``J_b w`` (``fd.forward_kinematics(q, w).vel``), its tangent
+  ``−RNEA(q, 0, 0, ḟ)``. First order
   only: a second derivative involving ``f_ext`` raises (with ``f_ext`` requiring grad, the double backward of
   ``rnea``/``aba`` raises even for ``q``: detach it).
 * **Dtypes.** float64 CPU tensors go to NumPy without a copy (``Tensor.numpy()``); float32 tensors are
@@ -341,17 +342,6 @@ def _sum_to(g: torch.Tensor, shape: torch.Size) -> torch.Tensor:
 
 # ------------------------------------------------------------------------------------------- gradients
 
-#: ``f_ext`` enters ``rnea`` and ``aba`` as the generalized force ``u = Σ_b J_bᵀ f_b`` (body-frame ``J_b``,
-#: ``f_b``): ``τ = RNEA(q, q̇, q̈) − u``, ``q̈ = ABA(q, q̇, τ + u)``. Reverse: the gradient ``w`` with respect to
-#: ``u``, from the output's cotangent ``ȳ`` and the tangent gradients of the other inputs; ``f_ext``'s gradient is
-#: then ``J_b w`` for each body, the bodies' velocities at ``q̇ = w`` (``fd.forward_kinematics(q, w).vel``).
-#: Forward: ``u̇ = −RNEA(q, 0, 0, ḟ)`` without gravity, entering as ``−u̇`` (``rnea``) or as ``τ̇`` (``aba``).
-_F_EXT: dict[str, Callable[[torch.Tensor, dict[str, torch.Tensor]], torch.Tensor]] = {
-    "rnea": lambda ybar, grads: -ybar,
-    "aba": lambda ybar, grads: grads["tau"],
-}
-
-
 def _no_derivative(what: str) -> FeatherdynError:
     return FeatherdynError(f"featherdyn.torch: {what} is not available (docs/frameworks.md lists the operators "
                            "with first and second derivatives)")
@@ -408,22 +398,17 @@ def _configuration_outputs(decl: Declaration, key: int, option_values: Sequence[
     return {o: y for o, y in zip(decl.outputs, r, strict=True) if o in wanted}
 
 
-def _f_ext_force(key: int, q: torch.Tensor, f_dot: torch.Tensor) -> torch.Tensor:
-    """``u̇ = Σ_b J_bᵀ ḟ_b = −RNEA(q, 0, 0, ḟ)`` without gravity (``_F_EXT``)."""
-    zero = torch.zeros((), dtype=q.dtype, device=q.device).expand(q.shape[:-1] + (_model(key).nv,))
-    return -_apply("rnea", key, q, zero, zero, f_dot.to(q.dtype), False)
-
-
 def _vjp(name: str, key: int, option_values: Sequence[Any], ins: Sequence[torch.Tensor | None],
          ybars: Sequence[torch.Tensor | None], needs: Sequence[bool]) -> tuple[torch.Tensor | None, ...]:
     """The gradients of the inputs (``None`` where not needed): ``x̄ = Σ_o ȳ_o · J[o][x]`` (the output dims
-    contracted), ``q``'s through ``T(q)ᵀ``, ``f_ext``'s by ``_F_EXT``, each summed to its input's shape."""
+    contracted), ``q``'s through ``T(q)ᵀ``, ``f_ext``'s through the generalized force's transpose (api/jacobians.py:
+    ``f_ext_cotangent``, ``generalized_force_transpose``), each summed to its input's shape."""
     decl = DECLARATIONS[name]
     given = dict(zip(decl.inputs, ins, strict=True))
     wanted = {n for n, need in zip(decl.inputs, needs, strict=True) if need and given[n] is not None}
     if not wanted or all(y is None for y in ybars):  # (no cotangent came: the gradients are undefined)
         return (None,) * len(decl.inputs)
-    if "f_ext" in wanted and decl.name not in _F_EXT:
+    if "f_ext" in wanted and decl.name not in _jac.F_EXT:
         raise _no_derivative(f"the derivative of {decl.name} with respect to f_ext")
     if name in _jac.VJPS and not torch.is_grad_enabled():  # first order only: contracted as it goes (VJPS)
         return _contracted(decl, key, ins, ybars, wanted)
@@ -454,8 +439,8 @@ def _vjp(name: str, key: int, option_values: Sequence[Any], ins: Sequence[torch.
         if n == "f_ext":
             ybar = ybars[0]
             assert ybar is not None
-            w = _F_EXT[decl.name](ybar.to(fw.dtype), tangent)
-            g = _apply("forward_kinematics", key, q, w, None)[2]
+            w = _jac.f_ext_cotangent(fw, decl.name, table, ybar.to(fw.dtype))
+            g = _jac.generalized_force_transpose(fw, model, q, w)
         elif n not in tangent:  # the input enters none of the outputs whose cotangent came
             g = torch.zeros_like(t)
         elif n in configurations:
@@ -490,7 +475,8 @@ def _contracted(decl: Declaration, key: int, ins: Sequence[torch.Tensor | None],
 def _jvp(name: str, key: int, option_values: Sequence[Any], ins: Sequence[torch.Tensor | None],
          dots: Sequence[torch.Tensor | None]) -> tuple[torch.Tensor, ...]:
     """The outputs' tangents: ``ẏ_o = Σ_x J[o][x] · ẋ``, ``q̇`` mapped to the tangent ``T(q) q̇`` first, ``ḟ_ext``
-    by ``_F_EXT``; each output's shape and dtype (an absent output: its empty tensor)."""
+    through the generalized force (api/jacobians.py's ``f_ext_tangent``); each output's shape and dtype (an absent
+    output: its empty tensor)."""
     decl = DECLARATIONS[name]
     model = _model(key)
     moving = {n: d for n, d, t in zip(decl.inputs, dots, ins, strict=True) if d is not None and t is not None}
@@ -499,7 +485,7 @@ def _jvp(name: str, key: int, option_values: Sequence[Any], ins: Sequence[torch.
     ref = next(t for t in ins if t is not None)
     if not moving:
         return tuple(ref.new_zeros(s, dtype=dtype) for s in shapes)
-    if "f_ext" in moving and decl.name not in _F_EXT:
+    if "f_ext" in moving and decl.name not in _jac.F_EXT:
         raise _no_derivative(f"the derivative of {decl.name} with respect to f_ext")
     _, fw, x, table = _jacobians(decl, key, option_values, ins)
     q = cast(torch.Tensor, x.get("q"))
@@ -513,8 +499,8 @@ def _jvp(name: str, key: int, option_values: Sequence[Any], ins: Sequence[torch.
         terms = [_times_column(J, directions[n], _out_dims(decl, o))
                  for n, J in table.get(o, {}).items() if n in directions]
         if o == decl.outputs[0] and "f_ext" in moving:
-            u = _f_ext_force(key, q, moving["f_ext"])
-            terms.append(-u if decl.name == "rnea" else _times_column(table[o]["tau"], u, 1))
+            u = _jac.generalized_force(fw, model, q, moving["f_ext"].to(fw.dtype))
+            terms.append(_jac.f_ext_tangent(fw, decl.name, table, u))
         if not terms or shape == (0,):  # (an output that no moving input enters; an absent output)
             out.append(ref.new_zeros(shape, dtype=dtype))
             continue

@@ -309,7 +309,8 @@ def test_gradcheck_every_operator_with_jacobians(robot: str) -> None:
 
 
 def test_gradcheck_f_ext_and_a_shared_configuration() -> None:
-    """f_ext's gradient and tangent (rnea, aba: ``_F_EXT``), and a configuration broadcast against a batch."""
+    """f_ext's gradient and tangent (rnea, aba: api/jacobians.py's generalized force), and a configuration broadcast
+    against a batch."""
     model = MODELS["solo12"]()
     st = _state(model, 9, grad=True)
     q, v, a, tau, f = st["q"], st["v"], st["a"], st["tau"], st["f_ext"]

@@ -8,8 +8,9 @@ runs ``rnea_derivatives``' rule, which reads ``fd.rnea_second_derivatives``).
 :func:`jacobians` ``(fw, name, model, x, options)`` → ``{output: {input: J}}``, ``J`` `(..., *output, n)` with
 ``J[..., o, k] = ∂output_o/∂x_k``; ``n`` is ``nv`` for ``q`` (along ``fd.integrate``'s tangent, as the NumPy
 derivative functions) and the input's length otherwise. An input missing from an output's table does not enter
-it (its Jacobian is zero, as ``∂τ/∂q̈`` of ``nonlinear_effects``); ``f_ext``'s, of ``rnea`` and ``aba`` only, when
-asked for (``f_ext=True``). A function with neither a rule nor a declared ``derivative`` raises
+it (its Jacobian is zero, as ``∂τ/∂q̈`` of ``nonlinear_effects``); ``f_ext`` (of ``rnea`` and ``aba`` only) enters
+through the generalized force :func:`generalized_force`, a linear map the frameworks apply and transpose without
+its Jacobian. A function with neither a rule nor a declared ``derivative`` raises
 :class:`~featherdyn.errors.FeatherdynError` naming it: never a silent zero.
 
 * A declaration with ``derivative`` needs nothing here (its derivative's outputs, in order, are the Jacobians);
@@ -32,7 +33,8 @@ from ..frames import LOCAL, LOCAL_WORLD_ALIGNED
 from ..model import Model
 from .declarations import DECLARATIONS
 
-__all__ = ["Framework", "RULES", "VJPS", "F_EXT", "jacobians", "mass_matrix_vjp", "has_jacobians", "tangent_of_coordinates", "coordinates_of_tangent",
+__all__ = ["Framework", "RULES", "VJPS", "F_EXT", "jacobians", "mass_matrix_vjp", "generalized_force",
+           "generalized_force_transpose", "f_ext_tangent", "f_ext_cotangent", "has_jacobians", "tangent_of_coordinates", "coordinates_of_tangent",
            "tangent_transpose", "coordinates_transpose", "normalize"]
 
 
@@ -243,18 +245,33 @@ def _body_columns(fw: Framework, model: Model, q: Any, H: Any) -> Any:
     return fw.concat([w_b, fw.einsum("...bji,...bjk->...bik", R, v_w)], -2)
 
 
-def _f_ext(fw: Framework, name: str, model: Model, x: dict[str, Any], table: Table) -> Any:
-    """``∂y/∂f_ext`` `(..., nv, nb, 6)` of ``rnea`` and ``aba``: ``f_ext`` enters as the generalized force
-    ``Σ_b J_bᵀ f_b`` (``J_b``: body ``b``'s Jacobian in its own coordinates, the columns of :func:`_body_columns`
-    on ``b``'s support), so ``∂τ/∂f_b = −J_bᵀ`` and ``∂q̈/∂f_b = M⁻¹ J_bᵀ`` (``M⁻¹ = ∂q̈/∂τ``)."""
-    H = fw.call("placements", model, {"q": x["q"]}, {})[0]
-    JbT = fw.einsum("...bsi,bi->...ibs", _body_columns(fw, model, x["q"], H), fw.const(_supports(model)[1]))
-    if name == "rnea":
-        return -JbT
-    return fw.einsum("...ij,...jbs->...ibs", table["qdd"]["tau"], JbT)
+def generalized_force(fw: Framework, model: Model, q: Any, f: Any) -> Any:
+    """``u = Σ_b J_bᵀ f_b`` `(..., nv)` of body-frame forces ``f`` `(..., nb, 6)` (``J_b`` body ``b``'s Jacobian in
+    its own coordinates): ``−RNEA(q, 0, 0, f)`` without gravity. ``f_ext`` enters ``rnea`` and ``aba`` through it
+    (:func:`f_ext_tangent`); linear in ``f``, its transpose is :func:`generalized_force_transpose`."""
+    zero = fw.zeros((model.nv,))
+    return -fw.call("rnea", model, {"q": q, "v": zero, "a": zero, "f_ext": f}, {"gravity": False})[0]
 
 
-#: the functions differentiated with respect to ``f_ext`` (:func:`_f_ext`)
+def generalized_force_transpose(fw: Framework, model: Model, q: Any, w: Any) -> Any:
+    """``f̄_b = J_b w`` `(..., nb, 6)`: the bodies' velocities at ``q̇ = w`` in their own coordinates
+    (``fd.forward_kinematics(q, w).vel``) — the gradient of ``wᵀ u`` with respect to the forces."""
+    return fw.call("forward_kinematics", model, {"q": q, "v": w}, {})[2]
+
+
+def f_ext_tangent(fw: Framework, name: str, table: Table, u_dot: Any) -> Any:
+    """The output's tangent from ``u̇`` (:func:`generalized_force` of ``ḟ``): ``τ = RNEA(q, q̇, q̈) − u`` gives
+    ``−u̇``; ``q̈ = ABA(q, q̇, τ + u)`` gives ``(∂q̈/∂τ) u̇``."""
+    return -u_dot if name == "rnea" else fw.einsum("...ij,...j->...i", table["qdd"]["tau"], u_dot)
+
+
+def f_ext_cotangent(fw: Framework, name: str, table: Table, ybar: Any) -> Any:
+    """``w = ū`` from the output's cotangent ``ȳ`` (the transpose of :func:`f_ext_tangent`); ``f_ext``'s gradient
+    is then :func:`generalized_force_transpose` of it."""
+    return -ybar if name == "rnea" else fw.einsum("...i,...ij->...j", ybar, table["qdd"]["tau"])
+
+
+#: the functions differentiated with respect to ``f_ext`` (:func:`f_ext_tangent`)
 F_EXT = ("rnea", "aba")
 
 
@@ -376,11 +393,10 @@ def has_jacobians(name: str) -> bool:
     return name in RULES or DECLARATIONS[name].derivative is not None
 
 
-def jacobians(fw: Framework, name: str, model: Model, x: dict[str, Any], options: dict[str, Any],
-              f_ext: bool = False) -> Table:
+def jacobians(fw: Framework, name: str, model: Model, x: dict[str, Any], options: dict[str, Any]) -> Table:
     """``{output: {input: J}}`` of ``fd.<name>`` at the inputs ``x`` (by name; ``None`` when absent), ``options``
-    by name as the public function takes them (module docstring); with ``f_ext``, ``∂y/∂f_ext`` `(..., *y, nb, 6)`
-    too (``rnea``, ``aba``: :data:`F_EXT`; others raise)."""
+    by name as the public function takes them (module docstring). ``f_ext`` is not in it: it enters ``rnea`` and
+    ``aba`` (:data:`F_EXT`) through :func:`generalized_force`, which the frameworks apply and transpose as it is."""
     rule = RULES.get(name)
     decl = DECLARATIONS[name]
     if rule is not None:
@@ -391,11 +407,6 @@ def jacobians(fw: Framework, name: str, model: Model, x: dict[str, Any], options
     else:
         outs = _own(decl.derivative, fw, model, x, options)
         table = {decl.outputs[0]: dict(zip((n for n in decl.inputs if n != "f_ext"), outs, strict=False))}
-    if f_ext:
-        if name not in F_EXT:
-            raise FeatherdynError(f"{name}: no derivative with respect to f_ext (rnea's and aba's only); hold f_ext "
-                                  "constant")
-        table[decl.outputs[0]]["f_ext"] = _f_ext(fw, name, model, x, table)
     return table
 
 
