@@ -279,11 +279,6 @@ def _sum_to(g: Any, shape: tuple[int, ...]) -> Any:
     return jnp.sum(g, axis=tuple(k for k, n in enumerate(shape) if n == 1 and g.shape[k] != 1), keepdims=True)
 
 
-def _linear_jvp(primals: Sequence[Any], tangents: Sequence[Any], *, name: str, key: int) -> tuple[Any, Any]:
-    tangents = [ad.instantiate_zeros(t) for t in tangents]
-    return jax.jvp(partial(_linear, name=name, key=key), tuple(primals), tuple(tangents))
-
-
 def _batch_rule(primitive: Primitive, tails: tuple[int, ...]) -> Callable[..., Any]:
     """vmap of a primitive whose operands take any leading batch axes (``tails``: each operand's own trailing
     dimensions): the mapped axis first, then singletons up to the widest operand's own batch, so that every operand
@@ -302,12 +297,25 @@ def _batch_rule(primitive: Primitive, tails: tuple[int, ...]) -> Callable[..., A
     return rule
 
 
-_LINEAR.def_impl(_linear)
-_LINEAR.def_abstract_eval(_linear_shapes)
-mlir.register_lowering(_LINEAR, mlir.lower_fun(_linear, multiple_results=True))
-ad.primitive_jvps[_LINEAR] = _linear_jvp
-ad.primitive_transposes[_LINEAR] = _linear_transpose
-batching.primitive_batchers[_LINEAR] = _batch_rule(_LINEAR, (1, 1))
+def _register(primitive: Primitive, impl: Callable[..., list[Any]], shapes: Callable[..., list[ShapedArray]],
+              transpose: Callable[..., tuple[None, Any]], tails: tuple[int, ...]) -> None:
+    """A primitive ``(known, linear) → outputs``, linear in its second operand: evaluated (and lowered to XLA) by
+    ``impl``, a function of this module's operations, which its forward mode differentiates; reversed by
+    ``transpose``; batched by :func:`_batch_rule`."""
+
+    def jvp(primals: Sequence[Any], tangents: Sequence[Any], **params: Any) -> tuple[Any, Any]:
+        tangents = [ad.instantiate_zeros(t) for t in tangents]
+        return jax.jvp(partial(impl, **params), tuple(primals), tuple(tangents))
+
+    primitive.def_impl(impl)
+    primitive.def_abstract_eval(shapes)
+    mlir.register_lowering(primitive, mlir.lower_fun(impl, multiple_results=True))
+    ad.primitive_jvps[primitive] = jvp
+    ad.primitive_transposes[primitive] = transpose
+    batching.primitive_batchers[primitive] = _batch_rule(primitive, tails)
+
+
+_register(_LINEAR, _linear, _linear_shapes, _linear_transpose, (1, 1))
 
 
 # f_ext enters rnea and aba as the generalized force u = Σ_b J_bᵀ f_b (api/jacobians.py: generalized_force); `_FORCE`
@@ -336,17 +344,7 @@ def _force_transpose(cts: Sequence[Any], q: Any, f: Any, *, key: int) -> tuple[N
     return None, g if g.shape == aval.shape else _sum_to(g, aval.shape)
 
 
-def _force_jvp(primals: Sequence[Any], tangents: Sequence[Any], *, key: int) -> tuple[Any, Any]:
-    tangents = [ad.instantiate_zeros(t) for t in tangents]
-    return jax.jvp(partial(_force, key=key), tuple(primals), tuple(tangents))
-
-
-_FORCE.def_impl(_force)
-_FORCE.def_abstract_eval(_force_shapes)
-mlir.register_lowering(_FORCE, mlir.lower_fun(_force, multiple_results=True))
-ad.primitive_jvps[_FORCE] = _force_jvp
-ad.primitive_transposes[_FORCE] = _force_transpose
-batching.primitive_batchers[_FORCE] = _batch_rule(_FORCE, (1, 2))
+_register(_FORCE, _force, _force_shapes, _force_transpose, (1, 2))
 
 
 def _function(decl: Declaration) -> Callable[..., Any]:
