@@ -252,7 +252,11 @@ def _linear(q: Any, delta: Any, *, name: str, key: int) -> list[Any]:
     """``[J_o · δ for each output o]`` with api/jacobians.py's Jacobians of ``fd.<name>`` in ``q`` (its only input)."""
     model, options, _ = _MODELS[key]
     table = _jac.jacobians(_FW, name, model, {"q": q}, options)
-    return [jnp.einsum("...abz,...z->...ab", table[o]["q"], delta) for o in DECLARATIONS[name].outputs]
+    out = []
+    for o, (_, shape, _) in zip(DECLARATIONS[name].outputs, SPECS[name].outputs, strict=True):
+        d = delta.reshape(delta.shape[:-1] + (1,) * len(shape) + delta.shape[-1:])  # (against J's output dims)
+        out.append(jnp.sum(table[o]["q"] * d, axis=-1))
+    return out
 
 
 def _linear_shapes(q: Any, delta: Any, *, name: str, key: int) -> list[ShapedArray]:

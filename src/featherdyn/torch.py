@@ -372,11 +372,16 @@ def _jacobians(decl: Declaration, key: int, option_values: Sequence[Any], ins: S
     cast: the Jacobians are the float64 computation's, the gradients rounded once to the input's dtype)."""
     if not _jac.has_jacobians(decl.name):
         raise _no_derivative(f"the derivative of {decl.name}")
-    model = _model(key)
+    model, fw, x = _float64_inputs(decl, key, ins)
+    return model, fw, x, _jac.jacobians(fw, decl.name, model, x, _options(decl, option_values))
+
+
+def _float64_inputs(decl: Declaration, key: int, ins: Sequence[torch.Tensor | None]
+                    ) -> tuple[Model, _Torch, dict[str, torch.Tensor | None]]:
+    """``(model, framework, inputs by name)``, float32 inputs cast to float64 (the derivatives' computation)."""
     x = {n: t.to(torch.float64) if t is not None and t.dtype == torch.float32 else t
          for n, t in zip(decl.inputs, ins, strict=True)}
-    fw = _fw(*x.values())
-    return model, fw, x, _jac.jacobians(fw, decl.name, model, x, _options(decl, option_values))
+    return _model(key), _fw(*x.values()), x
 
 
 def _configurations(decl: Declaration) -> set[str]:
@@ -410,26 +415,30 @@ def _vjp(name: str, key: int, option_values: Sequence[Any], ins: Sequence[torch.
         return (None,) * len(decl.inputs)
     if "f_ext" in wanted and decl.name not in _jac.F_EXT:
         raise _no_derivative(f"the derivative of {decl.name} with respect to f_ext")
+    table: dict[str, dict[str, Any]] = {}
+    tangent: dict[str, torch.Tensor] = {}
     if name in _jac.VJPS and not torch.is_grad_enabled():  # first order only: contracted as it goes (VJPS)
-        return _contracted(decl, key, ins, ybars, wanted)
-    model, fw, x, table = _jacobians(decl, key, option_values, ins)
+        model, fw, x = _float64_inputs(decl, key, ins)
+        given_ybars = {o: y.to(fw.dtype) for o, y in zip(decl.outputs, ybars, strict=True) if y is not None}
+        tangent = _jac.VJPS[name](fw, model, x, given_ybars)
+    else:
+        model, fw, x, table = _jacobians(decl, key, option_values, ins)
+        outs = _configuration_outputs(decl, key, option_values, ins)
+        # a configuration output's cotangent as the tangent's: Eᵀ ȳ (its Jacobians are along its tangent)
+        ybars = [_jac.coordinates_transpose(fw, model, outs[o].to(fw.dtype), y.to(fw.dtype))
+                 if o in outs and y is not None else y for o, y in zip(decl.outputs, ybars, strict=True)]
+        for n in decl.inputs:
+            if n == "f_ext" or x[n] is None:
+                continue
+            terms = []
+            for o, ybar in zip(decl.outputs, ybars, strict=True):
+                J = table.get(o, {}).get(n)
+                if J is not None and ybar is not None:
+                    terms.append(_row_times(ybar.to(J.dtype), J, _out_dims(decl, o)))
+            if terms:
+                tangent[n] = sum(terms[1:], terms[0])
     q = cast(torch.Tensor, x.get("q"))
     configurations = _configurations(decl)
-    outs = _configuration_outputs(decl, key, option_values, ins)
-    # a configuration output's cotangent as the tangent's: Eᵀ ȳ (its Jacobians are along its tangent)
-    ybars = [_jac.coordinates_transpose(fw, model, outs[o].to(fw.dtype), y.to(fw.dtype)) if o in outs and y is not None
-             else y for o, y in zip(decl.outputs, ybars, strict=True)]
-    tangent: dict[str, torch.Tensor] = {}
-    for n in decl.inputs:
-        if n == "f_ext" or x[n] is None:
-            continue
-        terms = []
-        for o, ybar in zip(decl.outputs, ybars, strict=True):
-            J = table.get(o, {}).get(n)
-            if J is not None and ybar is not None:
-                terms.append(_row_times(ybar.to(J.dtype), J, _out_dims(decl, o)))
-        if terms:
-            tangent[n] = sum(terms[1:], terms[0])
     out: list[torch.Tensor | None] = []
     for n in decl.inputs:
         t = given[n]
@@ -447,27 +456,6 @@ def _vjp(name: str, key: int, option_values: Sequence[Any], ins: Sequence[torch.
             g = _jac.tangent_transpose(fw, model, cast(torch.Tensor, x[n]), tangent[n])
         else:
             g = tangent[n]
-        out.append(_sum_to(g, t.shape).to(t.dtype))
-    return tuple(out)
-
-
-def _contracted(decl: Declaration, key: int, ins: Sequence[torch.Tensor | None], ybars: Sequence[torch.Tensor | None],
-                wanted: set[str]) -> tuple[torch.Tensor | None, ...]:
-    """:func:`_vjp` by api/jacobians.py's ``VJPS`` (``x̄`` without the Jacobian; ``q``'s through ``T(q)ᵀ``)."""
-    model = _model(key)
-    x = {n: t.to(torch.float64) if t is not None and t.dtype == torch.float32 else t
-         for n, t in zip(decl.inputs, ins, strict=True)}
-    fw = _fw(*x.values())
-    given = {o: y.to(fw.dtype) for o, y in zip(decl.outputs, ybars, strict=True) if y is not None}
-    grads = _jac.VJPS[decl.name](fw, model, x, given)
-    out: list[torch.Tensor | None] = []
-    for n, t in zip(decl.inputs, ins, strict=True):
-        if n not in wanted or t is None:
-            out.append(None)
-            continue
-        g = grads[n]
-        if n in _configurations(decl):
-            g = _jac.tangent_transpose(fw, model, cast(torch.Tensor, x[n]), g)
         out.append(_sum_to(g, t.shape).to(t.dtype))
     return tuple(out)
 
