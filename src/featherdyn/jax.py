@@ -99,6 +99,14 @@ class _Jax:
     sqrt = staticmethod(jnp.sqrt)
 
     @staticmethod
+    def isfinite(x: Any, /) -> Any:
+        return jnp.isfinite(x)
+
+    @staticmethod
+    def where(condition: Any, x: Any, y: Any, /) -> Any:
+        return jnp.where(condition, x, y)
+
+    @staticmethod
     def call(name: str, model: Model, inputs: dict[str, Any], options: dict[str, Any]) -> tuple[Any, ...]:
         r = globals()[name](model, *(inputs.get(n) for n in DECLARATIONS[name].inputs), **options)
         return tuple(r) if isinstance(r, tuple) else (r,)

@@ -240,6 +240,14 @@ class _Torch:
     sin = staticmethod(torch.sin)
     sqrt = staticmethod(torch.sqrt)
 
+    @staticmethod
+    def isfinite(x: Any, /) -> Any:
+        return torch.isfinite(x)
+
+    @staticmethod
+    def where(condition: Any, x: Any, y: Any, /) -> Any:
+        return torch.where(condition, x, y)
+
     def __init__(self, dtype: torch.dtype, device: torch.device) -> None:
         self.dtype, self.device = dtype, device
 

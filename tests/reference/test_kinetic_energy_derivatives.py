@@ -116,3 +116,22 @@ def test_mass_matrix_vjp_contracts_the_second_order_tensor() -> None:
     expected = np.einsum("bij,bijk->bk", W, dM_dq)
     got = mass_matrix_vjp(ft._fw(torch.as_tensor(q)), model, torch.as_tensor(q), torch.as_tensor(W)).numpy()
     assert _rel(got, expected) < 1e-10, _rel(got, expected)
+
+
+def test_mass_matrix_vjp_carries_a_non_finite_cotangent() -> None:
+    """A NaN or inf in ``W`` gives a non-finite gradient in that state, as the Jacobian's product would — not an
+    error about an internal call's ``v`` (the kinetic-energy kernel refuses non-finite velocities) — and the
+    other states' gradients are unchanged."""
+    torch = pytest.importorskip("torch")
+    import featherdyn.torch as ft
+    from featherdyn.api.jacobians import mass_matrix_vjp
+
+    model = fd.load_robot("panda")
+    rng = np.random.default_rng(10)
+    q = torch.as_tensor(np.stack([fd.random_configuration(model, rng) for _ in range(3)]))
+    W = torch.as_tensor(rng.normal(size=(3, model.nv, model.nv)))
+    clean = mass_matrix_vjp(ft._fw(q), model, q, W)
+    W[1, 2, 3], W[2, 0, 0] = float("nan"), float("inf")
+    got = mass_matrix_vjp(ft._fw(q), model, q, W)
+    assert torch.equal(got[0], clean[0])
+    assert not torch.isfinite(got[1]).any() and not torch.isfinite(got[2]).any()

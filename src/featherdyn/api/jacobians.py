@@ -54,6 +54,8 @@ class Framework(Protocol):
     def cos(self, x: Any) -> Any: ...
     def sin(self, x: Any) -> Any: ...
     def sqrt(self, x: Any) -> Any: ...
+    def isfinite(self, x: Any, /) -> Any: ...
+    def where(self, condition: Any, x: Any, y: Any, /) -> Any: ...
 
 
 Table = dict[str, dict[str, Any]]
@@ -361,12 +363,16 @@ def mass_matrix_vjp(fw: Framework, model: Model, q: Any, W: Any) -> Any:
     Jacobian's O(nv²·nb). ``s_i = ‖W[i, :]‖^½`` balances the pair, so ``T(x ± y)`` do not cancel more than
     ``x_iᵀ M y_i`` itself does."""
     nv = model.nv
+    # a non-finite cotangent gives a non-finite gradient, as the Jacobian's product would (the kernel refuses
+    # non-finite velocities): the finite part is contracted, Σ W · 0 carries NaN and ±inf into the result
+    spill = 0.0 * fw.einsum("...ij->...", W)[..., None]
+    W = fw.where(fw.isfinite(W), W, 0.0)
     s = fw.sqrt(fw.sqrt(fw.einsum("...ij,...ij->...i", W, W) + 1e-300))  # (…, nv): 0-rows give y = 0
     X = fw.einsum("...i,ij->...ij", s, fw.const(np.eye(nv)))
     Y = W / s[..., :, None]
     d = fw.call("kinetic_energy_derivatives", model, {"q": q[..., None, :], "v": fw.concat([X + Y, X - Y], -2)}, {})
     plus, minus = fw.einsum("...rk->...k", d[0][..., :nv, :]), fw.einsum("...rk->...k", d[0][..., nv:, :])
-    return 0.5 * (plus - minus)  # (the same sums: W = 0 gives exactly 0)
+    return 0.5 * (plus - minus) + spill  # (the same sums: W = 0 gives exactly 0)
 
 
 def _crba_vjp(fw: Framework, model: Model, x: dict[str, Any], ybars: dict[str, Any]) -> dict[str, Any]:
