@@ -28,7 +28,7 @@ __all__ = ["State", "CONFIGURATIONS", "VECTORS", "check_state", "check_quaternio
 #: ``fd.difference``); every other state vector is `(..., nv)`
 CONFIGURATIONS = ("q", "q0", "q1")
 #: the state arguments :func:`check_state` takes among its vectors, after the first configuration (``q`` or ``q0``)
-VECTORS = ("v", "a", "tau", "q1")
+VECTORS = ("v", "a", "tau", "w", "q1")
 
 
 @dataclass(frozen=True)

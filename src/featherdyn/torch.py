@@ -616,7 +616,7 @@ def _front(decl: Declaration) -> Callable[..., Any]:
 
 
 def _is_state_function(decl: Declaration) -> bool:
-    return all(n in ("q", "q0", "q1", "v", "a", "tau", "f_ext") for n in decl.inputs)
+    return all(n in ("q", "q0", "q1", "v", "a", "tau", "w", "f_ext") for n in decl.inputs)
 
 
 #: the operators (``torch.ops.featherdyn.<name>``), by name

@@ -46,12 +46,14 @@ from .declarations import *  # noqa: F403  (the declared algorithms: api/declara
 from .declared import compiled_method
 from .derivatives import (
     aba_derivatives,
+    aba_vjp,
     dynamic_parameters,
     frame_acceleration_derivatives,
     frame_velocity_derivatives,
     joint_torque_regressor,
     mass_matrix_inverse,
     rnea_derivatives,
+    rnea_vjp,
 )
 from .dynamics import coriolis_matrix
 from .energy import (
@@ -97,12 +99,14 @@ __all__ = [
     "operational_space",
     "operational_space_inertia",
     "aba_derivatives",
+    "aba_vjp",
     "dynamic_parameters",
     "frame_acceleration_derivatives",
     "frame_velocity_derivatives",
     "joint_torque_regressor",
     "mass_matrix_inverse",
     "rnea_derivatives",
+    "rnea_vjp",
     "center_of_mass",
     "centroidal_momentum",
     "centroidal_momentum_matrix",

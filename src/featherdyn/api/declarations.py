@@ -26,6 +26,7 @@ from ..algorithms import kinematics as _kin
 from ..algorithms import kinematics_derivatives as _kd
 from ..algorithms import rnea as _rnea
 from ..algorithms import second_order as _second
+from ..algorithms import vjp as _vjp
 from ..core import declared as _core_declared
 from ..errors import DTypeError, NonFiniteError, ShapeError
 from ..frames import LOCAL, ReferenceFrame, as_reference_frame
@@ -48,7 +49,7 @@ __all__ = ["rnea", "nonlinear_effects", "generalized_gravity", "crba", "aba", "f
            "aba_derivatives", "rnea_second_derivatives", "aba_second_derivatives", "mass_matrix_inverse",
            "joint_torque_regressor", "frame_velocity_derivatives",
            "frame_acceleration_derivatives", "joint_jacobians", "frame_jacobian_time_variation", "kinetic_energy",
-           "kinetic_energy_derivatives",
+           "kinetic_energy_derivatives", "rnea_vjp", "aba_vjp",
            "potential_energy", "centroidal_momentum_matrix", "generalized_gravity_derivatives",
            "static_torque_derivatives", "forward_kinematics", "frame_placement", "center_of_mass",
            "centroidal_momentum", "kinematics_derivatives", "center_of_mass_derivatives",
@@ -373,6 +374,53 @@ DECLARATIONS: dict[str, Declaration] = {d.name: d for d in [
         ::
 
             ∂q̈/∂q = −M⁻¹ ∂τ/∂q,   ∂q̈/∂q̇ = −M⁻¹ ∂τ/∂q̇   (RNEA's, at q̈ = ABA(q, q̇, τ)),   ∂q̈/∂τ = M⁻¹
+
+        Raises:
+            SingularMassMatrixError: naming the joint, when M(q) is singular.
+        """,
+    ),
+    Declaration(
+        name="rnea_vjp",
+        inputs=("q", "v", "a", "w", "f_ext"),
+        optional=("f_ext",),
+        options=("gravity",),
+        outputs=("grad_q", "grad_v", "grad_a"),
+        reference=_vjp.rnea_vjp,
+        doc="""``(wᵀ ∂τ/∂q, wᵀ ∂τ/∂q̇, wᵀ ∂τ/∂q̈)``, each `(..., nv)`: the gradient of ``wᵀ τ``, ``τ = RNEA(q, q̇, q̈,
+        f_ext)``, in O(nb) — a reverse-mode step (a vector–Jacobian product) without forming the Jacobians.
+
+        Args:
+            q: `(..., nq)`; v, a: `(..., nv)`; w: `(..., nv)`, the cotangent of τ; f_ext: optional `(..., nb, 6)`
+                body-frame forces ``[n; f]``.
+            gravity: set ``False`` to leave gravity out.
+            out: optional tuple of three `(..., nv)` float64 arrays to write into.
+
+        ∂/∂q along the tangent of ``fd.integrate``, as ``fd.rnea_derivatives``; the same numbers as
+        ``w @ fd.rnea_derivatives(...)`` at the cost of about two RNEAs (docs/derivatives.md, "Vector–Jacobian
+        products")::
+
+            grad_q = wᵀ ∂τ/∂q,   grad_v = wᵀ ∂τ/∂q̇,   grad_a = M(q) w
+        """,
+    ),
+    Declaration(
+        name="aba_vjp",
+        inputs=("q", "v", "tau", "w", "f_ext"),
+        optional=("f_ext",),
+        options=("gravity",),
+        outputs=("grad_q", "grad_v", "grad_tau"),
+        reference=_vjp.aba_vjp,
+        doc="""``(wᵀ ∂q̈/∂q, wᵀ ∂q̈/∂q̇, wᵀ ∂q̈/∂τ)``, each `(..., nv)`: the gradient of ``wᵀ q̈``, ``q̈ = ABA(q, q̇, τ,
+        f_ext)``, in O(nb), without forming the Jacobians.
+
+        Args:
+            q: `(..., nq)`; v, tau: `(..., nv)`; w: `(..., nv)`, the cotangent of q̈; f_ext: optional
+                `(..., nb, 6)` body-frame forces.
+            gravity: set ``False`` to leave gravity out.
+            out: optional tuple of three `(..., nv)` float64 arrays to write into.
+
+        With ``λ = M⁻¹ w`` and RNEA's vector–Jacobian product (``fd.rnea_vjp``) at ``q̈ = ABA(q, q̇, τ)``::
+
+            grad_q = −λᵀ ∂τ/∂q,   grad_v = −λᵀ ∂τ/∂q̇,   grad_tau = λ = M(q)⁻¹ w
 
         Raises:
             SingularMassMatrixError: naming the joint, when M(q) is singular.
@@ -822,6 +870,8 @@ aba: Callable[..., np.ndarray] = public_function(DECLARATIONS["aba"])
 frame_jacobian: Callable[..., np.ndarray] = public_function(DECLARATIONS["frame_jacobian"])
 rnea_derivatives: Callable[..., tuple[np.ndarray, np.ndarray, np.ndarray]] = public_function(DECLARATIONS["rnea_derivatives"])
 aba_derivatives: Callable[..., tuple[np.ndarray, np.ndarray, np.ndarray]] = public_function(DECLARATIONS["aba_derivatives"])
+rnea_vjp: Callable[..., tuple[np.ndarray, np.ndarray, np.ndarray]] = public_function(DECLARATIONS["rnea_vjp"])
+aba_vjp: Callable[..., tuple[np.ndarray, np.ndarray, np.ndarray]] = public_function(DECLARATIONS["aba_vjp"])
 rnea_second_derivatives: Callable[..., RneaSecondDerivatives] = public_function(DECLARATIONS["rnea_second_derivatives"])
 aba_second_derivatives: Callable[..., AbaSecondDerivatives] = public_function(DECLARATIONS["aba_second_derivatives"])
 mass_matrix_inverse: Callable[..., np.ndarray] = public_function(DECLARATIONS["mass_matrix_inverse"])

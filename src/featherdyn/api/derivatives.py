@@ -18,14 +18,17 @@ from ..algorithms import derivatives as _ref
 from ..model import Model
 from .declarations import (
     aba_derivatives,
+    aba_vjp,
     frame_acceleration_derivatives,
     frame_velocity_derivatives,
     joint_torque_regressor,
     mass_matrix_inverse,
     rnea_derivatives,
+    rnea_vjp,
 )
 
-__all__ = ["rnea_derivatives", "aba_derivatives", "mass_matrix_inverse", "frame_velocity_derivatives",
+__all__ = ["rnea_derivatives", "aba_derivatives", "rnea_vjp", "aba_vjp", "mass_matrix_inverse",
+           "frame_velocity_derivatives",
            "frame_acceleration_derivatives", "joint_torque_regressor", "dynamic_parameters"]
 
 

@@ -14,6 +14,7 @@
 #include "declarations_constraints.hpp"
 #include "declarations_second_order.hpp"
 #include "declarations_kinematics.hpp"
+#include "vjp.hpp"
 #include "centroidal.hpp"
 #include "derivatives.hpp"
 #include "energy.hpp"
@@ -155,6 +156,39 @@ struct KineticEnergyDerivatives : Declared {
     kinetic_energy_derivatives(mv, in[0], in[1], out[0], out[1]);
     return OK;
   }
+};
+
+// wᵀ ∂τ/∂(q, q̇, q̈) (nv,) each: the gradient of wᵀ RNEA(q, q̇, q̈, f_ext) in O(nb), no Jacobian formed (vjp.hpp).
+struct RneaVjp : Declared {
+  static constexpr const char* name = "rnea_vjp";
+  static constexpr Operand inputs[] = {operand::q, operand::v, operand::a, operand::w, operand::f_ext};
+  static constexpr Operand outputs[] = {operand::vector("grad_q", NV), operand::vector("grad_v", NV),
+                                        operand::vector("grad_a", NV)};
+  static constexpr unsigned options = GRAVITY;
+  static std::int64_t run(const ModelView& mv, const double* const* in, double* const* out, const Options& opt) {
+    rnea_vjp<double>(mv, in[0], in[1], in[2], in[3], in[4], opt.gravity, out[0], out[1], out[2]);
+    return OK;
+  }
+};
+
+// wᵀ ∂q̈/∂(q, q̇, τ) (nv,) each: the gradient of wᵀ ABA(q, q̇, τ, f_ext) in O(nb) (vjp.hpp: RNEA's at q̈ with
+// λ = M⁻¹ w).
+struct AbaVjp : Declared {
+  static constexpr const char* name = "aba_vjp";
+  static constexpr Operand inputs[] = {operand::q, operand::v, operand::tau, operand::w, operand::f_ext};
+  static constexpr Operand outputs[] = {operand::vector("grad_q", NV), operand::vector("grad_v", NV),
+                                        operand::vector("grad_tau", NV)};
+  static constexpr unsigned options = GRAVITY;
+  static std::int64_t run(const ModelView& mv, const double* const* in, double* const* out, const Options& opt) {
+    const int bad = aba_vjp<double>(mv, in[0], in[1], in[2], in[3], in[4], opt.gravity, out[0], out[1], out[2]);
+    return bad < 0 ? OK : make_status(SINGULAR, ARG_Q, bad);
+  }
+  // the singular joint (−1: none) and its D (of q alone: ABA's on the state)
+  static constexpr SingularBlockFn singular_block = [](const ModelView& mv, const double* const* in,
+                                                       const Options& opt, double* D36) -> std::int64_t {
+    const double* state[] = {in[0], in[1], in[2], in[4]};
+    return Aba::singular_block(mv, state, opt, D36);
+  };
 };
 
 // U = −Σ m_i gᵀ ⁰c_i (energy.hpp), zero at the world origin, one number.
@@ -423,6 +457,7 @@ inline std::vector<Kernel> make_declared_kernels() {
       declare<AbaDerivatives>(), declare<MassMatrixInverse>(), declare<JointTorqueRegressor>(),
       declare<FrameVelocityDerivatives>(), declare<FrameAccelerationDerivatives>(), declare<JointJacobians>(),
       declare<FrameJacobianTimeVariation>(), declare<KineticEnergy>(), declare<KineticEnergyDerivatives>(), declare<PotentialEnergy>(),
+      declare<RneaVjp>(), declare<AbaVjp>(),
       declare<CentroidalMomentumMatrix>(),
       declare<GeneralizedGravityDerivatives>(), declare<StaticTorqueDerivatives>(), declare<Placements>(),
       declare<ForwardKinematics>(), declare<FramePlacement>(), declare<CenterOfMass>(), declare<CentroidalMomentum>(),

@@ -52,6 +52,7 @@ namespace operand {
 constexpr Operand q{"q", ARG_Q, {NQ}, 1, false}, v{"v", ARG_V, {NV}, 1, false}, a{"a", ARG_A, {NV}, 1, false},
     tau{"tau", ARG_A, {NV}, 1, false}, f_ext{"f_ext", ARG_FEXT, {NB, 6}, 2, true};
 constexpr Operand q0{"q0", ARG_Q, {NQ}, 1, false}, q1{"q1", ARG_Q1, {NQ}, 1, false};
+constexpr Operand w{"w", ARG_W, {NV}, 1, false};  // a cotangent of a result of length nv (fd.rnea_vjp's)
 constexpr Operand scalar(const char* name) { return {name, ARG_OUT, {}, 0, false}; }
 constexpr Operand vector(const char* name, int n) { return {name, ARG_OUT, {n}, 1, false}; }
 constexpr Operand matrix(const char* name, int rows, int cols) { return {name, ARG_OUT, {rows, cols}, 2, false}; }
@@ -171,15 +172,17 @@ Kernel declare() {
 namespace declared {
 
 // The state check of the inputs (finiteness, unit quaternions): by the status argument each one names; a second
-// configuration (ARG_Q1) after the state.
+// configuration (ARG_Q1) and a cotangent (ARG_W, finite) after the state.
 inline std::int64_t check_inputs(const Kernel& k, const ModelView& mv, const double* const* in) {
   const double* by_arg[4] = {nullptr, nullptr, nullptr, nullptr};  // q, v, a or τ, f_ext
-  const double* q1 = nullptr;
+  const double *q1 = nullptr, *w = nullptr;
   for (size_t i = 0; i < k.inputs.size(); ++i) {
     if (k.inputs[i].arg <= ARG_FEXT) by_arg[k.inputs[i].arg] = in[i];
     if (k.inputs[i].arg == ARG_Q1) q1 = in[i];
+    if (k.inputs[i].arg == ARG_W) w = in[i];
   }
   FD_TRY(check_state(mv, by_arg[0], by_arg[1], by_arg[2], by_arg[3]));
+  if (w != nullptr && !all_finite(w, mv.nv)) return make_status(NONFINITE, ARG_W, first_nonfinite(w, mv.nv));
   return q1 != nullptr ? check_configuration(mv, q1, ARG_Q1) : OK;
 }
 
