@@ -216,6 +216,7 @@ class State:
     a: np.ndarray
     tau: np.ndarray
     f_ext: np.ndarray
+    w: np.ndarray  # a cotangent of an (nv,) result (fd.rnea_vjp's)
 
 
 def random_state(model: Model, seed: int, size: tuple[int, ...] = ()) -> State:
@@ -228,6 +229,7 @@ def random_state(model: Model, seed: int, size: tuple[int, ...] = ()) -> State:
         a=rng.normal(size=size + (model.nv,)),
         tau=rng.normal(size=size + (model.nv,)) * 5,
         f_ext=rng.normal(size=size + (model.nbodies, 6)),
+        w=rng.normal(size=size + (model.nv,)),
     )
 
 

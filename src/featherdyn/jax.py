@@ -216,13 +216,20 @@ def _op_jvp(name: str, key: int, present: int, primals: tuple[Any, ...], tangent
     spec = SPECS[name]
     configuration = {n for n, shape, _ in (*spec.inputs, *spec.outputs) if shape == ("nq",)}  # (q, q0, q1, q')
     directions = {n: tangent_of_coordinates(model, x[n], t) if n in configuration else t for n, t in moving.items()}
-    if name in _jac.VJPS:  # (q alone: crba, mass_matrix_inverse) the tangent as a linear primitive (_LINEAR)
-        return out, tuple(t + z for t, z in zip(_LINEAR.bind(x["q"], directions["q"], name=name, key=key), zeros,
-                                                strict=True))
     f_dot = directions.pop("f_ext", None)
     if f_dot is not None and name not in _jac.F_EXT:
         raise FeatherdynError(f"{name}: no derivative with respect to f_ext (rnea's and aba's only); hold f_ext "
                               "constant")
+    if name in _jac.VJPS:  # the tangent as a primitive linear in the directions (_LINEAR), f_ext's through _FORCE
+        u_dot = None if f_dot is None else _FORCE.bind(x["q"], f_dot, key=key)[0]
+        into = _jac.F_EXT.get(name)
+        if u_dot is not None and into is not None:  # (aba: q̈ = ABA(q, q̇, τ + u))
+            directions[into] = directions[into] + u_dot if into in directions else u_dot
+        known, linear = tuple(x), tuple(directions)
+        t_out = _LINEAR.bind(*x.values(), *directions.values(), name=name, key=key, known=known, linear=linear)
+        if u_dot is not None and into is None:  # (rnea: τ − u)
+            t_out = [t_out[0] - u_dot, *t_out[1:]]
+        return out, tuple(t + z for t, z in zip(t_out, zeros, strict=True))
     table = _jac.jacobians(_FW, name, model, x, options)
     t_out = []
     for o_name, o, zero, (_, shape, _) in zip(decl.outputs, out, zeros, spec.outputs, strict=True):
@@ -247,42 +254,67 @@ _op.defjvp(_op_jvp, symbolic_zeros=True)
 
 
 # --- a tangent whose transpose contracts as it goes ----------------------------------------------------------------
-# JAX differentiates in reverse by transposing the forward rule, ẏ = J · δ: for crba that needs ∂M/∂q, nv³ numbers a
-# state. `_LINEAR` is that product as a primitive that is linear in δ (JAX's primitive interface: docs.jax.dev,
-# "JAX Internals: primitives"), with the transpose rule api/jacobians.py's VJPS (⟨W, ∂M/∂q⟩ from kinetic-energy
-# gradients, no ∂M/∂q): `grad`, `vjp`, `jacrev` take it; forward mode and its own derivatives evaluate J · δ.
+# JAX differentiates in reverse by transposing the forward rule, ẏ = Σ J_x · δ_x: for crba that needs ∂M/∂q, nv³
+# numbers a state, and for rnea and aba their Jacobians, nv² a state and O(nv·nb) to form. `_LINEAR` is that sum as
+# a primitive that is linear in the directions δ (JAX's primitive interface: docs.jax.dev, "JAX Internals:
+# primitives"), with the transpose rule api/jacobians.py's VJPS (crba: ⟨W, ∂M/∂q⟩ from kinetic-energy gradients;
+# rnea, aba: fd.rnea_vjp, fd.aba_vjp, O(nb)): `grad`, `vjp`, `jacrev` take it; forward mode and its own derivatives
+# evaluate J · δ.
 
 _LINEAR = Primitive("featherdyn_linear_tangent")
 _LINEAR.multiple_results = True
 
 
-def _linear(q: Any, delta: Any, *, name: str, key: int) -> list[Any]:
-    """``[J_o · δ for each output o]`` with api/jacobians.py's Jacobians of ``fd.<name>`` in ``q`` (its only input)."""
-    model, options, _ = _MODELS[key]
-    table = _jac.jacobians(_FW, name, model, {"q": q}, options)
+def _tails(names: Sequence[str]) -> tuple[int, ...]:
+    """The operands' own trailing dimensions (``f_ext`` `(nb, 6)`, every other input a vector)."""
+    return tuple(2 if n == "f_ext" else 1 for n in names)
+
+
+def _linear(*args: Any, name: str, key: int, known: tuple[str, ...], linear: tuple[str, ...]) -> list[Any]:
+    """``[Σ_x J_ox · δ_x for each output o]`` with api/jacobians.py's Jacobians of ``fd.<name>`` at the inputs
+    ``known`` (``args``' first values), ``δ_x`` the directions of the inputs ``linear`` (the rest)."""
+    model, options, rows = _MODELS[key]
+    x = dict(zip(known, args[:len(known)], strict=True))
+    table = _jac.jacobians(_FW, name, model, x, options)
+    batch = jnp.broadcast_shapes(*(a.shape[:a.ndim - k] for a, k in zip(args, _tails(known + linear), strict=True)))
     out = []
-    for o, (_, shape, _) in zip(DECLARATIONS[name].outputs, SPECS[name].outputs, strict=True):
-        d = delta.reshape(delta.shape[:-1] + (1,) * len(shape) + delta.shape[-1:])  # (against J's output dims)
-        out.append(jnp.sum(table[o]["q"] * d, axis=-1))
+    for o, shape in zip(DECLARATIONS[name].outputs, operand_shapes(name, model, rows)[1], strict=True):
+        t = None
+        for n, delta in zip(linear, args[len(known):], strict=True):
+            J = table.get(o, {}).get(n)
+            if J is None:
+                continue
+            d = delta.reshape(delta.shape[:-1] + (1,) * len(shape) + delta.shape[-1:])  # (against J's output dims)
+            term = jnp.sum(J * d, axis=-1)
+            t = term if t is None else t + term
+        out.append(jnp.zeros(batch + shape, jnp.float64) if t is None else jnp.broadcast_to(t, batch + shape))
     return out
 
 
-def _linear_shapes(q: Any, delta: Any, *, name: str, key: int) -> list[ShapedArray]:
+def _linear_shapes(*args: Any, name: str, key: int, known: tuple[str, ...], linear: tuple[str, ...]
+                   ) -> list[ShapedArray]:
     model, _, rows = _MODELS[key]
-    batch = jnp.broadcast_shapes(q.shape[:-1], delta.shape[:-1])
+    batch = jnp.broadcast_shapes(*(x.shape[:x.ndim - k] for x, k in zip(args, _tails(known + linear), strict=True)))
     return [ShapedArray(batch + shape, jnp.float64) for shape in operand_shapes(name, model, rows)[1]]
 
 
-def _linear_transpose(cts: Sequence[Any], q: Any, delta: Any, *, name: str, key: int) -> tuple[None, Any]:
-    """``δ̄ = Jᵀ ȳ`` by api/jacobians.py's ``VJPS[name]`` (``q`` is known here, ``δ`` the linear input)."""
-    assert ad.is_undefined_primal(delta) and not ad.is_undefined_primal(q)
-    model, _, _ = _MODELS[key]
-    aval = delta.aval
+def _linear_transpose(cts: Sequence[Any], *args: Any, name: str, key: int, known: tuple[str, ...],
+                      linear: tuple[str, ...]) -> tuple[Any, ...]:
+    """``δ̄_x = ȳᵀ J_x`` for each linear input by api/jacobians.py's ``VJPS[name]`` (the known inputs are values
+    here, the directions undefined)."""
+    assert all(ad.is_undefined_primal(d) for d in args[len(known):])
+    assert not any(ad.is_undefined_primal(x) for x in args[:len(known)])
+    model, options, _ = _MODELS[key]
+    avals = [d.aval for d in args[len(known):]]
     given = {o: ct for o, ct in zip(DECLARATIONS[name].outputs, cts, strict=True) if type(ct) is not ad.Zero}
     if not given:
-        return None, ad.Zero(aval)
-    g = _jac.VJPS[name](_FW, model, {"q": q}, given)["q"]
-    return None, g if g.shape == aval.shape else _sum_to(g, aval.shape)
+        return (None,) * len(known) + tuple(ad.Zero(a) for a in avals)
+    bars = _jac.VJPS[name](_FW, model, dict(zip(known, args[:len(known)], strict=True)), given, options)
+    grads = []
+    for n, aval in zip(linear, avals, strict=True):
+        g = bars.get(n)
+        grads.append(ad.Zero(aval) if g is None else g if g.shape == aval.shape else _sum_to(g, aval.shape))
+    return (None,) * len(known) + tuple(grads)
 
 
 def _sum_to(g: Any, shape: tuple[int, ...]) -> Any:
@@ -291,13 +323,13 @@ def _sum_to(g: Any, shape: tuple[int, ...]) -> Any:
     return jnp.sum(g, axis=tuple(k for k, n in enumerate(shape) if n == 1 and g.shape[k] != 1), keepdims=True)
 
 
-def _batch_rule(primitive: Primitive, tails: tuple[int, ...]) -> Callable[..., Any]:
-    """vmap of a primitive whose operands take any leading batch axes (``tails``: each operand's own trailing
-    dimensions): the mapped axis first, then singletons up to the widest operand's own batch, so that every operand
-    broadcasts against the others (an unmapped operand from the right); the results mapped on axis 0."""
+def _batch_rule(primitive: Primitive, tails: Callable[..., tuple[int, ...]]) -> Callable[..., Any]:
+    """vmap of a primitive whose operands take any leading batch axes (``tails(**params)``: each operand's own
+    trailing dimensions): the mapped axis first, then singletons up to the widest operand's own batch, so that every
+    operand broadcasts against the others (an unmapped operand from the right); the results mapped on axis 0."""
 
     def rule(args: Sequence[Any], dims: Sequence[int | None], **params: Any) -> tuple[list[Any], list[int]]:
-        own = [x.ndim - (d is not None) - n for x, d, n in zip(args, dims, tails, strict=True)]
+        own = [x.ndim - (d is not None) - n for x, d, n in zip(args, dims, tails(**params), strict=True)]
         widest = max(own)
         moved = []
         for x, d, k in zip(args, dims, own, strict=True):
@@ -310,14 +342,24 @@ def _batch_rule(primitive: Primitive, tails: tuple[int, ...]) -> Callable[..., A
 
 
 def _register(primitive: Primitive, impl: Callable[..., list[Any]], shapes: Callable[..., list[ShapedArray]],
-              transpose: Callable[..., tuple[None, Any]], tails: tuple[int, ...]) -> None:
-    """A primitive ``(known, linear) → outputs``, linear in its second operand: evaluated (and lowered to XLA) by
+              transpose: Callable[..., tuple[Any, ...]], tails: Callable[..., tuple[int, ...]]) -> None:
+    """A primitive ``(*known, *linear) → outputs``, linear in its last operands: evaluated (and lowered to XLA) by
     ``impl``, a function of this module's operations, which its forward mode differentiates; reversed by
     ``transpose``; batched by :func:`_batch_rule`."""
 
     def jvp(primals: Sequence[Any], tangents: Sequence[Any], **params: Any) -> tuple[Any, Any]:
-        tangents = [ad.instantiate_zeros(t) for t in tangents]
-        return jax.jvp(partial(impl, **params), tuple(primals), tuple(tangents))
+        moving = [k for k, t in enumerate(tangents) if type(t) is not ad.Zero]  # (the others held: f_ext, say)
+        if not moving:
+            out = impl(*primals, **params)
+            return out, [jnp.zeros_like(o) for o in out]
+
+        def of_moving(*xs: Any) -> list[Any]:
+            args = list(primals)
+            for k, x in zip(moving, xs, strict=True):
+                args[k] = x
+            return impl(*args, **params)
+
+        return jax.jvp(of_moving, tuple(primals[k] for k in moving), tuple(tangents[k] for k in moving))
 
     primitive.def_impl(impl)
     primitive.def_abstract_eval(shapes)
@@ -327,7 +369,8 @@ def _register(primitive: Primitive, impl: Callable[..., list[Any]], shapes: Call
     batching.primitive_batchers[primitive] = _batch_rule(primitive, tails)
 
 
-_register(_LINEAR, _linear, _linear_shapes, _linear_transpose, (1, 1))
+_register(_LINEAR, _linear, _linear_shapes, _linear_transpose,
+          lambda known, linear, **_: _tails(known + linear))
 
 
 # f_ext enters rnea and aba as the generalized force u = Σ_b J_bᵀ f_b (api/jacobians.py: generalized_force); `_FORCE`
@@ -356,7 +399,7 @@ def _force_transpose(cts: Sequence[Any], q: Any, f: Any, *, key: int) -> tuple[N
     return None, g if g.shape == aval.shape else _sum_to(g, aval.shape)
 
 
-_register(_FORCE, _force, _force_shapes, _force_transpose, (1, 2))
+_register(_FORCE, _force, _force_shapes, _force_transpose, lambda **_: (1, 2))
 
 
 def _function(decl: Declaration) -> Callable[..., Any]:

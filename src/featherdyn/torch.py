@@ -428,7 +428,7 @@ def _vjp(name: str, key: int, option_values: Sequence[Any], ins: Sequence[torch.
     if name in _jac.VJPS and not torch.is_grad_enabled():  # first order only: contracted as it goes (VJPS)
         model, fw, x = _float64_inputs(decl, key, ins)
         given_ybars = {o: y.to(fw.dtype) for o, y in zip(decl.outputs, ybars, strict=True) if y is not None}
-        tangent = _jac.VJPS[name](fw, model, x, given_ybars)
+        tangent = _jac.VJPS[name](fw, model, x, given_ybars, _options(decl, option_values))
     else:
         model, fw, x, table = _jacobians(decl, key, option_values, ins)
         outs = _configuration_outputs(decl, key, option_values, ins)
@@ -456,7 +456,7 @@ def _vjp(name: str, key: int, option_values: Sequence[Any], ins: Sequence[torch.
         if n == "f_ext":
             ybar = ybars[0]
             assert ybar is not None
-            w = _jac.f_ext_cotangent(fw, decl.name, table, ybar.to(fw.dtype))
+            w = _jac.f_ext_cotangent(decl.name, ybar.to(fw.dtype), tangent)
             g = _jac.generalized_force_transpose(fw, model, q, w)
         elif n not in tangent:  # the input enters none of the outputs whose cotangent came
             g = torch.zeros_like(t)

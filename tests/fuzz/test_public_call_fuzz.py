@@ -52,6 +52,7 @@ ARGS: dict[str, tuple[list[Any], list[Any]]] = {
     "v": ([V], _variants(V)),
     "a": ([A], _variants(A)),
     "tau": ([A], _variants(A)),
+    "w": ([A], _variants(A)),
     "f_ext": ([None, FX], [FX.tolist(), FX[:-1], FX.astype(np.float32)]),
     "gravity": ([True, False], [1, None]),
     "frame": ([FRAME, MODEL.frame_id(FRAME)], ["nope", -1, 10**6, 2.5, np.int64(3)]),
@@ -61,6 +62,7 @@ ARGS: dict[str, tuple[list[Any], list[Any]]] = {
 SIGNATURES = {
     "rnea": (["q", "v", "a", "f_ext"], ["gravity", "backend"]),
     "aba": (["q", "v", "tau", "f_ext"], ["gravity", "backend"]),
+    "rnea_vjp": (["q", "v", "a", "w", "f_ext"], ["gravity", "backend"]),
     "nonlinear_effects": (["q", "v"], ["backend"]),
     "generalized_gravity": (["q"], ["backend"]),
     "crba": (["q"], ["backend"]),
@@ -70,7 +72,7 @@ SIGNATURES = {
 
 
 EXAMPLES = 400
-REQUIRED = {"q", "v", "a", "tau", "frame"}
+REQUIRED = {"q", "v", "a", "tau", "w", "frame"}
 
 
 def _outcome(f: Any, args: tuple[Any, ...], kwargs: dict[str, Any]) -> tuple[str, Any]:

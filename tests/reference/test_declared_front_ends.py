@@ -249,6 +249,7 @@ def test_a_declared_derivative_is_the_derivative_of_its_function(name: str, robo
     state = {"q": fd.random_configuration(model, rng), "v": rng.normal(size=model.nv),
              "a": rng.normal(size=model.nv), "tau": rng.normal(size=model.nv), "f_ext": None}
     state["q0"], state["q1"] = state["q"], fd.random_configuration(model, rng)
+    state["w"] = rng.normal(size=model.nv)
     configuration_output = SPECS[name].outputs[0][1] == ("nq",)  # (integrate: its output moves on the group too)
     args = [state[n] for n in decl.inputs]
     frame = [model.frames[-1].name] if "frame" in decl.options else []  # (a frame at the end of a chain)

@@ -43,7 +43,7 @@ def _state(model: fd.Model, seed: int = 0, n: int | None = None) -> dict[str, np
     q0, q1 = fd.random_configuration(model, rng, size=n), fd.random_configuration(model, rng, size=n)
     return {"q": q0, "q0": q0, "q1": q1, "v": rng.normal(size=shape + (model.nv,)),
             "a": rng.normal(size=shape + (model.nv,)), "tau": rng.normal(size=shape + (model.nv,)),
-            "f_ext": rng.normal(size=shape + (model.nbodies, 6))}
+            "f_ext": rng.normal(size=shape + (model.nbodies, 6)), "w": rng.normal(size=shape + (model.nv,))}
 
 
 def _arrays(result: object) -> list[np.ndarray]:
@@ -315,6 +315,39 @@ def test_reverse_mode_of_the_mass_matrix_contracts_as_it_goes(name: str) -> None
     program = str(jax.make_jaxpr(grad)(Q))
     assert f"{nv},{nv},{nv}]" not in program and "featherdyn_linear_tangent" not in program
     assert "featherdyn_linear_tangent" in str(jax.make_jaxpr(jax.jacfwd(loss))(Q))  # (forward mode: J · δ)
+
+
+@pytest.mark.parametrize("name", ["rnea", "aba"])
+def test_reverse_mode_of_the_dynamics_forms_no_jacobian(name: str) -> None:
+    """jax.grad of ``wᵀ rnea`` / ``wᵀ aba`` through the linear primitive's transpose (``fd.rnea_vjp``,
+    ``fd.aba_vjp``, O(nb)): equal to ``w @`` the Jacobians of ``fd.rnea_derivatives`` / ``fd.aba_derivatives`` in
+    ``q`` (along the tangent), ``v``, ``a``/``τ`` and ``f_ext`` (against forward mode), the same under jit and vmap,
+    and the reverse program holds no (nv, nv) array and no forward-mode product."""
+    model = _robot("solo12", True)
+    nv, rng = model.nv, np.random.default_rng(14)
+    Q = jnp.asarray(np.stack([fd.random_configuration(model, rng) for _ in range(3)]))
+    V, A, W = (jnp.asarray(rng.normal(size=(3, nv))) for _ in range(3))
+    F = jnp.asarray(rng.normal(size=(3, model.nbodies, 6)))
+    f, jac = getattr(fj, name), getattr(fd, f"{name}_derivatives")
+
+    def loss(q, v, a, fx):  # type: ignore[no-untyped-def]
+        return jnp.sum(W * f(model, q, v, a, fx))
+
+    gq = fj.tangent_grad(lambda q: loss(q, V, A, F), model)(Q)
+    gv, ga, gf = jax.grad(loss, argnums=(1, 2, 3))(Q, V, A, F)
+    J = jac(model, np.asarray(Q), np.asarray(V), np.asarray(A), np.asarray(F))
+    for got, Jx in zip((gq, gv, ga), J, strict=True):
+        expected = np.einsum("bi,bij->bj", W, Jx)
+        np.testing.assert_allclose(got, expected, rtol=1e-10, atol=1e-10 * np.abs(expected).max())
+    forward = jax.jacfwd(lambda fx: jnp.sum(W * f(model, Q, V, A, fx)))(F)  # (forward mode: the table and u̇)
+    np.testing.assert_allclose(gf, forward, rtol=1e-10, atol=1e-10 * np.abs(forward).max())
+    grad = jax.grad(loss, argnums=(0, 1, 2, 3))
+    for x, y in zip(jax.jit(grad)(Q, V, A, F), grad(Q, V, A, F), strict=True):
+        np.testing.assert_allclose(x, y, rtol=1e-13, atol=1e-13)
+    per_state = jax.vmap(jax.grad(lambda q, v, a, w: w @ f(model, q, v, a), argnums=(1, 2)))(Q, V, A, W)  # (∂/∂q̇: no f_ext)
+    np.testing.assert_allclose(per_state[0], gv, rtol=1e-13, atol=1e-13)
+    program = str(jax.make_jaxpr(grad)(Q, V, A, F))
+    assert f"{nv},{nv}]" not in program and "featherdyn_linear_tangent" not in program
 
 
 def test_tangent_maps_are_inverse_on_the_tangent() -> None:

@@ -58,7 +58,7 @@ MODELS = {"panda": lambda: _robot("panda", False), "solo12": lambda: _robot("sol
 
 def _state(model: fd.Model, seed: int = 0, size: tuple[int, ...] = (), grad: bool = False) -> dict[str, torch.Tensor]:
     s = random_state(model, seed, size)
-    st = {k: torch.tensor(getattr(s, k), requires_grad=grad) for k in ("q", "v", "a", "tau", "f_ext")}
+    st = {k: torch.tensor(getattr(s, k), requires_grad=grad) for k in ("q", "v", "a", "tau", "f_ext", "w")}
     q1 = fd.random_configuration(model, np.random.default_rng(seed + 1000), size=size or None)
     st["q0"] = torch.tensor(s.q, requires_grad=grad)  # (fd.difference's configurations)
     st["q1"] = torch.tensor(q1, requires_grad=grad)
@@ -577,3 +577,28 @@ def test_the_contact_functions_under_torch_compile_run_eagerly() -> None:
 
     with pytest.raises(Exception, match="disable"):
         torch.compile(whole, fullgraph=True, backend="aot_eager")(q, v, tau)
+
+
+@pytest.mark.parametrize("name", ["rnea", "aba"])
+def test_backward_of_the_dynamics_forms_no_jacobian(name: str, monkeypatch: pytest.MonkeyPatch) -> None:
+    """``.backward()`` of ``wᵀ rnea`` / ``wᵀ aba`` runs ``fd.rnea_vjp`` / ``fd.aba_vjp`` (api/jacobians.py's VJPS),
+    never the Jacobian table (patched to fail here): the gradients in ``q`` (coordinates), ``v``, ``a``/``τ`` and
+    ``f_ext`` equal those of the table's path (a graph built: ``create_graph=True``) on a batch."""
+    from featherdyn.api import jacobians
+
+    model = _robot("solo12", True)
+    st = _state(model, 31, size=(3,), grad=True)
+    x = [st["q"], st["v"], st["a" if name == "rnea" else "tau"], st["f_ext"]]
+    w = torch.tensor(np.random.default_rng(32).normal(size=(3, model.nv)))
+    f = getattr(ft, name)
+    expected = torch.autograd.grad((w * f(model, *x)).sum(), x, create_graph=True)  # (the Jacobians' path)
+
+    def refused(*args: object, **kwargs: object) -> None:
+        raise AssertionError("the backward formed the Jacobian table")
+
+    monkeypatch.setattr(jacobians, "jacobians", refused)
+    got = torch.autograd.grad((w * f(model, *x)).sum(), x)
+    for g, e in zip(got, expected, strict=True):
+        torch.testing.assert_close(g, e.detach(), rtol=1e-10, atol=1e-10)
+    with pytest.raises(AssertionError, match="Jacobian table"):  # (the patch is in the path of a double backward)
+        torch.autograd.grad((w * f(model, *x)).sum(), x, create_graph=True)

@@ -263,18 +263,22 @@ def generalized_force_transpose(fw: Framework, model: Model, q: Any, w: Any) -> 
 
 def f_ext_tangent(fw: Framework, name: str, table: Table, u_dot: Any) -> Any:
     """The output's tangent from ``u̇`` (:func:`generalized_force` of ``ḟ``): ``τ = RNEA(q, q̇, q̈) − u`` gives
-    ``−u̇``; ``q̈ = ABA(q, q̇, τ + u)`` gives ``(∂q̈/∂τ) u̇``."""
-    return -u_dot if name == "rnea" else fw.einsum("...ij,...j->...i", table["qdd"]["tau"], u_dot)
+    ``−u̇``; ``q̈ = ABA(q, q̇, τ + u)`` gives ``(∂q̈/∂τ) u̇`` (:data:`F_EXT`)."""
+    into = F_EXT[name]
+    return -u_dot if into is None else fw.einsum("...ij,...j->...i", table["qdd"][into], u_dot)
 
 
-def f_ext_cotangent(fw: Framework, name: str, table: Table, ybar: Any) -> Any:
-    """``w = ū`` from the output's cotangent ``ȳ`` (the transpose of :func:`f_ext_tangent`); ``f_ext``'s gradient
-    is then :func:`generalized_force_transpose` of it."""
-    return -ybar if name == "rnea" else fw.einsum("...i,...ij->...j", ybar, table["qdd"]["tau"])
+def f_ext_cotangent(name: str, ybar: Any, xbar: dict[str, Any]) -> Any:
+    """``ū`` from the output's cotangent ``ȳ`` and the inputs' (``x̄``): the transpose of :func:`f_ext_tangent`,
+    ``−ȳ`` for ``rnea``, ``τ̄`` for ``aba``; ``f_ext``'s gradient is then :func:`generalized_force_transpose` of
+    it."""
+    into = F_EXT[name]
+    return -ybar if into is None else xbar[into]
 
 
-#: the functions differentiated with respect to ``f_ext`` (:func:`f_ext_tangent`)
-F_EXT = ("rnea", "aba")
+#: the functions differentiated with respect to ``f_ext``, and how its generalized force ``u`` enters: added to an
+#: input (``aba``: ``q̈ = ABA(q, q̇, τ + u)``), or ``None``, subtracted from the output (``rnea``: ``τ − u``)
+F_EXT: dict[str, str | None] = {"rnea": None, "aba": "tau"}
 
 
 def _forward_kinematics(fw: Framework, model: Model, x: dict[str, Any], o: dict[str, Any]) -> Table:
@@ -339,6 +343,35 @@ def _static_torque_derivatives(fw: Framework, model: Model, x: dict[str, Any], o
                                      {"q": x["q"], "v": zero, "a": zero, "f_ext": x["f_ext"]}, {"gravity": True})[0]}}
 
 
+def _rnea_vjp(fw: Framework, model: Model, x: dict[str, Any], o: dict[str, Any]) -> Table:
+    """``(wᵀ ∂τ/∂q, wᵀ ∂τ/∂q̇, M w)`` differentiated: ``w`` contracted with RNEA's second derivatives
+    (``fd.rnea_second_derivatives``: ``∂²τ_i/∂q_j∂q̈_k = ∂M_ik/∂q_j``) and, in ``w``, the Jacobians themselves."""
+    w = x["w"]
+    S = _own("rnea_second_derivatives", fw, model, x, o)
+    D = _own("rnea_derivatives", fw, model, x, o)
+    row = "...i,...ijk->...jk"
+    return {"grad_q": {"q": fw.einsum(row, w, S[0]), "v": fw.einsum(row, w, S[2]),
+                       "a": fw.einsum("...i,...ikj->...jk", w, S[3]), "w": _transpose(fw, D[0])},
+            "grad_v": {"q": fw.einsum("...i,...ikj->...jk", w, S[2]), "v": fw.einsum(row, w, S[1]),
+                       "w": _transpose(fw, D[1])},
+            "grad_a": {"q": fw.einsum("...i,...jik->...jk", w, S[3]), "w": D[2]}}
+
+
+def _aba_vjp(fw: Framework, model: Model, x: dict[str, Any], o: dict[str, Any]) -> Table:
+    """``(wᵀ ∂q̈/∂q, wᵀ ∂q̈/∂q̇, M⁻¹ w)`` differentiated: ``w`` contracted with ``fd.aba_second_derivatives``
+    (``∂²q̈_i/∂q_j∂τ_k = ∂M⁻¹_ik/∂q_j``; ``q̈`` is linear in ``τ``, so ``∂²q̈/∂q̇∂τ = 0``) and, in ``w``, the
+    Jacobians."""
+    w = x["w"]
+    S = _own("aba_second_derivatives", fw, model, x, o)
+    D = _own("aba_derivatives", fw, model, x, o)
+    row = "...i,...ijk->...jk"
+    return {"grad_q": {"q": fw.einsum(row, w, S[0]), "v": fw.einsum(row, w, S[2]), "tau": fw.einsum(row, w, S[3]),
+                       "w": _transpose(fw, D[0])},
+            "grad_v": {"q": fw.einsum("...i,...ikj->...jk", w, S[2]), "v": fw.einsum(row, w, S[1]),
+                       "w": _transpose(fw, D[1])},
+            "grad_tau": {"q": fw.einsum("...i,...ikj->...jk", w, S[3]), "w": D[2]}}
+
+
 #: the rules of the functions whose declaration has no ``derivative`` (module docstring)
 RULES: dict[str, Rule] = {
     "nonlinear_effects": _nonlinear_effects, "crba": _crba, "mass_matrix_inverse": _mass_matrix_inverse,
@@ -349,7 +382,7 @@ RULES: dict[str, Rule] = {
     "placements": _placements, "forward_kinematics": _forward_kinematics, "frame_placement": _frame_placement,
     "rnea_derivatives": _rnea_derivatives, "aba_derivatives": _aba_derivatives,
     "generalized_gravity_derivatives": _generalized_gravity_derivatives,
-    "static_torque_derivatives": _static_torque_derivatives,
+    "static_torque_derivatives": _static_torque_derivatives, "rnea_vjp": _rnea_vjp, "aba_vjp": _aba_vjp,
 }
 
 
@@ -375,23 +408,40 @@ def mass_matrix_vjp(fw: Framework, model: Model, q: Any, W: Any) -> Any:
     return 0.5 * (plus - minus) + spill  # (the same sums: W = 0 gives exactly 0)
 
 
-def _crba_vjp(fw: Framework, model: Model, x: dict[str, Any], ybars: dict[str, Any]) -> dict[str, Any]:
+def _crba_vjp(fw: Framework, model: Model, x: dict[str, Any], ybars: dict[str, Any], o: dict[str, Any]
+              ) -> dict[str, Any]:
     return {"q": mass_matrix_vjp(fw, model, x["q"], ybars["M"])}
 
 
-def _mass_matrix_inverse_vjp(fw: Framework, model: Model, x: dict[str, Any], ybars: dict[str, Any]) -> dict[str, Any]:
+def _mass_matrix_inverse_vjp(fw: Framework, model: Model, x: dict[str, Any], ybars: dict[str, Any],
+                             o: dict[str, Any]) -> dict[str, Any]:
     """``∂⟨W, M⁻¹⟩/∂q = ∂⟨−M⁻¹ W M⁻¹, M⟩/∂q`` (``∂M⁻¹ = −M⁻¹ ∂M M⁻¹``, ``M⁻¹`` symmetric)."""
     Minv = fw.call("mass_matrix_inverse", model, {"q": x["q"]}, {})[0]
     return {"q": mass_matrix_vjp(fw, model, x["q"], -fw.einsum("...ia,...ab,...bj->...ij", Minv, ybars["Minv"], Minv))}
 
 
-Vjp = Callable[[Framework, Model, dict[str, Any], dict[str, Any]], dict[str, Any]]
-#: ``{name: vjp(fw, model, x, {output: ȳ}) → {input: x̄}}`` (``q``'s along the tangent): the first-order reverse
-#: products that contract as they go where the Jacobian would be nv³ a state. featherdyn.torch's backward takes
-#: them when no graph is made of the backward (``create_graph=False``); a second order goes through :data:`RULES`,
-#: whose Jacobians are differentiable again. (JAX differentiates in reverse by transposing the forward rule, which
-#: needs the Jacobian: docs/frameworks.md.)
-VJPS: dict[str, Vjp] = {"crba": _crba_vjp, "mass_matrix_inverse": _mass_matrix_inverse_vjp}
+def _dynamics_vjp(vjp: str, inputs: tuple[str, str, str]) -> Vjp:
+    """``rnea``'s and ``aba``'s: ``x̄ = ȳᵀ ∂y/∂x`` by ``fd.rnea_vjp`` / ``fd.aba_vjp`` (O(nb), no Jacobian)."""
+
+    def product(fw: Framework, model: Model, x: dict[str, Any], ybars: dict[str, Any], o: dict[str, Any]
+                ) -> dict[str, Any]:
+        (ybar,) = ybars.values()
+        g = fw.call(vjp, model, {**x, "w": ybar}, {"gravity": o.get("gravity", True)})
+        return dict(zip(inputs, g, strict=True))
+
+    return product
+
+
+Vjp = Callable[[Framework, Model, dict[str, Any], dict[str, Any], dict[str, Any]], dict[str, Any]]
+#: ``{name: vjp(fw, model, x, {output: ȳ}, options) → {input: x̄}}`` (``q``'s along the tangent; ``f_ext``'s through
+#: :func:`f_ext_cotangent`): the first-order reverse products that contract as they go — ``crba``'s and ``M⁻¹``'s
+#: without ``∂M/∂q`` (nv³ a state), ``rnea``'s and ``aba``'s in O(nb) without their Jacobians (nv² a state, O(nv·nb)
+#: to form). featherdyn.torch's backward takes them when no graph is made of the backward (``create_graph=False``);
+#: featherdyn.jax's reverse mode through its linear primitive's transpose. A second order goes through
+#: :data:`RULES` (the vector–Jacobian products have Jacobians of their own).
+VJPS: dict[str, Vjp] = {"crba": _crba_vjp, "mass_matrix_inverse": _mass_matrix_inverse_vjp,
+                        "rnea": _dynamics_vjp("rnea_vjp", ("q", "v", "a")),
+                        "aba": _dynamics_vjp("aba_vjp", ("q", "v", "tau"))}
 
 
 def has_jacobians(name: str) -> bool:

@@ -179,4 +179,52 @@ int aba(const ModelView& mv, const S* q, const S* qd, const S* tau, const S* f_e
   return -1;
 }
 
+// x = M(q)⁻¹ b (nv,) on the factorisation the last aba() call on this thread left in its workspace (X_up, U_i, D_i⁻¹
+// of the same q): ABA's passes 2 and 3 without velocities, gravity or inertias — the articulated inertias do not
+// depend on the right-hand side:
+//
+//   pass 2 (i = nb−1 … 0):  u_i = b_i − S_iᵀ p_i,   p_λ(i) += X_up[i]ᵀ (p_i + U_i D_i⁻¹ u_i)      (p = 0 first)
+//   pass 3 (i = 0 … nb−1):  a' = X_up[i] a_λ(i),   x_i = D_i⁻¹ (u_i − U_iᵀ a'),   a_i = a' + S_i x_i
+template <class S>
+void aba_resolve(const ModelView& mv, const S* b, S* x) {
+  const int nb = mv.nb;
+  AbaWork<S>& w = thread_workspace<AbaWork<S>>(nb);
+  const S z(0.0);
+  const Force<S> zero_f{{z, z, z}, {z, z, z}};
+  const Motion<S> zero_m{{z, z, z}, {z, z, z}};
+  for (int i = 0; i < nb; ++i) w.pA[i] = zero_f;
+  for (int i = nb - 1; i >= 0; --i) {
+    const int lam = mv.parent[i], k = mv.nv_i[i];
+    const Force<S>* U = w.U.data() + 6 * i;
+    const S* Dinv = w.Dinv.data() + 36 * i;
+    S* u = w.u.data() + 6 * i;
+    St_times(mv, i, w.pA[i], u);
+    for (int r = 0; r < k; ++r) u[r] = b[mv.idx_v[i] + r] - u[r];
+    if (lam == -1) continue;
+    Force<S> pa = w.pA[i];
+    for (int r = 0; r < k; ++r) {
+      S Du(0.0);
+      for (int m = 0; m < k; ++m) Du += Dinv[6 * r + m] * u[m];
+      pa += Force<S>{Du * U[r].n, Du * U[r].f};
+    }
+    w.pA[lam] += w.X_up[i].apply_transpose(pa);
+  }
+  for (int i = 0; i < nb; ++i) {
+    const int lam = mv.parent[i], k = mv.nv_i[i];
+    const Force<S>* U = w.U.data() + 6 * i;
+    const S* Dinv = w.Dinv.data() + 36 * i;
+    const S* u = w.u.data() + 6 * i;
+    const Motion<S> a_prime = lam == -1 ? zero_m : w.X_up[i].apply(w.a[lam]);
+    S rhs[6];
+    for (int r = 0; r < k; ++r) rhs[r] = u[r] - dot(a_prime, U[r]);
+    S* x_i = x + mv.idx_v[i];
+    for (int r = 0; r < k; ++r) {
+      S acc(0.0);
+      for (int m = 0; m < k; ++m) acc += Dinv[6 * r + m] * rhs[m];
+      x_i[r] = acc;
+    }
+    w.a[i] = a_prime + S_times(mv, i, x);
+  }
+}
+
 }  // namespace fdcore

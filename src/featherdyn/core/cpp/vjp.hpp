@@ -94,13 +94,12 @@ void rnea_vjp(const ModelView& mv, const S* q, const S* qd, const S* qdd, const 
 template <class S>
 int aba_vjp(const ModelView& mv, const S* q, const S* qd, const S* tau, const S* w, const S* f_ext, bool gravity,
             S* g_q, S* g_v, S* g_tau) {
-  thread_local std::vector<S> qdd, rest, Mw;
+  thread_local std::vector<S> qdd, Mw;
   const size_t nv = static_cast<size_t>(mv.nv);
-  qdd.resize(nv), Mw.resize(nv), rest.assign(nv, S(0.0));
-  int bad = aba<S>(mv, q, qd, tau, f_ext, gravity, qdd.data());
+  qdd.resize(nv), Mw.resize(nv);
+  const int bad = aba<S>(mv, q, qd, tau, f_ext, gravity, qdd.data());
   if (bad >= 0) return bad;
-  bad = aba<S>(mv, q, rest.data(), w, nullptr, false, g_tau);  // λ = M⁻¹ w
-  if (bad >= 0) return bad;
+  aba_resolve<S>(mv, w, g_tau);  // λ = M⁻¹ w on the same factorisation
   rnea_vjp<S>(mv, q, qd, qdd.data(), g_tau, f_ext, gravity, g_q, g_v, Mw.data());
   for (size_t c = 0; c < nv; ++c) g_q[c] = -g_q[c], g_v[c] = -g_v[c];
   return -1;
