@@ -127,6 +127,12 @@ def test_errors_name_the_cotangent() -> None:
             vjp(model, q, bad, z, z)
     with pytest.raises(ShapeError, match="w"):
         fd.aba_vjp(model, q, z, z, None)
+    rng = np.random.default_rng(8)  # in a batch (the SIMD groups' check): the row and the entry
+    Q, V, W = fd.random_configuration(model, rng, size=20), rng.normal(size=(20, 9)), rng.normal(size=(20, 9))
+    W[13, 4] = np.nan
+    for vjp in (fd.rnea_vjp, fd.aba_vjp):
+        with pytest.raises(NonFiniteError, match=r"^w: .*index \(13, 4\)"):
+            vjp(model, Q, V, V, W)
 
 
 def test_aba_vjp_names_the_joint_of_a_singular_mass_matrix() -> None:

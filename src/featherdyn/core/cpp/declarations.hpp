@@ -165,6 +165,7 @@ struct RneaVjp : Declared {
   static constexpr Operand outputs[] = {operand::vector("grad_q", NV), operand::vector("grad_v", NV),
                                         operand::vector("grad_a", NV)};
   static constexpr unsigned options = GRAVITY;
+  static constexpr auto group = &fdgroup::GroupKernels::rnea_vjp;
   static std::int64_t run(const ModelView& mv, const double* const* in, double* const* out, const Options& opt) {
     rnea_vjp<double>(mv, in[0], in[1], in[2], in[3], in[4], opt.gravity, out[0], out[1], out[2]);
     return OK;
@@ -179,6 +180,7 @@ struct AbaVjp : Declared {
   static constexpr Operand outputs[] = {operand::vector("grad_q", NV), operand::vector("grad_v", NV),
                                         operand::vector("grad_tau", NV)};
   static constexpr unsigned options = GRAVITY;
+  static constexpr auto group = &fdgroup::GroupKernels::aba_vjp;
   static std::int64_t run(const ModelView& mv, const double* const* in, double* const* out, const Options& opt) {
     const int bad = aba_vjp<double>(mv, in[0], in[1], in[2], in[3], in[4], opt.gravity, out[0], out[1], out[2]);
     return bad < 0 ? OK : make_status(SINGULAR, ARG_Q, bad);

@@ -332,9 +332,11 @@ const std::vector<Kernel>& declared_kernels();
 // The one batch path of every front end: run_batch (NumPy arrays) and the XLA FFI handler (bind_jax.cpp).
 inline RowStatus run_rows(const Kernel& k, const ModelView& mv, const Rows* rows_in, double* const* op,
                           const std::int64_t* n_out, std::int64_t N, const Options& opt) {
-  Rows by_arg[4];  // the group kernel's q, v, a or τ, f_ext
-  for (size_t i = 0; i < k.inputs.size(); ++i)
+  Rows by_arg[4], w;  // the group kernel's q, v, a or τ, f_ext; a cotangent
+  for (size_t i = 0; i < k.inputs.size(); ++i) {
     if (k.inputs[i].arg <= ARG_FEXT) by_arg[k.inputs[i].arg] = rows_in[i];
+    if (k.inputs[i].arg == ARG_W) w = rows_in[i];
+  }
   if (const std::int64_t s = declared::check_options(k, mv, opt); s != OK) return {-1, s};
   auto state = [&](std::int64_t r, std::array<const double*, DECLARED_MAX>& ip,
                    std::array<double*, DECLARED_MAX>& opr) {
@@ -349,6 +351,7 @@ inline RowStatus run_rows(const Kernel& k, const ModelView& mv, const Rows* rows
   };
   if (k.group == nullptr) return for_rows(N, one);
   fdgroup::GroupArgs g{&mv, by_arg[0], by_arg[1], by_arg[2], by_arg[3], opt.gravity, op[0], n_out[0]};
+  g.W = w;
   g.out2 = k.outputs.size() > 1 ? op[1] : nullptr;
   g.out3 = k.outputs.size() > 2 ? op[2] : nullptr;
   std::int64_t per_row = 0;
@@ -358,7 +361,9 @@ inline RowStatus run_rows(const Kernel& k, const ModelView& mv, const Rows* rows
                                       opt.tol,      opt.singular_tol, g.out2,   g.out3};
   if (k.options & CONTACTS) g.contacts = &contacts;  // (λ and the solve's info: the second and third outputs)
   auto check = [&](std::int64_t r) {  // (check_inputs on the rows of the group kernel's roles)
-    return check_state(mv, by_arg[0].row(r), by_arg[1].row(r), by_arg[2].row(r), by_arg[3].row(r));
+    FD_TRY(check_state(mv, by_arg[0].row(r), by_arg[1].row(r), by_arg[2].row(r), by_arg[3].row(r)));
+    const double* wr = w.row(r);
+    return wr == nullptr || all_finite(wr, mv.nv) ? OK : make_status(NONFINITE, ARG_W, first_nonfinite(wr, mv.nv));
   };
   return for_row_groups(N, check, one, group_kernels().*k.group, g);
 }

@@ -40,6 +40,7 @@ struct GroupArgs {
   const int* lambda_d = nullptr;   // (ABA derivatives) the dofs' parents (ltl.hpp)
   const ContactArgs* contacts = nullptr;  // (constrained dynamics)
   bool stream = false;  // write the result with non-temporal stores (stream_result)
+  Rows W{};  // (vector–Jacobian products) the cotangent w
 };
 
 // Whether a batch's result is too large to be read back from the caches: then writing it with non-temporal
@@ -71,6 +72,7 @@ struct GroupKernels {
   GroupFn aba_derivatives_group;
   GroupFn contact_dynamics, operational_space_inertia;
   GroupFn kinetic_energy_derivatives;
+  GroupFn rnea_vjp, aba_vjp;
 };
 
 }  // namespace fdgroup

@@ -16,6 +16,7 @@
 #include "crba.hpp"
 #include "derivatives.hpp"
 #include "energy.hpp"
+#include "vjp.hpp"
 #include "groups.hpp"
 #include "kinematics.hpp"
 #include "pack.hpp"
@@ -297,10 +298,35 @@ inline std::int64_t kinetic_energy_derivatives_group(const fdgroup::GroupArgs& g
   return 0;
 }
 
+// The gradients of wᵀτ and wᵀq̈ (vjp.hpp) of W rows — the frameworks' reverse mode of rnea and aba.
+template <bool Forward>
+inline std::int64_t dynamics_vjp_group(const fdgroup::GroupArgs& g, std::int64_t r0) {
+  const ModelView& mv = *g.mv;
+  const size_t nq = mv.nq, nv = mv.nv, nf = 6 * static_cast<size_t>(mv.nb);
+  Lanes& L = thread_lanes(nq + 6 * nv + nf);
+  const Pack* q = L.gather(g.Q, r0, nq, 0);
+  const Pack* v = L.gather(g.V, r0, nv, nq);
+  const Pack* a = L.gather(g.A, r0, nv, nq + nv);
+  const Pack* w = L.gather(g.W, r0, nv, nq + 2 * nv);
+  const Pack* f = L.gather(g.FX, r0, nf, nq + 3 * nv);
+  Pack* gq = L.space(nq + 3 * nv + nf);
+  if constexpr (Forward) {
+    if (aba_vjp(mv, q, v, a, w, f, g.gravity, gq, gq + nv, gq + 2 * nv) >= 0) return 1;  // singular in some lane
+  } else {
+    rnea_vjp(mv, q, v, a, w, f, g.gravity, gq, gq + nv, gq + 2 * nv);
+  }
+  if (!all_finite(gq, 3 * nv)) return 1;
+  scatter(gq, nv, g.out + r0 * g.out_stride, g.out_stride);
+  scatter(gq + nv, nv, g.out2 + r0 * g.out_stride, g.out_stride);
+  scatter(gq + 2 * nv, nv, g.out3 + r0 * g.out_stride, g.out_stride);
+  return 0;
+}
+
 inline fdgroup::GroupKernels group_kernels(const char* isa) {
   return {isa, PACK_WIDTH, &rnea_group, &crba_group, &aba_group, &fk_group, &rnea_derivatives_group,
           &rnea_derivatives<double>, &mass_matrix_inverse, &aba_derivatives, &aba_derivatives_group,
-          &contact_dynamics_group, &operational_space_inertia_group, &kinetic_energy_derivatives_group};
+          &contact_dynamics_group, &operational_space_inertia_group, &kinetic_energy_derivatives_group,
+          &dynamics_vjp_group<false>, &dynamics_vjp_group<true>};
 }
 
 }  // namespace fdcore
