@@ -93,6 +93,11 @@ def _same(name: str, got: tuple[str, Any], expected: tuple[str, Any]) -> None:
         np.testing.assert_allclose(a.rotation, b.rotation, rtol=0, atol=1e-12)
         np.testing.assert_allclose(a.translation, b.translation, rtol=0, atol=1e-12)
         return
+    if isinstance(b, tuple):  # (several outputs: each as one)
+        assert isinstance(a, tuple) and len(a) == len(b), name
+        for x, y in zip(a, b, strict=True):
+            _same(name, ("value", x), ("value", y))
+        return
     assert type(a) is type(b) and a.dtype == b.dtype and a.shape == b.shape, name
     if name == "frame_placement":
         np.testing.assert_allclose(a, b, rtol=0, atol=1e-12)

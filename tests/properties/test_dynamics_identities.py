@@ -363,7 +363,7 @@ def _flat(x: Any) -> list[np.ndarray]:
 
 
 def _index(s: State, idx: tuple[int, ...]) -> State:
-    return State(s.q[idx], s.v[idx], s.a[idx], s.tau[idx], s.f_ext[idx])
+    return State(s.q[idx], s.v[idx], s.a[idx], s.tau[idx], s.f_ext[idx], s.w[idx])
 
 
 @pytest.mark.parametrize("batch", [(3,), (2, 2)], ids=["batch3", "batch2x2"])
@@ -400,7 +400,7 @@ def test_float32_stays_float32_and_is_close_to_float64(fn_name: str) -> None:
     m = tree("free_branch")
     fn = FUNCTIONS[fn_name]
     s64 = random_state(m, 123)
-    s32 = State(*(x.astype(np.float32) for x in (s64.q, s64.v, s64.a, s64.tau, s64.f_ext)))
+    s32 = State(*(x.astype(np.float32) for x in (s64.q, s64.v, s64.a, s64.tau, s64.f_ext, s64.w)))
     out64, out32 = _flat(fn(m, s64)), _flat(fn(m, s32))
     for k, (a, b) in enumerate(zip(out32, out64, strict=True)):
         assert a.dtype == np.float32, f"{fn_name}[{k}]: float32 input gave {a.dtype}"
