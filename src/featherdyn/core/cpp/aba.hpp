@@ -92,6 +92,24 @@ inline void subtract_outer(ArticulatedInertia<S>& I, const Force<S>& x, const Fo
   }
 }
 
+// Pass 3 at joint i: x_i = D_i⁻¹ (u_i − U_iᵀ a') into x (at i's dofs); returns a_i = a' + S_i x_i.
+template <class S>
+FD_INLINE Motion<S> solve_joint(const ModelView& mv, const AbaWork<S>& w, int i, const Motion<S>& a_prime, S* x) {
+  const int k = mv.nv_i[i];
+  const Force<S>* U = w.U.data() + 6 * i;
+  const S* Dinv = w.Dinv.data() + 36 * i;
+  const S* u = w.u.data() + 6 * i;
+  S rhs[6];
+  for (int r = 0; r < k; ++r) rhs[r] = u[r] - dot(a_prime, U[r]);
+  S* x_i = x + mv.idx_v[i];
+  for (int r = 0; r < k; ++r) {
+    S acc(0.0);
+    for (int m = 0; m < k; ++m) acc += Dinv[6 * r + m] * rhs[m];
+    x_i[r] = acc;
+  }
+  return a_prime + S_times(mv, i, x);
+}
+
 // q̈ (nv,) for (q, q̇, τ); f_ext (nb, 6) body-frame forces or nullptr. Returns −1, or the
 // first joint (from the leaves) whose D_i is singular (in some lane, for a Pack); then
 // D_singular (36, row stride 6), if given, receives that D_i and q̈ is undefined.
@@ -161,20 +179,8 @@ int aba(const ModelView& mv, const S* q, const S* qd, const S* tau, const S* f_e
   }
 
   for (int i = 0; i < nb; ++i) {
-    const int lam = mv.parent[i], k = mv.nv_i[i];
-    const Force<S>* U = w.U.data() + 6 * i;
-    const S* Dinv = w.Dinv.data() + 36 * i;
-    const S* u = w.u.data() + 6 * i;
-    const Motion<S> a_prime = X_up[i].apply(lam == -1 ? a0 : a[lam]) + c[i];
-    S rhs[6];
-    for (int r = 0; r < k; ++r) rhs[r] = u[r] - dot(a_prime, U[r]);
-    S* qdd_i = qdd + mv.idx_v[i];
-    for (int r = 0; r < k; ++r) {
-      S x(0.0);
-      for (int m = 0; m < k; ++m) x += Dinv[6 * r + m] * rhs[m];
-      qdd_i[r] = x;
-    }
-    a[i] = a_prime + S_times(mv, i, qdd);
+    const int lam = mv.parent[i];
+    a[i] = solve_joint(mv, w, i, X_up[i].apply(lam == -1 ? a0 : a[lam]) + c[i], qdd);
   }
   return -1;
 }
@@ -210,20 +216,8 @@ void aba_resolve(const ModelView& mv, const S* b, S* x) {
     w.pA[lam] += w.X_up[i].apply_transpose(pa);
   }
   for (int i = 0; i < nb; ++i) {
-    const int lam = mv.parent[i], k = mv.nv_i[i];
-    const Force<S>* U = w.U.data() + 6 * i;
-    const S* Dinv = w.Dinv.data() + 36 * i;
-    const S* u = w.u.data() + 6 * i;
-    const Motion<S> a_prime = lam == -1 ? zero_m : w.X_up[i].apply(w.a[lam]);
-    S rhs[6];
-    for (int r = 0; r < k; ++r) rhs[r] = u[r] - dot(a_prime, U[r]);
-    S* x_i = x + mv.idx_v[i];
-    for (int r = 0; r < k; ++r) {
-      S acc(0.0);
-      for (int m = 0; m < k; ++m) acc += Dinv[6 * r + m] * rhs[m];
-      x_i[r] = acc;
-    }
-    w.a[i] = a_prime + S_times(mv, i, x);
+    const int lam = mv.parent[i];
+    w.a[i] = solve_joint(mv, w, i, lam == -1 ? zero_m : w.X_up[i].apply(w.a[lam]), x);
   }
 }
 
