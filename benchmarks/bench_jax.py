@@ -6,7 +6,8 @@ operation on a batch, ≤ 1.5 for a gradient), on panda (fixed base), solo12 and
 * ``jax.jit(jax.vmap(fj.rnea))`` on N states (default 10 000) / ``fd.rnea`` on the same batch (the handler runs
   the core's batch; the rest is XLA's dispatch and the results' buffers);
 * ``jax.jit(jax.grad)`` of ``Σ ȳ · fj.aba(q, v, τ)`` with respect to (q, v, τ) on NGRAD states (default 1 000)
-  / ``fd.aba_derivatives`` on them (the forward, the derivatives' FFI call, the products, q's tangent map).
+  / ``fd.aba_derivatives`` on them (the issue's comparison), and / ``fd.aba`` + ``fd.aba_vjp`` (what the reverse
+  mode runs: the forward, then the vector–Jacobian product; the rest is XLA's and q's tangent map).
 """
 
 from __future__ import annotations
@@ -44,6 +45,10 @@ def robot_rows(name: str, floating: bool, n: int, n_grad: int) -> list[tuple[str
     t, f = median_pair(lambda: jax.block_until_ready(grad(gq, gv, gt)),
                        lambda: fd.aba_derivatives(model, qg, vg, tg), 5, 0.5)
     rows.append((f"{name}: jit(grad) through aba, {n_grad} states / fd.aba_derivatives", t, f))
+    yb = np.asarray(ybar)
+    t, f = median_pair(lambda: jax.block_until_ready(grad(gq, gv, gt)),
+                       lambda: (fd.aba(model, qg, vg, tg), fd.aba_vjp(model, qg, vg, tg, yb)), 5, 0.5)
+    rows.append((f"{name}: jit(grad) through aba, {n_grad} states / fd.aba + fd.aba_vjp", t, f))
     return rows
 
 
