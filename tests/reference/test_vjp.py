@@ -34,20 +34,18 @@ def test_against_pinocchio(name: str, floating: bool) -> None:
     q = fd.random_configuration(model, rng)
     v, a, tau, w = (rng.normal(size=model.nv) for _ in range(4))
     qp, vp = jm.q_to_pin(q), jm.v_to_pin(v)
+
+    def sym(A: np.ndarray) -> np.ndarray:  # (Pinocchio fills the upper triangle of M and M⁻¹)
+        A = jm.matrix_from_pin(A.copy())
+        return np.triu(A) + np.triu(A, 1).T
+
     pin.computeRNEADerivatives(pm, pd, qp, vp, jm.v_to_pin(a))
-    dq, dv = jm.matrix_from_pin(pd.dtau_dq.copy()), jm.matrix_from_pin(pd.dtau_dv.copy())
-    M = jm.matrix_from_pin(pd.M.copy())
-    M = np.triu(M) + np.triu(M, 1).T
-    g = fd.rnea_vjp(model, q, v, a, w)
-    for got, J in zip(g, (dq, dv, M), strict=True):
-        assert _rel(got, w @ J) < 1e-10, _rel(got, w @ J)
+    rnea = (jm.matrix_from_pin(pd.dtau_dq.copy()), jm.matrix_from_pin(pd.dtau_dv.copy()), sym(pd.M))
     pin.computeABADerivatives(pm, pd, qp, vp, jm.v_to_pin(tau))
-    ddq_dq, ddq_dv = jm.matrix_from_pin(pd.ddq_dq.copy()), jm.matrix_from_pin(pd.ddq_dv.copy())
-    Minv = jm.matrix_from_pin(pd.Minv.copy())
-    Minv = np.triu(Minv) + np.triu(Minv, 1).T
-    g = fd.aba_vjp(model, q, v, tau, w)
-    for got, J in zip(g, (ddq_dq, ddq_dv, Minv), strict=True):
-        assert _rel(got, w @ J) < 1e-9, _rel(got, w @ J)
+    aba = (jm.matrix_from_pin(pd.ddq_dq.copy()), jm.matrix_from_pin(pd.ddq_dv.copy()), sym(pd.Minv))
+    for g, jacobians in ((fd.rnea_vjp(model, q, v, a, w), rnea), (fd.aba_vjp(model, q, v, tau, w), aba)):
+        for got, J in zip(g, jacobians, strict=True):
+            assert _rel(got, w @ J) < 1e-9, _rel(got, w @ J)
     assert np.abs(g[0]).max() > 1e-3  # (not a zero gradient)
 
 
