@@ -217,6 +217,7 @@ class State:
     tau: np.ndarray
     f_ext: np.ndarray
     w: np.ndarray  # a cotangent of an (nv,) result (fd.rnea_vjp's)
+    W: np.ndarray | None = None  # a cotangent of an (nv, nv) result (fd.crba_vjp's)
 
 
 def random_state(model: Model, seed: int, size: tuple[int, ...] = ()) -> State:
@@ -230,6 +231,7 @@ def random_state(model: Model, seed: int, size: tuple[int, ...] = ()) -> State:
         tau=rng.normal(size=size + (model.nv,)) * 5,
         f_ext=rng.normal(size=size + (model.nbodies, 6)),
         w=rng.normal(size=size + (model.nv,)),
+        W=rng.normal(size=size + (model.nv, model.nv)),
     )
 
 

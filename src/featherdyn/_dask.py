@@ -51,7 +51,7 @@ from .model import Model
 __all__ = ["lazy", "call", "model_key"]
 
 #: number of trailing (state) axes of each state argument of the public functions
-_CORE_NDIM = {"q": 1, "q0": 1, "q1": 1, "v": 1, "a": 1, "tau": 1, "w": 1, "f_ext": 2, "point": 1}
+_CORE_NDIM = {"q": 1, "q0": 1, "q1": 1, "v": 1, "a": 1, "tau": 1, "w": 1, "W": 2, "f_ext": 2, "point": 1}
 #: the arguments that are configurations (their single-state stand-in is the neutral configuration)
 _CONFIGURATIONS = ("q", "q0", "q1")
 #: the state index in the words of featherdyn's errors ("… at index (4, 2)")

@@ -27,8 +27,10 @@ __all__ = ["State", "CONFIGURATIONS", "VECTORS", "check_state", "check_quaternio
 #: the state arguments that are configurations `(..., nq)`, whose quaternions are checked (``q``; ``q0`` and ``q1`` of
 #: ``fd.difference``); every other state vector is `(..., nv)`
 CONFIGURATIONS = ("q", "q0", "q1")
+#: the state arguments that are matrices `(..., nv, nv)` (``W``: a cotangent of the mass matrix, ``fd.crba_vjp``'s)
+MATRICES = ("W",)
 #: the state arguments :func:`check_state` takes among its vectors, after the first configuration (``q`` or ``q0``)
-VECTORS = ("v", "a", "tau", "w", "q1")
+VECTORS = ("v", "a", "tau", "w", "q1", *MATRICES)
 
 
 @dataclass(frozen=True)
@@ -44,7 +46,8 @@ class State:
 def check_state(model: Model, q: Any, check_finite: bool = True, optional: tuple[str, ...] = (), values: bool = True,
                 name: str = "q", **vectors: Any) -> State:
     """Validate ``q`` `(..., nq)` (named ``name`` in the messages: ``q0`` for ``fd.difference``) and every named vector
-    `(..., nv)` — `(..., nq)` for a configuration (:data:`CONFIGURATIONS`: ``q1``).
+    `(..., nv)` — `(..., nq)` for a configuration (:data:`CONFIGURATIONS`: ``q1``), `(..., nv, nv)` for a matrix
+    (:data:`MATRICES`: ``W``).
 
     A vector named in ``optional`` may be ``None`` (it is then left out of
     :attr:`State.arrays`); ``None`` for ``q`` or any other vector is a
@@ -64,14 +67,16 @@ def check_state(model: Model, q: Any, check_finite: bool = True, optional: tuple
     for n, val in vectors.items():
         if val is not None or n not in optional:
             arrays[n] = (_vec(val, n, model.nq, "nq", check_finite) if n in CONFIGURATIONS
+                         else _matrix(val, n, model.nv, check_finite) if n in MATRICES
                          else _vec(val, n, model.nv, "nv", check_finite))
     all_arrays = [qq, *arrays.values()]
-    batches = {a.shape[:-1] for a in all_arrays}
+    shapes = [qq.shape[:-1], *(a.shape[:-2] if n in MATRICES else a.shape[:-1] for n, a in arrays.items())]
+    batches = set(shapes)
     try:
-        batch = batches.pop() if len(batches) == 1 else np.broadcast_shapes(*(a.shape[:-1] for a in all_arrays))
+        batch = batches.pop() if len(batches) == 1 else np.broadcast_shapes(*shapes)
     except ValueError:
-        shapes = ", ".join(f"{n}: {a.shape}" for n, a in [(name, qq), *arrays.items()])
-        raise ShapeError(f"batch shapes do not broadcast ({shapes})") from None
+        given = ", ".join(f"{n}: {a.shape}" for n, a in [(name, qq), *arrays.items()])
+        raise ShapeError(f"batch shapes do not broadcast ({given})") from None
     dtype = result_dtype(*all_arrays)
     if values:
         check_quaternions(model, qq, name)
@@ -92,6 +97,15 @@ def _vec(x: Any, name: str, n: int, what: str, check_finite: bool) -> np.ndarray
     arr = as_array(x, name, check_finite=False)
     if arr.ndim == 0 or arr.shape[-1] != n:  # the length before the values (a huge zero-stride view: no scan)
         raise ShapeError(f"{name}: expected trailing dimension {what}={n}, got shape {tuple(arr.shape)}")
+    return as_array(arr, name) if check_finite else arr
+
+
+def _matrix(x: Any, name: str, n: int, check_finite: bool) -> np.ndarray:
+    if x is None:
+        raise ShapeError(f"{name}: expected an array of shape (..., nv={n}, nv={n}), got None")
+    arr = as_array(x, name, check_finite=False)
+    if arr.ndim < 2 or arr.shape[-2:] != (n, n):
+        raise ShapeError(f"{name}: expected trailing dimensions (nv, nv) = ({n}, {n}), got shape {tuple(arr.shape)}")
     return as_array(arr, name) if check_finite else arr
 
 

@@ -231,6 +231,8 @@ def _op_jvp(name: str, key: int, present: int, primals: tuple[Any, ...], tangent
             t_out = [t_out[0] - u_dot, *t_out[1:]]
         return out, tuple(t + z for t, z in zip(t_out, zeros, strict=True))
     table = _jac.jacobians(_FW, name, model, x, options)
+    for n in _jac.matrix_inputs(name) & set(directions):  # (a matrix's Jacobian is over its flattened entries)
+        directions[n] = directions[n].reshape(directions[n].shape[:-2] + (-1,))
     t_out = []
     for o_name, o, zero, (_, shape, _) in zip(decl.outputs, out, zeros, spec.outputs, strict=True):
         t = None
@@ -257,8 +259,8 @@ _op.defjvp(_op_jvp, symbolic_zeros=True)
 # JAX differentiates in reverse by transposing the forward rule, ẏ = Σ J_x · δ_x: for crba that needs ∂M/∂q, nv³
 # numbers a state, and for rnea and aba their Jacobians, nv² a state and O(nv·nb) to form. `_LINEAR` is that sum as
 # a primitive that is linear in the directions δ (JAX's primitive interface: docs.jax.dev, "JAX Internals:
-# primitives"), with the transpose rule api/jacobians.py's VJPS (crba: ⟨W, ∂M/∂q⟩ from kinetic-energy gradients;
-# rnea, aba: fd.rnea_vjp, fd.aba_vjp, O(nb)): `grad`, `vjp`, `jacrev` take it; forward mode and its own derivatives
+# primitives"), with the transpose rule api/jacobians.py's VJPS (crba: ⟨W, ∂M/∂q⟩ by fd.crba_vjp; rnea, aba:
+# fd.rnea_vjp, fd.aba_vjp, O(nb)): `grad`, `vjp`, `jacrev` take it; forward mode and its own derivatives
 # evaluate J · δ.
 
 _LINEAR = Primitive("featherdyn_linear_tangent")
@@ -266,8 +268,9 @@ _LINEAR.multiple_results = True
 
 
 def _tails(names: Sequence[str]) -> tuple[int, ...]:
-    """The operands' own trailing dimensions (``f_ext`` `(nb, 6)`, every other input a vector)."""
-    return tuple(2 if n == "f_ext" else 1 for n in names)
+    """The operands' own trailing dimensions (``f_ext`` `(nb, 6)` and ``W`` `(nv, nv)`, every other input a
+    vector)."""
+    return tuple(2 if n in ("f_ext", "W") else 1 for n in names)
 
 
 def _linear(*args: Any, name: str, key: int, known: tuple[str, ...], linear: tuple[str, ...]) -> list[Any]:

@@ -462,6 +462,8 @@ def _vjp(name: str, key: int, option_values: Sequence[Any], ins: Sequence[torch.
             g = torch.zeros_like(t)
         elif n in configurations:
             g = _jac.tangent_transpose(fw, model, cast(torch.Tensor, x[n]), tangent[n])
+        elif n in _jac.matrix_inputs(decl.name):  # (its gradient over the flattened entries, shaped back)
+            g = tangent[n].reshape(tangent[n].shape[:-1] + t.shape[-2:])
         else:
             g = tangent[n]
         out.append(_sum_to(g, t.shape).to(t.dtype))
@@ -488,6 +490,8 @@ def _jvp(name: str, key: int, option_values: Sequence[Any], ins: Sequence[torch.
     configurations = _configurations(decl)
     outs = _configuration_outputs(decl, key, option_values, ins)
     directions = {n: d.to(fw.dtype) for n, d in moving.items() if n != "f_ext"}
+    for n in _jac.matrix_inputs(decl.name) & set(directions):  # (a matrix's Jacobian is over its flattened entries)
+        directions[n] = directions[n].reshape(directions[n].shape[:-2] + (-1,))
     for n in configurations & set(directions):
         directions[n] = _jac.tangent_of_coordinates(fw, model, cast(torch.Tensor, x[n]), directions[n])
     out = []
@@ -616,7 +620,7 @@ def _front(decl: Declaration) -> Callable[..., Any]:
 
 
 def _is_state_function(decl: Declaration) -> bool:
-    return all(n in ("q", "q0", "q1", "v", "a", "tau", "w", "f_ext") for n in decl.inputs)
+    return all(n in ("q", "q0", "q1", "v", "a", "tau", "w", "W", "f_ext") for n in decl.inputs)
 
 
 #: the operators (``torch.ops.featherdyn.<name>``), by name

@@ -64,8 +64,9 @@ def _args(model: fd.Model, name: str, q: Any, f_ext: Any) -> tuple[tuple[Any, ..
     dtype = qa.dtype if qa.dtype.kind == "f" else np.dtype(np.float64)
     vector = (0.3 * np.cos(0.7 * np.arange(model.nv)) * np.ones(qa.shape[:-1] + (1,))).astype(dtype)
     q1 = np.broadcast_to(fd.random_configuration(model, 99).astype(dtype), qa.shape[:-1] + (model.nq,))
-    args = tuple(q if n in ("q", "q0") else q1 if n == "q1" else f_ext if n == "f_ext" else vector
-                 for n in decl.inputs)
+    matrix = (vector[..., :, None] * np.sin(np.arange(model.nv))).astype(dtype)  # (W: (..., nv, nv))
+    args = tuple(q if n in ("q", "q0") else q1 if n == "q1" else f_ext if n == "f_ext" else matrix if n == "W"
+                 else vector for n in decl.inputs)
     kwargs: dict[str, Any] = {}
     if "frame" in decl.options:
         kwargs["frame"] = model.frames[-1].name
@@ -250,6 +251,7 @@ def test_a_declared_derivative_is_the_derivative_of_its_function(name: str, robo
              "a": rng.normal(size=model.nv), "tau": rng.normal(size=model.nv), "f_ext": None}
     state["q0"], state["q1"] = state["q"], fd.random_configuration(model, rng)
     state["w"] = rng.normal(size=model.nv)
+    state["W"] = rng.normal(size=(model.nv, model.nv))
     configuration_output = SPECS[name].outputs[0][1] == ("nq",)  # (integrate: its output moves on the group too)
     args = [state[n] for n in decl.inputs]
     frame = [model.frames[-1].name] if "frame" in decl.options else []  # (a frame at the end of a chain)

@@ -148,3 +148,76 @@ def test_aba_vjp_names_the_joint_of_a_singular_mass_matrix() -> None:
         fd.aba_vjp(m, [[0.7, 0.5], [0.7, 0.0]], v, tau, w)
     g = fd.aba_vjp(m, [0.7, 0.5], v, tau, w)  # regular elsewhere
     assert all(np.isfinite(x).all() for x in g)
+
+
+# --- the mass matrix's: fd.crba_vjp ---------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize(("name", "floating"), ROBOTS)
+def test_crba_vjp_against_pinocchio(name: str, floating: bool) -> None:
+    """``Σ_ij W_ij ∂M_ij/∂q`` with Pinocchio's ``∂(M e_j)/∂q``: ``computeRNEADerivatives`` at ``(q, 0, e_j)`` without
+    gravity, column by column."""
+    pin = pytest.importorskip("pinocchio")
+    model, pm, pd, jm = pinocchio_pair(name, floating)
+    pm.gravity = pin.Motion.Zero()
+    rng = np.random.default_rng(9)
+    q, W = fd.random_configuration(model, rng), rng.normal(size=(model.nv, model.nv))
+    qp, zero = jm.q_to_pin(q), np.zeros(model.nv)
+    expected = np.zeros(model.nv)
+    for j, e in enumerate(np.eye(model.nv)):
+        pin.computeRNEADerivatives(pm, pd, qp, zero, jm.v_to_pin(e))
+        expected += W[:, j] @ jm.matrix_from_pin(pd.dtau_dq.copy())  # (∂(M e_j)/∂q, rows and columns in fd's order)
+    got = fd.crba_vjp(model, q, W)
+    assert _rel(got, expected) < 1e-10, _rel(got, expected)
+    assert np.abs(got).max() > 1e-3
+
+
+@pytest.mark.parametrize("spec", TREES, ids=lambda s: s.name)
+def test_crba_vjp_central_differences_on_the_group(spec) -> None:  # type: ignore[no-untyped-def]
+    """Every joint kind: ``∂⟨W, M⟩/∂q`` against central differences of ``⟨W, fd.crba⟩`` along ``fd.integrate``'s
+    tangent, and the reference (``W`` contracted with the Dual-number ``∂M/∂q``)."""
+    model = tree(spec.name)
+    rng = np.random.default_rng(23)
+    q, W = random_q(model, rng), rng.normal(size=(model.nv, model.nv))
+    h = 1e-6
+    expected = np.array([(np.sum(W * fd.crba(model, fd.integrate(model, q, h * e)))
+                          - np.sum(W * fd.crba(model, fd.integrate(model, q, -h * e)))) / (2 * h)
+                         for e in np.eye(model.nv)])
+    got = fd.crba_vjp(model, q, W)
+    assert _rel(got, expected) < 1e-7, _rel(got, expected)
+    assert _rel(got, fd.crba_vjp(model, q, W, backend="reference")) < 1e-12
+
+
+def test_crba_vjp_batches_and_symmetry() -> None:
+    """One ``W`` broadcast against a batch of configurations, each row the one-state call bit for bit; only
+    ``W``'s symmetric part enters (``M`` is symmetric); the second-order tensor of ``fd.rnea_second_derivatives``
+    agrees on the batch."""
+    model = fd.load_robot("talos_full_v2", floating_base=True)
+    rng = np.random.default_rng(24)
+    Q, W = fd.random_configuration(model, rng, size=5), rng.normal(size=(model.nv, model.nv))
+    got = fd.crba_vjp(model, Q, W)
+    assert got.shape == (5, model.nv)
+    np.testing.assert_array_equal(got[3], fd.crba_vjp(model, Q[3], W))
+    assert _rel(fd.crba_vjp(model, Q, 0.5 * (W + W.T)), got) < 1e-12
+    assert _rel(fd.crba_vjp(model, Q, W - W.T), np.zeros_like(got)) < 1e-12
+    zero = np.zeros((5, model.nv))
+    dM = fd.rnea_second_derivatives(model, Q, zero, zero).dM_dq
+    assert _rel(got, np.einsum("ij,bijk->bk", W, dM)) < 1e-11
+
+
+def test_crba_vjp_errors_name_the_cotangent() -> None:
+    model = fd.load_robot("panda")
+    q = fd.neutral(model)
+    with pytest.raises(ShapeError, match=r"^W: expected trailing dimensions \(nv, nv\) = \(9, 9\)"):
+        fd.crba_vjp(model, q, np.zeros(9))
+    with pytest.raises(ShapeError, match="^W"):
+        fd.crba_vjp(model, q, None)
+    W = np.zeros((9, 9))
+    W[2, 5] = np.nan
+    with pytest.raises(NonFiniteError, match=r"^W: .*index \(2, 5\)"):
+        fd.crba_vjp(model, q, W)
+    Q = fd.random_configuration(model, np.random.default_rng(2), size=12)
+    Wb = np.zeros((12, 9, 9))
+    Wb[10, 1, 7] = np.inf
+    with pytest.raises(NonFiniteError, match=r"^W: .*index \(10, 1, 7\)"):  # (a batch: the SIMD groups' check)
+        fd.crba_vjp(model, Q, Wb)

@@ -42,7 +42,8 @@ def _states(model: fd.Model, batch: tuple[int, ...], seed: int = 0) -> dict[str,
     return {"q": q, "v": rng.standard_normal(batch + (model.nv,)), "a": rng.standard_normal(batch + (model.nv,)),
             "tau": rng.standard_normal(batch + (model.nv,)),
             "f_ext": rng.standard_normal(batch + (model.nbodies, 6)),
-            "q0": q, "q1": fd.random_configuration(model, rng, batch), "w": rng.standard_normal(batch + (model.nv,))}  # (fd.difference's configurations)
+            "q0": q, "q1": fd.random_configuration(model, rng, batch), "w": rng.standard_normal(batch + (model.nv,)),
+            "W": rng.standard_normal(batch + (model.nv, model.nv))}  # (fd.difference's configurations)
 
 
 def _lazy(x: np.ndarray, chunks: int) -> Any:

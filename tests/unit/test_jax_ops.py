@@ -43,7 +43,8 @@ def _state(model: fd.Model, seed: int = 0, n: int | None = None) -> dict[str, np
     q0, q1 = fd.random_configuration(model, rng, size=n), fd.random_configuration(model, rng, size=n)
     return {"q": q0, "q0": q0, "q1": q1, "v": rng.normal(size=shape + (model.nv,)),
             "a": rng.normal(size=shape + (model.nv,)), "tau": rng.normal(size=shape + (model.nv,)),
-            "f_ext": rng.normal(size=shape + (model.nbodies, 6)), "w": rng.normal(size=shape + (model.nv,))}
+            "f_ext": rng.normal(size=shape + (model.nbodies, 6)), "w": rng.normal(size=shape + (model.nv,)),
+            "W": rng.normal(size=shape + (model.nv, model.nv))}
 
 
 def _arrays(result: object) -> list[np.ndarray]:

@@ -58,7 +58,7 @@ MODELS = {"panda": lambda: _robot("panda", False), "solo12": lambda: _robot("sol
 
 def _state(model: fd.Model, seed: int = 0, size: tuple[int, ...] = (), grad: bool = False) -> dict[str, torch.Tensor]:
     s = random_state(model, seed, size)
-    st = {k: torch.tensor(getattr(s, k), requires_grad=grad) for k in ("q", "v", "a", "tau", "f_ext", "w")}
+    st = {k: torch.tensor(getattr(s, k), requires_grad=grad) for k in ("q", "v", "a", "tau", "f_ext", "w", "W")}
     q1 = fd.random_configuration(model, np.random.default_rng(seed + 1000), size=size or None)
     st["q0"] = torch.tensor(s.q, requires_grad=grad)  # (fd.difference's configurations)
     st["q1"] = torch.tensor(q1, requires_grad=grad)

@@ -47,6 +47,7 @@ from .declared import compiled_method
 from .derivatives import (
     aba_derivatives,
     aba_vjp,
+    crba_vjp,
     dynamic_parameters,
     frame_acceleration_derivatives,
     frame_velocity_derivatives,
@@ -100,6 +101,7 @@ __all__ = [
     "operational_space_inertia",
     "aba_derivatives",
     "aba_vjp",
+    "crba_vjp",
     "dynamic_parameters",
     "frame_acceleration_derivatives",
     "frame_velocity_derivatives",

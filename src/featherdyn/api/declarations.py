@@ -49,7 +49,7 @@ __all__ = ["rnea", "nonlinear_effects", "generalized_gravity", "crba", "aba", "f
            "aba_derivatives", "rnea_second_derivatives", "aba_second_derivatives", "mass_matrix_inverse",
            "joint_torque_regressor", "frame_velocity_derivatives",
            "frame_acceleration_derivatives", "joint_jacobians", "frame_jacobian_time_variation", "kinetic_energy",
-           "kinetic_energy_derivatives", "rnea_vjp", "aba_vjp",
+           "kinetic_energy_derivatives", "rnea_vjp", "aba_vjp", "crba_vjp",
            "potential_energy", "centroidal_momentum_matrix", "generalized_gravity_derivatives",
            "static_torque_derivatives", "forward_kinematics", "frame_placement", "center_of_mass",
            "centroidal_momentum", "kinematics_derivatives", "center_of_mass_derivatives",
@@ -424,6 +424,24 @@ DECLARATIONS: dict[str, Declaration] = {d.name: d for d in [
 
         Raises:
             SingularMassMatrixError: naming the joint, when M(q) is singular.
+        """,
+    ),
+    Declaration(
+        name="crba_vjp",
+        inputs=("q", "W"),
+        outputs=("grad_q",),
+        reference=_vjp.crba_vjp,
+        doc="""``∂⟨W, M(q)⟩/∂q`` `(..., nv)`: the gradient of ``Σ_ij W_ij M_ij(q)`` — the mass matrix's vector–Jacobian
+        product, without forming ``∂M/∂q`` (nv³ numbers a state), in the order of CRBA's own cost.
+
+        Args:
+            q: `(..., nq)`; W: `(..., nv, nv)`, the cotangent of M.
+            out: optional `(..., nv)` float64 array to write into.
+
+        ∂/∂q along the tangent of ``fd.integrate``; with ``W̃ = W + Wᵀ``, ``u_{i,b} = Σ_{j ≼ b} W̃_ij S_j`` and
+        ``F_{i,c} = Σ_{b ∈ subtree(c)} I_b u_{i,b}``, for a column ``k`` of joint ``c`` (docs/derivatives.md)::
+
+            ∂⟨W, M⟩/∂q_k = Σ_ij W_ij ∂M_ij/∂q_k = −S_kᵀ Σ_{i ≺ c} S_i ×* F_{i,c}
         """,
     ),
     Declaration(
@@ -872,6 +890,7 @@ rnea_derivatives: Callable[..., tuple[np.ndarray, np.ndarray, np.ndarray]] = pub
 aba_derivatives: Callable[..., tuple[np.ndarray, np.ndarray, np.ndarray]] = public_function(DECLARATIONS["aba_derivatives"])
 rnea_vjp: Callable[..., tuple[np.ndarray, np.ndarray, np.ndarray]] = public_function(DECLARATIONS["rnea_vjp"])
 aba_vjp: Callable[..., tuple[np.ndarray, np.ndarray, np.ndarray]] = public_function(DECLARATIONS["aba_vjp"])
+crba_vjp: Callable[..., np.ndarray] = public_function(DECLARATIONS["crba_vjp"])
 rnea_second_derivatives: Callable[..., RneaSecondDerivatives] = public_function(DECLARATIONS["rnea_second_derivatives"])
 aba_second_derivatives: Callable[..., AbaSecondDerivatives] = public_function(DECLARATIONS["aba_second_derivatives"])
 mass_matrix_inverse: Callable[..., np.ndarray] = public_function(DECLARATIONS["mass_matrix_inverse"])

@@ -44,8 +44,9 @@ __all__ = ["Declaration", "Record", "call", "public_function", "compiled_method"
            "xla_entry", "operand_shapes"]
 
 #: the state arguments a declaration may take, and how each is checked: a configuration (length nq, unit quaternions:
-#: q, or q0 and q1), a vector of length nv (w: a cotangent, fd.rnea_vjp's), or f_ext
-STATE_ARGUMENTS = ("q", "q0", "q1", "v", "a", "tau", "w", "f_ext")
+#: q, or q0 and q1), a vector of length nv (w: a cotangent, fd.rnea_vjp's), a matrix (nv, nv) (W: a cotangent,
+#: fd.crba_vjp's), or f_ext
+STATE_ARGUMENTS = ("q", "q0", "q1", "v", "a", "tau", "w", "W", "f_ext")
 #: the options a declaration may take, and their defaults (``frame`` has none: it is required)
 OPTIONS: dict[str, Any] = {"frame": inspect.Parameter.empty, "reference": LOCAL, "gravity": True}
 
@@ -84,7 +85,7 @@ class Declaration:
 
     Attributes:
         name: the public name (``fd.<name>``) and the name of the core's kernel.
-        inputs: the state arguments in order, each one of ``q, q0, q1, v, a, tau, w, f_ext``, the first a configuration
+        inputs: the state arguments in order, each one of ``q, q0, q1, v, a, tau, w, W, f_ext``, the first a configuration
             (``q``, or ``q0`` followed by ``q1``: two configurations, ``fd.difference``'s).
         optional: the inputs that may be ``None``.
         outputs: the names of the results, in order (their shapes are the kernel's).

@@ -19,6 +19,7 @@ from ..model import Model
 from .declarations import (
     aba_derivatives,
     aba_vjp,
+    crba_vjp,
     frame_acceleration_derivatives,
     frame_velocity_derivatives,
     joint_torque_regressor,
@@ -27,7 +28,7 @@ from .declarations import (
     rnea_vjp,
 )
 
-__all__ = ["rnea_derivatives", "aba_derivatives", "rnea_vjp", "aba_vjp", "mass_matrix_inverse",
+__all__ = ["rnea_derivatives", "aba_derivatives", "rnea_vjp", "aba_vjp", "crba_vjp", "mass_matrix_inverse",
            "frame_velocity_derivatives",
            "frame_acceleration_derivatives", "joint_torque_regressor", "dynamic_parameters"]
 

@@ -7,7 +7,8 @@ runs ``rnea_derivatives``' rule, which reads ``fd.rnea_second_derivatives``).
 
 :func:`jacobians` ``(fw, name, model, x, options)`` → ``{output: {input: J}}``, ``J`` `(..., *output, n)` with
 ``J[..., o, k] = ∂output_o/∂x_k``; ``n`` is ``nv`` for ``q`` (along ``fd.integrate``'s tangent, as the NumPy
-derivative functions) and the input's length otherwise. An input missing from an output's table does not enter
+derivative functions), the input's length otherwise, ``nv²`` for a matrix (``W``, flattened row-major:
+:func:`matrix_inputs`). An input missing from an output's table does not enter
 it (its Jacobian is zero, as ``∂τ/∂q̈`` of ``nonlinear_effects``); ``f_ext`` (of ``rnea`` and ``aba`` only) enters
 through the generalized force :func:`generalized_force`, a linear map the frameworks apply and transpose without
 its Jacobian. A function with neither a rule nor a declared ``derivative`` raises
@@ -33,7 +34,7 @@ from ..frames import LOCAL, LOCAL_WORLD_ALIGNED
 from ..model import Model
 from .declarations import DECLARATIONS
 
-__all__ = ["Framework", "RULES", "VJPS", "F_EXT", "jacobians", "mass_matrix_vjp", "generalized_force",
+__all__ = ["Framework", "RULES", "VJPS", "F_EXT", "jacobians", "mass_matrix_vjp", "matrix_inputs", "generalized_force",
            "generalized_force_transpose", "f_ext_tangent", "f_ext_cotangent", "has_jacobians", "tangent_of_coordinates", "coordinates_of_tangent",
            "tangent_transpose", "coordinates_transpose", "normalize"]
 
@@ -357,6 +358,25 @@ def _rnea_vjp(fw: Framework, model: Model, x: dict[str, Any], o: dict[str, Any])
             "grad_a": {"q": fw.einsum("...i,...jik->...jk", w, S[3]), "w": D[2]}}
 
 
+def _crba_vjp(fw: Framework, model: Model, x: dict[str, Any], o: dict[str, Any]) -> Table:
+    """``Σ_ij W_ij ∂M_ij/∂q`` differentiated: in ``q``, ``Σ_ij W_ij ∂²M_ij/∂q_k∂q_l`` (``M e_j = RNEA(q, 0, e_j)``
+    without gravity: ``fd.rnea_second_derivatives`` at the unit columns, all in one batched call); in ``W``
+    (flattened row-major, :func:`matrix_inputs`), ``∂M_ij/∂q_k`` itself."""
+    nv = model.nv
+    q1, E = _unit_columns(fw, model, x["q"])
+    S = fw.call("rnea_second_derivatives", model, {"q": q1, "v": fw.zeros((nv,)), "a": E}, {"gravity": False})
+    dM = fw.einsum("...ijk->...kij", _dM_dq(fw, model, x["q"]))
+    return {"grad_q": {"q": fw.einsum("...ij,...jikl->...kl", x["W"], S[0]),
+                       "W": dM.reshape(tuple(dM.shape[:-2]) + (nv * nv,))}}
+
+
+def matrix_inputs(name: str) -> set[str]:
+    """The inputs of ``fd.<name>`` that are matrices (``W`` `(..., nv, nv)`): their Jacobians are taken with the
+    matrix flattened row-major (``J[..., o, i nv + j] = ∂output_o/∂W_ij``), so the frameworks flatten its
+    direction before the product and shape its gradient back after it."""
+    return {n for n in DECLARATIONS[name].inputs if n == "W"}
+
+
 def _aba_vjp(fw: Framework, model: Model, x: dict[str, Any], o: dict[str, Any]) -> Table:
     """``(wᵀ ∂q̈/∂q, wᵀ ∂q̈/∂q̇, M⁻¹ w)`` differentiated: ``w`` contracted with ``fd.aba_second_derivatives``
     (``∂²q̈_i/∂q_j∂τ_k = ∂M⁻¹_ik/∂q_j``; ``q̈`` is linear in ``τ``, so ``∂²q̈/∂q̇∂τ = 0``) and, in ``w``, the
@@ -383,6 +403,7 @@ RULES: dict[str, Rule] = {
     "rnea_derivatives": _rnea_derivatives, "aba_derivatives": _aba_derivatives,
     "generalized_gravity_derivatives": _generalized_gravity_derivatives,
     "static_torque_derivatives": _static_torque_derivatives, "rnea_vjp": _rnea_vjp, "aba_vjp": _aba_vjp,
+    "crba_vjp": _crba_vjp,
 }
 
 
@@ -390,25 +411,15 @@ RULES: dict[str, Rule] = {
 
 def mass_matrix_vjp(fw: Framework, model: Model, q: Any, W: Any) -> Any:
     """``∂⟨W, M(q)⟩/∂q`` `(..., nv)` along ``fd.integrate``'s tangent, for ``W`` `(..., nv, nv)`, without forming
-    ``∂M/∂q`` (nv³ a state): ``⟨W, M⟩ = Σ_i x_iᵀ M y_i`` with ``x_i = s_i e_i``, ``y_i = W[i, :] / s_i``, and by
-    polarisation ``xᵀ M y = ½ (T(x + y) − T(x − y))`` (``T(z) = ½ zᵀ M z``), so the gradient is 2 nv kinetic-energy
-    gradients (``fd.kinetic_energy_derivatives``, O(nb) each) in one batched call: O(nv·nb) a state against the
-    Jacobian's O(nv²·nb). ``s_i = ‖W[i, :]‖^½`` balances the pair, so ``T(x ± y)`` do not cancel more than
-    ``x_iᵀ M y_i`` itself does."""
-    nv = model.nv
-    # a non-finite cotangent gives a non-finite gradient, as the Jacobian's product would (the kernel refuses
-    # non-finite velocities): the finite part is contracted, Σ W · 0 carries NaN and ±inf into the result
+    ``∂M/∂q`` (nv³ a state): ``fd.crba_vjp`` (one pass per column over its subtree, docs/derivatives.md). A
+    non-finite cotangent gives a non-finite gradient, as the Jacobian's product would (the kernel refuses a
+    non-finite ``W``): the finite part is contracted, and ``Σ W · 0`` carries NaN and ±inf into the result."""
     spill = 0.0 * fw.einsum("...ij->...", W)[..., None]
     W = fw.where(fw.isfinite(W), W, 0.0)
-    s = fw.sqrt(fw.sqrt(fw.einsum("...ij,...ij->...i", W, W) + 1e-300))  # (…, nv): 0-rows give y = 0
-    X = fw.einsum("...i,ij->...ij", s, fw.const(np.eye(nv)))
-    Y = W / s[..., :, None]
-    d = fw.call("kinetic_energy_derivatives", model, {"q": q[..., None, :], "v": fw.concat([X + Y, X - Y], -2)}, {})
-    plus, minus = fw.einsum("...rk->...k", d[0][..., :nv, :]), fw.einsum("...rk->...k", d[0][..., nv:, :])
-    return 0.5 * (plus - minus) + spill  # (the same sums: W = 0 gives exactly 0)
+    return fw.call("crba_vjp", model, {"q": q, "W": W}, {})[0] + spill
 
 
-def _crba_vjp(fw: Framework, model: Model, x: dict[str, Any], ybars: dict[str, Any], o: dict[str, Any]
+def _crba_product(fw: Framework, model: Model, x: dict[str, Any], ybars: dict[str, Any], o: dict[str, Any]
               ) -> dict[str, Any]:
     return {"q": mass_matrix_vjp(fw, model, x["q"], ybars["M"])}
 
@@ -439,7 +450,7 @@ Vjp = Callable[[Framework, Model, dict[str, Any], dict[str, Any], dict[str, Any]
 #: to form). featherdyn.torch's backward takes them when no graph is made of the backward (``create_graph=False``);
 #: featherdyn.jax's reverse mode through its linear primitive's transpose. A second order goes through
 #: :data:`RULES` (the vector–Jacobian products have Jacobians of their own).
-VJPS: dict[str, Vjp] = {"crba": _crba_vjp, "mass_matrix_inverse": _mass_matrix_inverse_vjp,
+VJPS: dict[str, Vjp] = {"crba": _crba_product, "mass_matrix_inverse": _mass_matrix_inverse_vjp,
                         "rnea": _dynamics_vjp("rnea_vjp", ("q", "v", "a")),
                         "aba": _dynamics_vjp("aba_vjp", ("q", "v", "tau"))}
 

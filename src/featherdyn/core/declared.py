@@ -175,5 +175,5 @@ def arg_names(spec: Spec) -> tuple[str, ...]:
     ``frame``, ``q1``) as its declaration names them."""
     names = list(_errors.ARG_NAMES)
     for n in spec.input_names:  # q, v, f_ext by their names; the other vector (q̈, τ, b) is the third argument
-        names[{"q": 0, "q0": 0, "v": 1, "f_ext": 3, "J": 6, "c": 7, "q1": 8, "w": 9}.get(n, 2)] = n
+        names[{"q": 0, "q0": 0, "v": 1, "f_ext": 3, "J": 6, "c": 7, "q1": 8, "w": 9, "W": 9}.get(n, 2)] = n
     return tuple(names)

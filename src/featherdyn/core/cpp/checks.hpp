@@ -9,7 +9,7 @@
 // CONSTRAINT (index = m: constraint rows whose J M⁻¹ Jᵀ is singular, where no solver setting can go on);
 // arg: which input (ARG_Q, ARG_V, ARG_A (a or τ), ARG_FEXT, ARG_OUT, ARG_FRAME, ARG_J and ARG_C: constraint rows
 // J q̈ = c, which are not part of the state check; ARG_Q1: a second configuration, fd.difference's q1, checked as q
-// is — its first, q0, takes ARG_Q; ARG_W: a cotangent w (nv), fd.rnea_vjp's, checked finite after the state).
+// is — its first, q0, takes ARG_Q; ARG_W: a cotangent, w (nv) of fd.rnea_vjp or W (nv, nv) of fd.crba_vjp, checked finite after the state).
 #pragma once
 
 #include <cmath>

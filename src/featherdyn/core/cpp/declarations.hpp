@@ -172,6 +172,18 @@ struct RneaVjp : Declared {
   }
 };
 
+// ∂⟨W, M(q)⟩/∂q (nv,): the mass matrix's vector–Jacobian product, O(Σ depth + subtree) (vjp.hpp).
+struct CrbaVjp : Declared {
+  static constexpr const char* name = "crba_vjp";
+  static constexpr Operand inputs[] = {operand::q, operand::W};
+  static constexpr Operand outputs[] = {operand::vector("grad_q", NV)};
+  static constexpr auto group = &fdgroup::GroupKernels::crba_vjp;
+  static std::int64_t run(const ModelView& mv, const double* const* in, double* const* out, const Options&) {
+    crba_vjp<double>(mv, in[0], in[1], out[0]);
+    return OK;
+  }
+};
+
 // wᵀ ∂q̈/∂(q, q̇, τ) (nv,) each: the gradient of wᵀ ABA(q, q̇, τ, f_ext) in O(nb) (vjp.hpp: RNEA's at q̈ with
 // λ = M⁻¹ w).
 struct AbaVjp : Declared {
@@ -459,7 +471,7 @@ inline std::vector<Kernel> make_declared_kernels() {
       declare<AbaDerivatives>(), declare<MassMatrixInverse>(), declare<JointTorqueRegressor>(),
       declare<FrameVelocityDerivatives>(), declare<FrameAccelerationDerivatives>(), declare<JointJacobians>(),
       declare<FrameJacobianTimeVariation>(), declare<KineticEnergy>(), declare<KineticEnergyDerivatives>(), declare<PotentialEnergy>(),
-      declare<RneaVjp>(), declare<AbaVjp>(),
+      declare<RneaVjp>(), declare<AbaVjp>(), declare<CrbaVjp>(),
       declare<CentroidalMomentumMatrix>(),
       declare<GeneralizedGravityDerivatives>(), declare<StaticTorqueDerivatives>(), declare<Placements>(),
       declare<ForwardKinematics>(), declare<FramePlacement>(), declare<CenterOfMass>(), declare<CentroidalMomentum>(),

@@ -53,6 +53,7 @@ constexpr Operand q{"q", ARG_Q, {NQ}, 1, false}, v{"v", ARG_V, {NV}, 1, false}, 
     tau{"tau", ARG_A, {NV}, 1, false}, f_ext{"f_ext", ARG_FEXT, {NB, 6}, 2, true};
 constexpr Operand q0{"q0", ARG_Q, {NQ}, 1, false}, q1{"q1", ARG_Q1, {NQ}, 1, false};
 constexpr Operand w{"w", ARG_W, {NV}, 1, false};  // a cotangent of a result of length nv (fd.rnea_vjp's)
+constexpr Operand W{"W", ARG_W, {NV, NV}, 2, false};  // a cotangent of an (nv, nv) result (fd.crba_vjp's)
 constexpr Operand scalar(const char* name) { return {name, ARG_OUT, {}, 0, false}; }
 constexpr Operand vector(const char* name, int n) { return {name, ARG_OUT, {n}, 1, false}; }
 constexpr Operand matrix(const char* name, int rows, int cols) { return {name, ARG_OUT, {rows, cols}, 2, false}; }
@@ -176,13 +177,14 @@ namespace declared {
 inline std::int64_t check_inputs(const Kernel& k, const ModelView& mv, const double* const* in) {
   const double* by_arg[4] = {nullptr, nullptr, nullptr, nullptr};  // q, v, a or τ, f_ext
   const double *q1 = nullptr, *w = nullptr;
+  std::int64_t w_size = 0;
   for (size_t i = 0; i < k.inputs.size(); ++i) {
     if (k.inputs[i].arg <= ARG_FEXT) by_arg[k.inputs[i].arg] = in[i];
     if (k.inputs[i].arg == ARG_Q1) q1 = in[i];
-    if (k.inputs[i].arg == ARG_W) w = in[i];
+    if (k.inputs[i].arg == ARG_W) w = in[i], w_size = size_of(mv, Options{}, k.inputs[i]);
   }
   FD_TRY(check_state(mv, by_arg[0], by_arg[1], by_arg[2], by_arg[3]));
-  if (w != nullptr && !all_finite(w, mv.nv)) return make_status(NONFINITE, ARG_W, first_nonfinite(w, mv.nv));
+  if (w != nullptr && !all_finite(w, w_size)) return make_status(NONFINITE, ARG_W, first_nonfinite(w, w_size));
   return q1 != nullptr ? check_configuration(mv, q1, ARG_Q1) : OK;
 }
 
@@ -332,10 +334,11 @@ const std::vector<Kernel>& declared_kernels();
 // The one batch path of every front end: run_batch (NumPy arrays) and the XLA FFI handler (bind_jax.cpp).
 inline RowStatus run_rows(const Kernel& k, const ModelView& mv, const Rows* rows_in, double* const* op,
                           const std::int64_t* n_out, std::int64_t N, const Options& opt) {
-  Rows by_arg[4], w;  // the group kernel's q, v, a or τ, f_ext; a cotangent
+  Rows by_arg[4], w;  // the group kernel's q, v, a or τ, f_ext; a cotangent (w_size numbers a row)
+  std::int64_t w_size = 0;
   for (size_t i = 0; i < k.inputs.size(); ++i) {
     if (k.inputs[i].arg <= ARG_FEXT) by_arg[k.inputs[i].arg] = rows_in[i];
-    if (k.inputs[i].arg == ARG_W) w = rows_in[i];
+    if (k.inputs[i].arg == ARG_W) w = rows_in[i], w_size = size_of(mv, opt, k.inputs[i]);
   }
   if (const std::int64_t s = declared::check_options(k, mv, opt); s != OK) return {-1, s};
   auto state = [&](std::int64_t r, std::array<const double*, DECLARED_MAX>& ip,
@@ -363,7 +366,7 @@ inline RowStatus run_rows(const Kernel& k, const ModelView& mv, const Rows* rows
   auto check = [&](std::int64_t r) {  // (check_inputs on the rows of the group kernel's roles)
     FD_TRY(check_state(mv, by_arg[0].row(r), by_arg[1].row(r), by_arg[2].row(r), by_arg[3].row(r)));
     const double* wr = w.row(r);
-    return wr == nullptr || all_finite(wr, mv.nv) ? OK : make_status(NONFINITE, ARG_W, first_nonfinite(wr, mv.nv));
+    return wr == nullptr || all_finite(wr, w_size) ? OK : make_status(NONFINITE, ARG_W, first_nonfinite(wr, w_size));
   };
   return for_row_groups(N, check, one, group_kernels().*k.group, g);
 }

@@ -72,7 +72,7 @@ struct GroupKernels {
   GroupFn aba_derivatives_group;
   GroupFn contact_dynamics, operational_space_inertia;
   GroupFn kinetic_energy_derivatives;
-  GroupFn rnea_vjp, aba_vjp;
+  GroupFn rnea_vjp, aba_vjp, crba_vjp;
 };
 
 }  // namespace fdgroup

@@ -322,11 +322,25 @@ inline std::int64_t dynamics_vjp_group(const fdgroup::GroupArgs& g, std::int64_t
   return 0;
 }
 
+// ∂⟨W, M⟩/∂q of W rows (vjp.hpp) — the frameworks' reverse mode of crba and mass_matrix_inverse.
+inline std::int64_t crba_vjp_group(const fdgroup::GroupArgs& g, std::int64_t r0) {
+  const ModelView& mv = *g.mv;
+  const size_t nq = mv.nq, nv = mv.nv;
+  Lanes& L = thread_lanes(nq + nv * nv + nv);
+  const Pack* q = L.gather(g.Q, r0, nq, 0);
+  const Pack* W = L.gather(g.W, r0, nv * nv, nq);
+  Pack* grad = L.space(nq + nv * nv);
+  crba_vjp(mv, q, W, grad);
+  if (!all_finite(grad, nv)) return 1;
+  scatter(grad, nv, g.out + r0 * g.out_stride, g.out_stride);
+  return 0;
+}
+
 inline fdgroup::GroupKernels group_kernels(const char* isa) {
   return {isa, PACK_WIDTH, &rnea_group, &crba_group, &aba_group, &fk_group, &rnea_derivatives_group,
           &rnea_derivatives<double>, &mass_matrix_inverse, &aba_derivatives, &aba_derivatives_group,
           &contact_dynamics_group, &operational_space_inertia_group, &kinetic_energy_derivatives_group,
-          &dynamics_vjp_group<false>, &dynamics_vjp_group<true>};
+          &dynamics_vjp_group<false>, &dynamics_vjp_group<true>, &crba_vjp_group};
 }
 
 }  // namespace fdcore

@@ -19,6 +19,15 @@
 // RNEA(q, q̇, q̈) = τ at q̈ = ABA(q, q̇, τ), so with λ = M⁻¹ w
 //
 //     ∂(wᵀq̈)/∂q = −∂(λᵀτ)/∂q,   ∂(wᵀq̈)/∂q̇ = −∂(λᵀτ)/∂q̇   (at q̈),   ∂(wᵀq̈)/∂τ = λ
+//
+// And the mass matrix's, ∂⟨W, M(q)⟩/∂q for a matrix W (nv, nv): ⟨W, M⟩ = Σ_b Σ_{i, j ≼ b} W_ij S_iᵀ I_b S_j, and
+// moving q_k (a column of joint c) turns subtree(c) rigidly, so only the pairs with a column i of an ancestor of c
+// change: with W̃ = W + Wᵀ, u_{i,b} = Σ_{j ≼ b} W̃_ij S_j and F_{i,c} = Σ_{b ∈ subtree(c)} I_b u_{i,b},
+//
+//     ∂⟨W, M⟩/∂q_k = −S_kᵀ Σ_{i ≺ c} S_i ×* F_{i,c}
+//
+// one pass per column i down its joint's path and subtree and one up the subtree: O(Σ_i (depth_i + |subtree_i|)),
+// the order of CRBA itself.
 #pragma once
 
 #include <vector>
@@ -103,6 +112,64 @@ int aba_vjp(const ModelView& mv, const S* q, const S* qd, const S* tau, const S*
   rnea_vjp<S>(mv, q, qd, qdd.data(), g_tau, f_ext, gravity, g_q, g_v, Mw.data());
   for (size_t c = 0; c < nv; ++c) g_q[c] = -g_q[c], g_v[c] = -g_v[c];
   return -1;
+}
+
+template <class S>
+struct MassVjpWork {
+  std::vector<Xform<S>> X_up;
+  std::vector<Motion<S>> u, s;  // u_{i,b}; column i in body b's coordinates
+  std::vector<Force<S>> F, acc;  // F_{i,b}; Σ_i S_i ×* F_{i,c}
+  std::vector<S> row;            // W̃'s row i
+  std::vector<char> below;       // b ∈ subtree of i's joint
+  void resize(size_t nb) {
+    if (X_up.size() < nb) X_up.resize(nb), u.resize(nb), s.resize(nb), F.resize(nb), acc.resize(nb), below.resize(nb);
+  }
+};
+
+// ∂⟨W, M(q)⟩/∂q (nv,) along fd.integrate's tangent, for W (nv, nv) row-major (armature: no q in it).
+template <class S>
+void crba_vjp(const ModelView& mv, const S* q, const S* W, S* g) {
+  const int nb = mv.nb, nv = mv.nv;
+  MassVjpWork<S>& k = thread_workspace<MassVjpWork<S>>(nb);
+  k.row.resize(static_cast<size_t>(nv));
+  const S z(0.0);
+  const Motion<S> zero{{z, z, z}, {z, z, z}};
+  const Force<S> none{{z, z, z}, {z, z, z}};
+  for (int b = 0; b < nb; ++b) k.X_up[b] = joint_X_up(mv, b, q), k.acc[b] = none;
+  for (int bi = 0; bi < nb; ++bi) {
+    for (int ci = 0; ci < mv.nv_i[bi]; ++ci) {
+      const int i = mv.idx_v[bi] + ci;
+      for (int j = 0; j < nv; ++j) k.row[j] = W[i * nv + j] + W[j * nv + i];
+      // u down the path to bi's parent (root first), then over the subtree with the column carried along
+      int path[64], depth = 0;
+      for (int b = mv.parent[bi]; b != -1 && depth < 64; b = mv.parent[b]) path[depth++] = b;
+      auto down = [&](int b) {
+        const int lam = mv.parent[b];
+        k.u[b] = (lam == -1 ? zero : k.X_up[b].apply(k.u[lam])) + S_times(mv, b, k.row.data());
+      };
+      if (depth == 64) {  // (deeper than the path buffer: every body before bi, in order)
+        for (int b = 0; b < bi; ++b) down(b);
+      } else {
+        for (int d = depth - 1; d >= 0; --d) down(path[d]);
+      }
+      for (int b = bi; b < nb; ++b) {
+        k.below[b] = b == bi || (b > bi && mv.parent[b] >= bi && k.below[mv.parent[b]]);
+        if (!k.below[b]) continue;
+        down(b);
+        k.s[b] = b == bi ? S_col<S>(mv, bi, ci) : k.X_up[b].apply(k.s[mv.parent[b]]);
+        k.F[b] = body_inertia<S>(mv, b) * k.u[b];
+      }
+      for (int b = nb - 1; b > bi; --b) {
+        if (!k.below[b]) continue;
+        k.F[mv.parent[b]] += k.X_up[b].apply_transpose(k.F[b]);  // (F_b complete: its children come after it)
+        k.acc[b] += cross_force(k.s[b], k.F[b]);
+      }
+    }
+  }
+  for (int b = 0; b < nb; ++b) {
+    St_times(mv, b, k.acc[b], g + mv.idx_v[b]);
+    for (int c = 0; c < mv.nv_i[b]; ++c) g[mv.idx_v[b] + c] = -g[mv.idx_v[b] + c];
+  }
 }
 
 }  // namespace fdcore
