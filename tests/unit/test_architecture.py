@@ -268,7 +268,8 @@ DECLARATIONS = "declarations*.hpp"
 KERNELS = ("aba.hpp", "centroidal.hpp", "contacts.hpp", "crba.hpp", "derivatives.hpp", "energy.hpp",
            "frame_derivatives.hpp", "frames.hpp", "jacobians.hpp", "joints.hpp", "kinematics.hpp", "ltl.hpp",
            "pack.hpp", "regressor.hpp", "rnea.hpp", "simd_groups.hpp", "spatial.hpp", "trig.hpp", "second_order.hpp",
-           "rnea_second_order.hpp", "kinematics_derivatives.hpp", "contact_derivatives.hpp", "configuration.hpp")
+           "rnea_second_order.hpp", "kinematics_derivatives.hpp", "contact_derivatives.hpp", "configuration.hpp",
+           "vjp.hpp")
 #: counted as neither: the thread pool, the CPU's features, the model's layout, the checks, scratch memory
 INFRASTRUCTURE = ("thread_pool.hpp", "cpu_features.hpp", "model_view.hpp", "checks.hpp", "scratch.hpp", "groups.hpp")
 
