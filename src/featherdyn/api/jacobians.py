@@ -29,6 +29,7 @@ from typing import Any, Protocol
 
 import numpy as np
 
+from .._state_checks import MATRICES
 from ..errors import FeatherdynError
 from ..frames import LOCAL, LOCAL_WORLD_ALIGNED
 from ..model import Model
@@ -365,7 +366,7 @@ def _crba_vjp(fw: Framework, model: Model, x: dict[str, Any], o: dict[str, Any])
     nv = model.nv
     q1, E = _unit_columns(fw, model, x["q"])
     S = fw.call("rnea_second_derivatives", model, {"q": q1, "v": fw.zeros((nv,)), "a": E}, {"gravity": False})
-    dM = fw.einsum("...ijk->...kij", _dM_dq(fw, model, x["q"]))
+    dM = fw.einsum("...ijk->...kij", S[3][..., 0, :, :, :])  # (∂M/∂q, the same at every unit column)
     return {"grad_q": {"q": fw.einsum("...ij,...jikl->...kl", x["W"], S[0]),
                        "W": dM.reshape(tuple(dM.shape[:-2]) + (nv * nv,))}}
 
@@ -374,7 +375,7 @@ def matrix_inputs(name: str) -> set[str]:
     """The inputs of ``fd.<name>`` that are matrices (``W`` `(..., nv, nv)`): their Jacobians are taken with the
     matrix flattened row-major (``J[..., o, i nv + j] = ∂output_o/∂W_ij``), so the frameworks flatten its
     direction before the product and shape its gradient back after it."""
-    return {n for n in DECLARATIONS[name].inputs if n == "W"}
+    return {n for n in DECLARATIONS[name].inputs if n in MATRICES}
 
 
 def _aba_vjp(fw: Framework, model: Model, x: dict[str, Any], o: dict[str, Any]) -> Table:
