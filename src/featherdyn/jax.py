@@ -45,7 +45,6 @@ from jax.core import ShapedArray
 from jax.extend.core import Primitive
 from jax.interpreters import ad, batching, mlir
 
-from ._state_checks import MATRICES
 from .api import jacobians as _jac
 from .api.declarations import DECLARATIONS
 from .api.declared import REFERENCES, Declaration, kernel_options, operand_shapes, xla_entry, xla_ffi
@@ -271,7 +270,7 @@ _LINEAR.multiple_results = True
 def _tails(names: Sequence[str]) -> tuple[int, ...]:
     """The operands' own trailing dimensions (``f_ext`` `(nb, 6)` and ``W`` `(nv, nv)`, every other input a
     vector)."""
-    return tuple(2 if n == "f_ext" or n in MATRICES else 1 for n in names)
+    return tuple(_jac.input_tail(n) for n in names)
 
 
 def _linear(*args: Any, name: str, key: int, known: tuple[str, ...], linear: tuple[str, ...]) -> list[Any]:

@@ -371,6 +371,12 @@ def _crba_vjp(fw: Framework, model: Model, x: dict[str, Any], o: dict[str, Any])
                        "W": dM.reshape(tuple(dM.shape[:-2]) + (nv * nv,))}}
 
 
+def input_tail(input_name: str) -> int:
+    """How many trailing dimensions an input has of its own (the rest are its batch): 2 for ``f_ext`` `(nb, 6)`
+    and a matrix (``W`` `(nv, nv)`), 1 for every other input (a vector)."""
+    return 2 if input_name == "f_ext" or input_name in MATRICES else 1
+
+
 def matrix_inputs(name: str) -> set[str]:
     """The inputs of ``fd.<name>`` that are matrices (``W`` `(..., nv, nv)`): their Jacobians are taken with the
     matrix flattened row-major (``J[..., o, i nv + j] = ∂output_o/∂W_ij``), so the frameworks flatten its
