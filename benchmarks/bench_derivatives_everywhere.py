@@ -14,7 +14,8 @@ Each featherdyn call returns new arrays; each Pinocchio call fills its ``data``:
   and ``fd.impulse_dynamics_derivatives`` / ``impulseDynamics`` + ``computeImpulseDynamicsDerivatives``
   (solo12 and talos: the forward solve is part of both);
 * batches of N states (default 256) on the thread pool (``fd.set_num_threads(2)``) against a Python loop of
-  the Pinocchio calls: the constrained and centroidal derivatives.
+  the Pinocchio calls: the kinematics, centre-of-mass, centroidal and constrained derivatives (interleaved, the
+  best of 9 runs each; 3 for the constrained ones).
 """
 
 from __future__ import annotations
@@ -38,13 +39,16 @@ CONTACTS = {"solo12": (["FL_FOOT", "FR_FOOT", "HL_FOOT", "HR_FOOT"], True),
             "talos_full_v2": (["left_sole_link", "right_sole_link"], False)}
 
 
-def _loop_time(f: Callable[[], Any], repeats: int = 3) -> float:
-    best = float("inf")
+def _batch_pair(f: Callable[[], Any], g: Callable[[], Any], repeats: int = 9) -> tuple[float, float]:
+    """The best of ``repeats`` runs of each, interleaved (f, g, f, g, ...; a shared machine's slow spells then fall
+    on both)."""
+    best = [float("inf"), float("inf")]
     for _ in range(repeats):
-        t0 = time.perf_counter()
-        f()
-        best = min(best, time.perf_counter() - t0)
-    return best
+        for k, h in enumerate((f, g)):
+            t0 = time.perf_counter()
+            h()
+            best[k] = min(best[k], time.perf_counter() - t0)
+    return best[0], best[1]
 
 
 def main() -> int:
@@ -80,10 +84,22 @@ def main() -> int:
         t = median_pair(lambda: fd.centroidal_dynamics_derivatives(m, q, v, a),  # noqa: B023
                         lambda: pin.computeCentroidalDynamicsDerivatives(pm, pd, qp, vp, ap), 7, 0.2)  # noqa: B023
         rows.append((f"{name}: centroidal_dynamics_derivatives / computeCentroidalDynamicsDerivatives", *t))
-        tb_fd = _loop_time(lambda: fd.centroidal_dynamics_derivatives(m, Q, V, A))  # noqa: B023
-        tb_pin = _loop_time(lambda: [pin.computeCentroidalDynamicsDerivatives(pm, pd, Qp[k], Vp[k], Ap[k])  # noqa: B023
-                                     for k in range(N)])
-        batch_rows.append((f"{name}: centroidal_dynamics_derivatives, {N} states", tb_fd, tb_pin))
+        t = _batch_pair(lambda: fd.kinematics_derivatives(m, Q, V, A, frame),  # noqa: B023
+                        lambda: [pin_kin(Qp[k], Vp[k], Ap[k]) for k in range(N)])  # noqa: B023
+        batch_rows.append((f"{name}: kinematics_derivatives, {N} states", *t))
+
+        def pin_com_loop() -> None:
+            for k in range(N):
+                pin.computeForwardKinematicsDerivatives(pm, pd, Qp[k], Vp[k], Ap[k])  # noqa: B023
+                pin.jacobianCenterOfMass(pm, pd, Qp[k])  # noqa: B023
+                pin.getCenterOfMassVelocityDerivatives(pm, pd)  # noqa: B023
+
+        t = _batch_pair(lambda: fd.center_of_mass_derivatives(m, Q, V), pin_com_loop)  # noqa: B023
+        batch_rows.append((f"{name}: center_of_mass_derivatives, {N} states", *t))
+        t = _batch_pair(lambda: fd.centroidal_dynamics_derivatives(m, Q, V, A),  # noqa: B023
+                        lambda: [pin.computeCentroidalDynamicsDerivatives(pm, pd, Qp[k], Vp[k], Ap[k])  # noqa: B023
+                                 for k in range(N)])
+        batch_rows.append((f"{name}: centroidal_dynamics_derivatives, {N} states", *t))
         if name not in CONTACTS:
             continue
         frames, three_d = CONTACTS[name]
@@ -106,9 +122,9 @@ def main() -> int:
         rows.append((f"{name}: constrained_dynamics_derivatives / constraintDynamics + derivatives", *t))
         t = median_pair(lambda: fd.impulse_dynamics_derivatives(m, q, v, cons), pin_imp, 7, 0.2)  # noqa: B023
         rows.append((f"{name}: impulse_dynamics_derivatives / impulseDynamics + derivatives", *t))
-        tb_fd = _loop_time(lambda: fd.constrained_dynamics_derivatives(m, Q, V, Tau, cons))  # noqa: B023
-        tb_pin = _loop_time(lambda: [pin_cd(Qp[k], Vp[k], Taup[k]) for k in range(N)])  # noqa: B023
-        batch_rows.append((f"{name}: constrained_dynamics_derivatives, {N} states", tb_fd, tb_pin))
+        t = _batch_pair(lambda: fd.constrained_dynamics_derivatives(m, Q, V, Tau, cons),  # noqa: B023
+                        lambda: [pin_cd(Qp[k], Vp[k], Taup[k]) for k in range(N)], 3)  # noqa: B023
+        batch_rows.append((f"{name}: constrained_dynamics_derivatives, {N} states", *t))
     print("one state (µs, ratio featherdyn / Pinocchio; target ≤ 0.8)")
     print_ratios(rows)
     print(f"\nbatches of {N} (featherdyn on 2 threads; Pinocchio a Python loop; target ratio ≤ 0.125)")

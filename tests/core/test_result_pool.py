@@ -18,7 +18,6 @@ import pytest
 from _models import random_state, tree
 
 import featherdyn as fd
-from featherdyn import core
 from featherdyn.core import _result_pool
 
 MODEL = tree("free_branch")  # nv = 14: (N, nv, nv) reaches 1 MiB at N = 669
@@ -60,6 +59,21 @@ def test_a_dropped_result_is_reused_and_a_held_one_never() -> None:
         assert not np.shares_memory(r, part)
         assert _address(r) != _address(np.asarray(mv))
     np.testing.assert_array_equal(part, fd.crba(MODEL, st.q[5:9]))
+
+
+def test_results_from_64_kib_are_reused_and_eight_of_a_size_kept() -> None:
+    """From MIN_BYTES (64 KiB) up, at most PER_SIZE (8) buffers of one size; below it, fresh memory."""
+    st = _state()
+    per_state = MODEL.nv * MODEL.nv * 8
+    above, below = (64 << 10) // per_state + 1, (64 << 10) // per_state - 1
+    a = _address(fd.crba(MODEL, st.q[:above]))  # (dropped at once)
+    assert _address(fd.crba(MODEL, st.q[:above])) == a
+    assert _result_pool.result_cache_info()["buffers"] == 1
+    fd.crba(MODEL, st.q[:below])
+    assert _result_pool.result_cache_info()["buffers"] == 1
+    held = [fd.crba(MODEL, st.q[:above]) for _ in range(12)]  # a caller keeping every result
+    assert _result_pool.result_cache_info()["buffers"] == 8
+    assert len({_address(r) for r in held}) == 12
 
 
 def test_small_results_and_a_zero_limit_take_fresh_memory() -> None:

@@ -243,6 +243,27 @@ def test_core_equals_reference(name: str, floating: bool, frame: str) -> None:
             assert _rel(x, y) < 1e-11
 
 
+@pytest.mark.parametrize("spec", TREES, ids=lambda s: s.name)
+def test_batches_in_simd_lanes_equal_the_one_state_calls(spec) -> None:  # type: ignore[no-untyped-def]
+    """A batch of 11 states (groups of the SIMD width and a remainder row by row) equals the one-state calls bit
+    for bit: the frame's derivatives in each reference, the centre of mass's and the centroidal ones, on trees with
+    every joint kind. (The group kernels are the one-state templates on Packs: simd_groups.hpp.)"""
+    model = tree(spec.name)
+    rng = np.random.default_rng(33)
+    Q = fd.random_configuration(model, rng, size=(11,))
+    V, A = rng.normal(size=(11, model.nv)), rng.normal(size=(11, model.nv))
+    frame = model.frames[-1].name
+    calls: list[Callable[[np.ndarray, np.ndarray, np.ndarray], tuple[np.ndarray, ...]]] = [
+        lambda q, v, a: tuple(fd.center_of_mass_derivatives(model, q, v)),
+        lambda q, v, a: tuple(fd.centroidal_dynamics_derivatives(model, q, v, a))]
+    calls += [lambda q, v, a, ref=ref: tuple(fd.kinematics_derivatives(model, q, v, a, frame, ref)) for ref in REFS]
+    for call in calls:
+        batch = call(Q, V, A)
+        assert all(np.isfinite(x).all() and x.shape[0] == 11 for x in batch)
+        for k in range(11):
+            assert all(np.array_equal(x[k], y) for x, y in zip(batch, call(Q[k], V[k], A[k]), strict=True)), k
+
+
 def test_point_batches_broadcast_and_equal_the_loop() -> None:
     model = library_robot("solo12", True)
     assert model is not None

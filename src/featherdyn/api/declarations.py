@@ -75,10 +75,20 @@ def _center_of_mass(c: np.ndarray, cd: np.ndarray | None) -> np.ndarray | Center
     return c if cd is None else CenterOfMass(c, cd)
 
 
+def _copy_of(x: Any) -> Any:
+    """A copy of ``x``: a NumPy float64 array into the batches' reused memory (``core/_result_pool.py``: a fresh
+    copy of talos's (256, 6, 50) J cost more in page faults than the kernel), any other array by its ``copy``."""
+    if type(x) is np.ndarray and x.dtype == np.float64:
+        out = _core_declared.result_array(x.shape)
+        np.copyto(out, x)
+        return out
+    return x.copy()
+
+
 def _kinematics_derivatives(dv_dq: Any, dv_dv: Any, da_dq: Any, da_dv: Any, dac_dq: Any,
                             dac_dv: Any) -> KinematicsDerivatives:
     """The kernel's six outputs as the record of eight: ``∂a/∂q̈ = ∂a^c/∂q̈ = ∂v/∂q̇ = J`` (copies of it)."""
-    return KinematicsDerivatives(dv_dq, dv_dv, da_dq, da_dv, dv_dv.copy(), dac_dq, dac_dv, dv_dv.copy())
+    return KinematicsDerivatives(dv_dq, dv_dv, da_dq, da_dv, _copy_of(dv_dv), dac_dq, dac_dv, _copy_of(dv_dv))
 
 
 _KINEMATICS_DERIVATIVES_DOC = """The derivatives of a frame's velocity, spatial and classical accelerations, or of a point's.

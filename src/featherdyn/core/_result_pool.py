@@ -1,16 +1,14 @@
 """Large batch results in reused memory: the buffers of results the caller has dropped.
 
-A fresh array of tens of megabytes comes from ``mmap``: the kernel faults in and zeroes every page on the
-first write, and ``free`` gives the pages back at once, so a loop calling a batch again pays it again (measured
-on talos' derivative batches: ~5 µs per state, more than the kernels' own time). Like the caching allocators
-of the array libraries, the batches therefore keep the buffers of their large results: a result is a view of
-a buffer held here, and once the caller holds no view of it any more (its reference count is back to the
-pool's own), the next result of the same size reuses it, with its pages already mapped.
+A fresh array above 128 KiB comes from ``mmap``, and freed heap memory above 128 KiB goes back (glibc): the kernel
+faults in and zeroes every page at the first write, so a loop of batches paid ~5 µs a talos state, more than the
+derivative kernels. Like the array libraries' caching allocators, the batches keep their results' buffers: a
+result is a view of a buffer held here; once the caller holds no view of it (its reference count is back to the
+pool's own: a slice, a ``memoryview`` or a reshape all hold it), the next result of its size reuses it.
 
-Only buffers of at least ``MIN_BYTES`` are kept; all kept buffers together (held by the caller or free) stay
-within the limit set by :func:`set_result_cache_size` (``DEFAULT_BYTES``; 0 turns the reuse off). Memory a
-caller still holds is never handed out again: a view, a slice, a ``memoryview`` or a reshaped copy of the
-result all reference the buffer. Every batch writes every entry of its results, so nothing of an earlier result
+Kept: buffers of at least ``MIN_BYTES`` (64 KiB; panda's frame-derivative batch of six 110 kB results, 3.3 → 1.3 µs
+a state), ``PER_SIZE`` of a size at most, all together (held or free) within :func:`set_result_cache_size`
+(``DEFAULT_BYTES``; 0: no reuse). Every batch writes every entry of its results, so nothing of an earlier result
 shows through. See docs/architecture.md, "Results of batched calls".
 """
 
@@ -23,11 +21,12 @@ import threading
 
 import numpy as np
 
-MIN_BYTES = 1 << 20
+MIN_BYTES = 64 << 10
+PER_SIZE = 8  # kept of one size: beyond, a caller keeping every result gets fresh memory (and the search stays short)
 DEFAULT_BYTES = 256 << 20
 
 _lock = threading.Lock()
-_buffers: list[np.ndarray] = []  # least recently handed out first
+_buffers: dict[int, list[np.ndarray]] = {}  # kept buffers by their size in entries, least recently handed out first
 _limit = DEFAULT_BYTES
 _getrefcount = sys.getrefcount
 _empty = np.empty
@@ -43,19 +42,20 @@ if hasattr(os, "register_at_fork"):
     os.register_at_fork(after_in_child=_after_fork_in_child)
 
 
-def _free(i: int) -> bool:
-    """Whether nobody but this module references ``_buffers[i]``."""
-    return _getrefcount(_buffers[i]) <= 2  # the list and getrefcount's argument
+def _free(same_size: list[np.ndarray], i: int) -> bool:
+    return _getrefcount(same_size[i]) <= 2  # nobody holds it but the list (and getrefcount's argument)
 
 
-def _release(kept: int, limit: int) -> int:
-    """Drop free buffers, oldest first, until at most ``limit`` bytes are kept; the bytes kept after."""
-    i = 0
-    while kept > limit and i < len(_buffers):
-        if _free(i):
-            kept -= _buffers.pop(i).nbytes
-        else:
-            i += 1
+def _release(limit: int) -> int:
+    """Drop free buffers (sizes kept longest first, each's oldest first) till ``limit`` bytes are kept; the bytes kept."""
+    kept = sum(b.nbytes for same_size in _buffers.values() for b in same_size)
+    for same_size in _buffers.values():
+        i = 0
+        while kept > limit and i < len(same_size):
+            if _free(same_size, i):
+                kept -= same_size.pop(i).nbytes
+            else:
+                i += 1
     return kept
 
 
@@ -66,25 +66,24 @@ def result_array(shape: tuple[int, ...]) -> np.ndarray:
     if nbytes < MIN_BYTES or nbytes > _limit:
         return _empty(shape)
     with _lock:
-        for i in range(len(_buffers)):
-            if _buffers[i].size == n and _free(i):
-                buf = _buffers.pop(i)
-                _buffers.append(buf)  # most recently handed out last
-                return buf.reshape(shape)
-        kept = _release(sum(b.nbytes for b in _buffers) + nbytes, _limit) - nbytes
+        same_size = _buffers.get(n, [])
+        for i in range(len(same_size)):
+            if _free(same_size, i):
+                same_size.append(same_size.pop(i))  # most recently handed out last
+                return same_size[-1].reshape(shape)
+        kept = _release(_limit - nbytes)
         new = _empty(n)
-        if kept + nbytes <= _limit:
-            _buffers.append(new)
+        if kept + nbytes <= _limit and len(same_size) < PER_SIZE:
+            _buffers.setdefault(n, []).append(new)
         return new.reshape(shape)
 
 
 def set_result_cache_size(nbytes: int) -> None:
     """Bytes the batched calls may keep to reuse for their large results (default 256 MiB); 0: never reuse.
 
-    A batch result of at least 1 MiB is a view of a kept buffer; once the caller drops every view of it, the
-    next result of the same size is written into it instead of into new pages (the operating system zeroes new
-    pages on first touch, which costs more than computing a derivative batch). The limit counts buffers the
-    caller still holds; free buffers beyond a new limit are released at once.
+    A batch result of at least 64 KiB is a view of a kept buffer, which the next result of its size reuses once the
+    caller drops every view of it (new pages are zeroed at first touch, which costs more than a derivative batch).
+    The limit counts buffers the caller still holds; free ones beyond a new limit are released at once.
     """
     global _limit
     from ..errors import BackendError, DTypeError
@@ -95,7 +94,7 @@ def set_result_cache_size(nbytes: int) -> None:
         raise BackendError(f"nbytes: expected a number of bytes >= 0, got {nbytes}")
     with _lock:
         _limit = int(nbytes)
-        _release(sum(b.nbytes for b in _buffers), _limit)
+        _release(_limit)
         if _limit == 0:
             _buffers.clear()  # buffers the caller holds stay theirs; none is handed out again
 
@@ -103,5 +102,6 @@ def set_result_cache_size(nbytes: int) -> None:
 def result_cache_info() -> dict[str, int]:
     """``{"limit": bytes, "kept": bytes, "free": bytes, "buffers": count}`` of the kept result buffers."""
     with _lock:
-        free = sum(_buffers[i].nbytes for i in range(len(_buffers)) if _free(i))
-        return {"limit": _limit, "kept": sum(b.nbytes for b in _buffers), "free": free, "buffers": len(_buffers)}
+        kept, free = (sum(b[i].nbytes for b in _buffers.values() for i in range(len(b)) if every or _free(b, i))
+                      for every in (True, False))
+        return {"limit": _limit, "kept": kept, "free": free, "buffers": sum(len(b) for b in _buffers.values())}

@@ -261,13 +261,6 @@ struct FramePlacement : Declared {
   }
 };
 
-// The tree's total mass m = Σ m_i, or 0 when it has none (the centre of mass is then undefined: status NO_MASS).
-inline double total_mass(const ModelView& mv) {
-  double m = 0.0;
-  for (int i = 0; i < mv.nb; ++i) m += mv.mass[i];
-  return m > 0.0 ? m : 0.0;
-}
-
 // A_G (6, nv), h_G = A_G q̇ (rows [k_G; p], world axes about the centre of mass; centroidal.hpp).
 struct CentroidalMomentumMatrix : Declared {
   static constexpr const char* name = "centroidal_momentum_matrix";

@@ -10,8 +10,6 @@
 
 namespace fdcore {
 
-inline double total_mass(const ModelView& mv);  // (declarations.hpp: 0 for a tree without mass)
-
 // A frame's spatial velocity (6,) rows [ω; v] in `reference` (frames.hpp: frame_motion; Pinocchio's
 // getFrameVelocity): LOCAL ᶠX_b v_b, WORLD ⁰X_f ᶠv, LOCAL_WORLD_ALIGNED [⁰R_f ω; ⁰R_f v].
 struct FrameVelocity : Declared {
@@ -59,6 +57,7 @@ struct KinematicsDerivatives : Declared {
                                         operand::matrix("da_dq", 6, NV),  operand::matrix("da_dv", 6, NV),
                                         operand::matrix("dac_dq", 6, NV), operand::matrix("dac_dv", 6, NV)};
   static constexpr unsigned options = FRAME | REFERENCE;
+  static constexpr auto group = &fdgroup::GroupKernels::kinematics_derivatives;
   static std::int64_t run(const ModelView& mv, const double* const* in, double* const* out, const Options& opt) {
     kinematics_derivatives(mv, in[0], in[1], in[2], opt.frame, nullptr, opt.reference, out);
     return OK;
@@ -85,6 +84,7 @@ struct CenterOfMassDerivatives : Declared {
   static constexpr const char* name = "center_of_mass_derivatives";
   static constexpr Operand inputs[] = {operand::q, operand::v};
   static constexpr Operand outputs[] = {operand::matrix("dc_dq", 3, NV), operand::matrix("dcdot_dq", 3, NV)};
+  static constexpr auto group = &fdgroup::GroupKernels::center_of_mass_derivatives;
   static std::int64_t run(const ModelView& mv, const double* const* in, double* const* out, const Options&) {
     const double mass = total_mass(mv);
     if (mass == 0.0) return make_status(NO_MASS, ARG_Q, 0);
@@ -100,6 +100,7 @@ struct CentroidalDynamicsDerivatives : Declared {
   static constexpr Operand inputs[] = {operand::q, operand::v, operand::a};
   static constexpr Operand outputs[] = {operand::matrix("dh_dq", 6, NV), operand::matrix("dhdot_dq", 6, NV),
                                         operand::matrix("dhdot_dv", 6, NV), operand::matrix("dhdot_da", 6, NV)};
+  static constexpr auto group = &fdgroup::GroupKernels::centroidal_dynamics_derivatives;
   static std::int64_t run(const ModelView& mv, const double* const* in, double* const* out, const Options&) {
     const double mass = total_mass(mv);
     if (mass == 0.0) return make_status(NO_MASS, ARG_Q, 0);

@@ -355,6 +355,8 @@ inline RowStatus run_rows(const Kernel& k, const ModelView& mv, const Rows* rows
   if (k.group == nullptr) return for_rows(N, one);
   fdgroup::GroupArgs g{&mv, by_arg[0], by_arg[1], by_arg[2], by_arg[3], opt.gravity, op[0], n_out[0]};
   g.W = w;
+  g.outs = op;
+  g.frame = opt.frame, g.reference = opt.reference;
   g.out2 = k.outputs.size() > 1 ? op[1] : nullptr;
   g.out3 = k.outputs.size() > 2 ? op[2] : nullptr;
   std::int64_t per_row = 0;

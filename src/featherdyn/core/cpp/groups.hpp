@@ -41,6 +41,9 @@ struct GroupArgs {
   const ContactArgs* contacts = nullptr;  // (constrained dynamics)
   bool stream = false;  // write the result with non-temporal stores (stream_result)
   Rows W{};  // (vector–Jacobian products) the cotangent w
+  double* const* outs = nullptr;  // every output in the declaration's order, each of stride out_stride (a kernel
+                                  // with more than three)
+  int frame = -1, reference = 0;  // (a frame's derivatives) the frame and the reference of the result
 };
 
 // Whether a batch's result is too large to be read back from the caches: then writing it with non-temporal
@@ -73,6 +76,7 @@ struct GroupKernels {
   GroupFn contact_dynamics, operational_space_inertia;
   GroupFn kinetic_energy_derivatives;
   GroupFn rnea_vjp, aba_vjp, crba_vjp;
+  GroupFn kinematics_derivatives, center_of_mass_derivatives, centroidal_dynamics_derivatives;
 };
 
 }  // namespace fdgroup

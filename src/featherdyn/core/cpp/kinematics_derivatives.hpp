@@ -1,7 +1,8 @@
 // Derivatives of a frame's motion, of the centre of mass and of the centroidal momentum and its rate
-// (reference: featherdyn/algorithms/kinematics_derivatives.py, the same formulas line for line; equations in
-// docs/derivatives.md; Pinocchio's computeForwardKinematicsDerivatives + get{Frame,Point}*Derivatives,
-// jacobianCenterOfMass, getCenterOfMassVelocityDerivatives, computeCentroidalDynamicsDerivatives).
+// (reference: featherdyn/algorithms/kinematics_derivatives.py, the same formulas but for two, which it forms the
+// long way: ∂a_b/∂q_j as the sum below and İ by 6 × 6 products; equations in docs/derivatives.md; Pinocchio's
+// computeForwardKinematicsDerivatives + get{Frame,Point}*Derivatives, jacobianCenterOfMass,
+// getCenterOfMassVelocityDerivatives, computeCentroidalDynamicsDerivatives).
 //
 // Every quantity in world coordinates at the world origin: s = ⁰S_j the column of dof j (joint k), v_i, a_i
 // the bodies' velocities and accelerations (no gravity), I_i their inertias. Moving dof j along the tangent of
@@ -9,13 +10,14 @@
 //
 //     frame of body b:  ∂v_b/∂q_j = s × (v_b − u),   ∂v_b/∂q̇_j = ∂a_b/∂q̈_j = s,   ∂a_b/∂q̇_j = v_k × s + s × (v_b − u)
 //                       ∂a_b/∂q_j = Σ_{i ⪰ k on b's support} s × aJ_i + (s × (v_i − u)) × vJ_i + v_i × (s × vJ_i)
+//                                 = s × (a_b − w) − (s × u) × (v_b − u)      (the sum telescoped: the kernel's form)
 //                       (vJ_i = Σ S q̇, aJ_i = Σ S q̈ over i's own dofs), then the reference and the point;
 //     composites:       ∂h_O/∂q_j = s ×* h^C − I^C z,   ∂c/∂q_j = lin(I^C s)/m,   ∂ċ/∂q_j = lin(∂h_O/∂q_j)/m
 //                       ∂ḣ_O/∂q_j = s ×* F^C − I^C (s × w) + I^C (z × u) − İ^C z − z ×* h^C
 //                       ∂ḣ_O/∂q̇_j = I^C (v_k × s + u × s) + İ^C s + s ×* h^C,   ∂ḣ_O/∂q̈_j = I^C s
 //                       about c: [∂k − c × ∂p − ∂c × p; ∂p]
 //
-// O(nv · depth) for a frame, O(nb + nv) for the composites.
+// O(depth) for a frame (its support's pass, then O(1) a column), O(nb + nv) for the composites.
 #pragma once
 
 #include <algorithm>
@@ -28,15 +30,33 @@
 
 namespace fdcore {
 
+// İ = v ×* I − I v× of a world inertia I = (m, h, Ī) moving with v = [ω; v_O]: with v× = [[ω×, 0], [v_O×, ω×]] and
+// v×* = [[ω×, v_O×], [0, ω×]], İ = [[Ā, [ḣ]×], [[ḣ]×ᵀ, 0]] (m does not change), where
+//     ḣ = ω × h + m v_O,   Ā = ω×Ī − Īω× − v_O×h× − h×v_O× = (ω×Ī) + (ω×Ī)ᵀ − (h v_Oᵀ + v_O hᵀ) + 2 (h·v_O) 1
+// ([a]×[b]× = b aᵀ − (a·b) 1). Sums of them (the subtrees' İ^C) keep the form.
+template <class T>
+struct InertiaRate {
+  Sym3<T> A;
+  Vec3<T> hd;
+  // İ z = [Ā z_ω + ḣ × z_v;  z_ω × ḣ]
+  Force<T> operator*(const Motion<T>& z) const { return {A * z.w + cross(hd, z.v), cross(z.w, hd)}; }
+  InertiaRate& operator+=(const InertiaRate& o) {
+    A = A + o.A;
+    hd += o.hd;
+    return *this;
+  }
+};
+
 // The world pass's values: placements, columns, velocities and accelerations, their joint parts, and the
 // subtree composites (world inertia, momentum, force, inertia rate).
+template <class T>
 struct WorldPassWork {
-  std::vector<Mat3<double>> oR;
-  std::vector<Vec3<double>> op;
-  std::vector<Motion<double>> W, v, a, vJ, aJ;
-  std::vector<RigidInertia<double>> IC;
-  std::vector<Force<double>> hC, FC;
-  std::vector<ArticulatedInertia<double>> BC;  // İ^C: symmetric, stored as [[A, B], [Bᵀ, C]]
+  std::vector<Mat3<T>> oR;
+  std::vector<Vec3<T>> op;
+  std::vector<Motion<T>> W, v, a, vJ, aJ;
+  std::vector<RigidInertia<T>> IC;
+  std::vector<Force<T>> hC, FC;
+  std::vector<InertiaRate<T>> BC;  // İ^C
   std::vector<int> path;
   void resize(size_t nb) {
     if (oR.size() < nb) {
@@ -47,27 +67,29 @@ struct WorldPassWork {
 };
 
 // a − b for motions, and entry r of a 3-vector (the spatial types' operators: spatial.hpp)
-inline Motion<double> motion_sub(const Motion<double>& a, const Motion<double>& b) {
+template <class T>
+inline Motion<T> motion_sub(const Motion<T>& a, const Motion<T>& b) {
   return {a.w - b.w, a.v - b.v};
 }
-inline double vec_entry(const Vec3<double>& a, int r) { return r == 0 ? a.x : r == 1 ? a.y : a.z; }
+template <class T>
+inline T vec_entry(const Vec3<T>& a, int r) { return r == 0 ? a.x : r == 1 ? a.y : a.z; }
 
 // Body i's world placement, columns ⁰S (into W at its dofs), velocity and acceleration (its parent's done).
-inline void world_pass_body(const ModelView& mv, int i, const double* q, const double* qd, const double* qdd,
-                            WorldPassWork& w) {
-  Mat3<double> R;
-  Vec3<double> p;
+template <class T>
+inline void world_pass_body(const ModelView& mv, int i, const T* q, const T* qd, const T* qdd, WorldPassWork<T>& w) {
+  Mat3<T> R;
+  Vec3<T> p;
   place_body(mv, i, q, w.oR.data(), w.op.data(), R, p);
-  const Motion<double> zero{{0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}};
-  Motion<double> vJ = zero, aJ = zero;
+  const Motion<T> zero{{T(0.0), T(0.0), T(0.0)}, {T(0.0), T(0.0), T(0.0)}};
+  Motion<T> vJ = zero, aJ = zero;
   for (int c = 0; c < mv.nv_i[i]; ++c) {
     const int j = mv.idx_v[i] + c;
-    const Motion<double> s = S_col<double>(mv, i, c);
-    const Vec3<double> sw = w.oR[i] * s.w;
-    const Motion<double> col{sw, w.oR[i] * s.v + cross(w.op[i], sw)};
+    const Motion<T> s = S_col<T>(mv, i, c);
+    const Vec3<T> sw = w.oR[i] * s.w;
+    const Motion<T> col{sw, w.oR[i] * s.v + cross(w.op[i], sw)};
     w.W[j] = col;
-    vJ = vJ + Motion<double>{qd[j] * col.w, qd[j] * col.v};
-    if (qdd) aJ = aJ + Motion<double>{qdd[j] * col.w, qdd[j] * col.v};
+    vJ = vJ + Motion<T>{qd[j] * col.w, qd[j] * col.v};
+    if (qdd) aJ = aJ + Motion<T>{qdd[j] * col.w, qdd[j] * col.v};
   }
   const int lam = mv.parent[i];
   w.vJ[i] = vJ, w.aJ[i] = aJ;
@@ -75,79 +97,80 @@ inline void world_pass_body(const ModelView& mv, int i, const double* q, const d
   w.a[i] = (lam == -1 ? aJ : w.a[lam] + aJ) + cross_motion(w.v[i], vJ);
 }
 
-// İ = v ×* I − I v× (6 × 6, symmetric) of a world inertia I moving with velocity v.
-inline ArticulatedInertia<double> rate_of_inertia(const RigidInertia<double>& I, const Motion<double>& v) {
-  ArticulatedInertia<double> r;
-  for (int k = 0; k < 6; ++k) {
-    auto unit = [&](int at) { return Vec3<double>{at == 0 ? 1.0 : 0.0, at == 1 ? 1.0 : 0.0, at == 2 ? 1.0 : 0.0}; };
-    const Motion<double> e{unit(k), unit(k - 3)};  // e_k
-    const Force<double> col = cross_force(v, I * e) - I * cross_motion(v, e);
-    for (int row = 0; row < 3; ++row) {
-      if (k < 3) r.A(row, k) = vec_entry(col.n, row), r.B(k, row) = vec_entry(col.f, row);  // (bottom-left = Bᵀ)
-      else r.B(row, k - 3) = vec_entry(col.n, row), r.C(row, k - 3) = vec_entry(col.f, row);
-    }
+template <class T>
+inline InertiaRate<T> rate_of_inertia(const RigidInertia<T>& I, const Motion<T>& v) {
+  const Mat3<T> Ib = I.I.full();
+  Mat3<T> wI;  // ω×Ī, column by column
+  for (int c = 0; c < 3; ++c) {
+    const Vec3<T> col = cross(v.w, Vec3<T>{Ib(0, c), Ib(1, c), Ib(2, c)});
+    wI(0, c) = col.x, wI(1, c) = col.y, wI(2, c) = col.z;
   }
-  return r;
+  const T h[3] = {I.h.x, I.h.y, I.h.z}, u[3] = {v.v.x, v.v.y, v.v.z};
+  const T diag = T(2.0) * dot(I.h, v.v);
+  auto entry = [&](int a, int b) {
+    const T x = wI(a, b) + wI(b, a) - (h[a] * u[b] + u[a] * h[b]);
+    return a == b ? x + diag : x;
+  };
+  return {{entry(0, 0), entry(0, 1), entry(0, 2), entry(1, 1), entry(1, 2), entry(2, 2)}, cross(v.w, I.h) + I.m * v.v};
 }
 
 // A frame's (moved to `point` in its coordinates, or nullptr) motion derivatives in `ref`, (6, nv) row-major
 // each, into out: ∂v/∂q, ∂v/∂q̇, ∂a/∂q, ∂a/∂q̇, ∂a^c/∂q, ∂a^c/∂q̇ (a^c = [ω̇; a_lin + ω × v_lin] in `ref`;
 // ∂a/∂q̈ = ∂a^c/∂q̈ = ∂v/∂q̇).
-inline void kinematics_derivatives(const ModelView& mv, const double* q, const double* qd, const double* qdd,
-                                   int frame, const double* point, int ref, double* const* out) {
+template <class T>
+inline void kinematics_derivatives(const ModelView& mv, const T* q, const T* qd, const T* qdd, int frame,
+                                   const double* point, int ref, T* const* out) {
   const int nv = mv.nv;
-  for (int o = 0; o < 6; ++o) std::fill(out[o], out[o] + 6 * nv, 0.0);
+  for (int o = 0; o < 6; ++o) std::fill(out[o], out[o] + 6 * nv, T(0.0));
   const int body = mv.frame_body[frame];
   if (body == -1) return;  // a frame fixed to the world does not move
-  WorldPassWork& w = thread_workspace<WorldPassWork>(mv.nb);
+  WorldPassWork<T>& w = thread_workspace<WorldPassWork<T>>(mv.nb);
   w.W.resize(static_cast<size_t>(nv));
   int n = 0;
   for (int j = body; j != -1; j = mv.parent[j]) w.path[n++] = j;
   std::reverse(w.path.begin(), w.path.begin() + n);  // root first
   for (int s = 0; s < n; ++s) world_pass_body(mv, w.path[s], q, qd, qdd, w);
-  const Motion<double> vb = w.v[body], ab = w.a[body];
+  const Motion<T> vb = w.v[body], ab = w.a[body];
   // the frame (at the point): ⁰M_f = ⁰M_b · placement (· translation), and ᶠX_0 its inverse as a motion transform
-  const Mat3<double> Rfb = load9<double>(mv.frame_R + 9 * frame);
-  Vec3<double> pfb = load3<double>(mv.frame_p + 3 * frame);
-  if (point) pfb = pfb + Rfb * load3<double>(point);
-  const Mat3<double> Rf = w.oR[body] * Rfb;
-  const Xform<double> fX0{Rf.transpose(), w.op[body] + w.oR[body] * pfb};
+  const Mat3<T> Rfb = load9<T>(mv.frame_R + 9 * frame);
+  Vec3<T> pfb = load3<T>(mv.frame_p + 3 * frame);
+  if (point) pfb = pfb + Rfb * load3<T>(point);
+  const Mat3<T> Rf = w.oR[body] * Rfb;
+  const Xform<T> fX0{Rf.transpose(), w.op[body] + w.oR[body] * pfb};
   // a world value y and derivative dy of column s, in the reference: (value, derivative)
-  auto express = [&](const Motion<double>& y, const Motion<double>* dy, const Motion<double>& s) -> Motion<double> {
+  auto express = [&](const Motion<T>& y, const Motion<T>* dy, const Motion<T>& s) -> Motion<T> {
     if (ref == WORLD) return dy ? *dy : y;
-    const Motion<double> yf = fX0.apply(y);
-    if (!dy) return ref == LOCAL ? yf : Motion<double>{Rf * yf.w, Rf * yf.v};
-    const Motion<double> sf = fX0.apply(s);
-    const Motion<double> d = motion_sub(fX0.apply(*dy), cross_motion(sf, yf));
+    const Motion<T> yf = fX0.apply(y);
+    if (!dy) return ref == LOCAL ? yf : Motion<T>{Rf * yf.w, Rf * yf.v};
+    const Motion<T> sf = fX0.apply(s);
+    const Motion<T> d = motion_sub(fX0.apply(*dy), cross_motion(sf, yf));
     if (ref == LOCAL) return d;
     return {Rf * (d.w + cross(sf.w, yf.w)), Rf * (d.v + cross(sf.w, yf.v))};
   };
-  const Motion<double> none{{0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}};
-  const Motion<double> vr = express(vb, nullptr, none);
-  auto put = [&](double* m, int col, const Motion<double>& x) {
+  const Motion<T> none{{T(0.0), T(0.0), T(0.0)}, {T(0.0), T(0.0), T(0.0)}};
+  const Motion<T> vr = express(vb, nullptr, none);
+  auto put = [&](T* m, int col, const Motion<T>& x) {
     m[0 * nv + col] = x.w.x, m[1 * nv + col] = x.w.y, m[2 * nv + col] = x.w.z;
     m[3 * nv + col] = x.v.x, m[4 * nv + col] = x.v.y, m[5 * nv + col] = x.v.z;
   };
-  auto classical = [&](const Motion<double>& da, const Motion<double>& dv) {  // ∂a + [0; ∂ω × v + ω × ∂v]
-    return Motion<double>{da.w, da.v + cross(dv.w, vr.v) + cross(vr.w, dv.v)};
+  auto classical = [&](const Motion<T>& da, const Motion<T>& dv) {  // ∂a + [0; ∂ω × v + ω × ∂v]
+    return Motion<T>{da.w, da.v + cross(dv.w, vr.v) + cross(vr.w, dv.v)};
   };
   for (int pos = 0; pos < n; ++pos) {
     const int k = w.path[pos];
-    const Motion<double> u = pos > 0 ? w.v[w.path[pos - 1]] : none;
+    const Motion<T> u = pos > 0 ? w.v[w.path[pos - 1]] : none, wk = pos > 0 ? w.a[w.path[pos - 1]] : none;
     for (int c = 0; c < mv.nv_i[k]; ++c) {
       const int j = mv.idx_v[k] + c;
-      const Motion<double> s = w.W[j];
-      const Motion<double> dvq = cross_motion(s, motion_sub(vb, u));
-      Motion<double> daq = none;
-      for (int t = pos; t < n; ++t) {
-        const int i = w.path[t];
-        daq = daq + cross_motion(s, w.aJ[i]) + cross_motion(cross_motion(s, motion_sub(w.v[i], u)), w.vJ[i]) +
-              cross_motion(w.v[i], cross_motion(s, w.vJ[i]));
-      }
-      const Motion<double> dav = cross_motion(w.v[k], s) + cross_motion(s, motion_sub(vb, u));
+      const Motion<T> s = w.W[j];
+      const Motion<T> dvq = cross_motion(s, motion_sub(vb, u));
+      // the header's sum over i, telescoped (Jacobi: (s × v_i) × vJ_i + v_i × (s × vJ_i) = s × (v_i × vJ_i), and
+      // a_i − a_λ(i) = aJ_i + v_i × vJ_i): ∂a_b/∂q_j = s × (a_b − a_λ(k)) − (s × u) × (v_b − u), O(1) a column
+      const Motion<T> daq =
+          motion_sub(cross_motion(s, motion_sub(ab, wk)), cross_motion(cross_motion(s, u), motion_sub(vb, u)));
+      const Motion<T> dav = cross_motion(w.v[k], s) + cross_motion(s, motion_sub(vb, u));
       // ∂/∂q moves the frame (express with the column); ∂/∂q̇ does not (a plain change of coordinates)
-      const Motion<double> Dvq = express(vb, &dvq, s), Daq = express(ab, &daq, s);
-      const Motion<double> Dvv = express(s, nullptr, none), Dav = express(dav, nullptr, none);
+      const Motion<T> Dvq = express(vb, &dvq, s), Daq = express(ab, &daq, s);
+      const Motion<T> Dvv = express(s, nullptr, none), Dav = express(dav, nullptr, none);
       put(out[0], j, Dvq);
       put(out[1], j, Dvv);
       put(out[2], j, Daq);
@@ -159,13 +182,14 @@ inline void kinematics_derivatives(const ModelView& mv, const double* q, const d
 }
 
 // The world pass over every body and the composites I^C, h^C, F^C, İ^C (qdd nullptr: F^C, İ^C not needed).
-inline WorldPassWork& world_composites(const ModelView& mv, const double* q, const double* qd, const double* qdd) {
-  WorldPassWork& w = thread_workspace<WorldPassWork>(mv.nb);
+template <class T>
+inline WorldPassWork<T>& world_composites(const ModelView& mv, const T* q, const T* qd, const T* qdd) {
+  WorldPassWork<T>& w = thread_workspace<WorldPassWork<T>>(mv.nb);
   w.W.resize(static_cast<size_t>(mv.nv));
   for (int i = 0; i < mv.nb; ++i) {
     world_pass_body(mv, i, q, qd, qdd, w);
-    const RigidInertia<double> I = transform_to_parent(Xform<double>{w.oR[i].transpose(), w.op[i]},
-                                                       body_inertia<double>(mv, i));
+    const RigidInertia<T> I = transform_to_parent(Xform<T>{w.oR[i].transpose(), w.op[i]},
+                                                       body_inertia<T>(mv, i));
     w.IC[i] = I;
     w.hC[i] = I * w.v[i];
     if (qdd) {
@@ -184,56 +208,58 @@ inline WorldPassWork& world_composites(const ModelView& mv, const double* q, con
 }
 
 // ∂c/∂q and ∂ċ/∂q (3, nv) row-major; `mass` the tree's total mass (> 0).
-inline void center_of_mass_derivatives(const ModelView& mv, const double* q, const double* qd, double mass,
-                                       double* dc_dq, double* dcd_dq) {
+template <class T>
+inline void center_of_mass_derivatives(const ModelView& mv, const T* q, const T* qd, double mass, T* dc_dq,
+                                       T* dcd_dq) {
   const int nv = mv.nv;
-  WorldPassWork& w = world_composites(mv, q, qd, nullptr);
-  const Motion<double> none{{0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}};
+  WorldPassWork<T>& w = world_composites<T>(mv, q, qd, nullptr);
+  const Motion<T> none{{T(0.0), T(0.0), T(0.0)}, {T(0.0), T(0.0), T(0.0)}};
   for (int k = 0; k < mv.nb; ++k) {
     const int lam = mv.parent[k];
-    const Motion<double> u = lam == -1 ? none : w.v[lam];
+    const Motion<T> u = lam == -1 ? none : w.v[lam];
     for (int c = 0; c < mv.nv_i[k]; ++c) {
       const int j = mv.idx_v[k] + c;
-      const Motion<double> s = w.W[j];
-      const Force<double> Is = w.IC[k] * s;
-      const Force<double> dh = cross_force(s, w.hC[k]) - w.IC[k] * cross_motion(s, u);
-      for (int r = 0; r < 3; ++r) dc_dq[r * nv + j] = vec_entry(Is.f, r) / mass, dcd_dq[r * nv + j] = vec_entry(dh.f, r) / mass;
+      const Motion<T> s = w.W[j];
+      const Force<T> Is = w.IC[k] * s;
+      const Force<T> dh = cross_force(s, w.hC[k]) - w.IC[k] * cross_motion(s, u);
+      for (int r = 0; r < 3; ++r) dc_dq[r * nv + j] = vec_entry(Is.f, r) / T(mass), dcd_dq[r * nv + j] = vec_entry(dh.f, r) / T(mass);
     }
   }
 }
 
 // ∂h_G/∂q, ∂ḣ_G/∂q, ∂ḣ_G/∂q̇, ∂ḣ_G/∂q̈ (6, nv) row-major each, rows [k; p] about the centre of mass in world
 // axes, into out; `mass` > 0.
-inline void centroidal_dynamics_derivatives(const ModelView& mv, const double* q, const double* qd,
-                                            const double* qdd, double mass, double* const* out) {
+template <class T>
+inline void centroidal_dynamics_derivatives(const ModelView& mv, const T* q, const T* qd, const T* qdd, double mass,
+                                            T* const* out) {
   const int nv = mv.nv;
-  WorldPassWork& w = world_composites(mv, q, qd, qdd);
-  Vec3<double> mc{0.0, 0.0, 0.0}, p{0.0, 0.0, 0.0}, pd{0.0, 0.0, 0.0};
+  WorldPassWork<T>& w = world_composites(mv, q, qd, qdd);
+  Vec3<T> mc{T(0.0), T(0.0), T(0.0)}, p{T(0.0), T(0.0), T(0.0)}, pd{T(0.0), T(0.0), T(0.0)};
   for (int i = 0; i < mv.nb; ++i) {
     if (mv.parent[i] != -1) continue;
     mc = mc + w.IC[i].h, p = p + w.hC[i].f, pd = pd + w.FC[i].f;
   }
-  const Vec3<double> c = (1.0 / mass) * mc;
-  const Motion<double> none{{0.0, 0.0, 0.0}, {0.0, 0.0, 0.0}};
-  auto put = [&](double* m, int col, const Force<double>& d, const Vec3<double>& dc, const Vec3<double>& pv) {
-    const Vec3<double> k = d.n - cross(c, d.f) - cross(dc, pv);
+  const Vec3<T> c = T(1.0 / mass) * mc;
+  const Motion<T> none{{T(0.0), T(0.0), T(0.0)}, {T(0.0), T(0.0), T(0.0)}};
+  auto put = [&](T* m, int col, const Force<T>& d, const Vec3<T>& dc, const Vec3<T>& pv) {
+    const Vec3<T> k = d.n - cross(c, d.f) - cross(dc, pv);
     m[0 * nv + col] = k.x, m[1 * nv + col] = k.y, m[2 * nv + col] = k.z;
     m[3 * nv + col] = d.f.x, m[4 * nv + col] = d.f.y, m[5 * nv + col] = d.f.z;
   };
-  const Vec3<double> zero{0.0, 0.0, 0.0};
+  const Vec3<T> zero{T(0.0), T(0.0), T(0.0)};
   for (int k = 0; k < mv.nb; ++k) {
     const int lam = mv.parent[k];
-    const Motion<double> u = lam == -1 ? none : w.v[lam], a_lam = lam == -1 ? none : w.a[lam];
-    const RigidInertia<double>& IC = w.IC[k];
+    const Motion<T> u = lam == -1 ? none : w.v[lam], a_lam = lam == -1 ? none : w.a[lam];
+    const RigidInertia<T>& IC = w.IC[k];
     for (int col = 0; col < mv.nv_i[k]; ++col) {
       const int j = mv.idx_v[k] + col;
-      const Motion<double> s = w.W[j], z = cross_motion(s, u);
-      const Force<double> Is = IC * s;
-      const Vec3<double> dc = (1.0 / mass) * Is.f;
-      const Force<double> dh = cross_force(s, w.hC[k]) - IC * z;
-      const Force<double> dhd_q = cross_force(s, w.FC[k]) - IC * cross_motion(s, a_lam) + IC * cross_motion(z, u) -
+      const Motion<T> s = w.W[j], z = cross_motion(s, u);
+      const Force<T> Is = IC * s;
+      const Vec3<T> dc = T(1.0 / mass) * Is.f;
+      const Force<T> dh = cross_force(s, w.hC[k]) - IC * z;
+      const Force<T> dhd_q = cross_force(s, w.FC[k]) - IC * cross_motion(s, a_lam) + IC * cross_motion(z, u) -
                                   w.BC[k] * z - cross_force(z, w.hC[k]);
-      const Force<double> dhd_v =
+      const Force<T> dhd_v =
           IC * (cross_motion(w.v[k], s) + cross_motion(u, s)) + w.BC[k] * s + cross_force(s, w.hC[k]);
       put(out[0], j, dh, dc, p);
       put(out[1], j, dhd_q, dc, pd);

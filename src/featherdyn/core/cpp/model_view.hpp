@@ -117,4 +117,11 @@ struct ModelData {
   }
 };
 
+// The tree's total mass m = Σ m_i, or 0 when it has none (the centre of mass is then undefined: status NO_MASS).
+inline double total_mass(const ModelView& mv) {
+  double m = 0.0;
+  for (int i = 0; i < mv.nb; ++i) m += mv.mass[i];
+  return m > 0.0 ? m : 0.0;
+}
+
 }  // namespace fdcore

@@ -16,6 +16,7 @@
 #include "crba.hpp"
 #include "derivatives.hpp"
 #include "energy.hpp"
+#include "kinematics_derivatives.hpp"
 #include "vjp.hpp"
 #include "groups.hpp"
 #include "kinematics.hpp"
@@ -336,11 +337,65 @@ inline std::int64_t crba_vjp_group(const fdgroup::GroupArgs& g, std::int64_t r0)
   return 0;
 }
 
+// Kernels of k (6, nv) or (3, nv) results (kinematics_derivatives.hpp), all of one stride: the results into Packs,
+// checked, then scattered to g.outs.
+inline std::int64_t put_results(const fdgroup::GroupArgs& g, std::int64_t r0, const Pack* x, int k, size_t n) {
+  if (!all_finite(x, k * n)) return 1;  // finite input overflowed in some lane: redone row by row, which says where
+  auto put = g.stream ? scatter_lines : scatter;
+  for (int o = 0; o < k; ++o) put(x + o * n, n, g.outs[o] + r0 * g.out_stride, g.out_stride);
+  return 0;
+}
+
+// A frame's velocity and acceleration derivatives (six (6, nv)) of W rows.
+inline std::int64_t kinematics_derivatives_group(const fdgroup::GroupArgs& g, std::int64_t r0) {
+  const ModelView& mv = *g.mv;
+  const size_t nq = mv.nq, nv = mv.nv, n = 6 * nv;
+  Lanes& L = thread_lanes(nq + 2 * nv + 6 * n);
+  const Pack* q = L.gather(g.Q, r0, nq, 0);
+  const Pack* v = L.gather(g.V, r0, nv, nq);
+  const Pack* a = L.gather(g.A, r0, nv, nq + nv);
+  Pack* x = L.space(nq + 2 * nv);
+  Pack* const outs[6] = {x, x + n, x + 2 * n, x + 3 * n, x + 4 * n, x + 5 * n};
+  kinematics_derivatives(mv, q, v, a, g.frame, nullptr, g.reference, outs);
+  return put_results(g, r0, x, 6, n);
+}
+
+// (∂c/∂q, ∂ċ/∂q) (3, nv) of W rows; a tree without mass fails the group (row by row: NO_MASS).
+inline std::int64_t center_of_mass_derivatives_group(const fdgroup::GroupArgs& g, std::int64_t r0) {
+  const ModelView& mv = *g.mv;
+  const size_t nq = mv.nq, nv = mv.nv, n = 3 * nv;
+  const double mass = total_mass(mv);
+  if (mass == 0.0) return 1;
+  Lanes& L = thread_lanes(nq + nv + 2 * n);
+  const Pack* q = L.gather(g.Q, r0, nq, 0);
+  const Pack* v = L.gather(g.V, r0, nv, nq);
+  Pack* x = L.space(nq + nv);
+  center_of_mass_derivatives(mv, q, v, mass, x, x + n);
+  return put_results(g, r0, x, 2, n);
+}
+
+// The centroidal momentum's and its rate's derivatives (four (6, nv)) of W rows; without mass as above.
+inline std::int64_t centroidal_dynamics_derivatives_group(const fdgroup::GroupArgs& g, std::int64_t r0) {
+  const ModelView& mv = *g.mv;
+  const size_t nq = mv.nq, nv = mv.nv, n = 6 * nv;
+  const double mass = total_mass(mv);
+  if (mass == 0.0) return 1;
+  Lanes& L = thread_lanes(nq + 2 * nv + 4 * n);
+  const Pack* q = L.gather(g.Q, r0, nq, 0);
+  const Pack* v = L.gather(g.V, r0, nv, nq);
+  const Pack* a = L.gather(g.A, r0, nv, nq + nv);
+  Pack* x = L.space(nq + 2 * nv);
+  Pack* const outs[4] = {x, x + n, x + 2 * n, x + 3 * n};
+  centroidal_dynamics_derivatives(mv, q, v, a, mass, outs);
+  return put_results(g, r0, x, 4, n);
+}
+
 inline fdgroup::GroupKernels group_kernels(const char* isa) {
   return {isa, PACK_WIDTH, &rnea_group, &crba_group, &aba_group, &fk_group, &rnea_derivatives_group,
           &rnea_derivatives<double>, &mass_matrix_inverse, &aba_derivatives, &aba_derivatives_group,
           &contact_dynamics_group, &operational_space_inertia_group, &kinetic_energy_derivatives_group,
-          &dynamics_vjp_group<false>, &dynamics_vjp_group<true>, &crba_vjp_group};
+          &dynamics_vjp_group<false>, &dynamics_vjp_group<true>, &crba_vjp_group,
+          &kinematics_derivatives_group, &center_of_mass_derivatives_group, &centroidal_dynamics_derivatives_group};
 }
 
 }  // namespace fdcore
