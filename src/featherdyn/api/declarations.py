@@ -76,9 +76,9 @@ def _center_of_mass(c: np.ndarray, cd: np.ndarray | None) -> np.ndarray | Center
 
 
 def _copy_of(x: Any) -> Any:
-    """A copy of ``x``: a NumPy float64 array into the batches' reused memory (``core/_result_pool.py``: a fresh
-    copy of talos's (256, 6, 50) J cost more in page faults than the kernel), any other array by its ``copy``."""
-    if type(x) is np.ndarray and x.dtype == np.float64:
+    """A copy of ``x``: a batch's NumPy float64 array into the batches' reused memory (``core/_result_pool.py``: a
+    fresh copy of talos's (256, 6, 50) J cost more in page faults than the kernel), any other array by its ``copy``."""
+    if type(x) is np.ndarray and x.ndim > 2 and x.dtype == np.float64:
         out = _core_declared.result_array(x.shape)
         np.copyto(out, x)
         return out
