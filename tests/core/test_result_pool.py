@@ -71,8 +71,11 @@ def test_results_from_64_kib_are_reused_and_eight_of_a_size_kept() -> None:
     assert _result_pool.result_cache_info()["buffers"] == 1
     fd.crba(MODEL, st.q[:below])
     assert _result_pool.result_cache_info()["buffers"] == 1
+    fd.set_result_cache_size(8 * above * per_state + 2 * above * per_state)  # room for 8 and a free one of 2 above
+    fd.crba(MODEL, st.q[: 2 * above])  # (dropped: free)
     held = [fd.crba(MODEL, st.q[:above]) for _ in range(12)]  # a caller keeping every result
-    assert _result_pool.result_cache_info()["buffers"] == 8
+    info = _result_pool.result_cache_info()
+    assert info["buffers"] == 9 and info["free"] == 2 * above * per_state  # 8 held; the other size not dropped
     assert len({_address(r) for r in held}) == 12
 
 

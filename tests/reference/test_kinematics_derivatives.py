@@ -352,3 +352,8 @@ def test_bad_input() -> None:
             fd.center_of_mass_derivatives(m0, np.zeros(1), np.zeros(1), backend=backend)
         with pytest.raises(fd.ModelError, match="mass"):
             fd.centroidal_dynamics_derivatives(m0, np.zeros(1), np.zeros(1), np.zeros(1), backend=backend)
+        # batches of whole SIMD groups too (their kernels leave a massless tree to the row-by-row status)
+        with pytest.raises(fd.ModelError, match="mass"):
+            fd.center_of_mass_derivatives(m0, np.zeros((9, 1)), np.zeros((9, 1)), backend=backend)
+        with pytest.raises(fd.ModelError, match="mass"):
+            fd.centroidal_dynamics_derivatives(m0, np.zeros((9, 1)), np.zeros((9, 1)), np.zeros(1), backend=backend)

@@ -71,11 +71,10 @@ def result_array(shape: tuple[int, ...]) -> np.ndarray:
             if _free(same_size, i):
                 same_size.append(same_size.pop(i))  # most recently handed out last
                 return same_size[-1].reshape(shape)
-        kept = _release(_limit - nbytes)
-        new = _empty(n)
-        if kept + nbytes <= _limit and len(same_size) < PER_SIZE:
-            _buffers.setdefault(n, []).append(new)
-        return new.reshape(shape)
+        if len(same_size) < PER_SIZE and _release(_limit - nbytes) + nbytes <= _limit:  # (else nothing is dropped)
+            _buffers.setdefault(n, []).append(_empty(n))
+            return _buffers[n][-1].reshape(shape)
+        return _empty(shape)
 
 
 def set_result_cache_size(nbytes: int) -> None:

@@ -47,20 +47,20 @@ struct InertiaRate {
   }
 };
 
-// The world pass's values: placements, columns, velocities and accelerations, their joint parts, and the
-// subtree composites (world inertia, momentum, force, inertia rate).
+// The world pass's values: placements, columns, velocities and accelerations, and the subtree
+// composites (world inertia, momentum, force, inertia rate).
 template <class T>
 struct WorldPassWork {
   std::vector<Mat3<T>> oR;
   std::vector<Vec3<T>> op;
-  std::vector<Motion<T>> W, v, a, vJ, aJ;
+  std::vector<Motion<T>> W, v, a;
   std::vector<RigidInertia<T>> IC;
   std::vector<Force<T>> hC, FC;
   std::vector<InertiaRate<T>> BC;  // İ^C
   std::vector<int> path;
   void resize(size_t nb) {
     if (oR.size() < nb) {
-      oR.resize(nb), op.resize(nb), v.resize(nb), a.resize(nb), vJ.resize(nb), aJ.resize(nb), IC.resize(nb);
+      oR.resize(nb), op.resize(nb), v.resize(nb), a.resize(nb), IC.resize(nb);
       hC.resize(nb), FC.resize(nb), BC.resize(nb), path.resize(nb);
     }
   }
@@ -92,7 +92,6 @@ inline void world_pass_body(const ModelView& mv, int i, const T* q, const T* qd,
     if (qdd) aJ = aJ + Motion<T>{qdd[j] * col.w, qdd[j] * col.v};
   }
   const int lam = mv.parent[i];
-  w.vJ[i] = vJ, w.aJ[i] = aJ;
   w.v[i] = lam == -1 ? vJ : w.v[lam] + vJ;
   w.a[i] = (lam == -1 ? aJ : w.a[lam] + aJ) + cross_motion(w.v[i], vJ);
 }
