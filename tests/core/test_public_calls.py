@@ -320,8 +320,14 @@ def test_a_record_is_made_in_c_as_in_python() -> None:
     c = fd.center_of_mass(model, st.q, st.v)  # a function of the outputs
     assert type(c) is fd.CenterOfMass and c.velocity.shape == (3,)
     assert type(fd.center_of_mass(model, st.q)) is np.ndarray
-    with pytest.raises(TypeError):  # a record's function takes no out=
+    # with out= the C path declines and the Python path makes the record of the given arrays (one for each output:
+    # a (4, 4) array is not frame_placement's (rotation, translation))
+    with pytest.raises(fd.ShapeError, match="out: expected 2 arrays for rotation, translation, got ndarray"):
         fd.frame_placement(model, st.q, 0, out=np.empty((4, 4)))
+    R, p = np.empty((3, 3)), np.empty(3)
+    T = fd.frame_placement(model, st.q, 0, out=(R, p))
+    assert np.array_equal(T.rotation, R) and np.array_equal(T.translation, p) and R.flags.writeable
+    assert np.array_equal(T.rotation, fd.frame_placement(model, st.q, 0).rotation)
 
 
 def test_compiled_fk_writes_out_or_declines() -> None:

@@ -1,8 +1,8 @@
 """Every declared algorithm (``featherdyn/api/declarations.py``) through every front end its declaration makes.
 
 One state, batches of any shape (equal to the loop over their states, bit for bit, the other inputs
-broadcast), the reference backend (agreeing with the core), ``out=`` (one state and batches; an ``out``
-sharing memory with ``q`` gives the same result), ``fd.compile(model)``'s method (with ``out=`` and with Dask
+broadcast), the reference backend (agreeing with the core), ``out=`` (one state and batches, a record's
+function's too; an ``out`` sharing memory with ``q`` gives the same result), ``fd.compile(model)``'s method (with ``out=`` and with Dask
 arrays), the spellings of native float64, float32 (kept), lists, and bad input worded by the public checks.
 The numbers themselves are checked against Pinocchio, closed forms and finite differences in each
 algorithm's own tests.
@@ -109,11 +109,8 @@ def test_front_ends(name: str) -> None:
     cm = fd.compile(model, warmup=False)
     method = getattr(cm, DECLARATIONS[name].method or name)
     assert _equal(_call(method, None, name, Q[0, 0], FX[0, 0], model), one)
-    if DECLARATIONS[name].result is not None:  # a record (or a function of the outputs) takes no out=
-        with pytest.raises(TypeError, match="out"):
-            _call(fn, model, name, Q[0, 0], FX[0, 0], model, out=_empty(shapes))
-        with pytest.raises(TypeError, match="out"):
-            _call(method, None, name, Q[0, 0], FX[0, 0], model, out=_empty(shapes))
+    if DECLARATIONS[name].result is not None:  # a record (or a function of the outputs): out= holds the outputs
+        _record_out_forms(fn, method, model, name, Q, FX, one, batch)
     else:
         _out_forms(fn, method, model, name, Q, FX, shapes, one, batch)
     # dtypes: native float64 spelled any way takes the same path; float32 stays float32
@@ -144,6 +141,51 @@ def _out_forms(fn: Any, method: Any, model: fd.Model, name: str, Q: np.ndarray, 
     assert _call(method, None, name, Q[0, 0], FX[0, 0], model, out=out2) is out2 and _equal(out2, one)
 
 
+def _output_shapes(model: fd.Model, name: str) -> tuple[tuple[int, ...], ...]:
+    """The declared outputs' shapes of one state (every one formed: the calls here give every optional input)."""
+    lengths = {"nq": model.nq, "nv": model.nv, "nb": model.nbodies}
+    return tuple(tuple(lengths.get(d, d) for d in shape) for _, shape, _ in SPECS[name].outputs)
+
+
+def _core_outputs(model: fd.Model, name: str, q: Any, f_ext: Any) -> tuple[np.ndarray, ...]:
+    """The outputs as arrays, from the core layer (``featherdyn.core.<name>``: the frame by index, the reference by
+    code), to hold what ``out=`` received against."""
+    args, kwargs = _args(model, name, q, f_ext)
+    options = [model.resolve_frame(kwargs["frame"])] if "frame" in kwargs else []
+    options += [kwargs["reference"].code] if "reference" in kwargs else []
+    r = getattr(fd.core, name)(model, *args, *options)
+    return tuple(r) if isinstance(r, tuple) else (r,)
+
+
+def _record_out_forms(fn: Any, method: Any, model: fd.Model, name: str, Q: np.ndarray, FX: np.ndarray, one: Any,
+                      batch: Any) -> None:
+    """out= of a function whose result is a record: an array for each output, written (the core layer's outputs),
+    the record made of them equal to the one without out=, in one state and in a batch, by the function and the
+    compiled method; the arrays stay the caller's (writable: a second call takes them again), and an out sharing
+    memory with q gives the same result."""
+    shapes = _output_shapes(model, name)
+    tuple_record = isinstance(one, tuple) and len(one) == len(shapes)  # (a NamedTuple of the outputs)
+    for q, fx, expected, size in ((Q[0, 0], FX[0, 0], one, ()), (Q, FX, batch, (2, 3))):
+        out = tuple(np.full(size + s, np.nan) for s in shapes)
+        given = out[0] if len(out) == 1 else out
+        for _ in range(2):  # twice: the caller's arrays are still writable after the first
+            r = _call(fn, model, name, q, fx, model, out=given)
+            assert _equal(r, expected)
+            assert all(np.array_equal(x, y) for x, y in zip(out, _core_outputs(model, name, q, fx), strict=True))
+        if tuple_record:  # a record of the outputs holds the arrays themselves, and is itself an out=
+            assert all(x is y for x, y in zip(r, out, strict=True))
+            assert all(x is y for x, y in zip(_call(fn, model, name, q, fx, model, out=r), out, strict=True))
+        assert all(x.flags.writeable for x in out)
+    size = int(np.prod(shapes[0]))
+    buf = np.zeros(size + model.nq)
+    buf[:model.nq] = Q[0, 0]
+    first = buf[model.nq - 3: model.nq - 3 + size].reshape(shapes[0])
+    shared = first if len(shapes) == 1 else (first, *(np.empty(s) for s in shapes[1:]))
+    assert _equal(_call(fn, model, name, buf[:model.nq], FX[0, 0], model, out=shared), one)
+    out2 = tuple(np.empty(s) for s in shapes)
+    assert _equal(_call(method, None, name, Q[0, 0], FX[0, 0], model, out=out2[0] if len(out2) == 1 else out2), one)
+
+
 @pytest.mark.parametrize("name", NAMES)
 def test_bad_input(name: str) -> None:
     model = library_robot("solo12", True)
@@ -164,16 +206,18 @@ def test_bad_input(name: str) -> None:
     bad[3:7] *= 2
     with pytest.raises(QuaternionNormError):
         _call(fn, model, name, bad, fx, model)
-    if decl.result is None:
-        with pytest.raises(ShapeError, match="out: expected"):
-            _call(fn, model, name, q, fx, model, out=_empty(tuple((3, 3, 3) for _ in shapes)))
-        ro = _empty(shapes)
-        for x in _parts(ro):
-            x.setflags(write=False)
-        with pytest.raises(ShapeError, match="read-only"):
-            _call(fn, model, name, q, fx, model, out=ro)
-        with pytest.raises(ShapeError, match="out"):
-            _call(fn, model, name, q, fx, model, out=[1, 2])
+    # out= of every declared function (a record's: an array for each output): a wrong shape, a read-only array,
+    # not arrays
+    shapes = _output_shapes(model, name) if decl.result is not None else shapes
+    with pytest.raises(ShapeError, match="out: expected"):
+        _call(fn, model, name, q, fx, model, out=_empty(tuple((3, 3, 3) for _ in shapes)))
+    ro = _empty(shapes)
+    for x in _parts(ro):
+        x.setflags(write=False)
+    with pytest.raises(ShapeError, match="read-only"):
+        _call(fn, model, name, q, fx, model, out=ro)
+    with pytest.raises(ShapeError, match="out"):
+        _call(fn, model, name, q, fx, model, out=[1, 2])
     with pytest.raises(TypeError, match=name):
         _call(fn, model, name, q, fx, model, no_such_option="x")
     with pytest.raises(ShapeError, match="model"):

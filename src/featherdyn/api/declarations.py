@@ -9,7 +9,7 @@ public function: ``fd.<name>`` (one state, any batch shape, ``out=``, Dask array
 from __future__ import annotations
 
 from collections.abc import Callable
-from typing import Any, Protocol, overload
+from typing import Any, Protocol, cast, overload
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -43,7 +43,7 @@ from ..results import (
 from ..spatial import PluckerTransform, SpatialForce, SpatialMotion
 from ._backend import core_path, select_backend
 from ._checks import as_dtype, check_state, finite_result, quiet
-from .declared import Declaration, Record, public_function
+from .declared import Declaration, Record, copied_into, public_function
 
 __all__ = ["rnea", "nonlinear_effects", "generalized_gravity", "crba", "aba", "frame_jacobian", "rnea_derivatives",
            "aba_derivatives", "rnea_second_derivatives", "aba_second_derivatives", "mass_matrix_inverse",
@@ -61,9 +61,11 @@ class _CenterOfMassFunction(Protocol):
     """``fd.center_of_mass``'s type: the array without ``v``, a :class:`CenterOfMass` with it."""
 
     @overload
-    def __call__(self, model: Model, q: ArrayLike, v: None = None, *, backend: str | None = None) -> np.ndarray: ...
+    def __call__(self, model: Model, q: ArrayLike, v: None = None, *, out: Any = None,
+                 backend: str | None = None) -> np.ndarray: ...
     @overload
-    def __call__(self, model: Model, q: ArrayLike, v: ArrayLike, *, backend: str | None = None) -> CenterOfMass: ...
+    def __call__(self, model: Model, q: ArrayLike, v: ArrayLike, *, out: Any = None,
+                 backend: str | None = None) -> CenterOfMass: ...
 
 
 #: a frame's motion as the :class:`SpatialMotion` the public functions return (no tags)
@@ -100,6 +102,9 @@ _KINEMATICS_DERIVATIVES_DOC = """The derivatives of a frame's velocity, spatial 
             reference: ``fd.LOCAL`` (the default), ``fd.WORLD`` or ``fd.LOCAL_WORLD_ALIGNED`` (or their names).
             point: optional `(..., 3)`, a point in the frame's coordinates: the derivatives are those of a frame
                 at that point with the frame's orientation (in ``WORLD`` the same as the frame's).
+            out: optional tuple of six `(..., 6, nv)` float64 arrays to write into, for ``dv_dq, dv_dv, da_dq,
+                da_dv, dac_dq, dac_dv``; the record returned holds them (and copies of ``dv_dv`` as ``da_da`` and
+                ``dac_da``).
             backend: ``None`` (compiled for float64), ``"reference"`` or ``"compiled"``.
 
         Returns:
@@ -581,6 +586,9 @@ DECLARATIONS: dict[str, Declaration] = {d.name: d for d in [
             q: `(..., nq)` configuration.
             v: `(..., nv)` joint velocity (optional).
             a: `(..., nv)` joint acceleration (optional; needs ``v``).
+            out: optional tuple of float64 arrays to write into, one for each output formed: ``H``, ``Hp``
+                `(..., nb, 4, 4)`, then ``vel`` with ``v``, ``acc`` with ``a`` `(..., nb, 6)`; the record returned
+                holds read-only views of them.
             backend: ``None`` (compiled for float64), ``"reference"`` or ``"compiled"``.
 
         Returns:
@@ -621,6 +629,7 @@ DECLARATIONS: dict[str, Declaration] = {d.name: d for d in [
             q: `(..., nq)`; v: `(..., nv)`.
             frame: the frame's name or index.
             reference: ``fd.LOCAL`` (default), ``fd.WORLD`` or ``fd.LOCAL_WORLD_ALIGNED``.
+            out: optional `(..., 6)` float64 array to write into; the motion returned holds a read-only view.
             backend: ``None`` (compiled for float64), ``"reference"`` or ``"compiled"``.
 
         Returns:
@@ -643,6 +652,7 @@ DECLARATIONS: dict[str, Declaration] = {d.name: d for d in [
             q: `(..., nq)`; v, a: `(..., nv)`.
             frame: the frame's name or index.
             reference: ``fd.LOCAL`` (default), ``fd.WORLD`` or ``fd.LOCAL_WORLD_ALIGNED``.
+            out: optional `(..., 6)` float64 array to write into; the motion returned holds a read-only view.
             backend: ``None`` (compiled for float64), ``"reference"`` or ``"compiled"``.
 
         Returns:
@@ -666,6 +676,8 @@ DECLARATIONS: dict[str, Declaration] = {d.name: d for d in [
             q: `(..., nq)`; v, a: `(..., nv)`.
             frame: the frame's name or index.
             reference: ``fd.LOCAL`` (default), ``fd.WORLD`` or ``fd.LOCAL_WORLD_ALIGNED``.
+            out: optional `(..., 6)` float64 array to write into; the motion returned holds a
+                read-only view.
             backend: ``None`` (compiled for float64), ``"reference"`` or ``"compiled"``.
 
         Returns:
@@ -692,6 +704,8 @@ DECLARATIONS: dict[str, Declaration] = {d.name: d for d in [
         Args:
             q: `(..., nq)`.
             frame: the frame's name or index.
+            out: optional tuple of float64 arrays ``(rotation (..., 3, 3), translation (..., 3))`` to write into;
+                the transform returned holds read-only views of them.
             backend: ``None`` (compiled for float64), ``"reference"`` or ``"compiled"``.
 
         ::
@@ -710,6 +724,8 @@ DECLARATIONS: dict[str, Declaration] = {d.name: d for d in [
 
         Args:
             q: `(..., nq)`; v: `(..., nv)` (optional).
+            out: optional `(..., 3)` float64 array for ``c`` to write into, or with ``v`` a tuple of two
+                (``c``, ``ċ``).
             backend: ``None`` (compiled for float64), ``"reference"`` or ``"compiled"``.
 
         Returns:
@@ -732,6 +748,7 @@ DECLARATIONS: dict[str, Declaration] = {d.name: d for d in [
 
         Args:
             q: `(..., nq)`; v: `(..., nv)`.
+            out: optional `(..., 6)` float64 array to write into; the force returned holds a read-only view.
             backend: ``None`` (compiled for float64), ``"reference"`` or ``"compiled"``.
 
         ::
@@ -752,6 +769,8 @@ DECLARATIONS: dict[str, Declaration] = {d.name: d for d in [
         Args:
             q: `(..., nq)`; v, a: `(..., nv)`; f_ext: optional `(..., nb, 6)` body-frame forces ``[n; f]``.
             gravity: set ``False`` to leave gravity out.
+            out: optional tuple of four `(..., nv, nv, nv)` float64 arrays to write into (an earlier
+                result is one); the record returned holds them.
             backend: ``None`` (compiled for float64), ``"reference"`` or ``"compiled"``.
 
         Returns:
@@ -781,6 +800,8 @@ DECLARATIONS: dict[str, Declaration] = {d.name: d for d in [
         Args:
             q: `(..., nq)`; v, tau: `(..., nv)`; f_ext: optional `(..., nb, 6)` body-frame forces.
             gravity: set ``False`` to leave gravity out.
+            out: optional tuple of four `(..., nv, nv, nv)` float64 arrays to write into (an earlier
+                result is one); the record returned holds them.
             backend: ``None`` (compiled for float64), ``"reference"`` or ``"compiled"``.
 
         Returns:
@@ -847,6 +868,8 @@ DECLARATIONS: dict[str, Declaration] = {d.name: d for d in [
 
         Args:
             q: `(..., nq)`; v: `(..., nv)`.
+            out: optional tuple of two `(..., 3, nv)` float64 arrays to write into (an earlier result
+                is one); the record returned holds them.
             backend: ``None`` (compiled for float64), ``"reference"`` or ``"compiled"``.
 
         Returns:
@@ -871,6 +894,8 @@ DECLARATIONS: dict[str, Declaration] = {d.name: d for d in [
 
         Args:
             q: `(..., nq)`; v, a: `(..., nv)`.
+            out: optional tuple of four `(..., 6, nv)` float64 arrays to write into (an earlier
+                result is one); the record returned holds them.
             backend: ``None`` (compiled for float64), ``"reference"`` or ``"compiled"``.
 
         Returns:
@@ -952,24 +977,36 @@ def _point(point: Any) -> np.ndarray:
 
 def kinematics_derivatives(model: Model, q: ArrayLike, v: ArrayLike, a: ArrayLike, frame: str | int,
                            reference: ReferenceFrame | str = LOCAL, point: ArrayLike | None = None, *,
-                           backend: str | None = None) -> KinematicsDerivatives:
+                           out: Any = None, backend: str | None = None) -> KinematicsDerivatives:
     if point is None:  # the declared function (one state finished in C, batches, Dask, the reference)
-        if backend is None:  # (as the C fast path takes it: no keyword)
+        if backend is None and out is None:  # (as the C fast path takes it: no keyword)
             return _frame_kinematics_derivatives(model, q, v, a, frame, reference)
-        return _frame_kinematics_derivatives(model, q, v, a, frame, reference, backend=backend)
+        return _frame_kinematics_derivatives(model, q, v, a, frame, reference, out=out, backend=backend)
     if not isinstance(model, Model):
         raise ShapeError(f"model: expected a featherdyn Model, got {type(model).__name__}")
     fid, ref = model.resolve_frame(frame), as_reference_frame(reference)
     if _dask.lazy(q, v, a, point):  # Dask arrays (the point's too): Dask arrays back, lazily, as the frame's path
+        if out is not None:
+            raise ShapeError("out: not supported with Dask arrays (the result is a Dask array)")
         return _dask.call(kinematics_derivatives, model, {"q": q, "v": v, "a": a, "point": point}, frame=frame,
                           reference=reference, backend=backend)
-    p = _point(point)
+    outs = _point_kinematics_derivatives(model, q, v, a, fid, ref, _point(point), backend)
+    if out is None:
+        return _kinematics_derivatives(*outs)
+    # out=: as the declared function writes it (computed into fresh memory, then copied)
+    return cast(KinematicsDerivatives, copied_into(DECLARATIONS["kinematics_derivatives"], model, out, outs))
+
+
+def _point_kinematics_derivatives(model: Model, q: ArrayLike, v: ArrayLike, a: ArrayLike, fid: int,
+                                  ref: ReferenceFrame, p: np.ndarray, backend: str | None) -> tuple[np.ndarray, ...]:
+    """``fd.kinematics_derivatives``' six arrays at the point ``p``: the core's kernel on one state as it takes it
+    (exact native float64 arrays, a sound state), else its batch, or the reference."""
     h = core_path(model, backend)
-    if h is not None:  # one state as the kernel takes it (exact native float64 arrays, a sound state), else on
+    if h is not None:
         r = _core_declared.kernel("point_kinematics_derivatives").fresh(
             h.cm, (q, v, a, p), _core_declared.call_options(frame=fid, reference=ref.code))
         if r is not None:
-            return _kinematics_derivatives(*r)
+            return tuple(r)
     st = check_state(model, q, v=v, a=a)
     try:
         batch = np.broadcast_shapes(st.batch, p.shape[:-1])
@@ -980,10 +1017,10 @@ def kinematics_derivatives(model: Model, q: ArrayLike, v: ArrayLike, a: ArrayLik
         f64: list[np.ndarray | None] = [np.asarray(x, dtype=np.float64) for x in (st.q, st.arrays["v"], st.arrays["a"], p)]
         outs = _core_declared.run("point_kinematics_derivatives", model, batch, f64,
                                   options={"frame": fid, "reference": ref.code})
-        return _kinematics_derivatives(*(as_dtype(o, dtype) for o in outs))
+        return tuple(as_dtype(o, dtype) for o in outs)
     r = quiet(_kd.kinematics_derivatives, model, st.q, st.arrays["v"], st.arrays["a"], fid, ref, p)
-    return _kinematics_derivatives(*(finite_result(as_dtype(np.asarray(o), dtype) if dtype.kind == "f"
-                                                   else np.asarray(o), "kinematics_derivatives") for o in r))
+    return tuple(finite_result(as_dtype(np.asarray(o), dtype) if dtype.kind == "f" else np.asarray(o),
+                               "kinematics_derivatives") for o in r)
 
 
 kinematics_derivatives.__doc__ = _KINEMATICS_DERIVATIVES_DOC

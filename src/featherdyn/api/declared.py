@@ -16,7 +16,8 @@ this order:
 4. **backend**: ``select_backend`` — the core for float64, the reference otherwise;
 5. **call**: the core's batch on the thread pool (``core.declared.run``: any batch shape;
    a failing row words the reference's error) or the reference function;
-6. **out=**: the result written into the given arrays. One rule for an ``out`` that shares
+6. **out=**: the result written into the given arrays (an array for each output the call forms; a function
+   whose result is a record returns it made of them). One rule for an ``out`` that shares
    memory with an input: the result is computed as if it did not (into fresh memory, then
    copied), so it is the same as without ``out``.
 """
@@ -97,8 +98,8 @@ class Declaration:
             passed by name to the kernel and to the reference.
         method: the name of ``fd.compile(model)``'s method, when not ``name``.
         result: what the outputs make (``None``: the output, or the tuple of them): a :class:`Record`, or a function
-            of the outputs (``None`` for one formed only with an absent input). A function with a result takes no
-            ``out=``.
+            of the outputs (``None`` for one formed only with an absent input). With ``out=`` (an array for each
+            output formed) it is made of the given arrays (:func:`_written`).
         needs: ``(x, y)`` pairs of optional inputs: ``x`` is only taken with ``y`` (``a`` needs ``v``).
         derivative: the declared function whose outputs are the derivatives of this one's output with respect to
             each of its state inputs but ``f_ext``, in order (``∂/∂q`` along the tangent of ``fd.integrate``, for
@@ -137,19 +138,49 @@ def _result(decl: Declaration, model: Model, outs: tuple[Any, ...]) -> Any:
     return outs[0] if len(decl.outputs) == 1 else outs
 
 
-def _out_arrays(decl: Declaration, out: Any) -> tuple[np.ndarray, ...]:
-    """``out`` as the tuple of arrays to write into (one array for a single output, else a tuple of them)."""
-    arrays = (out,) if len(decl.outputs) == 1 and not isinstance(out, (tuple, list)) else tuple(out)
-    if len(arrays) != len(decl.outputs) or not all(type(a) is np.ndarray for a in arrays):
-        raise ShapeError(f"out: expected {'an array' if len(decl.outputs) == 1 else f'{len(decl.outputs)} arrays'} "
-                         f"for {', '.join(decl.outputs)}, got {type(out).__name__}")
-    for k, (name, a) in enumerate(zip(decl.outputs, arrays, strict=True)):
+def _formed(decl: Declaration, given: dict[str, Any]) -> tuple[str, ...] | None:
+    """The outputs a call forms: every one, but one formed only with an optional input that is not given (the
+    kernel's declaration says which: ``fd.forward_kinematics``' ``vel`` needs ``v``). ``None`` without the core:
+    the reference's results tell, after it ran (:func:`call`, step 6)."""
+    spec = _declared.SPECS.get(decl.name)
+    if spec is None:
+        return None
+    return tuple(name for name, _, when in spec.outputs if when is None or given.get(when) is not None)
+
+
+def _out_arrays(decl: Declaration, out: Any, formed: tuple[str, ...] | None) -> tuple[np.ndarray | None, ...]:
+    """``out`` — an array for each output the call forms, in the declared order (one array bare where it forms
+    one) — as the tuple the kernel takes: one entry per declared output, ``None`` for one not formed. A result of
+    the function whose fields are its outputs (a ``NamedTuple``: ``fd.RneaSecondDerivatives``) is such a tuple.
+    With ``formed`` unknown (``None``), the arrays as given, checked but for their number."""
+    names = decl.outputs if formed is None else formed
+    bare = not isinstance(out, (tuple, list)) and (len(names) == 1 or (formed is None and type(out) is np.ndarray))
+    arrays = (out,) if bare else tuple(out)
+    if (formed is not None and len(arrays) != len(formed)) or not all(type(a) is np.ndarray for a in arrays):
+        raise ShapeError(f"out: expected {'an array' if len(names) == 1 else f'{len(names)} arrays'} "
+                         f"for {', '.join(names)}, got {type(out).__name__}"
+                         + (f" of {len(arrays)}" if isinstance(out, (tuple, list)) else ""))
+    for k, a in enumerate(arrays):
+        name = names[k] if k < len(names) else f"#{k}"
         if not a.flags.writeable:
             raise ShapeError(f"out: the array for {name} is read-only")
-        for other, b in zip(decl.outputs[:k], arrays[:k], strict=True):
+        for j, b in enumerate(arrays[:k]):
             if np.may_share_memory(a, b):
-                raise ShapeError(f"out: the arrays for {other} and {name} share memory")
-    return arrays
+                raise ShapeError(f"out: the arrays for {names[j]} and {name} share memory")
+    if formed is None:
+        return arrays
+    by_name = dict(zip(formed, arrays, strict=True))
+    return tuple(by_name.get(name) for name in decl.outputs)
+
+
+def _written(decl: Declaration, model: Model, out: Any, arrays: tuple[np.ndarray | None, ...]) -> Any:
+    """What a call with ``out=`` returns: ``out`` itself, or the result the declaration makes of the arrays (a
+    :class:`Record` of read-only views of them, as a record's arrays are read-only; a ``NamedTuple`` of them)."""
+    if decl.result is None:
+        return out
+    if isinstance(decl.result, Record):
+        arrays = tuple(None if a is None else a.view() for a in arrays)
+    return _result(decl, model, arrays)
 
 
 def _options(decl: Declaration, model: Model, given: dict[str, Any]) -> tuple[dict[str, Any], dict[str, Any]]:
@@ -204,11 +235,11 @@ def operand_shapes(name: str, model: Model, rows: int = 0) -> tuple[list[tuple[i
             [_declared.shape_of(h, shape, rows) for _, shape, _ in spec.outputs])
 
 
-def _writable_as_is(arrays: tuple[np.ndarray, ...] | None) -> bool:
+def _writable_as_is(arrays: tuple[np.ndarray | None, ...] | None) -> bool:
     """Whether the core may write a batch into ``out``'s arrays as they are (C-contiguous, aligned, native
     float64); else the results are computed into fresh memory and copied (``call``, step 6)."""
-    return arrays is not None and all(a.dtype == np.float64 and a.dtype.isnative and a.flags.c_contiguous
-                                      and a.flags.aligned for a in arrays)
+    return arrays is not None and all(a is None or (a.dtype == np.float64 and a.dtype.isnative
+                                                    and a.flags.c_contiguous and a.flags.aligned) for a in arrays)
 
 
 #: the reference frames by their codes (the core's public calls read them by identity)
@@ -227,7 +258,9 @@ def call(decl: Declaration, model: Model, args: tuple[Any, ...], out: Any = None
         raise NotAModelError(f"model: expected a featherdyn Model, got {type(model).__name__}")
     given_options = options or {}
     opts, ref_opts = _options(decl, model, given_options)
-    arrays = None if out is None else _out_arrays(decl, out)
+    given = dict(zip(decl.inputs, args, strict=True))
+    formed = _formed(decl, given)
+    arrays = None if out is None else _out_arrays(decl, out, formed)
     # 1. one state: the core takes the arguments as they are, or declines (None, or a non-zero status)
     h = core_path(model, backend)
     if h is not None:
@@ -238,8 +271,7 @@ def call(decl: Declaration, model: Model, args: tuple[Any, ...], out: Any = None
             if r is not None:
                 return r if decl.result is None else _result(decl, model, r if len(decl.outputs) > 1 else (r,))
         elif kernel.into(h.cm, args, arrays, core_opts) == 0:
-            return out
-    given = dict(zip(decl.inputs, args, strict=True))
+            return _written(decl, model, out, arrays)
     for x, y in decl.needs:
         if given[x] is not None and given[y] is None:
             raise ShapeError(f"{x}: needs {y} as well (got {y}=None)")
@@ -272,8 +304,8 @@ def call(decl: Declaration, model: Model, args: tuple[Any, ...], out: Any = None
         f64 = [None if x is None else np.asarray(x, dtype=np.float64) for x in checked]
         into = arrays if dtype == np.float64 and _writable_as_is(arrays) else None
         outs = _declared.run(decl.name, model, batch, f64, out=into, options=opts)
-        if into is not None:
-            return out  # written by the core (an out over an input: through fresh memory, declared.run's rule)
+        if into is not None:  # written by the core (an out over an input: through fresh memory, declared.run's rule)
+            return _written(decl, model, out, into)
         outs = tuple(None if o is None else as_dtype(o, dtype) for o in outs)
     else:
         reference = functools.partial(decl.reference, **ref_opts) if ref_opts else decl.reference
@@ -285,13 +317,36 @@ def call(decl: Declaration, model: Model, args: tuple[Any, ...], out: Any = None
         return _result(decl, model, outs)
     # 6. out=: written after the computation (so an out sharing memory with an input changes nothing)
     assert arrays is not None
+    return _copied_into(decl, model, out, arrays, formed, outs)
+
+
+def _copied_into(decl: Declaration, model: Model, out: Any, arrays: tuple[np.ndarray | None, ...],
+                 formed: tuple[str, ...] | None, outs: tuple[Any, ...]) -> Any:
+    """:func:`call`'s step 6: the results ``outs`` copied into ``out``'s arrays (:func:`_out_arrays`), and what the
+    call then returns."""
+    if formed is None:  # without the core: the outputs formed are those the reference returned
+        formed = tuple(name for name, o in zip(decl.outputs, outs, strict=True) if o is not None)
+        if len(arrays) != len(formed):
+            raise ShapeError(f"out: expected {len(formed)} array(s) for {', '.join(formed)}, got {len(arrays)}")
+        by_name = dict(zip(formed, arrays, strict=True))
+        arrays = tuple(by_name.get(name) for name in decl.outputs)
     for name, dst, src in zip(decl.outputs, arrays, outs, strict=True):
+        if dst is None or src is None:
+            continue
         if dst.shape != src.shape:
             raise ShapeError(f"out: expected shape {src.shape} for {name}, got {dst.shape}")
         if not np.can_cast(src.dtype, dst.dtype, casting="safe"):
             raise DTypeError(f"out: cannot write {src.dtype} results for {name} into a {dst.dtype} array")
         np.copyto(dst, src)
-    return out
+    return _written(decl, model, out, arrays)
+
+
+def copied_into(decl: Declaration, model: Model, out: Any, outs: tuple[Any, ...]) -> Any:
+    """The results ``outs`` of a call of ``decl`` that every output formed, computed by a front end of its own,
+    written into ``out`` as :func:`call` writes them (checked the same way), and what the call returns:
+    ``fd.kinematics_derivatives`` at a point."""
+    arrays = _out_arrays(decl, out, decl.outputs)
+    return _copied_into(decl, model, out, arrays, decl.outputs, outs)
 
 
 def _signature(decl: Declaration, bound: bool) -> inspect.Signature:
@@ -304,13 +359,12 @@ def _signature(decl: Declaration, bound: bool) -> inspect.Signature:
         if n in decl.options:
             params.append(P(n, P.POSITIONAL_OR_KEYWORD, default=OPTIONS[n],
                             annotation="str | int" if n == "frame" else "ReferenceFrame | str"))
-    if bound and decl.result is None:  # fd.compile's methods take out by position too (as the core binds them)
+    if bound:  # fd.compile's methods take out by position too (as the core binds them)
         params.append(P("out", P.POSITIONAL_OR_KEYWORD, default=None))
     if "gravity" in decl.options:
         params.append(P("gravity", P.KEYWORD_ONLY, default=True, annotation="bool"))
     if not bound:
-        if decl.result is None:
-            params.append(P("out", P.KEYWORD_ONLY, default=None))
+        params.append(P("out", P.KEYWORD_ONLY, default=None))
         params.append(P("backend", P.KEYWORD_ONLY, default=None, annotation="str | None"))
     return inspect.Signature(params)
 

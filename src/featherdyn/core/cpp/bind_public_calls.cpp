@@ -151,8 +151,8 @@ const ModelData& bound_model(const PublicCall* f) { return *nb::inst_ptr<ModelDa
 // LOCAL_WORLD_ALIGNED, record)), or fd.compile's method (*inputs, ...) bound to the core's Model (extra = (its
 // Kernel, the frame table, LOCAL, WORLD, LOCAL_WORLD_ALIGNED, record)): its arguments where the Kernel's slots say —
 // a frame by name or index, a reference by identity with the enums; out= absent: run_fresh and the result its
-// record makes (pc::result_of), else run_into the given array (a tuple of them for several outputs; a record's
-// function takes no out=: declined).
+// record makes (pc::result_of), else run_into the given array (a tuple of them for several outputs; with a record,
+// declined: the Python path writes the arrays and makes the record of them).
 PyObject* fdcore::declared_path(PublicCall* f, PyObject* const* a) {
   const bool is_bound = f->bound != nullptr;
   const Kernel& k = *nb::inst_ptr<Kernel>(nb::handle(PyTuple_GET_ITEM(f->extra, is_bound ? 0 : 1)));
