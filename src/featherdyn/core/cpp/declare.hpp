@@ -353,17 +353,14 @@ inline RowStatus run_rows(const Kernel& k, const ModelView& mv, const Rows* rows
     return declared::run_checked(k, mv, ip.data(), opr.data(), opt);
   };
   if (k.group == nullptr) return for_rows(N, one);
-  fdgroup::GroupArgs g{&mv, by_arg[0], by_arg[1], by_arg[2], by_arg[3], opt.gravity, op[0], n_out[0]};
+  fdgroup::GroupArgs g{&mv, by_arg[0], by_arg[1], by_arg[2], by_arg[3], opt.gravity, op, n_out[0]};
   g.W = w;
-  g.outs = op;
   g.frame = opt.frame, g.reference = opt.reference;
-  g.out2 = k.outputs.size() > 1 ? op[1] : nullptr;
-  g.out3 = k.outputs.size() > 2 ? op[2] : nullptr;
   std::int64_t per_row = 0;
   for (size_t o = 0; o < k.outputs.size(); ++o) per_row += n_out[o];
   g.stream = fdgroup::stream_result(N, per_row);
   const fdgroup::ContactArgs contacts{opt.contacts, opt.nc,    opt.rows, opt.mu, opt.max_iter,
-                                      opt.tol,      opt.singular_tol, g.out2,   g.out3};
+                                      opt.tol,      opt.singular_tol, op[1],    op[2]};
   if (k.options & CONTACTS) g.contacts = &contacts;  // (λ and the solve's info: the second and third outputs)
   auto check = [&](std::int64_t r) {  // (check_inputs on the rows of the group kernel's roles)
     FD_TRY(check_state(mv, by_arg[0].row(r), by_arg[1].row(r), by_arg[2].row(r), by_arg[3].row(r)));

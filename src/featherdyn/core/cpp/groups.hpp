@@ -17,7 +17,7 @@ struct Rows {
 };
 
 // (constrained dynamics) the contacts and the solver's settings; λ (rows of m) and info (rows of 2: iterations,
-// residual) next to q̈ (GroupArgs::out). (Λ of frames: specs, nc, m, mu and singular_tol; Λ in GroupArgs::out.)
+// residual) next to q̈ (GroupArgs::outs[0]). (Λ of frames: specs, nc, m, mu and singular_tol; Λ in GroupArgs::outs[0].)
 struct ContactArgs {
   const fdcore::ContactSpec* specs;
   int nc, m;
@@ -32,17 +32,14 @@ struct GroupArgs {
   const fdcore::ModelView* mv;
   Rows Q, V, A, FX;  // A: q̈ or τ; V, A, FX may be absent
   bool gravity;
-  double* out;       // row r at out + r * out_stride
+  // every output in the declaration's order (DECLARED_MAX entries: nullptr for one not formed, and past the
+  // declaration's), row r of output o at outs[o] + r * out_stride: the first output's row length, which the others
+  // share (∂τ/∂q, ∂τ/∂q̇ and M; a kernel whose other outputs differ reads them where its ContactArgs say)
+  double* const* outs;
   std::int64_t out_stride;
-  double* out2 = nullptr;  // a second output of the same stride (∂τ/∂q̇ next to ∂τ/∂q)
-  double* out3 = nullptr;  // a third (M next to them)
-  double* out_qdd = nullptr;        // (ABA derivatives) q̈, rows of nv
-  const int* lambda_d = nullptr;   // (ABA derivatives) the dofs' parents (ltl.hpp)
   const ContactArgs* contacts = nullptr;  // (constrained dynamics)
   bool stream = false;  // write the result with non-temporal stores (stream_result)
   Rows W{};  // (vector–Jacobian products) the cotangent w
-  double* const* outs = nullptr;  // every output in the declaration's order, each of stride out_stride (a kernel
-                                  // with more than three)
   int frame = -1, reference = 0;  // (a frame's derivatives) the frame and the reference of the result
 };
 

@@ -100,7 +100,7 @@ inline std::int64_t rnea_group(const fdgroup::GroupArgs& g, std::int64_t r0) {
   Pack* tau = L.space(nq + 2 * nv + nf);
   rnea(mv, q, v, a, f, g.gravity, tau);
   if (!all_finite(tau, nv)) return 1;  // finite input overflowed in some lane: redone row by row, which says where
-  scatter(tau, nv, g.out + r0 * g.out_stride, g.out_stride);
+  scatter(tau, nv, g.outs[0] + r0 * g.out_stride, g.out_stride);
   return 0;
 }
 
@@ -112,7 +112,7 @@ inline std::int64_t crba_group(const fdgroup::GroupArgs& g, std::int64_t r0) {
   Pack* M = L.space(nq);
   crba(mv, q, M);
   if (!all_finite(M, nv2)) return 1;
-  (g.stream ? scatter_lines : scatter)(M, nv2, g.out + r0 * g.out_stride, g.out_stride);
+  (g.stream ? scatter_lines : scatter)(M, nv2, g.outs[0] + r0 * g.out_stride, g.out_stride);
   return 0;
 }
 
@@ -126,7 +126,7 @@ inline std::int64_t aba_group(const fdgroup::GroupArgs& g, std::int64_t r0) {
   const Pack* f = L.gather(g.FX, r0, nf, nq + 2 * nv);
   Pack* qdd = L.space(nq + 2 * nv + nf);
   if (aba(mv, q, v, tau, f, g.gravity, qdd) >= 0 || !all_finite(qdd, nv)) return 1;  // singular or overflowed
-  scatter(qdd, nv, g.out + r0 * g.out_stride, g.out_stride);
+  scatter(qdd, nv, g.outs[0] + r0 * g.out_stride, g.out_stride);
   return 0;
 }
 
@@ -138,7 +138,7 @@ inline std::int64_t fk_group(const fdgroup::GroupArgs& g, std::int64_t r0) {
   Pack* H = L.space(nq);
   forward_kinematics<Pack>(mv, q, nullptr, nullptr, H, nullptr, nullptr);
   if (!all_finite(H, n)) return 1;
-  scatter(H, n, g.out + r0 * g.out_stride, g.out_stride);
+  scatter(H, n, g.outs[0] + r0 * g.out_stride, g.out_stride);
   return 0;
 }
 
@@ -153,7 +153,7 @@ constexpr int PACKED_SOLVES_MAX_NV = 64;
 inline bool rows_finite(const fdgroup::GroupArgs& g, std::int64_t at, size_t n2) {
   for (int lane = 0; lane < PACK_WIDTH; ++lane) {
     const std::int64_t row = at + lane * g.out_stride;
-    if (!all_finite(g.out + row, n2) || !all_finite(g.out2 + row, n2)) return false;
+    if (!all_finite(g.outs[0] + row, n2) || !all_finite(g.outs[1] + row, n2)) return false;
   }
   return true;
 }
@@ -173,16 +173,16 @@ inline std::int64_t rnea_derivatives_group(const fdgroup::GroupArgs& g, std::int
   if (stream) {
     Pack* dq = L.space(nq + 2 * nv + nf);
     Pack* dv = dq + n2;
-    Pack* M = g.out3 ? dv + n2 : nullptr;
+    Pack* M = g.outs[2] ? dv + n2 : nullptr;
     rnea_derivatives_to(mv, q, v, a, f, g.gravity, StateOut<Pack>{{dq, dv, M}});
     if (!all_finite(dq, 2 * n2)) return 1;  // finite input overflowed in some lane: redone row by row, which says where
-    scatter_lines(dq, n2, g.out + at, g.out_stride);
-    scatter_lines(dv, n2, g.out2 + at, g.out_stride);
-    if (M) scatter_lines(M, n2, g.out3 + at, g.out_stride);
+    scatter_lines(dq, n2, g.outs[0] + at, g.out_stride);
+    scatter_lines(dv, n2, g.outs[1] + at, g.out_stride);
+    if (M) scatter_lines(M, n2, g.outs[2] + at, g.out_stride);
     return 0;
   }
   rnea_derivatives_to(mv, q, v, a, f, g.gravity,
-                      LanesOut{{g.out + at, g.out2 + at, g.out3 ? g.out3 + at : nullptr}, g.out_stride});
+                      LanesOut{{g.outs[0] + at, g.outs[1] + at, g.outs[2] ? g.outs[2] + at : nullptr}, g.out_stride});
   return rows_finite(g, at, n2) ? 0 : 1;
 }
 
@@ -192,7 +192,7 @@ inline std::int64_t aba_derivatives_group(const fdgroup::GroupArgs& g, std::int6
   const ModelView& mv = *g.mv;
   const size_t nq = mv.nq, nv = mv.nv, nf = 6 * static_cast<size_t>(mv.nb), n2 = nv * nv;
   const bool packed = mv.nv <= PACKED_SOLVES_MAX_NV;
-  const int* lambda = g.lambda_d != nullptr ? g.lambda_d : dof_tree(mv).lambda.data();
+  const int* lambda = dof_tree(mv).lambda.data();
   Lanes& L = thread_lanes(nq + 4 * nv + nf + (packed ? 6 * n2 : 0));
   const Pack* q = L.gather(g.Q, r0, nq, 0);
   const Pack* v = L.gather(g.V, r0, nv, nq);
@@ -212,11 +212,10 @@ inline std::int64_t aba_derivatives_group(const fdgroup::GroupArgs& g, std::int6
       return 1;  // singular in some lane: redone row by row, which names it
     aba_derivatives_solves(mv, lambda, M, dq, dv, Minv, X);
     if (!all_finite(dq, 2 * n2)) return 1;  // finite input overflowed in some lane: redone row by row
-    if (g.out_qdd) scatter(qdd, nv, g.out_qdd + r0 * static_cast<std::int64_t>(nv), static_cast<std::int64_t>(nv));
     auto put = g.stream ? scatter_lines : scatter;
-    put(dq, n2, g.out + at, g.out_stride);
-    put(dv, n2, g.out2 + at, g.out_stride);
-    put(Minv, n2, g.out3 + at, g.out_stride);
+    put(dq, n2, g.outs[0] + at, g.out_stride);
+    put(dv, n2, g.outs[1] + at, g.out_stride);
+    put(Minv, n2, g.outs[2] + at, g.out_stride);
     return 0;
   }
   thread_local std::vector<double> M, X, x, t, hl;
@@ -231,13 +230,12 @@ inline std::int64_t aba_derivatives_group(const fdgroup::GroupArgs& g, std::int6
     return -1;
   };
   if (forward_dynamics_derivatives_to(mv, q, v, f, g.gravity,
-                                      LanesOut{{g.out + at, g.out2 + at, M.data()}, static_cast<std::int64_t>(n2)},
+                                      LanesOut{{g.outs[0] + at, g.outs[1] + at, M.data()}, static_cast<std::int64_t>(n2)},
                                       h, qdd, solve) >= 0)
     return 1;  // singular in some lane: redone row by row, which names it
-  if (g.out_qdd) scatter(qdd, nv, g.out_qdd + r0 * static_cast<std::int64_t>(nv), static_cast<std::int64_t>(nv));
   for (int lane = 0; lane < PACK_WIDTH; ++lane) {
     const std::int64_t row = at + lane * g.out_stride;
-    aba_derivatives_solves(mv, lambda, M.data() + lane * n2, g.out + row, g.out2 + row, g.out3 + row, X.data());
+    aba_derivatives_solves(mv, lambda, M.data() + lane * n2, g.outs[0] + row, g.outs[1] + row, g.outs[2] + row, X.data());
   }
   return rows_finite(g, at, n2) ? 0 : 1;
 }
@@ -261,7 +259,7 @@ inline std::int64_t contact_dynamics_group(const fdgroup::GroupArgs& g, std::int
   if (contact_dynamics(mv, q, v, tau, f, c.specs, c.nc, c.mu, c.max_iter, c.tol, c.singular_tol, qdd, lam, res,
                        &bad_lanes) != OK || bad_lanes != 0)
     return 1;
-  scatter(qdd, nv, g.out + r0 * g.out_stride, g.out_stride);
+  scatter(qdd, nv, g.outs[0] + r0 * g.out_stride, g.out_stride);
   scatter(lam, m, c.lam + r0 * static_cast<std::int64_t>(m), static_cast<std::int64_t>(m));
   const Pack info[2] = {res.iterations, res.residual};
   scatter(info, 2, c.info + 2 * r0, 2);
@@ -278,7 +276,7 @@ inline std::int64_t operational_space_inertia_group(const fdgroup::GroupArgs& g,
   const Pack* q = L.gather(g.Q, r0, nq, 0);
   Pack* Lambda = L.space(nq);
   if (operational_space_inertia(mv, q, c.specs, c.nc, c.mu, c.singular_tol, Lambda) != OK) return 1;
-  scatter(Lambda, m2, g.out + r0 * g.out_stride, g.out_stride);
+  scatter(Lambda, m2, g.outs[0] + r0 * g.out_stride, g.out_stride);
   return 0;
 }
 
@@ -294,8 +292,8 @@ inline std::int64_t kinetic_energy_derivatives_group(const fdgroup::GroupArgs& g
   Pack* dv = dq + nv;
   kinetic_energy_derivatives(mv, q, v, dq, dv);
   if (!all_finite(dq, 2 * nv)) return 1;
-  scatter(dq, nv, g.out + r0 * g.out_stride, g.out_stride);
-  scatter(dv, nv, g.out2 + r0 * g.out_stride, g.out_stride);
+  scatter(dq, nv, g.outs[0] + r0 * g.out_stride, g.out_stride);
+  scatter(dv, nv, g.outs[1] + r0 * g.out_stride, g.out_stride);
   return 0;
 }
 
@@ -317,9 +315,9 @@ inline std::int64_t dynamics_vjp_group(const fdgroup::GroupArgs& g, std::int64_t
     rnea_vjp(mv, q, v, a, w, f, g.gravity, gq, gq + nv, gq + 2 * nv);
   }
   if (!all_finite(gq, 3 * nv)) return 1;
-  scatter(gq, nv, g.out + r0 * g.out_stride, g.out_stride);
-  scatter(gq + nv, nv, g.out2 + r0 * g.out_stride, g.out_stride);
-  scatter(gq + 2 * nv, nv, g.out3 + r0 * g.out_stride, g.out_stride);
+  scatter(gq, nv, g.outs[0] + r0 * g.out_stride, g.out_stride);
+  scatter(gq + nv, nv, g.outs[1] + r0 * g.out_stride, g.out_stride);
+  scatter(gq + 2 * nv, nv, g.outs[2] + r0 * g.out_stride, g.out_stride);
   return 0;
 }
 
@@ -333,7 +331,7 @@ inline std::int64_t crba_vjp_group(const fdgroup::GroupArgs& g, std::int64_t r0)
   Pack* grad = L.space(nq + nv * nv);
   crba_vjp(mv, q, W, grad);
   if (!all_finite(grad, nv)) return 1;
-  scatter(grad, nv, g.out + r0 * g.out_stride, g.out_stride);
+  scatter(grad, nv, g.outs[0] + r0 * g.out_stride, g.out_stride);
   return 0;
 }
 
