@@ -9,8 +9,9 @@ talos_reduced and talos_full_v2 (floating base):
 
 Ratio = second order / differencing (below 1: the second order is faster; the issue's target is ≤ 1/3). The
 second order returns four (nv, nv, nv) arrays, 4 MB on talos_full_v2: a fresh result's pages are faulted in on
-the first write, which on this machine costs more than the kernel. The ``out=`` rows call the same kernel
-through ``featherdyn.core.<name>(..., out=...)`` on arrays allocated once, to show the kernel without that cost.
+the first write, which on this machine costs more than the kernel: since 2026-11-29 (evening) such a result
+reuses the memory of one the caller dropped (the batches' result pool), as the loop here does. The ``out=`` rows
+call the public function on arrays allocated once (``fd.rnea_second_derivatives(..., out=outs)``).
 The load average is printed: the 2-core sandbox is shared.
 """
 
@@ -26,7 +27,6 @@ sys.path.insert(0, str(Path(__file__).parent))
 from bench_core import median_pair
 
 import featherdyn as fd
-from featherdyn import core
 
 ROBOTS = [("panda", False), ("solo12", True), ("talos_reduced", True), ("talos_full_v2", True)]
 
@@ -51,9 +51,9 @@ def rows(name: str, floating: bool, repeats: int, budget: float) -> list[tuple[s
     out: list[tuple[str, float, float]] = []
     for label, second, diff in (
             ("rnea", lambda: fd.rnea_second_derivatives(model, q, v, a), diff_rnea),
-            ("rnea out=", lambda: core.rnea_second_derivatives(model, q, v, a, out=outs), diff_rnea),
+            ("rnea out=", lambda: fd.rnea_second_derivatives(model, q, v, a, out=outs), diff_rnea),
             ("aba", lambda: fd.aba_second_derivatives(model, q, v, tau), diff_aba),
-            ("aba out=", lambda: core.aba_second_derivatives(model, q, v, tau, out=outs), diff_aba)):
+            ("aba out=", lambda: fd.aba_second_derivatives(model, q, v, tau, out=outs), diff_aba)):
         s, d = median_pair(second, diff, repeats, budget)
         out.append((f"{name} (nv {n}) {label}", s, d))
     return out

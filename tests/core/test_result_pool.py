@@ -15,7 +15,7 @@ from typing import Any
 
 import numpy as np
 import pytest
-from _models import random_state, tree
+from _models import library_robot, random_state, tree
 
 import featherdyn as fd
 from featherdyn.core import _result_pool
@@ -221,3 +221,39 @@ def _crba_in_child(q: np.ndarray) -> np.ndarray:
     first = fd.crba(MODEL, q)  # the pool's lock in the child: not the one the parent's thread holds
     del first
     return np.array(fd.crba(MODEL, q))
+
+
+def test_one_state_results_of_64_kib_reuse_it_and_smaller_ones_not() -> None:
+    """A one-state result of at least 64 KiB (talos_full_v2's four (50, 50, 50) second derivatives, 1 MB each) takes
+    the pool's memory, through the core's C path and through fd.compile's method: a dropped one's memory, filled with
+    NaN, is all written again (equal to the call into fresh out= arrays), one held is never reused; the same call's
+    results on panda (nv = 9: 5.8 kB each) are not pooled."""
+    model = library_robot("talos_full_v2", True)
+    assert model is not None, "example-robot-data is a test dependency"
+    rng = np.random.default_rng(5)
+    q, v, a = fd.random_configuration(model, rng), rng.normal(size=model.nv), rng.normal(size=model.nv)
+    expected = tuple(np.empty((model.nv,) * 3) for _ in range(4))
+    fd.rnea_second_derivatives(model, q, v, a, out=expected)
+    method = fd.compile(model, warmup=False).rnea_second_derivatives
+    for call in (lambda: fd.rnea_second_derivatives(model, q, v, a), lambda: method(q, v, a)):
+        limit = _result_pool.result_cache_info()["limit"]
+        fd.set_result_cache_size(0)
+        fd.set_result_cache_size(limit)
+        r1 = call()
+        assert _result_pool.result_cache_info()["buffers"] == 4
+        addresses = {_address(x) for x in r1}
+        held = r1.dM_dq
+        for x in r1:
+            x.fill(np.nan)
+        del r1, x
+        r2 = call()
+        again = {_address(x) for x in r2}
+        assert len(again & addresses) == 3 and _address(held) not in again  # the three dropped, not the one held
+        assert all(np.array_equal(x, y) for x, y in zip(r2, expected, strict=True))
+        del r2, held
+    panda = library_robot("panda", False)
+    assert panda is not None and 8 * panda.nv ** 3 < _result_pool.MIN_BYTES
+    small = random_state(panda, 6)
+    before = _result_pool.result_cache_info()
+    fd.rnea_second_derivatives(panda, small.q, small.v, small.a)
+    assert _result_pool.result_cache_info() == before

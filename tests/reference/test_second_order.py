@@ -224,13 +224,15 @@ def test_batch_equals_loop() -> None:
     for n in range(4):
         one = fd.aba_second_derivatives(model, Q[n], V[n], T)
         assert all(np.array_equal(x[n], y) for x, y in zip(batch, one, strict=True))
-    # out=: fd.* returns a record (no out=, as every declared function with a result); the core's kernel writes
-    # into given arrays, the same numbers bit for bit
+    # out=: the core's kernel writes into given arrays, the same numbers bit for bit; fd.* too, and returns the
+    # record of them
     outs = tuple(np.full((4,) + (model.nv,) * 3, np.nan) for _ in range(4))
     assert fdcore.aba_second_derivatives(model, Q, V, np.broadcast_to(T, V.shape), None, out=outs) is outs
     assert all(np.array_equal(x, y) for x, y in zip(outs, batch, strict=True))
-    with pytest.raises(TypeError, match="out"):
-        fd.aba_second_derivatives(model, Q, V, T, out=outs)
+    outs2 = tuple(np.full_like(x, np.nan) for x in outs)
+    r = fd.aba_second_derivatives(model, Q, V, T, out=outs2)
+    assert type(r) is fd.AbaSecondDerivatives and all(x is y for x, y in zip(r, outs2, strict=True))
+    assert all(np.array_equal(x, y) for x, y in zip(outs2, batch, strict=True))
     ref = fd.rnea_second_derivatives(model, Q[:2], V[:2], T, backend="reference")  # the reference batches too
     core = fd.rnea_second_derivatives(model, Q[:2], V[:2], T)
     assert max(_rel(x, y) for x, y in zip(core, ref, strict=True)) < 1e-11

@@ -1,4 +1,4 @@
-"""Large batch results in reused memory: the buffers of results the caller has dropped.
+"""Large results in reused memory (batches', and one state's from 64 KiB): the buffers of results dropped.
 
 A fresh array above 128 KiB comes from ``mmap``, and freed heap memory above 128 KiB goes back (glibc): the kernel
 faults in and zeroes every page at the first write, so a loop of batches paid ~5 µs a talos state, more than the
@@ -60,7 +60,7 @@ def _release(limit: int) -> int:
 
 
 def result_array(shape: tuple[int, ...]) -> np.ndarray:
-    """A float64 C-contiguous array of ``shape`` for a batch to fill: reused memory when there is some."""
+    """A float64 C-contiguous array of ``shape`` for a batch or one state (run_fresh) to fill: reused if free."""
     n = math.prod(shape)
     nbytes = 8 * n
     if nbytes < MIN_BYTES or nbytes > _limit:

@@ -19,12 +19,13 @@ from ..errors import ShapeError
 from ..model import Model
 from . import _errors
 from ._model_view import CoreHandle, model_view
-from ._result_pool import result_array
+from ._result_pool import MIN_BYTES, result_array
 
 __all__ = ["Spec", "SPECS", "kernel", "shape_of", "call_options", "run", "raise_singular", "arg_names"]
 
 try:
     import featherdyn.core._core as _binding  # the compiled extension: a leaf, it imports no featherdyn module
+    _binding.set_result_allocator(result_array, MIN_BYTES)  # (one state's large results reuse it too)
 except ImportError:  # pragma: no cover - a source checkout without the built extension
     _binding = None
 

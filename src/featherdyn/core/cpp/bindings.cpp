@@ -235,6 +235,10 @@ NB_MODULE(_core, m) {
   for (const Kernel& k : declared_kernels()) kernels[k.name.c_str()] = nb::cast(&k, nb::rv_policy::reference);
   m.attr("kernels") = kernels;
 
+  m.def("set_result_allocator", [](nb::object fn, std::int64_t min_bytes) {
+    Py_XSETREF(result_allocator.fn, fn.release().ptr());  // numpy_api.hpp: a one-state result's large arrays
+    result_allocator.min_bytes = static_cast<npy_intp>(min_bytes);
+  }, nb::arg("fn"), nb::arg("min_bytes"), "fn(shape) gives the memory of a one-state result of min_bytes or more");
   m.def("sin_cos", &sin_cos_n, arr("x"), arr("s"), arr("c"), nb::arg("packs"));
   m.def("set_num_threads", [](int n) { GlobalPool::instance().set_num_threads(n); }, nb::arg("n"));
   m.def("get_num_threads", [] { return GlobalPool::instance().num_threads(); });

@@ -300,7 +300,7 @@ inline bool run_fresh(const Kernel& k, const ModelView& mv, PyObject* const* inp
     }
     npy_intp dims[3];
     for (int d = 0; d < k.outputs[o].nd; ++d) dims[d] = length_of(mv, opt, k.outputs[o].dims[d]);
-    outs[o] = read_only ? f64_view(k.outputs[o].nd, dims, at, block) : new_f64(k.outputs[o].nd, dims);
+    outs[o] = read_only ? f64_view(k.outputs[o].nd, dims, at, block) : result_f64(k.outputs[o].nd, dims);
     if (outs[o] == nullptr) break;
     op[o] = f64_data(outs[o]);
     if (read_only) at += 8 * size_of(mv, opt, k.outputs[o]);

@@ -41,6 +41,37 @@ inline PyObject* new_f64(int nd, const npy_intp* dims) {
   return PyArray_SimpleNew(nd, const_cast<npy_intp*>(dims), NPY_DOUBLE);
 }
 
+// Where a one-state result of at least `min_bytes` takes its memory: `fn(shape)`, the batches' reused memory
+// (core/_result_pool.py's result_array, set at import: set_result_allocator; a strong reference, kept).
+struct ResultAllocator {
+  PyObject* fn = nullptr;
+  npy_intp min_bytes = 0;
+};
+inline ResultAllocator result_allocator;
+
+// A C-contiguous float64 array of this shape for a result (new reference; nullptr with an exception set): from
+// result_allocator when it is set and the array that large, else fresh (new_f64).
+inline PyObject* result_f64(int nd, const npy_intp* dims) {
+  npy_intp n = 1;
+  for (int d = 0; d < nd; ++d) n *= dims[d];
+  if (result_allocator.fn == nullptr || 8 * n < result_allocator.min_bytes) return new_f64(nd, dims);
+  PyObject* shape = PyTuple_New(nd);
+  for (int d = 0; shape != nullptr && d < nd; ++d) {
+    PyObject* length = PyLong_FromSsize_t(dims[d]);
+    if (length == nullptr) Py_CLEAR(shape);
+    else PyTuple_SET_ITEM(shape, d, length);
+  }
+  PyObject* a = shape != nullptr ? PyObject_CallOneArg(result_allocator.fn, shape) : nullptr;
+  Py_XDECREF(shape);
+  if (a == nullptr) return nullptr;
+  bool right = is_native_f64(a, true) && PyArray_NDIM(reinterpret_cast<PyArrayObject*>(a)) == nd;
+  for (int d = 0; right && d < nd; ++d) right = PyArray_DIM(reinterpret_cast<PyArrayObject*>(a), d) == dims[d];
+  if (right) return a;
+  Py_DECREF(a);
+  PyErr_SetString(PyExc_RuntimeError, "featherdyn.core: the result allocator did not return a float64 array of the shape");
+  return nullptr;
+}
+
 // A read-only float64 array over `data`, kept alive by `owner` (new reference; nullptr with an exception set).
 inline PyObject* f64_view(int nd, const npy_intp* dims, char* data, PyObject* owner) {
   PyObject* a = PyArray_NewFromDescr(&PyArray_Type, PyArray_DescrFromType(NPY_DOUBLE), nd,
