@@ -107,3 +107,21 @@ def test_float64_results_refused_into_float32_and_dask_refused(talos: fd.Model) 
     with pytest.raises(ShapeError, match="out: not supported with Dask arrays"):
         fd.center_of_mass_derivatives(talos, da.from_array(q[None]), v[None], out=(np.empty((1, 3, talos.nv)),
                                                                                    np.empty((1, 3, talos.nv))))
+
+
+def test_bad_out_forms_are_named(talos: fd.Model) -> None:
+    """Not a sequence, an element that is not an array (None, a NumPy scalar, an np.matrix), arrays sharing memory:
+    a ShapeError naming the output, never a raw TypeError."""
+    q, v, a = _state(talos, 6)
+    n = talos.nv
+    with pytest.raises(ShapeError, match="out: expected 4 arrays for d2tau_dq2, .*got int"):
+        fd.rnea_second_derivatives(talos, q, v, a, out=5)
+    with pytest.raises(ShapeError, match="out: expected a NumPy array for position, got int"):
+        fd.center_of_mass(talos, q, out=7)
+    for bad in (None, np.float64(1.0), np.matrix(np.zeros((n, n * n)))):
+        with pytest.raises(ShapeError, match=f"out: expected a NumPy array for d2tau_dv2, got {type(bad).__name__}"):
+            fd.rnea_second_derivatives(talos, q, v, a, out=(np.empty((n, n, n)), bad, np.empty((n, n, n)),
+                                                            np.empty((n, n, n))))
+    x = np.empty((n, n, n))
+    with pytest.raises(ShapeError, match="out: the arrays for d2tau_dq2 and d2tau_dv2 share memory"):
+        fd.rnea_second_derivatives(talos, q, v, a, out=(x, x[:], np.empty_like(x), np.empty_like(x)))

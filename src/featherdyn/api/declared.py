@@ -154,14 +154,15 @@ def _out_arrays(decl: Declaration, out: Any, formed: tuple[str, ...] | None) -> 
     the function whose fields are its outputs (a ``NamedTuple``: ``fd.RneaSecondDerivatives``) is such a tuple.
     With ``formed`` unknown (``None``), the arrays as given, checked but for their number."""
     names = decl.outputs if formed is None else formed
-    bare = not isinstance(out, (tuple, list)) and (len(names) == 1 or (formed is None and type(out) is np.ndarray))
-    arrays = (out,) if bare else tuple(out)
-    if (formed is not None and len(arrays) != len(formed)) or not all(type(a) is np.ndarray for a in arrays):
+    arrays = tuple(out) if isinstance(out, (tuple, list)) else (out,)
+    if formed is not None and len(arrays) != len(formed):
         raise ShapeError(f"out: expected {'an array' if len(names) == 1 else f'{len(names)} arrays'} "
                          f"for {', '.join(names)}, got {type(out).__name__}"
                          + (f" of {len(arrays)}" if isinstance(out, (tuple, list)) else ""))
     for k, a in enumerate(arrays):
         name = names[k] if k < len(names) else f"#{k}"
+        if type(a) is not np.ndarray:
+            raise ShapeError(f"out: expected a NumPy array for {name}, got {type(a).__name__}")
         if not a.flags.writeable:
             raise ShapeError(f"out: the array for {name} is read-only")
         for j, b in enumerate(arrays[:k]):
@@ -258,8 +259,8 @@ def call(decl: Declaration, model: Model, args: tuple[Any, ...], out: Any = None
         raise NotAModelError(f"model: expected a featherdyn Model, got {type(model).__name__}")
     given_options = options or {}
     opts, ref_opts = _options(decl, model, given_options)
-    given = dict(zip(decl.inputs, args, strict=True))
-    formed = _formed(decl, given)
+    # (which outputs the call forms matters only to an out=; None there without the core: known after step 5)
+    formed = None if out is None else _formed(decl, dict(zip(decl.inputs, args, strict=True)))
     arrays = None if out is None else _out_arrays(decl, out, formed)
     # 1. one state: the core takes the arguments as they are, or declines (None, or a non-zero status)
     h = core_path(model, backend)
@@ -272,6 +273,7 @@ def call(decl: Declaration, model: Model, args: tuple[Any, ...], out: Any = None
                 return r if decl.result is None else _result(decl, model, r if len(decl.outputs) > 1 else (r,))
         elif kernel.into(h.cm, args, arrays, core_opts) == 0:
             return _written(decl, model, out, arrays)
+    given = dict(zip(decl.inputs, args, strict=True))
     for x, y in decl.needs:
         if given[x] is not None and given[y] is None:
             raise ShapeError(f"{x}: needs {y} as well (got {y}=None)")
