@@ -114,7 +114,7 @@ def test_bad_out_forms_are_named(talos: fd.Model) -> None:
     a ShapeError naming the output, never a raw TypeError."""
     q, v, a = _state(talos, 6)
     n = talos.nv
-    with pytest.raises(ShapeError, match="out: expected 4 arrays for d2tau_dq2, .*got int"):
+    with pytest.raises(ShapeError, match=r"out: expected 4 arrays for d2tau_dq2, .*got int"):
         fd.rnea_second_derivatives(talos, q, v, a, out=5)
     with pytest.raises(ShapeError, match="out: expected a NumPy array for position, got int"):
         fd.center_of_mass(talos, q, out=7)
