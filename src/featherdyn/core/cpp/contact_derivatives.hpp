@@ -7,17 +7,25 @@
 //
 //     ∂λ/∂x = D⁻¹ (J M⁻¹ R₁ − R₂),   ∂q̈/∂x = M⁻¹ (Jᵀ ∂λ/∂x − R₁),   D = J M⁻¹ Jᵀ
 //
+// computed as the free derivative corrected (never a product with a dense nv × nv matrix but the last rank-m one):
+//
+//     A = −M⁻¹ R₁              (ABA's derivatives with the contact forces on the bodies: derivatives.hpp's
+//                               solves with M's tree-sparse factor, ∂τ/∂q's zero pattern kept)
+//     Z = J A + R₂             (how far the free q̈ would leave the contacts' acceleration)
+//     ∂λ/∂x = −D⁻¹ Z,   ∂q̈/∂x = A + (M⁻¹ Jᵀ) ∂λ/∂x
+//
 //   R₁ along q: RNEA's ∂τ/∂q (derivatives.hpp) with the contact forces on the bodies (f_ext + f_c), plus each
 //               force's turn with its reference: −ᶠJᵀ G(f_a) ᶠJ, f_a = Bᵀ λ₆ the force in the frame's axes,
 //               G = 0 (LOCAL), [[n]×, 0; [f]×, 0] (LOCAL_WORLD_ALIGNED), [[n]×, [f]×; [f]×, 0] (WORLD);
-//               along q̇: RNEA's ∂τ/∂q̇; along τ: −1
+//               along q̇: RNEA's ∂τ/∂q̇; along τ: −1 (so A = M⁻¹)
 //   R₂:         the frame's acceleration (classical for a point) and velocity derivatives at q̈ in its reference
-//               (kinematics_derivatives.hpp): ∂a/∂x + K_d ∂v/∂x
+//               (kinematics_derivatives.hpp): ∂a/∂x + K_d ∂v/∂x; zero along τ
 //
-// Impulses (M (v⁺ − v⁻) = JᵀΛ, J v⁺ = −e J v⁻): Λ = −(1 + e) D⁻¹ J v⁻, v⁺ = v⁻ + M⁻¹ Jᵀ Λ; then the same solve
-// with R₁ along q from RNEA at zero velocity without gravity (M w − JᵀΛ, w = v⁺ − v⁻) plus the turn, R₂ = ∂(J u)/∂q
-// at u = v⁺ + e v⁻, and R₁ = −M, R₂ = e J along v⁻. M⁻¹ is applied through M's LᵀL factor (ltl.hpp), D by its
-// Cholesky factor. CONSTRAINT when D is singular (dependent contacts): the caller's reference path takes them.
+// Impulses (M (v⁺ − v⁻) = JᵀΛ, J v⁺ = −e J v⁻): Λ = −(1 + e) D⁻¹ J v⁻, v⁺ = v⁻ + M⁻¹ Jᵀ Λ; then the same
+// correction with R₁ along q from RNEA at zero velocity without gravity (M w − JᵀΛ, w = v⁺ − v⁻) plus the turn,
+// R₂ = ∂(J u)/∂q at u = v⁺ + e v⁻, and along v⁻ R₁ = −M (A = 1), R₂ = e J. A row of J is zero off the dofs of
+// its frame's chain (root … its body): products with J run over those columns. D by its Cholesky factor;
+// CONSTRAINT when D is singular (dependent contacts): the caller's reference path takes them.
 #pragma once
 
 #include <algorithm>
@@ -33,8 +41,10 @@
 namespace fdcore {
 
 struct ContactDerivWork {
-  std::vector<double> f, dq, dv, M, L, kin, J, R2q, R2v, JL, MJ, D, Dinv, G, Gt, K, JtT, R1t, Xt, Yt;
-  std::vector<int> lambda;
+  std::vector<double> f, dq, dv, L, kin, J, R1, X, Z, Y, Pt, D, Dinv, Dscr, u, acc, zero;
+  std::vector<int> supp, off;           // row r of J: its nonzero columns supp[off[r] .. off[r + 1])
+  std::vector<const double*> rows;      // add_rows' operands
+  std::vector<double> coef;
   void resize(size_t) {}
 };
 
@@ -66,8 +76,8 @@ inline void add_turn(const ModelView& mv, int ref, const double* J, const Mat3<d
                      const Force<double>& fa, ContactDerivWork& w, double* R1) {
   if (ref == LOCAL) return;
   const int nv = mv.nv;
-  w.JL.resize(static_cast<size_t>(12) * nv);
-  double* JL = w.JL.data();
+  w.Dscr.resize(static_cast<size_t>(12) * nv);
+  double* JL = w.Dscr.data();
   double* GJ = JL + 6 * nv;
   for (int k = 0; k < nv; ++k) {
     const Vec3<double> om{J[k], J[nv + k], J[2 * nv + k]}, vl{J[3 * nv + k], J[4 * nv + k], J[5 * nv + k]};
@@ -86,101 +96,104 @@ inline void add_turn(const ModelView& mv, int ref, const double* J, const Mat3<d
     }
 }
 
-// C (r, c) = A (r, k) B (k, c), or C −= A B with `sub`; row-major, the innermost loop over C's contiguous row.
-inline void matmul(const double* A, const double* B, int r, int k, int c, double* C, bool sub = false) {
-  for (int i = 0; i < r; ++i) {
-    double* Ci = C + static_cast<size_t>(i) * c;
-    if (!sub) std::fill(Ci, Ci + c, 0.0);
-    for (int t = 0; t < k; ++t) {
-      const double a = sub ? -A[static_cast<size_t>(i) * k + t] : A[static_cast<size_t>(i) * k + t];
-      if (a == 0.0) continue;
-      const double* Bt = B + static_cast<size_t>(t) * c;
-      for (int j = 0; j < c; ++j) Ci[j] += a * Bt[j];
+// x[c, c + B) += Σ_t a_t · rows[t][c, c + B), the B entries held in registers (ltl.hpp's Regs) through all n terms.
+template <int B>
+inline void add_rows_cols(double* x, const double* const* rows, const double* a, int n, int c) {
+  Regs<B> acc;
+  acc.load(x + c);
+  for (int t = 0; t < n; ++t) {
+    Regs<B> y;
+    y.load(rows[t] + c);
+    for (int h = 0; h < Regs<B>::N; ++h) acc.r[h] = acc.r[h] + a[t] * y.r[h];
+  }
+  acc.store(x + c);
+}
+
+// C (p, ncols) += A (p, k) B (k, ncols), row-major; row i of A restricted to the columns idx[off[i] .. off[i + 1])
+// when idx is given (the others zero), every column otherwise.
+inline void add_product(const double* A, int p, int k, const double* B, int ncols, double* C, const int* idx,
+                        const int* off, ContactDerivWork& w) {
+  w.rows.resize(static_cast<size_t>(k)), w.coef.resize(static_cast<size_t>(k));
+  for (int i = 0; i < p; ++i) {
+    const double* Ai = A + static_cast<size_t>(i) * k;
+    int n = 0;
+    const int t0 = idx ? off[i] : 0, t1 = idx ? off[i + 1] : k;
+    for (int s = t0; s < t1; ++s) {
+      const int t = idx ? idx[s] : s;
+      w.rows[n] = B + static_cast<size_t>(t) * ncols, w.coef[n++] = Ai[t];
     }
+    double* Ci = C + static_cast<size_t>(i) * ncols;
+    blocks_of(0, ncols, [&](auto Bw, int c) { add_rows_cols<Bw()>(Ci, w.rows.data(), w.coef.data(), n, c); });
   }
 }
 
-// Aᵀ: (r, c) → (c, r).
-inline void transpose(const double* A, int r, int c, double* At) {
-  for (int i = 0; i < r; ++i)
-    for (int j = 0; j < c; ++j) At[static_cast<size_t>(j) * r + i] = A[static_cast<size_t>(i) * c + j];
+// The nonzero columns of the contacts' rows of J: the dofs of each frame's chain (root … its body).
+inline void row_supports(const ModelView& mv, const ContactSpec* specs, int nc, int m, ContactDerivWork& w) {
+  w.supp.clear();
+  w.off.assign(static_cast<size_t>(m) + 1, 0);
+  for (int k = 0, row = 0; k < nc; row += specs[k].rows, ++k) {
+    const size_t first = w.supp.size();
+    for (int b = mv.frame_body[specs[k].frame]; b != -1; b = mv.parent[b])
+      for (int c = 0; c < mv.nv_i[b]; ++c) w.supp.push_back(mv.idx_v[b] + c);
+    std::sort(w.supp.begin() + static_cast<std::ptrdiff_t>(first), w.supp.end());
+    const size_t len = w.supp.size() - first;
+    for (int r = 1; r < specs[k].rows; ++r)  // the contact's other rows: the same columns
+      for (size_t s = 0; s < len; ++s) w.supp.push_back(w.supp[first + s]);
+    for (int r = 0; r < specs[k].rows; ++r) w.off[row + r + 1] = w.off[row + r] + static_cast<int>(len);
+  }
 }
 
-// From M (w.M) and J (w.J, m rows): the KKT system's inverse blocks
-//     D⁻¹ (m, m),   G = D⁻¹ J M⁻¹ (m, nv),   K = M⁻¹ − M⁻¹ Jᵀ D⁻¹ J M⁻¹ (nv, nv, symmetric)
-// so that ∂q̈ = −K R₁ − Gᵀ R₂ and ∂λ = G R₁ − D⁻¹ R₂ (the file comment's solve). M⁻¹ by M's LᵀL factor (its columns
-// solved from the unit vectors), D by its Cholesky factor. Returns OK, SINGULAR for M, CONSTRAINT for D.
-inline std::int64_t factor(const ModelView& mv, int m, double singular_tol, ContactDerivWork& w) {
+// With L = M's factor and J (w.J, m rows): P = M⁻¹ Jᵀ (w.Pt, (nv, m)), D = J P factored (w.D) and D⁻¹ (w.Dinv).
+// CONSTRAINT when D is singular (dependent contacts).
+inline std::int64_t delassus(const ModelView& mv, const int* lambda, int m, double singular_tol, ContactDerivWork& w) {
   const int nv = mv.nv;
-  const size_t n = static_cast<size_t>(nv), mm = static_cast<size_t>(m);
-  w.lambda.resize(n);
-  dof_parents(mv, w.lambda.data());
-  w.L = w.M;
-  const int bad = ltl_factor(mv, w.lambda.data(), w.L.data());
-  if (bad >= 0) return make_status(SINGULAR, ARG_Q, dof_body(mv, bad));
-  w.K.assign(n * n, 0.0);  // M⁻¹ first, row by row (M⁻¹ is symmetric)
-  for (int i = 0; i < nv; ++i) {
-    double* x = w.K.data() + i * n;
-    x[i] = 1.0;
-    ltl_solve_Lt(mv, w.lambda.data(), w.L.data(), x);
-    ltl_solve_L(mv, w.lambda.data(), w.L.data(), x);
-  }
-  w.MJ.resize(mm * n);
-  matmul(w.J.data(), w.K.data(), m, nv, nv, w.MJ.data());  // J M⁻¹
-  w.D.resize(mm * mm), w.Dinv.resize(mm * mm), w.G.resize(mm * n), w.Gt.resize(mm * n);
-  w.JtT.resize(n * mm);
-  transpose(w.J.data(), m, nv, w.JtT.data());
-  matmul(w.MJ.data(), w.JtT.data(), m, nv, m, w.D.data());  // D = J M⁻¹ Jᵀ
+  const size_t mm = static_cast<size_t>(m);
+  w.Pt.resize(static_cast<size_t>(nv) * mm);
+  for (int r = 0; r < m; ++r)
+    for (int i = 0; i < nv; ++i) w.Pt[static_cast<size_t>(i) * mm + r] = w.J[static_cast<size_t>(r) * nv + i];
+  ltl_solve_rows(mv, lambda, w.L.data(), w.Pt.data(), m);
+  w.D.assign(mm * mm, 0.0), w.Dinv.resize(mm * mm), w.Dscr.resize(mm * mm);
+  add_product(w.J.data(), m, nv, w.Pt.data(), m, w.D.data(), w.supp.data(), w.off.data(), w);
   if (dense_cholesky<double>(w.D.data(), m, singular_tol)) return make_status(CONSTRAINT, ARG_OUT, m);
-  dense_cholesky_inverse<double>(w.D.data(), m, w.G.data(), w.Dinv.data());  // (G as scratch)
-  matmul(w.Dinv.data(), w.MJ.data(), m, m, nv, w.G.data());
-  transpose(w.G.data(), m, nv, w.Gt.data());  // Gᵀ = M⁻¹ Jᵀ D⁻¹ (nv, m)
-  matmul(w.Gt.data(), w.MJ.data(), nv, m, nv, w.K.data(), true);  // K = M⁻¹ − Gᵀ (J M⁻¹)
+  dense_cholesky_inverse<double>(w.D.data(), m, w.Dscr.data(), w.Dinv.data());
   return OK;
 }
 
-// ∂q̈ X (nv, nv) and ∂λ Y (m, nv) of one pair (R₁, R₂) with `factor`'s blocks: X = −K R₁ − Gᵀ R₂, Y = G R₁ − D⁻¹ R₂.
-// R₁ nullptr: R₁ = s 1 (X = −s K, Y = s G); `r1_is_mass`: R₁ = s M (K M = 1 − Gᵀ J, G M = D⁻¹ J). R₂ may be nullptr.
-inline void solve_pair(const ModelView& mv, int m, const double* R1, double s, bool r1_is_mass, const double* R2,
-                       ContactDerivWork& w, double* X, double* Y) {
+// The free derivatives A (w.X, (nv, ncols)) and R₂ (w.Z, (m, ncols)) of ncols directions → the constrained ones:
+// Z ← J A + R₂, ∂λ = −D⁻¹ Z (w.Y), ∂q̈ = A + P ∂λ (in w.X).
+inline void correct(const ModelView& mv, int m, int ncols, ContactDerivWork& w) {
   const int nv = mv.nv;
-  const size_t n = static_cast<size_t>(nv), nn = n * n, mn = static_cast<size_t>(m) * n;
-  if (R1 != nullptr) {  // by R₁ᵀ on the left: its zeros (dofs on different branches) skipped, then transposed
-    w.R1t.resize(nn), w.Xt.resize(nn), w.Yt.resize(mn);
-    transpose(R1, nv, nv, w.R1t.data());
-    matmul(w.R1t.data(), w.K.data(), nv, nv, nv, w.Xt.data());  // (K R₁)ᵀ = R₁ᵀ K (K symmetric)
-    matmul(w.R1t.data(), w.Gt.data(), nv, nv, m, w.Yt.data());  // (G R₁)ᵀ = R₁ᵀ Gᵀ
-    for (int i = 0; i < nv; ++i)
-      for (int j = 0; j < nv; ++j) X[i * n + j] = -w.Xt[j * n + i];
-    transpose(w.Yt.data(), nv, m, Y);
-  } else if (r1_is_mass) {  // X = −s (1 − Gᵀ J), Y = s D⁻¹ J
-    matmul(w.Gt.data(), w.J.data(), nv, m, nv, X);
-    for (size_t k = 0; k < nn; ++k) X[k] *= s;
-    for (int i = 0; i < nv; ++i) X[i * n + i] -= s;
-    matmul(w.Dinv.data(), w.J.data(), m, m, nv, Y);
-    for (size_t k = 0; k < mn; ++k) Y[k] *= s;
-  } else {
-    for (size_t k = 0; k < nn; ++k) X[k] = -s * w.K[k];
-    for (size_t k = 0; k < mn; ++k) Y[k] = s * w.G[k];
-  }
-  if (R2 != nullptr) {
-    matmul(w.Gt.data(), R2, nv, m, nv, X, true);
-    matmul(w.Dinv.data(), R2, m, m, nv, Y, true);
-  }
+  add_product(w.J.data(), m, nv, w.X.data(), ncols, w.Z.data(), w.supp.data(), w.off.data(), w);
+  w.Y.assign(static_cast<size_t>(m) * ncols, 0.0);
+  add_product(w.Dinv.data(), m, m, w.Z.data(), ncols, w.Y.data(), nullptr, nullptr, w);
+  for (double& y : w.Y) y = -y;
+  add_product(w.Pt.data(), nv, m, w.Y.data(), ncols, w.X.data(), nullptr, nullptr, w);
+}
+
+// Block b (nv columns) of the rows of S (rows, ncols) into out (rows, nv).
+inline void block_out(const double* S, int rows, int ncols, int b, int nv, double* out) {
+  for (int r = 0; r < rows; ++r)
+    std::copy_n(S + static_cast<size_t>(r) * ncols + static_cast<size_t>(b) * nv, nv, out + static_cast<size_t>(r) * nv);
 }
 
 // The contacts' rows J (m, nv) into w.J and their forces λ: on the bodies (w.f, which holds f_ext or zeros), and
-// their turn into R1 (nv, nv). `kin` (6 outputs of kinematics_derivatives per contact) is left in w.kin when
-// `qd` is given (at (q, qd, qdd)); with qd nullptr only J is formed (frame_jacobian).
+// their turn into R1 (nv, nv). The outputs of kinematics_derivatives per contact are left in w.kin when `qd` is
+// given (at (q, qd, qdd)): ∂v/∂q, ∂v/∂q̇ = J, and with `accelerations` a point's ∂a^c/∂(q, q̇) or a frame's
+// ∂a/∂(q, q̇); with qd nullptr only J is formed (frame_jacobian).
 inline void contact_terms(const ModelView& mv, const double* q, const double* qd, const double* qdd,
-                          const double* lam, const ContactSpec* specs, int nc, ContactDerivWork& w, double* R1) {
+                          bool accelerations, const double* lam, const ContactSpec* specs, int nc,
+                          ContactDerivWork& w, double* R1) {
   const int nv = mv.nv;
   const size_t blk = static_cast<size_t>(6) * nv;
   int row = 0;
   for (int k = 0; k < nc; ++k) {
     const ContactSpec& s = specs[k];
     double* kin = w.kin.data() + 6 * blk * static_cast<size_t>(k);
-    double* const outs[6] = {kin, kin + blk, kin + 2 * blk, kin + 3 * blk, kin + 4 * blk, kin + 5 * blk};
+    double* outs[6] = {kin, kin + blk, nullptr, nullptr, nullptr, nullptr};
+    if (accelerations) {
+      const int a = s.rows == 3 ? 4 : 2;
+      outs[a] = kin + a * blk, outs[a + 1] = kin + (a + 1) * blk;
+    }
     if (qd != nullptr) {
       kinematics_derivatives(mv, q, qd, qdd, s.frame, nullptr, s.ref, outs);
     } else {
@@ -200,56 +213,76 @@ inline void contact_terms(const ModelView& mv, const double* q, const double* qd
   }
 }
 
-// The calling thread's workspace with room for nc contacts' frame derivatives and m rows.
-inline ContactDerivWork& workspace(const ModelView& mv, int nc, int m) {
+// The calling thread's workspace with room for nc contacts' frame derivatives and m rows, J's row supports set.
+inline ContactDerivWork& workspace(const ModelView& mv, const ContactSpec* specs, int nc, int m) {
   ContactDerivWork& w = thread_workspace<ContactDerivWork>(mv.nb);
   w.kin.resize(static_cast<size_t>(36) * static_cast<size_t>(mv.nv) * static_cast<size_t>(nc));
   w.J.resize(static_cast<size_t>(m) * static_cast<size_t>(mv.nv));
+  row_supports(mv, specs, nc, m, w);
   return w;
+}
+
+// R₂'s rows in block b (nv columns) of w.Z (m, ncols), from the contacts' frame derivatives (w.kin): s_a · the
+// output a_point (a point's rows) or a_frame (a frame's), plus K_d · output v_out when `damped`.
+inline void rows_of_kin(const ModelView& mv, const ContactSpec* specs, int nc, int ncols, int b, int a_point,
+                        int a_frame, double s_a, bool damped, int v_out, ContactDerivWork& w) {
+  const int nv = mv.nv;
+  const size_t blk = static_cast<size_t>(6) * nv;
+  for (int k = 0, row = 0; k < nc; row += specs[k].rows, ++k) {
+    const ContactSpec& s = specs[k];
+    const double* kin = w.kin.data() + 6 * blk * static_cast<size_t>(k);
+    const double* ka = kin + (s.rows == 3 ? a_point : a_frame) * blk;
+    const double* kv = kin + v_out * blk;
+    for (int r = 0; r < s.rows; ++r) {
+      const size_t src = static_cast<size_t>(6 - s.rows + r) * nv;
+      double* z = w.Z.data() + static_cast<size_t>(row + r) * ncols + static_cast<size_t>(b) * nv;
+      for (int j = 0; j < nv; ++j) z[j] = damped ? ka[src + j] + s.kd * kv[src + j] : s_a * ka[src + j];
+    }
+  }
 }
 
 }  // namespace contact_deriv
 
 // ∂q̈/∂(q, q̇, τ) (nv, nv) and ∂λ/∂(q, q̇, τ) (m, nv) at the solution (qdd, lam) of the contacts' constrained
-// dynamics at (q, q̇, τ, f_ext) (contacts.hpp). Returns OK, SINGULAR, or CONSTRAINT (dependent contacts).
+// dynamics at (q, q̇, τ, f_ext) (contacts.hpp), into out[0..2] and out[3..5]. Returns OK, SINGULAR, or CONSTRAINT
+// (dependent contacts).
 inline std::int64_t contact_dynamics_derivatives(const ModelView& mv, const double* q, const double* qd,
                                                  const double* f_ext, const double* qdd, const double* lam,
                                                  const ContactSpec* specs, int nc, int m, double singular_tol,
                                                  double* const* out) {
   using namespace contact_deriv;
-  const int nv = mv.nv;
+  const int nv = mv.nv, w3 = 3 * nv;
   const size_t n = static_cast<size_t>(nv);
-  ContactDerivWork& w = workspace(mv, nc, m);
+  ContactDerivWork& w = workspace(mv, specs, nc, m);
+  const int* lambda = dof_tree(mv).lambda.data();
   w.f.assign(static_cast<size_t>(6) * mv.nb, 0.0);
   if (f_ext) std::copy(f_ext, f_ext + 6 * mv.nb, w.f.begin());
-  w.dq.assign(n * n, 0.0);  // the turn first; RNEA's ∂τ/∂q added below
-  contact_terms(mv, q, qd, qdd, lam, specs, nc, w, w.dq.data());
-  w.dv.resize(n * n), w.M.resize(n * n);
-  {
-    thread_local std::vector<double> dq;
-    dq.resize(n * n);
-    rnea_derivatives(mv, q, qd, qdd, w.f.data(), true, dq.data(), w.dv.data(), w.M.data());
-    for (size_t k = 0; k < n * n; ++k) w.dq[k] += dq[k];
+  w.R1.assign(n * n, 0.0);  // the forces' turn
+  contact_terms(mv, q, qd, qdd, true, lam, specs, nc, w, w.R1.data());
+  w.dq.resize(n * n), w.dv.resize(n * n), w.L.resize(n * n);
+  rnea_derivatives(mv, q, qd, qdd, w.f.data(), true, w.dq.data(), w.dv.data(), w.L.data());
+  const int bad = ltl_factor(mv, lambda, w.L.data());
+  if (bad >= 0) return make_status(SINGULAR, ARG_Q, dof_body(mv, bad));
+  // R₁ = [∂τ/∂q + turn | ∂τ/∂q̇ | −1] side by side, then A = −M⁻¹ R₁ in place (each block zero off ∂τ/∂q's pattern)
+  w.X.resize(n * w3);
+  for (int i = 0; i < nv; ++i) {
+    double* x = w.X.data() + static_cast<size_t>(i) * w3;
+    for (int j = 0; j < nv; ++j) x[j] = w.dq[i * n + j] + w.R1[i * n + j];
+    std::copy_n(w.dv.data() + i * n, nv, x + nv);
+    std::fill(x + 2 * nv, x + w3, 0.0);
+    x[2 * nv + i] = -1.0;
   }
-  // R₂ = ∂a/∂x + K_d ∂v/∂x, the contacts' rows of the frame derivatives (classical acceleration for a point)
-  w.R2q.resize(static_cast<size_t>(m) * n), w.R2v.resize(static_cast<size_t>(m) * n);
-  const size_t blk = static_cast<size_t>(6) * nv;
-  for (int k = 0, row = 0; k < nc; row += specs[k].rows, ++k) {
-    const ContactSpec& s = specs[k];
-    const double* kin = w.kin.data() + 6 * blk * static_cast<size_t>(k);
-    const double *a_q = kin + (s.rows == 3 ? 4 : 2) * blk, *a_v = kin + (s.rows == 3 ? 5 : 3) * blk;
-    for (int r = 0; r < s.rows; ++r) {
-      const size_t src = static_cast<size_t>(6 - s.rows + r) * n, dst = static_cast<size_t>(row + r) * n;
-      for (int j = 0; j < nv; ++j) {
-        w.R2q[dst + j] = a_q[src + j] + s.kd * kin[src + j];
-        w.R2v[dst + j] = a_v[src + j] + s.kd * kin[blk + src + j];
-      }
-    }
+  ltl_solve_rows_tree_pattern(mv, lambda, w.L.data(), w.X.data(), 3, true);
+  // R₂ = [∂a/∂q + K_d ∂v/∂q | ∂a/∂q̇ + K_d ∂v/∂q̇ | 0], the contacts' rows (classical acceleration for a point)
+  w.Z.assign(static_cast<size_t>(m) * w3, 0.0);
+  rows_of_kin(mv, specs, nc, w3, 0, 4, 2, 1.0, true, 0, w);
+  rows_of_kin(mv, specs, nc, w3, 1, 5, 3, 1.0, true, 1, w);
+  FD_TRY(delassus(mv, lambda, m, singular_tol, w));
+  correct(mv, m, w3, w);
+  for (int b = 0; b < 3; ++b) {
+    block_out(w.X.data(), nv, w3, b, nv, out[b]);
+    block_out(w.Y.data(), m, w3, b, nv, out[3 + b]);
   }
-  FD_TRY(contact_deriv::factor(mv, m, singular_tol, w));
-  solve_pair(mv, m, w.dq.data(), 0.0, false, w.R2q.data(), w, out[0], out[3]);
-  solve_pair(mv, m, w.dv.data(), 0.0, false, w.R2v.data(), w, out[1], out[4]);
-  solve_pair(mv, m, nullptr, -1.0, false, nullptr, w, out[2], out[5]);
   return OK;
 }
 
@@ -259,47 +292,56 @@ inline std::int64_t impulse_dynamics_derivatives(const ModelView& mv, const doub
                                                  const ContactSpec* specs, int nc, int m, double e,
                                                  double singular_tol, double* const* out) {
   using namespace contact_deriv;
-  const int nv = mv.nv;
+  const int nv = mv.nv, w2 = 2 * nv;
   const size_t n = static_cast<size_t>(nv);
-  ContactDerivWork& w = workspace(mv, nc, m);
-  w.M.resize(n * n);
-  crba(mv, q, w.M.data());
-  contact_terms(mv, q, nullptr, nullptr, nullptr, specs, nc, w, nullptr);
-  FD_TRY(contact_deriv::factor(mv, m, singular_tol, w));
+  ContactDerivWork& w = workspace(mv, specs, nc, m);
+  const int* lambda = dof_tree(mv).lambda.data();
+  w.L.resize(n * n);
+  crba(mv, q, w.L.data());
+  const int bad = ltl_factor(mv, lambda, w.L.data());
+  if (bad >= 0) return make_status(SINGULAR, ARG_Q, dof_body(mv, bad));
+  contact_terms(mv, q, nullptr, nullptr, false, nullptr, specs, nc, w, nullptr);
+  FD_TRY(delassus(mv, lambda, m, singular_tol, w));
   // Λ = −(1 + e) D⁻¹ J v⁻,  v⁺ = v⁻ + M⁻¹ Jᵀ Λ
-  double *vp = out[4], *L = out[5];
+  double *vp = out[4], *Lam = out[5];
   for (int r = 0; r < m; ++r) {
     double s = 0.0;
-    for (int i = 0; i < nv; ++i) s += w.J[static_cast<size_t>(r) * n + i] * vm[i];
-    L[r] = -(1.0 + e) * s;
+    for (int t = w.off[r]; t < w.off[r + 1]; ++t) s += w.J[static_cast<size_t>(r) * n + w.supp[t]] * vm[w.supp[t]];
+    Lam[r] = -(1.0 + e) * s;
   }
-  dense_cholesky_solve<double>(w.D.data(), m, L);
+  dense_cholesky_solve<double>(w.D.data(), m, Lam);
   for (int i = 0; i < nv; ++i) {
     double s = vm[i];
-    for (int r = 0; r < m; ++r) s += w.MJ[static_cast<size_t>(r) * n + i] * L[r];
+    for (int r = 0; r < m; ++r) s += w.Pt[i * static_cast<size_t>(m) + r] * Lam[r];
     vp[i] = s;
   }
-  // R₁ along q: RNEA at zero velocity without gravity, a = w, with Λ on the bodies, plus the turn; R₂ = ∂(J u)/∂q
-  thread_local std::vector<double> u, acc, zero, dq;
-  u.resize(n), acc.resize(n), zero.assign(n, 0.0), dq.resize(n * n);
-  for (int i = 0; i < nv; ++i) u[i] = vp[i] + e * vm[i], acc[i] = vp[i] - vm[i];
+  // R₁ along q: RNEA at zero velocity without gravity, a = v⁺ − v⁻, with Λ on the bodies, plus the turn;
+  // R₂ = ∂(J u)/∂q at u = v⁺ + e v⁻. A = [−M⁻¹ R₁ | 1], R₂ = [∂(J u)/∂q | e J].
+  w.u.resize(n), w.acc.resize(n), w.zero.assign(n, 0.0);
+  for (int i = 0; i < nv; ++i) w.u[i] = vp[i] + e * vm[i], w.acc[i] = vp[i] - vm[i];
   w.f.assign(static_cast<size_t>(6) * mv.nb, 0.0);
-  w.dq.assign(n * n, 0.0);
-  contact_terms(mv, q, u.data(), zero.data(), L, specs, nc, w, w.dq.data());
-  rnea_derivatives(mv, q, zero.data(), acc.data(), w.f.data(), false, dq.data(), static_cast<double*>(nullptr),
+  w.R1.assign(n * n, 0.0);
+  contact_terms(mv, q, w.u.data(), w.zero.data(), false, Lam, specs, nc, w, w.R1.data());
+  w.dq.resize(n * n);
+  rnea_derivatives(mv, q, w.zero.data(), w.acc.data(), w.f.data(), false, w.dq.data(), static_cast<double*>(nullptr),
                    static_cast<double*>(nullptr));
-  for (size_t k = 0; k < n * n; ++k) w.dq[k] += dq[k];
-  w.R2q.resize(static_cast<size_t>(m) * n), w.R2v.resize(static_cast<size_t>(m) * n);
-  const size_t blk = static_cast<size_t>(6) * nv;
-  for (int k = 0, row = 0; k < nc; row += specs[k].rows, ++k) {
-    const double* kin = w.kin.data() + 6 * blk * static_cast<size_t>(k);
-    for (int r = 0; r < specs[k].rows; ++r) {
-      const size_t src = static_cast<size_t>(6 - specs[k].rows + r) * n, dst = static_cast<size_t>(row + r) * n;
-      for (int j = 0; j < nv; ++j) w.R2q[dst + j] = kin[src + j], w.R2v[dst + j] = e * kin[blk + src + j];
-    }
+  for (size_t k = 0; k < n * n; ++k) w.dq[k] += w.R1[k];
+  ltl_solve_rows_tree_pattern(mv, lambda, w.L.data(), w.dq.data(), 1, true);
+  w.X.resize(n * w2);
+  for (int i = 0; i < nv; ++i) {
+    double* x = w.X.data() + static_cast<size_t>(i) * w2;
+    std::copy_n(w.dq.data() + i * n, nv, x);
+    std::fill(x + nv, x + w2, 0.0);
+    x[nv + i] = 1.0;
   }
-  solve_pair(mv, m, w.dq.data(), 0.0, false, w.R2q.data(), w, out[0], out[2]);
-  solve_pair(mv, m, nullptr, -1.0, true, w.R2v.data(), w, out[1], out[3]);
+  w.Z.resize(static_cast<size_t>(m) * w2);
+  rows_of_kin(mv, specs, nc, w2, 0, 0, 0, 1.0, false, 0, w);
+  rows_of_kin(mv, specs, nc, w2, 1, 1, 1, e, false, 0, w);
+  correct(mv, m, w2, w);
+  for (int b = 0; b < 2; ++b) {
+    block_out(w.X.data(), nv, w2, b, nv, out[b]);
+    block_out(w.Y.data(), m, w2, b, nv, out[2 + b]);
+  }
   return OK;
 }
 

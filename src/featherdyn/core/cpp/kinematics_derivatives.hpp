@@ -115,12 +115,13 @@ inline InertiaRate<T> rate_of_inertia(const RigidInertia<T>& I, const Motion<T>&
 
 // A frame's (moved to `point` in its coordinates, or nullptr) motion derivatives in `ref`, (6, nv) row-major
 // each, into out: ∂v/∂q, ∂v/∂q̇, ∂a/∂q, ∂a/∂q̇, ∂a^c/∂q, ∂a^c/∂q̇ (a^c = [ω̇; a_lin + ω × v_lin] in `ref`;
-// ∂a/∂q̈ = ∂a^c/∂q̈ = ∂v/∂q̇).
+// ∂a/∂q̈ = ∂a^c/∂q̈ = ∂v/∂q̇). An output given as nullptr is not formed.
 template <class T>
 inline void kinematics_derivatives(const ModelView& mv, const T* q, const T* qd, const T* qdd, int frame,
                                    const double* point, int ref, T* const* out) {
   const int nv = mv.nv;
-  for (int o = 0; o < 6; ++o) std::fill(out[o], out[o] + 6 * nv, T(0.0));
+  for (int o = 0; o < 6; ++o)
+    if (out[o]) std::fill(out[o], out[o] + 6 * nv, T(0.0));
   const int body = mv.frame_body[frame];
   if (body == -1) return;  // a frame fixed to the world does not move
   WorldPassWork<T>& w = thread_workspace<WorldPassWork<T>>(mv.nb);
@@ -155,27 +156,33 @@ inline void kinematics_derivatives(const ModelView& mv, const T* q, const T* qd,
   auto classical = [&](const Motion<T>& da, const Motion<T>& dv) {  // ∂a + [0; ∂ω × v + ω × ∂v]
     return Motion<T>{da.w, da.v + cross(dv.w, vr.v) + cross(vr.w, dv.v)};
   };
+  Motion<T> Dvq = none, Dvv = none, Daq = none, Dav = none;
   for (int pos = 0; pos < n; ++pos) {
     const int k = w.path[pos];
     const Motion<T> u = pos > 0 ? w.v[w.path[pos - 1]] : none, wk = pos > 0 ? w.a[w.path[pos - 1]] : none;
     for (int c = 0; c < mv.nv_i[k]; ++c) {
       const int j = mv.idx_v[k] + c;
       const Motion<T> s = w.W[j];
-      const Motion<T> dvq = cross_motion(s, motion_sub(vb, u));
-      // the header's sum over i, telescoped (Jacobi: (s × v_i) × vJ_i + v_i × (s × vJ_i) = s × (v_i × vJ_i), and
-      // a_i − a_λ(i) = aJ_i + v_i × vJ_i): ∂a_b/∂q_j = s × (a_b − a_λ(k)) − (s × u) × (v_b − u), O(1) a column
-      const Motion<T> daq =
-          motion_sub(cross_motion(s, motion_sub(ab, wk)), cross_motion(cross_motion(s, u), motion_sub(vb, u)));
-      const Motion<T> dav = cross_motion(w.v[k], s) + cross_motion(s, motion_sub(vb, u));
       // ∂/∂q moves the frame (express with the column); ∂/∂q̇ does not (a plain change of coordinates)
-      const Motion<T> Dvq = express(vb, &dvq, s), Daq = express(ab, &daq, s);
-      const Motion<T> Dvv = express(s, nullptr, none), Dav = express(dav, nullptr, none);
-      put(out[0], j, Dvq);
-      put(out[1], j, Dvv);
-      put(out[2], j, Daq);
-      put(out[3], j, Dav);
-      put(out[4], j, classical(Daq, Dvq));
-      put(out[5], j, classical(Dav, Dvv));
+      if (out[0] || out[4]) {
+        const Motion<T> dvq = cross_motion(s, motion_sub(vb, u));
+        Dvq = express(vb, &dvq, s);
+      }
+      if (out[1] || out[5]) Dvv = express(s, nullptr, none);
+      if (out[2] || out[4]) {
+        // the header's sum over i, telescoped (Jacobi: (s × v_i) × vJ_i + v_i × (s × vJ_i) = s × (v_i × vJ_i),
+        // and a_i − a_λ(i) = aJ_i + v_i × vJ_i): ∂a_b/∂q_j = s × (a_b − a_λ(k)) − (s × u) × (v_b − u), O(1)
+        const Motion<T> daq =
+            motion_sub(cross_motion(s, motion_sub(ab, wk)), cross_motion(cross_motion(s, u), motion_sub(vb, u)));
+        Daq = express(ab, &daq, s);
+      }
+      if (out[3] || out[5]) Dav = express(cross_motion(w.v[k], s) + cross_motion(s, motion_sub(vb, u)), nullptr, none);
+      if (out[0]) put(out[0], j, Dvq);
+      if (out[1]) put(out[1], j, Dvv);
+      if (out[2]) put(out[2], j, Daq);
+      if (out[3]) put(out[3], j, Dav);
+      if (out[4]) put(out[4], j, classical(Daq, Dvq));
+      if (out[5]) put(out[5], j, classical(Dav, Dvv));
     }
   }
 }

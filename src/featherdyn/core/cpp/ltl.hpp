@@ -174,9 +174,8 @@ inline void sweep_up_block(S* x, S* const* rows, const S* ls, int n, S inv, int 
   }
 }
 
-// One state (doubles): B consecutive columns of a row as one vector (GCC/Clang vector extensions: a zmm, ymm or
-// xmm register where the instruction set has one, pairs of xmm otherwise), loaded and stored with memcpy (any
-// alignment); B = 1: a double. The vectors stay local (no vector crosses a call: no ABI dependence).
+// One state (doubles): B consecutive columns of a row as one vector type (GCC/Clang vector extensions); B = 1: a
+// double. The vectors stay local (no vector crosses a call: no ABI dependence).
 template <int B>
 struct Cols;
 template <>
@@ -196,35 +195,60 @@ struct Cols<1> {
   typedef double V;
 };
 
-// sweep_up_block on B columns of doubles held in one vector: the same operations entry by entry.
+// The doubles one register of the translation unit's instruction set holds: 2 (xmm) at the baseline, 4 (ymm)
+// with AVX, 8 (zmm) with AVX-512 (each instruction set's kernels are their own namespace: simd_kernels.inc).
+#if defined(__AVX512F__)
+constexpr int REG_DOUBLES = 8;
+#elif defined(__AVX__)
+constexpr int REG_DOUBLES = 4;
+#else
+constexpr int REG_DOUBLES = 2;
+#endif
+
+// B consecutive doubles as N vectors of W = min(B, REG_DOUBLES) doubles, each one register: a vector type wider
+// than a register is split through memory by the compiler (every operation a store and a load), N registers are
+// not. Loaded and stored with memcpy (any alignment); every entry sees the operations written, in their order.
+template <int B>
+struct Regs {
+  static constexpr int W = B < REG_DOUBLES ? B : REG_DOUBLES;
+  static constexpr int N = B / W;
+  using V = typename Cols<W>::V;
+  V r[N];
+  void load(const double* x) {
+    for (int h = 0; h < N; ++h) std::memcpy(&r[h], x + W * h, sizeof(V));
+  }
+  void store(double* x) const {
+    for (int h = 0; h < N; ++h) std::memcpy(x + W * h, &r[h], sizeof(V));
+  }
+};
+
+// sweep_up_block on B columns of doubles held in registers: the same operations entry by entry.
 template <int B>
 inline void sweep_up_cols(double* x, double* const* rows, const double* ls, int n, double inv, int c) {
-  using V = typename Cols<B>::V;
-  V a;
-  std::memcpy(&a, x, sizeof a);
-  a = a * inv;
-  std::memcpy(x, &a, sizeof a);
+  Regs<B> a;
+  a.load(x);
+  for (int h = 0; h < Regs<B>::N; ++h) a.r[h] = a.r[h] * inv;
+  a.store(x);
   for (int t = 0; t < n; ++t) {
-    V y;
-    std::memcpy(&y, rows[t] + c, sizeof y);
-    y = y - ls[t] * a;
-    std::memcpy(rows[t] + c, &y, sizeof y);
+    Regs<B> y;
+    y.load(rows[t] + c);
+    for (int h = 0; h < Regs<B>::N; ++h) y.r[h] = y.r[h] - ls[t] * a.r[h];
+    y.store(rows[t] + c);
   }
 }
 
-// sweep_down_block on B columns of doubles held in one vector: the same operations entry by entry.
+// sweep_down_block on B columns of doubles held in registers: the same operations entry by entry.
 template <int B>
 inline void sweep_down_cols(double* x, double* const* rows, const double* ls, int n, double inv, int c) {
-  using V = typename Cols<B>::V;
-  V acc;
-  std::memcpy(&acc, x, sizeof acc);
+  Regs<B> acc;
+  acc.load(x);
   for (int t = 0; t < n; ++t) {
-    V y;
-    std::memcpy(&y, rows[t] + c, sizeof y);
-    acc = acc - ls[t] * y;
+    Regs<B> y;
+    y.load(rows[t] + c);
+    for (int h = 0; h < Regs<B>::N; ++h) acc.r[h] = acc.r[h] - ls[t] * y.r[h];
   }
-  acc = acc * inv;
-  std::memcpy(x, &acc, sizeof acc);
+  for (int h = 0; h < Regs<B>::N; ++h) acc.r[h] = acc.r[h] * inv;
+  acc.store(x);
 }
 
 // The two sweeps of ltl_solve_Lt / ltl_solve_L on the rows of X (nv, ncols) row-major, each pivot's reciprocal

@@ -66,9 +66,9 @@ FD_INLINE void components(const Motion<double>& m, double* x) {
   x[0] = m.w.x, x[1] = m.w.y, x[2] = m.w.z, x[3] = m.v.x, x[4] = m.v.y, x[5] = m.v.z;
 }
 
-// Up to W forces as the columns of a (6, W) block, component-major, each row one vector of W doubles (ltl.hpp's
-// Cols: GCC/Clang vector extensions, a register or a pair where the instruction set has one; no vector crosses a
-// call): the W dot products with one motion x are 6 scaled rows added, out = Σ_c x_c U[c].
+// Up to W forces as the columns of a (6, W) block, component-major, each row W doubles held in registers (ltl.hpp's
+// Regs: GCC/Clang vector extensions; no vector crosses a call): the W dot products with one motion x are 6 scaled
+// rows added, out = Σ_c x_c U[c].
 template <int W>
 struct ForceBlock {
   double U[6][W] = {};
@@ -76,15 +76,14 @@ struct ForceBlock {
     U[0][m] = f.n.x, U[1][m] = f.n.y, U[2][m] = f.n.z, U[3][m] = f.f.x, U[4][m] = f.f.y, U[5][m] = f.f.z;
   }
   FD_INLINE void dots(const double* x, double* out) const {
-    using V = typename Cols<W>::V;
-    V acc, row;
-    std::memcpy(&acc, U[0], sizeof acc);
-    acc = x[0] * acc;
+    Regs<W> acc, row;
+    acc.load(U[0]);
+    for (int h = 0; h < Regs<W>::N; ++h) acc.r[h] = x[0] * acc.r[h];
     for (int c = 1; c < 6; ++c) {
-      std::memcpy(&row, U[c], sizeof row);
-      acc += x[c] * row;
+      row.load(U[c]);
+      for (int h = 0; h < Regs<W>::N; ++h) acc.r[h] += x[c] * row.r[h];
     }
-    std::memcpy(out, &acc, sizeof acc);
+    acc.store(out);
   }
 };
 
