@@ -238,10 +238,11 @@ def _corrected(dtau_dq: np.ndarray, terms: list[_Terms]) -> np.ndarray:
     return dtau_dq
 
 
-def _core(kernel: Any, model: Model, args: tuple[Any, ...], opts: Any, rows: tuple[tuple[int, ...], ...],
+def _core(kernel: Any, model: Model, args: tuple[Any, ...], opts: Any, m: int, ddq_first: int,
           backend: str | None) -> tuple[np.ndarray, ...] | None:
-    """The kernel's outputs for point and frame contacts: one state as the binding takes it, or rows `(N, nq)` on
-    its batch (the thread pool); ``None`` where it declines (dependent contacts, other input: the general path)."""
+    """The kernel's outputs for point and frame contacts (m rows; ``ddq_first`` (nv, nv) outputs, as many (m, nv),
+    then (nv,) and (m,)): one state as the binding takes it, or rows `(N, nq)` on its batch (the thread pool);
+    ``None`` where it declines (dependent contacts, other input: the general path)."""
     core = core_path(model, backend)
     if core is None:
         return None
@@ -249,16 +250,13 @@ def _core(kernel: Any, model: Model, args: tuple[Any, ...], opts: Any, rows: tup
         r = kernel.fresh(core.cm, args, opts)
         q = args[0]
         if r is None and type(q) is np.ndarray and q.ndim == 2 and (len(args) < 4 or args[3] is None):
-            n = q.shape[0]
-            r = tuple(_EMPTY((n, *shape)) for shape in rows)
+            n, nv = q.shape[0], model.nv
+            shapes = ((nv, nv),) * ddq_first + ((m, nv),) * ddq_first + ((nv,), (m,))
+            r = tuple(_EMPTY((n, *shape)) for shape in shapes)
             r = r if kernel.batch(core.cm, list(args), list(r), opts)[1] == OK else None
         return r
     except (TypeError, ValueError):  # arguments the binding does not take as they are
         return None
-
-
-def _shapes(nv: int, m: int, ddq_first: int) -> tuple[tuple[int, ...], ...]:
-    return ((nv, nv),) * ddq_first + ((m, nv),) * ddq_first + ((nv,), (m,))
 
 
 def constrained_dynamics_derivatives(model: Model, q: ArrayLike, v: ArrayLike, tau: ArrayLike,
@@ -288,8 +286,7 @@ def constrained_dynamics_derivatives(model: Model, q: ArrayLike, v: ArrayLike, t
             opts = _solver(found[1], mu, max_iter, tol)
         except (TypeError, ValueError):
             opts = None
-        r = None if opts is None else _core(_CONTACTS, model, (q, v, tau, f_ext), opts,
-                                            _shapes(model.nv, found[0].size, 3), backend)
+        r = None if opts is None else _core(_CONTACTS, model, (q, v, tau, f_ext), opts, found[0].size, 3, backend)
         if r is not None:
             return ConstrainedDynamicsDerivatives(*r)
     if _dask.lazy(q, v, tau, f_ext):
@@ -332,8 +329,9 @@ def impulse_dynamics_derivatives(model: Model, q: ArrayLike, v: ArrayLike,
     found = cached_contact_plan(model, constraints, core_contact_plan)
     if found is not None and found[1] is not None and isinstance(restitution, (int, float)) \
             and 0.0 <= restitution <= 1.0:  # point and frame contacts: contact_derivatives.hpp
-        opts = _declared.call_options(plan=found[1][0], restitution=float(restitution), singular_tol=DELASSUS_PIVOT_RTOL)
-        r = _core(_IMPULSES, model, (q, v), opts, _shapes(model.nv, found[0].size, 2), backend)
+        opts = found[1][1] if restitution == 0.0 else _declared.call_options(  # (the plan's own: e = 0)
+            plan=found[1][0], restitution=float(restitution), singular_tol=DELASSUS_PIVOT_RTOL)
+        r = _core(_IMPULSES, model, (q, v), opts, found[0].size, 2, backend)
         if r is not None:
             return ImpulseDynamicsDerivatives(*r)
     if _dask.lazy(q, v):
