@@ -357,3 +357,58 @@ def test_batched_aba_derivatives_of_a_long_chain_equal_the_rows() -> None:
         one = core.aba_derivatives(model, st.q[k], st.v[k], tau[k])
         assert all(np.array_equal(x[k], y) for x, y in zip(batch, one)), k
     assert_rel(batch[2][0] @ fd.crba(model, st.q[0]), np.eye(70), "chain70: M⁻¹ M", rtol=1e-9)
+
+
+_ONE_STATE_SCRIPT = """
+import hashlib, sys
+import numpy as np
+sys.path.insert(0, {tests!r})
+from _models import library_robot
+import featherdyn as fd
+from featherdyn import core
+print(core._core.simd()[0])
+h = hashlib.sha256()
+def take(*arrays):
+    for a in arrays:
+        h.update(np.ascontiguousarray(a, dtype=np.float64).tobytes())
+rng = np.random.default_rng(3)
+model = library_robot("solo12", True)
+feet = ["FL_FOOT", "FR_FOOT", "HL_FOOT", "HR_FOOT"]
+for k in range(3):
+    q = fd.random_configuration(model, rng)
+    v, a = rng.normal(size=model.nv), rng.normal(size=model.nv)
+    tau = fd.rnea(model, q, v, a) * 0.5
+    take(*fd.rnea_derivatives(model, q, v, a), *fd.aba_derivatives(model, q, v, tau), fd.mass_matrix_inverse(model, q))
+    take(*fd.rnea_second_derivatives(model, q, v, a), *fd.aba_second_derivatives(model, q, v, tau))
+    for ref in (fd.LOCAL, fd.LOCAL_WORLD_ALIGNED, fd.WORLD):
+        points = [fd.PointContact(f, reference=ref) for f in feet]
+        frames = [fd.FrameContact(f, reference=ref) for f in feet[:2]]
+        for cons in (points, frames):
+            d = fd.constrained_dynamics_derivatives(model, q, v, tau, cons)
+            take(d.ddq_dq, d.ddq_dv, d.ddq_dtau, d.forces_dq, d.forces_dv, d.forces_dtau)
+            i = fd.impulse_dynamics_derivatives(model, q, v, cons, restitution=0.3)
+            take(i.dv_plus_dq, i.dv_plus_dv, i.impulses_dq, i.impulses_dv, i.v_plus)
+print(h.hexdigest())
+"""
+
+
+def test_one_state_kernels_are_the_same_bits_under_every_instruction_set() -> None:
+    """The one-state kernels compiled per instruction set (groups.hpp: the RNEA and ABA derivatives, M⁻¹, the
+    contacts' derivatives, the second order) give the same bits with the baseline, AVX2 and AVX-512 builds
+    (FEATHERDYN_SIMD in fresh processes; a set the CPU lacks falls back to a narrower one): each entry sees the
+    same operations in the same order, only the registers' width differs."""
+    import os
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    tests = str(Path(__file__).resolve().parents[1])
+    digests = {}
+    for isa in ("baseline", "avx2", "avx512"):
+        res = subprocess.run([sys.executable, "-c", _ONE_STATE_SCRIPT.format(tests=tests)],
+                             env=dict(os.environ, FEATHERDYN_SIMD=isa), capture_output=True, text=True, timeout=300)
+        assert res.returncode == 0, res.stderr[-2000:]
+        used, digest = res.stdout.split()
+        digests[used] = digest
+    assert "baseline" in digests
+    assert len(set(digests.values())) == 1, digests

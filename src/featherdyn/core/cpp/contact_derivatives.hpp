@@ -71,15 +71,17 @@ inline void add_to_body(const ModelView& mv, int frame, const Force<double>& fa,
   o[0] += n.x, o[1] += n.y, o[2] += n.z, o[3] += ff.x, o[4] += ff.y, o[5] += ff.z;
 }
 
-// R₁ −= ᶠJᵀ G(f_a) ᶠJ, with ᶠJ (LOCAL) from the reference's Jacobian J (6, nv) and the frame's pose (R, p).
+// R₁ −= ᶠJᵀ G(f_a) ᶠJ, with ᶠJ (LOCAL) from the reference's Jacobian J (6, nv) and the frame's pose (R, p), over
+// the frame's chain supp[0 .. len) (J's other columns are zero, and so are ᶠJ's and G ᶠJ's).
 inline void add_turn(const ModelView& mv, int ref, const double* J, const Mat3<double>& R, const Vec3<double>& p,
-                     const Force<double>& fa, ContactDerivWork& w, double* R1) {
+                     const Force<double>& fa, const int* supp, int len, ContactDerivWork& w, double* R1) {
   if (ref == LOCAL) return;
   const int nv = mv.nv;
   w.Dscr.resize(static_cast<size_t>(12) * nv);
   double* JL = w.Dscr.data();
   double* GJ = JL + 6 * nv;
-  for (int k = 0; k < nv; ++k) {
+  for (int t = 0; t < len; ++t) {
+    const int k = supp[t];
     const Vec3<double> om{J[k], J[nv + k], J[2 * nv + k]}, vl{J[3 * nv + k], J[4 * nv + k], J[5 * nv + k]};
     const Vec3<double> wL = mul_transpose(R, om), vL = mul_transpose(R, ref == WORLD ? vl - cross(p, om) : vl);
     Vec3<double> top = cross(fa.n, wL);
@@ -88,12 +90,20 @@ inline void add_turn(const ModelView& mv, int ref, const double* J, const Mat3<d
     const double col[12] = {wL.x, wL.y, wL.z, vL.x, vL.y, vL.z, top.x, top.y, top.z, bottom.x, bottom.y, bottom.z};
     for (int r = 0; r < 6; ++r) JL[r * nv + k] = col[r], GJ[r * nv + k] = col[6 + r];
   }
-  for (int i = 0; i < nv; ++i)
+  for (int ti = 0; ti < len; ++ti) {
+    const int i = supp[ti];
     for (int r = 0; r < 6; ++r) {
       const double a = JL[r * nv + i];
-      if (a == 0.0) continue;
-      for (int j = 0; j < nv; ++j) R1[i * nv + j] -= a * GJ[r * nv + j];
+      for (int tj = 0; tj < len; ++tj) R1[i * nv + supp[tj]] -= a * GJ[r * nv + supp[tj]];
     }
+  }
+}
+
+// Whether a contact's force is held in other axes than its frame's, and so turns with q (add_turn; LOCAL: none).
+inline bool any_turn(const ContactSpec* specs, int nc) {
+  for (int k = 0; k < nc; ++k)
+    if (specs[k].ref != LOCAL) return true;
+  return false;
 }
 
 // x[c, c + B) += Σ_t a_t · rows[t][c, c + B), the B entries held in registers (ltl.hpp's Regs) through all n terms.
@@ -207,7 +217,8 @@ inline void contact_terms(const ModelView& mv, const double* q, const double* qd
       frame_pose(mv, q, s.frame, R, p);
       const Force<double> fa = frame_force(s, lam + row, R, p);
       add_to_body(mv, s.frame, fa, w.f.data());
-      if (R1 != nullptr) add_turn(mv, s.ref, outs[1], R, p, fa, w, R1);
+      if (R1 != nullptr)
+        add_turn(mv, s.ref, outs[1], R, p, fa, w.supp.data() + w.off[row], w.off[row + 1] - w.off[row], w, R1);
     }
     row += s.rows;
   }
@@ -257,8 +268,9 @@ inline std::int64_t contact_dynamics_derivatives(const ModelView& mv, const doub
   const int* lambda = dof_tree(mv).lambda.data();
   w.f.assign(static_cast<size_t>(6) * mv.nb, 0.0);
   if (f_ext) std::copy(f_ext, f_ext + 6 * mv.nb, w.f.begin());
-  w.R1.assign(n * n, 0.0);  // the forces' turn
-  contact_terms(mv, q, qd, qdd, true, lam, specs, nc, w, w.R1.data());
+  const bool turns = any_turn(specs, nc);
+  if (turns) w.R1.assign(n * n, 0.0);
+  contact_terms(mv, q, qd, qdd, true, lam, specs, nc, w, turns ? w.R1.data() : nullptr);
   w.dq.resize(n * n), w.dv.resize(n * n), w.L.resize(n * n);
   rnea_derivatives(mv, q, qd, qdd, w.f.data(), true, w.dq.data(), w.dv.data(), w.L.data());
   const int bad = ltl_factor(mv, lambda, w.L.data());
@@ -267,7 +279,10 @@ inline std::int64_t contact_dynamics_derivatives(const ModelView& mv, const doub
   w.X.resize(n * w3);
   for (int i = 0; i < nv; ++i) {
     double* x = w.X.data() + static_cast<size_t>(i) * w3;
-    for (int j = 0; j < nv; ++j) x[j] = w.dq[i * n + j] + w.R1[i * n + j];
+    if (turns)
+      for (int j = 0; j < nv; ++j) x[j] = w.dq[i * n + j] + w.R1[i * n + j];
+    else
+      std::copy_n(w.dq.data() + i * n, nv, x);
     std::copy_n(w.dv.data() + i * n, nv, x + nv);
     std::fill(x + 2 * nv, x + w3, 0.0);
     x[2 * nv + i] = -1.0;
@@ -277,7 +292,7 @@ inline std::int64_t contact_dynamics_derivatives(const ModelView& mv, const doub
   w.Z.assign(static_cast<size_t>(m) * w3, 0.0);
   rows_of_kin(mv, specs, nc, w3, 0, 4, 2, 1.0, true, 0, w);
   rows_of_kin(mv, specs, nc, w3, 1, 5, 3, 1.0, true, 1, w);
-  FD_TRY(delassus(mv, lambda, m, singular_tol, w));
+  if (const std::int64_t st = delassus(mv, lambda, m, singular_tol, w); st != OK) return st;
   correct(mv, m, w3, w);
   for (int b = 0; b < 3; ++b) {
     block_out(w.X.data(), nv, w3, b, nv, out[b]);
@@ -301,7 +316,7 @@ inline std::int64_t impulse_dynamics_derivatives(const ModelView& mv, const doub
   const int bad = ltl_factor(mv, lambda, w.L.data());
   if (bad >= 0) return make_status(SINGULAR, ARG_Q, dof_body(mv, bad));
   contact_terms(mv, q, nullptr, nullptr, false, nullptr, specs, nc, w, nullptr);
-  FD_TRY(delassus(mv, lambda, m, singular_tol, w));
+  if (const std::int64_t st = delassus(mv, lambda, m, singular_tol, w); st != OK) return st;
   // Λ = −(1 + e) D⁻¹ J v⁻,  v⁺ = v⁻ + M⁻¹ Jᵀ Λ
   double *vp = out[4], *Lam = out[5];
   for (int r = 0; r < m; ++r) {
@@ -320,12 +335,14 @@ inline std::int64_t impulse_dynamics_derivatives(const ModelView& mv, const doub
   w.u.resize(n), w.acc.resize(n), w.zero.assign(n, 0.0);
   for (int i = 0; i < nv; ++i) w.u[i] = vp[i] + e * vm[i], w.acc[i] = vp[i] - vm[i];
   w.f.assign(static_cast<size_t>(6) * mv.nb, 0.0);
-  w.R1.assign(n * n, 0.0);
-  contact_terms(mv, q, w.u.data(), w.zero.data(), false, Lam, specs, nc, w, w.R1.data());
+  const bool turns = any_turn(specs, nc);
+  if (turns) w.R1.assign(n * n, 0.0);
+  contact_terms(mv, q, w.u.data(), w.zero.data(), false, Lam, specs, nc, w, turns ? w.R1.data() : nullptr);
   w.dq.resize(n * n);
   rnea_derivatives(mv, q, w.zero.data(), w.acc.data(), w.f.data(), false, w.dq.data(), static_cast<double*>(nullptr),
                    static_cast<double*>(nullptr));
-  for (size_t k = 0; k < n * n; ++k) w.dq[k] += w.R1[k];
+  if (turns)
+    for (size_t k = 0; k < n * n; ++k) w.dq[k] += w.R1[k];
   ltl_solve_rows_tree_pattern(mv, lambda, w.L.data(), w.dq.data(), 1, true);
   w.X.resize(n * w2);
   for (int i = 0; i < nv; ++i) {

@@ -159,8 +159,8 @@ struct ContactDynamicsDerivatives : Declared {
     FD_TRY(contact_dynamics(mv, in[0], in[1], in[2], in[3], opt.contacts, opt.nc, opt.mu, opt.max_iter, opt.tol,
                             opt.singular_tol, out[6], out[7], r));
     if (r.iterations < 0.0) return make_status(CONSTRAINT, ARG_OUT, opt.rows);
-    return contact_dynamics_derivatives(mv, in[0], in[1], in[3], out[6], out[7], opt.contacts, opt.nc, opt.rows,
-                                        opt.singular_tol, out);
+    return group_kernels().contact_dynamics_derivatives(mv, in[0], in[1], in[3], out[6], out[7], opt.contacts,
+                                                        opt.nc, opt.rows, opt.singular_tol, out);
   }
 };
 
@@ -176,8 +176,8 @@ struct ImpulseDynamicsDerivatives : Declared {
   static constexpr unsigned options = CONTACTS | RESTITUTION;
   static constexpr SingularBlockFn singular_block = singular_at_rest;
   static std::int64_t run(const ModelView& mv, const double* const* in, double* const* out, const Options& opt) {
-    return impulse_dynamics_derivatives(mv, in[0], in[1], opt.contacts, opt.nc, opt.rows, opt.restitution,
-                                        opt.singular_tol, out);
+    return group_kernels().impulse_dynamics_derivatives(mv, in[0], in[1], opt.contacts, opt.nc, opt.rows,
+                                                        opt.restitution, opt.singular_tol, out);
   }
 };
 

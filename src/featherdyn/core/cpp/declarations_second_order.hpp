@@ -21,7 +21,8 @@ struct RneaSecondDerivatives : Declared {
                                         operand::tensor("d2tau_dqdv"), operand::tensor("dM_dq")};
   static constexpr unsigned options = GRAVITY;
   static std::int64_t run(const ModelView& mv, const double* const* in, double* const* out, const Options& opt) {
-    rnea_second_derivatives(mv, in[0], in[1], in[2], in[3], opt.gravity, out[0], out[1], out[2], out[3]);
+    group_kernels().rnea_second_derivatives(mv, in[0], in[1], in[2], in[3], opt.gravity, out[0], out[1], out[2],
+                                            out[3]);
     return OK;
   }
 };
@@ -36,8 +37,8 @@ struct AbaSecondDerivatives : Declared {
   static constexpr unsigned options = GRAVITY;
   static constexpr SingularBlockFn singular_block = singular_at_rest;
   static std::int64_t run(const ModelView& mv, const double* const* in, double* const* out, const Options& opt) {
-    const int bad = aba_second_derivatives(mv, in[0], in[1], in[2], in[3], opt.gravity, out[0], out[1], out[2],
-                                           out[3]);
+    const int bad = group_kernels().aba_second_derivatives(mv, in[0], in[1], in[2], in[3], opt.gravity, out[0],
+                                                           out[1], out[2], out[3]);
     return bad < 0 ? OK : make_status(SINGULAR, ARG_Q, bad);
   }
 };

@@ -53,7 +53,8 @@ inline bool stream_result(std::int64_t rows, std::int64_t doubles_per_row) {
 // dynamics: M singular, or D with mu = 0).
 using GroupFn = std::int64_t (*)(const GroupArgs&, std::int64_t r0);
 
-// One-state kernels whose inner loops are wide (derivatives.hpp), compiled per instruction set too.
+// One-state kernels whose inner loops are wide (derivatives.hpp, contact_derivatives.hpp), compiled per instruction
+// set too.
 using RneaDerivativesFn = void (*)(const fdcore::ModelView&, const double* q, const double* qd, const double* qdd,
                                    const double* f_ext, bool gravity, double* dtau_dq, double* dtau_dv,
                                    double* M);
@@ -61,6 +62,19 @@ using MinverseFn = int (*)(const fdcore::ModelView&, const double* q, double* Mi
 using AbaDerivativesFn = int (*)(const fdcore::ModelView&, const int* lambda_d, const double* q, const double* qd,
                                  const double* tau, const double* f_ext, bool gravity, double* qdd, double* dq,
                                  double* dv, double* Minv, double* scratch);
+using ContactDerivativesFn = std::int64_t (*)(const fdcore::ModelView&, const double* q, const double* qd,
+                                              const double* f_ext, const double* qdd, const double* lam,
+                                              const fdcore::ContactSpec* specs, int nc, int m, double singular_tol,
+                                              double* const* out);
+using SecondDerivativesFn = void (*)(const fdcore::ModelView&, const double* q, const double* qd, const double* qdd,
+                                     const double* f_ext, bool gravity, double* d2q, double* d2v, double* dqdv,
+                                     double* dM);
+using AbaSecondDerivativesFn = int (*)(const fdcore::ModelView&, const double* q, const double* qd, const double* tau,
+                                       const double* f_ext, bool gravity, double* d2q, double* d2v, double* dqdv,
+                                       double* dqdtau);
+using ImpulseDerivativesFn = std::int64_t (*)(const fdcore::ModelView&, const double* q, const double* vm,
+                                              const fdcore::ContactSpec* specs, int nc, int m, double e,
+                                              double singular_tol, double* const* out);
 
 struct GroupKernels {
   const char* isa;
@@ -74,6 +88,10 @@ struct GroupKernels {
   GroupFn kinetic_energy_derivatives;
   GroupFn rnea_vjp, aba_vjp, crba_vjp;
   GroupFn kinematics_derivatives, center_of_mass_derivatives, centroidal_dynamics_derivatives;
+  ContactDerivativesFn contact_dynamics_derivatives;  // (contact_derivatives.hpp: one state, dense products)
+  ImpulseDerivativesFn impulse_dynamics_derivatives;
+  SecondDerivativesFn rnea_second_derivatives;  // (second_order.hpp: one state)
+  AbaSecondDerivativesFn aba_second_derivatives;
 };
 
 }  // namespace fdgroup

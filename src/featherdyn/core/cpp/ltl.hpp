@@ -195,22 +195,13 @@ struct Cols<1> {
   typedef double V;
 };
 
-// The doubles one register of the translation unit's instruction set holds: 2 (xmm) at the baseline, 4 (ymm)
-// with AVX, 8 (zmm) with AVX-512 (each instruction set's kernels are their own namespace: simd_kernels.inc).
-#if defined(__AVX512F__)
-constexpr int REG_DOUBLES = 8;
-#elif defined(__AVX__)
-constexpr int REG_DOUBLES = 4;
-#else
-constexpr int REG_DOUBLES = 2;
-#endif
-
-// B consecutive doubles as N vectors of W = min(B, REG_DOUBLES) doubles, each one register: a vector type wider
-// than a register is split through memory by the compiler (every operation a store and a load), N registers are
-// not. Loaded and stored with memcpy (any alignment); every entry sees the operations written, in their order.
+// B consecutive doubles as N vectors of W = min(B, PACK_WIDTH) doubles (pack.hpp: a register of the unit's
+// instruction set, 2 at the baseline, 4 with AVX2, 8 with AVX-512), each one register: a vector type wider than a
+// register is split through memory by the compiler (every operation a store and a load), N registers are not.
+// Loaded and stored with memcpy (any alignment); every entry sees the operations written, in their order.
 template <int B>
 struct Regs {
-  static constexpr int W = B < REG_DOUBLES ? B : REG_DOUBLES;
+  static constexpr int W = B < PACK_WIDTH ? B : PACK_WIDTH;
   static constexpr int N = B / W;
   using V = typename Cols<W>::V;
   V r[N];

@@ -12,6 +12,7 @@
 
 #include "aba.hpp"
 #include "checks.hpp"
+#include "contact_derivatives.hpp"
 #include "contacts.hpp"
 #include "crba.hpp"
 #include "derivatives.hpp"
@@ -22,6 +23,7 @@
 #include "kinematics.hpp"
 #include "pack.hpp"
 #include "rnea.hpp"
+#include "second_order.hpp"
 
 namespace fdcore {
 
@@ -393,7 +395,9 @@ inline fdgroup::GroupKernels group_kernels(const char* isa) {
           &rnea_derivatives<double>, &mass_matrix_inverse, &aba_derivatives, &aba_derivatives_group,
           &contact_dynamics_group, &operational_space_inertia_group, &kinetic_energy_derivatives_group,
           &dynamics_vjp_group<false>, &dynamics_vjp_group<true>, &crba_vjp_group,
-          &kinematics_derivatives_group, &center_of_mass_derivatives_group, &centroidal_dynamics_derivatives_group};
+          &kinematics_derivatives_group, &center_of_mass_derivatives_group, &centroidal_dynamics_derivatives_group,
+          &contact_dynamics_derivatives, &impulse_dynamics_derivatives, &rnea_second_derivatives,
+          &aba_second_derivatives};
 }
 
 }  // namespace fdcore
