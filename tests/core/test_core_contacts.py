@@ -7,6 +7,8 @@
 * a row whose contacts are dependent (``mu = 0``: a singular J M⁻¹ Jᵀ) fails alone: its one-state status
   (iterations −1) and the other rows of its group unchanged; a non-finite row is named;
 * Λ of frames (``fd.operational_space_inertia``) on rows: each equal to its one-state call, bit for bit;
+* the constrained dynamics' derivatives (``contact_derivatives.hpp`` on packs) likewise, every reference, K_d,
+  ``mu = 0`` and ``mu > 0``; a batch with a row of dependent contacts raises that row's error;
 * the same with the baseline and AVX2 kernels (``FEATHERDYN_SIMD``, in a fresh process).
 """
 
@@ -178,6 +180,53 @@ def test_lambda_rows_equal_one_state_calls_bit_for_bit(name: str, n: int) -> Non
     _assert_lambda_rows_are_one_state_calls(name, n, 30 + n)
 
 
+DERIVATIVES = ("ddq_dq", "ddq_dv", "ddq_dtau", "forces_dq", "forces_dv", "forces_dtau", "ddq", "lagrange")
+REFERENCES = {0: fd.LOCAL, 1: fd.WORLD, 2: fd.LOCAL_WORLD_ALIGNED}
+
+
+def _assert_derivative_rows_are_one_state_calls(name: str, ref: int, n: int, seed: int, mu: float = 0.0) -> None:
+    """``fd.constrained_dynamics_derivatives`` on n rows (the core's batch: full groups on Packs, the tail row by
+    row) against its one-state calls, bit for bit."""
+    model = _model(name)
+    frames, rows = SCENES[name]
+    Q, V, T, _ = _states(model, seed, n)
+    kind = fd.PointContact if rows == 3 else fd.FrameContact
+    cons = [kind(f, REFERENCES[ref], baumgarte=(0.0, 0.5)) for f in frames]
+    batch = fd.constrained_dynamics_derivatives(model, Q, V, T, cons, mu=mu)
+    for k in range(n):
+        one = fd.constrained_dynamics_derivatives(model, Q[k], V[k], T[k], cons, mu=mu)
+        for what in DERIVATIVES:
+            assert np.array_equal(getattr(batch, what)[k], getattr(one, what)), f"{name} row {k} of {n}: {what}"
+
+
+@pytest.mark.parametrize("name", SCENES)
+@pytest.mark.parametrize("n", [WIDTH, 2 * WIDTH + 3])
+@pytest.mark.parametrize("ref", [0, 1, 2], ids=["LOCAL", "WORLD", "LWA"])
+def test_derivative_rows_equal_one_state_calls_bit_for_bit(name: str, n: int, ref: int) -> None:
+    """The constrained dynamics' derivatives in SIMD lanes (contact_derivatives.hpp on Packs): every reference (the
+    forces' turn in WORLD and LWA), K_d, mu = 0 and mu > 0 (each lane's own proximal iterations)."""
+    _assert_derivative_rows_are_one_state_calls(name, ref, n, 60 + n + ref)
+    _assert_derivative_rows_are_one_state_calls(name, ref, n, 70 + n + ref, mu=1e-3)
+
+
+def test_a_derivative_batch_with_dependent_contacts_raises_as_its_row() -> None:
+    """A lane whose D is singular fails its group; the batch then raises the one-state call's error, and the
+    other rows alone equal their one-state calls."""
+    model, Q, V, T, _, bad = _singular_row_batch()
+    cons = fd.FrameContact("panda_hand", fd.LOCAL)
+    with pytest.raises(fd.ConstraintError) as one:
+        fd.constrained_dynamics_derivatives(model, Q[bad], V[bad], T[bad], cons)
+    with pytest.raises(fd.ConstraintError) as batch:
+        fd.constrained_dynamics_derivatives(model, Q, V, T, cons)
+    assert type(batch.value) is type(one.value)
+    ok = [k for k in range(Q.shape[0]) if k != bad]
+    rows = fd.constrained_dynamics_derivatives(model, Q[ok], V[ok], T[ok], cons)
+    for i, k in enumerate(ok):
+        single = fd.constrained_dynamics_derivatives(model, Q[k], V[k], T[k], cons)
+        for what in DERIVATIVES:
+            assert np.array_equal(getattr(rows, what)[i], getattr(single, what)), (k, what)
+
+
 _SIMD_SCRIPT = """
 import sys
 sys.path.insert(0, {tests!r})
@@ -193,7 +242,9 @@ for name in t.SCENES:
         specs = t._specs(model, frames, rows, ref, 0.5)
         t._assert_rows_are_one_state_calls(model, Q, V, T, FX, specs)
         t._assert_rows_are_one_state_calls(model, Q, V, T, None, specs, mu=1e-3, max_iter=6)
+        t._assert_derivative_rows_are_one_state_calls(name, ref, 2 * t.WIDTH + 1, 80 + ref)
 t.test_a_row_with_dependent_contacts_fails_alone()
+t.test_a_derivative_batch_with_dependent_contacts_raises_as_its_row()
 for name in t.OSI_SCENES:
     t._assert_lambda_rows_are_one_state_calls(name, 2 * t.WIDTH + 1, 50)
 print("ok")

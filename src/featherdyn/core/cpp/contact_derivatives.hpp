@@ -29,6 +29,7 @@
 #pragma once
 
 #include <algorithm>
+#include <type_traits>
 #include <vector>
 
 #include "contacts.hpp"
@@ -40,60 +41,68 @@
 
 namespace fdcore {
 
+// The kernels below are templates on the scalar S: double (one state) or Pack (PACK_WIDTH states, simd_groups.hpp's
+// batches), with the same operations in the same order, so every lane is bit-identical to its one-state result.
+// What decides the control flow (the contacts, their rows' chains, the references) depends on the model and the
+// specs only; what depends on the state (a pivot of M or of D) fails the call, for a Pack in any lane.
+template <class S>
 struct ContactDerivWork {
-  std::vector<double> f, dq, dv, L, kin, J, R1, X, Z, Y, Pt, D, Dinv, Dscr, u, acc, zero;
-  std::vector<int> supp, off;           // row r of J: its nonzero columns supp[off[r] .. off[r + 1])
-  std::vector<const double*> rows;      // add_rows' operands
-  std::vector<double> coef;
+  std::vector<S> f, dq, dv, L, kin, J, R1, X, Z, Y, Pt, D, Dinv, scratch, u, acc, zero;
+  std::vector<int> supp, off;  // row r of J: its nonzero columns supp[off[r] .. off[r + 1])
+  std::vector<const S*> rows;  // add_product's operands
+  std::vector<S> coef;
   void resize(size_t) {}
 };
 
 namespace contact_deriv {
 
 // f_a = Bᵀ λ₆: contact s's force (its rows of λ₆, the rest zero) in the frame's axes, about its origin.
-inline Force<double> frame_force(const ContactSpec& s, const double* lam, const Mat3<double>& R, const Vec3<double>& p) {
-  double l6[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
+template <class S>
+inline Force<S> frame_force(const ContactSpec& s, const S* lam, const Mat3<S>& R, const Vec3<S>& p) {
+  S l6[6] = {S(0.0), S(0.0), S(0.0), S(0.0), S(0.0), S(0.0)};
   for (int r = 0; r < s.rows; ++r) l6[6 - s.rows + r] = lam[r];
-  Vec3<double> n{l6[0], l6[1], l6[2]};
-  const Vec3<double> f{l6[3], l6[4], l6[5]};
+  Vec3<S> n{l6[0], l6[1], l6[2]};
+  const Vec3<S> f{l6[3], l6[4], l6[5]};
   if (s.ref == LOCAL) return {n, f};
   if (s.ref == WORLD) n = n - cross(p, f);  // about the world origin → about the frame's
   return {mul_transpose(R, n), mul_transpose(R, f)};
 }
 
 // f_a added to the external force (nb, 6) of the frame's body: [R n + p × R f; R f], (R, p) the frame in the body.
-inline void add_to_body(const ModelView& mv, int frame, const Force<double>& fa, double* f) {
+template <class S>
+inline void add_to_body(const ModelView& mv, int frame, const Force<S>& fa, S* f) {
   const int b = mv.frame_body[frame];
   if (b < 0) return;
-  const Mat3<double> R = load9<double>(mv.frame_R + 9 * frame);
-  const Vec3<double> p = load3<double>(mv.frame_p + 3 * frame), ff = R * fa.f, n = R * fa.n + cross(p, ff);
-  double* o = f + 6 * b;
+  const Mat3<S> R = load9<S>(mv.frame_R + 9 * frame);
+  const Vec3<S> p = load3<S>(mv.frame_p + 3 * frame), ff = R * fa.f, n = R * fa.n + cross(p, ff);
+  S* o = f + 6 * b;
   o[0] += n.x, o[1] += n.y, o[2] += n.z, o[3] += ff.x, o[4] += ff.y, o[5] += ff.z;
 }
 
 // R₁ −= ᶠJᵀ G(f_a) ᶠJ, with ᶠJ (LOCAL) from the reference's Jacobian J (6, nv) and the frame's pose (R, p), over
 // the frame's chain supp[0 .. len) (J's other columns are zero, and so are ᶠJ's and G ᶠJ's).
-inline void add_turn(const ModelView& mv, int ref, const double* J, const Mat3<double>& R, const Vec3<double>& p,
-                     const Force<double>& fa, const int* supp, int len, ContactDerivWork& w, double* R1) {
+template <class S>
+inline void add_turn(const ModelView& mv, int ref, const S* J, const Mat3<S>& R, const Vec3<S>& p, const Force<S>& fa,
+                     const int* supp, int len, ContactDerivWork<S>& w, S* R1) {
   if (ref == LOCAL) return;
   const int nv = mv.nv;
-  w.Dscr.resize(static_cast<size_t>(12) * nv);
-  double* JL = w.Dscr.data();
-  double* GJ = JL + 6 * nv;
+  w.scratch.resize(static_cast<size_t>(12) * nv);
+  S* JL = w.scratch.data();
+  S* GJ = JL + 6 * nv;
   for (int t = 0; t < len; ++t) {
     const int k = supp[t];
-    const Vec3<double> om{J[k], J[nv + k], J[2 * nv + k]}, vl{J[3 * nv + k], J[4 * nv + k], J[5 * nv + k]};
-    const Vec3<double> wL = mul_transpose(R, om), vL = mul_transpose(R, ref == WORLD ? vl - cross(p, om) : vl);
-    Vec3<double> top = cross(fa.n, wL);
+    const Vec3<S> om{J[k], J[nv + k], J[2 * nv + k]}, vl{J[3 * nv + k], J[4 * nv + k], J[5 * nv + k]};
+    const Vec3<S> wL = mul_transpose(R, om), vL = mul_transpose(R, ref == WORLD ? vl - cross(p, om) : vl);
+    Vec3<S> top = cross(fa.n, wL);
     if (ref == WORLD) top += cross(fa.f, vL);
-    const Vec3<double> bottom = cross(fa.f, wL);
-    const double col[12] = {wL.x, wL.y, wL.z, vL.x, vL.y, vL.z, top.x, top.y, top.z, bottom.x, bottom.y, bottom.z};
+    const Vec3<S> bottom = cross(fa.f, wL);
+    const S col[12] = {wL.x, wL.y, wL.z, vL.x, vL.y, vL.z, top.x, top.y, top.z, bottom.x, bottom.y, bottom.z};
     for (int r = 0; r < 6; ++r) JL[r * nv + k] = col[r], GJ[r * nv + k] = col[6 + r];
   }
   for (int ti = 0; ti < len; ++ti) {
     const int i = supp[ti];
     for (int r = 0; r < 6; ++r) {
-      const double a = JL[r * nv + i];
+      const S a = JL[r * nv + i];
       for (int tj = 0; tj < len; ++tj) R1[i * nv + supp[tj]] -= a * GJ[r * nv + supp[tj]];
     }
   }
@@ -120,25 +129,36 @@ inline void add_rows_cols(double* x, const double* const* rows, const double* a,
 }
 
 // C (p, ncols) += A (p, k) B (k, ncols), row-major; row i of A restricted to the columns idx[off[i] .. off[i + 1])
-// when idx is given (the others zero), every column otherwise.
-inline void add_product(const double* A, int p, int k, const double* B, int ncols, double* C, const int* idx,
-                        const int* off, ContactDerivWork& w) {
+// when idx is given (the others zero), every column otherwise. Each entry: C_ic + Σ_t A_it B_tc in t's order
+// (doubles: a few columns at a time in registers; Packs: an entry at a time, W lanes an operation).
+template <class S>
+inline void add_product(const S* A, int p, int k, const S* B, int ncols, S* C, const int* idx, const int* off,
+                        ContactDerivWork<S>& w) {
   w.rows.resize(static_cast<size_t>(k)), w.coef.resize(static_cast<size_t>(k));
   for (int i = 0; i < p; ++i) {
-    const double* Ai = A + static_cast<size_t>(i) * k;
+    const S* Ai = A + static_cast<size_t>(i) * k;
     int n = 0;
     const int t0 = idx ? off[i] : 0, t1 = idx ? off[i + 1] : k;
     for (int s = t0; s < t1; ++s) {
       const int t = idx ? idx[s] : s;
       w.rows[n] = B + static_cast<size_t>(t) * ncols, w.coef[n++] = Ai[t];
     }
-    double* Ci = C + static_cast<size_t>(i) * ncols;
-    blocks_of(0, ncols, [&](auto Bw, int c) { add_rows_cols<Bw()>(Ci, w.rows.data(), w.coef.data(), n, c); });
+    S* Ci = C + static_cast<size_t>(i) * ncols;
+    if constexpr (std::is_same_v<S, double>) {
+      blocks_of(0, ncols, [&](auto Bw, int c) { add_rows_cols<Bw()>(Ci, w.rows.data(), w.coef.data(), n, c); });
+    } else {
+      for (int c = 0; c < ncols; ++c) {
+        S acc = Ci[c];
+        for (int t = 0; t < n; ++t) acc = acc + w.coef[t] * w.rows[t][c];
+        Ci[c] = acc;
+      }
+    }
   }
 }
 
 // The nonzero columns of the contacts' rows of J: the dofs of each frame's chain (root … its body).
-inline void row_supports(const ModelView& mv, const ContactSpec* specs, int nc, int m, ContactDerivWork& w) {
+template <class S>
+inline void row_supports(const ModelView& mv, const ContactSpec* specs, int nc, int m, ContactDerivWork<S>& w) {
   w.supp.clear();
   w.off.assign(static_cast<size_t>(m) + 1, 0);
   for (int k = 0, row = 0; k < nc; row += specs[k].rows, ++k) {
@@ -154,52 +174,56 @@ inline void row_supports(const ModelView& mv, const ContactSpec* specs, int nc, 
 }
 
 // With L = M's factor and J (w.J, m rows): P = M⁻¹ Jᵀ (w.Pt, (nv, m)), D = J P factored (w.D) and D⁻¹ (w.Dinv).
-// CONSTRAINT when D is singular (dependent contacts).
-inline std::int64_t delassus(const ModelView& mv, const int* lambda, int m, double singular_tol, ContactDerivWork& w) {
+// CONSTRAINT when D is singular (dependent contacts; for a Pack, in some lane).
+template <class S>
+inline std::int64_t delassus(const ModelView& mv, const int* lambda, int m, double singular_tol,
+                             ContactDerivWork<S>& w) {
   const int nv = mv.nv;
   const size_t mm = static_cast<size_t>(m);
   w.Pt.resize(static_cast<size_t>(nv) * mm);
   for (int r = 0; r < m; ++r)
     for (int i = 0; i < nv; ++i) w.Pt[static_cast<size_t>(i) * mm + r] = w.J[static_cast<size_t>(r) * nv + i];
   ltl_solve_rows(mv, lambda, w.L.data(), w.Pt.data(), m);
-  w.D.assign(mm * mm, 0.0), w.Dinv.resize(mm * mm), w.Dscr.resize(mm * mm);
+  w.D.assign(mm * mm, S(0.0)), w.Dinv.resize(mm * mm), w.scratch.resize(mm * mm);
   add_product(w.J.data(), m, nv, w.Pt.data(), m, w.D.data(), w.supp.data(), w.off.data(), w);
-  if (dense_cholesky<double>(w.D.data(), m, singular_tol)) return make_status(CONSTRAINT, ARG_OUT, m);
-  dense_cholesky_inverse<double>(w.D.data(), m, w.Dscr.data(), w.Dinv.data());
+  if (dense_cholesky<S>(w.D.data(), m, singular_tol)) return make_status(CONSTRAINT, ARG_OUT, m);
+  dense_cholesky_inverse<S>(w.D.data(), m, w.scratch.data(), w.Dinv.data());
   return OK;
 }
 
 // The free derivatives A (w.X, (nv, ncols)) and R₂ (w.Z, (m, ncols)) of ncols directions → the constrained ones:
 // Z ← J A + R₂, ∂λ = −D⁻¹ Z (w.Y), ∂q̈ = A + P ∂λ (in w.X).
-inline void correct(const ModelView& mv, int m, int ncols, ContactDerivWork& w) {
+template <class S>
+inline void correct(const ModelView& mv, int m, int ncols, ContactDerivWork<S>& w) {
   const int nv = mv.nv;
   add_product(w.J.data(), m, nv, w.X.data(), ncols, w.Z.data(), w.supp.data(), w.off.data(), w);
-  w.Y.assign(static_cast<size_t>(m) * ncols, 0.0);
+  w.Y.assign(static_cast<size_t>(m) * ncols, S(0.0));
   add_product(w.Dinv.data(), m, m, w.Z.data(), ncols, w.Y.data(), nullptr, nullptr, w);
-  for (double& y : w.Y) y = -y;
+  for (S& y : w.Y) y = -y;
   add_product(w.Pt.data(), nv, m, w.Y.data(), ncols, w.X.data(), nullptr, nullptr, w);
 }
 
-// Block b (nv columns) of the rows of S (rows, ncols) into out (rows, nv).
-inline void block_out(const double* S, int rows, int ncols, int b, int nv, double* out) {
+// Block b (nv columns) of the rows of T (rows, ncols) into out (rows, nv).
+template <class S>
+inline void block_out(const S* T, int rows, int ncols, int b, int nv, S* out) {
   for (int r = 0; r < rows; ++r)
-    std::copy_n(S + static_cast<size_t>(r) * ncols + static_cast<size_t>(b) * nv, nv, out + static_cast<size_t>(r) * nv);
+    std::copy_n(T + static_cast<size_t>(r) * ncols + static_cast<size_t>(b) * nv, nv, out + static_cast<size_t>(r) * nv);
 }
 
 // The contacts' rows J (m, nv) into w.J and their forces λ: on the bodies (w.f, which holds f_ext or zeros), and
 // their turn into R1 (nv, nv). The outputs of kinematics_derivatives per contact are left in w.kin when `qd` is
 // given (at (q, qd, qdd)): ∂v/∂q, ∂v/∂q̇ = J, and with `accelerations` a point's ∂a^c/∂(q, q̇) or a frame's
 // ∂a/∂(q, q̇); with qd nullptr only J is formed (frame_jacobian).
-inline void contact_terms(const ModelView& mv, const double* q, const double* qd, const double* qdd,
-                          bool accelerations, const double* lam, const ContactSpec* specs, int nc,
-                          ContactDerivWork& w, double* R1) {
+template <class S>
+inline void contact_terms(const ModelView& mv, const S* q, const S* qd, const S* qdd, bool accelerations,
+                          const S* lam, const ContactSpec* specs, int nc, ContactDerivWork<S>& w, S* R1) {
   const int nv = mv.nv;
   const size_t blk = static_cast<size_t>(6) * nv;
   int row = 0;
   for (int k = 0; k < nc; ++k) {
     const ContactSpec& s = specs[k];
-    double* kin = w.kin.data() + 6 * blk * static_cast<size_t>(k);
-    double* outs[6] = {kin, kin + blk, nullptr, nullptr, nullptr, nullptr};
+    S* kin = w.kin.data() + 6 * blk * static_cast<size_t>(k);
+    S* outs[6] = {kin, kin + blk, nullptr, nullptr, nullptr, nullptr};
     if (accelerations) {
       const int a = s.rows == 3 ? 4 : 2;
       outs[a] = kin + a * blk, outs[a + 1] = kin + (a + 1) * blk;
@@ -212,10 +236,10 @@ inline void contact_terms(const ModelView& mv, const double* q, const double* qd
     for (int r = 0; r < s.rows; ++r)
       std::copy(outs[1] + (6 - s.rows + r) * nv, outs[1] + (7 - s.rows + r) * nv, w.J.data() + (row + r) * nv);
     if (lam != nullptr) {
-      Mat3<double> R;
-      Vec3<double> p;
+      Mat3<S> R;
+      Vec3<S> p;
       frame_pose(mv, q, s.frame, R, p);
-      const Force<double> fa = frame_force(s, lam + row, R, p);
+      const Force<S> fa = frame_force(s, lam + row, R, p);
       add_to_body(mv, s.frame, fa, w.f.data());
       if (R1 != nullptr)
         add_turn(mv, s.ref, outs[1], R, p, fa, w.supp.data() + w.off[row], w.off[row + 1] - w.off[row], w, R1);
@@ -225,8 +249,9 @@ inline void contact_terms(const ModelView& mv, const double* q, const double* qd
 }
 
 // The calling thread's workspace with room for nc contacts' frame derivatives and m rows, J's row supports set.
-inline ContactDerivWork& workspace(const ModelView& mv, const ContactSpec* specs, int nc, int m) {
-  ContactDerivWork& w = thread_workspace<ContactDerivWork>(mv.nb);
+template <class S>
+inline ContactDerivWork<S>& workspace(const ModelView& mv, const ContactSpec* specs, int nc, int m) {
+  ContactDerivWork<S>& w = thread_workspace<ContactDerivWork<S>>(mv.nb);
   w.kin.resize(static_cast<size_t>(36) * static_cast<size_t>(mv.nv) * static_cast<size_t>(nc));
   w.J.resize(static_cast<size_t>(m) * static_cast<size_t>(mv.nv));
   row_supports(mv, specs, nc, m, w);
@@ -235,19 +260,21 @@ inline ContactDerivWork& workspace(const ModelView& mv, const ContactSpec* specs
 
 // R₂'s rows in block b (nv columns) of w.Z (m, ncols), from the contacts' frame derivatives (w.kin): s_a · the
 // output a_point (a point's rows) or a_frame (a frame's), plus K_d · output v_out when `damped`.
+template <class S>
 inline void rows_of_kin(const ModelView& mv, const ContactSpec* specs, int nc, int ncols, int b, int a_point,
-                        int a_frame, double s_a, bool damped, int v_out, ContactDerivWork& w) {
+                        int a_frame, double s_a, bool damped, int v_out, ContactDerivWork<S>& w) {
   const int nv = mv.nv;
   const size_t blk = static_cast<size_t>(6) * nv;
   for (int k = 0, row = 0; k < nc; row += specs[k].rows, ++k) {
     const ContactSpec& s = specs[k];
-    const double* kin = w.kin.data() + 6 * blk * static_cast<size_t>(k);
-    const double* ka = kin + (s.rows == 3 ? a_point : a_frame) * blk;
-    const double* kv = kin + v_out * blk;
+    const S* kin = w.kin.data() + 6 * blk * static_cast<size_t>(k);
+    const S* ka = kin + (s.rows == 3 ? a_point : a_frame) * blk;
+    const S* kv = kin + v_out * blk;
+    const S kd(s.kd), sa(s_a);
     for (int r = 0; r < s.rows; ++r) {
       const size_t src = static_cast<size_t>(6 - s.rows + r) * nv;
-      double* z = w.Z.data() + static_cast<size_t>(row + r) * ncols + static_cast<size_t>(b) * nv;
-      for (int j = 0; j < nv; ++j) z[j] = damped ? ka[src + j] + s.kd * kv[src + j] : s_a * ka[src + j];
+      S* z = w.Z.data() + static_cast<size_t>(row + r) * ncols + static_cast<size_t>(b) * nv;
+      for (int j = 0; j < nv; ++j) z[j] = damped ? ka[src + j] + kd * kv[src + j] : sa * ka[src + j];
     }
   }
 }
@@ -257,19 +284,19 @@ inline void rows_of_kin(const ModelView& mv, const ContactSpec* specs, int nc, i
 // ∂q̈/∂(q, q̇, τ) (nv, nv) and ∂λ/∂(q, q̇, τ) (m, nv) at the solution (qdd, lam) of the contacts' constrained
 // dynamics at (q, q̇, τ, f_ext) (contacts.hpp), into out[0..2] and out[3..5]. Returns OK, SINGULAR, or CONSTRAINT
 // (dependent contacts).
-inline std::int64_t contact_dynamics_derivatives(const ModelView& mv, const double* q, const double* qd,
-                                                 const double* f_ext, const double* qdd, const double* lam,
-                                                 const ContactSpec* specs, int nc, int m, double singular_tol,
-                                                 double* const* out) {
+template <class S>
+std::int64_t contact_dynamics_derivatives(const ModelView& mv, const S* q, const S* qd, const S* f_ext, const S* qdd,
+                                          const S* lam, const ContactSpec* specs, int nc, int m, double singular_tol,
+                                          S* const* out) {
   using namespace contact_deriv;
   const int nv = mv.nv, w3 = 3 * nv;
   const size_t n = static_cast<size_t>(nv);
-  ContactDerivWork& w = workspace(mv, specs, nc, m);
+  ContactDerivWork<S>& w = workspace<S>(mv, specs, nc, m);
   const int* lambda = dof_tree(mv).lambda.data();
-  w.f.assign(static_cast<size_t>(6) * mv.nb, 0.0);
+  w.f.assign(static_cast<size_t>(6) * mv.nb, S(0.0));
   if (f_ext) std::copy(f_ext, f_ext + 6 * mv.nb, w.f.begin());
   const bool turns = any_turn(specs, nc);
-  if (turns) w.R1.assign(n * n, 0.0);
+  if (turns) w.R1.assign(n * n, S(0.0));
   contact_terms(mv, q, qd, qdd, true, lam, specs, nc, w, turns ? w.R1.data() : nullptr);
   w.dq.resize(n * n), w.dv.resize(n * n), w.L.resize(n * n);
   rnea_derivatives(mv, q, qd, qdd, w.f.data(), true, w.dq.data(), w.dv.data(), w.L.data());
@@ -278,18 +305,18 @@ inline std::int64_t contact_dynamics_derivatives(const ModelView& mv, const doub
   // R₁ = [∂τ/∂q + turn | ∂τ/∂q̇ | −1] side by side, then A = −M⁻¹ R₁ in place (each block zero off ∂τ/∂q's pattern)
   w.X.resize(n * w3);
   for (int i = 0; i < nv; ++i) {
-    double* x = w.X.data() + static_cast<size_t>(i) * w3;
+    S* x = w.X.data() + static_cast<size_t>(i) * w3;
     if (turns)
       for (int j = 0; j < nv; ++j) x[j] = w.dq[i * n + j] + w.R1[i * n + j];
     else
       std::copy_n(w.dq.data() + i * n, nv, x);
     std::copy_n(w.dv.data() + i * n, nv, x + nv);
-    std::fill(x + 2 * nv, x + w3, 0.0);
-    x[2 * nv + i] = -1.0;
+    std::fill(x + 2 * nv, x + w3, S(0.0));
+    x[2 * nv + i] = S(-1.0);
   }
   ltl_solve_rows_tree_pattern(mv, lambda, w.L.data(), w.X.data(), 3, true);
   // R₂ = [∂a/∂q + K_d ∂v/∂q | ∂a/∂q̇ + K_d ∂v/∂q̇ | 0], the contacts' rows (classical acceleration for a point)
-  w.Z.assign(static_cast<size_t>(m) * w3, 0.0);
+  w.Z.assign(static_cast<size_t>(m) * w3, S(0.0));
   rows_of_kin(mv, specs, nc, w3, 0, 4, 2, 1.0, true, 0, w);
   rows_of_kin(mv, specs, nc, w3, 1, 5, 3, 1.0, true, 1, w);
   if (const std::int64_t st = delassus(mv, lambda, m, singular_tol, w); st != OK) return st;
@@ -309,13 +336,13 @@ inline std::int64_t impulse_dynamics_derivatives(const ModelView& mv, const doub
   using namespace contact_deriv;
   const int nv = mv.nv, w2 = 2 * nv;
   const size_t n = static_cast<size_t>(nv);
-  ContactDerivWork& w = workspace(mv, specs, nc, m);
+  ContactDerivWork<double>& w = workspace<double>(mv, specs, nc, m);
   const int* lambda = dof_tree(mv).lambda.data();
   w.L.resize(n * n);
   crba(mv, q, w.L.data());
   const int bad = ltl_factor(mv, lambda, w.L.data());
   if (bad >= 0) return make_status(SINGULAR, ARG_Q, dof_body(mv, bad));
-  contact_terms(mv, q, nullptr, nullptr, false, nullptr, specs, nc, w, nullptr);
+  contact_terms<double>(mv, q, nullptr, nullptr, false, nullptr, specs, nc, w, nullptr);
   if (const std::int64_t st = delassus(mv, lambda, m, singular_tol, w); st != OK) return st;
   // Λ = −(1 + e) D⁻¹ J v⁻,  v⁺ = v⁻ + M⁻¹ Jᵀ Λ
   double *vp = out[4], *Lam = out[5];

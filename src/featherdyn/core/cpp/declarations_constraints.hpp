@@ -153,6 +153,7 @@ struct ContactDynamicsDerivatives : Declared {
                                         operand::matrix("forces_dv", NM, NV), operand::matrix("forces_dtau", NM, NV),
                                         operand::vector("qdd", NV),           operand::vector("lam", NM)};
   static constexpr unsigned options = CONTACTS | SOLVER;
+  static constexpr auto group = &fdgroup::GroupKernels::contact_dynamics_derivatives_group;
   static constexpr SingularBlockFn singular_block = singular_at_rest;
   static std::int64_t run(const ModelView& mv, const double* const* in, double* const* out, const Options& opt) {
     ContactResult<double> r;

@@ -92,6 +92,7 @@ struct GroupKernels {
   ImpulseDerivativesFn impulse_dynamics_derivatives;
   SecondDerivativesFn rnea_second_derivatives;  // (second_order.hpp: one state)
   AbaSecondDerivativesFn aba_second_derivatives;
+  GroupFn contact_dynamics_derivatives_group;
 };
 
 }  // namespace fdgroup

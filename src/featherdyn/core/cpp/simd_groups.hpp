@@ -268,6 +268,40 @@ inline std::int64_t contact_dynamics_group(const fdgroup::GroupArgs& g, std::int
   return 0;
 }
 
+// q̈, λ and their derivatives ∂q̈/∂(q, q̇, τ) (nv, nv), ∂λ/∂(q, q̇, τ) (m, nv) of W rows under the contacts of
+// g.contacts: contacts.hpp's solve and contact_derivatives.hpp's kernel on Packs. A lane whose M or D is singular, or
+// whose solve did not converge, fails the group, which is then redone row by row (each row its one-state result
+// and status; the other lanes' results are the same bits either way).
+inline std::int64_t contact_dynamics_derivatives_group(const fdgroup::GroupArgs& g, std::int64_t r0) {
+  const ModelView& mv = *g.mv;
+  const fdgroup::ContactArgs& c = *g.contacts;
+  const size_t nq = mv.nq, nv = mv.nv, nf = 6 * static_cast<size_t>(mv.nb), m = c.m, n2 = nv * nv, mn = m * nv;
+  Lanes& L = thread_lanes(nq + 3 * nv + nf + nv + m + 3 * n2 + 3 * mn);
+  const Pack* q = L.gather(g.Q, r0, nq, 0);
+  const Pack* v = L.gather(g.V, r0, nv, nq);
+  const Pack* tau = L.gather(g.A, r0, nv, nq + nv);
+  const Pack* f = L.gather(g.FX, r0, nf, nq + 2 * nv);
+  Pack* qdd = L.space(nq + 2 * nv + nf);
+  Pack* lam = qdd + nv;
+  Pack* d = lam + m;
+  ContactResult<Pack> res;
+  int bad_lanes = 0;
+  if (contact_dynamics(mv, q, v, tau, f, c.specs, c.nc, c.mu, c.max_iter, c.tol, c.singular_tol, qdd, lam, res,
+                       &bad_lanes) != OK || bad_lanes != 0 || lanes_le(res.iterations, 0.0))
+    return 1;  // (iterations −1: dependent contacts, −2: not converged, in some lane)
+  Pack* const outs[6] = {d, d + n2, d + 2 * n2, d + 3 * n2, d + 3 * n2 + mn, d + 3 * n2 + 2 * mn};
+  if (contact_dynamics_derivatives(mv, q, v, f, qdd, lam, c.specs, c.nc, c.m, c.singular_tol, outs) != OK ||
+      !all_finite(d, 3 * n2 + 3 * mn))
+    return 1;
+  for (int o = 0; o < 6; ++o) {  // each output's rows as long as its shape
+    const size_t len = o < 3 ? n2 : mn;
+    scatter(outs[o], len, g.outs[o] + r0 * static_cast<std::int64_t>(len), static_cast<std::int64_t>(len));
+  }
+  scatter(qdd, nv, g.outs[6] + r0 * static_cast<std::int64_t>(nv), static_cast<std::int64_t>(nv));
+  scatter(lam, m, g.outs[7] + r0 * static_cast<std::int64_t>(m), static_cast<std::int64_t>(m));
+  return 0;
+}
+
 // Λ (m, m) of W rows for the frames of g.contacts: contacts.hpp's kernel on Packs; a lane whose M or J M⁻¹ Jᵀ + μ 1
 // is singular fails the group, redone row by row.
 inline std::int64_t operational_space_inertia_group(const fdgroup::GroupArgs& g, std::int64_t r0) {
@@ -396,8 +430,8 @@ inline fdgroup::GroupKernels group_kernels(const char* isa) {
           &contact_dynamics_group, &operational_space_inertia_group, &kinetic_energy_derivatives_group,
           &dynamics_vjp_group<false>, &dynamics_vjp_group<true>, &crba_vjp_group,
           &kinematics_derivatives_group, &center_of_mass_derivatives_group, &centroidal_dynamics_derivatives_group,
-          &contact_dynamics_derivatives, &impulse_dynamics_derivatives, &rnea_second_derivatives,
-          &aba_second_derivatives};
+          &contact_dynamics_derivatives<double>, &impulse_dynamics_derivatives, &rnea_second_derivatives,
+          &aba_second_derivatives, &contact_dynamics_derivatives_group};
 }
 
 }  // namespace fdcore
