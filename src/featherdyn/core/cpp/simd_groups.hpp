@@ -91,16 +91,26 @@ inline Lanes& thread_lanes(size_t total) {
   return lanes;
 }
 
-inline std::int64_t rnea_group(const fdgroup::GroupArgs& g, std::int64_t r0) {
+// A group's state, gathered into the thread's Lanes from its start: q, q̇, q̈ or τ (g.A) and f_ext (nullptr where a row
+// has none), then `extra` Packs of room (`rest`).
+struct GroupState {
+  const Pack *q, *v, *a, *f;
+  Pack* rest;
+};
+inline GroupState gather_state(const fdgroup::GroupArgs& g, std::int64_t r0, size_t extra) {
   const ModelView& mv = *g.mv;
   const size_t nq = mv.nq, nv = mv.nv, nf = 6 * static_cast<size_t>(mv.nb);
-  Lanes& L = thread_lanes(nq + 3 * nv + nf);
-  const Pack* q = L.gather(g.Q, r0, nq, 0);
-  const Pack* v = L.gather(g.V, r0, nv, nq);
-  const Pack* a = L.gather(g.A, r0, nv, nq + nv);
-  const Pack* f = L.gather(g.FX, r0, nf, nq + 2 * nv);
-  Pack* tau = L.space(nq + 2 * nv + nf);
-  rnea(mv, q, v, a, f, g.gravity, tau);
+  Lanes& L = thread_lanes(nq + 2 * nv + nf + extra);
+  return {L.gather(g.Q, r0, nq, 0), L.gather(g.V, r0, nv, nq), L.gather(g.A, r0, nv, nq + nv),
+          L.gather(g.FX, r0, nf, nq + 2 * nv), L.space(nq + 2 * nv + nf)};
+}
+
+inline std::int64_t rnea_group(const fdgroup::GroupArgs& g, std::int64_t r0) {
+  const ModelView& mv = *g.mv;
+  const size_t nv = mv.nv;
+  const GroupState st = gather_state(g, r0, nv);
+  Pack* tau = st.rest;
+  rnea(mv, st.q, st.v, st.a, st.f, g.gravity, tau);
   if (!all_finite(tau, nv)) return 1;  // finite input overflowed in some lane: redone row by row, which says where
   scatter(tau, nv, g.outs[0] + r0 * g.out_stride, g.out_stride);
   return 0;
@@ -120,14 +130,10 @@ inline std::int64_t crba_group(const fdgroup::GroupArgs& g, std::int64_t r0) {
 
 inline std::int64_t aba_group(const fdgroup::GroupArgs& g, std::int64_t r0) {
   const ModelView& mv = *g.mv;
-  const size_t nq = mv.nq, nv = mv.nv, nf = 6 * static_cast<size_t>(mv.nb);
-  Lanes& L = thread_lanes(nq + 3 * nv + nf);
-  const Pack* q = L.gather(g.Q, r0, nq, 0);
-  const Pack* v = L.gather(g.V, r0, nv, nq);
-  const Pack* tau = L.gather(g.A, r0, nv, nq + nv);
-  const Pack* f = L.gather(g.FX, r0, nf, nq + 2 * nv);
-  Pack* qdd = L.space(nq + 2 * nv + nf);
-  if (aba(mv, q, v, tau, f, g.gravity, qdd) >= 0 || !all_finite(qdd, nv)) return 1;  // singular or overflowed
+  const size_t nv = mv.nv;
+  const GroupState st = gather_state(g, r0, nv);
+  Pack* qdd = st.rest;
+  if (aba(mv, st.q, st.v, st.a, st.f, g.gravity, qdd) >= 0 || !all_finite(qdd, nv)) return 1;  // singular or overflowed
   scatter(qdd, nv, g.outs[0] + r0 * g.out_stride, g.out_stride);
   return 0;
 }
@@ -163,17 +169,14 @@ inline bool rows_finite(const fdgroup::GroupArgs& g, std::int64_t at, size_t n2)
 // ∂τ/∂q, ∂τ/∂q̇ and M of W rows: the analytical RNEA derivatives instantiated for Pack.
 inline std::int64_t rnea_derivatives_group(const fdgroup::GroupArgs& g, std::int64_t r0) {
   const ModelView& mv = *g.mv;
-  const size_t nq = mv.nq, nv = mv.nv, nf = 6 * static_cast<size_t>(mv.nb), n2 = nv * nv;
+  const size_t nv = mv.nv, n2 = nv * nv;
   // a large batch: into Packs (3 nv² of them), then streamed out in whole lines; else straight into the rows
   const bool stream = g.stream && mv.nv <= PACKED_SOLVES_MAX_NV;
-  Lanes& L = thread_lanes(nq + 2 * nv + nf + (stream ? 3 * n2 : 0));
-  const Pack* q = L.gather(g.Q, r0, nq, 0);
-  const Pack* v = L.gather(g.V, r0, nv, nq);
-  const Pack* a = L.gather(g.A, r0, nv, nq + nv);
-  const Pack* f = L.gather(g.FX, r0, nf, nq + 2 * nv);
+  const GroupState st = gather_state(g, r0, stream ? 3 * n2 : 0);
+  const Pack *q = st.q, *v = st.v, *a = st.a, *f = st.f;
   const std::int64_t at = r0 * g.out_stride;
   if (stream) {
-    Pack* dq = L.space(nq + 2 * nv + nf);
+    Pack* dq = st.rest;
     Pack* dv = dq + n2;
     Pack* M = g.outs[2] ? dv + n2 : nullptr;
     rnea_derivatives_to(mv, q, v, a, f, g.gravity, StateOut<Pack>{{dq, dv, M}});
@@ -192,15 +195,12 @@ inline std::int64_t rnea_derivatives_group(const fdgroup::GroupArgs& g, std::int
 // (small nv) or lane by lane, with the same templates as one state (bit-identical lanes).
 inline std::int64_t aba_derivatives_group(const fdgroup::GroupArgs& g, std::int64_t r0) {
   const ModelView& mv = *g.mv;
-  const size_t nq = mv.nq, nv = mv.nv, nf = 6 * static_cast<size_t>(mv.nb), n2 = nv * nv;
+  const size_t nv = mv.nv, n2 = nv * nv;
   const bool packed = mv.nv <= PACKED_SOLVES_MAX_NV;
   const int* lambda = dof_tree(mv).lambda.data();
-  Lanes& L = thread_lanes(nq + 4 * nv + nf + (packed ? 6 * n2 : 0));
-  const Pack* q = L.gather(g.Q, r0, nq, 0);
-  const Pack* v = L.gather(g.V, r0, nv, nq);
-  const Pack* tau = L.gather(g.A, r0, nv, nq + nv);
-  const Pack* f = L.gather(g.FX, r0, nf, nq + 2 * nv);
-  Pack* qdd = L.space(nq + 2 * nv + nf);
+  const GroupState st = gather_state(g, r0, 2 * nv + (packed ? 6 * n2 : 0));
+  const Pack *q = st.q, *v = st.v, *tau = st.a, *f = st.f;
+  Pack* qdd = st.rest;
   Pack* h = qdd + nv;
   const std::int64_t at = r0 * g.out_stride;
   if (packed) {
@@ -248,13 +248,10 @@ inline std::int64_t aba_derivatives_group(const fdgroup::GroupArgs& g, std::int6
 inline std::int64_t contact_dynamics_group(const fdgroup::GroupArgs& g, std::int64_t r0) {
   const ModelView& mv = *g.mv;
   const fdgroup::ContactArgs& c = *g.contacts;
-  const size_t nq = mv.nq, nv = mv.nv, nf = 6 * static_cast<size_t>(mv.nb), m = c.m;
-  Lanes& L = thread_lanes(nq + 3 * nv + nf + m);
-  const Pack* q = L.gather(g.Q, r0, nq, 0);
-  const Pack* v = L.gather(g.V, r0, nv, nq);
-  const Pack* tau = L.gather(g.A, r0, nv, nq + nv);
-  const Pack* f = L.gather(g.FX, r0, nf, nq + 2 * nv);
-  Pack* qdd = L.space(nq + 2 * nv + nf);
+  const size_t nv = mv.nv, m = c.m;
+  const GroupState st = gather_state(g, r0, nv + m);
+  const Pack *q = st.q, *v = st.v, *tau = st.a, *f = st.f;
+  Pack* qdd = st.rest;
   Pack* lam = qdd + nv;
   ContactResult<Pack> res;
   int bad_lanes = 0;
@@ -275,13 +272,10 @@ inline std::int64_t contact_dynamics_group(const fdgroup::GroupArgs& g, std::int
 inline std::int64_t contact_dynamics_derivatives_group(const fdgroup::GroupArgs& g, std::int64_t r0) {
   const ModelView& mv = *g.mv;
   const fdgroup::ContactArgs& c = *g.contacts;
-  const size_t nq = mv.nq, nv = mv.nv, nf = 6 * static_cast<size_t>(mv.nb), m = c.m, n2 = nv * nv, mn = m * nv;
-  Lanes& L = thread_lanes(nq + 3 * nv + nf + nv + m + 3 * n2 + 3 * mn);
-  const Pack* q = L.gather(g.Q, r0, nq, 0);
-  const Pack* v = L.gather(g.V, r0, nv, nq);
-  const Pack* tau = L.gather(g.A, r0, nv, nq + nv);
-  const Pack* f = L.gather(g.FX, r0, nf, nq + 2 * nv);
-  Pack* qdd = L.space(nq + 2 * nv + nf);
+  const size_t nv = mv.nv, m = c.m, n2 = nv * nv, mn = m * nv;
+  const GroupState st = gather_state(g, r0, nv + m + 3 * n2 + 3 * mn);
+  const Pack *q = st.q, *v = st.v, *tau = st.a, *f = st.f;
+  Pack* qdd = st.rest;
   Pack* lam = qdd + nv;
   Pack* d = lam + m;
   ContactResult<Pack> res;
