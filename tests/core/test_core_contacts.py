@@ -181,6 +181,7 @@ def test_lambda_rows_equal_one_state_calls_bit_for_bit(name: str, n: int) -> Non
 
 
 DERIVATIVES = ("ddq_dq", "ddq_dv", "ddq_dtau", "forces_dq", "forces_dv", "forces_dtau", "ddq", "lagrange")
+IMPULSE_DERIVATIVES = ("dv_plus_dq", "dv_plus_dv", "impulses_dq", "impulses_dv", "v_plus", "lagrange")
 REFERENCES = {0: fd.LOCAL, 1: fd.WORLD, 2: fd.LOCAL_WORLD_ALIGNED}
 
 
@@ -199,14 +200,32 @@ def _assert_derivative_rows_are_one_state_calls(name: str, ref: int, n: int, see
             assert np.array_equal(getattr(batch, what)[k], getattr(one, what)), f"{name} row {k} of {n}: {what}"
 
 
+def _assert_impulse_rows_are_one_state_calls(name: str, ref: int, n: int, seed: int, e: float) -> None:
+    """``fd.impulse_dynamics_derivatives`` on n rows (full groups on Packs, the tail row by row) against its one-state
+    calls, bit for bit."""
+    model = _model(name)
+    frames, rows = SCENES[name]
+    Q, V, _, _ = _states(model, seed, n)
+    kind = fd.PointContact if rows == 3 else fd.FrameContact
+    cons = [kind(f, REFERENCES[ref]) for f in frames]
+    batch = fd.impulse_dynamics_derivatives(model, Q, V, cons, restitution=e)
+    for k in range(n):
+        one = fd.impulse_dynamics_derivatives(model, Q[k], V[k], cons, restitution=e)
+        for what in IMPULSE_DERIVATIVES:
+            assert np.array_equal(getattr(batch, what)[k], getattr(one, what)), f"{name} row {k} of {n}: {what}"
+
+
 @pytest.mark.parametrize("name", SCENES)
 @pytest.mark.parametrize("n", [WIDTH, 2 * WIDTH + 3])
 @pytest.mark.parametrize("ref", [0, 1, 2], ids=["LOCAL", "WORLD", "LWA"])
 def test_derivative_rows_equal_one_state_calls_bit_for_bit(name: str, n: int, ref: int) -> None:
-    """The constrained dynamics' derivatives in SIMD lanes (contact_derivatives.hpp on Packs): every reference (the
-    forces' turn in WORLD and LWA), K_d, mu = 0 and mu > 0 (each lane's own proximal iterations)."""
+    """The constrained dynamics' and the impulses' derivatives in SIMD lanes (contact_derivatives.hpp on Packs):
+    every reference (the forces' turn in WORLD and LWA), K_d, mu = 0 and mu > 0 (each lane's own proximal
+    iterations), restitution 0 and 0.4."""
     _assert_derivative_rows_are_one_state_calls(name, ref, n, 60 + n + ref)
     _assert_derivative_rows_are_one_state_calls(name, ref, n, 70 + n + ref, mu=1e-3)
+    _assert_impulse_rows_are_one_state_calls(name, ref, n, 90 + n + ref, 0.0)
+    _assert_impulse_rows_are_one_state_calls(name, ref, n, 100 + n + ref, 0.4)
 
 
 def test_a_derivative_batch_with_dependent_contacts_raises_as_its_row() -> None:
@@ -227,6 +246,23 @@ def test_a_derivative_batch_with_dependent_contacts_raises_as_its_row() -> None:
             assert np.array_equal(getattr(rows, what)[i], getattr(single, what)), (k, what)
 
 
+def test_an_impulse_derivative_batch_with_dependent_contacts_raises_as_its_row() -> None:
+    """As above for the impulses' group kernel: the lane whose D is singular fails its group."""
+    model, Q, V, _, _, bad = _singular_row_batch()
+    cons = fd.FrameContact("panda_hand", fd.LOCAL)
+    with pytest.raises(fd.ConstraintError) as one:
+        fd.impulse_dynamics_derivatives(model, Q[bad], V[bad], cons, restitution=0.3)
+    with pytest.raises(fd.ConstraintError) as batch:
+        fd.impulse_dynamics_derivatives(model, Q, V, cons, restitution=0.3)
+    assert type(batch.value) is type(one.value)
+    ok = [k for k in range(Q.shape[0]) if k != bad]
+    rows = fd.impulse_dynamics_derivatives(model, Q[ok], V[ok], cons, restitution=0.3)
+    for i, k in enumerate(ok):
+        single = fd.impulse_dynamics_derivatives(model, Q[k], V[k], cons, restitution=0.3)
+        for what in IMPULSE_DERIVATIVES:
+            assert np.array_equal(getattr(rows, what)[i], getattr(single, what)), (k, what)
+
+
 _SIMD_SCRIPT = """
 import sys
 sys.path.insert(0, {tests!r})
@@ -243,8 +279,10 @@ for name in t.SCENES:
         t._assert_rows_are_one_state_calls(model, Q, V, T, FX, specs)
         t._assert_rows_are_one_state_calls(model, Q, V, T, None, specs, mu=1e-3, max_iter=6)
         t._assert_derivative_rows_are_one_state_calls(name, ref, 2 * t.WIDTH + 1, 80 + ref)
+        t._assert_impulse_rows_are_one_state_calls(name, ref, 2 * t.WIDTH + 1, 110 + ref, 0.4)
 t.test_a_row_with_dependent_contacts_fails_alone()
 t.test_a_derivative_batch_with_dependent_contacts_raises_as_its_row()
+t.test_an_impulse_derivative_batch_with_dependent_contacts_raises_as_its_row()
 for name in t.OSI_SCENES:
     t._assert_lambda_rows_are_one_state_calls(name, 2 * t.WIDTH + 1, 50)
 print("ok")

@@ -330,53 +330,54 @@ std::int64_t contact_dynamics_derivatives(const ModelView& mv, const S* q, const
 
 // The impulse v⁺ (nv,), Λ (m,) of an impact with the contacts (restitution e) and its derivatives ∂v⁺/∂(q, v⁻)
 // (nv, nv), ∂Λ/∂(q, v⁻) (m, nv) into out[0..3], v⁺ and Λ into out[4], out[5]. Returns OK, SINGULAR, or CONSTRAINT.
-inline std::int64_t impulse_dynamics_derivatives(const ModelView& mv, const double* q, const double* vm,
-                                                 const ContactSpec* specs, int nc, int m, double e,
-                                                 double singular_tol, double* const* out) {
+template <class S>
+std::int64_t impulse_dynamics_derivatives(const ModelView& mv, const S* q, const S* vm, const ContactSpec* specs,
+                                          int nc, int m, double e, double singular_tol, S* const* out) {
   using namespace contact_deriv;
   const int nv = mv.nv, w2 = 2 * nv;
   const size_t n = static_cast<size_t>(nv);
-  ContactDerivWork<double>& w = workspace<double>(mv, specs, nc, m);
+  ContactDerivWork<S>& w = workspace<S>(mv, specs, nc, m);
   const int* lambda = dof_tree(mv).lambda.data();
   w.L.resize(n * n);
   crba(mv, q, w.L.data());
   const int bad = ltl_factor(mv, lambda, w.L.data());
   if (bad >= 0) return make_status(SINGULAR, ARG_Q, dof_body(mv, bad));
-  contact_terms<double>(mv, q, nullptr, nullptr, false, nullptr, specs, nc, w, nullptr);
+  contact_terms<S>(mv, q, nullptr, nullptr, false, nullptr, specs, nc, w, nullptr);
   if (const std::int64_t st = delassus(mv, lambda, m, singular_tol, w); st != OK) return st;
   // Λ = −(1 + e) D⁻¹ J v⁻,  v⁺ = v⁻ + M⁻¹ Jᵀ Λ
-  double *vp = out[4], *Lam = out[5];
+  S *vp = out[4], *Lam = out[5];
+  const S minus_1e(-(1.0 + e)), se(e);
   for (int r = 0; r < m; ++r) {
-    double s = 0.0;
-    for (int t = w.off[r]; t < w.off[r + 1]; ++t) s += w.J[static_cast<size_t>(r) * n + w.supp[t]] * vm[w.supp[t]];
-    Lam[r] = -(1.0 + e) * s;
+    S s(0.0);
+    for (int t = w.off[r]; t < w.off[r + 1]; ++t) s = s + w.J[static_cast<size_t>(r) * n + w.supp[t]] * vm[w.supp[t]];
+    Lam[r] = minus_1e * s;
   }
-  dense_cholesky_solve<double>(w.D.data(), m, Lam);
+  dense_cholesky_solve<S>(w.D.data(), m, Lam);
   for (int i = 0; i < nv; ++i) {
-    double s = vm[i];
-    for (int r = 0; r < m; ++r) s += w.Pt[i * static_cast<size_t>(m) + r] * Lam[r];
+    S s = vm[i];
+    for (int r = 0; r < m; ++r) s = s + w.Pt[i * static_cast<size_t>(m) + r] * Lam[r];
     vp[i] = s;
   }
   // R₁ along q: RNEA at zero velocity without gravity, a = v⁺ − v⁻, with Λ on the bodies, plus the turn;
   // R₂ = ∂(J u)/∂q at u = v⁺ + e v⁻. A = [−M⁻¹ R₁ | 1], R₂ = [∂(J u)/∂q | e J].
-  w.u.resize(n), w.acc.resize(n), w.zero.assign(n, 0.0);
-  for (int i = 0; i < nv; ++i) w.u[i] = vp[i] + e * vm[i], w.acc[i] = vp[i] - vm[i];
-  w.f.assign(static_cast<size_t>(6) * mv.nb, 0.0);
+  w.u.resize(n), w.acc.resize(n), w.zero.assign(n, S(0.0));
+  for (int i = 0; i < nv; ++i) w.u[i] = vp[i] + se * vm[i], w.acc[i] = vp[i] - vm[i];
+  w.f.assign(static_cast<size_t>(6) * mv.nb, S(0.0));
   const bool turns = any_turn(specs, nc);
-  if (turns) w.R1.assign(n * n, 0.0);
+  if (turns) w.R1.assign(n * n, S(0.0));
   contact_terms(mv, q, w.u.data(), w.zero.data(), false, Lam, specs, nc, w, turns ? w.R1.data() : nullptr);
   w.dq.resize(n * n);
-  rnea_derivatives(mv, q, w.zero.data(), w.acc.data(), w.f.data(), false, w.dq.data(), static_cast<double*>(nullptr),
-                   static_cast<double*>(nullptr));
+  rnea_derivatives(mv, q, w.zero.data(), w.acc.data(), w.f.data(), false, w.dq.data(), static_cast<S*>(nullptr),
+                   static_cast<S*>(nullptr));
   if (turns)
-    for (size_t k = 0; k < n * n; ++k) w.dq[k] += w.R1[k];
+    for (size_t k = 0; k < n * n; ++k) w.dq[k] = w.dq[k] + w.R1[k];
   ltl_solve_rows_tree_pattern(mv, lambda, w.L.data(), w.dq.data(), 1, true);
   w.X.resize(n * w2);
   for (int i = 0; i < nv; ++i) {
-    double* x = w.X.data() + static_cast<size_t>(i) * w2;
+    S* x = w.X.data() + static_cast<size_t>(i) * w2;
     std::copy_n(w.dq.data() + i * n, nv, x);
-    std::fill(x + nv, x + w2, 0.0);
-    x[nv + i] = 1.0;
+    std::fill(x + nv, x + w2, S(0.0));
+    x[nv + i] = S(1.0);
   }
   w.Z.resize(static_cast<size_t>(m) * w2);
   rows_of_kin(mv, specs, nc, w2, 0, 0, 0, 1.0, false, 0, w);

@@ -175,6 +175,7 @@ struct ImpulseDynamicsDerivatives : Declared {
                                         operand::matrix("impulses_dq", NM, NV), operand::matrix("impulses_dv", NM, NV),
                                         operand::vector("v_plus", NV),         operand::vector("lam", NM)};
   static constexpr unsigned options = CONTACTS | RESTITUTION;
+  static constexpr auto group = &fdgroup::GroupKernels::impulse_dynamics_derivatives_group;
   static constexpr SingularBlockFn singular_block = singular_at_rest;
   static std::int64_t run(const ModelView& mv, const double* const* in, double* const* out, const Options& opt) {
     return group_kernels().impulse_dynamics_derivatives(mv, in[0], in[1], opt.contacts, opt.nc, opt.rows,

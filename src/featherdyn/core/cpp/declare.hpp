@@ -360,7 +360,7 @@ inline RowStatus run_rows(const Kernel& k, const ModelView& mv, const Rows* rows
   for (size_t o = 0; o < k.outputs.size(); ++o) per_row += n_out[o];
   g.stream = fdgroup::stream_result(N, per_row);
   const fdgroup::ContactArgs contacts{opt.contacts, opt.nc,    opt.rows, opt.mu, opt.max_iter,
-                                      opt.tol,      opt.singular_tol, op[1],    op[2]};
+                                      opt.tol,      opt.singular_tol, op[1],    op[2], opt.restitution};
   if (k.options & CONTACTS) g.contacts = &contacts;  // (λ and the solve's info: the second and third outputs)
   auto check = [&](std::int64_t r) {  // (check_inputs on the rows of the group kernel's roles)
     FD_TRY(check_state(mv, by_arg[0].row(r), by_arg[1].row(r), by_arg[2].row(r), by_arg[3].row(r)));

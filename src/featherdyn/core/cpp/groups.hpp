@@ -17,7 +17,8 @@ struct Rows {
 };
 
 // (constrained dynamics) the contacts and the solver's settings; λ (rows of m) and info (rows of 2: iterations,
-// residual) next to q̈ (GroupArgs::outs[0]). (Λ of frames: specs, nc, m, mu and singular_tol; Λ in GroupArgs::outs[0].)
+// residual) next to q̈ (GroupArgs::outs[0]). (Λ of frames: specs, nc, m, mu and singular_tol; Λ in GroupArgs::outs[0].
+// Impulses: specs, nc, m, singular_tol and the restitution.)
 struct ContactArgs {
   const fdcore::ContactSpec* specs;
   int nc, m;
@@ -26,6 +27,7 @@ struct ContactArgs {
   double tol, singular_tol;
   double* lam;
   double* info;
+  double restitution = 0.0;
 };
 
 struct GroupArgs {
@@ -92,7 +94,7 @@ struct GroupKernels {
   ImpulseDerivativesFn impulse_dynamics_derivatives;
   SecondDerivativesFn rnea_second_derivatives;  // (second_order.hpp: one state)
   AbaSecondDerivativesFn aba_second_derivatives;
-  GroupFn contact_dynamics_derivatives_group;
+  GroupFn contact_dynamics_derivatives_group, impulse_dynamics_derivatives_group;
 };
 
 }  // namespace fdgroup

@@ -105,6 +105,16 @@ inline GroupState gather_state(const fdgroup::GroupArgs& g, std::int64_t r0, siz
           L.gather(g.FX, r0, nf, nq + 2 * nv), L.space(nq + 2 * nv + nf)};
 }
 
+// The first n outputs of a group (Packs x[o], len[o] numbers a row) into g.outs[o]'s rows r0 …, each row as long as its
+// output's shape.
+inline void scatter_outputs(const fdgroup::GroupArgs& g, std::int64_t r0, const Pack* const* x, const size_t* len,
+                            int n) {
+  for (int o = 0; o < n; ++o) {
+    const std::int64_t l = static_cast<std::int64_t>(len[o]);
+    scatter(x[o], len[o], g.outs[o] + r0 * l, l);
+  }
+}
+
 inline std::int64_t rnea_group(const fdgroup::GroupArgs& g, std::int64_t r0) {
   const ModelView& mv = *g.mv;
   const size_t nv = mv.nv;
@@ -283,16 +293,30 @@ inline std::int64_t contact_dynamics_derivatives_group(const fdgroup::GroupArgs&
   if (contact_dynamics(mv, q, v, tau, f, c.specs, c.nc, c.mu, c.max_iter, c.tol, c.singular_tol, qdd, lam, res,
                        &bad_lanes) != OK || bad_lanes != 0 || lanes_le(res.iterations, 0.0))
     return 1;  // (iterations −1: dependent contacts, −2: not converged, in some lane)
-  Pack* const outs[6] = {d, d + n2, d + 2 * n2, d + 3 * n2, d + 3 * n2 + mn, d + 3 * n2 + 2 * mn};
+  Pack* const outs[8] = {d, d + n2, d + 2 * n2, d + 3 * n2, d + 3 * n2 + mn, d + 3 * n2 + 2 * mn, qdd, lam};
   if (contact_dynamics_derivatives(mv, q, v, f, qdd, lam, c.specs, c.nc, c.m, c.singular_tol, outs) != OK ||
       !all_finite(d, 3 * n2 + 3 * mn))
     return 1;
-  for (int o = 0; o < 6; ++o) {  // each output's rows as long as its shape
-    const size_t len = o < 3 ? n2 : mn;
-    scatter(outs[o], len, g.outs[o] + r0 * static_cast<std::int64_t>(len), static_cast<std::int64_t>(len));
-  }
-  scatter(qdd, nv, g.outs[6] + r0 * static_cast<std::int64_t>(nv), static_cast<std::int64_t>(nv));
-  scatter(lam, m, g.outs[7] + r0 * static_cast<std::int64_t>(m), static_cast<std::int64_t>(m));
+  const size_t len[8] = {n2, n2, n2, mn, mn, mn, nv, m};
+  scatter_outputs(g, r0, outs, len, 8);
+  return 0;
+}
+
+// v⁺, Λ and their derivatives ∂v⁺/∂(q, v⁻) (nv, nv), ∂Λ/∂(q, v⁻) (m, nv) of W rows under the contacts of g.contacts
+// with its restitution: contact_derivatives.hpp's impulse kernel on Packs. A lane whose M or D is singular fails the
+// group, which is then redone row by row.
+inline std::int64_t impulse_dynamics_derivatives_group(const fdgroup::GroupArgs& g, std::int64_t r0) {
+  const ModelView& mv = *g.mv;
+  const fdgroup::ContactArgs& c = *g.contacts;
+  const size_t nv = mv.nv, m = c.m, n2 = nv * nv, mn = m * nv, total = 2 * n2 + 2 * mn + nv + m;
+  const GroupState st = gather_state(g, r0, total);
+  Pack* d = st.rest;
+  Pack* const outs[6] = {d, d + n2, d + 2 * n2, d + 2 * n2 + mn, d + 2 * n2 + 2 * mn, d + 2 * n2 + 2 * mn + nv};
+  if (impulse_dynamics_derivatives(mv, st.q, st.v, c.specs, c.nc, c.m, c.restitution, c.singular_tol, outs) != OK ||
+      !all_finite(d, total))
+    return 1;
+  const size_t len[6] = {n2, n2, mn, mn, nv, m};
+  scatter_outputs(g, r0, outs, len, 6);
   return 0;
 }
 
@@ -424,8 +448,8 @@ inline fdgroup::GroupKernels group_kernels(const char* isa) {
           &contact_dynamics_group, &operational_space_inertia_group, &kinetic_energy_derivatives_group,
           &dynamics_vjp_group<false>, &dynamics_vjp_group<true>, &crba_vjp_group,
           &kinematics_derivatives_group, &center_of_mass_derivatives_group, &centroidal_dynamics_derivatives_group,
-          &contact_dynamics_derivatives<double>, &impulse_dynamics_derivatives, &rnea_second_derivatives,
-          &aba_second_derivatives, &contact_dynamics_derivatives_group};
+          &contact_dynamics_derivatives<double>, &impulse_dynamics_derivatives<double>, &rnea_second_derivatives,
+          &aba_second_derivatives, &contact_dynamics_derivatives_group, &impulse_dynamics_derivatives_group};
 }
 
 }  // namespace fdcore
