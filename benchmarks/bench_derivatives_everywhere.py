@@ -14,8 +14,8 @@ Each featherdyn call returns new arrays; each Pinocchio call fills its ``data``:
   and ``fd.impulse_dynamics_derivatives`` / ``impulseDynamics`` + ``computeImpulseDynamicsDerivatives``
   (solo12 and talos: the forward solve is part of both);
 * batches of N states (default 256) on the thread pool (``fd.set_num_threads(2)``) against a Python loop of
-  the Pinocchio calls: the kinematics, centre-of-mass, centroidal and constrained derivatives (interleaved, the
-  best of 9 runs each; 3 for the constrained ones).
+  the Pinocchio calls: the kinematics, centre-of-mass, centroidal, constrained and impulse derivatives (interleaved, the
+  best of 9 runs each; 3 for the constrained and impulse ones).
 """
 
 from __future__ import annotations
@@ -125,6 +125,9 @@ def main() -> int:
         t = _batch_pair(lambda: fd.constrained_dynamics_derivatives(m, Q, V, Tau, cons),  # noqa: B023
                         lambda: [pin_cd(Qp[k], Vp[k], Taup[k]) for k in range(N)], 3)  # noqa: B023
         batch_rows.append((f"{name}: constrained_dynamics_derivatives, {N} states", *t))
+        t = _batch_pair(lambda: fd.impulse_dynamics_derivatives(m, Q, V, cons),  # noqa: B023
+                        lambda: [pin_imp(Qp[k], Vp[k]) for k in range(N)], 3)  # noqa: B023
+        batch_rows.append((f"{name}: impulse_dynamics_derivatives, {N} states", *t))
     print("one state (µs, ratio featherdyn / Pinocchio; target ≤ 0.8)")
     print_ratios(rows)
     print(f"\nbatches of {N} (featherdyn on 2 threads; Pinocchio a Python loop; target ratio ≤ 0.125)")

@@ -318,8 +318,8 @@ for spec in TREES:
         (core.crba(model, st.q), [core.crba(model, x) for x in st.q]),
         (core.aba(model, st.q, st.v, st.tau), [core.aba(model, *x) for x in zip(st.q, st.v, st.tau)]),
         (core.placements(model, st.q), [core.placements(model, x) for x in st.q]),
-        (core.kinematics_derivatives(model, st.q, st.v, st.a, len(model.frames) - 1, 2)[4],
-         [core.kinematics_derivatives(model, *x, len(model.frames) - 1, 2)[4] for x in zip(st.q, st.v, st.a)]),
+        (core.kinematics_derivatives(model, st.q, st.v, st.a, len(model.frames) - 1, 2)[5],
+         [core.kinematics_derivatives(model, *x, len(model.frames) - 1, 2)[5] for x in zip(st.q, st.v, st.a)]),
         (core.centroidal_dynamics_derivatives(model, st.q, st.v, st.a)[1],
          [core.centroidal_dynamics_derivatives(model, *x)[1] for x in zip(st.q, st.v, st.a)]),
     ]:

@@ -66,19 +66,21 @@ def test_center_of_mass_takes_one_array_bare_or_two(talos: fd.Model) -> None:
 
 
 def test_kinematics_derivatives_at_a_point(talos: fd.Model) -> None:
-    """The point's own front end writes as the declared one: one state and a batch, the J copies, bad arrays."""
+    """The point's own front end writes as the declared one: one state and a batch, an array for each of the
+    record's eight fields (J in three of them), bad arrays."""
     frame = talos.frames[-1].name
     for size in ((), (4,)):
         q, v, a = _state(talos, 3, size)
         point = np.array([0.05, -0.02, 0.1])
         fresh = fd.kinematics_derivatives(talos, q, v, a, frame, fd.LOCAL_WORLD_ALIGNED, point)
-        out = tuple(np.full(size + (6, talos.nv), np.nan) for _ in range(6))
+        out = tuple(np.full(size + (6, talos.nv), np.nan) for _ in range(8))
         r = fd.kinematics_derivatives(talos, q, v, a, frame, fd.LOCAL_WORLD_ALIGNED, point, out=out)
         assert all(np.array_equal(x, y) for x, y in zip(r, fresh, strict=True))
-        assert all(x is y for x, y in zip((r.dv_dq, r.dv_dv, r.da_dq, r.da_dv, r.dac_dq, r.dac_dv), out, strict=True))
-        assert r.da_da is not out[1] and np.array_equal(r.da_da, out[1])  # (a copy of J, as without out=)
-    with pytest.raises(ShapeError, match="out: expected 6 arrays"):
-        fd.kinematics_derivatives(talos, q, v, a, frame, fd.WORLD, point, out=out[:5])
+        assert all(x is y for x, y in zip(r, out, strict=True))
+        assert np.array_equal(r.da_da, r.dv_dv) and np.array_equal(r.dac_da, r.dv_dv)  # (J, written three times)
+        assert not np.isnan(r.dv_dv).any()
+    with pytest.raises(ShapeError, match="out: expected 8 arrays"):
+        fd.kinematics_derivatives(talos, q, v, a, frame, fd.WORLD, point, out=out[:6])
     with pytest.raises(ShapeError, match="out: expected shape"):
         fd.kinematics_derivatives(talos, q, v, a, frame, fd.WORLD, point, out=tuple(x[0] for x in out))
 

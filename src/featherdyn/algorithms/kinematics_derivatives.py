@@ -78,10 +78,10 @@ def _frame_motion(model: Model, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray, 
 
 def kinematics_derivatives(model: Model, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray, frame: int,
                            reference: ReferenceFrame, point: np.ndarray | None = None
-                           ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    """``(∂v/∂q, ∂v/∂q̇, ∂a/∂q, ∂a/∂q̇, ∂a^c/∂q, ∂a^c/∂q̇)`` `(..., 6, nv)` of a frame (at ``point``) in
-    ``reference`` on checked arrays (module docstring; ``∂a/∂q̈ = ∂a^c/∂q̈ = ∂v/∂q̇``; public:
-    :func:`featherdyn.kinematics_derivatives`)::
+                           ) -> tuple[np.ndarray, ...]:
+    """``(∂v/∂q, ∂v/∂q̇, ∂a/∂q, ∂a/∂q̇, ∂a/∂q̈, ∂a^c/∂q, ∂a^c/∂q̇, ∂a^c/∂q̈)`` `(..., 6, nv)` of a frame (at
+    ``point``) in ``reference`` on checked arrays (module docstring; ``∂a/∂q̈ = ∂a^c/∂q̈ = ∂v/∂q̇ = J``, as
+    copies; public: :func:`featherdyn.kinematics_derivatives`)::
 
         a^c = [ω̇; a_lin + ω × v_lin],    ∂a^c = ∂a + [0; ∂ω × v_lin + ω × ∂v_lin]
     """
@@ -101,7 +101,8 @@ def kinematics_derivatives(model: Model, q: np.ndarray, qd: np.ndarray, qdd: np.
         out[..., 3:, :] = out[..., 3:, :] + np.swapaxes(extra, -1, -2)
         return out
 
-    return dv_dq, dv_dv, da_dq, da_dv, classical(da_dq, dv_dq), classical(da_dv, dv_dv)
+    return (dv_dq, dv_dv, da_dq, da_dv, dv_dv.copy(), classical(da_dq, dv_dq), classical(da_dv, dv_dv),
+            dv_dv.copy())
 
 
 def _composites(model: Model, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray | None

@@ -46,7 +46,7 @@ from .declarations import (
 
 _CONTACTS = _declared.kernel("contact_dynamics_derivatives")  # core/cpp/declarations_constraints.hpp
 _IMPULSES = _declared.kernel("impulse_dynamics_derivatives")
-_EMPTY = np.empty
+_EMPTY = _declared.result_array  # a batch's results in reused memory (core/_result_pool.py)
 
 __all__ = ["ConstrainedDynamicsDerivatives", "ImpulseDynamicsDerivatives", "constrained_dynamics_derivatives",
            "impulse_dynamics_derivatives"]

@@ -37,7 +37,7 @@ from ._checks import State, as_dtype, check_state, quiet
 from .dynamics import generalized_gravity
 from .kinematics import kinematics_of
 
-_EMPTY = np.empty
+_EMPTY = _declared.result_array  # a batch's results in reused memory (core/_result_pool.py)
 _NEW = object.__new__
 _SET = object.__setattr__
 _CONTACTS = _declared.kernel("contact_dynamics")  # the declared kernels (core/cpp/declarations_constraints.hpp)

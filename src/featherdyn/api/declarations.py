@@ -77,22 +77,6 @@ def _center_of_mass(c: np.ndarray, cd: np.ndarray | None) -> np.ndarray | Center
     return c if cd is None else CenterOfMass(c, cd)
 
 
-def _copy_of(x: Any) -> Any:
-    """A copy of ``x``: a batch's NumPy float64 array into the batches' reused memory (``core/_result_pool.py``: a
-    fresh copy of talos's (256, 6, 50) J cost more in page faults than the kernel), any other array by its ``copy``."""
-    if type(x) is np.ndarray and x.ndim > 2 and x.dtype == np.float64:
-        out = _core_declared.result_array(x.shape)
-        np.copyto(out, x)
-        return out
-    return x.copy()
-
-
-def _kinematics_derivatives(dv_dq: Any, dv_dv: Any, da_dq: Any, da_dv: Any, dac_dq: Any,
-                            dac_dv: Any) -> KinematicsDerivatives:
-    """The kernel's six outputs as the record of eight: ``∂a/∂q̈ = ∂a^c/∂q̈ = ∂v/∂q̇ = J`` (copies of it)."""
-    return KinematicsDerivatives(dv_dq, dv_dv, da_dq, da_dv, _copy_of(dv_dv), dac_dq, dac_dv, _copy_of(dv_dv))
-
-
 _KINEMATICS_DERIVATIVES_DOC = """The derivatives of a frame's velocity, spatial and classical accelerations, or of a point's.
 
         Args:
@@ -102,9 +86,8 @@ _KINEMATICS_DERIVATIVES_DOC = """The derivatives of a frame's velocity, spatial 
             reference: ``fd.LOCAL`` (the default), ``fd.WORLD`` or ``fd.LOCAL_WORLD_ALIGNED`` (or their names).
             point: optional `(..., 3)`, a point in the frame's coordinates: the derivatives are those of a frame
                 at that point with the frame's orientation (in ``WORLD`` the same as the frame's).
-            out: optional tuple of six `(..., 6, nv)` float64 arrays to write into, for ``dv_dq, dv_dv, da_dq,
-                da_dv, dac_dq, dac_dv``; the record returned holds them (and copies of ``dv_dv`` as ``da_da`` and
-                ``dac_da``).
+            out: optional tuple of eight `(..., 6, nv)` float64 arrays to write into, in the record's order; the
+                record returned holds them.
             backend: ``None`` (compiled for float64), ``"reference"`` or ``"compiled"``.
 
         Returns:
@@ -853,9 +836,9 @@ DECLARATIONS: dict[str, Declaration] = {d.name: d for d in [
         name="kinematics_derivatives",
         inputs=("q", "v", "a"),
         options=("frame", "reference"),
-        outputs=("dv_dq", "dv_dv", "da_dq", "da_dv", "dac_dq", "dac_dv"),
+        outputs=KinematicsDerivatives._fields,
         reference=_kd.kinematics_derivatives,
-        result=_kinematics_derivatives,
+        result=KinematicsDerivatives,
         doc=_KINEMATICS_DERIVATIVES_DOC,
     ),
     Declaration(
@@ -992,7 +975,7 @@ def kinematics_derivatives(model: Model, q: ArrayLike, v: ArrayLike, a: ArrayLik
                           reference=reference, backend=backend)
     outs = _point_kinematics_derivatives(model, q, v, a, fid, ref, _point(point), backend)
     if out is None:
-        return _kinematics_derivatives(*outs)
+        return KinematicsDerivatives(*outs)
     # out=: as the declared function writes it (computed into fresh memory, then copied)
     return cast(KinematicsDerivatives, copied_into(DECLARATIONS["kinematics_derivatives"], model, out, outs))
 

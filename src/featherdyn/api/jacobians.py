@@ -157,7 +157,7 @@ def _center_of_mass(fw: Framework, model: Model, x: dict[str, Any], o: dict[str,
 def _frame_classical_acceleration(fw: Framework, model: Model, x: dict[str, Any], o: dict[str, Any]) -> Table:
     """``fd.kinematics_derivatives``' classical rows; ``∂a'/∂q̈ = J`` (``ω × v`` does not depend on ``q̈``)."""
     d = _own("kinematics_derivatives", fw, model, x, o)
-    return {"motion": {"q": d[4], "v": d[5], "a": d[1]}}
+    return {"motion": {"q": d[5], "v": d[6], "a": d[7]}}
 
 
 def _unit_columns(fw: Framework, model: Model, q: Any) -> tuple[Any, Any]:

@@ -128,9 +128,22 @@ inline void add_rows_cols(double* x, const double* const* rows, const double* a,
   acc.store(x + c);
 }
 
+// add_rows_cols on B Packs: B sums at once, each waiting on its own additions only (one sum at a time waits on
+// every addition's latency), the same operations entry by entry.
+template <int B, class S>
+inline void add_rows_block(S* x, const S* const* rows, const S* a, int n, int c) {
+  S acc[B];
+  for (int j = 0; j < B; ++j) acc[j] = x[c + j];
+  for (int t = 0; t < n; ++t) {
+    const S* y = rows[t] + c;
+    for (int j = 0; j < B; ++j) acc[j] = acc[j] + a[t] * y[j];
+  }
+  for (int j = 0; j < B; ++j) x[c + j] = acc[j];
+}
+
 // C (p, ncols) += A (p, k) B (k, ncols), row-major; row i of A restricted to the columns idx[off[i] .. off[i + 1])
 // when idx is given (the others zero), every column otherwise. Each entry: C_ic + Σ_t A_it B_tc in t's order
-// (doubles: a few columns at a time in registers; Packs: an entry at a time, W lanes an operation).
+// (a few columns at a time in registers: doubles as Regs, Packs as an array of them).
 template <class S>
 inline void add_product(const S* A, int p, int k, const S* B, int ncols, S* C, const int* idx, const int* off,
                         ContactDerivWork<S>& w) {
@@ -144,15 +157,12 @@ inline void add_product(const S* A, int p, int k, const S* B, int ncols, S* C, c
       w.rows[n] = B + static_cast<size_t>(t) * ncols, w.coef[n++] = Ai[t];
     }
     S* Ci = C + static_cast<size_t>(i) * ncols;
-    if constexpr (std::is_same_v<S, double>) {
-      blocks_of(0, ncols, [&](auto Bw, int c) { add_rows_cols<Bw()>(Ci, w.rows.data(), w.coef.data(), n, c); });
-    } else {
-      for (int c = 0; c < ncols; ++c) {
-        S acc = Ci[c];
-        for (int t = 0; t < n; ++t) acc = acc + w.coef[t] * w.rows[t][c];
-        Ci[c] = acc;
-      }
-    }
+    blocks_of(0, ncols, [&](auto Bw, int c) {
+      if constexpr (std::is_same_v<S, double>)
+        add_rows_cols<Bw()>(Ci, w.rows.data(), w.coef.data(), n, c);
+      else
+        add_rows_block<Bw()>(Ci, w.rows.data(), w.coef.data(), n, c);
+    });
   }
 }
 

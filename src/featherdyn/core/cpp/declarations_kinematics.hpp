@@ -48,18 +48,33 @@ struct FrameClassicalAcceleration : Declared {
   }
 };
 
-// (∂v/∂q, ∂v/∂q̇, ∂a/∂q, ∂a/∂q̇, ∂a^c/∂q, ∂a^c/∂q̇) (6, nv) of a frame's velocity v, spatial acceleration a and
-// classical acceleration a^c = [ω̇; a_lin + ω × v_lin] in a reference (∂a/∂q̈ = ∂a^c/∂q̈ = ∂v/∂q̇ = J).
+// The derivatives of a frame's velocity v, spatial acceleration a and classical acceleration
+// a^c = [ω̇; a_lin + ω × v_lin] in a reference, each (6, nv), in the order of fd.KinematicsDerivatives' fields:
+// (∂v/∂q, ∂v/∂q̇, ∂a/∂q, ∂a/∂q̇, ∂a/∂q̈, ∂a^c/∂q, ∂a^c/∂q̇, ∂a^c/∂q̈), where ∂a/∂q̈ = ∂a^c/∂q̈ = ∂v/∂q̇ = J (copies).
+inline constexpr Operand kinematics_derivatives_outputs[] = {
+    operand::matrix("dv_dq", 6, NV),  operand::matrix("dv_dv", 6, NV),  operand::matrix("da_dq", 6, NV),
+    operand::matrix("da_dv", 6, NV),  operand::matrix("da_da", 6, NV),  operand::matrix("dac_dq", 6, NV),
+    operand::matrix("dac_dv", 6, NV), operand::matrix("dac_da", 6, NV)};
+
+// kinematics_derivatives.hpp's six outputs (∂v/∂q, J, ∂a/∂q, ∂a/∂q̇, ∂a^c/∂q, ∂a^c/∂q̇) among the eight, then J into
+// ∂a/∂q̈ and ∂a^c/∂q̈. `point` (3,) in the frame's coordinates, or nullptr for the frame's origin.
+inline void kinematics_derivatives_into(const ModelView& mv, const double* const* in, const double* point,
+                                        double* const* out, const Options& opt) {
+  double* const six[6] = {out[0], out[1], out[2], out[3], out[5], out[6]};
+  kinematics_derivatives(mv, in[0], in[1], in[2], opt.frame, point, opt.reference, six);
+  const size_t n = static_cast<size_t>(6) * mv.nv;
+  std::copy_n(out[1], n, out[4]);
+  std::copy_n(out[1], n, out[7]);
+}
+
 struct KinematicsDerivatives : Declared {
   static constexpr const char* name = "kinematics_derivatives";
   static constexpr Operand inputs[] = {operand::q, operand::v, operand::a};
-  static constexpr Operand outputs[] = {operand::matrix("dv_dq", 6, NV),  operand::matrix("dv_dv", 6, NV),
-                                        operand::matrix("da_dq", 6, NV),  operand::matrix("da_dv", 6, NV),
-                                        operand::matrix("dac_dq", 6, NV), operand::matrix("dac_dv", 6, NV)};
+  static constexpr const auto& outputs = kinematics_derivatives_outputs;
   static constexpr unsigned options = FRAME | REFERENCE;
   static constexpr auto group = &fdgroup::GroupKernels::kinematics_derivatives;
   static std::int64_t run(const ModelView& mv, const double* const* in, double* const* out, const Options& opt) {
-    kinematics_derivatives(mv, in[0], in[1], in[2], opt.frame, nullptr, opt.reference, out);
+    kinematics_derivatives_into(mv, in, nullptr, out, opt);
     return OK;
   }
 };
@@ -69,12 +84,10 @@ struct KinematicsDerivatives : Declared {
 struct PointKinematicsDerivatives : Declared {
   static constexpr const char* name = "point_kinematics_derivatives";
   static constexpr Operand inputs[] = {operand::q, operand::v, operand::a, {"point", ARG_FRAME, {3}, 1, false}};
-  static constexpr Operand outputs[] = {operand::matrix("dv_dq", 6, NV),  operand::matrix("dv_dv", 6, NV),
-                                        operand::matrix("da_dq", 6, NV),  operand::matrix("da_dv", 6, NV),
-                                        operand::matrix("dac_dq", 6, NV), operand::matrix("dac_dv", 6, NV)};
+  static constexpr const auto& outputs = kinematics_derivatives_outputs;
   static constexpr unsigned options = FRAME | REFERENCE;
   static std::int64_t run(const ModelView& mv, const double* const* in, double* const* out, const Options& opt) {
-    kinematics_derivatives(mv, in[0], in[1], in[2], opt.frame, in[3], opt.reference, out);
+    kinematics_derivatives_into(mv, in, in[3], out, opt);
     return OK;
   }
 };

@@ -398,18 +398,21 @@ inline std::int64_t put_results(const fdgroup::GroupArgs& g, std::int64_t r0, co
   return 0;
 }
 
-// A frame's velocity and acceleration derivatives (six (6, nv)) of W rows.
+// A frame's velocity and acceleration derivatives (eight (6, nv), declarations_kinematics.hpp's order: J in the
+// second, fifth and eighth) of W rows.
 inline std::int64_t kinematics_derivatives_group(const fdgroup::GroupArgs& g, std::int64_t r0) {
   const ModelView& mv = *g.mv;
   const size_t nq = mv.nq, nv = mv.nv, n = 6 * nv;
-  Lanes& L = thread_lanes(nq + 2 * nv + 6 * n);
+  Lanes& L = thread_lanes(nq + 2 * nv + 8 * n);
   const Pack* q = L.gather(g.Q, r0, nq, 0);
   const Pack* v = L.gather(g.V, r0, nv, nq);
   const Pack* a = L.gather(g.A, r0, nv, nq + nv);
   Pack* x = L.space(nq + 2 * nv);
-  Pack* const outs[6] = {x, x + n, x + 2 * n, x + 3 * n, x + 4 * n, x + 5 * n};
+  Pack* const outs[6] = {x, x + n, x + 2 * n, x + 3 * n, x + 5 * n, x + 6 * n};
   kinematics_derivatives(mv, q, v, a, g.frame, nullptr, g.reference, outs);
-  return put_results(g, r0, x, 6, n);
+  std::copy_n(x + n, n, x + 4 * n);
+  std::copy_n(x + n, n, x + 7 * n);
+  return put_results(g, r0, x, 8, n);
 }
 
 // (∂c/∂q, ∂ċ/∂q) (3, nv) of W rows; a tree without mass fails the group (row by row: NO_MASS).
