@@ -15,7 +15,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -58,9 +58,8 @@ def _kw(backend: str | None) -> dict[str, str]:
     return {} if backend is None else {"backend": backend}
 
 
-@dataclass(frozen=True)
-class ConstrainedDynamicsDerivatives:
-    """The result of :func:`constrained_dynamics_derivatives`.
+class ConstrainedDynamicsDerivatives(NamedTuple):
+    """The result of :func:`constrained_dynamics_derivatives` (a named tuple, as the other derivatives' records).
 
     Attributes:
         ddq_dq, ddq_dv, ddq_dtau: `(..., nv, nv)` ∂q̈/∂q (along fd.integrate's tangent), ∂q̈/∂q̇, ∂q̈/∂τ.
@@ -78,9 +77,8 @@ class ConstrainedDynamicsDerivatives:
     lagrange: np.ndarray
 
 
-@dataclass(frozen=True)
-class ImpulseDynamicsDerivatives:
-    """The result of :func:`impulse_dynamics_derivatives`.
+class ImpulseDynamicsDerivatives(NamedTuple):
+    """The result of :func:`impulse_dynamics_derivatives` (a named tuple, as the other derivatives' records).
 
     Attributes:
         dv_plus_dq, dv_plus_dv: `(..., nv, nv)` ∂v⁺/∂q (along fd.integrate's tangent), ∂v⁺/∂v⁻.
