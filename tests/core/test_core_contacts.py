@@ -18,6 +18,7 @@ import os
 import subprocess
 import sys
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pytest
@@ -261,6 +262,28 @@ def test_an_impulse_derivative_batch_with_dependent_contacts_raises_as_its_row()
         single = fd.impulse_dynamics_derivatives(model, Q[k], V[k], cons, restitution=0.3)
         for what in IMPULSE_DERIVATIVES:
             assert np.array_equal(getattr(rows, what)[i], getattr(single, what)), (k, what)
+
+
+@pytest.mark.parametrize("which", ["constrained", "impulse"])
+def test_a_derivative_batch_with_a_non_finite_row_names_it(which: str) -> None:
+    """A NaN in a row of a full group of lanes: the batch's error names the argument and the row (every row is
+    checked before a group runs), the same error a one-state call of that row raises about its own entry."""
+    model = _model("solo12")
+    frames = SCENES["solo12"][0]
+    Q, V, T, _ = _states(model, 17, 2 * WIDTH + 1)
+    cons = [fd.PointContact(f) for f in frames]
+    bad = WIDTH + 1
+    V[bad, 4] = np.nan
+
+    def call(q: np.ndarray, v: np.ndarray, t: np.ndarray) -> Any:
+        if which == "constrained":
+            return fd.constrained_dynamics_derivatives(model, q, v, t, cons)
+        return fd.impulse_dynamics_derivatives(model, q, v, cons, restitution=0.3)
+
+    with pytest.raises(fd.NonFiniteError, match=rf"v: .* at index \({bad}, 4\)"):
+        call(Q, V, T)
+    with pytest.raises(fd.NonFiniteError, match=r"v: .* at index \(4,\)"):
+        call(Q[bad], V[bad], T[bad])
 
 
 _SIMD_SCRIPT = """
