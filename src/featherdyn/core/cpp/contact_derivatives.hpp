@@ -268,25 +268,55 @@ inline ContactDerivWork<S>& workspace(const ModelView& mv, const ContactSpec* sp
   return w;
 }
 
-// R₂'s rows in block b (nv columns) of w.Z (m, ncols), from the contacts' frame derivatives (w.kin): s_a · the
-// output a_point (a point's rows) or a_frame (a frame's), plus K_d · output v_out when `damped`.
-template <class S>
-inline void rows_of_kin(const ModelView& mv, const ContactSpec* specs, int nc, int ncols, int b, int a_point,
-                        int a_frame, double s_a, bool damped, int v_out, ContactDerivWork<S>& w) {
+// Each contact row's entries of R₂ in block b (nv columns) of w.Z (m, ncols): f(s, kin, src, z) with s the row's
+// contact, kin its frame derivatives (w.kin: six (6, nv) outputs of kinematics_derivatives), src the row's offset in
+// one of them, and z the row's nv entries to write.
+template <class S, class F>
+inline void each_kin_row(const ModelView& mv, const ContactSpec* specs, int nc, int ncols, int b, ContactDerivWork<S>& w,
+                         const F& f) {
   const int nv = mv.nv;
   const size_t blk = static_cast<size_t>(6) * nv;
   for (int k = 0, row = 0; k < nc; row += specs[k].rows, ++k) {
     const ContactSpec& s = specs[k];
     const S* kin = w.kin.data() + 6 * blk * static_cast<size_t>(k);
-    const S* ka = kin + (s.rows == 3 ? a_point : a_frame) * blk;
-    const S* kv = kin + v_out * blk;
-    const S kd(s.kd), sa(s_a);
-    for (int r = 0; r < s.rows; ++r) {
-      const size_t src = static_cast<size_t>(6 - s.rows + r) * nv;
-      S* z = w.Z.data() + static_cast<size_t>(row + r) * ncols + static_cast<size_t>(b) * nv;
-      for (int j = 0; j < nv; ++j) z[j] = damped ? ka[src + j] + kd * kv[src + j] : sa * ka[src + j];
-    }
+    for (int r = 0; r < s.rows; ++r)
+      f(s, kin, static_cast<size_t>(6 - s.rows + r) * nv,
+        w.Z.data() + static_cast<size_t>(row + r) * ncols + static_cast<size_t>(b) * nv);
   }
+}
+
+// The constrained dynamics' R₂ in block b: the output a_point (a point's rows) or a_frame (a frame's) plus K_d · the
+// output v_out (∂a/∂x + K_d ∂v/∂x).
+template <class S>
+inline void damped_rows(const ModelView& mv, const ContactSpec* specs, int nc, int ncols, int b, int a_point,
+                        int a_frame, int v_out, ContactDerivWork<S>& w) {
+  const size_t blk = static_cast<size_t>(6) * mv.nv;
+  each_kin_row(mv, specs, nc, ncols, b, w, [&](const ContactSpec& s, const S* kin, size_t src, S* z) {
+    const S *ka = kin + (s.rows == 3 ? a_point : a_frame) * blk + src, *kv = kin + v_out * blk + src;
+    const S kd(s.kd);
+    for (int j = 0; j < mv.nv; ++j) z[j] = ka[j] + kd * kv[j];
+  });
+}
+
+// The impulses' R₂ in block b: scale · the output `out` (∂(J u)/∂q, or e J).
+template <class S>
+inline void scaled_rows(const ModelView& mv, const ContactSpec* specs, int nc, int ncols, int b, int out, double scale,
+                        ContactDerivWork<S>& w) {
+  const size_t blk = static_cast<size_t>(6) * mv.nv;
+  const S sc(scale);
+  each_kin_row(mv, specs, nc, ncols, b, w, [&](const ContactSpec&, const S* kin, size_t src, S* z) {
+    const S* k = kin + out * blk + src;
+    for (int j = 0; j < mv.nv; ++j) z[j] = sc * k[j];
+  });
+}
+
+// w.R1 (nv, nv) zeroed when some contact's force turns with q (any_turn; contact_terms adds the turns there), else
+// nullptr.
+template <class S>
+inline S* turn_matrix(const ContactSpec* specs, int nc, size_t n, ContactDerivWork<S>& w) {
+  if (!any_turn(specs, nc)) return nullptr;
+  w.R1.assign(n * n, S(0.0));
+  return w.R1.data();
 }
 
 }  // namespace contact_deriv
@@ -305,9 +335,8 @@ std::int64_t contact_dynamics_derivatives(const ModelView& mv, const S* q, const
   const int* lambda = dof_tree(mv).lambda.data();
   w.f.assign(static_cast<size_t>(6) * mv.nb, S(0.0));
   if (f_ext) std::copy(f_ext, f_ext + 6 * mv.nb, w.f.begin());
-  const bool turns = any_turn(specs, nc);
-  if (turns) w.R1.assign(n * n, S(0.0));
-  contact_terms(mv, q, qd, qdd, true, lam, specs, nc, w, turns ? w.R1.data() : nullptr);
+  S* R1 = turn_matrix(specs, nc, n, w);
+  contact_terms(mv, q, qd, qdd, true, lam, specs, nc, w, R1);
   w.dq.resize(n * n), w.dv.resize(n * n), w.L.resize(n * n);
   rnea_derivatives(mv, q, qd, qdd, w.f.data(), true, w.dq.data(), w.dv.data(), w.L.data());
   const int bad = ltl_factor(mv, lambda, w.L.data());
@@ -316,8 +345,8 @@ std::int64_t contact_dynamics_derivatives(const ModelView& mv, const S* q, const
   w.X.resize(n * w3);
   for (int i = 0; i < nv; ++i) {
     S* x = w.X.data() + static_cast<size_t>(i) * w3;
-    if (turns)
-      for (int j = 0; j < nv; ++j) x[j] = w.dq[i * n + j] + w.R1[i * n + j];
+    if (R1)
+      for (int j = 0; j < nv; ++j) x[j] = w.dq[i * n + j] + R1[i * n + j];
     else
       std::copy_n(w.dq.data() + i * n, nv, x);
     std::copy_n(w.dv.data() + i * n, nv, x + nv);
@@ -327,8 +356,8 @@ std::int64_t contact_dynamics_derivatives(const ModelView& mv, const S* q, const
   ltl_solve_rows_tree_pattern(mv, lambda, w.L.data(), w.X.data(), 3, true);
   // R₂ = [∂a/∂q + K_d ∂v/∂q | ∂a/∂q̇ + K_d ∂v/∂q̇ | 0], the contacts' rows (classical acceleration for a point)
   w.Z.assign(static_cast<size_t>(m) * w3, S(0.0));
-  rows_of_kin(mv, specs, nc, w3, 0, 4, 2, 1.0, true, 0, w);
-  rows_of_kin(mv, specs, nc, w3, 1, 5, 3, 1.0, true, 1, w);
+  damped_rows(mv, specs, nc, w3, 0, 4, 2, 0, w);
+  damped_rows(mv, specs, nc, w3, 1, 5, 3, 1, w);
   if (const std::int64_t st = delassus(mv, lambda, m, singular_tol, w); st != OK) return st;
   correct(mv, m, w3, w);
   for (int b = 0; b < 3; ++b) {
@@ -373,14 +402,13 @@ std::int64_t impulse_dynamics_derivatives(const ModelView& mv, const S* q, const
   w.u.resize(n), w.acc.resize(n), w.zero.assign(n, S(0.0));
   for (int i = 0; i < nv; ++i) w.u[i] = vp[i] + se * vm[i], w.acc[i] = vp[i] - vm[i];
   w.f.assign(static_cast<size_t>(6) * mv.nb, S(0.0));
-  const bool turns = any_turn(specs, nc);
-  if (turns) w.R1.assign(n * n, S(0.0));
-  contact_terms(mv, q, w.u.data(), w.zero.data(), false, Lam, specs, nc, w, turns ? w.R1.data() : nullptr);
+  S* R1 = turn_matrix(specs, nc, n, w);
+  contact_terms(mv, q, w.u.data(), w.zero.data(), false, Lam, specs, nc, w, R1);
   w.dq.resize(n * n);
   rnea_derivatives(mv, q, w.zero.data(), w.acc.data(), w.f.data(), false, w.dq.data(), static_cast<S*>(nullptr),
                    static_cast<S*>(nullptr));
-  if (turns)
-    for (size_t k = 0; k < n * n; ++k) w.dq[k] = w.dq[k] + w.R1[k];
+  if (R1)
+    for (size_t k = 0; k < n * n; ++k) w.dq[k] = w.dq[k] + R1[k];
   ltl_solve_rows_tree_pattern(mv, lambda, w.L.data(), w.dq.data(), 1, true);
   w.X.resize(n * w2);
   for (int i = 0; i < nv; ++i) {
@@ -390,8 +418,8 @@ std::int64_t impulse_dynamics_derivatives(const ModelView& mv, const S* q, const
     x[nv + i] = S(1.0);
   }
   w.Z.resize(static_cast<size_t>(m) * w2);
-  rows_of_kin(mv, specs, nc, w2, 0, 0, 0, 1.0, false, 0, w);
-  rows_of_kin(mv, specs, nc, w2, 1, 1, 1, e, false, 0, w);
+  scaled_rows(mv, specs, nc, w2, 0, 0, 1.0, w);
+  scaled_rows(mv, specs, nc, w2, 1, 1, e, w);
   correct(mv, m, w2, w);
   for (int b = 0; b < 2; ++b) {
     block_out(w.X.data(), nv, w2, b, nv, out[b]);
