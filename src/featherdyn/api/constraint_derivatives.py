@@ -46,7 +46,7 @@ from .declarations import (
 
 _CONTACTS = _declared.kernel("contact_dynamics_derivatives")  # core/cpp/declarations_constraints.hpp
 _IMPULSES = _declared.kernel("impulse_dynamics_derivatives")
-_EMPTY = _declared.result_array  # a batch's results in reused memory (core/_result_pool.py)
+_result_array = _declared.result_array  # a batch's results in reused memory (core/_result_pool.py)
 
 __all__ = ["ConstrainedDynamicsDerivatives", "ImpulseDynamicsDerivatives", "constrained_dynamics_derivatives",
            "impulse_dynamics_derivatives"]
@@ -250,7 +250,7 @@ def _core(kernel: Any, model: Model, args: tuple[Any, ...], opts: Any, m: int, d
         if r is None and type(q) is np.ndarray and q.ndim == 2 and (len(args) < 4 or args[3] is None):
             n, nv = q.shape[0], model.nv
             shapes = ((nv, nv),) * ddq_first + ((m, nv),) * ddq_first + ((nv,), (m,))
-            r = tuple(_EMPTY((n, *shape)) for shape in shapes)
+            r = tuple(_result_array((n, *shape)) for shape in shapes)
             r = r if kernel.batch(core.cm, list(args), list(r), opts)[1] == OK else None
         return r
     except (TypeError, ValueError):  # arguments the binding does not take as they are

@@ -37,7 +37,7 @@ from ._checks import State, as_dtype, check_state, quiet
 from .dynamics import generalized_gravity
 from .kinematics import kinematics_of
 
-_EMPTY = _declared.result_array  # a batch's results in reused memory (core/_result_pool.py)
+_result_array = _declared.result_array  # a batch's results in reused memory (core/_result_pool.py)
 _NEW = object.__new__
 _SET = object.__setattr__
 _CONTACTS = _declared.kernel("contact_dynamics")  # the declared kernels (core/cpp/declarations_constraints.hpp)
@@ -221,7 +221,7 @@ def constrained_dynamics(model: Model, q: ArrayLike, v: ArrayLike, tau: ArrayLik
                 r = _CONTACTS.fresh(core.cm, (q, v, tau, f_ext), opts)
                 if r is None and type(q) is np.ndarray and q.ndim == 2 and f_ext is None:
                     n = q.shape[0]
-                    r = _EMPTY((n, core.nv)), _EMPTY((n, plan.size)), _EMPTY((n, 2))
+                    r = _result_array((n, core.nv)), _result_array((n, plan.size)), _result_array((n, 2))
                     r = r if _CONTACTS.batch(core.cm, [q, v, tau, None], r, opts)[1] == OK else None
                 done = None if r is None else _contact_result(r[0], r[1], r[2], plan)
                 if done is not None:
@@ -301,7 +301,7 @@ def operational_space_inertia(model: Model, q: ArrayLike, frames: Sequence[str |
             if r is not None:
                 return r
             if type(q) is np.ndarray and q.ndim == 2:
-                out = _EMPTY((q.shape[0], found[0].size, found[0].size))
+                out = _result_array((q.shape[0], found[0].size, found[0].size))
                 if _FRAMES.batch(core.cm, [q], [out], opts)[1] == OK:
                     return out
         except (TypeError, ValueError):  # arguments the binding does not take as they are: the general path
