@@ -238,21 +238,21 @@ inline void contact_terms(const ModelView& mv, const S* q, const S* qd, const S*
       const int a = s.rows == 3 ? 4 : 2;
       outs[a] = kin + a * blk, outs[a + 1] = kin + (a + 1) * blk;
     }
+    Pose<S> pose;
     if (qd != nullptr) {
-      kinematics_derivatives(mv, q, qd, qdd, s.frame, nullptr, s.ref, outs);
+      kinematics_derivatives(mv, q, qd, qdd, s.frame, nullptr, s.ref, outs, &pose);
     } else {
       frame_jacobian(mv, q, s.frame, s.ref, outs[1]);
+      if (lam != nullptr) frame_pose(mv, q, s.frame, pose.R, pose.p);
     }
     for (int r = 0; r < s.rows; ++r)
       std::copy(outs[1] + (6 - s.rows + r) * nv, outs[1] + (7 - s.rows + r) * nv, w.J.data() + (row + r) * nv);
     if (lam != nullptr) {
-      Mat3<S> R;
-      Vec3<S> p;
-      frame_pose(mv, q, s.frame, R, p);
-      const Force<S> fa = frame_force(s, lam + row, R, p);
+      const Force<S> fa = frame_force(s, lam + row, pose.R, pose.p);
       add_to_body(mv, s.frame, fa, w.f.data());
       if (R1 != nullptr)
-        add_turn(mv, s.ref, outs[1], R, p, fa, w.supp.data() + w.off[row], w.off[row + 1] - w.off[row], w, R1);
+        add_turn(mv, s.ref, outs[1], pose.R, pose.p, fa, w.supp.data() + w.off[row], w.off[row + 1] - w.off[row], w,
+                 R1);
     }
     row += s.rows;
   }

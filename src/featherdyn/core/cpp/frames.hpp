@@ -46,6 +46,14 @@ inline int support_placements(const ModelView& mv, int body, const S* q, Support
   return n;
 }
 
+// A frame's world pose: its axes R (columns in world coordinates) and its origin p (kinematics_derivatives'
+// optional output, what frame_pose forms).
+template <class S>
+struct Pose {
+  Mat3<S> R;
+  Vec3<S> p;
+};
+
 // ⁰M_f = (R, p): its rotation R (3, 3) row-major and translation p (3,).
 template <class S>
 void frame_pose(const ModelView& mv, const S* q, int frame, Mat3<S>& R, Vec3<S>& p) {

@@ -115,15 +115,22 @@ inline InertiaRate<T> rate_of_inertia(const RigidInertia<T>& I, const Motion<T>&
 
 // A frame's (moved to `point` in its coordinates, or nullptr) motion derivatives in `ref`, (6, nv) row-major
 // each, into out: ∂v/∂q, ∂v/∂q̇, ∂a/∂q, ∂a/∂q̇, ∂a^c/∂q, ∂a^c/∂q̇ (a^c = [ω̇; a_lin + ω × v_lin] in `ref`;
-// ∂a/∂q̈ = ∂a^c/∂q̈ = ∂v/∂q̇). An output given as nullptr is not formed.
+// ∂a/∂q̈ = ∂a^c/∂q̈ = ∂v/∂q̇). An output given as nullptr is not formed. With `pose`, the frame's (at the point's)
+// world axes and origin there as well (frames.hpp's frame_pose, from the same pass).
 template <class T>
 inline void kinematics_derivatives(const ModelView& mv, const T* q, const T* qd, const T* qdd, int frame,
-                                   const double* point, int ref, T* const* out) {
+                                   const double* point, int ref, T* const* out, Pose<T>* pose = nullptr) {
   const int nv = mv.nv;
   for (int o = 0; o < 6; ++o)
     if (out[o]) std::fill(out[o], out[o] + 6 * nv, T(0.0));
   const int body = mv.frame_body[frame];
-  if (body == -1) return;  // a frame fixed to the world does not move
+  if (body == -1) {  // a frame fixed to the world does not move
+    if (pose) {
+      pose->R = load9<T>(mv.frame_R + 9 * frame), pose->p = load3<T>(mv.frame_p + 3 * frame);
+      if (point) pose->p = pose->p + pose->R * load3<T>(point);
+    }
+    return;
+  }
   WorldPassWork<T>& w = thread_workspace<WorldPassWork<T>>(mv.nb);
   w.W.resize(static_cast<size_t>(nv));
   int n = 0;
@@ -137,18 +144,23 @@ inline void kinematics_derivatives(const ModelView& mv, const T* q, const T* qd,
   if (point) pfb = pfb + Rfb * load3<T>(point);
   const Mat3<T> Rf = w.oR[body] * Rfb;
   const Xform<T> fX0{Rf.transpose(), w.op[body] + w.oR[body] * pfb};
-  // a world value y and derivative dy of column s, in the reference: (value, derivative)
-  auto express = [&](const Motion<T>& y, const Motion<T>* dy, const Motion<T>& s) -> Motion<T> {
-    if (ref == WORLD) return dy ? *dy : y;
-    const Motion<T> yf = fX0.apply(y);
-    if (!dy) return ref == LOCAL ? yf : Motion<T>{Rf * yf.w, Rf * yf.v};
-    const Motion<T> sf = fX0.apply(s);
-    const Motion<T> d = motion_sub(fX0.apply(*dy), cross_motion(sf, yf));
+  if (pose) pose->R = Rf, pose->p = fX0.r;
+  // In the frame's coordinates (LOCAL's; in WORLD the world's own): a value x as x_f = ᶠX₀ x, and the derivative of
+  // a world value y along column s as ᶠX₀ ∂y − s_f × y_f (the frame moves with s); then in the reference. The body's
+  // velocity and acceleration are moved once, each column once.
+  const bool world = ref == WORLD;
+  auto local = [&](const Motion<T>& x) { return world ? x : fX0.apply(x); };
+  auto in_ref = [&](const Motion<T>& xf) {  // a value
+    return world || ref == LOCAL ? xf : Motion<T>{Rf * xf.w, Rf * xf.v};
+  };
+  auto moved = [&](const Motion<T>& dyf, const Motion<T>& yf, const Motion<T>& sf) -> Motion<T> {  // a derivative
+    if (world) return dyf;
+    const Motion<T> d = motion_sub(dyf, cross_motion(sf, yf));
     if (ref == LOCAL) return d;
     return {Rf * (d.w + cross(sf.w, yf.w)), Rf * (d.v + cross(sf.w, yf.v))};
   };
   const Motion<T> none{{T(0.0), T(0.0), T(0.0)}, {T(0.0), T(0.0), T(0.0)}};
-  const Motion<T> vr = express(vb, nullptr, none);
+  const Motion<T> vf = local(vb), af = local(ab), vr = in_ref(vf);
   auto put = [&](T* m, int col, const Motion<T>& x) {
     m[0 * nv + col] = x.w.x, m[1 * nv + col] = x.w.y, m[2 * nv + col] = x.w.z;
     m[3 * nv + col] = x.v.x, m[4 * nv + col] = x.v.y, m[5 * nv + col] = x.v.z;
@@ -160,23 +172,20 @@ inline void kinematics_derivatives(const ModelView& mv, const T* q, const T* qd,
   for (int pos = 0; pos < n; ++pos) {
     const int k = w.path[pos];
     const Motion<T> u = pos > 0 ? w.v[w.path[pos - 1]] : none, wk = pos > 0 ? w.a[w.path[pos - 1]] : none;
+    const Motion<T> vbu = motion_sub(vb, u);
     for (int c = 0; c < mv.nv_i[k]; ++c) {
       const int j = mv.idx_v[k] + c;
-      const Motion<T> s = w.W[j];
-      // ∂/∂q moves the frame (express with the column); ∂/∂q̇ does not (a plain change of coordinates)
-      if (out[0] || out[4]) {
-        const Motion<T> dvq = cross_motion(s, motion_sub(vb, u));
-        Dvq = express(vb, &dvq, s);
-      }
-      if (out[1] || out[5]) Dvv = express(s, nullptr, none);
+      const Motion<T> s = w.W[j], sf = local(s);
+      // ∂/∂q moves the frame (`moved`, with the column); ∂/∂q̇ does not (a plain change of coordinates)
+      if (out[0] || out[4]) Dvq = moved(local(cross_motion(s, vbu)), vf, sf);
+      if (out[1] || out[5]) Dvv = in_ref(sf);
       if (out[2] || out[4]) {
         // the header's sum over i, telescoped (Jacobi: (s × v_i) × vJ_i + v_i × (s × vJ_i) = s × (v_i × vJ_i),
         // and a_i − a_λ(i) = aJ_i + v_i × vJ_i): ∂a_b/∂q_j = s × (a_b − a_λ(k)) − (s × u) × (v_b − u), O(1)
-        const Motion<T> daq =
-            motion_sub(cross_motion(s, motion_sub(ab, wk)), cross_motion(cross_motion(s, u), motion_sub(vb, u)));
-        Daq = express(ab, &daq, s);
+        const Motion<T> daq = motion_sub(cross_motion(s, motion_sub(ab, wk)), cross_motion(cross_motion(s, u), vbu));
+        Daq = moved(local(daq), af, sf);
       }
-      if (out[3] || out[5]) Dav = express(cross_motion(w.v[k], s) + cross_motion(s, motion_sub(vb, u)), nullptr, none);
+      if (out[3] || out[5]) Dav = in_ref(local(cross_motion(w.v[k], s) + cross_motion(s, vbu)));
       if (out[0]) put(out[0], j, Dvq);
       if (out[1]) put(out[1], j, Dvv);
       if (out[2]) put(out[2], j, Daq);

@@ -242,6 +242,16 @@ inline void sweep_down_cols(double* x, double* const* rows, const double* ls, in
   acc.store(x);
 }
 
+// ltl_sweeps' row pointers and factors (nv each).
+template <class S>
+struct SweepWork {
+  std::vector<S*> rows;
+  std::vector<S> ls;
+  void resize(size_t nv) {
+    if (rows.size() < nv) rows.resize(nv), ls.resize(nv);
+  }
+};
+
 // The two sweeps of ltl_solve_Lt / ltl_solve_L on the rows of X (nv, ncols) row-major, each pivot's reciprocal
 // taken once (a row is scaled by multiplications, not ncols divisions). The first sweep runs, in each block of
 // `width` columns, on the runs of `support` in row k (every column when support is null); the second on every
@@ -262,9 +272,9 @@ void ltl_sweeps(const ModelView& mv, const int* lambda, const S* L, S* X, int nc
       for (int s = support->off[k]; s < support->off[k + 1]; ++s) op(b + support->seg[2 * s], b + support->seg[2 * s + 1]);
     }
   };
-  thread_local std::vector<S*> rows;  // row k's ancestors and their factors, deepest first
-  thread_local std::vector<S> ls;
-  if (rows.size() < static_cast<size_t>(nv)) rows.resize(static_cast<size_t>(nv)), ls.resize(static_cast<size_t>(nv));
+  SweepWork<S>& w = thread_workspace<SweepWork<S>>(nv);  // row k's ancestors and their factors, deepest first
+  S** rows = w.rows.data();
+  S* ls = w.ls.data();
   auto ancestors = [&](int k, bool neg) {
     int n = 0;
     for (int i = lambda[k]; i != -1; i = lambda[i], ++n)
@@ -281,9 +291,9 @@ void ltl_sweeps(const ModelView& mv, const int* lambda, const S* L, S* X, int nc
     runs(k, [&](int c0, int c1) {
       blocks_of(c0, c1, [&](auto B, int c) {
         if constexpr (std::is_same_v<S, double>)
-          sweep_up_cols<B()>(xk + c, rows.data(), ls.data(), n, inv, c);
+          sweep_up_cols<B()>(xk + c, rows, ls, n, inv, c);
         else
-          sweep_up_block<B()>(xk + c, rows.data(), ls.data(), n, inv, c);
+          sweep_up_block<B()>(xk + c, rows, ls, n, inv, c);
       });
     });
   }
@@ -293,9 +303,9 @@ void ltl_sweeps(const ModelView& mv, const int* lambda, const S* L, S* X, int nc
     const S inv = S(1.0) / L[k * nv + k];
     blocks_of(0, ncols, [&](auto B, int c) {
       if constexpr (std::is_same_v<S, double>)
-        sweep_down_cols<B()>(xk + c, rows.data(), ls.data(), n, inv, c);
+        sweep_down_cols<B()>(xk + c, rows, ls, n, inv, c);
       else
-        sweep_down_block<B()>(xk + c, rows.data(), ls.data(), n, inv, c);
+        sweep_down_block<B()>(xk + c, rows, ls, n, inv, c);
     });
   }
 }
@@ -503,8 +513,9 @@ struct DofTree {
   std::vector<std::int32_t> key;  // nb, then the parent, nv_i and idx_v arrays of the model it was built for
 };
 
-// The calling thread's DofTree for this model (rebuilt when the model's tree differs from the last one's).
-inline const DofTree& dof_tree(const ModelView& mv) {
+// The calling thread's DofTree for this model (rebuilt when the model's tree differs from the last one's). Not
+// inlined, as thread_workspace (scratch.hpp).
+[[gnu::noinline]] inline const DofTree& dof_tree(const ModelView& mv) {
   thread_local DofTree t;
   const size_t nb = static_cast<size_t>(mv.nb);
   bool same = t.key.size() == 3 * nb + 1 && t.key[0] == mv.nb && t.nv == mv.nv;

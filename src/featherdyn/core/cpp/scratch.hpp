@@ -8,8 +8,11 @@
 namespace fdcore {
 
 // The calling thread's workspace of type W (a struct of std::vectors with resize(nb)), sized for nb bodies.
+// Not inlined, so that a caller holds the address it returns: inlined, GCC recomputed the thread-local address
+// at each use instead of keeping it (a call to __tls_get_addr each time in a shared library, 15 of them in
+// kinematics_derivatives' loops; 2–3 % of solo12's contact derivatives).
 template <class W>
-inline W& thread_workspace(int nb) {
+[[gnu::noinline]] W& thread_workspace(int nb) {
   thread_local W w;
   w.resize(static_cast<size_t>(nb));
   return w;
