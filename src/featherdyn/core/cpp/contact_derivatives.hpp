@@ -47,7 +47,7 @@ namespace fdcore {
 // specs only; what depends on the state (a pivot of M or of D) fails the call, for a Pack in any lane.
 template <class S>
 struct ContactDerivWork {
-  std::vector<S> f, dq, dv, L, kin, J, R1, X, Z, Y, Pt, D, Dinv, scratch, u, acc, zero;
+  std::vector<S> f, dq, dv, L, kin, J, R1, X, Z, Y, Pt, D, Dinv, scratch, u, acc;
   std::vector<int> supp, off;  // row r of J: its nonzero columns supp[off[r] .. off[r + 1])
   std::vector<const S*> rows;  // add_product's operands
   std::vector<S> coef;
@@ -222,8 +222,8 @@ inline void block_out(const S* T, int rows, int ncols, int b, int nv, S* out) {
 
 // The contacts' rows J (m, nv) into w.J and their forces λ: on the bodies (w.f, which holds f_ext or zeros), and
 // their turn into R1 (nv, nv). The outputs of kinematics_derivatives per contact are left in w.kin when `qd` is
-// given (at (q, qd, qdd)): ∂v/∂q, ∂v/∂q̇ = J, and with `accelerations` a point's ∂a^c/∂(q, q̇) or a frame's
-// ∂a/∂(q, q̇); with qd nullptr only J is formed (frame_jacobian).
+// given (at (q, qd, qdd); qdd may be nullptr without `accelerations`): ∂v/∂q, ∂v/∂q̇ = J, and with `accelerations` a
+// point's ∂a^c/∂(q, q̇) or a frame's ∂a/∂(q, q̇); with qd nullptr only J is formed (frame_jacobian).
 template <class S>
 inline void contact_terms(const ModelView& mv, const S* q, const S* qd, const S* qdd, bool accelerations,
                           const S* lam, const ContactSpec* specs, int nc, ContactDerivWork<S>& w, S* R1) {
@@ -399,14 +399,14 @@ std::int64_t impulse_dynamics_derivatives(const ModelView& mv, const S* q, const
   }
   // R₁ along q: RNEA at zero velocity without gravity, a = v⁺ − v⁻, with Λ on the bodies, plus the turn;
   // R₂ = ∂(J u)/∂q at u = v⁺ + e v⁻. A = [−M⁻¹ R₁ | 1], R₂ = [∂(J u)/∂q | e J].
-  w.u.resize(n), w.acc.resize(n), w.zero.assign(n, S(0.0));
+  w.u.resize(n), w.acc.resize(n);
   for (int i = 0; i < nv; ++i) w.u[i] = vp[i] + se * vm[i], w.acc[i] = vp[i] - vm[i];
   w.f.assign(static_cast<size_t>(6) * mv.nb, S(0.0));
   S* R1 = turn_matrix(specs, nc, n, w);
-  contact_terms(mv, q, w.u.data(), w.zero.data(), false, Lam, specs, nc, w, R1);
+  contact_terms(mv, q, w.u.data(), static_cast<const S*>(nullptr), false, Lam, specs, nc, w, R1);
   w.dq.resize(n * n);
-  rnea_derivatives(mv, q, w.zero.data(), w.acc.data(), w.f.data(), false, w.dq.data(), static_cast<S*>(nullptr),
-                   static_cast<S*>(nullptr));
+  rnea_derivatives(mv, q, static_cast<const S*>(nullptr), w.acc.data(), w.f.data(), false, w.dq.data(),
+                   static_cast<S*>(nullptr), static_cast<S*>(nullptr));  // at rest: q̇ = 0
   if (R1)
     for (size_t k = 0; k < n * n; ++k) w.dq[k] = w.dq[k] + R1[k];
   ltl_solve_rows_tree_pattern(mv, lambda, w.L.data(), w.dq.data(), 1, true);

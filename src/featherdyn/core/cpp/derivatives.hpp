@@ -175,7 +175,7 @@ struct RneaDerivWork {
   std::vector<RigidInertia<S>> I0;         // ʳI_i (forward dynamics: the forces of the accelerations)
   std::vector<Motion<S>> psi;              // forward dynamics: ψ_i = Σ_support ʳS q̈
   std::vector<Force<S>> G;                 // forward dynamics: I_i ψ_i, summed over subtrees
-  bool rest = false;                       // q̇ = q̈ = 0 (no q̇ given): the velocity terms are zero, not formed
+  bool rest = false;                       // q̇ = 0 (no q̇ given): the velocity terms are zero, not formed
   void resize(size_t nb) {
     if (R.size() < nb)
       R.resize(nb), p.resize(nb), v.resize(nb), a.resize(nb), Yc.resize(nb), Bc.resize(nb), hc.resize(nb),
@@ -238,9 +238,9 @@ struct LanesOut {
 
 // Forward: poses in the root body, ʳS, ʳv, ʳa (q̈ = 0 when qdd is null), the body inertias, momenta and
 // forces, and the columns' ∂V/∂q = v_λ × S,  ∂A/∂q = a_λ × S + v_λ × ∂V/∂q,  ∂A/∂q̇ = ∂V/∂q + v_i × S.
-// At rest (qd null, and qdd null: the generalized gravity's and static torque's derivatives) every body of a
-// tree moves with its root's acceleration and v = 0: the momenta, the inertia rates, ∂V/∂q and ∂A/∂q̇ are zero
-// and left unformed, ∂A/∂q = a_λ × S.
+// At rest (qd null: v = 0; with qdd null too, the generalized gravity's and static torque's derivatives, every
+// body of a tree moves with its root's acceleration) the momenta, the inertia rates, ∂V/∂q, ∂A/∂q̇ and ∂τ/∂q̇ are
+// zero and left unformed, a_i = a_λ + S q̈ and ∂A/∂q = a_λ × S (the impulses' M(q) w, contact_derivatives.hpp).
 template <class S>
 void rnea_derivatives_forward(const ModelView& mv, RneaDerivWork<S>& w, const S* q, const S* qd, const S* qdd,
                               const S* f_ext, bool gravity) {
@@ -287,7 +287,13 @@ void rnea_derivatives_forward(const ModelView& mv, RneaDerivWork<S>& w, const S*
     }
     if (w.rest) {
       V[i] = zero;
-      A[i] = a_lam;
+      if (qdd) {
+        Motion<S> aJ = zero;
+        for (int c = 0; c < ki; ++c) aJ = aJ + Motion<S>{qdd[iv + c] * J[iv + c].w, qdd[iv + c] * J[iv + c].v};
+        A[i] = a_lam + aJ;
+      } else {
+        A[i] = a_lam;
+      }
     } else {
       Motion<S> vJ = zero, aJ = zero;
       for (int c = 0; c < ki; ++c) {
