@@ -285,23 +285,16 @@ void rnea_derivatives_forward(const ModelView& mv, RneaDerivWork<S>& w, const S*
         J[iv + c] = {wr, R[i] * s.v + cross(p[i], wr)};
       }
     }
+    Motion<S> vJ = zero, aJ = zero;  // Σ S q̇ (not at rest) and Σ S q̈ over i's dofs
+    for (int c = 0; c < ki; ++c) {
+      const Motion<S>& s = J[iv + c];
+      if (!w.rest) vJ = vJ + Motion<S>{qd[iv + c] * s.w, qd[iv + c] * s.v};
+      if (qdd) aJ = aJ + Motion<S>{qdd[iv + c] * s.w, qdd[iv + c] * s.v};
+    }
     if (w.rest) {
       V[i] = zero;
-      if (qdd) {
-        Motion<S> aJ = zero;
-        for (int c = 0; c < ki; ++c) aJ = aJ + Motion<S>{qdd[iv + c] * J[iv + c].w, qdd[iv + c] * J[iv + c].v};
-        A[i] = a_lam + aJ;
-      } else {
-        A[i] = a_lam;
-      }
+      A[i] = qdd ? a_lam + aJ : a_lam;
     } else {
-      Motion<S> vJ = zero, aJ = zero;
-      for (int c = 0; c < ki; ++c) {
-        const Motion<S>& s = J[iv + c];
-        const S x = qd[iv + c];
-        vJ = vJ + Motion<S>{x * s.w, x * s.v};
-        if (qdd) aJ = aJ + Motion<S>{qdd[iv + c] * s.w, qdd[iv + c] * s.v};
-      }
       V[i] = v_lam + vJ;
       A[i] = a_lam + aJ + cross_motion(V[i], vJ);
     }
