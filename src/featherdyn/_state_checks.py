@@ -22,7 +22,8 @@ from .model import Model
 from .spatial.validation import as_array, numeric_value, result_dtype
 from .tolerances import QUATERNION_NORM
 
-__all__ = ["State", "CONFIGURATIONS", "VECTORS", "check_state", "check_quaternions", "check_f_ext", "batch_with_f_ext"]
+__all__ = ["State", "CONFIGURATIONS", "VECTORS", "check_state", "check_quaternions", "check_f_ext", "check_point",
+           "batch_with_f_ext", "batch_with_point"]
 
 #: the state arguments that are configurations `(..., nq)`, whose quaternions are checked (``q``; ``q0`` and ``q1`` of
 #: ``fd.difference``); every other state vector is `(..., nv)`
@@ -146,6 +147,25 @@ def check_f_ext(model: Model, f_ext: Any, values: bool = True) -> np.ndarray | N
             f"got shape {tuple(arr.shape)}"
         )
     return as_array(arr, "f_ext") if values else arr
+
+
+def check_point(point: Any, values: bool = True) -> np.ndarray | None:
+    """``point`` as an array `(..., 3)` of a point's coordinates in a frame (``fd.kinematics_derivatives``'; ``None``
+    stays ``None``); ``values=False``: its shape and dtype only (the compiled core checks its values)."""
+    return None if point is None else as_array(point, "point", (3,), check_finite=values)
+
+
+def batch_with_point(batch: tuple[int, ...], dtype: np.dtype, point: np.ndarray | None
+                     ) -> tuple[tuple[int, ...], np.dtype]:
+    """The batch shape and dtype of a state's (``batch``, ``dtype``) together with ``point`` `(..., 3)`."""
+    if point is None:
+        return batch, dtype
+    try:
+        joint = np.broadcast_shapes(batch, point.shape[:-1])
+    except ValueError:
+        raise ShapeError(f"point: batch shape {tuple(point.shape[:-1])} (shape {tuple(point.shape)}) does not "
+                         f"broadcast with the batch shape {tuple(batch)} of the state") from None
+    return joint, result_dtype(np.empty(0, dtype), point)
 
 
 def batch_with_f_ext(st: State, fx: np.ndarray | None) -> tuple[tuple[int, ...], np.dtype]:

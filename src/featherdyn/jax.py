@@ -47,7 +47,15 @@ from jax.interpreters import ad, batching, mlir
 
 from .api import jacobians as _jac
 from .api.declarations import DECLARATIONS
-from .api.declared import REFERENCES, Declaration, kernel_options, operand_shapes, xla_entry, xla_ffi
+from .api.declared import (
+    REFERENCES,
+    Declaration,
+    kernel_options,
+    operand_shapes,
+    positional_parameters,
+    xla_entry,
+    xla_ffi,
+)
 from .core.declared import SPECS
 from .errors import DTypeError, FeatherdynError, ShapeError
 from .model import Model
@@ -410,17 +418,19 @@ def _function(decl: Declaration) -> Callable[..., Any]:
 
     when = {o: w for o, _, w in SPECS[decl.name].outputs} if decl.name in SPECS else {}
 
-    def f(model: Model, *inputs: Any, **options: Any) -> Any:
+    def f(model: Model, *args: Any, **options: Any) -> Any:
         if not isinstance(model, Model):
             raise ShapeError(f"model: expected a featherdyn Model, got {type(model).__name__}")
-        positional = [o for o in ("frame", "reference") if o in decl.options]  # after the inputs, as in fd.*
-        if len(inputs) > len(decl.inputs) + len(positional):
-            raise ShapeError(f"featherdyn.jax.{decl.name}: at most {len(decl.inputs) + len(positional)} arguments "
-                             f"after the model ({', '.join((*decl.inputs, *positional))}), got {len(inputs)}")
-        options = {**dict(zip(positional, inputs[len(decl.inputs):], strict=False)), **options}
-        inputs = inputs[:len(decl.inputs)]
+        positional = positional_parameters(decl)  # (inputs, frame and reference, a point: as in fd.*)
+        if len(args) > len(positional):
+            raise ShapeError(f"featherdyn.jax.{decl.name}: at most {len(positional)} arguments after the model "
+                             f"({', '.join(positional)}), got {len(args)}")
+        given = {**dict(zip(positional, args, strict=False)), **options}
         names = list(decl.inputs)
-        padded = list(inputs) + [None] * (len(names) - len(inputs))
+        padded = [given.pop(n, None) for n in names]
+        options = given
+        if set(options) - set(decl.options):  # (as fd.<name> refuses an unknown keyword)
+            raise TypeError(f"{decl.name}(): unexpected keyword arguments {sorted(set(options) - set(decl.options))}")
         for k, x in enumerate(padded):
             if x is None and names[k] not in decl.optional:
                 raise ShapeError(f"featherdyn.jax.{decl.name}: {names[k]} is required")

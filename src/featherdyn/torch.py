@@ -65,7 +65,7 @@ import torch
 
 from .api import jacobians as _jac
 from .api.declarations import DECLARATIONS
-from .api.declared import OPTIONS, REFERENCES, Declaration, call
+from .api.declared import OPTIONS, REFERENCES, Declaration, call, positional_parameters
 from .core.declared import SPECS, shape_of
 from .errors import DTypeError, FeatherdynError, ShapeError
 from .frames import as_reference_frame
@@ -574,12 +574,13 @@ def _result_type(decl: Declaration) -> type | None:
 
 
 def _front(decl: Declaration) -> Callable[..., Any]:
-    """``ft.<name>(model, *inputs, frame, reference, *, gravity=True)``: the operator on ``model``'s key, through its
-    ``autograd.Function`` (:data:`FUNCTIONS`)."""
+    """``ft.<name>(model, *inputs, frame, reference, point, *, gravity=True)`` (``fd.<name>``'s order): the operator on
+    ``model``'s key, through its ``autograd.Function`` (:data:`FUNCTIONS`)."""
     P = inspect.Parameter
     params = [P("model", P.POSITIONAL_OR_KEYWORD)]
-    params += [P(n, P.POSITIONAL_OR_KEYWORD, default=None if n in decl.optional else P.empty) for n in decl.inputs]
-    params += [P(n, P.POSITIONAL_OR_KEYWORD, default=OPTIONS[n]) for n in ("frame", "reference") if n in decl.options]
+    params += [P(n, P.POSITIONAL_OR_KEYWORD, default=OPTIONS[n]) if n in OPTIONS else
+               P(n, P.POSITIONAL_OR_KEYWORD, default=None if n in decl.optional else P.empty)
+               for n in positional_parameters(decl)]
     if "gravity" in decl.options:
         params.append(P("gravity", P.KEYWORD_ONLY, default=True))
     sig = inspect.Signature(params)
@@ -619,18 +620,12 @@ def _front(decl: Declaration) -> Callable[..., Any]:
     return front
 
 
-def _is_state_function(decl: Declaration) -> bool:
-    return all(n in ("q", "q0", "q1", "v", "a", "tau", "w", "W", "f_ext") for n in decl.inputs)
-
-
 #: the operators (``torch.ops.featherdyn.<name>``), by name
 OPERATORS: dict[str, Any] = {}
 #: the operators as ``torch.autograd.Function`` classes (what ``ft.<name>`` calls), by name
 FUNCTIONS: dict[str, type[torch.autograd.Function]] = {}
 
 for _decl in DECLARATIONS.values():
-    if not _is_state_function(_decl):
-        continue
     OPERATORS[_decl.name] = _make_operator(_decl)
     FUNCTIONS[_decl.name] = _function(_decl)
     # the operator's own backward (torch.ops.featherdyn.<name> under torch.autograd alone): the same

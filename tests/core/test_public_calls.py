@@ -213,6 +213,48 @@ def test_declined_calls_reach_the_general_function_with_the_same_arguments() -> 
         spy.calls.clear()
 
 
+def test_a_point_after_the_options_is_bound_in_c() -> None:
+    """fd.kinematics_derivatives' point comes after the frame and reference (by position or by name): the core's
+    public call binds it there and runs the kernel (the general function not called), bit for bit the kernel's;
+    a point it does not take as it is (a list, float32, NaN, a wrong length, a batch) goes to the general function
+    with the same arguments."""
+    model = tree(TREE_NAMES[1])
+    frame = _frame(model)
+    fid = model.frame_id(frame)
+    s = random_state(model, 6)
+    p = np.array([0.1, -0.2, 0.3])
+    f, spy = _spied("kinematics_derivatives")
+    fd.kinematics_derivatives(model, s.q, s.v, s.a, frame)  # (the model's core handle exists)
+    for code, ref in enumerate(REFERENCES):
+        expected = [np.empty((6, model.nv)) for _ in range(8)]
+        assert K["kinematics_derivatives"].into(core._view(model).cm, [s.q, s.v, s.a, p], expected,
+                                                _core.Options(frame=fid, reference=code)) == 0
+        for args, kwargs in [((model, s.q, s.v, s.a, frame, ref, p), {}), ((model, s.q, s.v, s.a, frame, ref),
+                                                                              {"point": p}),
+                             ((model, s.q, s.v, s.a, frame), {"reference": ref, "point": p})]:
+            r = f(*args, **kwargs)
+            assert type(r) is fd.KinematicsDerivatives and not spy.calls
+            assert all(np.array_equal(x, y) for x, y in zip(r, expected, strict=True))
+    declined = [p.tolist(), p.astype(np.float32), np.array([0.0, np.nan, 0.0]), p[:2], p[None], np.repeat(p, 2)[::2]]
+    for bad in declined:
+        spy.calls.clear()
+        assert f(model, s.q, s.v, s.a, frame, fd.LOCAL, bad) == "general" and len(spy.calls) == 1
+        assert spy.calls[0][0][-1] is bad
+
+
+def test_every_kernels_parameters_are_its_public_functions() -> None:
+    """The order the core's public calls bind (a point after the options) is the Python signature's, for every
+    declared function: fd.<name>'s positional parameters, then gravity and out (keyword-only there)."""
+    from featherdyn.api.declared import positional_parameters
+
+    for name, decl in DECLARATIONS.items():
+        params = ("model", *positional_parameters(decl), *(("gravity",) if "gravity" in decl.options else ()), "out")
+        assert K[name].parameters == params, name
+        public = getattr(fd, name, None)  # (placements: fd.compile's fk only)
+        if public is not None:
+            assert tuple(inspect.signature(public).parameters)[:len(params) - 1] == params[:-1], name
+
+
 def test_the_public_functions_word_the_errors_of_declined_calls() -> None:
     model = tree(TREE_NAMES[1])
     frame = _frame(model)

@@ -19,6 +19,7 @@ from _models import library_robot
 import featherdyn as fd
 from featherdyn.api import declarations
 from featherdyn.api.declarations import DECLARATIONS
+from featherdyn.api.declared import AFTER_OPTIONS
 from featherdyn.core.declared import SPECS
 from featherdyn.errors import NonFiniteError, QuaternionNormError, ShapeError
 
@@ -57,8 +58,10 @@ def _empty(shapes: tuple[tuple[int, ...], ...], fill: float = np.nan) -> Any:
 
 
 def _args(model: fd.Model, name: str, q: Any, f_ext: Any) -> tuple[tuple[Any, ...], dict[str, Any]]:
-    """The declaration's inputs for configurations ``q`` (``q0``; velocities, accelerations and a second configuration
-    ``q1`` made from q's batch shape and dtype), and its options: a frame on the last body, in WORLD."""
+    """The declaration's inputs for configurations ``q`` (``q0``; velocities, accelerations, a second configuration
+    ``q1`` and a point made from q's batch shape and dtype), and its options: a frame on the last body, in WORLD (in
+    LOCAL_WORLD_ALIGNED with a point, where the point changes the result); a point by name (it comes after the
+    options)."""
     decl = DECLARATIONS[name]
     qa = np.asarray(q)
     dtype = qa.dtype if qa.dtype.kind == "f" else np.dtype(np.float64)
@@ -66,12 +69,14 @@ def _args(model: fd.Model, name: str, q: Any, f_ext: Any) -> tuple[tuple[Any, ..
     q1 = np.broadcast_to(fd.random_configuration(model, 99).astype(dtype), qa.shape[:-1] + (model.nq,))
     matrix = (vector[..., :, None] * np.sin(np.arange(model.nv))).astype(dtype)  # (W: (..., nv, nv))
     args = tuple(q if n in ("q", "q0") else q1 if n == "q1" else f_ext if n == "f_ext" else matrix if n == "W"
-                 else vector for n in decl.inputs)
+                 else vector for n in decl.inputs if n not in AFTER_OPTIONS)
     kwargs: dict[str, Any] = {}
     if "frame" in decl.options:
         kwargs["frame"] = model.frames[-1].name
     if "reference" in decl.options:
-        kwargs["reference"] = fd.WORLD
+        kwargs["reference"] = fd.LOCAL_WORLD_ALIGNED if "point" in decl.inputs else fd.WORLD
+    if "point" in decl.inputs:
+        kwargs["point"] = (np.array([0.05, -0.1, 0.2]) * np.ones(qa.shape[:-1] + (1,))).astype(dtype)
     return args, kwargs
 
 
@@ -153,7 +158,7 @@ def _core_outputs(model: fd.Model, name: str, q: Any, f_ext: Any) -> tuple[np.nd
     args, kwargs = _args(model, name, q, f_ext)
     options = [model.resolve_frame(kwargs["frame"])] if "frame" in kwargs else []
     options += [kwargs["reference"].code] if "reference" in kwargs else []
-    r = getattr(fd.core, name)(model, *args, *options)
+    r = getattr(fd.core, name)(model, *args, *options, **{n: kwargs[n] for n in AFTER_OPTIONS if n in kwargs})
     return tuple(r) if isinstance(r, tuple) else (r,)
 
 
@@ -234,6 +239,16 @@ def test_bad_input(name: str) -> None:
         if "f_ext" not in decl.optional:
             with pytest.raises(ShapeError, match="f_ext"):
                 fn(model, *args[:at], None, *args[at + 1:], **kwargs)
+    if "point" in decl.inputs:  # (its shape, values and dtype, by the function and the compiled method)
+        args, kwargs = _args(model, name, q, fx)
+        method = getattr(fd.compile(model, warmup=False), decl.method or name)
+        for bad_p, error in [(np.zeros(2), ShapeError), (np.array([0.0, np.nan, 0.0]), NonFiniteError),
+                             (np.array(["a", "b", "c"]), fd.errors.DTypeError),
+                             (np.zeros((4, 3)), ShapeError)]:  # (batch shapes (4,) and (2,) do not broadcast)
+            state = tuple(np.stack([x] * 2) for x in args) if bad_p.shape == (4, 3) else args
+            for f in (lambda *a, **k: fn(model, *a, **k), method):
+                with pytest.raises(error, match="point"):
+                    f(*state, **{**kwargs, "point": bad_p})
 
 
 @pytest.mark.parametrize("name", NAMES)

@@ -297,9 +297,30 @@ def test_point_batches_broadcast_and_equal_the_loop() -> None:
     frame = fd.kinematics_derivatives(model, Q[0, 0], V[0, 0], A, "HR_FOOT", fd.LOCAL)
     assert all(_rel(x, y) < 1e-14 for x, y in zip(origin, frame, strict=True))
     # the core's kernel of the point, as featherdyn.core declares it
-    core = fd.core.point_kinematics_derivatives(model, Q[0, 0], V[0, 0], A, P[0], "HR_FOOT", fd.WORLD)
+    core = fd.core.kinematics_derivatives(model, Q[0, 0], V[0, 0], A, "HR_FOOT", fd.WORLD, P[0])
     public = fd.kinematics_derivatives(model, Q[0, 0], V[0, 0], A, "HR_FOOT", fd.WORLD, P[0])
     assert np.array_equal(core[0], public.dv_dq) and np.array_equal(core[6], public.dac_dv) and np.array_equal(core[4], public.dv_dv)
+
+
+def test_an_out_over_the_point_gets_the_result_without_out() -> None:
+    """out= that shares memory with the point (one state, the core's one-state call; a batch, its rows): the one
+    rule, the result computed as if it did not, then written."""
+    model = library_robot("solo12", True)
+    assert model is not None
+    q, v, a = _state(model, 35)
+    expected = fd.kinematics_derivatives(model, q, v, a, "HR_FOOT", fd.LOCAL, POINT)
+    out = tuple(np.full((6, model.nv), np.nan) for _ in range(8))
+    point = out[2].reshape(-1)[5:8]
+    point[:] = POINT
+    r = fd.kinematics_derivatives(model, q, v, a, "HR_FOOT", fd.LOCAL, point, out=out)
+    assert all(np.array_equal(x, y) for x, y in zip(r, expected, strict=True))
+    Q = np.stack([q, q])
+    batch = fd.kinematics_derivatives(model, Q, v, a, "HR_FOOT", fd.LOCAL, np.stack([POINT, 2 * POINT]))
+    outs = tuple(np.full((2, 6, model.nv), np.nan) for _ in range(8))
+    points = outs[7].reshape(-1)[:6].reshape(2, 3)
+    points[:] = [POINT, 2 * POINT]
+    r = fd.kinematics_derivatives(model, Q, v, a, "HR_FOOT", fd.LOCAL, points, out=outs)
+    assert all(np.array_equal(x, y) for x, y in zip(r, batch, strict=True))
 
 
 def test_the_records_and_their_fields() -> None:

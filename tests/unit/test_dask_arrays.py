@@ -43,7 +43,8 @@ def _states(model: fd.Model, batch: tuple[int, ...], seed: int = 0) -> dict[str,
             "tau": rng.standard_normal(batch + (model.nv,)),
             "f_ext": rng.standard_normal(batch + (model.nbodies, 6)),
             "q0": q, "q1": fd.random_configuration(model, rng, batch), "w": rng.standard_normal(batch + (model.nv,)),
-            "W": rng.standard_normal(batch + (model.nv, model.nv))}  # (fd.difference's configurations)
+            "W": rng.standard_normal(batch + (model.nv, model.nv)),  # (fd.difference's configurations)
+            "point": rng.standard_normal(batch + (3,))}  # (fd.kinematics_derivatives' point in the frame)
 
 
 def _lazy(x: np.ndarray, chunks: int) -> Any:
@@ -99,8 +100,9 @@ CALLS: list[tuple[str, Callable[..., Any]]] = [
     ("frame_acceleration_derivatives",
      lambda m, s, f: fd.frame_acceleration_derivatives(m, s["q"], s["v"], s["a"], f, reference=fd.WORLD)),
     ("joint_torque_regressor", lambda m, s, f: fd.joint_torque_regressor(m, s["q"], s["v"], s["a"])),
-    # every declared algorithm (api/declarations.py), with its declared state arguments
-    *[(d.name, lambda m, s, f, d=d: getattr(declarations, d.name)(m, *(s[n] for n in d.inputs),
+    # every declared algorithm (api/declarations.py), with its declared state arguments (by name: a point comes
+    # after the frame)
+    *[(d.name, lambda m, s, f, d=d: getattr(declarations, d.name)(m, **{n: s[n] for n in d.inputs},
                                                         **({"frame": f} if "frame" in d.options else {})))
       for d in DECLARATIONS.values()],
     ("integrate", lambda m, s, f: fd.integrate(m, s["q"], s["v"])),

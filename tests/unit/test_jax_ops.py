@@ -83,6 +83,31 @@ def test_every_operation_equals_the_numpy_function(robot: tuple[str, bool]) -> N
             np.testing.assert_array_equal(np.asarray(o), t, err_msg=name)
 
 
+def test_kinematics_derivatives_at_a_point_as_in_numpy() -> None:
+    """A point (after the frame and reference, as in fd.*; by position or by name) is an input of the operation: jit,
+    vmap over points and a batch of states equal the NumPy function bit for bit, and the point changes the result
+    in LOCAL; a non-finite point under jit is an error naming it."""
+    model = _robot("solo12", True)
+    st = _state(model, 21, n=4)
+    P = np.random.default_rng(22).normal(size=(4, 3)) * 0.1
+    for ref in ("local", "local_world_aligned"):
+        f = jax.jit(jax.vmap(lambda q, v, a, p, ref=ref: fj.kinematics_derivatives(model, q, v, a, "HR_FOOT", ref, p)))
+        got, want = f(st["q"], st["v"], st["a"], P), fd.kinematics_derivatives(model, st["q"], st["v"], st["a"],
+                                                                                "HR_FOOT", ref, P)
+        assert got._fields == want._fields
+        assert all(np.array_equal(np.asarray(x), y) for x, y in zip(got, want, strict=True))
+    one = fj.kinematics_derivatives(model, st["q"][0], st["v"][0], st["a"][0], "HR_FOOT", point=P[0])
+    frame = fj.kinematics_derivatives(model, st["q"][0], st["v"][0], st["a"][0], "HR_FOOT")
+    assert np.array_equal(np.asarray(one.dv_dq), fd.kinematics_derivatives(model, st["q"][0], st["v"][0], st["a"][0],
+                                                                           "HR_FOOT", fd.LOCAL, P[0]).dv_dq)
+    assert not np.allclose(np.asarray(one.dv_dv), np.asarray(frame.dv_dv))  # (the linear rows move with the point)
+    with pytest.raises(Exception, match="point"):
+        jax.block_until_ready(jax.jit(lambda p: fj.kinematics_derivatives(
+            model, st["q"][0], st["v"][0], st["a"][0], "HR_FOOT", "local", p).dv_dq)(P[0] * np.nan))
+    with pytest.raises(TypeError, match="unexpected keyword"):
+        fj.kinematics_derivatives(model, st["q"][0], st["v"][0], st["a"][0], "HR_FOOT", pointt=P[0])
+
+
 @pytest.mark.parametrize("robot", ROBOTS, ids=[r[0] for r in ROBOTS])
 def test_jit_and_vmap_run_the_core_batch(robot: tuple[str, bool]) -> None:
     model = _robot(*robot)

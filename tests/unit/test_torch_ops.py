@@ -26,7 +26,7 @@ import featherdyn as fd  # noqa: E402
 import featherdyn.torch as ft  # noqa: E402
 from featherdyn.api import declarations  # noqa: E402
 from featherdyn.api.declarations import DECLARATIONS  # noqa: E402
-from featherdyn.api.declared import Record  # noqa: E402
+from featherdyn.api.declared import Record, positional_parameters  # noqa: E402
 from featherdyn.api.jacobians import has_jacobians  # noqa: E402
 
 
@@ -62,17 +62,16 @@ def _state(model: fd.Model, seed: int = 0, size: tuple[int, ...] = (), grad: boo
     q1 = fd.random_configuration(model, np.random.default_rng(seed + 1000), size=size or None)
     st["q0"] = torch.tensor(s.q, requires_grad=grad)  # (fd.difference's configurations)
     st["q1"] = torch.tensor(q1, requires_grad=grad)
+    point = np.random.default_rng(seed + 2000).standard_normal(size + (3,))  # (fd.kinematics_derivatives')
+    st["point"] = torch.tensor(point, requires_grad=grad)
     return st
 
 
 def _args(decl, model, st, frame=None):  # type: ignore[no-untyped-def]
-    """The positional arguments of ft.<name> / fd.<name> for a declaration (inputs, then frame and reference)."""
-    args = [st["a"] if n == "a" else st[n] for n in decl.inputs]
-    if "frame" in decl.options:
-        args.append(frame if frame is not None else model.frames[-1].name)
-    if "reference" in decl.options:
-        args.append("world")
-    return args
+    """The positional arguments of ft.<name> / fd.<name> for a declaration (inputs, then frame and reference, then
+    a point)."""
+    given = {**st, "frame": frame if frame is not None else model.frames[-1].name, "reference": "world"}
+    return [given[n] for n in positional_parameters(decl)]
 
 
 def _expected(decl, r):  # type: ignore[no-untyped-def]
@@ -108,6 +107,24 @@ def test_every_operator_equals_the_numpy_function_bit_for_bit(robot: str) -> Non
             assert np.array_equal(g.numpy(), np.asarray(w)), (name, o)
         checked += 1
     assert checked == len(DECLARATIONS)  # every declared function is an operator
+
+
+def test_kinematics_derivatives_at_a_point_as_in_numpy() -> None:
+    """A point (after the frame and reference, as in fd.*) is an input of the operator: a batch of states and points
+    equals the NumPy function bit for bit, and the point changes the result in LOCAL; a bad point is refused with
+    fd.<name>'s words."""
+    model = MODELS["solo12"]()
+    st = _state(model, 23, (3,))
+    np_st = {k: t.numpy() for k, t in st.items()}
+    got = ft.kinematics_derivatives(model, st["q"], st["v"], st["a"], "HR_FOOT", "local", st["point"])
+    want = fd.kinematics_derivatives(model, np_st["q"], np_st["v"], np_st["a"], "HR_FOOT", fd.LOCAL, np_st["point"])
+    assert all(np.array_equal(x.numpy(), y) for x, y in zip(got, want, strict=True))
+    frame = ft.kinematics_derivatives(model, st["q"], st["v"], st["a"], "HR_FOOT", "local")
+    assert not torch.allclose(got.dv_dv, frame.dv_dv)  # (the linear rows move with the point)
+    with pytest.raises(fd.NonFiniteError, match="point"):
+        ft.kinematics_derivatives(model, st["q"], st["v"], st["a"], "HR_FOOT", "local", st["point"] * np.nan)
+    with pytest.raises(fd.ShapeError, match="point"):
+        ft.kinematics_derivatives(model, st["q"], st["v"], st["a"], "HR_FOOT", "local", st["point"][..., :2])
 
 
 def test_results_with_several_outputs_are_named_tuples_and_absent_outputs_none() -> None:

@@ -12,10 +12,11 @@ from typing import Any, TypeVar
 
 import numpy as np
 
-from .._state_checks import VECTORS, State, batch_with_f_ext, check_f_ext, check_state
+from .._state_checks import VECTORS, State, batch_with_f_ext, batch_with_point, check_f_ext, check_point, check_state
 from ..errors import NonFiniteError
 
-__all__ = ["State", "VECTORS", "check_state", "check_f_ext", "batch_with_f_ext", "as_dtype", "finite_result", "quiet"]
+__all__ = ["State", "VECTORS", "check_state", "check_f_ext", "check_point", "batch_with_f_ext", "batch_with_point",
+           "as_dtype", "finite_result", "quiet"]
 
 
 _F64 = np.dtype(np.float64)

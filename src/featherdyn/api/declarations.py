@@ -9,12 +9,11 @@ public function: ``fd.<name>`` (one state, any batch shape, ``out=``, Dask array
 from __future__ import annotations
 
 from collections.abc import Callable
-from typing import Any, Protocol, cast, overload
+from typing import Any, Protocol, overload
 
 import numpy as np
 from numpy.typing import ArrayLike
 
-from .. import _dask
 from .. import configuration as _configuration
 from ..algorithms import aba as _aba
 from ..algorithms import centroidal as _centroidal
@@ -27,9 +26,6 @@ from ..algorithms import kinematics_derivatives as _kd
 from ..algorithms import rnea as _rnea
 from ..algorithms import second_order as _second
 from ..algorithms import vjp as _vjp
-from ..core import declared as _core_declared
-from ..errors import DTypeError, NonFiniteError, ShapeError
-from ..frames import LOCAL, ReferenceFrame, as_reference_frame
 from ..model import Model
 from ..results import (
     AbaSecondDerivatives,
@@ -41,9 +37,7 @@ from ..results import (
     RneaSecondDerivatives,
 )
 from ..spatial import PluckerTransform, SpatialForce, SpatialMotion
-from ._backend import core_path, select_backend
-from ._checks import as_dtype, check_state, finite_result, quiet
-from .declared import Declaration, Record, copied_into, public_function
+from .declared import Declaration, Record, public_function
 
 __all__ = ["rnea", "nonlinear_effects", "generalized_gravity", "crba", "aba", "frame_jacobian", "rnea_derivatives",
            "aba_derivatives", "rnea_second_derivatives", "aba_second_derivatives", "mass_matrix_inverse",
@@ -834,7 +828,8 @@ DECLARATIONS: dict[str, Declaration] = {d.name: d for d in [
     ),
     Declaration(
         name="kinematics_derivatives",
-        inputs=("q", "v", "a"),
+        inputs=("q", "v", "a", "point"),
+        optional=("point",),
         options=("frame", "reference"),
         outputs=KinematicsDerivatives._fields,
         reference=_kd.kinematics_derivatives,
@@ -942,68 +937,5 @@ integrate_derivatives: Callable[..., tuple[np.ndarray, np.ndarray]] = public_fun
     DECLARATIONS["integrate_derivatives"])
 difference_derivatives: Callable[..., tuple[np.ndarray, np.ndarray]] = public_function(
     DECLARATIONS["difference_derivatives"])
-_frame_kinematics_derivatives: Callable[..., KinematicsDerivatives] = public_function(
-    DECLARATIONS["kinematics_derivatives"])
+kinematics_derivatives: Callable[..., KinematicsDerivatives] = public_function(DECLARATIONS["kinematics_derivatives"])
 
-
-def _point(point: Any) -> np.ndarray:
-    """``point`` as a real array `(..., 3)`, finite."""
-    p = np.asarray(point)
-    if p.dtype.kind not in "fiu":
-        raise DTypeError(f"point: expected real numbers, got dtype {p.dtype}")
-    if p.ndim < 1 or p.shape[-1] != 3:
-        raise ShapeError(f"point: expected an array of shape (..., 3), got shape {p.shape}")
-    if not np.isfinite(p).all():
-        raise NonFiniteError(f"point: non-finite value at index {tuple(int(i) for i in np.argwhere(~np.isfinite(p))[0])}")
-    return p if p.dtype.kind == "f" else p.astype(np.float64)
-
-
-def kinematics_derivatives(model: Model, q: ArrayLike, v: ArrayLike, a: ArrayLike, frame: str | int,
-                           reference: ReferenceFrame | str = LOCAL, point: ArrayLike | None = None, *,
-                           out: Any = None, backend: str | None = None) -> KinematicsDerivatives:
-    if point is None:  # the declared function (one state finished in C, batches, Dask, the reference)
-        if backend is None and out is None:  # (as the C fast path takes it: no keyword)
-            return _frame_kinematics_derivatives(model, q, v, a, frame, reference)
-        return _frame_kinematics_derivatives(model, q, v, a, frame, reference, out=out, backend=backend)
-    if not isinstance(model, Model):
-        raise ShapeError(f"model: expected a featherdyn Model, got {type(model).__name__}")
-    fid, ref = model.resolve_frame(frame), as_reference_frame(reference)
-    if _dask.lazy(q, v, a, point):  # Dask arrays (the point's too): Dask arrays back, lazily, as the frame's path
-        if out is not None:
-            raise ShapeError("out: not supported with Dask arrays (the result is a Dask array)")
-        return _dask.call(kinematics_derivatives, model, {"q": q, "v": v, "a": a, "point": point}, frame=frame,
-                          reference=reference, backend=backend)
-    outs = _point_kinematics_derivatives(model, q, v, a, fid, ref, _point(point), backend)
-    if out is None:
-        return KinematicsDerivatives(*outs)
-    # out=: as the declared function writes it (computed into fresh memory, then copied)
-    return cast(KinematicsDerivatives, copied_into(DECLARATIONS["kinematics_derivatives"], model, out, outs))
-
-
-def _point_kinematics_derivatives(model: Model, q: ArrayLike, v: ArrayLike, a: ArrayLike, fid: int,
-                                  ref: ReferenceFrame, p: np.ndarray, backend: str | None) -> tuple[np.ndarray, ...]:
-    """``fd.kinematics_derivatives``' six arrays at the point ``p``: the core's kernel on one state as it takes it
-    (exact native float64 arrays, a sound state), else its batch, or the reference."""
-    h = core_path(model, backend)
-    if h is not None:
-        r = _core_declared.kernel("point_kinematics_derivatives").fresh(
-            h.cm, (q, v, a, p), _core_declared.call_options(frame=fid, reference=ref.code))
-        if r is not None:
-            return tuple(r)
-    st = check_state(model, q, v=v, a=a)
-    try:
-        batch = np.broadcast_shapes(st.batch, p.shape[:-1])
-    except ValueError:
-        raise ShapeError(f"point: batch shape {p.shape[:-1]} does not broadcast with the state's {st.batch}") from None
-    dtype = np.result_type(st.dtype, p.dtype)
-    if select_backend(backend, dtype) == "compiled":
-        f64: list[np.ndarray | None] = [np.asarray(x, dtype=np.float64) for x in (st.q, st.arrays["v"], st.arrays["a"], p)]
-        outs = _core_declared.run("point_kinematics_derivatives", model, batch, f64,
-                                  options={"frame": fid, "reference": ref.code})
-        return tuple(as_dtype(o, dtype) for o in outs)
-    r = quiet(_kd.kinematics_derivatives, model, st.q, st.arrays["v"], st.arrays["a"], fid, ref, p)
-    return tuple(finite_result(as_dtype(np.asarray(o), dtype) if dtype.kind == "f" else np.asarray(o),
-                               "kinematics_derivatives") for o in r)
-
-
-kinematics_derivatives.__doc__ = _KINEMATICS_DERIVATIVES_DOC

@@ -39,15 +39,30 @@ from ..errors import DTypeError, NotAModelError, ShapeError
 from ..frames import LOCAL, LOCAL_WORLD_ALIGNED, WORLD, as_reference_frame
 from ..model import Model
 from ._backend import CORE, core_path, select_backend
-from ._checks import VECTORS, State, as_dtype, batch_with_f_ext, check_f_ext, check_state, finite_result, quiet
+from ._checks import (
+    VECTORS,
+    State,
+    as_dtype,
+    batch_with_f_ext,
+    batch_with_point,
+    check_f_ext,
+    check_point,
+    check_state,
+    finite_result,
+    quiet,
+)
 
-__all__ = ["Declaration", "Record", "call", "public_function", "compiled_method", "kernel_options", "xla_ffi",
-           "xla_entry", "operand_shapes"]
+__all__ = ["Declaration", "Record", "AFTER_OPTIONS", "call", "public_function", "compiled_method", "kernel_options",
+           "positional_parameters", "xla_ffi", "xla_entry", "operand_shapes"]
 
 #: the state arguments a declaration may take, and how each is checked: a configuration (length nq, unit quaternions:
 #: q, or q0 and q1), a vector of length nv (w: a cotangent, fd.rnea_vjp's), a matrix (nv, nv) (W: a cotangent,
-#: fd.crba_vjp's), or f_ext
-STATE_ARGUMENTS = ("q", "q0", "q1", "v", "a", "tau", "w", "W", "f_ext")
+#: fd.crba_vjp's), f_ext, or a point (3) in the frame's coordinates (fd.kinematics_derivatives')
+STATE_ARGUMENTS = ("q", "q0", "q1", "v", "a", "tau", "w", "W", "f_ext", "point")
+#: the inputs that come after the options in the public signatures (a point follows the frame it is in:
+#: ``fd.kinematics_derivatives(model, q, v, a, frame, reference, point)``), as the core's operands say
+#: (``Operand::after_options``, ``core/cpp/declare.hpp``); the reference function takes them by name
+AFTER_OPTIONS = ("point",)
 #: the options a declaration may take, and their defaults (``frame`` has none: it is required)
 OPTIONS: dict[str, Any] = {"frame": inspect.Parameter.empty, "reference": LOCAL, "gravity": True}
 
@@ -86,8 +101,9 @@ class Declaration:
 
     Attributes:
         name: the public name (``fd.<name>``) and the name of the core's kernel.
-        inputs: the state arguments in order, each one of ``q, q0, q1, v, a, tau, w, W, f_ext``, the first a configuration
-            (``q``, or ``q0`` followed by ``q1``: two configurations, ``fd.difference``'s).
+        inputs: the state arguments in order, each one of ``q, q0, q1, v, a, tau, w, W, f_ext, point``, the first a
+            configuration (``q``, or ``q0`` followed by ``q1``: two configurations, ``fd.difference``'s); those of
+            :data:`AFTER_OPTIONS` last (the public signatures place them after the options).
         optional: the inputs that may be ``None``.
         outputs: the names of the results, in order (their shapes are the kernel's).
         reference: the reference function ``reference(model, *inputs) -> output or tuple of outputs`` on
@@ -122,10 +138,11 @@ class Declaration:
 
     def __post_init__(self) -> None:
         unknown = [n for n in self.inputs if n not in STATE_ARGUMENTS]
+        after = [n in AFTER_OPTIONS for n in self.inputs]
         if (unknown or self.inputs[:1] not in (("q",), ("q0",)) or ("q0" in self.inputs) != ("q1" in self.inputs)
-                or not set(self.optional) <= set(self.inputs)):
+                or not set(self.optional) <= set(self.inputs) or after != sorted(after)):
             raise ValueError(f"declaration {self.name!r}: inputs must be among {STATE_ARGUMENTS}, q or q0 (with q1) "
-                             "first")
+                             f"first, {AFTER_OPTIONS} last")
         if not set(self.options) <= set(OPTIONS):
             raise ValueError(f"declaration {self.name!r}: options must be among {tuple(OPTIONS)}")
 
@@ -288,19 +305,21 @@ def call(decl: Declaration, model: Model, args: tuple[Any, ...], out: Any = None
     first = decl.inputs[0]  # the configuration q (or q0; a second one, q1, is checked among the vectors, as q is)
     vectors = {n: given[n] for n in decl.inputs if n in VECTORS}
 
-    def checked_state(values: bool) -> tuple[np.ndarray | None, State]:
+    def checked_state(values: bool) -> tuple[np.ndarray | None, State, np.ndarray | None]:
         fx = check_f_ext(model, given.get("f_ext"), values) if "f_ext" in given else None
         if "f_ext" in given and fx is None and "f_ext" not in decl.optional:
             raise ShapeError(f"f_ext: expected an array of shape (..., nb={model.nbodies}, 6), got None")
-        return fx, check_state(model, given[first], optional=decl.optional, values=values, name=first, **vectors)
+        st = check_state(model, given[first], optional=decl.optional, values=values, name=first, **vectors)
+        return fx, st, check_point(given.get("point"), values)
 
-    fx, st = checked_state(False)
-    batch, dtype = batch_with_f_ext(st, fx)
+    fx, st, point = checked_state(False)
+    batch, dtype = batch_with_point(*batch_with_f_ext(st, fx), point)
     # 4. backend, 5. call
     compiled = float64 or select_backend(backend, dtype) == "compiled"
     if not compiled:
-        fx, st = checked_state(True)
-    checked = [fx if n == "f_ext" else st.q if n == first else st.arrays.get(n) for n in decl.inputs]
+        fx, st, point = checked_state(True)
+    checked = [fx if n == "f_ext" else point if n == "point" else st.q if n == first else st.arrays.get(n)
+               for n in decl.inputs]
     if compiled:
         dtype = np.dtype(np.float64) if float64 else dtype
         f64 = [None if x is None else np.asarray(x, dtype=np.float64) for x in checked]
@@ -310,8 +329,10 @@ def call(decl: Declaration, model: Model, args: tuple[Any, ...], out: Any = None
             return _written(decl, model, out, into)
         outs = tuple(None if o is None else as_dtype(o, dtype) for o in outs)
     else:
-        reference = functools.partial(decl.reference, **ref_opts) if ref_opts else decl.reference
-        r = quiet(reference, model, *checked)
+        after = {n: x for n, x in zip(decl.inputs, checked, strict=True) if n in AFTER_OPTIONS}  # (by name)
+        leading = checked[:len(checked) - len(after)]
+        reference = functools.partial(decl.reference, **ref_opts, **after) if ref_opts or after else decl.reference
+        r = quiet(reference, model, *leading)
         outs = tuple(None if o is None else
                      finite_result(as_dtype(np.asarray(o), dtype) if dtype.kind == "f" else np.asarray(o), decl.name)
                      for o in (r if isinstance(r, tuple) else (r,)))
@@ -343,22 +364,23 @@ def _copied_into(decl: Declaration, model: Model, out: Any, arrays: tuple[np.nda
     return _written(decl, model, out, arrays)
 
 
-def copied_into(decl: Declaration, model: Model, out: Any, outs: tuple[Any, ...]) -> Any:
-    """The results ``outs`` of a call of ``decl`` that every output formed, computed by a front end of its own,
-    written into ``out`` as :func:`call` writes them (checked the same way), and what the call returns:
-    ``fd.kinematics_derivatives`` at a point."""
-    arrays = _out_arrays(decl, out, decl.outputs)
-    return _copied_into(decl, model, out, arrays, decl.outputs, outs)
+def positional_parameters(decl: Declaration) -> tuple[str, ...]:
+    """The names a declared function takes by position after the model, in order: its inputs, ``frame`` and
+    ``reference`` where it takes them, then the inputs of :data:`AFTER_OPTIONS` (the core's public calls bind the
+    same order: ``core/cpp/declare.hpp``, ``Slots``)."""
+    after = tuple(n for n in decl.inputs if n in AFTER_OPTIONS)
+    return (tuple(n for n in decl.inputs if n not in AFTER_OPTIONS)
+            + tuple(n for n in ("frame", "reference") if n in decl.options) + after)
 
 
 def _signature(decl: Declaration, bound: bool) -> inspect.Signature:
     P = inspect.Parameter
     params = [] if bound else [P("model", P.POSITIONAL_OR_KEYWORD, annotation="Model")]
-    for n in decl.inputs:
-        params.append(P(n, P.POSITIONAL_OR_KEYWORD, default=None if n in decl.optional else P.empty,
-                        annotation="ArrayLike | None" if n in decl.optional else "ArrayLike"))
-    for n in ("frame", "reference"):  # positional, after the inputs
-        if n in decl.options:
+    for n in positional_parameters(decl):
+        if n in decl.inputs:
+            params.append(P(n, P.POSITIONAL_OR_KEYWORD, default=None if n in decl.optional else P.empty,
+                            annotation="ArrayLike | None" if n in decl.optional else "ArrayLike"))
+        else:
             params.append(P(n, P.POSITIONAL_OR_KEYWORD, default=OPTIONS[n],
                             annotation="str | int" if n == "frame" else "ReferenceFrame | str"))
     if bound:  # fd.compile's methods take out by position too (as the core binds them)

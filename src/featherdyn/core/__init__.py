@@ -102,11 +102,9 @@ def _declared(name: str, doc: str) -> Callable[..., Any]:
     """
     spec = declared.SPECS[name]
     P = inspect.Parameter
-    sig = inspect.Signature([P("model", P.POSITIONAL_OR_KEYWORD)]
-                            + [P(n, P.POSITIONAL_OR_KEYWORD, **({"default": None} if opt else {}))
-                               for n, _, opt in spec.inputs]
-                            + [P(n, P.POSITIONAL_OR_KEYWORD, **({} if n == "frame" else {"default": None}))
-                               for n in (*spec.options, "out")])
+    required = {n for n, _, opt in spec.inputs if not opt} | {"frame"}  # (in the order of the public call's)
+    sig = inspect.Signature([P("model", P.POSITIONAL_OR_KEYWORD)] + [
+        P(n, P.POSITIONAL_OR_KEYWORD, **({} if n in required else {"default": None})) for n in spec.parameters])
 
     def function(*args: Any, **kwargs: Any) -> Any:
         _lib()
@@ -152,8 +150,8 @@ def _signature_doc(spec: declared.Spec) -> str:
     def shape(s: tuple[Any, ...]) -> str:
         return "(..., " + ", ".join(str(d) for d in s) + ")" if s else "(...)"
 
-    args = [f"{n} {shape(s)}" + (" | None" if opt else "") for n, s, opt in spec.inputs]
-    args += [f"{n}=..." for n in spec.options] + ["out=None"]
+    inputs = {n: f"{n} {shape(s)}" + (" | None" if opt else "") for n, s, opt in spec.inputs}
+    args = [inputs.get(n, f"{n}=...") for n in spec.parameters]
     outs = [f"{n} {shape(s)}" + ("" if when is None else f" (with {when}, else None)") for n, s, when in spec.outputs]
     return (f"``{spec.kernel.name}(model, {', '.join(args)})`` → {', '.join(outs)}: the compiled core's kernel "
             f"declared in ``core/cpp/declarations.hpp`` (its equation there and at ``featherdyn.{spec.kernel.name}``).")

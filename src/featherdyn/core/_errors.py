@@ -36,7 +36,7 @@ __all__ = ["OK", "LENGTH", "NONFINITE", "QUATERNION", "SINGULAR", "OVERLAP", "NO
 
 OK, LENGTH, NONFINITE, QUATERNION, SINGULAR, OVERLAP, NO_MASS, CONSTRAINT = range(8)
 #: the ``arg`` field of a status (``q1``: a second configuration, ``fd.difference``'s; its ``q0`` is ``q``'s field)
-ARG_NAMES = ("q", "v", "a", "f_ext", "out", "frame", "J", "c", "q1", "w")
+ARG_NAMES = ("q", "v", "a", "f_ext", "out", "frame", "J", "c", "q1", "w", "point")
 
 
 def decode(status: int) -> tuple[int, int, int]:

@@ -39,6 +39,7 @@ class Spec:
         inputs: ``(name, symbolic shape, optional)`` each.
         outputs: ``(name, symbolic shape, when)`` each: ``when`` the input it is formed with (``None``: always).
         options: the options it takes (``frame``, ``reference``, ``gravity``), in their order.
+        parameters: the public call's parameters after the model, in order (a point after the options).
     """
 
     kernel: Any
@@ -46,6 +47,7 @@ class Spec:
     outputs: tuple[tuple[str, tuple[Any, ...], str | None], ...]
     options: tuple[str, ...]
     input_names: tuple[str, ...]
+    parameters: tuple[str, ...]
 
     @property
     def constrained(self) -> bool:
@@ -55,7 +57,7 @@ class Spec:
     @classmethod
     def of(cls, k: Any) -> Spec:
         inputs = tuple(k.inputs)
-        return cls(k, inputs, tuple(k.outputs), tuple(k.options), tuple(n for n, _, _ in inputs))
+        return cls(k, inputs, tuple(k.outputs), tuple(k.options), tuple(n for n, _, _ in inputs), k.parameters[1:])
 
 
 #: every declared kernel's Spec, by name (empty without the built core)
@@ -173,8 +175,8 @@ def raise_singular(spec: Spec, model: Model, h: CoreHandle, rows: list[np.ndarra
 
 def arg_names(spec: Spec) -> tuple[str, ...]:
     """The names of a kernel's status arguments (``q`` or ``q0``, ``v``, ``a``, ``tau`` or ``b``, ``f_ext``, ``out``,
-    ``frame``, ``q1``) as its declaration names them."""
+    ``frame``, ``q1``, ``w``, ``point``) as its declaration names them."""
     names = list(_errors.ARG_NAMES)
     for n in spec.input_names:  # q, v, f_ext by their names; the other vector (q̈, τ, b) is the third argument
-        names[{"q": 0, "q0": 0, "v": 1, "f_ext": 3, "J": 6, "c": 7, "q1": 8, "w": 9, "W": 9}.get(n, 2)] = n
+        names[{"q": 0, "q0": 0, "v": 1, "f_ext": 3, "J": 6, "c": 7, "q1": 8, "w": 9, "W": 9, "point": 10}.get(n, 2)] = n
     return tuple(names)

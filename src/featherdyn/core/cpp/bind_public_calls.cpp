@@ -165,11 +165,13 @@ PyObject* fdcore::declared_path(PublicCall* f, PyObject* const* a) {
   if (at.gravity >= 0 && !pc::flag_arg(a[at.gravity], opt.gravity)) return nullptr;
   if (at.frame >= 0 && !pc::frame_of(a[at.frame], frames, md->view.nf, opt.frame)) return nullptr;
   if (at.reference >= 0 && !pc::reference_of(f, a[at.reference], 2, opt.reference)) return nullptr;
+  PyObject* in[DECLARED_MAX];  // (the inputs in the declaration's order; a point comes after the options)
+  for (size_t i = 0; i < k.inputs.size(); ++i) in[i] = a[at.input[i]];
   PyObject* out = a[at.out];
   PyObject* record = PyTuple_GET_ITEM(f->extra, 5);
   if (out == nullptr || out == Py_None) {
     PyObject* outs[DECLARED_MAX];
-    if (!run_fresh(k, md->view, a + at.inputs, opt, outs, PyTuple_CheckExact(record))) return nullptr;
+    if (!run_fresh(k, md->view, in, opt, outs, PyTuple_CheckExact(record))) return nullptr;
     return pc::result_of(record, is_bound ? Py_None : a[0], outs, k.outputs.size());
   }
   if (record != Py_None) return nullptr;
@@ -179,7 +181,7 @@ PyObject* fdcore::declared_path(PublicCall* f, PyObject* const* a) {
     if (!PyTuple_CheckExact(out) || PyTuple_GET_SIZE(out) != no) return nullptr;
     for (Py_ssize_t o = 0; o < no; ++o) outs[o] = PyTuple_GET_ITEM(out, o);
   }
-  return run_into(k, md->view, a + at.inputs, outs, opt) == OK ? Py_NewRef(out) : nullptr;
+  return run_into(k, md->view, in, outs, opt) == OK ? Py_NewRef(out) : nullptr;
 }
 
 namespace {

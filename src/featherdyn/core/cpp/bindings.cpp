@@ -219,6 +219,11 @@ NB_MODULE(_core, m) {
       .def_prop_ro("inputs", [](const Kernel& k) { return operands(k.inputs); })
       .def_prop_ro("outputs", [](const Kernel& k) { return operands(k.outputs, &k.inputs); })
       .def_prop_ro("options", [](const Kernel& k) { return option_names(k.options); })
+      .def_prop_ro("parameters", [](const Kernel& k) {  // fd.<name>'s, in order (declare.hpp: Slots)
+        nb::list names;
+        for (int i = 0; i < k.free.nparams; ++i) names.append(k.free.names[i]);
+        return nb::tuple(names);
+      })
       .def("into", &into, nb::arg("model"), nb::arg("inputs"), nb::arg("outputs"), nb::arg("options").none() = nb::none(),
            "one state into the given outputs (options: an Options or None); the status (0: OK; -1: an argument not "
            "taken as it is)")

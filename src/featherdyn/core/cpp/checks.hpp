@@ -9,7 +9,8 @@
 // CONSTRAINT (index = m: constraint rows whose J M⁻¹ Jᵀ is singular, where no solver setting can go on);
 // arg: which input (ARG_Q, ARG_V, ARG_A (a or τ), ARG_FEXT, ARG_OUT, ARG_FRAME, ARG_J and ARG_C: constraint rows
 // J q̈ = c, which are not part of the state check; ARG_Q1: a second configuration, fd.difference's q1, checked as q
-// is — its first, q0, takes ARG_Q; ARG_W: a cotangent, w (nv) of fd.rnea_vjp or W (nv, nv) of fd.crba_vjp, checked finite after the state).
+// is — its first, q0, takes ARG_Q; ARG_W: a cotangent, w (nv) of fd.rnea_vjp or W (nv, nv) of fd.crba_vjp, checked finite after the state;
+// ARG_POINT: a point (3) in a frame's coordinates, fd.kinematics_derivatives' point, checked finite after the state).
 #pragma once
 
 #include <cmath>
@@ -23,9 +24,9 @@ namespace fdcore {
 enum StatusCode : std::int64_t { OK = 0, LENGTH = 1, NONFINITE = 2, QUATERNION = 3, SINGULAR = 4, OVERLAP = 5,
                                  NO_MASS = 6, CONSTRAINT = 7 };
 enum Arg : std::int64_t { ARG_Q = 0, ARG_V = 1, ARG_A = 2, ARG_FEXT = 3, ARG_OUT = 4, ARG_FRAME = 5, ARG_J = 6,
-                          ARG_C = 7, ARG_Q1 = 8, ARG_W = 9 };
+                          ARG_C = 7, ARG_Q1 = 8, ARG_W = 9, ARG_POINT = 10 };
 // The names of the status arguments, for a status worded in C++ (the XLA FFI handler's errors).
-constexpr const char* ARG_WORDS[] = {"q", "v", "a or tau", "f_ext", "out", "frame", "J", "c", "q1", "w"};
+constexpr const char* ARG_WORDS[] = {"q", "v", "a or tau", "f_ext", "out", "frame", "J", "c", "q1", "w", "point"};
 
 // (an unknown index, e.g. the length of an array that is not 1-D, is given as −1 and stored as 0)
 inline std::int64_t make_status(std::int64_t code, std::int64_t arg, std::int64_t index) {

@@ -471,7 +471,7 @@ inline std::vector<Kernel> make_declared_kernels() {
       declare<MassMatrixFactor>(), declare<MassSolve>(), declare<RneaSecondDerivatives>(), declare<AbaSecondDerivatives>(),
       declare<Delassus>(), declare<ConstrainedSolve>(), declare<ContactDynamics>(), declare<OperationalSpaceInertia>(),
       declare<ContactDynamicsDerivatives>(), declare<ImpulseDynamicsDerivatives>(),
-      declare<KinematicsDerivatives>(), declare<PointKinematicsDerivatives>(), declare<CenterOfMassDerivatives>(),
+      declare<KinematicsDerivatives>(), declare<CenterOfMassDerivatives>(),
       declare<CentroidalDynamicsDerivatives>(), declare<FrameVelocity>(), declare<FrameAcceleration>(),
       declare<FrameClassicalAcceleration>(), declare<Integrate>(), declare<Difference>(),
       declare<IntegrateDerivatives>(), declare<DifferenceDerivatives>()};

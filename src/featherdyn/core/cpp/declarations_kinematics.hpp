@@ -56,38 +56,21 @@ inline constexpr Operand kinematics_derivatives_outputs[] = {
     operand::matrix("da_dv", 6, NV),  operand::matrix("da_da", 6, NV),  operand::matrix("dac_dq", 6, NV),
     operand::matrix("dac_dv", 6, NV), operand::matrix("dac_da", 6, NV)};
 
-// kinematics_derivatives.hpp's six outputs (∂v/∂q, J, ∂a/∂q, ∂a/∂q̇, ∂a^c/∂q, ∂a^c/∂q̇) among the eight, then J into
-// ∂a/∂q̈ and ∂a^c/∂q̈. `point` (3,) in the frame's coordinates, or nullptr for the frame's origin.
-inline void kinematics_derivatives_into(const ModelView& mv, const double* const* in, const double* point,
-                                        double* const* out, const Options& opt) {
-  double* const six[6] = {out[0], out[1], out[2], out[3], out[5], out[6]};
-  kinematics_derivatives(mv, in[0], in[1], in[2], opt.frame, point, opt.reference, six);
-  const size_t n = static_cast<size_t>(6) * mv.nv;
-  std::copy_n(out[1], n, out[4]);
-  std::copy_n(out[1], n, out[7]);
-}
-
 struct KinematicsDerivatives : Declared {
   static constexpr const char* name = "kinematics_derivatives";
-  static constexpr Operand inputs[] = {operand::q, operand::v, operand::a};
+  static constexpr Operand inputs[] = {operand::q, operand::v, operand::a, operand::point};
   static constexpr const auto& outputs = kinematics_derivatives_outputs;
   static constexpr unsigned options = FRAME | REFERENCE;
-  static constexpr auto group = &fdgroup::GroupKernels::kinematics_derivatives;
+  static constexpr auto group = &fdgroup::GroupKernels::kinematics_derivatives;  // (rows without a point)
+  // kinematics_derivatives.hpp's six outputs (∂v/∂q, J, ∂a/∂q, ∂a/∂q̇, ∂a^c/∂q, ∂a^c/∂q̇) among the eight, then J
+  // into ∂a/∂q̈ and ∂a^c/∂q̈; with a point in[3] (3) in the frame's coordinates, those of the frame moved to that
+  // point with its orientation kept (Pinocchio's getPoint*Derivatives in the linear rows), else at its origin
   static std::int64_t run(const ModelView& mv, const double* const* in, double* const* out, const Options& opt) {
-    kinematics_derivatives_into(mv, in, nullptr, out, opt);
-    return OK;
-  }
-};
-
-// The same at a point of the frame, `point` (3,) in the frame's coordinates: the derivatives of the frame moved
-// to that point with its orientation kept (Pinocchio's getPoint*Derivatives in the linear rows).
-struct PointKinematicsDerivatives : Declared {
-  static constexpr const char* name = "point_kinematics_derivatives";
-  static constexpr Operand inputs[] = {operand::q, operand::v, operand::a, {"point", ARG_FRAME, {3}, 1, false}};
-  static constexpr const auto& outputs = kinematics_derivatives_outputs;
-  static constexpr unsigned options = FRAME | REFERENCE;
-  static std::int64_t run(const ModelView& mv, const double* const* in, double* const* out, const Options& opt) {
-    kinematics_derivatives_into(mv, in, in[3], out, opt);
+    double* const six[6] = {out[0], out[1], out[2], out[3], out[5], out[6]};
+    kinematics_derivatives(mv, in[0], in[1], in[2], opt.frame, in[3], opt.reference, six);
+    const size_t n = static_cast<size_t>(6) * mv.nv;
+    std::copy_n(out[1], n, out[4]);
+    std::copy_n(out[1], n, out[7]);
     return OK;
   }
 };

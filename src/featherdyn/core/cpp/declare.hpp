@@ -34,8 +34,11 @@ namespace fdcore {
 enum SymbolicLength : int { NQ = -1, NV = -2, NB = -3, NP = -4, NM = -5 };
 
 // An input or output: its name, the status argument that names it in an error (checks.hpp: ARG_Q for q, ARG_V,
-// ARG_A for q̈ or τ, ARG_FEXT, ARG_Q1 for a second configuration, ARG_OUT), its shape (up to three lengths), whether an input may be absent, and for
-// an output formed only when an optional input is given, that input's index (`when`; −1: always formed).
+// ARG_A for q̈ or τ, ARG_FEXT, ARG_Q1 for a second configuration, ARG_POINT, ARG_OUT), its shape (up to three lengths),
+// whether an input may be absent, for an output formed only when an optional input is given, that input's index
+// (`when`; −1: always formed), and whether an input comes after the options in the public calls' parameters
+// (`after_options`: a point follows the frame it is in, fd.kinematics_derivatives(model, q, v, a, frame, reference,
+// point)).
 struct Operand {
   const char* name;
   std::int64_t arg;
@@ -43,6 +46,7 @@ struct Operand {
   int nd;
   bool optional;
   int when = -1;
+  bool after_options = false;
 };
 
 // The operands the declarations share: the state (q, q̇, q̈ or τ, and optional body-frame forces), two
@@ -54,6 +58,8 @@ constexpr Operand q{"q", ARG_Q, {NQ}, 1, false}, v{"v", ARG_V, {NV}, 1, false}, 
 constexpr Operand q0{"q0", ARG_Q, {NQ}, 1, false}, q1{"q1", ARG_Q1, {NQ}, 1, false};
 constexpr Operand w{"w", ARG_W, {NV}, 1, false};  // a cotangent of a result of length nv (fd.rnea_vjp's)
 constexpr Operand W{"W", ARG_W, {NV, NV}, 2, false};  // a cotangent of an (nv, nv) result (fd.crba_vjp's)
+// an optional point (3) in the frame's coordinates, after the frame and reference options
+constexpr Operand point{"point", ARG_POINT, {3}, 1, true, -1, true};
 constexpr Operand scalar(const char* name) { return {name, ARG_OUT, {}, 0, false}; }
 constexpr Operand vector(const char* name, int n) { return {name, ARG_OUT, {n}, 1, false}; }
 constexpr Operand matrix(const char* name, int rows, int cols) { return {name, ARG_OUT, {rows, cols}, 2, false}; }
@@ -110,10 +116,10 @@ inline std::int64_t size_of(const ModelView& mv, const Options& opt, const Opera
 }
 
 // Where a public call's parameters are (its kind's names, in order; -1: not a parameter): fd.<name>'s are
-// (model, *inputs, [frame, reference], *, [gravity], out), fd.compile's method's (*inputs, [frame, reference],
-// out, *, [gravity]).
+// (model, *inputs, [frame, reference], *inputs after the options, *, [gravity], out), fd.compile's method's
+// (*inputs, [frame, reference], *inputs after the options, out, *, [gravity]). `input[i]`: input i's.
 struct Slots {
-  int inputs, frame, reference, gravity, out;
+  int input[DECLARED_MAX], frame, reference, gravity, out;
 };
 
 // A declaration with its type erased: what the binding and Python see. `free` and `bound` are its public
@@ -142,10 +148,12 @@ inline void parameters(const Kernel& k, bool with_model, PublicCallKind& kind, S
     return n++;
   };
   if (with_model) add("model", true);
-  at.inputs = n;
-  for (const Operand& o : k.inputs) add(o.name, !o.optional);
+  for (size_t i = 0; i < k.inputs.size(); ++i)
+    if (!k.inputs[i].after_options) at.input[i] = add(k.inputs[i].name, !k.inputs[i].optional);
   at.frame = k.options & FRAME ? add("frame", true) : -1;
   at.reference = k.options & REFERENCE ? add("reference", false) : -1;
+  for (size_t i = 0; i < k.inputs.size(); ++i)
+    if (k.inputs[i].after_options) at.input[i] = add(k.inputs[i].name, !k.inputs[i].optional);
   kind.positional = n;
   if (!with_model) kind.positional = (at.out = add("out", false)) + 1;
   at.gravity = k.options & GRAVITY ? add("gravity", false) : -1;
@@ -173,18 +181,20 @@ Kernel declare() {
 namespace declared {
 
 // The state check of the inputs (finiteness, unit quaternions): by the status argument each one names; a second
-// configuration (ARG_Q1) and a cotangent (ARG_W, finite) after the state.
+// configuration (ARG_Q1), a cotangent (ARG_W, finite) and a point (ARG_POINT, finite) after the state.
 inline std::int64_t check_inputs(const Kernel& k, const ModelView& mv, const double* const* in) {
   const double* by_arg[4] = {nullptr, nullptr, nullptr, nullptr};  // q, v, a or τ, f_ext
-  const double *q1 = nullptr, *w = nullptr;
+  const double *q1 = nullptr, *w = nullptr, *point = nullptr;
   std::int64_t w_size = 0;
   for (size_t i = 0; i < k.inputs.size(); ++i) {
     if (k.inputs[i].arg <= ARG_FEXT) by_arg[k.inputs[i].arg] = in[i];
     if (k.inputs[i].arg == ARG_Q1) q1 = in[i];
     if (k.inputs[i].arg == ARG_W) w = in[i], w_size = size_of(mv, Options{}, k.inputs[i]);
+    if (k.inputs[i].arg == ARG_POINT) point = in[i];
   }
   FD_TRY(check_state(mv, by_arg[0], by_arg[1], by_arg[2], by_arg[3]));
   if (w != nullptr && !all_finite(w, w_size)) return make_status(NONFINITE, ARG_W, first_nonfinite(w, w_size));
+  if (point != nullptr && !all_finite(point, 3)) return make_status(NONFINITE, ARG_POINT, first_nonfinite(point, 3));
   return q1 != nullptr ? check_configuration(mv, q1, ARG_Q1) : OK;
 }
 
@@ -330,15 +340,17 @@ const std::vector<Kernel>& declared_kernels();
 // N rows of a batch from raw memory (checked by the caller: shapes, overlaps): input i's rows rows_in[i] (p nullptr
 // where absent; stride 0: one row broadcast), output o's rows at op[o] (nullptr where not formed), n_out[o] doubles
 // each. In groups of the SIMD width where the declaration has a group kernel (the rows' roles q, v, a or τ, f_ext by
-// their status arguments), else row by row, on the thread pool. (first failing row, its status), or (−1, OK).
+// their status arguments, and a cotangent) and no point is given (the group kernels take none), else row by row, on the thread pool. (first failing row, its status), or (−1, OK).
 // The one batch path of every front end: run_batch (NumPy arrays) and the XLA FFI handler (bind_jax.cpp).
 inline RowStatus run_rows(const Kernel& k, const ModelView& mv, const Rows* rows_in, double* const* op,
                           const std::int64_t* n_out, std::int64_t N, const Options& opt) {
   Rows by_arg[4], w;  // the group kernel's q, v, a or τ, f_ext; a cotangent (w_size numbers a row)
   std::int64_t w_size = 0;
+  bool in_lanes = k.group != nullptr;
   for (size_t i = 0; i < k.inputs.size(); ++i) {
     if (k.inputs[i].arg <= ARG_FEXT) by_arg[k.inputs[i].arg] = rows_in[i];
-    if (k.inputs[i].arg == ARG_W) w = rows_in[i], w_size = size_of(mv, opt, k.inputs[i]);
+    else if (k.inputs[i].arg == ARG_W) w = rows_in[i], w_size = size_of(mv, opt, k.inputs[i]);
+    else if (k.inputs[i].arg == ARG_POINT && rows_in[i].p != nullptr) in_lanes = false;  // (no role for a point)
   }
   if (const std::int64_t s = declared::check_options(k, mv, opt); s != OK) return {-1, s};
   auto state = [&](std::int64_t r, std::array<const double*, DECLARED_MAX>& ip,
@@ -352,7 +364,7 @@ inline RowStatus run_rows(const Kernel& k, const ModelView& mv, const Rows* rows
     state(r, ip, opr);
     return declared::run_checked(k, mv, ip.data(), opr.data(), opt);
   };
-  if (k.group == nullptr) return for_rows(N, one);
+  if (!in_lanes) return for_rows(N, one);
   fdgroup::GroupArgs g{&mv, by_arg[0], by_arg[1], by_arg[2], by_arg[3], opt.gravity, op, n_out[0]};
   g.W = w;
   g.frame = opt.frame, g.reference = opt.reference;
