@@ -425,7 +425,10 @@ def _function(decl: Declaration) -> Callable[..., Any]:
         if len(args) > len(positional):
             raise ShapeError(f"featherdyn.jax.{decl.name}: at most {len(positional)} arguments after the model "
                              f"({', '.join(positional)}), got {len(args)}")
-        given = {**dict(zip(positional, args, strict=False)), **options}
+        given = dict(zip(positional, args, strict=False))
+        if set(given) & set(options):
+            raise TypeError(f"{decl.name}(): multiple values for {sorted(set(given) & set(options))}")
+        given.update(options)
         names = list(decl.inputs)
         padded = [given.pop(n, None) for n in names]
         options = given

@@ -106,6 +106,8 @@ def test_kinematics_derivatives_at_a_point_as_in_numpy() -> None:
             model, st["q"][0], st["v"][0], st["a"][0], "HR_FOOT", "local", p).dv_dq)(P[0] * np.nan))
     with pytest.raises(TypeError, match="unexpected keyword"):
         fj.kinematics_derivatives(model, st["q"][0], st["v"][0], st["a"][0], "HR_FOOT", pointt=P[0])
+    with pytest.raises(TypeError, match="multiple values"):
+        fj.kinematics_derivatives(model, st["q"][0], st["v"][0], st["a"][0], "HR_FOOT", "local", P[0], point=P[0])
 
 
 @pytest.mark.parametrize("robot", ROBOTS, ids=[r[0] for r in ROBOTS])
