@@ -6,7 +6,8 @@ featherdyn is faster; the issue's target ≤ 0.8 one state, ≥ 8× for batches)
 Each featherdyn call returns new arrays; each Pinocchio call fills its ``data``:
 
 * ``fd.kinematics_derivatives`` (a frame's eight derivatives) / ``computeForwardKinematicsDerivatives`` +
-  ``getFrameVelocityDerivatives`` + ``getFrameAccelerationDerivatives``;
+  ``getFrameVelocityDerivatives`` + ``getFrameAccelerationDerivatives``; at a point (its argument ``point``) /
+  ``computeForwardKinematicsDerivatives`` + ``getPointVelocityDerivatives`` + ``getPointClassicAccelerationDerivatives``;
 * ``fd.center_of_mass_derivatives`` / ``jacobianCenterOfMass`` + ``getCenterOfMassVelocityDerivatives``
   (after ``computeForwardKinematicsDerivatives``, which the latter needs);
 * ``fd.centroidal_dynamics_derivatives`` / ``computeCentroidalDynamicsDerivatives``;
@@ -73,6 +74,17 @@ def main() -> int:
 
         t = median_pair(lambda: fd.kinematics_derivatives(m, q, v, a, frame), pin_kin, 7, 0.2)  # noqa: B023
         rows.append((f"{name}: kinematics_derivatives / FK derivatives + two getters", *t))
+        point = np.array([0.02, -0.03, 0.05])  # (in the frame; for Pinocchio, its placement on the joint)
+        jid, on_joint = pm.frames[fid].parentJoint, pm.frames[fid].placement * pin.SE3(np.eye(3), point)
+
+        def pin_point(qp: np.ndarray = qp, vp: np.ndarray = vp, ap: np.ndarray = ap) -> None:
+            pin.computeForwardKinematicsDerivatives(pm, pd, qp, vp, ap)  # noqa: B023
+            pin.getPointVelocityDerivatives(pm, pd, jid, on_joint, pin.LOCAL)  # noqa: B023
+            pin.getPointClassicAccelerationDerivatives(pm, pd, jid, on_joint, pin.LOCAL)  # noqa: B023
+
+        t = median_pair(lambda: fd.kinematics_derivatives(m, q, v, a, frame, fd.LOCAL, point),  # noqa: B023
+                        pin_point, 7, 0.2)
+        rows.append((f"{name}: kinematics_derivatives at a point / FK derivatives + two point getters", *t))
 
         def pin_com() -> None:
             pin.computeForwardKinematicsDerivatives(pm, pd, qp, vp, ap)  # noqa: B023
