@@ -116,7 +116,7 @@ class _Jax:
 
     @staticmethod
     def call(name: str, model: Model, inputs: dict[str, Any], options: dict[str, Any]) -> tuple[Any, ...]:
-        r = globals()[name](model, *(inputs.get(n) for n in DECLARATIONS[name].inputs), **options)
+        r = globals()[name](model, **{n: inputs.get(n) for n in DECLARATIONS[name].inputs}, **options)  # (by name)
         return tuple(r) if isinstance(r, tuple) else (r,)
 
     @staticmethod
