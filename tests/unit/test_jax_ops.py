@@ -162,7 +162,7 @@ def _call(model: fd.Model, name: str, st: dict[str, np.ndarray], reference: fd.R
                 given[c] = fj.normalize(model, given[c])
         if "f_ext" in decl.inputs:
             given["f_ext"] = st["f_ext"]
-        return getattr(fj, name)(model, *(given[n] for n in decl.inputs), **options)
+        return getattr(fj, name)(model, **{n: given.get(n) for n in decl.inputs}, **options)  # (by name: a point last)
 
     return f, tuple(st[n] for n in moving)
 

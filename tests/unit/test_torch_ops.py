@@ -295,7 +295,7 @@ def _call(model: fd.Model, name: str, st: dict[str, torch.Tensor], reference: fd
                 given[c] = ft.normalize(model, given[c])
         if "f_ext" in decl.inputs:
             given["f_ext"] = st["f_ext"].detach()
-        r = getattr(ft, name)(model, *(given[n] for n in decl.inputs), **options)
+        r = getattr(ft, name)(model, **{n: given.get(n) for n in decl.inputs}, **options)  # (by name: a point last)
         return tuple(r) if isinstance(r, tuple) else r
 
     return f, tuple(st[n] for n in moving)
