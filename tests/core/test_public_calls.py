@@ -372,6 +372,39 @@ def test_a_record_is_made_in_c_as_in_python() -> None:
     assert np.array_equal(T.rotation, fd.frame_placement(model, st.q, 0).rotation)
 
 
+def test_a_named_tuple_record_is_made_in_c_as_its_class_makes_it() -> None:
+    """A NamedTuple record (the derivatives') is made in C by tuple.__new__: the same type and fields, bit for bit,
+    as the class called with the outputs in Python; Kernel.fresh makes one when given its class, and refuses a
+    class that is not a tuple's; no reference is kept."""
+    model = tree(TREE_NAMES[2])
+    st = random_state(model, 4)
+    frame = _frame(model)
+    r = fd.kinematics_derivatives(model, st.q, st.v, st.a, frame)  # made in C
+    general = fd.kinematics_derivatives.__wrapped__(model, st.q, st.v, st.a, frame, backend="compiled")
+    assert type(r) is fd.KinematicsDerivatives and type(general) is fd.KinematicsDerivatives
+    assert r._fields == general._fields and len(r) == len(general) == len(fd.KinematicsDerivatives._fields) == 8
+    for name in r._fields:
+        np.testing.assert_array_equal(getattr(r, name), getattr(general, name))
+    cm = core._view(model).cm
+    kernel = K["kinematics_derivatives"]
+    opts = _core.Options(frame=model.frame_id(frame))
+    plain = kernel.fresh(cm, [st.q, st.v, st.a, None], opts)
+    made = kernel.fresh(cm, [st.q, st.v, st.a, None], opts, fd.KinematicsDerivatives)
+    assert type(plain) is tuple and type(made) is fd.KinematicsDerivatives
+    for a, b, c in zip(plain, made, r, strict=True):
+        np.testing.assert_array_equal(a, b)
+        np.testing.assert_array_equal(b, c)
+    for bad in (dict, fd.KinematicsDerivatives(*plain), "KinematicsDerivatives"):
+        with pytest.raises(TypeError, match="record must be None or a NamedTuple class"):
+            kernel.fresh(cm, [st.q, st.v, st.a, None], opts, bad)
+    watched = (model, st.q, st.v, st.a, fd.KinematicsDerivatives)
+    before = [sys.getrefcount(x) for x in watched]
+    for _ in range(200):
+        fd.kinematics_derivatives(model, st.q, st.v, st.a, frame)
+        kernel.fresh(cm, [st.q, st.v, st.a, None], opts, fd.KinematicsDerivatives)
+    assert [sys.getrefcount(x) for x in watched] == before
+
+
 def test_compiled_fk_writes_out_or_declines() -> None:
     model = tree(TREE_NAMES[2])
     cm = fd.compile(model)

@@ -249,6 +249,13 @@ def test_core_equals_reference_and_batches_on_the_pool(solo: fd.Model, ref: fd.R
     cons = [fd.PointContact("FL_FOOT", ref, baumgarte=(0.0, 2.0)), fd.FrameContact("HR_FOOT", ref)]
     d = fd.constrained_dynamics_derivatives(solo, Q, V, T, cons)
     i = fd.impulse_dynamics_derivatives(solo, Q, V, cons, restitution=0.2)
+    one = (fd.constrained_dynamics_derivatives(solo, Q[0], V[0], T[0], cons),  # (the binding makes the record)
+           fd.impulse_dynamics_derivatives(solo, Q[0], V[0], cons, restitution=0.2))
+    for got, cls in zip((d, i, *one), (fd.ConstrainedDynamicsDerivatives, fd.ImpulseDynamicsDerivatives) * 2):
+        assert type(got) is cls and len(got) == len(cls._fields)
+    for got, batch in zip(one, (d, i)):
+        for name in type(got)._fields:
+            np.testing.assert_array_equal(getattr(got, name), getattr(batch, name)[0])
     for k in range(4):
         r = fd.constrained_dynamics_derivatives(solo, Q[k], V[k], T[k], cons, backend="reference")
         s = fd.impulse_dynamics_derivatives(solo, Q[k], V[k], cons, restitution=0.2, backend="reference")

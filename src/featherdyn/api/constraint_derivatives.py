@@ -236,23 +236,27 @@ def _corrected(dtau_dq: np.ndarray, terms: list[_Terms]) -> np.ndarray:
     return dtau_dq
 
 
-def _core(kernel: Any, model: Model, args: tuple[Any, ...], opts: Any, m: int, ddq_first: int,
-          backend: str | None) -> tuple[np.ndarray, ...] | None:
-    """The kernel's outputs for point and frame contacts (m rows; ``ddq_first`` (nv, nv) outputs, as many (m, nv),
-    then (nv,) and (m,)): one state as the binding takes it, or rows `(N, nq)` on its batch (the thread pool);
-    ``None`` where it declines (dependent contacts, other input: the general path)."""
+def _core(kernel: Any, record: type, model: Model, args: tuple[Any, ...], opts: Any, m: int, ddq_first: int,
+          backend: str | None) -> Any:
+    """The record of the kernel's outputs for point and frame contacts (m rows; ``ddq_first`` (nv, nv) outputs, as
+    many (m, nv), then (nv,) and (m,)): one state as the binding takes it (the binding makes the record), or rows
+    `(N, nq)` on its batch (the thread pool); ``None`` where it declines (dependent contacts, other input: the
+    general path)."""
     core = core_path(model, backend)
     if core is None:
         return None
     try:
-        r = kernel.fresh(core.cm, args, opts)
+        r = kernel.fresh(core.cm, args, opts, record)
+        if r is not None:
+            return r
         q = args[0]
-        if r is None and type(q) is np.ndarray and q.ndim == 2 and (len(args) < 4 or args[3] is None):
+        if type(q) is np.ndarray and q.ndim == 2 and (len(args) < 4 or args[3] is None):
             n, nv = q.shape[0], model.nv
             shapes = ((nv, nv),) * ddq_first + ((m, nv),) * ddq_first + ((nv,), (m,))
-            r = tuple(_result_array((n, *shape)) for shape in shapes)
-            r = r if kernel.batch(core.cm, list(args), list(r), opts)[1] == OK else None
-        return r
+            outs = [_result_array((n, *shape)) for shape in shapes]
+            if kernel.batch(core.cm, list(args), outs, opts)[1] == OK:
+                return record(*outs)
+        return None
     except (TypeError, ValueError):  # arguments the binding does not take as they are
         return None
 
@@ -284,9 +288,10 @@ def constrained_dynamics_derivatives(model: Model, q: ArrayLike, v: ArrayLike, t
             opts = _solver(found[1], mu, max_iter, tol)
         except (TypeError, ValueError):
             opts = None
-        r = None if opts is None else _core(_CONTACTS, model, (q, v, tau, f_ext), opts, found[0].size, 3, backend)
+        r = None if opts is None else _core(_CONTACTS, ConstrainedDynamicsDerivatives, model, (q, v, tau, f_ext), opts,
+                                            found[0].size, 3, backend)
         if r is not None:
-            return ConstrainedDynamicsDerivatives(*r)
+            return r
     if _dask.lazy(q, v, tau, f_ext):
         return _dask.call(constrained_dynamics_derivatives, model, {"q": q, "v": v, "tau": tau, "f_ext": f_ext},
                           constraints=constraints, mu=mu, max_iter=max_iter, tol=tol, backend=backend)
@@ -329,9 +334,9 @@ def impulse_dynamics_derivatives(model: Model, q: ArrayLike, v: ArrayLike,
             and 0.0 <= restitution <= 1.0:  # point and frame contacts: contact_derivatives.hpp
         opts = found[1][1] if restitution == 0.0 else _declared.call_options(  # (the plan's own: e = 0)
             plan=found[1][0], restitution=float(restitution), singular_tol=DELASSUS_PIVOT_RTOL)
-        r = _core(_IMPULSES, model, (q, v), opts, found[0].size, 2, backend)
+        r = _core(_IMPULSES, ImpulseDynamicsDerivatives, model, (q, v), opts, found[0].size, 2, backend)
         if r is not None:
-            return ImpulseDynamicsDerivatives(*r)
+            return r
     if _dask.lazy(q, v):
         return _dask.call(impulse_dynamics_derivatives, model, {"q": q, "v": v}, constraints=constraints,
                           restitution=restitution, mu=mu, backend=backend)

@@ -115,13 +115,15 @@ bool flag_arg(PyObject* x, bool& out) {
 
 // The public result of a declared call's outputs (stolen; None where not formed): the outputs themselves (one
 // array, or a tuple), or the record the public function declares of them (`record`, the last of its constants): a
-// callable, called with the outputs; or (cls, (descriptor, source), ...) (made by `record_of`): a new cls
+// callable, called with the outputs (a NamedTuple class: made by as_tuple_record, declare.hpp); or (cls,
+// (descriptor, source), ...) (made by `record_of`): a new cls
 // (object.__new__) whose fields are set through their data descriptors, as object.__setattr__ sets them (a frozen
 // record's own __setattr__ is passed over), each to an output (source: its index; the outputs were made as
 // read-only views: run_fresh), the model argument (source −1) or the object given. New reference, or nullptr
 // with an exception set.
 PyObject* result_of(PyObject* record, PyObject* model, PyObject** outs, size_t no) {
   if (record == Py_None) return as_result(outs, no);
+  if (is_tuple_record(record)) return as_tuple_record(record, outs, no);
   nb::object held[DECLARED_MAX];
   for (size_t o = 0; o < no; ++o) held[o] = nb::steal(outs[o]);
   if (!PyTuple_CheckExact(record)) return PyObject_Vectorcall(record, outs, no, nullptr);

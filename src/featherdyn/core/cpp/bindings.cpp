@@ -146,7 +146,10 @@ std::int64_t into(const Kernel& k, const ModelData& md, const nb::sequence& inpu
   return run_into(k, md.view, ip, op, options_of(md, options));
 }
 
-nb::object fresh(const Kernel& k, const ModelData& md, const nb::sequence& inputs, const CallOptions* options) {
+nb::object fresh(const Kernel& k, const ModelData& md, const nb::sequence& inputs, const CallOptions* options,
+                 nb::handle record) {
+  if (!record.is_none() && !is_tuple_record(record.ptr()))
+    throw nb::type_error(("featherdyn.core." + k.name + ": record must be None or a NamedTuple class").c_str());
   PyObject* ip[DECLARED_MAX];
   operand_objects(k, inputs, k.inputs.size(), ip);
   PyObject* outs[DECLARED_MAX];
@@ -154,7 +157,8 @@ nb::object fresh(const Kernel& k, const ModelData& md, const nb::sequence& input
     if (PyErr_Occurred()) throw nb::python_error();
     return nb::none();
   }
-  PyObject* r = as_result(outs, k.outputs.size());
+  PyObject* r = record.is_none() ? as_result(outs, k.outputs.size())
+                                 : as_tuple_record(record.ptr(), outs, k.outputs.size());
   if (r == nullptr) throw nb::python_error();
   return nb::steal(r);
 }
@@ -228,7 +232,9 @@ NB_MODULE(_core, m) {
            "one state into the given outputs (options: an Options or None); the status (0: OK; -1: an argument not "
            "taken as it is)")
       .def("fresh", &fresh, nb::arg("model"), nb::arg("inputs"), nb::arg("options").none() = nb::none(),
-           "one state; the result (an array or a tuple), or None where `into` would return a non-zero status")
+           nb::arg("record").none() = nb::none(),
+           "one state; the result (an array, a tuple, or the record: a NamedTuple class the outputs make, in "
+           "order), or None where `into` would return a non-zero status")
       .def("singular_block", &singular_block, nb::arg("model"), nb::arg("inputs"), nb::arg("D"), nb::arg("options").none() = nb::none(),
            "the joint a SINGULAR status names (-1: none) for one checked state, its D written into D (36,)")
       .def("batch", [](const Kernel& k, const ModelData& md, const nb::sequence& inputs, const nb::sequence& outputs,

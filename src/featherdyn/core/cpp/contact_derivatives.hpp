@@ -47,11 +47,15 @@ namespace fdcore {
 // specs only; what depends on the state (a pivot of M or of D) fails the call, for a Pack in any lane.
 template <class S>
 struct ContactDerivWork {
-  std::vector<S> f, dq, dv, L, kin, J, R1, X, Z, Y, Pt, D, Dinv, scratch, u, acc;
+  std::vector<S> f, dq, dv, L, kin, J, R1, X, Z, Y, Pt, D, scratch, u, acc;
   std::vector<int> supp, off;  // row r of J: its nonzero columns supp[off[r] .. off[r + 1])
   std::vector<const S*> rows;  // add_product's operands
   std::vector<S> coef;
-  void resize(size_t) {}
+  std::vector<S*> solved;      // dense_cholesky_solve_rows' rows (its factors in coef)
+  std::vector<int> bodies;     // the bodies on some contact's support, ascending (parents first)
+  std::vector<char> on_support;  // body b is among them
+  WorldPassWork<S> pass;       // their placements, columns and motion (contact_terms)
+  void resize(size_t nb) { pass.resize(nb); }
 };
 
 namespace contact_deriv {
@@ -141,12 +145,13 @@ inline void add_rows_block(S* x, const S* const* rows, const S* a, int n, int c)
   for (int j = 0; j < B; ++j) x[c + j] = acc[j];
 }
 
-// C (p, ncols) += A (p, k) B (k, ncols), row-major; row i of A restricted to the columns idx[off[i] .. off[i + 1])
-// when idx is given (the others zero), every column otherwise. Each entry: C_ic + Σ_t A_it B_tc in t's order
-// (a few columns at a time in registers: doubles as Regs, Packs as an array of them).
+// C (p, ncols) += A (p, k) B (k, ncols), row-major, in C's first `cols` columns (all when cols < 0); row i of A
+// restricted to the columns idx[off[i] .. off[i + 1]) when idx is given (the others zero), every column otherwise.
+// Each entry: C_ic + Σ_t A_it B_tc in t's order (a few columns at a time in registers: doubles as Regs, Packs as
+// an array of them).
 template <class S>
 inline void add_product(const S* A, int p, int k, const S* B, int ncols, S* C, const int* idx, const int* off,
-                        ContactDerivWork<S>& w) {
+                        ContactDerivWork<S>& w, int cols = -1) {
   w.rows.resize(static_cast<size_t>(k)), w.coef.resize(static_cast<size_t>(k));
   for (int i = 0; i < p; ++i) {
     const S* Ai = A + static_cast<size_t>(i) * k;
@@ -157,7 +162,7 @@ inline void add_product(const S* A, int p, int k, const S* B, int ncols, S* C, c
       w.rows[n] = B + static_cast<size_t>(t) * ncols, w.coef[n++] = Ai[t];
     }
     S* Ci = C + static_cast<size_t>(i) * ncols;
-    blocks_of(0, ncols, [&](auto Bw, int c) {
+    blocks_of(0, cols < 0 ? ncols : cols, [&](auto Bw, int c) {
       if constexpr (std::is_same_v<S, double>)
         add_rows_cols<Bw()>(Ci, w.rows.data(), w.coef.data(), n, c);
       else
@@ -166,24 +171,31 @@ inline void add_product(const S* A, int p, int k, const S* B, int ncols, S* C, c
   }
 }
 
-// The nonzero columns of the contacts' rows of J: the dofs of each frame's chain (root … its body).
+// The nonzero columns of the contacts' rows of J: the dofs of each frame's chain (root … its body); and the
+// bodies on those chains (w.bodies).
 template <class S>
 inline void row_supports(const ModelView& mv, const ContactSpec* specs, int nc, int m, ContactDerivWork<S>& w) {
   w.supp.clear();
   w.off.assign(static_cast<size_t>(m) + 1, 0);
+  w.on_support.assign(static_cast<size_t>(mv.nb), 0);
   for (int k = 0, row = 0; k < nc; row += specs[k].rows, ++k) {
     const size_t first = w.supp.size();
-    for (int b = mv.frame_body[specs[k].frame]; b != -1; b = mv.parent[b])
+    for (int b = mv.frame_body[specs[k].frame]; b != -1; b = mv.parent[b]) {
+      w.on_support[b] = 1;
       for (int c = 0; c < mv.nv_i[b]; ++c) w.supp.push_back(mv.idx_v[b] + c);
+    }
     std::sort(w.supp.begin() + static_cast<std::ptrdiff_t>(first), w.supp.end());
     const size_t len = w.supp.size() - first;
     for (int r = 1; r < specs[k].rows; ++r)  // the contact's other rows: the same columns
       for (size_t s = 0; s < len; ++s) w.supp.push_back(w.supp[first + s]);
     for (int r = 0; r < specs[k].rows; ++r) w.off[row + r + 1] = w.off[row + r] + static_cast<int>(len);
   }
+  w.bodies.clear();  // ascending, which is parents first (parent[i] < i)
+  for (int b = 0; b < mv.nb; ++b)
+    if (w.on_support[b]) w.bodies.push_back(b);
 }
 
-// With L = M's factor and J (w.J, m rows): P = M⁻¹ Jᵀ (w.Pt, (nv, m)), D = J P factored (w.D) and D⁻¹ (w.Dinv).
+// With L = M's factor and J (w.J, m rows): P = M⁻¹ Jᵀ (w.Pt, (nv, m)) and D = J P factored (w.D).
 // CONSTRAINT when D is singular (dependent contacts; for a Pack, in some lane).
 template <class S>
 inline std::int64_t delassus(const ModelView& mv, const int* lambda, int m, double singular_tol,
@@ -194,22 +206,23 @@ inline std::int64_t delassus(const ModelView& mv, const int* lambda, int m, doub
   for (int r = 0; r < m; ++r)
     for (int i = 0; i < nv; ++i) w.Pt[static_cast<size_t>(i) * mm + r] = w.J[static_cast<size_t>(r) * nv + i];
   ltl_solve_rows(mv, lambda, w.L.data(), w.Pt.data(), m);
-  w.D.assign(mm * mm, S(0.0)), w.Dinv.resize(mm * mm), w.scratch.resize(mm * mm);
+  w.D.assign(mm * mm, S(0.0));
   add_product(w.J.data(), m, nv, w.Pt.data(), m, w.D.data(), w.supp.data(), w.off.data(), w);
   if (dense_cholesky<S>(w.D.data(), m, singular_tol)) return make_status(CONSTRAINT, ARG_OUT, m);
-  dense_cholesky_inverse<S>(w.D.data(), m, w.scratch.data(), w.Dinv.data());
   return OK;
 }
 
 // The free derivatives A (w.X, (nv, ncols)) and R₂ (w.Z, (m, ncols)) of ncols directions → the constrained ones:
-// Z ← J A + R₂, ∂λ = −D⁻¹ Z (w.Y), ∂q̈ = A + P ∂λ (in w.X).
+// Z ← J A + R₂, ∂λ = −D⁻¹ Z (w.Y, by D's factor), ∂q̈ = A + P ∂λ (in w.X). J A is added in Z's first `free`
+// columns only: the caller has put the whole of Z in the others (where A = 1, J A = J).
 template <class S>
-inline void correct(const ModelView& mv, int m, int ncols, ContactDerivWork<S>& w) {
+inline void correct(const ModelView& mv, int m, int ncols, int free, ContactDerivWork<S>& w) {
   const int nv = mv.nv;
-  add_product(w.J.data(), m, nv, w.X.data(), ncols, w.Z.data(), w.supp.data(), w.off.data(), w);
-  w.Y.assign(static_cast<size_t>(m) * ncols, S(0.0));
-  add_product(w.Dinv.data(), m, m, w.Z.data(), ncols, w.Y.data(), nullptr, nullptr, w);
-  for (S& y : w.Y) y = -y;
+  add_product(w.J.data(), m, nv, w.X.data(), ncols, w.Z.data(), w.supp.data(), w.off.data(), w, free);
+  w.Y.resize(static_cast<size_t>(m) * ncols);
+  for (size_t k = 0; k < w.Y.size(); ++k) w.Y[k] = -w.Z[k];
+  w.solved.resize(static_cast<size_t>(m)), w.coef.resize(static_cast<size_t>(std::max(m, nv)));
+  dense_cholesky_solve_rows(w.D.data(), m, w.Y.data(), ncols, w.solved.data(), w.coef.data());
   add_product(w.Pt.data(), nv, m, w.Y.data(), ncols, w.X.data(), nullptr, nullptr, w);
 }
 
@@ -223,35 +236,41 @@ inline void block_out(const S* T, int rows, int ncols, int b, int nv, S* out) {
 // The contacts' rows J (m, nv) into w.J and their forces λ: on the bodies (w.f, which holds f_ext or zeros), and
 // their turn into R1 (nv, nv). The outputs of kinematics_derivatives per contact are left in w.kin when `qd` is
 // given (at (q, qd, qdd); qdd may be nullptr without `accelerations`): ∂v/∂q, ∂v/∂q̇ = J, and with `accelerations` a
-// point's ∂a^c/∂(q, q̇) or a frame's ∂a/∂(q, q̇); with qd nullptr only J is formed (frame_jacobian).
+// point's ∂a^c/∂(q, q̇) or a frame's ∂a/∂(q, q̇); with qd nullptr only J is formed. One world pass serves every
+// contact (w.pass over w.bodies, each placed once, not once a contact). `placed`: an earlier call at the same q
+// has formed the placements, the columns and J (w.J, and ∂v/∂q̇ in w.kin), which do not depend on q̇; this one
+// forms the motion and what depends on it only.
 template <class S>
 inline void contact_terms(const ModelView& mv, const S* q, const S* qd, const S* qdd, bool accelerations,
-                          const S* lam, const ContactSpec* specs, int nc, ContactDerivWork<S>& w, S* R1) {
+                          const S* lam, const ContactSpec* specs, int nc, ContactDerivWork<S>& w, S* R1,
+                          bool placed = false) {
   const int nv = mv.nv;
   const size_t blk = static_cast<size_t>(6) * nv;
+  w.pass.W.resize(static_cast<size_t>(nv));
+  for (const int b : w.bodies) {
+    if (!placed) world_place_body(mv, b, q, w.pass);
+    if (qd != nullptr) world_move_body(mv, b, qd, qdd, w.pass);
+  }
   int row = 0;
   for (int k = 0; k < nc; ++k) {
     const ContactSpec& s = specs[k];
     S* kin = w.kin.data() + 6 * blk * static_cast<size_t>(k);
-    S* outs[6] = {kin, kin + blk, nullptr, nullptr, nullptr, nullptr};
+    S* const J6 = kin + blk;  // ∂v/∂q̇: the frame's Jacobian in its reference
+    S* outs[6] = {qd != nullptr ? kin : nullptr, placed ? nullptr : J6, nullptr, nullptr, nullptr, nullptr};
     if (accelerations) {
       const int a = s.rows == 3 ? 4 : 2;
       outs[a] = kin + a * blk, outs[a + 1] = kin + (a + 1) * blk;
     }
     Pose<S> pose;
-    if (qd != nullptr) {
-      kinematics_derivatives(mv, q, qd, qdd, s.frame, nullptr, s.ref, outs, &pose);
-    } else {
-      frame_jacobian(mv, q, s.frame, s.ref, outs[1]);
-      if (lam != nullptr) frame_pose(mv, q, s.frame, pose.R, pose.p);
-    }
-    for (int r = 0; r < s.rows; ++r)
-      std::copy(outs[1] + (6 - s.rows + r) * nv, outs[1] + (7 - s.rows + r) * nv, w.J.data() + (row + r) * nv);
+    frame_motion_derivatives(mv, s.frame, nullptr, s.ref, outs, &pose, w.pass);
+    if (!placed)
+      for (int r = 0; r < s.rows; ++r)
+        std::copy(J6 + (6 - s.rows + r) * nv, J6 + (7 - s.rows + r) * nv, w.J.data() + (row + r) * nv);
     if (lam != nullptr) {
       const Force<S> fa = frame_force(s, lam + row, pose.R, pose.p);
       add_to_body(mv, s.frame, fa, w.f.data());
       if (R1 != nullptr)
-        add_turn(mv, s.ref, outs[1], pose.R, pose.p, fa, w.supp.data() + w.off[row], w.off[row + 1] - w.off[row], w,
+        add_turn(mv, s.ref, J6, pose.R, pose.p, fa, w.supp.data() + w.off[row], w.off[row + 1] - w.off[row], w,
                  R1);
     }
     row += s.rows;
@@ -298,7 +317,7 @@ inline void damped_rows(const ModelView& mv, const ContactSpec* specs, int nc, i
   });
 }
 
-// The impulses' R₂ in block b: scale · the output `out` (∂(J u)/∂q, or e J).
+// The impulses' Z in block b: scale · the output `out` (R₂ = ∂(J u)/∂q, or (1 + e) J along v⁻).
 template <class S>
 inline void scaled_rows(const ModelView& mv, const ContactSpec* specs, int nc, int ncols, int b, int out, double scale,
                         ContactDerivWork<S>& w) {
@@ -359,7 +378,7 @@ std::int64_t contact_dynamics_derivatives(const ModelView& mv, const S* q, const
   damped_rows(mv, specs, nc, w3, 0, 4, 2, 0, w);
   damped_rows(mv, specs, nc, w3, 1, 5, 3, 1, w);
   if (const std::int64_t st = delassus(mv, lambda, m, singular_tol, w); st != OK) return st;
-  correct(mv, m, w3, w);
+  correct(mv, m, w3, w3, w);
   for (int b = 0; b < 3; ++b) {
     block_out(w.X.data(), nv, w3, b, nv, out[b]);
     block_out(w.Y.data(), m, w3, b, nv, out[3 + b]);
@@ -398,12 +417,13 @@ std::int64_t impulse_dynamics_derivatives(const ModelView& mv, const S* q, const
     vp[i] = s;
   }
   // R₁ along q: RNEA at zero velocity without gravity, a = v⁺ − v⁻, with Λ on the bodies, plus the turn;
-  // R₂ = ∂(J u)/∂q at u = v⁺ + e v⁻. A = [−M⁻¹ R₁ | 1], R₂ = [∂(J u)/∂q | e J].
+  // R₂ = ∂(J u)/∂q at u = v⁺ + e v⁻. A = [−M⁻¹ R₁ | 1], R₂ = [∂(J u)/∂q | e J], so Z's v⁻ block J·1 + e J is
+  // (1 + e) J whole.
   w.u.resize(n), w.acc.resize(n);
   for (int i = 0; i < nv; ++i) w.u[i] = vp[i] + se * vm[i], w.acc[i] = vp[i] - vm[i];
   w.f.assign(static_cast<size_t>(6) * mv.nb, S(0.0));
   S* R1 = turn_matrix(specs, nc, n, w);
-  contact_terms(mv, q, w.u.data(), static_cast<const S*>(nullptr), false, Lam, specs, nc, w, R1);
+  contact_terms(mv, q, w.u.data(), static_cast<const S*>(nullptr), false, Lam, specs, nc, w, R1, true);
   w.dq.resize(n * n);
   rnea_derivatives(mv, q, static_cast<const S*>(nullptr), w.acc.data(), w.f.data(), false, w.dq.data(),
                    static_cast<S*>(nullptr), static_cast<S*>(nullptr));  // at rest: q̇ = 0
@@ -419,8 +439,8 @@ std::int64_t impulse_dynamics_derivatives(const ModelView& mv, const S* q, const
   }
   w.Z.resize(static_cast<size_t>(m) * w2);
   scaled_rows(mv, specs, nc, w2, 0, 0, 1.0, w);
-  scaled_rows(mv, specs, nc, w2, 1, 1, e, w);
-  correct(mv, m, w2, w);
+  scaled_rows(mv, specs, nc, w2, 1, 1, 1.0 + e, w);
+  correct(mv, m, w2, nv, w);
   for (int b = 0; b < 2; ++b) {
     block_out(w.X.data(), nv, w2, b, nv, out[b]);
     block_out(w.Y.data(), m, w2, b, nv, out[2 + b]);

@@ -333,6 +333,29 @@ inline PyObject* as_result(PyObject** outs, size_t no) {
   return t;
 }
 
+// Whether `record` is a class whose objects are tuples (a NamedTuple: as_tuple_record makes it).
+inline bool is_tuple_record(PyObject* record) {
+  return PyType_Check(record) && PyType_IsSubtype(reinterpret_cast<PyTypeObject*>(record), &PyTuple_Type);
+}
+
+// The outputs (stolen) as a record of cls, a subclass of tuple (a NamedTuple): tuple.__new__(cls, outputs), as
+// NamedTuple's _make makes it (cls's own __new__ only binds its arguments by name, and is passed over). New
+// reference, or nullptr with an exception set.
+inline PyObject* as_tuple_record(PyObject* cls, PyObject** outs, size_t no) {
+  static PyObject* const tuple_new = PyObject_GetAttrString(reinterpret_cast<PyObject*>(&PyTuple_Type), "__new__");
+  PyObject* t = PyTuple_New(static_cast<Py_ssize_t>(no));
+  if (t == nullptr || tuple_new == nullptr) {
+    Py_XDECREF(t);
+    for (size_t o = 0; o < no; ++o) Py_CLEAR(outs[o]);
+    return nullptr;
+  }
+  for (size_t o = 0; o < no; ++o) PyTuple_SET_ITEM(t, static_cast<Py_ssize_t>(o), outs[o]);
+  PyObject* args[2] = {cls, t};
+  PyObject* r = PyObject_Vectorcall(tuple_new, args, 2, nullptr);
+  Py_DECREF(t);
+  return r;
+}
+
 // Every declared algorithm (declarations.hpp's list), made once; their addresses are kept by the binding's public
 // calls. Defined in bindings.cpp, so that the kernels are instantiated in one translation unit.
 const std::vector<Kernel>& declared_kernels();

@@ -74,26 +74,48 @@ inline Motion<T> motion_sub(const Motion<T>& a, const Motion<T>& b) {
 template <class T>
 inline T vec_entry(const Vec3<T>& a, int r) { return r == 0 ? a.x : r == 1 ? a.y : a.z; }
 
-// Body i's world placement, columns ⁰S (into W at its dofs), velocity and acceleration (its parent's done).
+// Body i's world placement and columns ⁰S (into W at its dofs), its parent's placed.
 template <class T>
-inline void world_pass_body(const ModelView& mv, int i, const T* q, const T* qd, const T* qdd, WorldPassWork<T>& w) {
+inline void world_place_body(const ModelView& mv, int i, const T* q, WorldPassWork<T>& w) {
   Mat3<T> R;
   Vec3<T> p;
   place_body(mv, i, q, w.oR.data(), w.op.data(), R, p);
+  for (int c = 0; c < mv.nv_i[i]; ++c) {
+    const Motion<T> s = S_col<T>(mv, i, c);
+    const Vec3<T> sw = w.oR[i] * s.w;
+    w.W[mv.idx_v[i] + c] = Motion<T>{sw, w.oR[i] * s.v + cross(w.op[i], sw)};
+  }
+}
+
+// Body i's world velocity and acceleration (qdd nullptr: no q̈ term) from its columns, its parent's moved.
+template <class T>
+inline void world_move_body(const ModelView& mv, int i, const T* qd, const T* qdd, WorldPassWork<T>& w) {
   const Motion<T> zero{{T(0.0), T(0.0), T(0.0)}, {T(0.0), T(0.0), T(0.0)}};
   Motion<T> vJ = zero, aJ = zero;
   for (int c = 0; c < mv.nv_i[i]; ++c) {
     const int j = mv.idx_v[i] + c;
-    const Motion<T> s = S_col<T>(mv, i, c);
-    const Vec3<T> sw = w.oR[i] * s.w;
-    const Motion<T> col{sw, w.oR[i] * s.v + cross(w.op[i], sw)};
-    w.W[j] = col;
+    const Motion<T>& col = w.W[j];
     vJ = vJ + Motion<T>{qd[j] * col.w, qd[j] * col.v};
     if (qdd) aJ = aJ + Motion<T>{qdd[j] * col.w, qdd[j] * col.v};
   }
   const int lam = mv.parent[i];
   w.v[i] = lam == -1 ? vJ : w.v[lam] + vJ;
   w.a[i] = (lam == -1 ? aJ : w.a[lam] + aJ) + cross_motion(w.v[i], vJ);
+}
+
+// Body i's placement, columns, velocity and acceleration (its parent's done).
+template <class T>
+inline void world_pass_body(const ModelView& mv, int i, const T* q, const T* qd, const T* qdd, WorldPassWork<T>& w) {
+  world_place_body(mv, i, q, w);
+  world_move_body(mv, i, qd, qdd, w);
+}
+
+// The bodies from the root to `body` (−1: none) into path, root first; returns how many.
+inline int support_path(const ModelView& mv, int body, int* path) {
+  int n = 0;
+  for (int j = body; j != -1; j = mv.parent[j]) path[n++] = j;
+  std::reverse(path, path + n);
+  return n;
 }
 
 template <class T>
@@ -113,13 +135,11 @@ inline InertiaRate<T> rate_of_inertia(const RigidInertia<T>& I, const Motion<T>&
   return {{entry(0, 0), entry(0, 1), entry(0, 2), entry(1, 1), entry(1, 2), entry(2, 2)}, cross(v.w, I.h) + I.m * v.v};
 }
 
-// A frame's (moved to `point` in its coordinates, or nullptr) motion derivatives in `ref`, (6, nv) row-major
-// each, into out: ∂v/∂q, ∂v/∂q̇, ∂a/∂q, ∂a/∂q̇, ∂a^c/∂q, ∂a^c/∂q̇ (a^c = [ω̇; a_lin + ω × v_lin] in `ref`;
-// ∂a/∂q̈ = ∂a^c/∂q̈ = ∂v/∂q̇). An output given as nullptr is not formed. With `pose`, the frame's (at the point's)
-// world axes and origin there as well (frames.hpp's frame_pose, from the same pass).
+// kinematics_derivatives' outputs from a world pass already in w over the frame's support: the placements and
+// columns, and the velocities and accelerations unless ∂v/∂q̇ is the only output (then they are not read).
 template <class T>
-inline void kinematics_derivatives(const ModelView& mv, const T* q, const T* qd, const T* qdd, int frame,
-                                   const double* point, int ref, T* const* out, Pose<T>* pose = nullptr) {
+inline void frame_motion_derivatives(const ModelView& mv, int frame, const double* point, int ref, T* const* out,
+                                     Pose<T>* pose, WorldPassWork<T>& w) {
   const int nv = mv.nv;
   for (int o = 0; o < 6; ++o)
     if (out[o]) std::fill(out[o], out[o] + 6 * nv, T(0.0));
@@ -131,13 +151,10 @@ inline void kinematics_derivatives(const ModelView& mv, const T* q, const T* qd,
     }
     return;
   }
-  WorldPassWork<T>& w = thread_workspace<WorldPassWork<T>>(mv.nb);
-  w.W.resize(static_cast<size_t>(nv));
-  int n = 0;
-  for (int j = body; j != -1; j = mv.parent[j]) w.path[n++] = j;
-  std::reverse(w.path.begin(), w.path.begin() + n);  // root first
-  for (int s = 0; s < n; ++s) world_pass_body(mv, w.path[s], q, qd, qdd, w);
-  const Motion<T> vb = w.v[body], ab = w.a[body];
+  const int n = support_path(mv, body, w.path.data());
+  const bool moving = out[0] || out[2] || out[3] || out[4] || out[5];
+  const Motion<T> none{{T(0.0), T(0.0), T(0.0)}, {T(0.0), T(0.0), T(0.0)}};
+  const Motion<T> vb = moving ? w.v[body] : none, ab = moving ? w.a[body] : none;
   // the frame (at the point): ⁰M_f = ⁰M_b · placement (· translation), and ᶠX_0 its inverse as a motion transform
   const Mat3<T> Rfb = load9<T>(mv.frame_R + 9 * frame);
   Vec3<T> pfb = load3<T>(mv.frame_p + 3 * frame);
@@ -159,7 +176,6 @@ inline void kinematics_derivatives(const ModelView& mv, const T* q, const T* qd,
     if (ref == LOCAL) return d;
     return {Rf * (d.w + cross(sf.w, yf.w)), Rf * (d.v + cross(sf.w, yf.v))};
   };
-  const Motion<T> none{{T(0.0), T(0.0), T(0.0)}, {T(0.0), T(0.0), T(0.0)}};
   const Motion<T> vf = local(vb), af = local(ab), vr = in_ref(vf);
   auto put = [&](T* m, int col, const Motion<T>& x) {
     m[0 * nv + col] = x.w.x, m[1 * nv + col] = x.w.y, m[2 * nv + col] = x.w.z;
@@ -171,7 +187,8 @@ inline void kinematics_derivatives(const ModelView& mv, const T* q, const T* qd,
   Motion<T> Dvq = none, Dvv = none, Daq = none, Dav = none;
   for (int pos = 0; pos < n; ++pos) {
     const int k = w.path[pos];
-    const Motion<T> u = pos > 0 ? w.v[w.path[pos - 1]] : none, wk = pos > 0 ? w.a[w.path[pos - 1]] : none;
+    const Motion<T> u = moving && pos > 0 ? w.v[w.path[pos - 1]] : none;
+    const Motion<T> wk = moving && pos > 0 ? w.a[w.path[pos - 1]] : none;
     const Motion<T> vbu = motion_sub(vb, u);
     for (int c = 0; c < mv.nv_i[k]; ++c) {
       const int j = mv.idx_v[k] + c;
@@ -194,6 +211,20 @@ inline void kinematics_derivatives(const ModelView& mv, const T* q, const T* qd,
       if (out[5]) put(out[5], j, classical(Dav, Dvv));
     }
   }
+}
+
+// A frame's (moved to `point` in its coordinates, or nullptr) motion derivatives in `ref`, (6, nv) row-major
+// each, into out: ∂v/∂q, ∂v/∂q̇, ∂a/∂q, ∂a/∂q̇, ∂a^c/∂q, ∂a^c/∂q̇ (a^c = [ω̇; a_lin + ω × v_lin] in `ref`;
+// ∂a/∂q̈ = ∂a^c/∂q̈ = ∂v/∂q̇). An output given as nullptr is not formed. With `pose`, the frame's (at the point's)
+// world axes and origin there as well (frames.hpp's frame_pose, from the same pass).
+template <class T>
+inline void kinematics_derivatives(const ModelView& mv, const T* q, const T* qd, const T* qdd, int frame,
+                                   const double* point, int ref, T* const* out, Pose<T>* pose = nullptr) {
+  WorldPassWork<T>& w = thread_workspace<WorldPassWork<T>>(mv.nb);
+  w.W.resize(static_cast<size_t>(mv.nv));
+  const int n = support_path(mv, mv.frame_body[frame], w.path.data());
+  for (int s = 0; s < n; ++s) world_pass_body(mv, w.path[s], q, qd, qdd, w);
+  frame_motion_derivatives(mv, frame, point, ref, out, pose, w);
 }
 
 // The world pass over every body and the composites I^C, h^C, F^C, İ^C (qdd nullptr: F^C, İ^C not needed).

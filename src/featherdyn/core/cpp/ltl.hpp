@@ -411,6 +411,33 @@ void dense_cholesky_solve(const S* L, int m, S* x) {
   }
 }
 
+// X ← A⁻¹ X on the ncols columns of X (m, ncols) row-major at once, for the Cholesky factor C of dense_cholesky
+// (A = C Cᵀ): C Y = X from the first row down, then Cᵀ X = Y from the last row up. Each row is its entries less
+// a sum over the rows already solved, times its pivot's reciprocal, a few columns in registers at a time (the
+// sweeps' blocks above); m² ncols multiply-adds and no inverse formed. rows, ls: scratch of m entries each.
+template <class S>
+void dense_cholesky_solve_rows(const S* C, int m, S* X, int ncols, S** rows, S* ls) {
+  const auto solve_row = [&](int i, int n) {  // row i ← (row i − Σ_t ls[t] rows[t]) / C_ii
+    S* xi = X + static_cast<size_t>(i) * ncols;
+    const S inv = S(1.0) / C[i * m + i];
+    blocks_of(0, ncols, [&](auto B, int c) {
+      if constexpr (std::is_same_v<S, double>)
+        sweep_down_cols<B()>(xi + c, rows, ls, n, inv, c);
+      else
+        sweep_down_block<B()>(xi + c, rows, ls, n, inv, c);
+    });
+  };
+  for (int i = 0; i < m; ++i) {
+    for (int k = 0; k < i; ++k) rows[k] = X + static_cast<size_t>(k) * ncols, ls[k] = C[i * m + k];
+    solve_row(i, i);
+  }
+  for (int i = m - 1; i >= 0; --i) {
+    int n = 0;
+    for (int k = i + 1; k < m; ++k) rows[n] = X + static_cast<size_t>(k) * ncols, ls[n++] = C[k * m + i];
+    solve_row(i, n);
+  }
+}
+
 // The constrained dynamics of M q̈ + h = τ + Jᵀ λ, J q̈ = c (c: the constraint's right-hand side, e.g.
 // −γ − K_p e − K_d J q̇), by the Schur complement on the LᵀL factor (M is never inverted):
 //
