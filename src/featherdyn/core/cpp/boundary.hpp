@@ -105,12 +105,15 @@ inline RowStatus for_rows(std::int64_t items, const F& body, std::int64_t group 
   return first;
 }
 
+// The batched group kernels for this CPU (bindings.cpp).
+const fdgroup::GroupKernels& group_kernels();
+
 // A result that finite input overflowed (products beyond float64's range): NONFINITE on the output,
 // so the caller words it instead of returning inf or NaN.
-// (all_finite (checks.hpp) first: a talos mass matrix's 2 500 entries cost 1.3 µs through first_nonfinite's
-// early exit, which does not vectorise, and 0.1 µs there)
+// (the vectorised scan first, with this CPU's registers (finite_scan.inc): a talos mass matrix's 2 500 entries
+// cost 1.3 µs through first_nonfinite's early exit, which does not vectorise, and 0.1 µs there)
 inline std::int64_t finite_result(const double* x, std::int64_t n) {
-  if (all_finite(x, n)) return OK;
+  if (group_kernels().all_finite(x, n)) return OK;
   const std::int64_t k = first_nonfinite(x, n);
   return k < 0 ? OK : make_status(NONFINITE, ARG_OUT, k);
 }
@@ -119,9 +122,6 @@ inline std::int64_t finite_result(const double* x, std::int64_t n) {
 inline bool overlaps(const double* a, std::int64_t na, const double* b, std::int64_t nb) {
   return a != nullptr && b != nullptr && a < b + nb && b < a + na;
 }
-
-// The batched group kernels for this CPU (bindings.cpp).
-const fdgroup::GroupKernels& group_kernels();
 
 // Rows in groups of the kernels' width on the pool. Every row is checked; a full group runs the
 // Pack instantiation (lanes bit-identical to one state), the tail and any group whose packed run

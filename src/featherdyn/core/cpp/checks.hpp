@@ -33,18 +33,10 @@ inline std::int64_t make_status(std::int64_t code, std::int64_t arg, std::int64_
   return code | (arg << 3) | ((index < 0 ? 0 : index) << 8);
 }
 
-// Whether x[0 .. n) are all finite: an OR over the exponent fields, where (bits & exponent) + one reaches bit 63
-// only for the all-ones exponent of inf and NaN (no early exit: the loop vectorises).
-inline bool all_finite(const double* x, std::int64_t n) {
-  constexpr std::uint64_t EXPONENT = 0x7FF0000000000000ull, ONE = 0x0010000000000000ull;
-  std::uint64_t carry = 0;
-  for (std::int64_t k = 0; k < n; ++k) {
-    std::uint64_t u;
-    std::memcpy(&u, x + k, sizeof u);
-    carry |= (u & EXPONENT) + ONE;
-  }
-  return (carry >> 63) == 0;
-}
+#include "finite_scan.inc"
+
+// Whether x[0 .. n) are all finite (finite_scan.inc).
+inline bool all_finite(const double* x, std::int64_t n) { return finite_scan(x, n); }
 
 // The index of the first non-finite x[k], or −1 (an early-exit scan: only to name a failure all_finite found).
 inline std::int64_t first_nonfinite(const double* x, std::int64_t n) {

@@ -74,6 +74,7 @@ using SecondDerivativesFn = void (*)(const fdcore::ModelView&, const double* q, 
 using AbaSecondDerivativesFn = int (*)(const fdcore::ModelView&, const double* q, const double* qd, const double* tau,
                                        const double* f_ext, bool gravity, double* d2q, double* d2v, double* dqdv,
                                        double* dqdtau);
+using FiniteFn = bool (*)(const double* x, std::int64_t n);
 using ImpulseDerivativesFn = std::int64_t (*)(const fdcore::ModelView&, const double* q, const double* vm,
                                               const fdcore::ContactSpec* specs, int nc, int m, double e,
                                               double singular_tol, double* const* out);
@@ -95,6 +96,7 @@ struct GroupKernels {
   SecondDerivativesFn rnea_second_derivatives;  // (second_order.hpp: one state)
   AbaSecondDerivativesFn aba_second_derivatives;
   GroupFn contact_dynamics_derivatives_group, impulse_dynamics_derivatives_group;
+  FiniteFn all_finite;  // (checks.hpp: the scan of the outputs, boundary.hpp's finite_result)
 };
 
 }  // namespace fdgroup

@@ -452,7 +452,8 @@ inline fdgroup::GroupKernels group_kernels(const char* isa) {
           &dynamics_vjp_group<false>, &dynamics_vjp_group<true>, &crba_vjp_group,
           &kinematics_derivatives_group, &center_of_mass_derivatives_group, &centroidal_dynamics_derivatives_group,
           &contact_dynamics_derivatives<double>, &impulse_dynamics_derivatives<double>, &rnea_second_derivatives,
-          &aba_second_derivatives, &contact_dynamics_derivatives_group, &impulse_dynamics_derivatives_group};
+          &aba_second_derivatives, &contact_dynamics_derivatives_group, &impulse_dynamics_derivatives_group,
+          &finite_scan};
 }
 
 }  // namespace fdcore
