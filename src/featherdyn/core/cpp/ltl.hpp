@@ -242,6 +242,18 @@ inline void sweep_down_cols(double* x, double* const* rows, const double* ls, in
   acc.store(x);
 }
 
+// A whole row x (ncols entries) in the second sweep: x ← (x − Σ_t l_t · rows[t]) · inv, by blocks of columns
+// (sweep_down_cols on doubles, sweep_down_block on Packs).
+template <class S>
+inline void sweep_down_row(S* x, S* const* rows, const S* ls, int n, S inv, int ncols) {
+  blocks_of(0, ncols, [&](auto B, int c) {
+    if constexpr (std::is_same_v<S, double>)
+      sweep_down_cols<B()>(x + c, rows, ls, n, inv, c);
+    else
+      sweep_down_block<B()>(x + c, rows, ls, n, inv, c);
+  });
+}
+
 // ltl_sweeps' row pointers and factors (nv each).
 template <class S>
 struct SweepWork {
@@ -300,13 +312,7 @@ void ltl_sweeps(const ModelView& mv, const int* lambda, const S* L, S* X, int nc
   for (int k = 0; k < nv; ++k) {
     S* xk = X + static_cast<size_t>(k) * ncols;
     const int n = ancestors(k, false);
-    const S inv = S(1.0) / L[k * nv + k];
-    blocks_of(0, ncols, [&](auto B, int c) {
-      if constexpr (std::is_same_v<S, double>)
-        sweep_down_cols<B()>(xk + c, rows, ls, n, inv, c);
-      else
-        sweep_down_block<B()>(xk + c, rows, ls, n, inv, c);
-    });
+    sweep_down_row(xk, rows, ls, n, S(1.0) / L[k * nv + k], ncols);
   }
 }
 
@@ -418,14 +424,7 @@ void dense_cholesky_solve(const S* L, int m, S* x) {
 template <class S>
 void dense_cholesky_solve_rows(const S* C, int m, S* X, int ncols, S** rows, S* ls) {
   const auto solve_row = [&](int i, int n) {  // row i ← (row i − Σ_t ls[t] rows[t]) / C_ii
-    S* xi = X + static_cast<size_t>(i) * ncols;
-    const S inv = S(1.0) / C[i * m + i];
-    blocks_of(0, ncols, [&](auto B, int c) {
-      if constexpr (std::is_same_v<S, double>)
-        sweep_down_cols<B()>(xi + c, rows, ls, n, inv, c);
-      else
-        sweep_down_block<B()>(xi + c, rows, ls, n, inv, c);
-    });
+    sweep_down_row(X + static_cast<size_t>(i) * ncols, rows, ls, n, S(1.0) / C[i * m + i], ncols);
   };
   for (int i = 0; i < m; ++i) {
     for (int k = 0; k < i; ++k) rows[k] = X + static_cast<size_t>(k) * ncols, ls[k] = C[i * m + k];
