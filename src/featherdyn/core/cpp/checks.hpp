@@ -33,10 +33,7 @@ inline std::int64_t make_status(std::int64_t code, std::int64_t arg, std::int64_
   return code | (arg << 3) | ((index < 0 ? 0 : index) << 8);
 }
 
-#include "finite_scan.inc"
-
-// Whether x[0 .. n) are all finite (finite_scan.inc).
-inline bool all_finite(const double* x, std::int64_t n) { return finite_scan(x, n); }
+#include "finite_scan.inc"  // all_finite(x, n)
 
 // The index of the first non-finite x[k], or −1 (an early-exit scan: only to name a failure all_finite found).
 inline std::int64_t first_nonfinite(const double* x, std::int64_t n) {

@@ -221,7 +221,7 @@ inline void correct(const ModelView& mv, int m, int ncols, int free, ContactDeri
   add_product(w.J.data(), m, nv, w.X.data(), ncols, w.Z.data(), w.supp.data(), w.off.data(), w, free);
   w.Y.resize(static_cast<size_t>(m) * ncols);
   for (size_t k = 0; k < w.Y.size(); ++k) w.Y[k] = -w.Z[k];
-  w.solved.resize(static_cast<size_t>(m)), w.coef.resize(static_cast<size_t>(std::max(m, nv)));
+  w.solved.resize(static_cast<size_t>(m)), w.coef.resize(static_cast<size_t>(m));
   dense_cholesky_solve_rows(w.D.data(), m, w.Y.data(), ncols, w.solved.data(), w.coef.data());
   add_product(w.Pt.data(), nv, m, w.Y.data(), ncols, w.X.data(), nullptr, nullptr, w);
 }

@@ -453,7 +453,7 @@ inline fdgroup::GroupKernels group_kernels(const char* isa) {
           &kinematics_derivatives_group, &center_of_mass_derivatives_group, &centroidal_dynamics_derivatives_group,
           &contact_dynamics_derivatives<double>, &impulse_dynamics_derivatives<double>, &rnea_second_derivatives,
           &aba_second_derivatives, &contact_dynamics_derivatives_group, &impulse_dynamics_derivatives_group,
-          &finite_scan};
+          static_cast<fdgroup::FiniteFn>(&all_finite)};
 }
 
 }  // namespace fdcore
