@@ -215,6 +215,28 @@ def test_core_equals_reference(name: str) -> None:
     assert _rel(fd.rnea_second_derivatives(model, q, v, a).d2tau_dq2, with_forces) > 1e-6
 
 
+def test_large_states_are_computed_and_overflow_is_an_error() -> None:
+    """The core vouches for its tensors' finiteness while its factors stay under bounds (velocity components
+    under 2^170 ≈ 1.5e51); past them it scans the tensors: a large but finite result is returned, equal to the
+    reference, and an overflowing one (q̇ ~ 1e160, q̇² beyond float64) is an error naming the overflow, in one
+    state and in the row of a batch."""
+    model = fd.load_robot("panda")
+    rng = np.random.default_rng(8)
+    q, a = fd.random_configuration(model, rng), rng.normal(size=model.nv)
+    v = rng.normal(size=model.nv) * 1e60
+    core = fd.rnea_second_derivatives(model, q, v, a)
+    ref = fd.rnea_second_derivatives(model, q, v, a, backend="reference")
+    assert np.abs(core.d2tau_dq2).max() > 1e110  # q̇² terms: past the bounds, still finite
+    for x, y in zip(core, ref, strict=True):
+        assert np.isfinite(x).all()
+        assert np.abs(x - y).max() <= 1e-11 * np.abs(y).max()
+    huge = v * 1e100
+    with pytest.raises(fd.errors.NonFiniteError, match="overflowed"):
+        fd.rnea_second_derivatives(model, q, huge, a)
+    with pytest.raises(fd.errors.NonFiniteError, match=r"state \(1,\) of the batch"):
+        fd.rnea_second_derivatives(model, np.stack([q, q]), np.stack([v, huge]), a)
+
+
 def test_batch_equals_loop() -> None:
     model = _robot("solo12", True)
     rng = np.random.default_rng(7)

@@ -140,7 +140,7 @@ def run(name: str, model: Model, batch: tuple[int, ...], inputs: list[np.ndarray
     outs = out if out is not None else tuple(None if shape is None else result_array(shape) for shape in shapes)
     if N == 0:  # an empty batch: empty results
         return tuple(outs)
-    _row, status = k.batch(h.cm, rows, [None if o is None else o.reshape(N, -1) for o in outs], opts)
+    row, status = k.batch(h.cm, rows, [None if o is None else o.reshape(N, -1) for o in outs], opts)
     if status:
         names = spec.input_names
         q = inputs[0]  # (q, or q0 and then q1 among the vectors)
@@ -149,7 +149,8 @@ def run(name: str, model: Model, batch: tuple[int, ...], inputs: list[np.ndarray
         if _errors.decode(status)[0] == _errors.SINGULAR:
             _errors.validate(model, q, vectors, f_ext)
             raise_singular(spec, model, h, rows, opts)
-        _errors.raise_for(status, model, q, vectors, f_ext, arg_names=arg_names(spec), what=name)
+        _errors.raise_for(status, model, q, vectors, f_ext, arg_names=arg_names(spec), what=name,
+                          batch_index=tuple(int(i) for i in np.unravel_index(row, batch)) if row >= 0 else None)
     return tuple(outs)
 
 

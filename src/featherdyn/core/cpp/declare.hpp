@@ -93,11 +93,14 @@ struct Options {
 // `singular_block` gives that joint's D = Sᵀ Iᴬ S (6 × 6, row stride 6) whose smallest eigenvalue the error states.
 using SingularBlockFn = std::int64_t (*)(const ModelView&, const double* const* in, const struct Options&, double* D36);
 
-// What a declaration does not state: no options, no SIMD kernel, no detail of its status.
+// What a declaration does not state: no options, no SIMD kernel, no detail of its status, outputs scanned for
+// overflow by run_checked. `checks_outputs`: the kernel returns NONFINITE for an overflowed output itself (when it
+// can vouch for its outputs more cheaply than a scan of them: rnea_second_derivatives' mostly-zero tensors).
 struct Declared {
   static constexpr unsigned options = 0;
   static constexpr fdgroup::GroupFn fdgroup::GroupKernels::*group = nullptr;
   static constexpr SingularBlockFn singular_block = nullptr;
+  static constexpr bool checks_outputs = false;
 };
 
 constexpr int DECLARED_MAX = 8;  // inputs, and outputs, of one declaration at most
@@ -131,6 +134,7 @@ struct Kernel {
   unsigned options = 0;
   fdgroup::GroupFn fdgroup::GroupKernels::*group = nullptr;
   SingularBlockFn singular_block = nullptr;
+  bool checks_outputs = false;
   PublicCallKind free{}, bound{};
   Slots free_at{}, bound_at{};
 };
@@ -172,7 +176,7 @@ Kernel declare() {
                     !!(D::options & GRAVITY) <= PUBLIC_CALL_MAX_ARGS);  // model, inputs, the options, out
   Kernel k{D::name, std::vector<Operand>(std::begin(D::inputs), std::end(D::inputs)),
            std::vector<Operand>(std::begin(D::outputs), std::end(D::outputs)), &D::run, D::options, D::group,
-           D::singular_block};
+           D::singular_block, D::checks_outputs};
   declared::parameters(k, true, k.free, k.free_at);
   declared::parameters(k, false, k.bound, k.bound_at);
   return k;
@@ -210,12 +214,12 @@ inline std::int64_t check_options(const Kernel& k, const ModelView& mv, const Op
   return OK;
 }
 
-// Run the kernel on one checked state and check its outputs for overflow.
+// Run the kernel on one checked state and check its outputs for overflow (unless the kernel does).
 inline std::int64_t run_checked(const Kernel& k, const ModelView& mv, const double* const* in, double* const* out,
                                 const Options& opt) {
   FD_TRY(check_inputs(k, mv, in));
   FD_TRY(k.run(mv, in, out, opt));
-  for (size_t o = 0; o < k.outputs.size(); ++o)
+  for (size_t o = 0; !k.checks_outputs && o < k.outputs.size(); ++o)
     if (out[o] != nullptr) FD_TRY(finite_result(out[o], size_of(mv, opt, k.outputs[o])));
   return OK;
 }

@@ -68,7 +68,7 @@ using ContactDerivativesFn = std::int64_t (*)(const fdcore::ModelView&, const do
                                               const double* f_ext, const double* qdd, const double* lam,
                                               const fdcore::ContactSpec* specs, int nc, int m, double singular_tol,
                                               double* const* out);
-using SecondDerivativesFn = void (*)(const fdcore::ModelView&, const double* q, const double* qd, const double* qdd,
+using SecondDerivativesFn = bool (*)(const fdcore::ModelView&, const double* q, const double* qd, const double* qdd,
                                      const double* f_ext, bool gravity, double* d2q, double* d2v, double* dqdv,
                                      double* dM);
 using AbaSecondDerivativesFn = int (*)(const fdcore::ModelView&, const double* q, const double* qd, const double* tau,
@@ -93,7 +93,7 @@ struct GroupKernels {
   GroupFn kinematics_derivatives, center_of_mass_derivatives, centroidal_dynamics_derivatives;
   ContactDerivativesFn contact_dynamics_derivatives;  // (contact_derivatives.hpp: one state, dense products)
   ImpulseDerivativesFn impulse_dynamics_derivatives;
-  SecondDerivativesFn rnea_second_derivatives;  // (second_order.hpp: one state)
+  SecondDerivativesFn rnea_second_derivatives;  // (second_order.hpp: one state; false: scan the outputs)
   AbaSecondDerivativesFn aba_second_derivatives;
   GroupFn contact_dynamics_derivatives_group, impulse_dynamics_derivatives_group;
   FiniteFn all_finite;  // (checks.hpp: the scan of the outputs, boundary.hpp's finite_result)

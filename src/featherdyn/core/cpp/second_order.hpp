@@ -120,7 +120,7 @@ inline int aba_second_derivatives(const ModelView& mv, const double* q, const do
   const int bad = aba_derivatives(mv, lambda, q, qd, tau, f_ext, gravity, qdd, Fq, Fv, Minv, scratch);
   if (bad >= 0) return bad;
   const double* L = scratch;
-  rnea_second_derivatives(mv, q, qd, qdd, f_ext, gravity, d2q, d2v, dqdv, dM.data());
+  rnea_second_derivatives(mv, q, qd, qdd, f_ext, gravity, d2q, d2v, dqdv, dM.data());  // (outputs scanned)
   add_dM_products(nv, dM.data(), Fq, Fv, Minv, d2q, dqdv, dqdtau, P);
   for (int i = 0; i < mv.nb; ++i)
     for (int c = 0; c < mv.nv_i[i]; ++c) from_v[mv.idx_v[i] + c] = mv.idx_v[i] + c, from_q[mv.idx_v[i] + c] = mv.idx_v[i];
