@@ -405,6 +405,50 @@ def test_a_named_tuple_record_is_made_in_c_as_its_class_makes_it() -> None:
     assert [sys.getrefcount(x) for x in watched] == before
 
 
+def test_a_named_tuple_records_out_is_written_in_c() -> None:
+    """With out= (an array for each output, every output always formed), a NamedTuple record's call stays in C:
+    the record of the given arrays themselves, with the fresh call's bits. Arrays the kernel does not take as they
+    are (a wrong dtype, shape or count, an output over an input) go to the Python path; no reference is kept."""
+    model = tree(TREE_NAMES[2])
+    st = random_state(model, 5)
+    n = model.nv
+    fresh = fd.rnea_second_derivatives(model, st.q, st.v, st.a)
+    f, spy = _spied("rnea_second_derivatives")
+    outs = tuple(np.full((n, n, n), np.nan) for _ in range(4))
+    r = f(model, st.q, st.v, st.a, out=outs)
+    assert not spy.calls
+    assert type(r) is fd.RneaSecondDerivatives and all(x is y for x, y in zip(r, outs, strict=True))
+    for x, y in zip(r, fresh, strict=True):
+        np.testing.assert_array_equal(x, y)
+    r = fd.rnea_second_derivatives(model, st.q, st.v, st.a, out=outs)  # the public function: the same
+    assert type(r) is fd.RneaSecondDerivatives and all(x is y for x, y in zip(r, outs, strict=True))
+    shared = np.zeros((n, n, n))
+    v_in_out = shared.reshape(-1)[n:2 * n]  # an input inside an output's memory
+    v_in_out[:] = st.v
+    declined = [
+        (outs[0].astype(np.float32),) + outs[1:],
+        outs[:3],
+        (np.empty((n, n, n + 1)),) + outs[1:],
+        list(outs),
+    ]
+    for bad in declined:
+        spy.calls.clear()
+        assert f(model, st.q, st.v, st.a, out=bad) == "general"
+        assert len(spy.calls) == 1 and spy.calls[0][1]["out"] is bad
+    spy.calls.clear()
+    overlap = (shared,) + outs[1:]
+    assert f(model, st.q, v_in_out, st.a, out=overlap) == "general" and len(spy.calls) == 1
+    r = fd.rnea_second_derivatives(model, st.q, v_in_out, st.a, out=overlap)  # the one rule: as without out=
+    assert r.d2tau_dq2 is shared
+    for x, y in zip(r, fresh, strict=True):
+        np.testing.assert_array_equal(x, y)
+    watched = (model, st.q, st.v, st.a, *outs, fd.RneaSecondDerivatives)
+    before = [sys.getrefcount(x) for x in watched]
+    for _ in range(200):
+        fd.rnea_second_derivatives(model, st.q, st.v, st.a, out=outs)
+    assert [sys.getrefcount(x) for x in watched] == before
+
+
 def test_compiled_fk_writes_out_or_declines() -> None:
     model = tree(TREE_NAMES[2])
     cm = fd.compile(model)

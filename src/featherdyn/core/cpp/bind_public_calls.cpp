@@ -153,8 +153,9 @@ const ModelData& bound_model(const PublicCall* f) { return *nb::inst_ptr<ModelDa
 // LOCAL_WORLD_ALIGNED, record)), or fd.compile's method (*inputs, ...) bound to the core's Model (extra = (its
 // Kernel, the frame table, LOCAL, WORLD, LOCAL_WORLD_ALIGNED, record)): its arguments where the Kernel's slots say —
 // a frame by name or index, a reference by identity with the enums; out= absent: run_fresh and the result its
-// record makes (pc::result_of), else run_into the given array (a tuple of them for several outputs; with a record,
-// declined: the Python path writes the arrays and makes the record of them).
+// record makes (pc::result_of), else run_into the given array (a tuple of them for several outputs), returned, or
+// with a NamedTuple record the record of them (with any other record, declined: the Python path writes the arrays
+// and makes the record of them).
 PyObject* fdcore::declared_path(PublicCall* f, PyObject* const* a) {
   const bool is_bound = f->bound != nullptr;
   const Kernel& k = *nb::inst_ptr<Kernel>(nb::handle(PyTuple_GET_ITEM(f->extra, is_bound ? 0 : 1)));
@@ -176,14 +177,20 @@ PyObject* fdcore::declared_path(PublicCall* f, PyObject* const* a) {
     if (!run_fresh(k, md->view, in, opt, outs, PyTuple_CheckExact(record))) return nullptr;
     return pc::result_of(record, is_bound ? Py_None : a[0], outs, k.outputs.size());
   }
-  if (record != Py_None) return nullptr;
-  PyObject* outs[DECLARED_MAX] = {out};
   const Py_ssize_t no = static_cast<Py_ssize_t>(k.outputs.size());
+  // a NamedTuple record of several outputs, each always formed: the record of the given arrays themselves
+  bool tuple_record = record != Py_None && is_tuple_record(record) && no > 1;
+  for (Py_ssize_t o = 0; tuple_record && o < no; ++o) tuple_record = k.outputs[static_cast<size_t>(o)].when < 0;
+  if (record != Py_None && !tuple_record) return nullptr;
+  PyObject* outs[DECLARED_MAX] = {out};
   if (no > 1) {
     if (!PyTuple_CheckExact(out) || PyTuple_GET_SIZE(out) != no) return nullptr;
     for (Py_ssize_t o = 0; o < no; ++o) outs[o] = PyTuple_GET_ITEM(out, o);
   }
-  return run_into(k, md->view, in, outs, opt) == OK ? Py_NewRef(out) : nullptr;
+  if (run_into(k, md->view, in, outs, opt) != OK) return nullptr;
+  if (!tuple_record) return Py_NewRef(out);
+  for (Py_ssize_t o = 0; o < no; ++o) Py_INCREF(outs[o]);  // (as_tuple_record steals them)
+  return as_tuple_record(record, outs, static_cast<size_t>(no));
 }
 
 namespace {
