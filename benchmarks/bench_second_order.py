@@ -11,7 +11,8 @@ Ratio = second order / differencing (below 1: the second order is faster; the is
 second order returns four (nv, nv, nv) arrays, 4 MB on talos_full_v2: a fresh result's pages are faulted in on
 the first write, which on this machine costs more than the kernel: since 2026-11-29 (evening) such a result
 reuses the memory of one the caller dropped (the batches' result pool), as the loop here does. The ``out=`` rows
-call the public function on arrays allocated once (``fd.rnea_second_derivatives(..., out=outs)``).
+call the public function on arrays allocated once (``fd.rnea_second_derivatives(..., out=outs)``: since 2026-11-30
+in C, the record of the given arrays).
 The load average is printed: the 2-core sandbox is shared.
 """
 

@@ -63,12 +63,10 @@ def eig_min(D36: np.ndarray, k: int) -> float:
 
 
 def raise_for(status: int, model: Model, q: Any, vectors: Sequence[tuple[str, Any]] = (), f_ext: Any = None,
-              arg_names: Sequence[str] = ARG_NAMES, what: str = "featherdyn.core",
-              batch_index: tuple[int, ...] | None = None) -> NoReturn:
+              arg_names: Sequence[str] = ARG_NAMES, what: str = "featherdyn.core") -> NoReturn:
     """Raise the reference's exception for a failed core call (see the module docstring).
 
-    ``what`` names the computation in the overflow message (as the public functions do); ``arg_names[0]``: q's name;
-    ``batch_index``: the failing state's index in a batch (the overflow message names it).
+    ``what`` names the computation in the overflow message (as the public functions do); ``arg_names[0]``: q's name.
     """
     validate(model, q, vectors, f_ext, arg_names[0])
     code, arg, index = decode(status)
@@ -77,8 +75,7 @@ def raise_for(status: int, model: Model, q: Any, vectors: Sequence[tuple[str, An
         raise ShapeError(f"{name}: wrong length {index} for model {model.name!r} (nq={model.nq}, nv={model.nv}, "
                          f"nb={model.nbodies})")
     if code == NONFINITE and name == "out":
-        at = "" if batch_index is None else f", state {batch_index} of the batch"
-        raise NonFiniteError.overflowed(what, f"a non-finite value at flat index {index}{at}")
+        raise NonFiniteError.overflowed(what, f"a non-finite value at flat index {index}")
     if code == NONFINITE:
         raise NonFiniteError(f"{name}: expected finite numbers, got a non-finite value at flat index {index}")
     if code == QUATERNION:

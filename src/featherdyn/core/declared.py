@@ -92,7 +92,7 @@ def run(name: str, model: Model, batch: tuple[int, ...], inputs: list[np.ndarray
     (``None`` for an absent optional one); ``out``, when given, holds the outputs to write into (C-contiguous
     float64, checked by the caller; their shapes are checked here, and an ``out`` that may share memory with an
     input gets the results through fresh memory); ``options`` its parameters by name (:func:`call_options`). A failing row
-    raises the reference's error for the whole batch (``_errors.raise_for``, naming the row as NumPy would); ``SINGULAR``, ABA's, as the reference words it
+    raises the reference's error for the whole batch (``_errors.raise_for``; an overflow names the state's batch index); ``SINGULAR``, ABA's, as the reference words it
     (:func:`raise_singular`).
     """
     spec = SPECS[name]
@@ -142,15 +142,14 @@ def run(name: str, model: Model, batch: tuple[int, ...], inputs: list[np.ndarray
         return tuple(outs)
     row, status = k.batch(h.cm, rows, [None if o is None else o.reshape(N, -1) for o in outs], opts)
     if status:
-        names = spec.input_names
         q = inputs[0]  # (q, or q0 and then q1 among the vectors)
-        vectors = [(n, x) for n, x in zip(names, inputs, strict=True) if n in _errors.VECTORS and x is not None]
-        f_ext = inputs[names.index("f_ext")] if "f_ext" in names else None
+        vectors = [(n, x) for n, x in given.items() if n in _errors.VECTORS and x is not None]
+        f_ext = given.get("f_ext")
         if _errors.decode(status)[0] == _errors.SINGULAR:
             _errors.validate(model, q, vectors, f_ext)
             raise_singular(spec, model, h, rows, opts)
-        _errors.raise_for(status, model, q, vectors, f_ext, arg_names=arg_names(spec), what=name,
-                          batch_index=tuple(int(i) for i in np.unravel_index(row, batch)) if row >= 0 else None)
+        state = f" (state {tuple(map(int, np.unravel_index(row, batch)))} of the batch)" if batch and row >= 0 else ""
+        _errors.raise_for(status, model, q, vectors, f_ext, arg_names=arg_names(spec), what=name + state)
     return tuple(outs)
 
 
