@@ -74,12 +74,12 @@ FD_INLINE void components(const Motion<double>& m, double* x) {
   x[0] = m.w.x, x[1] = m.w.y, x[2] = m.w.z, x[3] = m.v.x, x[4] = m.v.y, x[5] = m.v.z;
 }
 
-// Bounds under which no entry overflows. A pair's force (u… below) is a sum of at most 24 products (u4's: the 4
-// of u9 and the 4 × 5 of s ×* (I^C S_j); an inertia times a motion has 5 per component, a cross product 4), each
-// of one of p's operators' numbers (Q1, Q3, I^C, I^C s, g3, D^Cᵀ s, f5, f7: below 2^500) and one or two motion
-// components (S, ψ̇, ψ̈, ψ̇ + φ̇ of any column: below 2^170), so below 24 · 2^840 < 2^845; an entry is one dot
-// product of a force with a motion, or two summed: below 2 · 6 · 2^845 · 2^170 < 2^1019, and float64's largest
-// is just under 2^1024. The bits of 2^e are (e + 1023) · 2^52.
+// Bounds under which no entry overflows. A pair's force (u… below) is a sum of at most 20 products (u4's: the 4
+// of u9 and the 2 · 5 + 2 · 3 of s ×* (I^C S_j); an inertia times a motion has at most 5 per component, a cross
+// product 4), each of one of p's operators' numbers (Q1, Q3, I^C, I^C s, g3, D^Cᵀ s, f5, f7: below 2^500) and one
+// or two motion components (S, ψ̇, ψ̈, ψ̇ + φ̇ of any column: below 2^170), so below 20 · 2^840 < 2^845; an entry
+// is one dot product of a force with a motion, or two summed: below 2 · 6 · 2^845 · 2^170 < 2^1019, and float64's
+// largest is just under 2^1024. The bits of 2^e are (e + 1023) · 2^52.
 constexpr std::uint64_t OPERATOR_BOUND = std::uint64_t{500 + 1023} << 52,
                         MOTION_BOUND = std::uint64_t{170 + 1023} << 52;
 
@@ -124,7 +124,6 @@ FD_INLINE PairForces<S> pair_forces(const PairOperators<S>& o, const Motion<S>& 
   return u;
 }
 
-FD_INLINE Pack lanes_of(double x) { return Pack(x); }
 FD_INLINE Vec3<Pack> lanes_of(const Vec3<double>& a) { return {a.x, a.y, a.z}; }
 FD_INLINE Motion<Pack> lanes_of(const Motion<double>& m) { return {lanes_of(m.w), lanes_of(m.v)}; }
 FD_INLINE Force<Pack> lanes_of(const Force<double>& f) { return {lanes_of(f.n), lanes_of(f.f)}; }
@@ -152,8 +151,8 @@ struct SecondOrderPath {
 
 // (∂²τ/∂q², ∂²τ/∂q̇², ∂²τ/∂q∂q̇, ∂M/∂q) (each (nv, nv, nv) row-major; [i, j, k] = ∂²τ_i/∂x_j∂y_k, q's
 // derivatives along fd.integrate's tangent, X_k applied last; dM [i, j, k] = X_k M_ij) of
-// τ = RNEA(q, q̇, q̈, f_ext). See the file comment. Returns whether every factor was within the bounds above, so that every entry is finite
-// (all_below, which a NaN fails); false: the caller scans the outputs.
+// τ = RNEA(q, q̇, q̈, f_ext). See the file comment. Returns whether every factor was within the bounds above, so
+// that every entry is finite (all_below, which a NaN fails); false: the caller scans the outputs.
 inline bool rnea_second_derivatives(const ModelView& mv, const double* q, const double* qd, const double* qdd,
                                     const double* f_ext, bool gravity, double* d2q, double* d2v, double* dqdv,
                                     double* dM) {
@@ -188,7 +187,8 @@ inline bool rnea_second_derivatives(const ModelView& mv, const double* q, const 
     size_t np = 0;  // i's path, i's columns first, then its ancestors' (each joint's in order)
     for (int j = i; j != -1; j = mv.parent[j]) {
       const size_t start = np;
-      for (int c = 0; c < mv.nv_i[j]; ++c, ++np) path.column[np] = mv.idx_v[j] + c, path.first[np] = static_cast<int>(start);
+      for (int c = 0; c < mv.nv_i[j]; ++c, ++np)
+        path.column[np] = mv.idx_v[j] + c, path.first[np] = static_cast<int>(start);
       for (size_t t = start; t < np; ++t) path.end[t] = static_cast<int>(np), path.moving[t] = mv.parent[j] != -1;
     }
     const size_t ni = static_cast<size_t>(mv.nv_i[i]);
