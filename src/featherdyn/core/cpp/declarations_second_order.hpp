@@ -22,12 +22,9 @@ struct RneaSecondDerivatives : Declared {
   static constexpr unsigned options = GRAVITY;
   static constexpr bool checks_outputs = true;  // the kernel bounds its factors; beyond them, the outputs are scanned
   static std::int64_t run(const ModelView& mv, const double* const* in, double* const* out, const Options& opt) {
-    if (group_kernels().rnea_second_derivatives(mv, in[0], in[1], in[2], in[3], opt.gravity, out[0], out[1], out[2],
-                                                out[3]))
-      return OK;
-    const std::int64_t n3 = std::int64_t{mv.nv} * mv.nv * mv.nv;
-    for (int o = 0; o < 4; ++o) FD_TRY(finite_result(out[o], n3));
-    return OK;
+    const bool bounded = group_kernels().rnea_second_derivatives(mv, in[0], in[1], in[2], in[3], opt.gravity,
+                                                                 out[0], out[1], out[2], out[3]);
+    return bounded ? OK : declared::finite_outputs(mv, opt, outputs, std::size(outputs), out);
   }
 };
 

@@ -214,14 +214,21 @@ inline std::int64_t check_options(const Kernel& k, const ModelView& mv, const Op
   return OK;
 }
 
+// The overflow check of a state's outputs (the no declared operands, nullptr where not formed): NONFINITE naming
+// the first non-finite entry, or OK.
+inline std::int64_t finite_outputs(const ModelView& mv, const Options& opt, const Operand* outputs, size_t no,
+                                   double* const* out) {
+  for (size_t o = 0; o < no; ++o)
+    if (out[o] != nullptr) FD_TRY(finite_result(out[o], size_of(mv, opt, outputs[o])));
+  return OK;
+}
+
 // Run the kernel on one checked state and check its outputs for overflow (unless the kernel does).
 inline std::int64_t run_checked(const Kernel& k, const ModelView& mv, const double* const* in, double* const* out,
                                 const Options& opt) {
   FD_TRY(check_inputs(k, mv, in));
   FD_TRY(k.run(mv, in, out, opt));
-  for (size_t o = 0; !k.checks_outputs && o < k.outputs.size(); ++o)
-    if (out[o] != nullptr) FD_TRY(finite_result(out[o], size_of(mv, opt, k.outputs[o])));
-  return OK;
+  return k.checks_outputs ? OK : finite_outputs(mv, opt, k.outputs.data(), k.outputs.size(), out);
 }
 
 // An operand of one state: an array of exactly the declared shape (a wrong one: a LENGTH status naming it).
