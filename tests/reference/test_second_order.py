@@ -14,7 +14,7 @@ from collections.abc import Callable
 
 import numpy as np
 import pytest
-from _models import TREES, library_robot, random_q, tree
+from _models import TREES, library_robot, random_axis, random_inertia, random_placement, random_q, tree
 
 import featherdyn as fd
 import featherdyn.core as fdcore
@@ -213,6 +213,34 @@ def test_core_equals_reference(name: str) -> None:
     # the external forces change the result (they are not dropped on the way)
     with_forces = fd.rnea_second_derivatives(model, q, v, a, fx).d2tau_dq2
     assert _rel(fd.rnea_second_derivatives(model, q, v, a).d2tau_dq2, with_forces) > 1e-6
+
+
+def _branched_model(parents: list[int], seed: int) -> fd.Model:
+    """A tree of revolute, spherical and prismatic joints hung from ``parents`` (only ``parent[i] < i``)."""
+    rng = np.random.default_rng(seed)
+    kinds = [fd.RevoluteJoint, fd.SphericalJoint, fd.PrismaticJoint]
+    b = fd.ModelBuilder("branched")
+    for i, p in enumerate(parents):
+        kind = kinds[i % 3]
+        joint = kind() if kind is fd.SphericalJoint else kind(random_axis(rng))
+        b.add_body(f"b{i}", p, joint, placement=random_placement(rng), inertia=random_inertia(rng))
+    return b.build()
+
+
+@pytest.mark.parametrize("parents", [[-1, 0, 1, 1, 0, 4, 4, 6], [-1, 0, 0, 1, 2, 1, 3]],
+                         ids=["depth-first", "not depth-first"])
+def test_aba_core_equals_reference_on_branched_trees(parents: list[int]) -> None:
+    """The core solves only the entries of ``−M⁻¹ T`` that the tree lets be nonzero in its first sweep (where the
+    numbering is depth-first; every entry otherwise): on trees with several branches, numbered depth-first and
+    not (``d`` after its uncle), it equals the reference, which solves densely."""
+    model = _branched_model(parents, len(parents))
+    rng = np.random.default_rng(9)
+    q = random_q(model, rng)
+    v, tau = rng.normal(size=model.nv), rng.normal(size=model.nv)
+    core = fd.aba_second_derivatives(model, q, v, tau)
+    ref = fd.aba_second_derivatives(model, q, v, tau, backend="reference")
+    assert max(_rel(x, y) for x, y in zip(core, ref, strict=True)) < 1e-10
+    assert min(np.abs(x).max() for x in core) > 1e-3  # none of the four is trivially zero
 
 
 def test_large_states_are_computed_and_overflow_is_an_error() -> None:

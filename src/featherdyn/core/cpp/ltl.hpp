@@ -242,11 +242,11 @@ inline void sweep_down_cols(double* x, double* const* rows, const double* ls, in
   acc.store(x);
 }
 
-// A whole row x (ncols entries) in the second sweep: x ← (x − Σ_t l_t · rows[t]) · inv, by blocks of columns
+// The columns [c0, c1) of row x in the second sweep: x ← (x − Σ_t l_t · rows[t]) · inv, by blocks of columns
 // (sweep_down_cols on doubles, sweep_down_block on Packs).
 template <class S>
-inline void sweep_down_row(S* x, S* const* rows, const S* ls, int n, S inv, int ncols) {
-  blocks_of(0, ncols, [&](auto B, int c) {
+inline void sweep_down_row(S* x, S* const* rows, const S* ls, int n, S inv, int c0, int c1) {
+  blocks_of(c0, c1, [&](auto B, int c) {
     if constexpr (std::is_same_v<S, double>)
       sweep_down_cols<B()>(x + c, rows, ls, n, inv, c);
     else
@@ -264,40 +264,34 @@ struct SweepWork {
   }
 };
 
-// The two sweeps of ltl_solve_Lt / ltl_solve_L on the rows of X (nv, ncols) row-major, each pivot's reciprocal
-// taken once (a row is scaled by multiplications, not ncols divisions). The first sweep runs, in each block of
-// `width` columns, on the runs of `support` in row k (every column when support is null); the second on every
-// column. negate: X ← −M⁻¹ X instead, by the same operations on −X: the first sweep keeps its rows as they are
-// until their turn and stores each finished row negated (an update adds l·(−x_k) where it subtracted l·x_k,
-// the scaling multiplies by −1/L_kk), and the second sweep is linear. IEEE arithmetic being symmetric in sign,
-// every entry is the negation of the plain result (up to the sign of a zero) with no pass of its own.
-template <class S>
-void ltl_sweeps(const ModelView& mv, const int* lambda, const S* L, S* X, int ncols, int width,
-                const RowSupport* support, bool negate) {
+// The two sweeps of ltl_solve_Lt / ltl_solve_L on the columns of X's nv rows (`stride` apart) that
+// `columns(op)` gives as runs op(c0, c1) (the columns are solved independently: the others are left as they
+// are), each pivot's reciprocal taken once (a row is scaled by multiplications, not divisions). The first sweep
+// runs on the runs, within those, that `runs(k, op)` gives row k: the caller's statement that row k is zero
+// outside them when its turn comes (a pattern the sweep keeps: a row adds only into its ancestors, whose runs
+// hold its own); the second sweep on all of `columns`. negate: X ← −M⁻¹ X instead, by the same operations on −X: the first sweep
+// keeps its rows as they are until their turn and stores each finished row negated (an update adds l·(−x_k)
+// where it subtracted l·x_k, the scaling multiplies by −1/L_kk), and the second sweep is linear. IEEE arithmetic
+// being symmetric in sign, every entry is the negation of the plain result (up to the sign of a zero) with no
+// pass of its own.
+template <class S, class Columns, class Runs>
+void ltl_sweeps(const ModelView& mv, const int* lambda, const S* L, S* X, size_t stride, const Columns& columns,
+                const Runs& runs, bool negate) {
   const int nv = mv.nv;
-  auto runs = [&](int k, auto&& op) {
-    for (int b = 0; b < ncols; b += width) {
-      if (support == nullptr) {
-        op(b, b + width);
-        continue;
-      }
-      for (int s = support->off[k]; s < support->off[k + 1]; ++s) op(b + support->seg[2 * s], b + support->seg[2 * s + 1]);
-    }
-  };
   SweepWork<S>& w = thread_workspace<SweepWork<S>>(nv);  // row k's ancestors and their factors, deepest first
   S** rows = w.rows.data();
   S* ls = w.ls.data();
   auto ancestors = [&](int k, bool neg) {
     int n = 0;
     for (int i = lambda[k]; i != -1; i = lambda[i], ++n)
-      rows[n] = X + static_cast<size_t>(i) * ncols, ls[n] = neg ? -L[k * nv + i] : L[k * nv + i];
+      rows[n] = X + static_cast<size_t>(i) * stride, ls[n] = neg ? -L[k * nv + i] : L[k * nv + i];
     return n;
   };
   // A few columns at a time, kept in registers through all of the row's ancestors: B Packs (sweep_*_block),
   // or for one state B doubles as one vector (sweep_*_cols). Each entry sees the same operations in the same
   // order either way (the lanes stay bit-identical to one state).
   for (int k = nv - 1; k >= 0; --k) {
-    S* xk = X + static_cast<size_t>(k) * ncols;
+    S* xk = X + static_cast<size_t>(k) * stride;
     const int n = ancestors(k, negate);
     const S inv = S(negate ? -1.0 : 1.0) / L[k * nv + k];
     runs(k, [&](int c0, int c1) {
@@ -310,16 +304,18 @@ void ltl_sweeps(const ModelView& mv, const int* lambda, const S* L, S* X, int nc
     });
   }
   for (int k = 0; k < nv; ++k) {
-    S* xk = X + static_cast<size_t>(k) * ncols;
+    S* xk = X + static_cast<size_t>(k) * stride;
     const int n = ancestors(k, false);
-    sweep_down_row(xk, rows, ls, n, S(1.0) / L[k * nv + k], ncols);
+    const S inv = S(1.0) / L[k * nv + k];
+    columns([&](int c0, int c1) { sweep_down_row(xk, rows, ls, n, inv, c0, c1); });
   }
 }
 
 // X ← M⁻¹ X = L⁻¹ L⁻ᵀ X on the ncols columns of X (nv, ncols) row-major at once (negate: X ← −M⁻¹ X).
 template <class S>
 void ltl_solve_rows(const ModelView& mv, const int* lambda, const S* L, S* X, int ncols, bool negate = false) {
-  ltl_sweeps(mv, lambda, L, X, ncols, ncols, static_cast<const RowSupport*>(nullptr), negate);
+  auto all = [&](auto&& op) { op(0, ncols); };
+  ltl_sweeps(mv, lambda, L, X, static_cast<size_t>(ncols), all, [&](int, auto&& op) { all(op); }, negate);
 }
 
 // ltl_solve_rows on X = [B_1 … B_blocks], nv columns each, whose row k is zero outside the columns of k's
@@ -333,7 +329,12 @@ void ltl_solve_rows_tree_pattern(const ModelView& mv, const int* lambda, const S
                                  bool negate = false) {
   RowSupport support{};
   if (!row_supports(lambda, mv.nv, support)) return ltl_solve_rows(mv, lambda, L, X, blocks * mv.nv, negate);
-  ltl_sweeps(mv, lambda, L, X, blocks * mv.nv, mv.nv, &support, negate);
+  const int nv = mv.nv;
+  auto runs = [&](int k, auto&& op) {  // row k's support in each block of nv columns
+    for (int b = 0; b < blocks * nv; b += nv)
+      for (int s = support.off[k]; s < support.off[k + 1]; ++s) op(b + support.seg[2 * s], b + support.seg[2 * s + 1]);
+  };
+  ltl_sweeps(mv, lambda, L, X, static_cast<size_t>(blocks * nv), [&](auto&& op) { op(0, blocks * nv); }, runs, negate);
 }
 
 template <class S>
@@ -424,7 +425,7 @@ void dense_cholesky_solve(const S* L, int m, S* x) {
 template <class S>
 void dense_cholesky_solve_rows(const S* C, int m, S* X, int ncols, S** rows, S* ls) {
   const auto solve_row = [&](int i, int n) {  // row i ← (row i − Σ_t ls[t] rows[t]) / C_ii
-    sweep_down_row(X + static_cast<size_t>(i) * ncols, rows, ls, n, S(1.0) / C[i * m + i], ncols);
+    sweep_down_row(X + static_cast<size_t>(i) * ncols, rows, ls, n, S(1.0) / C[i * m + i], 0, ncols);
   };
   for (int i = 0; i < m; ++i) {
     for (int k = 0; k < i; ++k) rows[k] = X + static_cast<size_t>(k) * ncols, ls[k] = C[i * m + k];

@@ -33,60 +33,91 @@
 
 namespace fdcore {
 
+// y ← y + c x on n entries (x, y not overlapping: the loop is vectorised).
+inline void add_scaled(size_t n, double c, const double* __restrict x, double* __restrict y) {
+  for (size_t k = 0; k < n; ++k) y[k] += c * x[k];
+}
+
 // The ∂M/∂q products, row block by row block r of the tensors (nv, nv, nv): with P_X[j, k] = Σ_s ∂M_rs/∂q_j X[s, k]
-// (dM [r, s, j] as dM_dq, nonzero only for r, s, j on one path; the three blocks formed in P, 3 nv² scratch that
-// stays in cache, in one pass over dM's row block):
+// (dM [r, s, j] as dM_dq, nonzero only for r, s, j on one path), in one pass over dM's row block:
 //     d2q[r] += P_Fq + P_Fqᵀ,   dqdv[r] += P_Fv,   dqdtau[r] = P_Minv
+// P_Fv and P_Minv summed where they go, P_Fq in P (nv² scratch, in the L1 cache) for its transpose.
 inline void add_dM_products(int nv, const double* dM, const double* Fq, const double* Fv, const double* Minv,
                             double* d2q, double* dqdv, double* dqdtau, double* P) {
   const size_t n = static_cast<size_t>(nv), n2 = n * n;
-  double *P1 = P, *P2 = P + n2, *P3 = P + 2 * n2;
   for (size_t r = 0; r < n; ++r) {
-    std::fill(P, P + 3 * n2, 0.0);
-    for (size_t s = 0; s < n; ++s)
-      for (size_t j = 0; j < n; ++j) {
+    double *t = d2q + r * n2, *u = dqdv + r * n2, *w = dqdtau + r * n2;
+    std::fill(P, P + n2, 0.0);
+    std::fill(w, w + n2, 0.0);
+    for (size_t j = 0; j < n; ++j)  // row j of each product at a time (it stays in the L1 cache)
+      for (size_t s = 0; s < n; ++s) {
         const double c = dM[(r * n + s) * n + j];
         if (c == 0.0) continue;
-        double *p1 = P1 + j * n, *p2 = P2 + j * n, *p3 = P3 + j * n;
-        const double *x = Fq + s * n, *y = Fv + s * n, *z = Minv + s * n;
-        for (size_t k = 0; k < n; ++k) p1[k] += c * x[k], p2[k] += c * y[k], p3[k] += c * z[k];
+        add_scaled(n, c, Fq + s * n, P + j * n);
+        add_scaled(n, c, Fv + s * n, u + j * n);
+        add_scaled(n, c, Minv + s * n, w + j * n);
       }
-    double *t = d2q + r * n2, *u = dqdv + r * n2;
     for (size_t j = 0; j < n; ++j)
-      for (size_t k = 0; k < n; ++k) t[j * n + k] += P1[j * n + k] + P1[k * n + j];
-    for (size_t x = 0; x < n2; ++x) u[x] += P2[x];
-    std::copy(P3, P3 + n2, dqdtau + r * n2);
+      for (size_t k = 0; k < n; ++k) t[j * n + k] += P[j * n + k] + P[k * n + j];
   }
 }
 
-// T ← −M⁻¹ T for a tensor T (nv, nv, nv) read as (nv, nv²), L = M's factor: the columns (j, k) with k ≥ from[j]
-// (every column when `from` is null) gathered a few j at a time into `buf` (nv rows of at most 128 columns, or one
-// j's: the block stays in the L1 cache through both sweeps), solved (ltl.hpp), scattered back; then, with `from`,
-// the others mirrored, T[:, j, k] = T[:, k, j] (for T symmetric in j, k but on the columns solved).
+// Where a right-hand side T[r, j, k] of the solves below may be nonzero. τ_r and row r of M depend only on the
+// coordinates of the dofs on r's paths — r's ancestors, r and r's subtree: "j near r" — so ∂τ_r/∂x_j, ∂M_rs/∂q_j
+// (s near r) and their products vanish for j not near r:
+//   near_j        T[r, j, k] ≠ 0 only for j near r    (d2tau_dqdv + ∂M/∂q_j ∂q̈/∂q̇_k, ∂M/∂q_j M⁻¹)
+//   near_j_and_k  only for j and k near r              (d2tau_dv2)
+//   near_j_or_k   only for j or k near r               (d2tau_dq2 + ∂M/∂q_j ∂q̈/∂q_k + ∂M/∂q_k ∂q̈/∂q_j)
+enum class Near { near_j, near_j_and_k, near_j_or_k };
+
+// T ← −M⁻¹ T for a tensor T (nv, nv, nv) read as (nv, nv²), L = M's factor, T zero where `near` says, in place:
+// the columns (j, k) with k ≥ from[j] (every column when `from` is null) a few j at a time (at most 128 columns
+// or one j's: the block stays in the L1 cache through both sweeps), by ltl_sweeps on T's rows (nv² apart) from
+// column (j0, from[j0]), the columns k < from[j] of the block's later j skipped. The first sweep runs only on row
+// r's entries that may be nonzero where the tree is numbered depth-first ("near" is then two comparisons), on
+// every entry otherwise. With `from`, the columns skipped are then mirrored, T[:, j, k] = T[:, k, j] (for T
+// symmetric in j, k but on the columns solved).
 inline void minus_minv_columns(const ModelView& mv, const int* lambda, const double* L, double* T, const int* from,
-                               std::vector<double>& buf) {
+                               Near near) {
   const int nv = mv.nv;
   const size_t n = static_cast<size_t>(nv), n2 = n * n;
   constexpr int max_width = 128;
-  buf.resize(n * static_cast<size_t>(std::max(max_width, nv)));
   auto k0 = [&](int j) { return from ? from[j] : 0; };
+  const int* end = subtree_ends(lambda, nv);  // (r's subtree: [r, end[r]))
+  RowSupport support{};
+  const bool sparse = end != nullptr && row_supports(lambda, nv, support);
+  auto is_near = [&](int r, int j) { return (r <= j && j < end[r]) || (j <= r && r < end[j]); };
   for (int j0 = 0, j1 = 0; j0 < nv; j0 = j1) {
     int width = 0;
     for (j1 = j0; j1 < nv && (j1 == j0 || width + nv - k0(j1) <= max_width); ++j1) width += nv - k0(j1);
-    auto move = [&](bool in) {  // T's columns (j, k ≥ k0(j)), j ∈ [j0, j1), ↔ buf (nv, width)
-      for (size_t r = 0; r < n; ++r) {
-        double* b = buf.data() + r * static_cast<size_t>(width);
-        for (int j = j0; j < j1; ++j) {
-          double* t = T + r * n2 + static_cast<size_t>(j) * n + static_cast<size_t>(k0(j));
-          const int len = nv - k0(j);
-          in ? std::copy_n(t, len, b) : std::copy_n(b, len, t);
-          b += len;
-        }
-      }
+    auto at = [&](int j) { return (j - j0) * nv - k0(j0); };  // column k of j is the block's column at(j) + k
+    // op(c0, c1) on the runs of [c0, c1) that `segments(j, op)` gives in turn, adjacent runs joined
+    auto joined = [&](auto&& segments, auto&& op) {
+      int c0 = 0, c1 = 0;
+      auto add = [&](int a, int b) {
+        if (a == c1 && c0 < c1) return void(c1 = b);  // continues the run pending
+        if (c0 < c1) op(c0, c1);
+        c0 = a, c1 = b;
+      };
+      for (int j = j0; j < j1; ++j) segments(j, add);
+      if (c0 < c1) op(c0, c1);
     };
-    move(true);
-    ltl_solve_rows(mv, lambda, L, buf.data(), width, true);
-    move(false);
+    auto columns = [&](auto&& op) {
+      joined([&](int j, auto&& add) { add(at(j) + k0(j), at(j) + nv); }, op);
+    };
+    auto runs = [&](int r, auto&& op) {  // row r's columns that may be nonzero
+      if (!sparse) return columns(op);
+      joined([&](int j, auto&& add) {
+        if (is_near(r, j) && near != Near::near_j_and_k) return add(at(j) + k0(j), at(j) + nv);
+        if (near == Near::near_j || (near == Near::near_j_and_k && !is_near(r, j))) return;
+        for (int s = support.off[r]; s < support.off[r + 1]; ++s) {  // k near r
+          const int a = std::max(support.seg[2 * s], k0(j)), b = support.seg[2 * s + 1];
+          if (a < b) add(at(j) + a, at(j) + b);
+        }
+      }, op);
+    };
+    double* X = T + static_cast<size_t>(j0) * n + static_cast<size_t>(k0(j0));
+    ltl_sweeps(mv, lambda, L, X, n2, columns, runs, true);
   }
   if (from == nullptr) return;
   for (size_t r = 0; r < n; ++r)
@@ -106,9 +137,9 @@ inline int aba_second_derivatives(const ModelView& mv, const double* q, const do
   const int nv = mv.nv;
   const size_t n = static_cast<size_t>(nv), n2 = n * n, n3 = n2 * n;
   const int* lambda = dof_tree(mv).lambda.data();
-  thread_local std::vector<double> first, dM, buf;
+  thread_local std::vector<double> first, dM;
   thread_local std::vector<int> from_v, from_q;
-  first.resize(n + 6 * n2 + aba_derivatives_scratch(nv));
+  first.resize(n + 4 * n2 + aba_derivatives_scratch(nv));
   dM.resize(n3);
   from_v.resize(n), from_q.resize(n);
   double* qdd = first.data();
@@ -116,7 +147,7 @@ inline int aba_second_derivatives(const ModelView& mv, const double* q, const do
   double* Fv = Fq + n2;
   double* Minv = Fv + n2;
   double* P = Minv + n2;
-  double* scratch = P + 3 * n2;  // M's factor L first (aba_derivatives)
+  double* scratch = P + n2;  // M's factor L first (aba_derivatives)
   const int bad = aba_derivatives(mv, lambda, q, qd, tau, f_ext, gravity, qdd, Fq, Fv, Minv, scratch);
   if (bad >= 0) return bad;
   const double* L = scratch;
@@ -124,10 +155,10 @@ inline int aba_second_derivatives(const ModelView& mv, const double* q, const do
   add_dM_products(nv, dM.data(), Fq, Fv, Minv, d2q, dqdv, dqdtau, P);
   for (int i = 0; i < mv.nb; ++i)
     for (int c = 0; c < mv.nv_i[i]; ++c) from_v[mv.idx_v[i] + c] = mv.idx_v[i] + c, from_q[mv.idx_v[i] + c] = mv.idx_v[i];
-  minus_minv_columns(mv, lambda, L, d2q, from_q.data(), buf);
-  minus_minv_columns(mv, lambda, L, d2v, from_v.data(), buf);
-  minus_minv_columns(mv, lambda, L, dqdv, nullptr, buf);
-  minus_minv_columns(mv, lambda, L, dqdtau, nullptr, buf);
+  minus_minv_columns(mv, lambda, L, d2q, from_q.data(), Near::near_j_or_k);
+  minus_minv_columns(mv, lambda, L, d2v, from_v.data(), Near::near_j_and_k);
+  minus_minv_columns(mv, lambda, L, dqdv, nullptr, Near::near_j);
+  minus_minv_columns(mv, lambda, L, dqdtau, nullptr, Near::near_j);
   return -1;
 }
 
