@@ -269,11 +269,11 @@ struct SweepWork {
 // are), each pivot's reciprocal taken once (a row is scaled by multiplications, not divisions). The first sweep
 // runs on the runs, within those, that `runs(k, op)` gives row k: the caller's statement that row k is zero
 // outside them when its turn comes (a pattern the sweep keeps: a row adds only into its ancestors, whose runs
-// hold its own); the second sweep on all of `columns`. negate: X ← −M⁻¹ X instead, by the same operations on −X: the first sweep
-// keeps its rows as they are until their turn and stores each finished row negated (an update adds l·(−x_k)
-// where it subtracted l·x_k, the scaling multiplies by −1/L_kk), and the second sweep is linear. IEEE arithmetic
-// being symmetric in sign, every entry is the negation of the plain result (up to the sign of a zero) with no
-// pass of its own.
+// hold its own); the second sweep on all of `columns`. negate: X ← −M⁻¹ X instead, by the same operations on
+// −X: the first sweep keeps its rows as they are until their turn and stores each finished row negated (an
+// update adds l·(−x_k) where it subtracted l·x_k, the scaling multiplies by −1/L_kk), and the second sweep is
+// linear. IEEE arithmetic being symmetric in sign, every entry is the negation of the plain result (up to the
+// sign of a zero) with no pass of its own.
 template <class S, class Columns, class Runs>
 void ltl_sweeps(const ModelView& mv, const int* lambda, const S* L, S* X, size_t stride, const Columns& columns,
                 const Runs& runs, bool negate) {
