@@ -13,7 +13,9 @@ the first write, which on this machine costs more than the kernel: since 2026-11
 reuses the memory of one the caller dropped (the batches' result pool), as the loop here does. The ``out=`` rows
 call the public function on arrays allocated once (``fd.rnea_second_derivatives(..., out=outs)``: since 2026-11-30
 in C, the record of the given arrays).
-The load average is printed: the 2-core sandbox is shared.
+The load average is printed: the 2-core sandbox is shared. The samples are 101 of about 4 ms a side, alternating
+(as ``bench_derivatives_everywhere.ONE_STATE``, since 2026-12-01): with 5 samples of 50 ms, the two medians could
+come from different windows of a machine whose speed drifts over seconds.
 """
 
 from __future__ import annotations
@@ -61,12 +63,12 @@ def rows(name: str, floating: bool, repeats: int, budget: float) -> list[tuple[s
 
 
 def main() -> int:
-    repeats, budget = 5, 0.05
+    repeats, budget = 101, 0.004
     print(f"load average {os.getloadavg()[0]:.2f}; one state; µs per call\n")
     print(f"{'call':34s} {'second order':>13s} {'nv+1 first':>11s} {'ratio':>6s}")
     for name, floating in ROBOTS:
         for label, s, d in rows(name, floating, repeats, budget):
-            print(f"{label:34s} {s * 1e6:13.1f} {d * 1e6:11.1f} {s / d:6.2f}")
+            print(f"{label:34s} {s * 1e6:13.1f} {d * 1e6:11.1f} {s / d:6.3f}")
     return 0
 
 
