@@ -108,12 +108,13 @@ inline void minus_minv_columns(const ModelView& mv, const int* lambda, const dou
     auto runs = [&](int r, auto&& op) {  // row r's columns that may be nonzero
       if (!sparse) return columns(op);
       joined([&](int j, auto&& add) {
-        if (is_near(r, j) && near != Near::near_j_and_k) return add(at(j) + k0(j), at(j) + nv);
-        if (near == Near::near_j || (near == Near::near_j_and_k && !is_near(r, j))) return;
-        for (int s = support.off[r]; s < support.off[r + 1]; ++s) {  // k near r
-          const int a = std::max(support.seg[2 * s], k0(j)), b = support.seg[2 * s + 1];
-          if (a < b) add(at(j) + a, at(j) + b);
-        }
+        const bool j_near = is_near(r, j);
+        if (j_near && near != Near::near_j_and_k) return add(at(j) + k0(j), at(j) + nv);  // every k
+        if (near == Near::near_j_or_k || (near == Near::near_j_and_k && j_near))  // (j not near: near_j_or_k)
+          for (int s = support.off[r]; s < support.off[r + 1]; ++s) {  // the k near r (from k0(j))
+            const int a = std::max(support.seg[2 * s], k0(j)), b = support.seg[2 * s + 1];
+            if (a < b) add(at(j) + a, at(j) + b);
+          }
       }, op);
     };
     double* X = T + static_cast<size_t>(j0) * n + static_cast<size_t>(k0(j0));
