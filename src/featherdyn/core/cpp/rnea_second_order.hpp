@@ -130,15 +130,30 @@ FD_INLINE Force<Pack> lanes_of(const Force<double>& f) { return {lanes_of(f.n), 
 FD_INLINE RigidInertia<Pack> lanes_of(const RigidInertia<double>& I) {
   return {I.m, lanes_of(I.h), {I.I.xx, I.I.xy, I.I.xz, I.I.yy, I.I.yz, I.I.zz}};
 }
-// m · f for a motion given by its components (w, v), one f a lane: the sum in the order of the components.
-FD_INLINE Pack dot(const double* m, const Force<Pack>& f) {
-  Pack d = Pack(m[0]) * f.n.x;
-  d += Pack(m[1]) * f.n.y;
-  d += Pack(m[2]) * f.n.z;
-  d += Pack(m[3]) * f.f.x;
-  d += Pack(m[4]) * f.f.y;
-  d += Pack(m[5]) * f.f.z;
-  return d;
+// The 15 dot products of r's motions (K) with the pair forces (u), on the first L lanes: d[k]'s lane l at
+// e[k PACK_WIDTH + l]. Each is a sum in the order of the components, m[0] f[0] + m[1] f[1] + …, so a lane gives
+// the same bits at any L. The caller takes L = PACK_WIDTH / 2 for 512-bit packs while the other half's columns
+// are below r (their entries are not written): AMD's Zen 4 runs a 512-bit operation as two 256-bit ones, so the
+// half costs half (2026-12-01: panda's call −3 … −8 % there); a 128-bit half of a 256-bit pack saved nothing.
+template <size_t L>
+FD_INLINE void pair_dots(const ColumnMotions& K, bool moving, const PairForces<Pack>& u, double* e) {
+  typedef double V __attribute__((vector_size(8 * L)));
+  const auto dot = [&](size_t slot, const double* m, const Force<Pack>& f) {
+    const Pack* c[6] = {&f.n.x, &f.n.y, &f.n.z, &f.f.x, &f.f.y, &f.f.z};  // the first L lanes of each
+    V d, x;
+    std::memcpy(&x, &c[0]->v, sizeof x), d = (V{} + m[0]) * x;
+    for (size_t h = 1; h < 6; ++h) std::memcpy(&x, &c[h]->v, sizeof x), d += (V{} + m[h]) * x;
+    std::memcpy(e + slot * PACK_WIDTH, &d, sizeof d);
+  };
+  // S_rᵀ u13, u9, u1, u3, u8m12, u6, u7, u4; ψ̇_rᵀ u11, u8m12, u1; ψ̈_rᵀ u9, u13; (ψ̇_r + φ̇_r)ᵀ u9, u13
+  dot(0, K.S(), u.u13), dot(1, K.S(), u.u9), dot(2, K.S(), u.u1), dot(3, K.S(), u.u3), dot(4, K.S(), u.u8m12);
+  dot(5, K.S(), u.u6), dot(6, K.S(), u.u7), dot(7, K.S(), u.u4);
+  if (moving) {
+    dot(8, K.ps(), u.u11), dot(9, K.ps(), u.u8m12), dot(10, K.ps(), u.u1);
+  } else {  // ψ̇ = 0 on a root joint
+    for (size_t slot = 8; slot < 11; ++slot) std::memset(e + slot * PACK_WIDTH, 0, L * sizeof(double));
+  }
+  dot(11, K.pd(), u.u9), dot(12, K.pd(), u.u13), dot(13, K.av(), u.u9), dot(14, K.av(), u.u13);
 }
 
 // A path's columns: i's first, then its ancestors' (each joint's in order), with where each one's joint's columns
@@ -223,18 +238,16 @@ inline bool rnea_second_derivatives(const ModelView& mv, const double* q, const 
                   {load_lanes(x, 6 * h + 3), load_lanes(x, 6 * h + 4), load_lanes(x, 6 * h + 5)}};
         const PairForces<Pack> u = pair_forces(lanes, m[0], m[1], m[2], m[3]);
         const size_t tn = std::min(np, t0 + PACK_WIDTH);
+        // the lanes from t0 + H on are below r until r reaches their joint (a path lists descendants first)
+        constexpr size_t H = PACK_WIDTH >= 8 ? PACK_WIDTH / 2 : PACK_WIDTH;  // see pair_dots
+        const size_t r_all = t0 + H < np ? static_cast<size_t>(path.first[t0 + H]) : np;
         for (size_t r = static_cast<size_t>(path.first[t0]); r < np; ++r) {
           const int kr = path.column[r];
-          const ColumnMotions& K = w2.K[static_cast<size_t>(kr)];
-          // S_rᵀ u13, u9, u1, u3, u8m12, u6, u7, u4; ψ̇_rᵀ u11, u8m12, u1; ψ̈_rᵀ u9, u13; (ψ̇_r + φ̇_r)ᵀ u9, u13
-          const Pack d[15] = {dot(K.S(), u.u13), dot(K.S(), u.u9), dot(K.S(), u.u1), dot(K.S(), u.u3),
-                              dot(K.S(), u.u8m12), dot(K.S(), u.u6), dot(K.S(), u.u7), dot(K.S(), u.u4),
-                              path.moving[r] ? dot(K.ps(), u.u11) : Pack(0.0),
-                              path.moving[r] ? dot(K.ps(), u.u8m12) : Pack(0.0),
-                              path.moving[r] ? dot(K.ps(), u.u1) : Pack(0.0),
-                              dot(K.pd(), u.u9), dot(K.pd(), u.u13), dot(K.av(), u.u9), dot(K.av(), u.u13)};
-          double e[15 * PACK_WIDTH];  // d[k]'s lane l at e[k PACK_WIDTH + l]
-          for (size_t k = 0; k < 15; ++k) std::memcpy(e + k * PACK_WIDTH, &d[k].v, sizeof(Pack::V));
+          double e[15 * PACK_WIDTH];  // r's 15 dot products with each lane's forces (pair_dots)
+          if (r < r_all)
+            pair_dots<H>(w2.K[static_cast<size_t>(kr)], path.moving[r], u, e);
+          else
+            pair_dots<PACK_WIDTH>(w2.K[static_cast<size_t>(kr)], path.moving[r], u, e);
           for (size_t t = t0; t < tn; ++t) {  // q = path.column[t], on joint j: j == i for t < ni
             if (r < static_cast<size_t>(path.first[t])) continue;  // r below q's joint
             const int jq = path.column[t];
