@@ -11,6 +11,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
+#include <utility>
 #if defined(__SSE2__)
 #include <immintrin.h>
 #endif
@@ -82,6 +83,44 @@ inline Pack load_lanes(const double* const* x, size_t k) {
   return Pack::raw(Pack::V{x[0][k], x[1][k]});
 #endif
 }
+
+// The transpose of W Packs in registers: r[j][l] becomes r[l][j], so that W entries of one lane are a Pack (one
+// wide store into the lane's row, instead of W narrow loads and stores). log2 W rounds; round h pairs each r[i]
+// with i & h == 0 with r[i + h] and swaps the h-blocks between them: afterwards
+//     r[i][l] = (l & h) == 0 ? r[i][l] : r[i + h][l − h],    r[i + h][l] = (l & h) == 0 ? r[i][l + h] : r[i + h][l].
+// Each round is two two-source shuffles with constant indices (GCC's __builtin_shuffle, Clang's
+// __builtin_shufflevector); no arithmetic, so the values are moved, never changed.
+namespace transpose_detail {
+constexpr int low(int l, int h) { return (l & h) == 0 ? l : PACK_WIDTH + l - h; }       // r[i]'s new lane l
+constexpr int high(int l, int h) { return (l & h) == 0 ? l + h : PACK_WIDTH + l; }      // r[i + h]'s
+template <int h, int... l>
+inline void swap_blocks(Pack& x, Pack& y, std::integer_sequence<int, l...>) {
+  const Pack::V a = x.v, b = y.v;
+#if defined(__clang__)
+  x.v = __builtin_shufflevector(a, b, low(l, h)...);
+  y.v = __builtin_shufflevector(a, b, high(l, h)...);
+#else
+  typedef long long M __attribute__((vector_size(8 * PACK_WIDTH)));
+  x.v = __builtin_shuffle(a, b, M{low(l, h)...});
+  y.v = __builtin_shuffle(a, b, M{high(l, h)...});
+#endif
+}
+// every index a constant (a fold over i), so that the Packs stay in registers
+template <int h, int... i>
+inline void round(Pack* r, std::integer_sequence<int, i...>) {
+  ((((i & h) == 0) ? swap_blocks<h>(r[i], r[i + h], std::make_integer_sequence<int, PACK_WIDTH>{})
+                   : void()),
+   ...);
+}
+template <int h>
+inline void rounds(Pack* r) {
+  if constexpr (h < PACK_WIDTH) {
+    round<h>(r, std::make_integer_sequence<int, PACK_WIDTH>{});
+    rounds<2 * h>(r);
+  }
+}
+}  // namespace transpose_detail
+inline void transpose_lanes(Pack* r) { transpose_detail::rounds<1>(r); }
 
 #define FD_PACK_LANEWISE(fn)                              \
   inline Pack fn(const Pack& a) {                         \

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <cstring>
 #include <vector>
 #if defined(__SSE2__)
 #include <emmintrin.h>
@@ -42,15 +43,17 @@ struct Lanes {
   Pack* space(size_t offset) { return buf.data() + offset; }
 };
 
-// In blocks of W entries: the block's W Packs stay in L1 while each lane's W consecutive entries are written
-// (whole cache lines per lane, instead of one pass over all of x per lane).
+// In blocks of W entries: the block's W Packs transposed in registers (pack.hpp: transpose_lanes), then each
+// lane's W consecutive entries written as one Pack (2026-12-01: the scalar copy it replaces was 18 % of panda's
+// kinematics-derivatives batch).
 inline void scatter(const Pack* x, size_t n, double* out, std::int64_t stride) {
   size_t k0 = 0;
-  for (; k0 + PACK_WIDTH <= n; k0 += PACK_WIDTH)
-    for (int lane = 0; lane < PACK_WIDTH; ++lane) {
-      double* o = out + lane * stride + k0;
-      for (int j = 0; j < PACK_WIDTH; ++j) o[j] = x[k0 + j][lane];
-    }
+  for (; k0 + PACK_WIDTH <= n; k0 += PACK_WIDTH) {
+    Pack r[PACK_WIDTH];
+    for (int j = 0; j < PACK_WIDTH; ++j) r[j] = x[k0 + j];
+    transpose_lanes(r);
+    for (int lane = 0; lane < PACK_WIDTH; ++lane) std::memcpy(out + lane * stride + k0, &r[lane].v, sizeof(Pack::V));
+  }
   for (int lane = 0; lane < PACK_WIDTH; ++lane)
     for (size_t k = k0; k < n; ++k) out[lane * stride + k] = x[k][lane];
 }
