@@ -130,7 +130,7 @@ FD_INLINE Force<Pack> lanes_of(const Force<double>& f) { return {lanes_of(f.n), 
 FD_INLINE RigidInertia<Pack> lanes_of(const RigidInertia<double>& I) {
   return {I.m, lanes_of(I.h), {I.I.xx, I.I.xy, I.I.xz, I.I.yy, I.I.yz, I.I.zz}};
 }
-// The 15 dot products of r's motions (K) with the pair forces (u), on the first L lanes: d[k]'s lane l at
+// The 15 dot products of r's motions (K) with the pair forces (u), on the first L lanes: product k's lane l at
 // e[k PACK_WIDTH + l]. Each is a sum in the order of the components, m[0] f[0] + m[1] f[1] + …, so a lane gives
 // the same bits at any L. The caller takes L = PACK_WIDTH / 2 for 512-bit packs while the other half's columns
 // are below r (their entries are not written): AMD's Zen 4 runs a 512-bit operation as two 256-bit ones, so the
