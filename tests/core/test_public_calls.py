@@ -175,6 +175,7 @@ def test_declined_calls_reach_the_general_function_with_the_same_arguments() -> 
     assert isinstance(jac(model, q, frame, reference=fd.WORLD), np.ndarray) and not spy.calls
     assert isinstance(jac(model, q=q, frame=frame), np.ndarray) and not spy.calls
     assert isinstance(jac(model, q, model.frame_id(frame)), np.ndarray) and not spy.calls
+    assert jac(model, q[None], frame).shape == (1, 6, model.nv) and not spy.calls  # a stack (test_stacked_states.py)
     qn = q.copy()
     qn[0] = np.nan
     big_endian = q.astype(">f8")
@@ -195,7 +196,6 @@ def test_declined_calls_reach_the_general_function_with_the_same_arguments() -> 
         ((model, q, 10**30), {}),
         ((model, q, True), {}),
         ((model, q[:-1], frame), {}),
-        ((model, q[None], frame), {}),
         ((model, qn, frame), {}),
         (("not a model", q, frame), {}),
     ]
@@ -216,8 +216,8 @@ def test_declined_calls_reach_the_general_function_with_the_same_arguments() -> 
 def test_a_point_after_the_options_is_bound_in_c() -> None:
     """fd.kinematics_derivatives' point comes after the frame and reference (by position or by name): the core's
     public call binds it there and runs the kernel (the general function not called), bit for bit the kernel's;
-    a point it does not take as it is (a list, float32, NaN, a wrong length, a batch) goes to the general function
-    with the same arguments."""
+    a point it does not take as it is (a list, float32, NaN, a wrong length, a strided view) goes to the general
+    function with the same arguments; a stack of points (1, 3) makes a stack of one state."""
     model = tree(TREE_NAMES[1])
     frame = _frame(model)
     fid = model.frame_id(frame)
@@ -235,7 +235,9 @@ def test_a_point_after_the_options_is_bound_in_c() -> None:
             r = f(*args, **kwargs)
             assert type(r) is fd.KinematicsDerivatives and not spy.calls
             assert all(np.array_equal(x, y) for x, y in zip(r, expected, strict=True))
-    declined = [p.tolist(), p.astype(np.float32), np.array([0.0, np.nan, 0.0]), p[:2], p[None], np.repeat(p, 2)[::2]]
+    r = f(model, s.q, s.v, s.a, frame, ref, p[None])  # (ref: the last one above, as expected)
+    assert not spy.calls and all(np.array_equal(x, y[None]) for x, y in zip(r, expected, strict=True))
+    declined = [p.tolist(), p.astype(np.float32), np.array([0.0, np.nan, 0.0]), p[:2], np.repeat(p, 2)[::2]]
     for bad in declined:
         spy.calls.clear()
         assert f(model, s.q, s.v, s.a, frame, fd.LOCAL, bad) == "general" and len(spy.calls) == 1

@@ -31,7 +31,7 @@ from ..model import Model
 from ..rotation import se3_log
 from ..spatial.ops import skew_unchecked
 from ..tolerances import DELASSUS_PIVOT_RTOL
-from ._backend import OK, core_path
+from ._backend import core_path
 from ._checks import check_state
 from .constraints import _solver, constrained_dynamics, core_contact_plan, impulse_dynamics
 from .declarations import (
@@ -46,7 +46,6 @@ from .declarations import (
 
 _CONTACTS = _declared.kernel("contact_dynamics_derivatives")  # core/cpp/declarations_constraints.hpp
 _IMPULSES = _declared.kernel("impulse_dynamics_derivatives")
-_result_array = _declared.result_array  # a batch's results in reused memory (core/_result_pool.py)
 
 __all__ = ["ConstrainedDynamicsDerivatives", "ImpulseDynamicsDerivatives", "constrained_dynamics_derivatives",
            "impulse_dynamics_derivatives"]
@@ -236,27 +235,15 @@ def _corrected(dtau_dq: np.ndarray, terms: list[_Terms]) -> np.ndarray:
     return dtau_dq
 
 
-def _core(kernel: Any, record: type, model: Model, args: tuple[Any, ...], opts: Any, m: int, ddq_first: int,
-          backend: str | None) -> Any:
-    """The record of the kernel's outputs for point and frame contacts (m rows; ``ddq_first`` (nv, nv) outputs, as
-    many (m, nv), then (nv,) and (m,)): one state as the binding takes it (the binding makes the record), or rows
-    `(N, nq)` on its batch (the thread pool); ``None`` where it declines (dependent contacts, other input: the
-    general path)."""
+def _core(kernel: Any, record: type, model: Model, args: tuple[Any, ...], opts: Any, backend: str | None) -> Any:
+    """The record of the kernel's outputs for point and frame contacts: one state, or a stack of them (its batch on
+    the thread pool), as the binding takes them (the binding makes the record); ``None`` where it declines
+    (dependent contacts, other input: the general path)."""
     core = core_path(model, backend)
     if core is None:
         return None
     try:
-        r = kernel.fresh(core.cm, args, opts, record)
-        if r is not None:
-            return r
-        q = args[0]
-        if type(q) is np.ndarray and q.ndim == 2 and (len(args) < 4 or args[3] is None):
-            n, nv = q.shape[0], model.nv
-            shapes = ((nv, nv),) * ddq_first + ((m, nv),) * ddq_first + ((nv,), (m,))
-            outs = [_result_array((n, *shape)) for shape in shapes]
-            if kernel.batch(core.cm, list(args), outs, opts)[1] == OK:
-                return record(*outs)
-        return None
+        return kernel.fresh(core.cm, args, opts, record)
     except (TypeError, ValueError):  # arguments the binding does not take as they are
         return None
 
@@ -289,7 +276,7 @@ def constrained_dynamics_derivatives(model: Model, q: ArrayLike, v: ArrayLike, t
         except (TypeError, ValueError):
             opts = None
         r = None if opts is None else _core(_CONTACTS, ConstrainedDynamicsDerivatives, model, (q, v, tau, f_ext), opts,
-                                            found[0].size, 3, backend)
+                                            backend)
         if r is not None:
             return r
     if _dask.lazy(q, v, tau, f_ext):
@@ -334,7 +321,7 @@ def impulse_dynamics_derivatives(model: Model, q: ArrayLike, v: ArrayLike,
             and 0.0 <= restitution <= 1.0:  # point and frame contacts: contact_derivatives.hpp
         opts = found[1][1] if restitution == 0.0 else _declared.call_options(  # (the plan's own: e = 0)
             plan=found[1][0], restitution=float(restitution), singular_tol=DELASSUS_PIVOT_RTOL)
-        r = _core(_IMPULSES, ImpulseDynamicsDerivatives, model, (q, v), opts, found[0].size, 2, backend)
+        r = _core(_IMPULSES, ImpulseDynamicsDerivatives, model, (q, v), opts, backend)
         if r is not None:
             return r
     if _dask.lazy(q, v):

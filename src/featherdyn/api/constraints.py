@@ -32,12 +32,11 @@ from ..errors import ConstraintError, FeatherdynError, ModelError
 from ..frames import LOCAL_WORLD_ALIGNED, ReferenceFrame
 from ..model import Model
 from ..tolerances import DELASSUS_PIVOT_RTOL
-from ._backend import CORE, OK, core_path, select_backend
+from ._backend import CORE, core_path, select_backend
 from ._checks import State, as_dtype, check_state, quiet
 from .dynamics import generalized_gravity
 from .kinematics import kinematics_of
 
-_result_array = _declared.result_array  # a batch's results in reused memory (core/_result_pool.py)
 _NEW = object.__new__
 _SET = object.__setattr__
 _CONTACTS = _declared.kernel("contact_dynamics")  # the declared kernels (core/cpp/declarations_constraints.hpp)
@@ -182,16 +181,15 @@ def _split(lam: np.ndarray, items: list[Constraint]) -> list[np.ndarray]:
 
 
 def _contact_result(qdd: np.ndarray, lam: np.ndarray, info: np.ndarray, plan: ContactPlan) -> ConstrainedDynamics | None:
-    """The result of a solve the core finished, one state `(nv,)` or rows `(N, nv)` (``None`` when a state's rows
-    were dependent or did not converge: the general path raises)."""
-    one = info.ndim == 1
-    if not (info[0] > 0.0 if one else (info[:, 0] > 0.0).all()):
+    """The result of a solve the core finished, one state `(nv,)` or a stack of them `(..., nv)` (``None`` when a
+    state's rows were dependent or did not converge: the general path raises)."""
+    if not (info[..., 0] > 0.0).all():
         return None
     out = _NEW(ConstrainedDynamics)  # (a frozen dataclass's __init__ costs more than the solve's rows)
     _SET(out, "ddq", qdd)
-    _SET(out, "forces", [lam[s] for s in plan.slices] if one else [lam[:, s] for s in plan.slices])
+    _SET(out, "forces", [lam[..., s] for s in plan.slices])
     _SET(out, "lagrange", lam)
-    _SET(out, "residual", info[1] if one else info[:, 1])
+    _SET(out, "residual", info[..., 1])
     return out
 
 
@@ -216,13 +214,9 @@ def constrained_dynamics(model: Model, q: ArrayLike, v: ArrayLike, tau: ArrayLik
         found = cached_contact_plan(model, constraints, core_contact_plan)
         if found is not None and found[1] is not None:
             plan = found[0]
-            try:  # one state as the kernel takes it; rows (N, nq) on its batch (its groups of states on SIMD packs)
+            try:  # one state, or a stack of them, as the kernel takes them (a stack on its batch: SIMD groups)
                 opts = _solver(found[1], mu, max_iter, tol)
                 r = _CONTACTS.fresh(core.cm, (q, v, tau, f_ext), opts)
-                if r is None and type(q) is np.ndarray and q.ndim == 2 and f_ext is None:
-                    n = q.shape[0]
-                    r = _result_array((n, core.nv)), _result_array((n, plan.size)), _result_array((n, 2))
-                    r = r if _CONTACTS.batch(core.cm, [q, v, tau, None], r, opts)[1] == OK else None
                 done = None if r is None else _contact_result(r[0], r[1], r[2], plan)
                 if done is not None:
                     return done
@@ -295,15 +289,11 @@ def operational_space_inertia(model: Model, q: ArrayLike, frames: Sequence[str |
     core = core_path(model, backend)
     found = None if core is None else cached_frames_plan(model, frames, reference, core_contact_plan)
     if core is not None and found is not None and found[1] is not None:
-        try:  # one state as the kernel takes it; rows (N, nq) on its batch (its groups of states on SIMD packs)
+        try:  # one state, or a stack of them, as the kernel takes them (a stack on its batch: SIMD groups)
             opts = _solver(found[1], mu)
             r = _FRAMES.fresh(core.cm, (q,), opts)
             if r is not None:
                 return r
-            if type(q) is np.ndarray and q.ndim == 2:
-                out = _result_array((q.shape[0], found[0].size, found[0].size))
-                if _FRAMES.batch(core.cm, [q], [out], opts)[1] == OK:
-                    return out
         except (TypeError, ValueError):  # arguments the binding does not take as they are: the general path
             pass
     mu = _con.solver_settings(mu, 1, 1.0)[0]

@@ -1,4 +1,4 @@
-// The public functions' one-state calls finished in C (public_calls.hpp; docs/architecture.md, "The public
+// The public functions' calls of one state or a stack of them finished in C (public_calls.hpp; docs/architecture.md, "The public
 // layer"): the declared algorithms' one path (declared_path), and the record a public function makes of its outputs.
 #include <string>
 

@@ -229,12 +229,13 @@ NB_MODULE(_core, m) {
         return nb::tuple(names);
       })
       .def("into", &into, nb::arg("model"), nb::arg("inputs"), nb::arg("outputs"), nb::arg("options").none() = nb::none(),
-           "one state into the given outputs (options: an Options or None); the status (0: OK; -1: an argument not "
+           "one state, or a stack of them (inputs of the declared shapes under the same leading lengths, or one "
+           "state's), into the given outputs (options: an Options or None); the status (0: OK; -1: an argument not "
            "taken as it is)")
       .def("fresh", &fresh, nb::arg("model"), nb::arg("inputs"), nb::arg("options").none() = nb::none(),
            nb::arg("record").none() = nb::none(),
-           "one state; the result (an array, a tuple, or the record: a NamedTuple class the outputs make, in "
-           "order), or None where `into` would return a non-zero status")
+           "one state, or a stack of them (as `into`); the result (an array, a tuple, or the record: a NamedTuple "
+           "class the outputs make, in order), or None where `into` would return a non-zero status")
       .def("singular_block", &singular_block, nb::arg("model"), nb::arg("inputs"), nb::arg("D"), nb::arg("options").none() = nb::none(),
            "the joint a SINGULAR status names (-1: none) for one checked state, its D written into D (36,)")
       .def("batch", [](const Kernel& k, const ModelData& md, const nb::sequence& inputs, const nb::sequence& outputs,

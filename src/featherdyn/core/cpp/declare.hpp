@@ -239,30 +239,72 @@ std::int64_t exact(const A& x, const ModelView& mv, const Options& opt, const Op
   return same ? OK : make_status(LENGTH, o.arg, x.ndim() == 1 ? static_cast<std::int64_t>(x.shape(0)) : -1);
 }
 
-// One state of the inputs (nullptr or None where absent) into outputs of the declared shapes (op): OK, NOT_TAKEN,
-// or the status of the first failure (lengths, the options, an output over an input, the state, the kernel,
-// overflow). `out_sizes`: the outputs' sizes, to check them against the inputs' memory (nullptr: outputs just
-// allocated, which share memory with nothing).
-inline std::int64_t run_state(const Kernel& k, const ModelView& mv, PyObject* const* inputs, double* const* op,
-                              const std::int64_t* out_sizes, const Options& opt) {
+// The states a public call's arrays hold as they are: one (every input exactly its declared shape), or a stack of
+// N = ∏ dims of them (an input its declared shape under the leading lengths `dims`, the same for every input that
+// has leading lengths; an input of exactly its declared shape is read by every state). At most STACK_MAX_DIMS
+// leading lengths; more, or inputs with different ones (broadcasting), go to the Python path.
+constexpr int STACK_MAX_DIMS = 8;
+struct Stack {
+  int nd = 0;  // 0: one state
+  std::int64_t dims[STACK_MAX_DIMS] = {};
+  std::int64_t N = 1;
+};
+
+// An operand of a public call as it is: its declared shape under `lead` ≥ 0 leading lengths (OK), or a LENGTH status
+// naming it (its declared part wrong).
+template <class A>
+std::int64_t leading(const A& x, const ModelView& mv, const Options& opt, const Operand& o, int& lead) {
+  lead = static_cast<int>(x.ndim()) - o.nd;
+  bool same = lead >= 0;
+  for (int d = 0; same && d < o.nd; ++d)
+    same = static_cast<std::int64_t>(x.shape(static_cast<size_t>(lead + d))) == length_of(mv, opt, o.dims[d]);
+  return same ? OK : make_status(LENGTH, o.arg, x.ndim() == 1 ? static_cast<std::int64_t>(x.shape(0)) : -1);
+}
+
+// Whether an operand's `lead` leading lengths are the stack's.
+template <class A>
+bool on_stack(const A& x, int lead, const Stack& s) {
+  bool same = lead == s.nd;
+  for (int d = 0; same && d < lead; ++d) same = static_cast<std::int64_t>(x.shape(static_cast<size_t>(d))) == s.dims[d];
+  return same;
+}
+
+// A public call's inputs as they are (take): each one's memory as rows (stride 0: one state, read by every row;
+// p nullptr where absent), and the stack of states they make.
+struct Taken {
   std::array<F64In, DECLARED_MAX> in;
-  std::array<const double*, DECLARED_MAX> ip{};
+  std::array<Rows, DECLARED_MAX> rows{};
+  Stack stack;
+};
+
+// Take the inputs (nullptr or None where absent) and check the options: OK, NOT_TAKEN, or the status of the first
+// failure (a required input absent, a wrong length, an option's value).
+inline std::int64_t take(const Kernel& k, const ModelView& mv, PyObject* const* inputs, const Options& opt, Taken& t) {
   for (size_t i = 0; i < k.inputs.size(); ++i) {
     PyObject* x = inputs[i];
     if (x == nullptr || x == Py_None) {
       if (!k.inputs[i].optional) return make_status(LENGTH, k.inputs[i].arg, -1);
       continue;
     }
-    if (!in[i].acquire(x)) return NOT_TAKEN;
-    FD_TRY(exact(in[i], mv, opt, k.inputs[i]));
-    ip[i] = in[i].data();
-    for (size_t o = 0; out_sizes != nullptr && o < k.outputs.size(); ++o)
-      if (op[o] != nullptr && overlaps(op[o], out_sizes[o], ip[i], size_of(mv, opt, k.inputs[i])))
-        return make_status(OVERLAP, k.inputs[i].arg, 0);
+    if (!t.in[i].acquire(x)) return NOT_TAKEN;
+    int lead = 0;
+    FD_TRY(leading(t.in[i], mv, opt, k.inputs[i], lead));
+    if (lead > 0 && t.stack.nd == 0) {  // the first input with leading lengths sets the stack's
+      if (lead > STACK_MAX_DIMS) return NOT_TAKEN;
+      t.stack.nd = lead;
+      for (int d = 0; d < lead; ++d) t.stack.N *= t.stack.dims[d] = static_cast<std::int64_t>(t.in[i].shape(static_cast<size_t>(d)));
+    }
+    if (lead > 0 && !on_stack(t.in[i], lead, t.stack)) return NOT_TAKEN;  // (broadcasting: the Python path's)
+    t.rows[i] = Rows{t.in[i].data(), lead == 0 ? 0 : size_of(mv, opt, k.inputs[i])};
   }
-  FD_TRY(check_options(k, mv, opt));
-  return run_checked(k, mv, ip.data(), op, opt);
+  return check_options(k, mv, opt);
 }
+
+// Run taken inputs into outputs of the stack's shapes (op, n_out: each output's numbers a state; nullptr where not
+// formed): one state by run_checked, a stack by run_rows, the one batch path (the thread pool, SIMD groups). OK, or
+// the first failure's status (a stack's first failing row's).
+inline std::int64_t run_taken(const Kernel& k, const ModelView& mv, const Taken& t, double* const* op,
+                              const std::int64_t* n_out, const Options& opt);
 
 // Whether output o is formed: always, or when the input it depends on is given (`given(i)`).
 template <class Given>
@@ -273,10 +315,15 @@ inline bool absent(PyObject* x) { return x == nullptr || x == Py_None; }
 
 }  // namespace declared
 
-// One state into given outputs: OK, NOT_TAKEN (an array not taken as it is), or the status of the first failure
-// (declared::run_state; outputs that share memory with each other: OVERLAP on ARG_OUT).
+// One state, or a stack of them (declared::Stack), into given outputs of the declared shapes under the stack's
+// leading lengths: OK, NOT_TAKEN (an array not taken as it is; an empty stack), or the status of the first failure
+// (declared::take; an output's wrong length; outputs that share memory with each other: OVERLAP on ARG_OUT; an output
+// over an input: OVERLAP on the input, which the Python path's one rule takes; run_taken).
 inline std::int64_t run_into(const Kernel& k, const ModelView& mv, PyObject* const* inputs, PyObject* const* outputs,
                              const Options& opt) {
+  declared::Taken t;
+  FD_TRY(declared::take(k, mv, inputs, opt, t));
+  if (t.stack.N == 0) return NOT_TAKEN;
   std::array<F64Out, DECLARED_MAX> out;
   std::array<double*, DECLARED_MAX> op{};
   std::array<std::int64_t, DECLARED_MAX> n{};
@@ -286,22 +333,32 @@ inline std::int64_t run_into(const Kernel& k, const ModelView& mv, PyObject* con
       continue;
     }
     if (!out[o].acquire(outputs[o])) return NOT_TAKEN;
-    FD_TRY(declared::exact(out[o], mv, opt, k.outputs[o]));
+    int lead = 0;
+    FD_TRY(declared::leading(out[o], mv, opt, k.outputs[o], lead));
+    if (!declared::on_stack(out[o], lead, t.stack)) return make_status(LENGTH, ARG_OUT, -1);
     op[o] = out[o].data();
     n[o] = size_of(mv, opt, k.outputs[o]);
     for (size_t p = 0; p < o; ++p)
-      if (overlaps(op[o], n[o], op[p], n[p])) return make_status(OVERLAP, ARG_OUT, 0);
+      if (overlaps(op[o], t.stack.N * n[o], op[p], t.stack.N * n[p])) return make_status(OVERLAP, ARG_OUT, 0);
+    for (size_t i = 0; i < k.inputs.size(); ++i)
+      if (t.rows[i].p != nullptr && overlaps(op[o], t.stack.N * n[o], t.rows[i].p, static_cast<std::int64_t>(t.in[i].size())))
+        return make_status(OVERLAP, k.inputs[i].arg, 0);
   }
-  return declared::run_state(k, mv, inputs, op.data(), n.data(), opt);
+  return declared::run_taken(k, mv, t, op.data(), n.data(), opt);
 }
 
-// One state, the outputs allocated here (None where not formed): true with a new reference in each outs[o], or
-// false with none — an exception set if allocating failed, else for anything run_into would not return OK for
-// (the caller then declines: the Python path converts or words it). `read_only`: the outputs as read-only views of
-// one block of memory (a bytes object: one allocation, outside NumPy's memory handler), as a record holds them.
+// One state, or a stack of them, the outputs allocated here (None where not formed): true with a new reference in
+// each outs[o], or false with none — an exception set if allocating failed, else for anything run_into would not
+// return OK for (the caller then declines: the Python path converts or words it). `read_only`: the outputs
+// read-only, as a record holds them (one state's as views of one block of memory: a bytes object, one allocation
+// outside NumPy's memory handler; a stack's from result_f64, whose large arrays are reused memory).
 inline bool run_fresh(const Kernel& k, const ModelView& mv, PyObject* const* inputs, const Options& opt,
                       PyObject** outs, bool read_only = false) {
+  declared::Taken t;
+  if (declared::take(k, mv, inputs, opt, t) != OK || t.stack.N == 0) return false;
+  const declared::Stack& s = t.stack;
   std::array<double*, DECLARED_MAX> op{};
+  std::array<std::int64_t, DECLARED_MAX> n{};
   const size_t no = k.outputs.size();
   auto release = [&] {
     for (size_t o = 0; o < no; ++o) Py_CLEAR(outs[o]);
@@ -309,26 +366,33 @@ inline bool run_fresh(const Kernel& k, const ModelView& mv, PyObject* const* inp
   };
   auto formed = [&](size_t o) { return declared::formed(k, o, [&](size_t i) { return !declared::absent(inputs[i]); }); };
   std::int64_t total = 0;
-  for (size_t o = 0; o < no; ++o) total += formed(o) ? size_of(mv, opt, k.outputs[o]) : 0;
-  PyObject* block = read_only ? PyBytes_FromStringAndSize(nullptr, static_cast<Py_ssize_t>(total * 8)) : nullptr;
-  if (read_only && block == nullptr) return false;
-  char* at = read_only ? PyBytes_AS_STRING(block) : nullptr;
+  for (size_t o = 0; o < no; ++o) {
+    n[o] = formed(o) ? size_of(mv, opt, k.outputs[o]) : 0;
+    total += n[o];
+  }
+  const bool block_of_one = read_only && s.nd == 0;
+  PyObject* block = block_of_one ? PyBytes_FromStringAndSize(nullptr, static_cast<Py_ssize_t>(total * 8)) : nullptr;
+  if (block_of_one && block == nullptr) return false;
+  char* at = block_of_one ? PyBytes_AS_STRING(block) : nullptr;
   for (size_t o = 0; o < no; ++o) outs[o] = nullptr;
   for (size_t o = 0; o < no; ++o) {
     if (!formed(o)) {
       outs[o] = Py_NewRef(Py_None);
       continue;
     }
-    npy_intp dims[3];
-    for (int d = 0; d < k.outputs[o].nd; ++d) dims[d] = length_of(mv, opt, k.outputs[o].dims[d]);
-    outs[o] = read_only ? f64_view(k.outputs[o].nd, dims, at, block) : result_f64(k.outputs[o].nd, dims);
+    npy_intp dims[declared::STACK_MAX_DIMS + 3];
+    for (int d = 0; d < s.nd; ++d) dims[d] = static_cast<npy_intp>(s.dims[d]);
+    for (int d = 0; d < k.outputs[o].nd; ++d) dims[s.nd + d] = length_of(mv, opt, k.outputs[o].dims[d]);
+    const int nd = s.nd + k.outputs[o].nd;
+    outs[o] = block_of_one ? f64_view(nd, dims, at, block) : result_f64(nd, dims);
     if (outs[o] == nullptr) break;
     op[o] = f64_data(outs[o]);
-    if (read_only) at += 8 * size_of(mv, opt, k.outputs[o]);
+    if (block_of_one) at += 8 * n[o];
+    else if (read_only) make_read_only(outs[o]);
   }
   Py_XDECREF(block);  // (held by the views)
   if (PyErr_Occurred()) return release();
-  return declared::run_state(k, mv, inputs, op.data(), nullptr, opt) == OK || release();
+  return declared::run_taken(k, mv, t, op.data(), n.data(), opt) == OK || release();
 }
 
 // The outputs as one result (stolen): the array of a single output, else a tuple (new reference; nullptr with an
@@ -415,6 +479,18 @@ inline RowStatus run_rows(const Kernel& k, const ModelView& mv, const Rows* rows
   };
   return for_row_groups(N, check, one, group_kernels().*k.group, g);
 }
+
+namespace declared {
+
+inline std::int64_t run_taken(const Kernel& k, const ModelView& mv, const Taken& t, double* const* op,
+                              const std::int64_t* n_out, const Options& opt) {
+  if (t.stack.nd > 0) return run_rows(k, mv, t.rows.data(), op, n_out, t.stack.N, opt).second;
+  std::array<const double*, DECLARED_MAX> ip{};
+  for (size_t i = 0; i < k.inputs.size(); ++i) ip[i] = t.rows[i].p;
+  return run_checked(k, mv, ip.data(), op, opt);
+}
+
+}  // namespace declared
 
 // Rows of a batch: each input (R, *shape) with R = N or 1 (broadcast), or None where optional; each output
 // (N, *shape); run by run_rows. (first failing row, its status), or (−1, OK).

@@ -85,6 +85,9 @@ inline PyObject* f64_view(int nd, const npy_intp* dims, char* data, PyObject* ow
   return a;
 }
 
+// Make an array read-only (a record's results: NumPy's documented flag, cleared as ndarray.flags.writeable = False does).
+inline void make_read_only(PyObject* a) { PyArray_CLEARFLAGS(reinterpret_cast<PyArrayObject*>(a), NPY_ARRAY_WRITEABLE); }
+
 inline double* f64_data(PyObject* a) { return static_cast<double*>(PyArray_DATA(reinterpret_cast<PyArrayObject*>(a))); }
 
 }  // namespace fdcore

@@ -1,6 +1,6 @@
-// PublicCall: a public function whose common one-state call is finished here, in C, and every
-// other call handed unchanged to the Python function it wraps (docs/architecture.md, "The public
-// functions' one-state path").
+// PublicCall: a public function whose common call — one state, or a stack of them (declare.hpp: take) — is
+// finished here, in C, and every other call handed unchanged to the Python function it wraps
+// (docs/architecture.md, "The public functions' one-state path", and "A stack of states").
 //
 // Why: the cheapest Python function around a 0.3 µs kernel costs 0.15–0.25 µs (the call, the
 // backend test, the model's handle, the frame name, the reference enum), which kept
