@@ -3,12 +3,17 @@
 from __future__ import annotations
 
 import re
+from typing import Any
 
 import numpy as np
 import pytest
+from _models import library_robot, library_robot_names
 
 import featherdyn as fd
-from _models import library_robot, library_robot_names
+from featherdyn.api.declarations import DECLARATIONS
+from featherdyn.api.declared import _constants
+from featherdyn.core import _core
+from featherdyn.core._model_view import CoreHandle
 
 #: core == reference to this, relative to the largest entry of the reference result
 RTOL = 1e-12
@@ -83,3 +88,22 @@ def same_message(core_error: BaseException, reference_error: BaseException) -> b
     if isinstance(reference_error, fd.errors.SingularMassMatrixError):
         a, b = _EIGENVALUE.sub("along the joint axis is <λ> —", a), _EIGENVALUE.sub("along the joint axis is <λ> —", b)
     return a == b
+
+
+class Spy:
+    """A general function that records its calls and returns a marker."""
+
+    def __init__(self) -> None:
+        self.calls: list[tuple[tuple[object, ...], dict[str, object]]] = []
+
+    def __call__(self, *args: object, **kwargs: object) -> str:
+        self.calls.append((args, kwargs))
+        return "general"
+
+
+def spied(kind: str) -> tuple[Any, Spy]:
+    """The core's public call of the declared algorithm ``kind`` (``_core.declared_call``) with a :class:`Spy` as its
+    Python function: what the call declines reaches the spy."""
+    spy = Spy()
+    record = _constants(DECLARATIONS[kind], None)
+    return _core.declared_call(_core.kernels[kind], spy, (CoreHandle, _core.kernels[kind], *REFS, record), None), spy

@@ -28,13 +28,12 @@ import threading
 
 import numpy as np
 import pytest
+from _core_helpers import spied
 from _models import TREES, random_state, tool_frames, tree
 
 import featherdyn as fd
 from featherdyn import core
-from featherdyn.api import _backend
 from featherdyn.api.declarations import DECLARATIONS
-from featherdyn.api.declared import _constants
 from featherdyn.core import _core
 from featherdyn.core._model_view import CoreHandle
 from featherdyn.errors import ModelError, NonFiniteError, ShapeError
@@ -80,24 +79,7 @@ def test_fast_path_equals_the_core_entry_points_bit_for_bit_and_the_reference(na
         np.testing.assert_array_equal(fd.compile(model).fk(q), H)
 
 
-class Spy:
-    """A general function that records its calls and returns a marker."""
-
-    def __init__(self) -> None:
-        self.calls: list[tuple[tuple[object, ...], dict[str, object]]] = []
-
-    def __call__(self, *args: object, **kwargs: object) -> str:
-        self.calls.append((args, kwargs))
-        return "general"
-
-
 K = _core.kernels
-
-
-def _spied(kind: str) -> tuple[object, Spy]:
-    spy = Spy()
-    record = _constants(DECLARATIONS[kind], None)
-    return _core.declared_call(K[kind], spy, (CoreHandle, K[kind], *REFERENCES, record), None), spy
 
 
 DYNAMICS = ("rnea", "aba", "nonlinear_effects", "generalized_gravity", "crba")
@@ -132,7 +114,7 @@ def test_dynamics_declined_calls_reach_the_general_function() -> None:
     st = random_state(model, 9)
     q, v, a, fx = st.q, st.v, st.a, st.f_ext
     fd.rnea(model, q, v, a)  # the model's core handle exists
-    rnea, spy = _spied("rnea")
+    rnea, spy = spied("rnea")
     for args, kwargs in [((model, q, v, a), {}), ((model, q, v, a, fx), {}), ((model, q, v, a, None), {}),
                          ((model, q, v, a), {"gravity": False}), ((model, q, v, a), {"f_ext": fx, "gravity": True})]:
         assert isinstance(rnea(*args, **kwargs), np.ndarray), (args, kwargs)
@@ -154,7 +136,7 @@ def test_dynamics_declined_calls_reach_the_general_function() -> None:
         assert all(x is y for x, y in zip(spy.calls[0][0], args, strict=True))
     for kind, args in [("aba", (model, q, v, a)), ("nonlinear_effects", (model, q, v)),
                        ("generalized_gravity", (model, q)), ("crba", (model, q))]:
-        f, spy = _spied(kind)
+        f, spy = spied(kind)
         assert isinstance(f(*args), np.ndarray) and not spy.calls, kind
         assert f(*args, backend=None) == "general" and len(spy.calls) == 1, kind
         assert f(args[0], args[1].tolist(), *args[2:]) == "general" and len(spy.calls) == 2, kind
@@ -169,7 +151,7 @@ def test_declined_calls_reach_the_general_function_with_the_same_arguments() -> 
     frame = _frame(model)
     q = random_state(model, 3).q
     fd.frame_jacobian(model, q, frame)  # the model's core handle exists
-    jac, spy = _spied("frame_jacobian")
+    jac, spy = spied("frame_jacobian")
     assert isinstance(jac(model, q, frame), np.ndarray) and not spy.calls
     assert isinstance(jac(model, q, frame, fd.WORLD), np.ndarray) and not spy.calls
     assert isinstance(jac(model, q, frame, reference=fd.WORLD), np.ndarray) and not spy.calls
@@ -206,7 +188,7 @@ def test_declined_calls_reach_the_general_function_with_the_same_arguments() -> 
         got_args, got_kwargs = spy.calls[0]
         assert got_kwargs == kwargs and len(got_args) == len(args)
         assert all(a is b for a, b in zip(got_args, args, strict=True))
-    place, spy = _spied("frame_placement")
+    place, spy = spied("frame_placement")
     assert isinstance(place(model, q, frame), fd.PluckerTransform) and not spy.calls
     for args in [(model, qn, frame), (model, q, "no such frame"), (model, q.tolist(), frame)]:
         assert place(*args) == "general" and len(spy.calls) == 1
@@ -223,7 +205,7 @@ def test_a_point_after_the_options_is_bound_in_c() -> None:
     fid = model.frame_id(frame)
     s = random_state(model, 6)
     p = np.array([0.1, -0.2, 0.3])
-    f, spy = _spied("kinematics_derivatives")
+    f, spy = spied("kinematics_derivatives")
     fd.kinematics_derivatives(model, s.q, s.v, s.a, frame)  # (the model's core handle exists)
     for code, ref in enumerate(REFERENCES):
         expected = [np.empty((6, model.nv)) for _ in range(8)]
@@ -282,7 +264,7 @@ def test_the_reference_default_backend_sends_every_call_to_the_general_function(
     model = tree(TREE_NAMES[0])
     frame = _frame(model)
     q = random_state(model, 5).q
-    jac, spy = _spied("frame_jacobian")
+    jac, spy = spied("frame_jacobian")
     assert isinstance(jac(model, q, frame), np.ndarray) and not spy.calls
     fd.set_default_backend("reference")
     try:
@@ -415,7 +397,7 @@ def test_a_named_tuple_records_out_is_written_in_c() -> None:
     st = random_state(model, 5)
     n = model.nv
     fresh = fd.rnea_second_derivatives(model, st.q, st.v, st.a)
-    f, spy = _spied("rnea_second_derivatives")
+    f, spy = spied("rnea_second_derivatives")
     outs = tuple(np.full((n, n, n), np.nan) for _ in range(4))
     r = f(model, st.q, st.v, st.a, out=outs)
     assert not spy.calls

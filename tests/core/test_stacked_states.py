@@ -18,21 +18,19 @@ from typing import Any
 
 import numpy as np
 import pytest
+from _core_helpers import spied
 from _models import library_robot
 
 import featherdyn as fd
 from featherdyn import core
 from featherdyn.api.declarations import DECLARATIONS
-from featherdyn.api.declared import _constants
 from featherdyn.core import _core
 from featherdyn.core import declared as _declared
-from featherdyn.core._model_view import CoreHandle
 from featherdyn.errors import NonFiniteError, ShapeError
 
 K = _core.kernels
 WIDTH = _core.simd()[1]
 N = 2 * WIDTH + 3  # two full SIMD groups and a tail
-REFERENCES = (fd.LOCAL, fd.WORLD, fd.LOCAL_WORLD_ALIGNED)
 
 
 def _model() -> fd.Model:
@@ -98,28 +96,11 @@ def test_a_stack_equals_the_python_batch_path_bit_for_bit(name: str) -> None:
         assert got is not None and _same(got, _declared.run(name, model, (N,), xs, options=opts)), one
 
 
-class Spy:
-    """A general function that records its calls and returns a marker."""
-
-    def __init__(self) -> None:
-        self.calls: list[tuple[tuple[object, ...], dict[str, object]]] = []
-
-    def __call__(self, *args: object, **kwargs: object) -> str:
-        self.calls.append((args, kwargs))
-        return "general"
-
-
-def _spied(kind: str) -> tuple[Any, Spy]:
-    spy = Spy()
-    record = _constants(DECLARATIONS[kind], None)
-    return _core.declared_call(K[kind], spy, (CoreHandle, K[kind], *REFERENCES, record), None), spy
-
-
 def test_a_public_call_with_a_stack_is_finished_in_c() -> None:
     model = _model()
     q, v, a, _ = _inputs(model, "rnea", (N,), seed=1)
     fd.rnea(model, q[0], v[0], a[0])  # (the model's core handle exists)
-    rnea, spy = _spied("rnea")
+    rnea, spy = spied("rnea")
     expected = _declared.run("rnea", model, (N,), [q, v, a, None], options={"gravity": True})[0]
     for args, kwargs in [((model, q, v, a), {}), ((model, q), {"v": v, "a": a}), ((model, q, v, a), {"gravity": True})]:
         r = rnea(*args, **kwargs)
@@ -139,7 +120,7 @@ def test_a_records_stacked_arrays_are_read_only() -> None:
     q = _inputs(model, "frame_placement", (N,), seed=2)[0]
     frame = model.frames[-1].name
     fd.frame_placement(model, q[0], frame)
-    place, spy = _spied("frame_placement")
+    place, spy = spied("frame_placement")
     X = place(model, q, frame)
     assert not spy.calls and type(X) is fd.PluckerTransform
     R, p = _declared.run("frame_placement", model, (N,), [q], options={"frame": len(model.frames) - 1})
@@ -156,7 +137,7 @@ def test_what_a_stack_is_not_goes_to_the_python_function() -> None:
     model = _model()
     q, v, a, _ = _inputs(model, "rnea", (N,), seed=3)
     fd.rnea(model, q[0], v[0], a[0])
-    rnea, spy = _spied("rnea")
+    rnea, spy = spied("rnea")
     nan_row = v.copy()
     nan_row[3, 1] = np.nan
     many = q.reshape((1,) * 8 + (N, model.nq))
