@@ -197,3 +197,27 @@ def test_the_contact_kernels_take_stacks_as_their_public_functions_give_them() -
         if f is fd.constrained_dynamics:
             assert [x.shape for x in stacked.forces] == [(2, WIDTH + 1, 3)] * 4
             assert stacked.residual.shape == (2, WIDTH + 1)
+
+
+def test_a_compiled_models_method_takes_a_stack_in_c() -> None:
+    """fd.compile(model)'s methods are the same public calls bound to the model: a stack runs in C there too (its
+    Python function, which would re-check the arguments, is not called), with the Python batch path's bits."""
+    model = _model()
+    cm = fd.compile(model, warmup=False)
+    q, v, a, _ = _inputs(model, "rnea", (2, 5), seed=9)
+    expected = _declared.run("rnea", model, (2, 5), [q, v, a, None])[0]
+    calls = []
+    general = cm.rnea.__wrapped__
+
+    def spy(*args: Any, **kwargs: Any) -> Any:
+        calls.append(args)
+        return general(*args, **kwargs)
+
+    bound = _core.declared_call(K["rnea"], spy, (K["rnea"], core._view(model).frames, fd.LOCAL, fd.WORLD,
+                                                 fd.LOCAL_WORLD_ALIGNED, None), core._view(model).cm)
+    np.testing.assert_array_equal(bound(q, v, a), expected)
+    out = np.empty_like(expected)
+    assert bound(q, v, a, out=out) is out and np.array_equal(out, expected) and not calls
+    np.testing.assert_array_equal(cm.rnea(q, v, a), expected)
+    np.testing.assert_array_equal(bound(q.tolist(), v, a), expected)  # a list: the Python function converts it
+    assert len(calls) == 1
