@@ -7,6 +7,7 @@ featherdyn is faster):
   ``pin.constraintDynamics`` (constraint datas initialised once, outside the timing, as a
   control loop would);
 * talos_full_v2 in double support (two 6D soles): the same;
+* on both, an impact: ``fd.impulse_dynamics`` against ``pin.impulseDynamics`` (restitution 0);
 * Λ at one frame (panda's hand) and at two frames (talos's grippers): ``fd.operational_space_inertia``
   against Pinocchio's best route from Python, ``computeDelassusMatrix`` then ``np.linalg.inv``; and on batches
   of 200 and 2000 states against a Python loop of one-state calls;
@@ -69,6 +70,10 @@ def main() -> int:
                                   lambda: pin.constraintDynamics(p.pm, p.pd, qp, vp, taup, cms, cds, settings),  # noqa: B023
                                   repeats, budget)
         rows.append((f"{name}: constrained_dynamics, {len(frames)} {'3D' if three_d else '6D'} contacts", t_fd, t_pin))
+        t_fd, t_pin = median_pair(lambda: fd.impulse_dynamics(p.model, q, v, cons),  # noqa: B023
+                                  lambda: pin.impulseDynamics(p.pm, p.pd, qp, vp, cms, cds, 0.0, settings),  # noqa: B023
+                                  repeats, budget)
+        rows.append((f"{name}: impulse_dynamics / impulseDynamics", t_fd, t_pin))
         # batched against a Python loop of one-state calls
         for n in BATCHES:
             Q, V, T = p.states(n)[:3]

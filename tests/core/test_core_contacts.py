@@ -264,6 +264,47 @@ def test_an_impulse_derivative_batch_with_dependent_contacts_raises_as_its_row()
             assert np.array_equal(getattr(rows, what)[i], getattr(single, what)), (k, what)
 
 
+@pytest.mark.parametrize("name", sorted(SCENES))
+def test_impulse_dynamics_in_the_core(name: str) -> None:
+    """fd.impulse_dynamics on point and frame contacts runs the core's kernel (``impulse_dynamics``, the first part of
+    the impulse derivatives' kernel): v⁺ and Λ agree with the reference backend (the dense KKT solve) to round-off
+    and are the derivatives' own bits, one state and a (2, W + 1) stack, with and without restitution; the impact
+    law holds (J v⁺ = −e J v⁻, M (v⁺ − v⁻) = Jᵀ Λ); dependent contacts raise as before (mu = 0) or take the
+    proximal general path (mu > 0)."""
+    model = _model(name)
+    frames, rows = SCENES[name]
+    cons = [fd.PointContact(f) if rows == 3 else fd.FrameContact(f) for f in frames]
+    rng = np.random.default_rng(11)
+    Q = np.asarray(fd.random_configuration(model, rng, size=(2, WIDTH + 1)))
+    V = rng.normal(size=(2, WIDTH + 1, model.nv))
+    for e in (0.0, 0.6):
+        stacked = fd.impulse_dynamics(model, Q, V, cons, restitution=e)
+        assert stacked.v_plus.shape == (2, WIDTH + 1, model.nv) and len(stacked.impulses) == len(cons)
+        for i, k in ((0, 0), (1, WIDTH)):
+            one = fd.impulse_dynamics(model, Q[i, k], V[i, k], cons, restitution=e)
+            ref = fd.impulse_dynamics(model, Q[i, k], V[i, k], cons, restitution=e, backend="reference")
+            d = fd.impulse_dynamics_derivatives(model, Q[i, k], V[i, k], cons, restitution=e)
+            assert np.array_equal(one.v_plus, d.v_plus) and np.array_equal(one.lagrange, d.lagrange)
+            assert np.array_equal(stacked.v_plus[i, k], one.v_plus)
+            assert np.array_equal(stacked.lagrange[i, k], one.lagrange)
+            for x, y in zip(stacked.impulses, one.impulses, strict=True):
+                assert np.array_equal(x[i, k], y)
+            scale = max(1.0, float(np.abs(ref.v_plus).max()), float(np.abs(ref.lagrange).max()))
+            np.testing.assert_allclose(one.v_plus, ref.v_plus, rtol=0, atol=1e-10 * scale)
+            np.testing.assert_allclose(one.lagrange, ref.lagrange, rtol=0, atol=1e-10 * scale)
+            J = np.concatenate([fd.frame_jacobian(model, Q[i, k], f, fd.LOCAL)[3 if rows == 3 else 0:] for f in frames])
+            M = fd.crba(model, Q[i, k])
+            np.testing.assert_allclose(J @ one.v_plus, -e * (J @ V[i, k]), rtol=0, atol=1e-9 * scale)
+            np.testing.assert_allclose(M @ (one.v_plus - V[i, k]), J.T @ one.lagrange, rtol=0, atol=1e-9 * scale)
+    # dependent contacts: the same contact twice
+    twice = [cons[0], cons[0]]
+    with pytest.raises(fd.ConstraintError):
+        fd.impulse_dynamics(model, Q[0, 0], V[0, 0], twice)
+    prox = fd.impulse_dynamics(model, Q[0, 0], V[0, 0], twice, mu=1e-6)
+    ref = fd.impulse_dynamics(model, Q[0, 0], V[0, 0], twice, mu=1e-6, backend="reference")
+    np.testing.assert_allclose(prox.v_plus, ref.v_plus, rtol=1e-9, atol=1e-9)
+
+
 @pytest.mark.parametrize("which", ["constrained", "impulse"])
 def test_a_derivative_batch_with_a_non_finite_row_names_it(which: str) -> None:
     """A NaN in a row of a full group of lanes: the batch's error names the argument and the row (every row is

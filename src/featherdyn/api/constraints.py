@@ -41,6 +41,7 @@ _NEW = object.__new__
 _SET = object.__setattr__
 _CONTACTS = _declared.kernel("contact_dynamics")  # the declared kernels (core/cpp/declarations_constraints.hpp)
 _FRAMES = _declared.kernel("operational_space_inertia")
+_IMPULSES = _declared.kernel("impulse_dynamics")
 
 __all__ = ["ConstrainedDynamics", "ImpulseDynamics", "OperationalSpace", "constraint_jacobian", "constraint_drift",
            "delassus", "constrained_dynamics", "impulse_dynamics", "operational_space_inertia", "operational_space"]
@@ -256,6 +257,11 @@ def impulse_dynamics(model: Model, q: ArrayLike, v: ArrayLike, constraints: Sequ
     """The velocity just after an impact with the constraints (``algorithms/constraints.py: impulse_system``)::
 
         M (v⁺ − v⁻) = Jᵀ Λ,     J v⁺ = −e J v⁻      (e: the restitution coefficient, 0 ≤ e ≤ 1)
+
+    For point and frame contacts the core's kernel (``core/cpp/contact_derivatives.hpp``: ``Λ = −(1 + e) D⁻¹ J v⁻``,
+    ``v⁺ = v⁻ + M⁻¹ Jᵀ Λ`` on M's tree-sparse factor, one state or a stack of them) gives the exact solve, as
+    :func:`impulse_dynamics_derivatives` does; ``mu > 0`` matters when the contacts are dependent (the proximal
+    iterations' minimum-norm impulses), and loops take the general path.
     """
     if _dask.lazy(q, v):
         return _dask.call(impulse_dynamics, model, {"q": q, "v": v}, constraints=constraints,
@@ -267,6 +273,21 @@ def impulse_dynamics(model: Model, q: ArrayLike, v: ArrayLike, constraints: Sequ
     if not (0.0 <= e <= 1.0):
         raise ModelError(f"restitution: expected a number in [0, 1], got {restitution!r}")
     mu = _con.solver_settings(mu, 1, 1.0)[0]
+    core = core_path(model, backend)
+    found = None if core is None else cached_contact_plan(model, constraints, core_contact_plan)
+    if found is not None and found[1] is not None:  # point and frame contacts: the core's kernel, as the derivatives'
+        opts = found[1][1] if e == 0.0 else _declared.call_options(plan=found[1][0], restitution=e,
+                                                                    singular_tol=DELASSUS_PIVOT_RTOL)
+        try:  # one state, or a stack of them, as the kernel takes them; dependent contacts: the general path
+            r = _IMPULSES.fresh(core.cm, (q, v), opts)
+        except (TypeError, ValueError):
+            r = None
+        if r is not None:
+            out = _NEW(ImpulseDynamics)  # (as _contact_result makes its record)
+            _SET(out, "v_plus", r[0])
+            _SET(out, "impulses", [r[1][..., s] for s in found[0].slices])
+            _SET(out, "lagrange", r[1])
+            return out
     items = _con.as_constraints(constraints)
     st = check_state(model, q, v=v)
     vm = st.arrays["v"]

@@ -386,15 +386,17 @@ std::int64_t contact_dynamics_derivatives(const ModelView& mv, const S* q, const
   return OK;
 }
 
-// The impulse v⁺ (nv,), Λ (m,) of an impact with the contacts (restitution e) and its derivatives ∂v⁺/∂(q, v⁻)
-// (nv, nv), ∂Λ/∂(q, v⁻) (m, nv) into out[0..3], v⁺ and Λ into out[4], out[5]. Returns OK, SINGULAR, or CONSTRAINT.
+namespace contact_deriv {
+
+// The impulse v⁺ (nv,), Λ (m,) of an impact with the contacts (restitution e), leaving M's factor (w.L), the contacts'
+// rows and D = J M⁻¹ Jᵀ's factor in w for the derivatives::
+//     Λ = −(1 + e) D⁻¹ J v⁻,   v⁺ = v⁻ + M⁻¹ Jᵀ Λ
+// Returns OK, SINGULAR, or CONSTRAINT (dependent contacts).
 template <class S>
-std::int64_t impulse_dynamics_derivatives(const ModelView& mv, const S* q, const S* vm, const ContactSpec* specs,
-                                          int nc, int m, double e, double singular_tol, S* const* out) {
-  using namespace contact_deriv;
-  const int nv = mv.nv, w2 = 2 * nv;
+std::int64_t impulse(const ModelView& mv, const S* q, const S* vm, const ContactSpec* specs, int nc, int m, double e,
+                     double singular_tol, S* vp, S* Lam, ContactDerivWork<S>& w) {
+  const int nv = mv.nv;
   const size_t n = static_cast<size_t>(nv);
-  ContactDerivWork<S>& w = workspace<S>(mv, specs, nc, m);
   const int* lambda = dof_tree(mv).lambda.data();
   w.L.resize(n * n);
   crba(mv, q, w.L.data());
@@ -402,9 +404,7 @@ std::int64_t impulse_dynamics_derivatives(const ModelView& mv, const S* q, const
   if (bad >= 0) return make_status(SINGULAR, ARG_Q, dof_body(mv, bad));
   contact_terms<S>(mv, q, nullptr, nullptr, false, nullptr, specs, nc, w, nullptr);
   if (const std::int64_t st = delassus(mv, lambda, m, singular_tol, w); st != OK) return st;
-  // Λ = −(1 + e) D⁻¹ J v⁻,  v⁺ = v⁻ + M⁻¹ Jᵀ Λ
-  S *vp = out[4], *Lam = out[5];
-  const S minus_1e(-(1.0 + e)), se(e);
+  const S minus_1e(-(1.0 + e));
   for (int r = 0; r < m; ++r) {
     S s(0.0);
     for (int t = w.off[r]; t < w.off[r + 1]; ++t) s = s + w.J[static_cast<size_t>(r) * n + w.supp[t]] * vm[w.supp[t]];
@@ -416,6 +416,33 @@ std::int64_t impulse_dynamics_derivatives(const ModelView& mv, const S* q, const
     for (int r = 0; r < m; ++r) s = s + w.Pt[i * static_cast<size_t>(m) + r] * Lam[r];
     vp[i] = s;
   }
+  return OK;
+}
+
+}  // namespace contact_deriv
+
+// The impulse v⁺ (nv,), Λ (m,) of an impact with the contacts (restitution e): contact_deriv::impulse (the first
+// part of the derivatives below). Returns OK, SINGULAR, or CONSTRAINT.
+template <class S>
+std::int64_t impulse_dynamics(const ModelView& mv, const S* q, const S* vm, const ContactSpec* specs, int nc, int m,
+                              double e, double singular_tol, S* vp, S* Lam) {
+  return contact_deriv::impulse(mv, q, vm, specs, nc, m, e, singular_tol, vp, Lam,
+                                contact_deriv::workspace<S>(mv, specs, nc, m));
+}
+
+// The impulse v⁺ (nv,), Λ (m,) of an impact with the contacts (restitution e) and its derivatives ∂v⁺/∂(q, v⁻)
+// (nv, nv), ∂Λ/∂(q, v⁻) (m, nv) into out[0..3], v⁺ and Λ into out[4], out[5]. Returns OK, SINGULAR, or CONSTRAINT.
+template <class S>
+std::int64_t impulse_dynamics_derivatives(const ModelView& mv, const S* q, const S* vm, const ContactSpec* specs,
+                                          int nc, int m, double e, double singular_tol, S* const* out) {
+  using namespace contact_deriv;
+  const int nv = mv.nv, w2 = 2 * nv;
+  const size_t n = static_cast<size_t>(nv);
+  ContactDerivWork<S>& w = workspace<S>(mv, specs, nc, m);
+  const int* lambda = dof_tree(mv).lambda.data();
+  S *vp = out[4], *Lam = out[5];
+  if (const std::int64_t st = impulse(mv, q, vm, specs, nc, m, e, singular_tol, vp, Lam, w); st != OK) return st;
+  const S se(e);
   // R₁ along q: RNEA at zero velocity without gravity, a = v⁺ − v⁻, with Λ on the bodies, plus the turn;
   // R₂ = ∂(J u)/∂q at u = v⁺ + e v⁻. A = [−M⁻¹ R₁ | 1], R₂ = [∂(J u)/∂q | e J], so Z's v⁻ block J·1 + e J is
   // (1 + e) J whole.

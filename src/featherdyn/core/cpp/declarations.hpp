@@ -470,7 +470,7 @@ inline std::vector<Kernel> make_declared_kernels() {
       declare<ForwardKinematics>(), declare<FramePlacement>(), declare<CenterOfMass>(), declare<CentroidalMomentum>(),
       declare<MassMatrixFactor>(), declare<MassSolve>(), declare<RneaSecondDerivatives>(), declare<AbaSecondDerivatives>(),
       declare<Delassus>(), declare<ConstrainedSolve>(), declare<ContactDynamics>(), declare<OperationalSpaceInertia>(),
-      declare<ContactDynamicsDerivatives>(), declare<ImpulseDynamicsDerivatives>(),
+      declare<ContactDynamicsDerivatives>(), declare<ImpulseDynamicsDerivatives>(), declare<ImpulseDynamics>(),
       declare<KinematicsDerivatives>(), declare<CenterOfMassDerivatives>(),
       declare<CentroidalDynamicsDerivatives>(), declare<FrameVelocity>(), declare<FrameAcceleration>(),
       declare<FrameClassicalAcceleration>(), declare<Integrate>(), declare<Difference>(),
