@@ -30,10 +30,9 @@ from ..frames import LOCAL, ReferenceFrame
 from ..model import Model
 from ..rotation import se3_log
 from ..spatial.ops import skew_unchecked
-from ..tolerances import DELASSUS_PIVOT_RTOL
 from ._backend import core_path
 from ._checks import check_state
-from .constraints import _solver, constrained_dynamics, core_contact_plan, impulse_dynamics
+from .constraints import _impact, _solver, constrained_dynamics, core_contact_plan, impulse_dynamics
 from .declarations import (
     crba,
     frame_acceleration,
@@ -319,8 +318,7 @@ def impulse_dynamics_derivatives(model: Model, q: ArrayLike, v: ArrayLike,
     found = cached_contact_plan(model, constraints, core_contact_plan)
     if found is not None and found[1] is not None and isinstance(restitution, (int, float)) \
             and 0.0 <= restitution <= 1.0:  # point and frame contacts: contact_derivatives.hpp
-        opts = found[1][1] if restitution == 0.0 else _declared.call_options(  # (the plan's own: e = 0)
-            plan=found[1][0], restitution=float(restitution), singular_tol=DELASSUS_PIVOT_RTOL)
+        opts = _impact(found[1], float(restitution))
         r = _core(_IMPULSES, ImpulseDynamicsDerivatives, model, (q, v), opts, backend)
         if r is not None:
             return r

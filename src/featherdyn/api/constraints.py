@@ -148,6 +148,13 @@ def _solver(compiled: tuple[Any, Any], mu: Any, max_iter: Any = 50, tol: Any = 1
     return _declared.call_options(plan=core_plan, mu=mu, max_iter=max_iter, tol=tol, singular_tol=DELASSUS_PIVOT_RTOL)
 
 
+def _impact(compiled: tuple[Any, Any], e: float) -> Any:
+    """The core's ``Options`` of an impact with a compiled plan and restitution ``e`` (the plan's own for e = 0)."""
+    core_plan, default = compiled
+    return default if e == 0.0 else _declared.call_options(plan=core_plan, restitution=e,
+                                                            singular_tol=DELASSUS_PIVOT_RTOL)
+
+
 def delassus(model: Model, q: ArrayLike, constraints: Sequence[Constraint] | Constraint, *,
              backend: str | None = None) -> np.ndarray:
     """``J M⁻¹ Jᵀ`` `(..., m, m)` from M's tree-sparse factor, without forming M⁻¹::
@@ -276,8 +283,7 @@ def impulse_dynamics(model: Model, q: ArrayLike, v: ArrayLike, constraints: Sequ
     core = core_path(model, backend)
     found = None if core is None else cached_contact_plan(model, constraints, core_contact_plan)
     if found is not None and found[1] is not None:  # point and frame contacts: the core's kernel, as the derivatives'
-        opts = found[1][1] if e == 0.0 else _declared.call_options(plan=found[1][0], restitution=e,
-                                                                    singular_tol=DELASSUS_PIVOT_RTOL)
+        opts = _impact(found[1], e)
         try:  # one state, or a stack of them, as the kernel takes them; dependent contacts: the general path
             r = _IMPULSES.fresh(core.cm, (q, v), opts)
         except (TypeError, ValueError):

@@ -174,7 +174,8 @@ std::int64_t singular_block(const Kernel& k, const ModelData& md, const nb::sequ
   const double* p[DECLARED_MAX] = {};
   for (size_t i = 0; i < k.inputs.size(); ++i) {
     if (ip[i] == Py_None) continue;
-    if (!in[i].acquire(ip[i]) || declared::exact(in[i], md.view, opt, k.inputs[i]) != OK)
+    int lead = 0;
+    if (!in[i].acquire(ip[i]) || declared::leading(in[i], md.view, opt, k.inputs[i], lead) != OK || lead != 0)
       throw nb::value_error("singular_block: checked float64 arrays of one state expected");
     p[i] = in[i].data();
   }

@@ -231,14 +231,6 @@ inline std::int64_t run_checked(const Kernel& k, const ModelView& mv, const doub
   return k.checks_outputs ? OK : finite_outputs(mv, opt, k.outputs.data(), k.outputs.size(), out);
 }
 
-// An operand of one state: an array of exactly the declared shape (a wrong one: a LENGTH status naming it).
-template <class A>
-std::int64_t exact(const A& x, const ModelView& mv, const Options& opt, const Operand& o) {
-  bool same = x.ndim() == static_cast<size_t>(o.nd);
-  for (int d = 0; same && d < o.nd; ++d) same = static_cast<std::int64_t>(x.shape(d)) == length_of(mv, opt, o.dims[d]);
-  return same ? OK : make_status(LENGTH, o.arg, x.ndim() == 1 ? static_cast<std::int64_t>(x.shape(0)) : -1);
-}
-
 // The states a public call's arrays hold as they are: one (every input exactly its declared shape), or a stack of
 // N = ∏ dims of them (an input its declared shape under the leading lengths `dims`, the same for every input that
 // has leading lengths; an input of exactly its declared shape is read by every state). At most STACK_MAX_DIMS
@@ -293,8 +285,9 @@ inline std::int64_t take(const Kernel& k, const ModelView& mv, PyObject* const* 
       if (lead > STACK_MAX_DIMS) return NOT_TAKEN;
       t.stack.nd = lead;
       for (int d = 0; d < lead; ++d) t.stack.N *= t.stack.dims[d] = static_cast<std::int64_t>(t.in[i].shape(static_cast<size_t>(d)));
+    } else if (lead > 0 && !on_stack(t.in[i], lead, t.stack)) {
+      return NOT_TAKEN;  // other leading lengths (broadcasting: the Python path's)
     }
-    if (lead > 0 && !on_stack(t.in[i], lead, t.stack)) return NOT_TAKEN;  // (broadcasting: the Python path's)
     t.rows[i] = Rows{t.in[i].data(), lead == 0 ? 0 : size_of(mv, opt, k.inputs[i])};
   }
   return check_options(k, mv, opt);
