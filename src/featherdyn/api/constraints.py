@@ -191,7 +191,7 @@ def _split(lam: np.ndarray, items: list[Constraint]) -> list[np.ndarray]:
 def _contact_result(qdd: np.ndarray, lam: np.ndarray, info: np.ndarray, plan: ContactPlan) -> ConstrainedDynamics | None:
     """The result of a solve the core finished, one state `(nv,)` or a stack of them `(..., nv)` (``None`` when a
     state's rows were dependent or did not converge: the general path raises)."""
-    if not (info[..., 0] > 0.0).all():
+    if not (info[0] > 0.0 if info.ndim == 1 else (info[..., 0] > 0.0).all()):  # (one state: 1.7 µs less)
         return None
     out = _NEW(ConstrainedDynamics)  # (a frozen dataclass's __init__ costs more than the solve's rows)
     _SET(out, "ddq", qdd)
@@ -270,9 +270,6 @@ def impulse_dynamics(model: Model, q: ArrayLike, v: ArrayLike, constraints: Sequ
     :func:`impulse_dynamics_derivatives` does; ``mu > 0`` matters when the contacts are dependent (the proximal
     iterations' minimum-norm impulses), and loops take the general path.
     """
-    if _dask.lazy(q, v):
-        return _dask.call(impulse_dynamics, model, {"q": q, "v": v}, constraints=constraints,
-                          restitution=restitution, mu=mu, backend=backend)
     try:
         e = float(restitution)
     except (TypeError, ValueError):
@@ -294,6 +291,9 @@ def impulse_dynamics(model: Model, q: ArrayLike, v: ArrayLike, constraints: Sequ
             _SET(out, "impulses", [r[1][..., s] for s in found[0].slices])
             _SET(out, "lagrange", r[1])
             return out
+    if _dask.lazy(q, v):  # (after the core, which declines dask arrays: as constrained_dynamics)
+        return _dask.call(impulse_dynamics, model, {"q": q, "v": v}, constraints=constraints,
+                          restitution=restitution, mu=mu, backend=backend)
     items = _con.as_constraints(constraints)
     st = check_state(model, q, v=v)
     vm = st.arrays["v"]
