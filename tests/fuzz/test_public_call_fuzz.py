@@ -11,10 +11,17 @@ fifth must be, and some declined). Both must end alike: the same
 exception type and message, or results equal (bit for bit for the arrays the core computes either
 way; to 1e-12 for a frame placement, which the Python function composes from the whole forward
 kinematics).
+
+The same for stacks of states (``declare.hpp: take``), the public objects' and ``fd.compile``'s methods with
+``out=``: each array parameter a stack of the call's leading lengths, one state (read by every state), or a stack that
+is not quite one (another stack's lengths, a stack of one against several, an empty stack, a NaN in one state,
+strided, Fortran-ordered, float32, a list), and ``out`` a stack of the right shape, another's, read-only, float32,
+Fortran-ordered, or the call's own ``v``.
 """
 
 from __future__ import annotations
 
+import functools
 from typing import Any
 
 import numpy as np
@@ -237,3 +244,152 @@ def test_compiled_methods_end_a_call_as_their_closures_do(name: str) -> None:
         _same(name, got, expected)
     assert finished_in_c >= EXAMPLES // 5, f"{name}: only {finished_in_c} of {EXAMPLES} calls were finished in C"
     assert finished_in_c < EXAMPLES, f"{name}: no call was declined"
+
+
+# --- stacks of states (declare.hpp: take): every array parameter drawn as a stack, one state, or a stack that is
+# not quite one; the public object against its Python function as above
+
+STACKABLE = {"q": "nq", "v": "nv", "a": "nv", "tau": "nv", "w": "nv", "f_ext": "fx"}
+LEADS = [(3,), (2, 2), (1,), (2 * fd.core._core.simd()[1] + 1,)]
+
+
+def _stack(p: str, lead: tuple[int, ...], rng: np.random.Generator) -> np.ndarray:
+    """A right stack of parameter p under the leading lengths lead (unit quaternions in q)."""
+    if p == "q":
+        return np.asarray(fd.random_configuration(MODEL, rng, size=lead))
+    tail = (MODEL.nbodies, 6) if p == "f_ext" else (MODEL.nv,)
+    return rng.uniform(-1, 1, lead + tail)
+
+
+def _stack_kind(rng: np.random.Generator) -> str:
+    """Mostly a right stack or one state (read by every state), else one of the things the binding declines or the
+    Python function words: another stack's lengths, a stack of one against several, an empty stack, a NaN in one
+    state, strided, Fortran-ordered, float32, a nested list."""
+    if rng.random() < 0.85:
+        return str(rng.choice(["stack", "stack", "stack", "one"]))
+    return str(rng.choice(["other", "ones", "empty", "nan", "strided", "fortran", "float32", "list"]))
+
+
+def _stack_variant(p: str, lead: tuple[int, ...], kind: str, seed: int) -> Any:
+    """Parameter p of the kind _stack_kind drew for a stack of lead (the same seed, the same value)."""
+    rng = np.random.default_rng(seed)
+    x = _stack(p, lead, rng)
+    if kind == "one":
+        return x.reshape(-1, *x.shape[len(lead):])[0].copy()
+    if kind == "other":
+        return _stack(p, lead[:-1] + (lead[-1] + 1,), rng)
+    if kind == "ones":
+        return _stack(p, (1,) * len(lead), rng)
+    if kind == "empty":
+        return _stack(p, lead[:-1] + (0,), rng)
+    if kind == "nan":
+        x.reshape(-1)[rng.integers(x.size)] = np.nan
+    elif kind == "strided":
+        x = np.repeat(x, 2, axis=0)[::2]
+    elif kind == "fortran":
+        x = np.asfortranarray(x)
+    elif kind == "float32":
+        x = x.astype(np.float32)
+    elif kind == "list":
+        return x.tolist()
+    return x
+
+
+@pytest.mark.parametrize("name", sorted(SIGNATURES))
+def test_a_stack_ends_a_call_as_the_python_function_does(name: str) -> None:
+    general = getattr(fd, name).__wrapped__
+    counting = _Counting(general)
+    f = _public(name, counting)
+    positional, keyword_only = SIGNATURES[name]
+    fd.crba(MODEL, Q)
+    rng = np.random.default_rng(sum(map(ord, name)) + 2)
+    finished_in_c = 0
+    for _ in range(EXAMPLES // 2):
+        lead = LEADS[rng.integers(len(LEADS))]
+        args: list[Any] = [MODEL]
+        kwargs: dict[str, Any] = {}
+        for p in positional + keyword_only:
+            if p not in REQUIRED and rng.random() < (0.85 if p == "backend" else 0.4):
+                continue
+            if p in STACKABLE:
+                value = _stack_variant(p, lead, _stack_kind(rng), int(rng.integers(1 << 30)))
+            else:
+                taken, others = ARGS[p]
+                value = taken[rng.integers(len(taken))] if rng.random() < 0.9 else others[rng.integers(len(others))]
+            if p in positional and positional.index(p) == len(args) - 1 and not kwargs and rng.random() < 0.7:
+                args.append(value)
+            else:
+                kwargs[p] = value
+        before = counting.calls
+        with np.errstate(all="ignore"):
+            got = _outcome(f, tuple(args), kwargs)
+        finished_in_c += counting.calls == before
+        with np.errstate(all="ignore"):
+            expected = _outcome(general, tuple(args), kwargs)
+        _same(name, got, expected)
+    assert finished_in_c >= EXAMPLES // 8, f"{name}: only {finished_in_c} of {EXAMPLES // 2} calls were finished in C"
+    assert finished_in_c < EXAMPLES // 2, f"{name}: no call was declined"
+
+
+def _stack_outs(name: str, lead: tuple[int, ...]) -> tuple[list[Any], list[Any]]:
+    """Makers of out= values for a stack of lead: taken, and others (another stack's, one state's, read-only,
+    float32, Fortran-ordered; "v": the call's own v, an out over an input)."""
+    shape = lead + OUT_SHAPES.get(name, (MODEL.nv,))
+    other = lead[:-1] + (lead[-1] + 1,) + shape[len(lead):]
+    others = [lambda: np.empty(other), lambda: np.empty(shape[len(lead):]), lambda: _read_only(shape),
+              lambda: np.empty(shape, dtype=np.float32), lambda: np.asfortranarray(np.empty(shape))]
+    if shape[len(lead):] == (MODEL.nv,) and name != "gravity":
+        others.append("v")
+    return [lambda: None, lambda: np.full(shape, np.nan)], others
+
+
+def _given(value: Any) -> Any:
+    return value
+
+
+@pytest.mark.parametrize("name", sorted(CM_SIGNATURES))
+def test_a_compiled_methods_stack_ends_a_call_as_its_closure_does(name: str) -> None:
+    closure = getattr(CM, name).__wrapped__
+    counting = _Counting(closure)
+    cm = fd.core._view(MODEL).cm
+    k = K[{"nle": "nonlinear_effects", "gravity": "generalized_gravity", "fk": "placements"}.get(name, name)]
+    f = fd.core._core.declared_call(k, counting, (k, MODEL._frame_index, *REFERENCES, None), cm)
+    params = CM_SIGNATURES[name]
+    rng = np.random.default_rng(sum(map(ord, name)) + 3)
+    finished_in_c = 0
+    for _ in range(EXAMPLES // 2):
+        lead = LEADS[rng.integers(len(LEADS))]
+        spec: list[tuple[str, Any, bool]] = []  # (parameter, its maker, by position)
+        for p in params:
+            if p not in REQUIRED and rng.random() < 0.4:
+                continue
+            if p == "out":
+                taken, others = _stack_outs(name, lead)
+                make = taken[rng.integers(len(taken))] if rng.random() < 0.7 else others[rng.integers(len(others))]
+            elif p in STACKABLE:
+                kind, seed = _stack_kind(rng), int(rng.integers(1 << 30))
+                make = functools.partial(_stack_variant, p, lead, kind, seed)
+            else:
+                taken, others = ARGS[p]
+                value = taken[rng.integers(len(taken))] if rng.random() < 0.9 else others[rng.integers(len(others))]
+                make = functools.partial(_given, value)
+            positional = len(spec) == params.index(p) and all(pos for _, _, pos in spec) and rng.random() < 0.7
+            spec.append((p, make, positional))
+
+        def side(spec: list[tuple[str, Any, bool]] = spec, lead: tuple[int, ...] = lead
+                 ) -> tuple[tuple[Any, ...], dict[str, Any]]:
+            made = {p: (make if isinstance(make, str) else make()) for p, make, _ in spec}  # each side its own arrays
+            if isinstance(made.get("out"), str):
+                made["out"] = made.get("v", np.empty(lead + (MODEL.nv,)))
+            return (tuple(made[p] for p, _, pos in spec if pos), {p: made[p] for p, _, pos in spec if not pos})
+
+        (args_f, kwargs_f), (twin_args, twin_kwargs) = side(), side()
+        before = counting.calls
+        with np.errstate(all="ignore"):
+            got = _outcome(f, args_f, kwargs_f)
+        finished_in_c += counting.calls == before
+        with np.errstate(all="ignore"):
+            expected = _outcome(closure, twin_args, twin_kwargs)
+        _same(name, got, expected)
+    assert finished_in_c >= EXAMPLES // 10, f"{name}: only {finished_in_c} of {EXAMPLES // 2} calls were finished in C"
+    assert finished_in_c < EXAMPLES // 2, f"{name}: no call was declined"
