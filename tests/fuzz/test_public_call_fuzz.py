@@ -112,6 +112,19 @@ def _same(name: str, got: tuple[str, Any], expected: tuple[str, Any]) -> None:
         np.testing.assert_array_equal(a, b)
 
 
+def _ends_alike(name: str, f: Any, general: Any, counting: Any, call: tuple[Any, Any], twin: tuple[Any, Any]) -> bool:
+    """f(*call) and general(*twin) (args, kwargs) end alike (_same); whether f finished the call in C (counting,
+    the function general's calls, did not move)."""
+    before = counting.calls
+    with np.errstate(all="ignore"):
+        got = _outcome(f, *call)
+    in_c = counting.calls == before
+    with np.errstate(all="ignore"):
+        expected = _outcome(general, *twin)
+    _same(name, got, expected)
+    return in_c
+
+
 class _Counting:
     """The Python function, counting its calls: a call of the public object that does not reach it was finished
     in C."""
@@ -128,23 +141,25 @@ REFERENCES = (fd.LOCAL, fd.WORLD, fd.LOCAL_WORLD_ALIGNED)
 K = fd.core._core.kernels
 
 
-def _public(name: str, counting: Any) -> Any:
-    """The public object of a declared algorithm around a counting function."""
+def _public(name: str) -> tuple[Any, Any, Any]:
+    """The public object of a declared algorithm rebuilt around a counting copy of its Python function: (object,
+    function, counting); the model's core handle exists (a first call may build it on either side)."""
     from featherdyn.api.declarations import DECLARATIONS
     from featherdyn.api.declared import _constants
     from featherdyn.core._model_view import CoreHandle
 
+    general = getattr(fd, name).__wrapped__
+    counting = _Counting(general)
     record = _constants(DECLARATIONS[name], None)
-    return fd.core._core.declared_call(K[name], counting, (CoreHandle, K[name], *REFERENCES, record), None)
+    fd.crba(MODEL, Q)
+    return (fd.core._core.declared_call(K[name], counting, (CoreHandle, K[name], *REFERENCES, record), None), general,
+            counting)
 
 
 @pytest.mark.parametrize("name", sorted(SIGNATURES))
 def test_the_public_object_ends_a_call_as_its_python_function_does(name: str) -> None:
-    general = getattr(fd, name).__wrapped__
-    counting = _Counting(general)
-    f = _public(name, counting)
+    f, general, counting = _public(name)
     positional, keyword_only = SIGNATURES[name]
-    fd.crba(MODEL, Q)  # the model's core handle exists (a first call may build it on either side)
     rng = np.random.default_rng(sum(map(ord, name)))
     finished_in_c = 0
     for _ in range(EXAMPLES):
@@ -163,13 +178,7 @@ def test_the_public_object_ends_a_call_as_its_python_function_does(name: str) ->
                 kwargs[p] = value
         if rng.random() < 0.05:
             kwargs["unknown"] = 1
-        before = counting.calls
-        with np.errstate(all="ignore"):
-            got = _outcome(f, tuple(args), kwargs)
-        finished_in_c += counting.calls == before
-        with np.errstate(all="ignore"):
-            expected = _outcome(general, tuple(args), kwargs)
-        _same(name, got, expected)
+        finished_in_c += _ends_alike(name, f, general, counting, (tuple(args), kwargs), (tuple(args), kwargs))
     assert finished_in_c >= EXAMPLES // 5, f"{name}: only {finished_in_c} of {EXAMPLES} calls were finished in C"
     assert finished_in_c < EXAMPLES, f"{name}: no call was declined"
 
@@ -186,6 +195,16 @@ CM_SIGNATURES = {  # fd.compile(model)'s methods: their parameters (gravity keyw
 }
 OUT = object()  # where the out= value goes in a drawn call
 OUT_SHAPES = {"crba": (MODEL.nv, MODEL.nv), "frame_jacobian": (6, MODEL.nv), "fk": (MODEL.nbodies, 4, 4)}
+
+
+def _compiled_method(name: str) -> tuple[Any, Any, Any]:
+    """fd.compile(MODEL)'s method ``name`` rebuilt around a counting copy of its closure: (method, closure,
+    counting)."""
+    closure = getattr(CM, name).__wrapped__
+    counting = _Counting(closure)
+    cm = fd.core._view(MODEL).cm
+    k = K[{"nle": "nonlinear_effects", "gravity": "generalized_gravity", "fk": "placements"}.get(name, name)]
+    return fd.core._core.declared_call(k, counting, (k, MODEL._frame_index, *REFERENCES, None), cm), closure, counting
 
 
 def _read_only(shape: tuple[int, ...]) -> np.ndarray:
@@ -205,11 +224,7 @@ def _outs(name: str) -> tuple[list[Any], list[Any]]:
 
 @pytest.mark.parametrize("name", sorted(CM_SIGNATURES))
 def test_compiled_methods_end_a_call_as_their_closures_do(name: str) -> None:
-    closure = getattr(CM, name).__wrapped__
-    counting = _Counting(closure)
-    cm = fd.core._view(MODEL).cm
-    k = K[{"nle": "nonlinear_effects", "gravity": "generalized_gravity", "fk": "placements"}.get(name, name)]
-    f = fd.core._core.declared_call(k, counting, (k, MODEL._frame_index, *REFERENCES, None), cm)
+    f, closure, counting = _compiled_method(name)
     params = CM_SIGNATURES[name]
     rng = np.random.default_rng(sum(map(ord, name)) + 1)
     finished_in_c = 0
@@ -234,14 +249,7 @@ def test_compiled_methods_end_a_call_as_their_closures_do(name: str) -> None:
             out = make() if make is not None else None
             return (tuple(out if x is OUT else x for x in args), {k: out if x is OUT else x for k, x in kwargs.items()})
 
-        (args_f, kwargs_f), (twin_args, twin_kwargs) = side(), side()
-        before = counting.calls
-        with np.errstate(all="ignore"):
-            got = _outcome(f, args_f, kwargs_f)
-        finished_in_c += counting.calls == before
-        with np.errstate(all="ignore"):
-            expected = _outcome(closure, twin_args, twin_kwargs)
-        _same(name, got, expected)
+        finished_in_c += _ends_alike(name, f, closure, counting, side(), side())
     assert finished_in_c >= EXAMPLES // 5, f"{name}: only {finished_in_c} of {EXAMPLES} calls were finished in C"
     assert finished_in_c < EXAMPLES, f"{name}: no call was declined"
 
@@ -297,11 +305,8 @@ def _stack_variant(p: str, lead: tuple[int, ...], kind: str, seed: int) -> Any:
 
 @pytest.mark.parametrize("name", sorted(SIGNATURES))
 def test_a_stack_ends_a_call_as_the_python_function_does(name: str) -> None:
-    general = getattr(fd, name).__wrapped__
-    counting = _Counting(general)
-    f = _public(name, counting)
+    f, general, counting = _public(name)
     positional, keyword_only = SIGNATURES[name]
-    fd.crba(MODEL, Q)
     rng = np.random.default_rng(sum(map(ord, name)) + 2)
     finished_in_c = 0
     for _ in range(EXAMPLES // 2):
@@ -320,13 +325,7 @@ def test_a_stack_ends_a_call_as_the_python_function_does(name: str) -> None:
                 args.append(value)
             else:
                 kwargs[p] = value
-        before = counting.calls
-        with np.errstate(all="ignore"):
-            got = _outcome(f, tuple(args), kwargs)
-        finished_in_c += counting.calls == before
-        with np.errstate(all="ignore"):
-            expected = _outcome(general, tuple(args), kwargs)
-        _same(name, got, expected)
+        finished_in_c += _ends_alike(name, f, general, counting, (tuple(args), kwargs), (tuple(args), kwargs))
     assert finished_in_c >= EXAMPLES // 8, f"{name}: only {finished_in_c} of {EXAMPLES // 2} calls were finished in C"
     assert finished_in_c < EXAMPLES // 2, f"{name}: no call was declined"
 
@@ -349,11 +348,7 @@ def _given(value: Any) -> Any:
 
 @pytest.mark.parametrize("name", sorted(CM_SIGNATURES))
 def test_a_compiled_methods_stack_ends_a_call_as_its_closure_does(name: str) -> None:
-    closure = getattr(CM, name).__wrapped__
-    counting = _Counting(closure)
-    cm = fd.core._view(MODEL).cm
-    k = K[{"nle": "nonlinear_effects", "gravity": "generalized_gravity", "fk": "placements"}.get(name, name)]
-    f = fd.core._core.declared_call(k, counting, (k, MODEL._frame_index, *REFERENCES, None), cm)
+    f, closure, counting = _compiled_method(name)
     params = CM_SIGNATURES[name]
     rng = np.random.default_rng(sum(map(ord, name)) + 3)
     finished_in_c = 0
@@ -383,13 +378,6 @@ def test_a_compiled_methods_stack_ends_a_call_as_its_closure_does(name: str) -> 
                 made["out"] = made.get("v", np.empty(lead + (MODEL.nv,)))
             return (tuple(made[p] for p, _, pos in spec if pos), {p: made[p] for p, _, pos in spec if not pos})
 
-        (args_f, kwargs_f), (twin_args, twin_kwargs) = side(), side()
-        before = counting.calls
-        with np.errstate(all="ignore"):
-            got = _outcome(f, args_f, kwargs_f)
-        finished_in_c += counting.calls == before
-        with np.errstate(all="ignore"):
-            expected = _outcome(closure, twin_args, twin_kwargs)
-        _same(name, got, expected)
+        finished_in_c += _ends_alike(name, f, closure, counting, side(), side())
     assert finished_in_c >= EXAMPLES // 10, f"{name}: only {finished_in_c} of {EXAMPLES // 2} calls were finished in C"
     assert finished_in_c < EXAMPLES // 2, f"{name}: no call was declined"
