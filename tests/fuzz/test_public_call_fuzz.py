@@ -82,6 +82,12 @@ EXAMPLES = 400
 REQUIRED = {"q", "v", "a", "tau", "w", "frame"}
 
 
+def _pick(taken: list[Any], others: list[Any], p: float, rng: np.random.Generator) -> Any:
+    """One of ``taken`` with probability p, else one of ``others``."""
+    pool = taken if rng.random() < p else others
+    return pool[rng.integers(len(pool))]
+
+
 def _outcome(f: Any, args: tuple[Any, ...], kwargs: dict[str, Any]) -> tuple[str, Any]:
     try:
         return "value", f(*args, **kwargs)
@@ -169,8 +175,7 @@ def test_the_public_object_ends_a_call_as_its_python_function_does(name: str) ->
             if rng.random() < (0.05 if p in REQUIRED else 0.85 if p == "backend" else 0.4):
                 continue  # left to its default, or missing: a TypeError on both sides
             taken, others = ARGS[p]
-            pool = taken if rng.random() < 0.8 else others
-            value = pool[rng.integers(len(pool))]
+            value = _pick(taken, others, 0.8, rng)
             # by position while the positional ones are given in order, else by keyword
             if p in positional and positional.index(p) == len(args) - 1 and not kwargs and rng.random() < 0.7:
                 args.append(value)
@@ -236,8 +241,7 @@ def test_compiled_methods_end_a_call_as_their_closures_do(name: str) -> None:
             if rng.random() < (0.05 if p in REQUIRED else 0.4):
                 continue
             taken, others = _outs(name) if p == "out" else ARGS[p]
-            pool = taken if rng.random() < 0.8 else others
-            value = pool[rng.integers(len(pool))]
+            value = _pick(taken, others, 0.8, rng)
             if p == "out":
                 make_out, value = value, OUT
             if len(args) == params.index(p) and not kwargs and rng.random() < 0.7:
@@ -320,7 +324,7 @@ def test_a_stack_ends_a_call_as_the_python_function_does(name: str) -> None:
                 value = _stack_variant(p, lead, _stack_kind(rng), int(rng.integers(1 << 30)))
             else:
                 taken, others = ARGS[p]
-                value = taken[rng.integers(len(taken))] if rng.random() < 0.9 else others[rng.integers(len(others))]
+                value = _pick(taken, others, 0.9, rng)
             if p in positional and positional.index(p) == len(args) - 1 and not kwargs and rng.random() < 0.7:
                 args.append(value)
             else:
@@ -360,13 +364,13 @@ def test_a_compiled_methods_stack_ends_a_call_as_its_closure_does(name: str) -> 
                 continue
             if p == "out":
                 taken, others = _stack_outs(name, lead)
-                make = taken[rng.integers(len(taken))] if rng.random() < 0.7 else others[rng.integers(len(others))]
+                make = _pick(taken, others, 0.7, rng)
             elif p in STACKABLE:
                 kind, seed = _stack_kind(rng), int(rng.integers(1 << 30))
                 make = functools.partial(_stack_variant, p, lead, kind, seed)
             else:
                 taken, others = ARGS[p]
-                value = taken[rng.integers(len(taken))] if rng.random() < 0.9 else others[rng.integers(len(others))]
+                value = _pick(taken, others, 0.9, rng)
                 make = functools.partial(_given, value)
             positional = len(spec) == params.index(p) and all(pos for _, _, pos in spec) and rng.random() < 0.7
             spec.append((p, make, positional))

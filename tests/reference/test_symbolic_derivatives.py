@@ -88,6 +88,7 @@ CHAIN = Symbolic(random_tree(7, 3, root="revolute", kinds=("revolute", "prismati
 
 
 def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """a × b of two 3-vectors of expressions (written out: the oracle does not use the code it checks)."""
     return np.array([a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]], dtype=object)
 
 
