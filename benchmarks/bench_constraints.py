@@ -7,7 +7,8 @@ featherdyn is faster):
   ``pin.constraintDynamics`` (constraint datas initialised once, outside the timing, as a
   control loop would);
 * talos_full_v2 in double support (two 6D soles): the same;
-* on both, an impact: ``fd.impulse_dynamics`` against ``pin.impulseDynamics`` (restitution 0);
+* on both, an impact: ``fd.impulse_dynamics`` against ``pin.impulseDynamics`` (restitution 0), one state and a
+  batch of 2000 (the core's thread pool) against a Python loop of Pinocchio's one-state calls;
 * Λ at one frame (panda's hand) and at two frames (talos's grippers): ``fd.operational_space_inertia``
   against Pinocchio's best route from Python, ``computeDelassusMatrix`` then ``np.linalg.inv``; and on batches
   of 200 and 2000 states against a Python loop of one-state calls;
@@ -74,6 +75,14 @@ def main() -> int:
                                   lambda: pin.impulseDynamics(p.pm, p.pd, qp, vp, cms, cds, 0.0, settings),  # noqa: B023
                                   repeats, budget)
         rows.append((f"{name}: impulse_dynamics / impulseDynamics", t_fd, t_pin))
+        n = BATCHES[-1]  # impacts of a batch (SIMD lanes on the pool) against a Python loop over Pinocchio's
+        Q, V, _, QP, VP = p.states(n)[:5]
+        t_fd, t_pin = median_pair(lambda: fd.impulse_dynamics(p.model, Q, V, cons),  # noqa: B023
+                                  lambda: [pin.impulseDynamics(p.pm, p.pd, QP[k], VP[k], cms, cds, 0.0,  # noqa: B023
+                                                               settings) for k in range(n)],  # noqa: B023
+                                  repeats, budget)
+        rows.append((f"{name}: impulse_dynamics batch of {n} ({fd.get_num_threads()} threads) / Python loop of "
+                     "impulseDynamics", t_fd / n, t_pin / n))
         # batched against a Python loop of one-state calls
         for n in BATCHES:
             Q, V, T = p.states(n)[:3]

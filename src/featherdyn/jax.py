@@ -523,17 +523,17 @@ def _solved_jvp(kernel: str, derivative: str, key: int, present: int, primals: t
         raise FeatherdynError(f"featherdyn.jax.{kernel}: no derivative with respect to f_ext; hold it constant")
     d = _op(derivative, key, present, *primals)
     # the derivative's blocks: (q, v, τ) per output of q̈, λ (outputs 0, 1; the solve's info has none), or (q, v)
-    # per output of v⁺, λ (outputs 4, 5 of the impulse kernel, which are its values too)
-    n_in, first = (3, 0) if kernel == "contact_dynamics" else (2, 4)
+    # per output of v⁺, Λ
+    n_in = 3 if kernel == "contact_dynamics" else 2
     t_out = []
     for o in range(len(out)):
         t = jnp.zeros_like(out[o])
-        if first <= o < first + 2:
+        if o < 2:
             for k, (n, dx) in enumerate(zip(names, tangents, strict=False)):
                 if k >= n_in or isinstance(dx, jax.custom_derivatives.SymbolicZero):
                     continue
                 direction = tangent_of_coordinates(model, primals[0], dx) if n == "q" else dx
-                t = t + jnp.einsum("...ij,...j->...i", d[(o - first) * n_in + k], direction)
+                t = t + jnp.einsum("...ij,...j->...i", d[o * n_in + k], direction)
         t_out.append(t)
     return out, tuple(t_out)
 
@@ -564,12 +564,11 @@ def constrained_dynamics(model: Model, q: Any, v: Any, tau: Any, constraints: An
 
 def impulse_dynamics(model: Model, q: Any, v: Any, constraints: Any, *, restitution: float = 0.0,
                      mu: float = 0.0) -> ImpulseDynamics:
-    """``fd.impulse_dynamics`` with contacts as a JAX operation (the core's impulse kernel, which forms the
-    derivatives with the velocity: the operation costs ``fd.impulse_dynamics_derivatives``)::
+    """``fd.impulse_dynamics`` with contacts as a JAX operation (the core's impulse kernel)::
 
         M (v⁺ − v⁻) = Jᵀ Λ,     J v⁺ = −e J v⁻
 
-    Differentiable in ``q, v``.
+    Differentiable in ``q, v`` (``fd.impulse_dynamics_derivatives``' kernel).
     """
     from .constraints import solver_settings
     from .errors import ModelError
@@ -582,7 +581,5 @@ def impulse_dynamics(model: Model, q: Any, v: Any, constraints: Any, *, restitut
         raise ModelError(f"restitution: expected a number in [0, 1], got {restitution!r}")
     mu = solver_settings(mu, 1, 1.0)[0]
     key, plan = _contact_key(model, constraints, {"mu": mu, "restitution": e}, "impulse_dynamics")
-    out = _solved("impulse_dynamics_derivatives", "impulse_dynamics_derivatives", key, 3,
-                  *_floats("impulse_dynamics", q, v))
-    v_plus, lam = out[4], out[5]
+    v_plus, lam = _solved("impulse_dynamics", "impulse_dynamics_derivatives", key, 3, *_floats("impulse_dynamics", q, v))
     return ImpulseDynamics(v_plus, tuple(lam[..., s] for s in plan.slices), lam)

@@ -202,27 +202,29 @@ def _assert_derivative_rows_are_one_state_calls(name: str, ref: int, n: int, see
 
 
 def _assert_impulse_rows_are_one_state_calls(name: str, ref: int, n: int, seed: int, e: float) -> None:
-    """``fd.impulse_dynamics_derivatives`` on n rows (full groups on Packs, the tail row by row) against its one-state
-    calls, bit for bit."""
+    """``fd.impulse_dynamics_derivatives`` and ``fd.impulse_dynamics`` on n rows (full groups on Packs, the tail row by
+    row) against their one-state calls, bit for bit."""
     model = _model(name)
     frames, rows = SCENES[name]
     Q, V, _, _ = _states(model, seed, n)
     kind = fd.PointContact if rows == 3 else fd.FrameContact
     cons = [kind(f, REFERENCES[ref]) for f in frames]
-    batch = fd.impulse_dynamics_derivatives(model, Q, V, cons, restitution=e)
-    for k in range(n):
-        one = fd.impulse_dynamics_derivatives(model, Q[k], V[k], cons, restitution=e)
-        for what in IMPULSE_DERIVATIVES:
-            assert np.array_equal(getattr(batch, what)[k], getattr(one, what)), f"{name} row {k} of {n}: {what}"
+    for call, fields in ((fd.impulse_dynamics_derivatives, IMPULSE_DERIVATIVES),
+                         (fd.impulse_dynamics, ("v_plus", "lagrange"))):
+        batch = call(model, Q, V, cons, restitution=e)
+        for k in range(n):
+            one = call(model, Q[k], V[k], cons, restitution=e)
+            for what in fields:
+                assert np.array_equal(getattr(batch, what)[k], getattr(one, what)), f"{name} row {k} of {n}: {what}"
 
 
 @pytest.mark.parametrize("name", SCENES)
 @pytest.mark.parametrize("n", [WIDTH, 2 * WIDTH + 3])
 @pytest.mark.parametrize("ref", [0, 1, 2], ids=["LOCAL", "WORLD", "LWA"])
 def test_derivative_rows_equal_one_state_calls_bit_for_bit(name: str, n: int, ref: int) -> None:
-    """The constrained dynamics' and the impulses' derivatives in SIMD lanes (contact_derivatives.hpp on Packs):
-    every reference (the forces' turn in WORLD and LWA), K_d, mu = 0 and mu > 0 (each lane's own proximal
-    iterations), restitution 0 and 0.4."""
+    """The constrained dynamics' and the impulses' derivatives in SIMD lanes (contact_derivatives.hpp on Packs), and
+    the impact alone (contacts.hpp on Packs): every reference (the forces' turn in WORLD and LWA), K_d, mu = 0 and
+    mu > 0 (each lane's own proximal iterations), restitution 0 and 0.4."""
     _assert_derivative_rows_are_one_state_calls(name, ref, n, 60 + n + ref)
     _assert_derivative_rows_are_one_state_calls(name, ref, n, 70 + n + ref, mu=1e-3)
     _assert_impulse_rows_are_one_state_calls(name, ref, n, 90 + n + ref, 0.0)
@@ -247,29 +249,34 @@ def test_a_derivative_batch_with_dependent_contacts_raises_as_its_row() -> None:
             assert np.array_equal(getattr(rows, what)[i], getattr(single, what)), (k, what)
 
 
-def test_an_impulse_derivative_batch_with_dependent_contacts_raises_as_its_row() -> None:
-    """As above for the impulses' group kernel: the lane whose D is singular fails its group."""
+@pytest.mark.parametrize("name", ["impulse_dynamics", "impulse_dynamics_derivatives"])
+def test_an_impulse_batch_with_dependent_contacts_raises_as_its_row(name: str) -> None:
+    """As above for the impulses' group kernels (the impact alone, and with its derivatives): the lane whose D is
+    singular fails its group; the other rows are their one-state calls' bits."""
+    call = getattr(fd, name)
     model, Q, V, _, _, bad = _singular_row_batch()
     cons = fd.FrameContact("panda_hand", fd.LOCAL)
     with pytest.raises(fd.ConstraintError) as one:
-        fd.impulse_dynamics_derivatives(model, Q[bad], V[bad], cons, restitution=0.3)
+        call(model, Q[bad], V[bad], cons, restitution=0.3)
     with pytest.raises(fd.ConstraintError) as batch:
-        fd.impulse_dynamics_derivatives(model, Q, V, cons, restitution=0.3)
+        call(model, Q, V, cons, restitution=0.3)
     assert type(batch.value) is type(one.value)
     ok = [k for k in range(Q.shape[0]) if k != bad]
-    rows = fd.impulse_dynamics_derivatives(model, Q[ok], V[ok], cons, restitution=0.3)
+    rows = call(model, Q[ok], V[ok], cons, restitution=0.3)
+    fields = IMPULSE_DERIVATIVES if name.endswith("derivatives") else ("v_plus", "lagrange")
     for i, k in enumerate(ok):
-        single = fd.impulse_dynamics_derivatives(model, Q[k], V[k], cons, restitution=0.3)
-        for what in IMPULSE_DERIVATIVES:
+        single = call(model, Q[k], V[k], cons, restitution=0.3)
+        for what in fields:
             assert np.array_equal(getattr(rows, what)[i], getattr(single, what)), (k, what)
 
 
 @pytest.mark.parametrize("name", sorted(SCENES))
 def test_impulse_dynamics_in_the_core(name: str) -> None:
-    """fd.impulse_dynamics on point and frame contacts runs the core's kernel (``impulse_dynamics``, the first part of
-    the impulse derivatives' kernel): v⁺ and Λ agree with the reference backend (the dense KKT solve) to round-off
-    and are the derivatives' own bits, one state and a (2, W + 1) stack, with and without restitution; the impact
-    law holds (J v⁺ = −e J v⁻, M (v⁺ − v⁻) = Jᵀ Λ); dependent contacts raise as before (mu = 0) or take the
+    """fd.impulse_dynamics on point and frame contacts runs the core's kernel (``impulse_dynamics``: the constrained
+    dynamics' KKT solve on M's packed factor, contacts.hpp): v⁺ and Λ agree with the reference backend (the dense
+    KKT solve) and with the impulse derivatives' (their own dense solve, contact_derivatives.hpp) to round-off, one
+    state and a (2, W + 1) stack (each state the bits of its one-state call), with and without restitution; the
+    impact law holds (J v⁺ = −e J v⁻, M (v⁺ − v⁻) = Jᵀ Λ); dependent contacts raise as before (mu = 0) or take the
     proximal general path (mu > 0)."""
     model = _model(name)
     frames, rows = SCENES[name]
@@ -278,13 +285,16 @@ def test_impulse_dynamics_in_the_core(name: str) -> None:
     Q = np.asarray(fd.random_configuration(model, rng, size=(2, WIDTH + 1)))
     V = rng.normal(size=(2, WIDTH + 1, model.nv))
     for e in (0.0, 0.6):
-        stacked = fd.impulse_dynamics(model, Q, V, cons, restitution=e)
+        stacked = fd.impulse_dynamics(model, Q, V, cons, restitution=e)  # (in SIMD lanes: groups of W states)
         assert stacked.v_plus.shape == (2, WIDTH + 1, model.nv) and len(stacked.impulses) == len(cons)
+        for i, k in np.ndindex(2, WIDTH + 1):
+            one = fd.impulse_dynamics(model, Q[i, k], V[i, k], cons, restitution=e)
+            assert np.array_equal(stacked.v_plus[i, k], one.v_plus) and np.array_equal(stacked.lagrange[i, k],
+                                                                                         one.lagrange), (i, k)
         for i, k in ((0, 0), (1, WIDTH)):
             one = fd.impulse_dynamics(model, Q[i, k], V[i, k], cons, restitution=e)
             ref = fd.impulse_dynamics(model, Q[i, k], V[i, k], cons, restitution=e, backend="reference")
             d = fd.impulse_dynamics_derivatives(model, Q[i, k], V[i, k], cons, restitution=e)
-            assert np.array_equal(one.v_plus, d.v_plus) and np.array_equal(one.lagrange, d.lagrange)
             assert np.array_equal(stacked.v_plus[i, k], one.v_plus)
             assert np.array_equal(stacked.lagrange[i, k], one.lagrange)
             for x, y in zip(stacked.impulses, one.impulses, strict=True):
@@ -292,6 +302,9 @@ def test_impulse_dynamics_in_the_core(name: str) -> None:
             scale = max(1.0, float(np.abs(ref.v_plus).max()), float(np.abs(ref.lagrange).max()))
             np.testing.assert_allclose(one.v_plus, ref.v_plus, rtol=0, atol=1e-10 * scale)
             np.testing.assert_allclose(one.lagrange, ref.lagrange, rtol=0, atol=1e-10 * scale)
+            np.testing.assert_allclose(one.v_plus, d.v_plus, rtol=0, atol=1e-12 * scale)
+            np.testing.assert_allclose(one.lagrange, d.lagrange, rtol=0, atol=1e-12 * scale)
+            assert not np.array_equal(one.v_plus, V[i, k])  # the impact changed the velocity
             J = np.concatenate([fd.frame_jacobian(model, Q[i, k], f, fd.LOCAL)[3 if rows == 3 else 0:] for f in frames])
             M = fd.crba(model, Q[i, k])
             np.testing.assert_allclose(J @ one.v_plus, -e * (J @ V[i, k]), rtol=0, atol=1e-9 * scale)
@@ -346,7 +359,8 @@ for name in t.SCENES:
         t._assert_impulse_rows_are_one_state_calls(name, ref, 2 * t.WIDTH + 1, 110 + ref, 0.4)
 t.test_a_row_with_dependent_contacts_fails_alone()
 t.test_a_derivative_batch_with_dependent_contacts_raises_as_its_row()
-t.test_an_impulse_derivative_batch_with_dependent_contacts_raises_as_its_row()
+t.test_an_impulse_batch_with_dependent_contacts_raises_as_its_row("impulse_dynamics")
+t.test_an_impulse_batch_with_dependent_contacts_raises_as_its_row("impulse_dynamics_derivatives")
 for name in t.OSI_SCENES:
     t._assert_lambda_rows_are_one_state_calls(name, 2 * t.WIDTH + 1, 50)
 print("ok")

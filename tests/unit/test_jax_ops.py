@@ -239,9 +239,9 @@ def _contacts(model: fd.Model) -> list[object]:
 
 @pytest.mark.parametrize("robot", ROBOTS[1:], ids=[r[0] for r in ROBOTS[1:]])
 def test_constrained_and_impulse_dynamics(robot: tuple[str, bool]) -> None:
-    """The contact operations: the NumPy functions' values (constrained: the same kernel, bit for bit; impulse: its
-    derivative kernel's v⁺, 1e-12), vmap on the core's batch, check_grads order 1 (the contact derivative
-    kernels), and a second derivative refused."""
+    """The contact operations: the NumPy functions' values (the same kernels, bit for bit), vmap on the core's
+    batch, check_grads order 1 and jacfwd against the contact derivative kernels, and a second derivative
+    refused."""
     model = _robot(*robot)
     st = _state(model, 10)
     cs = _contacts(model)
@@ -253,11 +253,15 @@ def test_constrained_and_impulse_dynamics(robot: tuple[str, bool]) -> None:
         np.testing.assert_array_equal(mine, theirs)
     i, iref = fj.impulse_dynamics(model, q, v, cs, restitution=0.4), fd.impulse_dynamics(model, q, v, cs,
                                                                                         restitution=0.4)
-    np.testing.assert_allclose(i.v_plus, iref.v_plus, rtol=1e-12, atol=1e-12)
-    np.testing.assert_allclose(i.lagrange, iref.lagrange, rtol=1e-10, atol=1e-10 * np.abs(iref.lagrange).max())
+    np.testing.assert_array_equal(i.v_plus, iref.v_plus)
+    np.testing.assert_array_equal(i.lagrange, iref.lagrange)
+    for mine, theirs in zip(i.impulses, iref.impulses, strict=True):
+        np.testing.assert_array_equal(mine, theirs)
     b = _state(model, 11, n=6)
     ddq = jax.jit(jax.vmap(lambda q, v, t: fj.constrained_dynamics(model, q, v, t, cs).ddq))(b["q"], b["v"], b["tau"])
     np.testing.assert_array_equal(ddq, fd.constrained_dynamics(model, b["q"], b["v"], b["tau"], cs).ddq)
+    vp = jax.jit(jax.vmap(lambda q, v: fj.impulse_dynamics(model, q, v, cs, restitution=0.4).v_plus))(b["q"], b["v"])
+    np.testing.assert_array_equal(vp, fd.impulse_dynamics(model, b["q"], b["v"], cs, restitution=0.4).v_plus)
     check_grads(lambda q, v, t: fj.constrained_dynamics(model, fj.normalize(model, q), v, t, cs)[::2], (q, v, tau),
                 order=1, modes=("fwd", "rev"), eps=1e-5, atol=1e-5, rtol=1e-5)
     check_grads(lambda q, v: fj.impulse_dynamics(model, fj.normalize(model, q), v, cs, restitution=0.4)[::2],
@@ -266,6 +270,9 @@ def test_constrained_and_impulse_dynamics(robot: tuple[str, bool]) -> None:
     J = jax.jacfwd(lambda x: fj.constrained_dynamics(model, q, x[0], x[1], cs).ddq)(jnp.stack([v, tau]))
     np.testing.assert_allclose(J[:, 0], d.ddq_dv, rtol=1e-12, atol=1e-12 * np.abs(d.ddq_dv).max())
     np.testing.assert_allclose(J[:, 1], d.ddq_dtau, rtol=1e-12, atol=1e-12 * np.abs(d.ddq_dtau).max())
+    di = fd.impulse_dynamics_derivatives(model, q, v, cs, restitution=0.4)
+    Ji = jax.jacfwd(lambda x: fj.impulse_dynamics(model, q, x, cs, restitution=0.4).lagrange)(v)
+    np.testing.assert_allclose(Ji, di.impulses_dv, rtol=1e-12, atol=1e-12 * np.abs(di.impulses_dv).max())
     with pytest.raises(fd.FeatherdynError, match="not available"):
         jax.hessian(lambda v: fj.constrained_dynamics(model, q, v, tau, cs).ddq.sum())(v)
 

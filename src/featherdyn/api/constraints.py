@@ -265,10 +265,11 @@ def impulse_dynamics(model: Model, q: ArrayLike, v: ArrayLike, constraints: Sequ
 
         M (v⁺ − v⁻) = Jᵀ Λ,     J v⁺ = −e J v⁻      (e: the restitution coefficient, 0 ≤ e ≤ 1)
 
-    For point and frame contacts the core's kernel (``core/cpp/contact_derivatives.hpp``: ``Λ = −(1 + e) D⁻¹ J v⁻``,
-    ``v⁺ = v⁻ + M⁻¹ Jᵀ Λ`` on M's tree-sparse factor, one state or a stack of them) gives the exact solve, as
-    :func:`impulse_dynamics_derivatives` does; ``mu > 0`` matters when the contacts are dependent (the proximal
-    iterations' minimum-norm impulses), and loops take the general path.
+    For point and frame contacts the core's kernel (``core/cpp/contacts.hpp``, the constrained dynamics' KKT solve
+    with ``τ − h = 0``: ``Λ = −(1 + e) D⁻¹ J v⁻``, ``v⁺ = v⁻ + M⁻¹ Jᵀ Λ`` on M's tree-sparse factor, one state or a
+    stack of them) gives the exact solve (:func:`impulse_dynamics_derivatives`' ``v_plus`` agrees to round-off);
+    ``mu > 0`` matters when the contacts are dependent (the proximal iterations' minimum-norm impulses), and loops
+    take the general path.
     """
     try:
         e = float(restitution)

@@ -389,7 +389,8 @@ std::int64_t contact_dynamics_derivatives(const ModelView& mv, const S* q, const
 namespace contact_deriv {
 
 // The impulse v⁺ (nv,), Λ (m,) of an impact with the contacts (restitution e), leaving M's factor (w.L), the contacts'
-// rows and D = J M⁻¹ Jᵀ's factor in w for the derivatives::
+// rows and D = J M⁻¹ Jᵀ's factor in w for the derivatives, which need them dense (the impact alone: contacts.hpp's
+// impulse_dynamics, the same equations on M's packed factor, equal to round-off)::
 //     Λ = −(1 + e) D⁻¹ J v⁻,   v⁺ = v⁻ + M⁻¹ Jᵀ Λ
 // Returns OK, SINGULAR, or CONSTRAINT (dependent contacts).
 template <class S>
@@ -420,15 +421,6 @@ std::int64_t impulse(const ModelView& mv, const S* q, const S* vm, const Contact
 }
 
 }  // namespace contact_deriv
-
-// The impulse v⁺ (nv,), Λ (m,) of an impact with the contacts (restitution e): contact_deriv::impulse (the first
-// part of the derivatives below). Returns OK, SINGULAR, or CONSTRAINT.
-template <class S>
-std::int64_t impulse_dynamics(const ModelView& mv, const S* q, const S* vm, const ContactSpec* specs, int nc, int m,
-                              double e, double singular_tol, S* vp, S* Lam) {
-  return contact_deriv::impulse(mv, q, vm, specs, nc, m, e, singular_tol, vp, Lam,
-                                contact_deriv::workspace<S>(mv, specs, nc, m));
-}
 
 // The impulse v⁺ (nv,), Λ (m,) of an impact with the contacts (restitution e) and its derivatives ∂v⁺/∂(q, v⁻)
 // (nv, nv), ∂Λ/∂(q, v⁻) (m, nv) into out[0..3], v⁺ and Λ into out[4], out[5]. Returns OK, SINGULAR, or CONSTRAINT.

@@ -25,7 +25,8 @@
 //     z = L⁻ᵀ (τ − h),   J q̈_f = Y z,   D = J M⁻¹ Jᵀ = Y Yᵀ (only over the two chains' common prefix)
 //     D λ = c − Y z,     q̈ = L⁻¹ (z + Yᵀ λ)
 //
-// With mu > 0 the proximal iterations of kkt_solve (Carpentier, Budhiraja & Mansard, RSS 2021).
+// With mu > 0 the proximal iterations of kkt_solve (Carpentier, Budhiraja & Mansard, RSS 2021). An impact
+// (impulse_dynamics) is the same system without the velocity pass: τ − h = 0, c = −(1 + e) J v⁻.
 #pragma once
 
 #include <algorithm>
@@ -314,43 +315,35 @@ struct ContactResult {
   S residual{0.0};
 };
 
-// q̈ (nv,), λ (m,), and the KKT result for the contacts `specs` at (q, q̇, τ, f_ext); m = Σ rows.
-// Returns OK, or a SINGULAR status naming the body whose pivot of M failed (for a Pack: in some lane). A D whose
-// Cholesky pivot fails (mu = 0: dependent rows) sets iterations = −1 (for a Pack: in every lane, with `bad_lanes`
-// the lanes that failed) and leaves q̈ and λ as they were.
+// Steps 1 and 2 of the file comment (the drift c aside): the pass (with q̇: v, a and h = RNEA(q, q̇, 0) into w.th),
+// M packed and factored, the contacts' rows J and Y = J L⁻¹ in chain positions. m = Σ rows. Returns OK, or a
+// SINGULAR status naming the body whose pivot of M failed (for a Pack: in some lane).
 template <class S>
-std::int64_t contact_dynamics(const ModelView& mv, const S* q, const S* qd, const S* tau, const S* f_ext,
-                              const ContactSpec* specs, int nc, double mu, int max_iter, double tol,
-                              double singular_tol, S* qdd, S* lam, ContactResult<S>& res, int* bad_lanes = nullptr) {
-  const int nb = mv.nb, nv = mv.nv;
-  const DofTree& t = dof_tree(mv);
-  ContactWork<S>& w = thread_workspace<ContactWork<S>>(nb);
+std::int64_t contact_system(const ModelView& mv, const DofTree& t, const S* q, const S* qd, const S* f_ext,
+                            const ContactSpec* specs, int nc, ContactWork<S>& w, int& m) {
+  const int nv = mv.nv;
   w.th.resize(nv);
   w.P.resize(static_cast<size_t>(t.off[nv]));
   w.dinv.resize(nv);
-  // 1. the passes: placements, ʳS, I^C, v, a, h; then M packed and its factor
-  contact_pass(mv, q, qd, f_ext, w, w.th.data());
+  contact_pass(mv, q, qd, f_ext, w, qd != nullptr ? w.th.data() : nullptr);
   mass_matrix_packed(mv, t, w, w.P.data());
   const int bad = ltl_factor_packed<S>(t, w.P.data(), w.dinv.data());
   if (bad >= 0) return make_status(SINGULAR, ARG_Q, dof_body(mv, bad));
-  // 2. the rows J and c = −γ − K_d J q̇ in chain positions, Y = J L⁻¹
-  const int m = contact_rows(mv, t, specs, nc, w);
-  w.c.resize(m);
-  int row = 0;
-  for (int k = 0; k < nc; ++k) {
-    const ContactSpec& s = specs[k];
-    const Motion<S> g = contact_drift(mv, w, s.frame, s.ref, s.rows);
-    const S gam[6] = {g.w.x, g.w.y, g.w.z, g.v.x, g.v.y, g.v.z};
-    const int len = w.len[k];
-    const int* ch = len > 0 ? t.chain.data() + t.off[w.last[k]] : nullptr;
-    for (int r = 0; r < s.rows; ++r, ++row)
-      w.c[row] = -gam[6 - s.rows + r] - S(s.kd) * chain_dot(w.J.data() + w.first[k] + r * len, ch, len, qd);
-  }
+  m = contact_rows(mv, t, specs, nc, w);
   solve_rows(t, w.P.data(), specs, nc, w);
-  // 3. z = L⁻ᵀ (τ − h), the right-hand side c − Y z, D = Y Yᵀ
-  w.z.resize(nv);
-  for (int j = 0; j < nv; ++j) w.z[j] = tau[j] - w.th[j];
-  ltl_solve_Lt_packed<S>(t, w.P.data(), w.dinv.data(), w.z.data());
+  w.c.resize(m);
+  return OK;
+}
+
+// Steps 3 (its z given) to 5 of the file comment: with z = L⁻ᵀ (τ − h) in w.z and c in w.c, the right-hand side
+// c − Y z, D = Y Yᵀ, λ (one solve, or the proximal iterations with mu > 0), q̈ = L⁻¹ (z + Yᵀ λ) and the residual.
+// Returns the lanes whose D failed its Cholesky pivot (mu = 0: dependent rows; 1 for a double), with
+// res.iterations = −1 and q̈, λ left as they were; 0 otherwise.
+template <class S>
+int contact_solve(const ModelView& mv, const DofTree& t, const ContactSpec* specs, int nc, int m, double mu,
+                  int max_iter, double tol, double singular_tol, ContactWork<S>& w, S* qdd, S* lam,
+                  ContactResult<S>& res) {
+  const int nv = mv.nv;
   w.rhs.resize(m);
   w.D.resize(static_cast<size_t>(m) * m);
   w.D0.resize(static_cast<size_t>(m) * m);
@@ -360,7 +353,7 @@ std::int64_t contact_dynamics(const ModelView& mv, const S* q, const S* qd, cons
   });
   S* D = w.D.data();
   delassus_rows(specs, nc, w, w.Y.data(), m, D);
-  // 4. λ: one solve (mu = 0), or kkt_solve's proximal iterations, each lane stopping at its own iteration
+  // λ: one solve (mu = 0), or kkt_solve's proximal iterations, each lane stopping at its own iteration
   std::copy(D, D + static_cast<size_t>(m) * m, w.D0.data());
   S rhs_size(1.0);
   for (int r = 0; r < m; ++r) rhs_size = lane_max(rhs_size, lane_abs(w.rhs[r]));
@@ -369,8 +362,7 @@ std::int64_t contact_dynamics(const ModelView& mv, const S* q, const S* qd, cons
   const int failed = dense_cholesky<S>(D, m, mu > 0.0 ? 0.0 : singular_tol);
   if (failed) {
     res.iterations = S(-1.0);
-    if (bad_lanes) *bad_lanes = failed;
-    return OK;
+    return failed;
   }
   S* x = w.x.data();
   for (int r = 0; r < m; ++r) lam[r] = S(0.0);
@@ -392,7 +384,7 @@ std::int64_t contact_dynamics(const ModelView& mv, const S* q, const S* qd, cons
     if (done == all_lanes<S>()) break;
     if (it == iters) res.iterations = blend(done, res.iterations, S(-2.0));
   }
-  // 5. q̈ = L⁻¹ (z + Yᵀ λ), and the residual ‖J q̈ − c‖∞
+  // q̈ = L⁻¹ (z + Yᵀ λ), and the residual ‖J q̈ − c‖∞
   for (int j = 0; j < nv; ++j) qdd[j] = w.z[j];
   for_contact_rows(t, specs, nc, w, [&](int i, int at, const int* ch, int len) {
     const S* yr = w.Y.data() + at;
@@ -402,6 +394,66 @@ std::int64_t contact_dynamics(const ModelView& mv, const S* q, const S* qd, cons
   for_contact_rows(t, specs, nc, w, [&](int i, int at, const int* ch, int len) {
     res.residual = lane_max(res.residual, lane_abs(chain_dot(w.J.data() + at, ch, len, qdd) - w.c[i]));
   });
+  return 0;
+}
+
+// q̈ (nv,), λ (m,), and the KKT result for the contacts `specs` at (q, q̇, τ, f_ext); m = Σ rows.
+// Returns OK, or a SINGULAR status naming the body whose pivot of M failed (for a Pack: in some lane). A D whose
+// Cholesky pivot fails (mu = 0: dependent rows) sets iterations = −1 (for a Pack: in every lane, with `bad_lanes`
+// the lanes that failed) and leaves q̈ and λ as they were.
+template <class S>
+std::int64_t contact_dynamics(const ModelView& mv, const S* q, const S* qd, const S* tau, const S* f_ext,
+                              const ContactSpec* specs, int nc, double mu, int max_iter, double tol,
+                              double singular_tol, S* qdd, S* lam, ContactResult<S>& res, int* bad_lanes = nullptr) {
+  const int nv = mv.nv;
+  const DofTree& t = dof_tree(mv);
+  ContactWork<S>& w = thread_workspace<ContactWork<S>>(mv.nb);
+  int m = 0;
+  if (const std::int64_t st = contact_system(mv, t, q, qd, f_ext, specs, nc, w, m); st != OK) return st;
+  // c = −γ − K_d J q̇ (γ: the frame's drift, contact_drift)
+  int row = 0;
+  for (int k = 0; k < nc; ++k) {
+    const ContactSpec& s = specs[k];
+    const Motion<S> g = contact_drift(mv, w, s.frame, s.ref, s.rows);
+    const S gam[6] = {g.w.x, g.w.y, g.w.z, g.v.x, g.v.y, g.v.z};
+    const int len = w.len[k];
+    const int* ch = len > 0 ? t.chain.data() + t.off[w.last[k]] : nullptr;
+    for (int r = 0; r < s.rows; ++r, ++row)
+      w.c[row] = -gam[6 - s.rows + r] - S(s.kd) * chain_dot(w.J.data() + w.first[k] + r * len, ch, len, qd);
+  }
+  // z = L⁻ᵀ (τ − h)
+  w.z.resize(nv);
+  for (int j = 0; j < nv; ++j) w.z[j] = tau[j] - w.th[j];
+  ltl_solve_Lt_packed<S>(t, w.P.data(), w.dinv.data(), w.z.data());
+  const int failed = contact_solve(mv, t, specs, nc, m, mu, max_iter, tol, singular_tol, w, qdd, lam, res);
+  if (failed && bad_lanes) *bad_lanes = failed;
+  return OK;
+}
+
+// The impulse v⁺ (nv,), Λ (m,) of an impact with the contacts (restitution e, 0 ≤ e ≤ 1): the constrained
+// dynamics' KKT system above with M (v⁺ − v⁻) = Jᵀ Λ and J v⁺ = −e J v⁻, that is τ − h = 0 (z = 0), q̈ → v⁺ − v⁻
+// and c = −(1 + e) J v⁻:
+//     Λ = −(1 + e) D⁻¹ J v⁻,   v⁺ = v⁻ + L⁻¹ Yᵀ Λ        (D = Y Yᵀ = J M⁻¹ Jᵀ, no velocity pass)
+// Returns OK, SINGULAR (M), or CONSTRAINT (D singular: dependent contacts; for a Pack, in some lane).
+template <class S>
+std::int64_t impulse_dynamics(const ModelView& mv, const S* q, const S* vm, const ContactSpec* specs, int nc,
+                              double e, double singular_tol, S* vp, S* Lam) {
+  const int nv = mv.nv;
+  const DofTree& t = dof_tree(mv);
+  ContactWork<S>& w = thread_workspace<ContactWork<S>>(mv.nb);
+  int m = 0;
+  const std::int64_t st = contact_system(mv, t, q, static_cast<const S*>(nullptr), static_cast<const S*>(nullptr),
+                                         specs, nc, w, m);
+  if (st != OK) return st;
+  const S minus_1e(-(1.0 + e));
+  for_contact_rows(t, specs, nc, w, [&](int i, int at, const int* ch, int len) {
+    w.c[i] = minus_1e * chain_dot(w.J.data() + at, ch, len, vm);
+  });
+  w.z.assign(nv, S(0.0));
+  ContactResult<S> res;
+  if (contact_solve(mv, t, specs, nc, m, 0.0, 1, 0.0, singular_tol, w, vp, Lam, res))
+    return make_status(CONSTRAINT, ARG_OUT, m);
+  for (int i = 0; i < nv; ++i) vp[i] = vm[i] + vp[i];
   return OK;
 }
 

@@ -165,18 +165,19 @@ struct ContactDynamicsDerivatives : Declared {
   }
 };
 
-// An impact with the contacts (restitution e): v⁺ (nv,), Λ (m,) of M (v⁺ − v⁻) = Jᵀ Λ, J v⁺ = −e J v⁻ (the first part
-// of ImpulseDynamicsDerivatives: contact_derivatives.hpp, contact_deriv::impulse). Status CONSTRAINT when the contacts
-// are dependent (the reference path words it, or takes them with mu > 0). Batches run row by row on the pool.
+// An impact with the contacts (restitution e): v⁺ (nv,), Λ (m,) of M (v⁺ − v⁻) = Jᵀ Λ, J v⁺ = −e J v⁻, ContactDynamics'
+// KKT solve with z = 0 and c = −(1 + e) J v⁻ (contacts.hpp). Status CONSTRAINT when the contacts are dependent (the
+// reference path words it, or takes them with mu > 0). Batches in SIMD lanes on the pool.
 struct ImpulseDynamics : Declared {
   static constexpr const char* name = "impulse_dynamics";
   static constexpr Operand inputs[] = {operand::q, operand::v};
   static constexpr Operand outputs[] = {operand::vector("v_plus", NV), operand::vector("lam", NM)};
   static constexpr unsigned options = CONTACTS | RESTITUTION;
+  static constexpr auto group = &fdgroup::GroupKernels::impulse_dynamics;
   static constexpr SingularBlockFn singular_block = singular_at_rest;
   static std::int64_t run(const ModelView& mv, const double* const* in, double* const* out, const Options& opt) {
-    return impulse_dynamics(mv, in[0], in[1], opt.contacts, opt.nc, opt.rows, opt.restitution, opt.singular_tol,
-                            out[0], out[1]);
+    return impulse_dynamics(mv, in[0], in[1], opt.contacts, opt.nc, opt.restitution, opt.singular_tol, out[0],
+                            out[1]);
   }
 };
 

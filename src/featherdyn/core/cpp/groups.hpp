@@ -87,7 +87,7 @@ struct GroupKernels {
   MinverseFn minverse;
   AbaDerivativesFn aba_derivatives;
   GroupFn aba_derivatives_group;
-  GroupFn contact_dynamics, operational_space_inertia;
+  GroupFn contact_dynamics, impulse_dynamics, operational_space_inertia;
   GroupFn kinetic_energy_derivatives;
   GroupFn rnea_vjp, aba_vjp, crba_vjp;
   GroupFn kinematics_derivatives, center_of_mass_derivatives, centroidal_dynamics_derivatives;

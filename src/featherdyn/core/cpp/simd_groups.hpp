@@ -278,6 +278,22 @@ inline std::int64_t contact_dynamics_group(const fdgroup::GroupArgs& g, std::int
   return 0;
 }
 
+// v⁺, Λ of W rows under the contacts of g.contacts with its restitution: contacts.hpp's impulse kernel on Packs. A
+// lane whose M or D is singular fails the group, which is then redone row by row.
+inline std::int64_t impulse_dynamics_group(const fdgroup::GroupArgs& g, std::int64_t r0) {
+  const ModelView& mv = *g.mv;
+  const fdgroup::ContactArgs& c = *g.contacts;
+  const size_t nv = mv.nv, m = c.m;
+  const GroupState st = gather_state(g, r0, nv + m);
+  Pack* const outs[2] = {st.rest, st.rest + nv};
+  if (impulse_dynamics(mv, st.q, st.v, c.specs, c.nc, c.restitution, c.singular_tol, outs[0], outs[1]) != OK ||
+      !all_finite(st.rest, nv + m))
+    return 1;
+  const size_t len[2] = {nv, m};
+  scatter_outputs(g, r0, outs, len, 2);
+  return 0;
+}
+
 // q̈, λ and their derivatives ∂q̈/∂(q, q̇, τ) (nv, nv), ∂λ/∂(q, q̇, τ) (m, nv) of W rows under the contacts of
 // g.contacts: contacts.hpp's solve and contact_derivatives.hpp's kernel on Packs. A lane whose M or D is singular, or
 // whose solve did not converge, fails the group, which is then redone row by row (each row its one-state result
@@ -451,7 +467,8 @@ inline std::int64_t centroidal_dynamics_derivatives_group(const fdgroup::GroupAr
 inline fdgroup::GroupKernels group_kernels(const char* isa) {
   return {isa, PACK_WIDTH, &rnea_group, &crba_group, &aba_group, &fk_group, &rnea_derivatives_group,
           &rnea_derivatives<double>, &mass_matrix_inverse, &aba_derivatives, &aba_derivatives_group,
-          &contact_dynamics_group, &operational_space_inertia_group, &kinetic_energy_derivatives_group,
+          &contact_dynamics_group, &impulse_dynamics_group, &operational_space_inertia_group,
+          &kinetic_energy_derivatives_group,
           &dynamics_vjp_group<false>, &dynamics_vjp_group<true>, &crba_vjp_group,
           &kinematics_derivatives_group, &center_of_mass_derivatives_group, &centroidal_dynamics_derivatives_group,
           &contact_dynamics_derivatives<double>, &impulse_dynamics_derivatives<double>, &rnea_second_derivatives,
