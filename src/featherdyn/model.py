@@ -165,13 +165,11 @@ class Model:
                     raise ModelError(f"armature: expected finite values >= 0, got {values}")
             object.__setattr__(self, "armature", arm)
 
-    # pickling leaves out the caches of the compiled engines (rebuilt on first use)
-    def __getstate__(self) -> list[Any]:
-        return [getattr(self, f.name) for f in fields(self) if f.name not in _CACHES]
-
-    def __setstate__(self, state: list[Any]) -> None:
-        for f, value in zip([f for f in fields(self) if f.name not in _CACHES], state, strict=True):
-            object.__setattr__(self, f.name, value)
+    # pickling and copying leave out the caches of the compiled engines (rebuilt on first use). By __reduce__, not
+    # __getstate__: Python 3.10 and 3.11.0-3.11.3 replace a slots dataclass's own __getstate__ and __setstate__
+    # with ones that read every field, the unset caches too (CPython gh-104035, fixed in 3.11.4).
+    def __reduce__(self) -> tuple[Any, tuple[tuple[Any, ...]]]:
+        return _model_from_state, (tuple(getattr(self, f.name) for f in fields(self) if f.name not in _CACHES),)
 
     @property
     def nbodies(self) -> int:
@@ -282,6 +280,14 @@ class Model:
         base = "floating" if self.floating_base else "fixed"
         return (f"Model({self.name!r}: {self.nbodies} bodies, nq={self.nq}, nv={self.nv}, {base} base, "
                 f"mass={_fmt_mass(self.total_mass)} kg)")
+
+
+def _model_from_state(state: tuple[Any, ...]) -> Model:
+    """A :class:`Model` from ``Model.__reduce__``'s state: its fields but the caches, in declaration order."""
+    model = object.__new__(Model)
+    for f, value in zip([f for f in fields(Model) if f.name not in _CACHES], state, strict=True):
+        object.__setattr__(model, f.name, value)
+    return model
 
 
 def _similar(name: Any, candidates: Sequence[str]) -> str:
