@@ -76,8 +76,11 @@ def dask_client(scheduler: str, workers: int | None, option: str = "--scheduler"
     try:
         if scheduler == "local":
             with sigint_ignored():  # the worker processes start here and inherit the ignored Ctrl-C
+                # silence_logs CRITICAL: a task's error reaches this process through its future (the command
+                # reports it), and what Dask logs at ERROR is its shutdown's races — a worker's heartbeat to the
+                # scheduler that closed first, printed as a traceback after Ctrl-C
                 cluster = LocalCluster(n_workers=workers or available_cores(), threads_per_worker=1, processes=True,
-                                       dashboard_address=None, silence_logs=logging.ERROR,
+                                       dashboard_address=None, silence_logs=logging.CRITICAL,
                                        preload=[__name__])
                 client = Client(cluster)
         else:
