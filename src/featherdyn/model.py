@@ -169,7 +169,7 @@ class Model:
     # __getstate__: Python 3.10 and 3.11.0-3.11.3 replace a slots dataclass's own __getstate__ and __setstate__
     # with ones that read every field, the unset caches too (CPython gh-104035, fixed in 3.11.4).
     def __reduce__(self) -> tuple[Any, tuple[tuple[Any, ...]]]:
-        return _model_from_state, (tuple(getattr(self, f.name) for f in fields(self) if f.name not in _CACHES),)
+        return _model_from_state, (tuple(getattr(self, name) for name in _PICKLED),)
 
     @property
     def nbodies(self) -> int:
@@ -282,11 +282,15 @@ class Model:
                 f"mass={_fmt_mass(self.total_mass)} kg)")
 
 
+#: the fields a pickled Model carries: all but the caches, in declaration order
+_PICKLED = tuple(f.name for f in fields(Model) if f.name not in _CACHES)
+
+
 def _model_from_state(state: tuple[Any, ...]) -> Model:
-    """A :class:`Model` from ``Model.__reduce__``'s state: its fields but the caches, in declaration order."""
+    """A :class:`Model` from ``Model.__reduce__``'s state (the values of ``_PICKLED``)."""
     model = object.__new__(Model)
-    for f, value in zip([f for f in fields(Model) if f.name not in _CACHES], state, strict=True):
-        object.__setattr__(model, f.name, value)
+    for name, value in zip(_PICKLED, state, strict=True):
+        object.__setattr__(model, name, value)
     return model
 
 

@@ -248,3 +248,23 @@ def test_a_model_pickles_after_the_core_cached_its_arrays() -> None:
         assert np.array_equal(core.rnea(clone, st.q, st.v, st.a), tau)
         assert clone._core is not model._core
     assert core._view(model) is core._view(model)  # built once per model
+
+
+def test_a_model_pickles_where_python_replaced_its_getstate(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Python 3.10 and 3.11.0-3.11.3 give a slots dataclass a ``__getstate__`` that reads every field, the unset
+    caches too (CPython gh-104035): pickling and copying must not go through it."""
+    import copy
+    import dataclasses
+
+    def every_field(self: fd.Model) -> list[object]:
+        return [getattr(self, f.name) for f in dataclasses.fields(self)]  # AttributeError on an unset cache
+
+    monkeypatch.setattr(fd.Model, "__getstate__", every_field)
+    model = tree("planar_root_branch")
+    st = random_state(model, 28)
+    tau = core.rnea(model, st.q, st.v, st.a)
+    assert hasattr(model, "_core") and not hasattr(model, "_fast")
+    for clone in (pickle.loads(pickle.dumps(model)), copy.copy(model), copy.deepcopy(model)):
+        assert not hasattr(clone, "_core")
+        assert clone.joint_names == model.joint_names
+        assert np.array_equal(core.rnea(clone, st.q, st.v, st.a), tau)
